@@ -1,0 +1,5 @@
+"""``python -m roboscript``: the command line."""
+
+from roboscript.cli import main
+
+main()

@@ -1,0 +1,173 @@
+"""Actions: non-blocking behaviours with a start / update / stop lifecycle.
+
+An action is started when its state is entered, updated once per tick, and stopped when its
+state is left (finished or interrupted). :meth:`Action.update` never blocks: it looks at the
+capabilities, sets actuators, and returns ``None`` while running or a :class:`Result` when it
+has ended. Every action ends with one of three outcomes:
+
+* ``done``: it did what it was asked;
+* ``failed``: it could not, with a reason (``stalled``, ``bumped``, ``lost wall``,
+  ``lost line``, ``not supported``);
+* ``timeout``: its own time bound passed (state timeouts are the runner's).
+
+Actions see only capabilities (:mod:`roboscript.capabilities`), never drivers or transports.
+"""
+
+from __future__ import annotations
+
+import abc
+import enum
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar, cast
+
+from roboscript import capabilities as cap
+from roboscript.errors import CapabilityError
+
+__all__ = [
+    "REQUIRED",
+    "Action",
+    "ActionContext",
+    "Outcome",
+    "Param",
+    "Result",
+]
+
+
+class Outcome(str, enum.Enum):
+    """How an action ended."""
+
+    DONE = "done"
+    FAILED = "failed"
+    TIMEOUT = "timeout"
+
+
+@dataclass(frozen=True)
+class Result:
+    """An action's ending: its outcome and, unless done, why."""
+
+    outcome: Outcome
+    reason: str | None = None
+
+    @classmethod
+    def done(cls) -> Result:
+        """The action did what it was asked."""
+        return cls(Outcome.DONE)
+
+    @classmethod
+    def failed(cls, reason: str) -> Result:
+        """The action could not finish, because of ``reason``."""
+        return cls(Outcome.FAILED, reason)
+
+    @classmethod
+    def timeout(cls, reason: str = "took too long") -> Result:
+        """The action's own time bound passed."""
+        return cls(Outcome.TIMEOUT, reason)
+
+
+class _Required:
+    def __repr__(self) -> str:
+        return "REQUIRED"
+
+
+REQUIRED: Any = _Required()
+"""Marks a parameter with no default."""
+
+
+@dataclass(frozen=True)
+class Param:
+    """One parameter of an action, as missions write it.
+
+    Attributes:
+        name: The name in YAML (``distance``).
+        kwarg: The Python keyword, with its unit (``distance_mm``).
+        kind: A quantity dimension (``distance``, ``speed``, ``time``, ``angle``,
+            ``turn_rate``, ``frequency``, ``percent``, ``count``), or ``text``, ``choice``,
+            ``guard`` or ``color``.
+        doc: One line for the reference and for error messages.
+        default: The value when omitted, or :data:`REQUIRED`.
+        choices: Allowed words for a ``choice``.
+    """
+
+    name: str
+    kwarg: str
+    kind: str
+    doc: str
+    default: Any = REQUIRED
+    choices: tuple[str, ...] = ()
+
+    @property
+    def required(self) -> bool:
+        """True if the parameter has no default."""
+        return self.default is REQUIRED
+
+
+class ActionContext:
+    """What an action may use: the robot's capabilities and the scheduler's time.
+
+    Attributes:
+        capabilities: Capability objects by name.
+        now_s: Scheduler time, seconds.
+        dt_s: Seconds since the previous tick (> 0).
+        robot_name: For messages.
+    """
+
+    def __init__(self, capabilities: Mapping[str, object], robot_name: str = "the robot") -> None:
+        self.capabilities = capabilities
+        self.robot_name = robot_name
+        self.now_s = 0.0
+        self.dt_s = 0.0
+
+    def get(self, name: str) -> Any:
+        """The capability ``name``.
+
+        Raises:
+            CapabilityError: The robot does not have it.
+        """
+        try:
+            return self.capabilities[name]
+        except KeyError:
+            raise CapabilityError(
+                f"{self.robot_name} has no {name} ({cap.CAPABILITY_NAMES.get(name, name)})",
+                missing=(name,),
+            ) from None
+
+    @property
+    def drive_base(self) -> cap.DriveBase:
+        """The wheels."""
+        return cast(cap.DriveBase, self.get(cap.DRIVE_BASE))
+
+    @property
+    def speaker(self) -> cap.Speaker:
+        """The tone generator."""
+        return cast(cap.Speaker, self.get(cap.SPEAKER))
+
+
+class Action(abc.ABC):
+    """Base class of every action (built-in or student-written).
+
+    Subclasses set :attr:`name`, :attr:`params` and :attr:`requires`, take their parameters
+    as keyword arguments named with units, and implement :meth:`update`.
+    """
+
+    name: ClassVar[str]
+    """The word missions use (``drive``)."""
+    summary: ClassVar[str] = ""
+    """One line for the reference."""
+    params: ClassVar[tuple[Param, ...]] = ()
+    """The parameters, in documentation order."""
+    requires: ClassVar[frozenset[str]] = frozenset()
+    """Capability names the action needs."""
+
+    feedback: str = ""
+    """A short progress text for status lines (``"driving 230/500 mm"``)."""
+
+    def start(self, ctx: ActionContext) -> None:  # noqa: B027 - optional hook
+        """Called when the state is entered."""
+
+    @abc.abstractmethod
+    def update(self, ctx: ActionContext) -> Result | None:
+        """Called every tick; return ``None`` while running, else the :class:`Result`."""
+
+    def stop(self, ctx: ActionContext) -> None:  # noqa: B027 - optional hook
+        """Called when the state is left, whether the action ended or was interrupted."""

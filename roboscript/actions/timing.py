@@ -1,0 +1,73 @@
+"""Actions that wait or make sound: ``wait`` and ``play_tone``."""
+
+from __future__ import annotations
+
+from roboscript import capabilities as cap
+from roboscript.actions.base import Action, ActionContext, Param, Result
+
+__all__ = ["PlayTone", "Wait"]
+
+
+class Wait(Action):
+    """Do nothing for a while.
+
+    Args:
+        duration_s: How long, seconds.
+
+    Outcome: ``done`` after ``duration_s``.
+    """
+
+    name = "wait"
+    summary = "Do nothing for a while."
+    params = (Param("duration", "duration_s", "time", "how long"),)
+
+    def __init__(self, duration_s: float) -> None:
+        if duration_s < 0:
+            raise ValueError("a wait cannot be negative")
+        self.duration_s = duration_s
+        self._start_s = 0.0
+
+    def start(self, ctx: ActionContext) -> None:
+        self._start_s = ctx.now_s
+
+    def update(self, ctx: ActionContext) -> Result | None:
+        waited = ctx.now_s - self._start_s
+        self.feedback = f"waiting {waited:.1f}/{self.duration_s:.1f} s"
+        return Result.done() if waited >= self.duration_s - 1e-9 else None
+
+
+class PlayTone(Action):
+    """Play a tone and wait until it has finished.
+
+    Args:
+        frequency_hz: Pitch, hertz (e.g. 440 for A4).
+        duration_s: Length, seconds.
+
+    Outcome: ``done`` when the tone has finished.
+    """
+
+    name = "play_tone"
+    summary = "Play a tone and wait until it ends."
+    params = (
+        Param("frequency", "frequency_hz", "frequency", "pitch"),
+        Param("duration", "duration_s", "time", "length", 0.2),
+    )
+    requires = frozenset({cap.SPEAKER})
+
+    def __init__(self, frequency_hz: float, duration_s: float = 0.2) -> None:
+        if not 20 <= frequency_hz <= 20000:
+            raise ValueError("a tone's frequency must be between 20 Hz and 20 kHz")
+        if duration_s <= 0:
+            raise ValueError("a tone's duration must be positive")
+        self.frequency_hz = frequency_hz
+        self.duration_s = duration_s
+        self._start_s = 0.0
+
+    def start(self, ctx: ActionContext) -> None:
+        self._start_s = ctx.now_s
+        ctx.speaker.beep(self.frequency_hz, self.duration_s)
+
+    def update(self, ctx: ActionContext) -> Result | None:
+        played = ctx.now_s - self._start_s
+        self.feedback = f"tone {self.frequency_hz:.0f} Hz"
+        return Result.done() if played >= self.duration_s - 1e-9 else None

@@ -1,0 +1,214 @@
+"""What a robot can do, as one small protocol per capability.
+
+Actions and missions talk only to these protocols, never to a driver, so a mission that works
+on one robot with a ``drive_base`` works on every robot with one, simulated or real.
+
+Units and signs, stated once for the whole project:
+
+* Distances in millimetres, times in seconds, angles in degrees, frequencies in hertz.
+* Forward is positive: a positive wheel speed or distance moves the robot forward.
+* **A positive turn is to the right** (clockwise seen from above), as in Pybricks and the ASIP
+  firmware. Headings are degrees clockwise from the robot's start direction (world files:
+  clockwise from north).
+* Sensors return ``None`` when they have no reading (nothing received yet, or no echo).
+
+Capability names (the keys of :attr:`Robot.capabilities <roboscript.robot.Robot.capabilities>`
+and the roots of mission guards) are the constants below.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol, runtime_checkable
+
+__all__ = [
+    "BUMPER",
+    "CAPABILITY_NAMES",
+    "DISPLAY",
+    "DRIVE_BASE",
+    "HEADING",
+    "LEDS",
+    "LINE",
+    "RANGE",
+    "SERVOS",
+    "SPEAKER",
+    "WALKER",
+    "Bumpers",
+    "Display",
+    "DriveBase",
+    "HeadingSensor",
+    "Leds",
+    "LineSensors",
+    "RangeSensor",
+    "Servos",
+    "Speaker",
+    "Walker",
+]
+
+DRIVE_BASE = "drive_base"
+RANGE = "range"
+BUMPER = "bumper"
+LINE = "line"
+SPEAKER = "speaker"
+DISPLAY = "display"
+HEADING = "heading"
+LEDS = "leds"
+SERVOS = "servos"
+WALKER = "walker"
+
+CAPABILITY_NAMES: dict[str, str] = {
+    DRIVE_BASE: "two driven wheels with encoders or timing",
+    RANGE: "a distance sensor (ultrasonic or time of flight)",
+    BUMPER: "bump switches",
+    LINE: "downward IR line sensors",
+    SPEAKER: "a tone generator",
+    DISPLAY: "a text display (LCD or light matrix)",
+    HEADING: "an IMU or compass heading",
+    LEDS: "RGB LEDs",
+    SERVOS: "hobby servos",
+    WALKER: "legs that walk by gait motions",
+}
+"""Every capability name with a phrase for error messages."""
+
+
+@runtime_checkable
+class DriveBase(Protocol):
+    """Two driven wheels.
+
+    Wheel speeds are closed-loop: the firmware holds them when it can (ASIP ``M,R``), else the
+    host does (see :mod:`roboscript.control`). Robots without encoders estimate distances from
+    time and a calibration, and say so through :attr:`odometry_is_estimated`.
+    """
+
+    track_mm: float
+    """Distance between the wheel contact points, millimetres."""
+    max_speed_mm_s: float
+    """Fastest wheel speed the base can hold, mm/s."""
+    odometry_is_estimated: bool
+    """True when wheel distances are computed from time instead of encoders."""
+
+    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
+        """Hold each wheel at a speed, mm/s; positive drives forward.
+
+        Equal speeds drive straight; ``left > right`` turns right (clockwise).
+        """
+        ...
+
+    def stop(self) -> None:
+        """Stop both wheels now."""
+        ...
+
+    def wheel_distances_mm(self) -> tuple[float, float]:
+        """Distance each wheel (left, right) has rolled since connection, mm; forward > 0."""
+        ...
+
+
+@runtime_checkable
+class RangeSensor(Protocol):
+    """A forward-facing distance sensor."""
+
+    max_range_mm: float
+    """Readings beyond this are reported as no echo."""
+
+    def distance_mm(self) -> float | None:
+        """Distance to the nearest obstacle in mm, or ``None`` for no echo / no reading."""
+        ...
+
+
+@runtime_checkable
+class Bumpers(Protocol):
+    """Bump switches at the front."""
+
+    names: tuple[str, ...]
+    """Switch names, e.g. ``("left", "right")``."""
+
+    def pressed(self) -> frozenset[str]:
+        """The names of the switches pressed now."""
+        ...
+
+
+@runtime_checkable
+class LineSensors(Protocol):
+    """Downward-facing reflectance sensors."""
+
+    names: tuple[str, ...]
+    """Sensor names from left to right, e.g. ``("left", "center", "right")``."""
+    dark_threshold: float
+    """Readings above this are over a dark line."""
+
+    def values(self) -> tuple[float, ...] | None:
+        """Readings 0-1023 in the order of :attr:`names` (higher = darker), or ``None``."""
+        ...
+
+
+@runtime_checkable
+class Speaker(Protocol):
+    """A tone generator."""
+
+    def beep(self, frequency_hz: float, duration_s: float) -> None:
+        """Start a tone; returns at once (the tone plays for ``duration_s``)."""
+        ...
+
+
+@runtime_checkable
+class Display(Protocol):
+    """A small text display."""
+
+    def show_text(self, text: str) -> None:
+        """Show ``text`` (cut or scrolled to fit)."""
+        ...
+
+    def clear(self) -> None:
+        """Blank the display."""
+        ...
+
+
+@runtime_checkable
+class HeadingSensor(Protocol):
+    """An IMU yaw or compass."""
+
+    def heading_deg(self) -> float | None:
+        """Heading in degrees, clockwise positive, or ``None`` before the first reading."""
+        ...
+
+
+@runtime_checkable
+class Leds(Protocol):
+    """RGB LEDs."""
+
+    count: int
+
+    def set_color(self, index: int, rgb: tuple[int, int, int]) -> None:
+        """Set LED ``index`` (0-based) to ``rgb``, each channel 0-255."""
+        ...
+
+
+@runtime_checkable
+class Servos(Protocol):
+    """Hobby servos."""
+
+    count: int
+
+    def set_angle(self, index: int, angle_deg: float) -> None:
+        """Move servo ``index`` (0-based) to ``angle_deg`` (0-180)."""
+        ...
+
+
+@runtime_checkable
+class Walker(Protocol):
+    """Legs moved by gait motions (humanoids)."""
+
+    def walk(self, steps: int) -> None:
+        """Start walking ``steps`` steps; negative walks backward."""
+        ...
+
+    def turn(self, steps: int) -> None:
+        """Start turning ``steps`` steps; positive turns right."""
+        ...
+
+    def busy(self) -> bool:
+        """True while a gait motion is playing."""
+        ...
+
+    def stop(self) -> None:
+        """Stop after the current frame."""
+        ...

@@ -1,0 +1,260 @@
+"""The ``roboscript`` command line.
+
+Exit status: 0 the mission succeeded (or every checked file is valid); 1 the mission failed,
+timed out, or the robot or link failed; 2 the input was invalid (mission, profile, world,
+arguments); 130 interrupted with Ctrl-C. Problems with input print as
+``file:line:col: error: message``, anything else as one plain sentence; a traceback appears
+only with ``--debug``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import signal
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any, NoReturn
+
+from roboscript import __version__
+from roboscript.errors import (
+    CapabilityError,
+    InputError,
+    LinkError,
+    RoboscriptError,
+)
+
+__all__ = ["main"]
+
+EXIT_OK = 0
+EXIT_FAILED = 1
+EXIT_INPUT = 2
+EXIT_INTERRUPTED = 130
+
+
+def _err(text: str) -> None:
+    print(text, file=sys.stderr)
+
+
+def _print_problems(error: InputError) -> None:
+    problems = getattr(error, "problems", None) or [error]
+    for problem in problems:
+        _err(problem.format())
+
+
+# ------------------------------------------------------------------------------------- run
+
+
+def _load_mission(path: str, profile: Any) -> Any:
+    from roboscript.mission import load_mission
+
+    spec, warnings = load_mission(path, profile)
+    for warning in warnings:
+        _err(warning.format())
+    return spec
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from roboscript.mission.runner import MissionRunner
+    from roboscript.profiles import get_profile
+    from roboscript.robot import Robot
+
+    profile = get_profile(args.robot)
+    spec = _load_mission(args.mission, profile)
+    quiet = args.json or args.quiet
+
+    def on_state(time_s: float, name: str) -> None:
+        if not quiet:
+            _err(f"{time_s:8.2f} s  {name}")
+
+    robot = Robot.connect(
+        args.robot,
+        args.port,
+        world=args.world,
+        seed=args.seed,
+        realtime=args.realtime,
+        wire_log=args.wire_log,
+    )
+    if not quiet:
+        _err(f"{spec.name} on {robot.describe()} ({robot.url})")
+    runner = MissionRunner(spec, robot.capabilities, robot_name=profile.name, on_state=on_state)
+    robot.scheduler.add(runner, "think")
+    interrupted = False
+    try:
+        with robot:
+            try:
+                robot.scheduler.run(until=lambda: runner.finished, max_duration_s=args.max_time)
+            except KeyboardInterrupt:
+                interrupted = True
+                robot.stop()
+                runner.finish("error", "interrupted by Ctrl-C")
+            except LinkError as exc:
+                robot.stop()
+                runner.finish("error", str(exc))
+            if not runner.finished:
+                runner.finish("failure", f"the mission did not finish within {args.max_time:g} s")
+    except LinkError as exc:
+        runner.finish("error", str(exc))
+    result = runner.result
+    summary = _summary(result, profile.name, robot, runner.start_time_s)
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        if result.outcome == "success":
+            _err(f"success: {spec.name} ended in '{result.final_state}' after {result.duration_s:.2f} s")
+        else:
+            _err(f"{result.outcome}: {result.reason}")
+    if interrupted:
+        return EXIT_INTERRUPTED
+    return EXIT_OK if result.outcome == "success" else EXIT_FAILED
+
+
+def _summary(result: Any, robot_name: str, robot: Any, start_s: float) -> dict[str, Any]:
+    """The ``run --json`` object; simulator times are on the mission clock, like ``states``."""
+    summary: dict[str, Any] = {
+        "mission": result.mission,
+        "robot": robot_name,
+        "outcome": result.outcome,
+        "final_state": result.final_state,
+        "reason": result.reason,
+        "duration_s": round(result.duration_s, 3),
+        "states": [[round(t, 3), name] for t, name in result.states],
+    }
+    sim = robot.simulation
+    if sim is not None:
+        body = sim.body
+        log = sim.log
+        summary["sim"] = {
+            "seed": sim.seed,
+            "world": sim.world.name,
+            "final_pose": {
+                "x_mm": round(body.x_mm, 1),
+                "y_mm": round(body.y_mm, 1),
+                "heading_deg": round(body.heading_deg, 1),
+            },
+            "distance_travelled_mm": round(log.distance_travelled_mm, 1),
+            "collisions": len(log.collisions),
+            "tones": [
+                {"t_s": round(t - start_s, 3), "frequency_hz": f, "duration_s": round(d, 3)}
+                for t, f, d in log.tones
+            ],
+            "path": [
+                [round(t - start_s, 3), x, y, h] for t, x, y, h in log.path if t >= start_s - 1e-9
+            ],
+        }
+    return summary
+
+
+# ----------------------------------------------------------------------------------- check
+
+
+def _cmd_check(args: argparse.Namespace) -> int:
+    from roboscript.profiles import get_profile
+
+    profile = get_profile(args.robot) if args.robot else None
+    files: list[Path] = []
+    for raw in args.paths:
+        path = Path(raw)
+        if path.is_dir():
+            files.extend(sorted(p for p in path.rglob("*.yaml") if p.is_file()))
+        else:
+            files.append(path)
+    if not files:
+        _err("nothing to check: no mission files found")
+        return EXIT_INPUT
+    bad = 0
+    for path in files:
+        try:
+            _load_mission(str(path), profile)
+        except InputError as exc:
+            _print_problems(exc)
+            bad += 1
+    checked = len(files)
+    _err(f"checked {checked} file{'s' if checked != 1 else ''}: {bad} with errors")
+    return EXIT_INPUT if bad else EXIT_OK
+
+
+# ---------------------------------------------------------------------------------- robots
+
+
+def _cmd_robots(args: argparse.Namespace) -> int:
+    from roboscript.profiles import BUILTIN_PROFILES
+
+    for profile in BUILTIN_PROFILES.values():
+        caps = ", ".join(sorted(profile.capabilities))
+        pid = "firmware PID" if profile.firmware_pid else "host PID"
+        print(f"{profile.name:<12} {profile.protocol:<8} {pid:<12} {profile.description}")
+        print(f"{'':<12} capabilities: {caps}")
+    return EXIT_OK
+
+
+# ------------------------------------------------------------------------------------ main
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="roboscript",
+        description="Run state-machine missions on educational robots and their simulator.",
+    )
+    parser.add_argument("--version", action="version", version=f"roboscript {__version__}")
+    parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logs")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    run = sub.add_parser("run", help="run a mission (on the built-in simulator by default)")
+    run.add_argument("mission", help="mission file (.yaml)")
+    run.add_argument("--robot", default="mirto", help="robot profile name or file (default: mirto)")
+    run.add_argument("--port", help="serial port or URL (default: the in-process simulator)")
+    run.add_argument("--world", default="empty", help="simulator world name or file")
+    run.add_argument("--seed", type=int, default=1, help="simulator seed (default: 1)")
+    run.add_argument("--realtime", action="store_true", help="pace the simulator to the wall clock")
+    run.add_argument(
+        "--max-time", type=float, default=300.0, metavar="SECONDS", help="mission time limit"
+    )
+    run.add_argument("--json", action="store_true", help="print one JSON summary on stdout")
+    run.add_argument("--wire-log", metavar="FILE", help="record every byte on the wire")
+    run.add_argument("--quiet", action="store_true", help="print only the result")
+    run.set_defaults(func=_cmd_run)
+
+    check = sub.add_parser("check", help="check mission files without a robot")
+    check.add_argument("paths", nargs="+", metavar="PATH", help="files or folders")
+    check.add_argument("--robot", help="also check against this robot's capabilities")
+    check.set_defaults(func=_cmd_check)
+
+    robots = sub.add_parser("robots", help="list the built-in robot profiles")
+    robots.set_defaults(func=_cmd_robots)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> NoReturn:
+    """Run the command line and exit with its status."""
+    parser = _parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(
+        level=logging.DEBUG if args.debug else logging.WARNING,
+        format="roboscript: %(message)s",
+    )
+    # A second Ctrl-C while stopping must still end the program.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        code = args.func(args)
+    except InputError as exc:
+        if args.debug:
+            raise
+        _print_problems(exc)
+        code = EXIT_INPUT
+    except CapabilityError as exc:
+        if args.debug:
+            raise
+        _err(f"error: {exc}")
+        code = EXIT_INPUT
+    except (RoboscriptError, NotImplementedError) as exc:
+        if args.debug:
+            raise
+        _err(f"error: {exc}")
+        code = EXIT_FAILED
+    except KeyboardInterrupt:
+        _err("interrupted")
+        code = EXIT_INTERRUPTED
+    sys.exit(code)

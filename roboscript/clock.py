@@ -1,0 +1,68 @@
+"""Clocks: the only source of time in roboscript.
+
+Everything that needs the time (the scheduler, state timeouts, PID ``dt``, the simulator) asks
+an injected :class:`Clock`, never ``time.time()``: a simulated run then jumps from tick to
+tick and gives the same trace for the same seed, and a real run is paced by the wall clock.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Protocol, runtime_checkable
+
+__all__ = ["Clock", "MonotonicClock", "SimClock"]
+
+
+@runtime_checkable
+class Clock(Protocol):
+    """A source of time in seconds that can wait until a deadline."""
+
+    def now(self) -> float:
+        """Seconds since an arbitrary, fixed origin; never decreases."""
+        ...
+
+    def sleep_until(self, deadline_s: float) -> None:
+        """Return once :meth:`now` has reached ``deadline_s`` (at once if it already has)."""
+        ...
+
+
+class MonotonicClock:
+    """Real time from ``time.monotonic``; :meth:`sleep_until` really sleeps."""
+
+    def __init__(self) -> None:
+        self._origin = time.monotonic()
+
+    def now(self) -> float:
+        """Seconds since this clock was made."""
+        return time.monotonic() - self._origin
+
+    def sleep_until(self, deadline_s: float) -> None:
+        """Sleep until ``deadline_s``; absolute deadlines keep a loop from drifting."""
+        remaining = deadline_s - self.now()
+        if remaining > 0:
+            time.sleep(remaining)
+
+
+class SimClock:
+    """Virtual time that jumps: :meth:`sleep_until` moves the clock, it never waits.
+
+    Args:
+        start_s: The time the clock starts at, in seconds.
+    """
+
+    def __init__(self, start_s: float = 0.0) -> None:
+        self._now = start_s
+
+    def now(self) -> float:
+        """The current virtual time in seconds."""
+        return self._now
+
+    def sleep_until(self, deadline_s: float) -> None:
+        """Jump to ``deadline_s`` (never backwards)."""
+        self._now = max(self._now, deadline_s)
+
+    def advance(self, duration_s: float) -> None:
+        """Move the clock forward by ``duration_s`` seconds (must not be negative)."""
+        if duration_s < 0:
+            raise ValueError("a clock cannot go backwards")
+        self._now += duration_s

@@ -1,0 +1,384 @@
+"""The ASIP host driver: MIRTO and other ASIP 1.1 boards.
+
+Handshake (never a fixed sleep): send ``#,?`` every 250 ms until the board answers with its
+version or its startup line, ask for the services with ``#,N``, then turn on the events the
+robot's capabilities need (``M,A,1`` encoders, ``B,A,50`` bumpers, ``R,A,50`` IR, ``D,A,100``
+distance) and turn off the 50 ms analog stream nobody reads (``I,A,0``).
+
+Wheel speeds: with firmware PID the driver sends ``M,R,rpm0,rpm1,ms``. The firmware restarts
+its PID on every ``M,R`` (its output drops to the first frame's step), so the driver sends one
+only when the integer rpm changes, and refreshes it every 2 s with a 3 s duration: a host that
+dies leaves the wheels running for at most 3 s. ``M,c`` and ``M,a`` are not used for moves,
+because they round speeds down to whole cm/s (about 2 degrees short on a 90 degree turn);
+distances and angles are measured by the actions from the encoders instead.
+
+Without firmware PID (``asip-basic``, or a board that answers ``M,R`` with
+``~M,R,2{UNKNOWN_REQUEST}``), the host holds wheel speeds with
+:class:`~roboscript.control.WheelSpeedLoop` and sends ``M,M`` power.
+
+Stopping sends ``M,S,0`` and ``M,M,0,0`` (``M,S`` needs the dummy argument, see the codec).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from typing import Any
+
+from roboscript import capabilities as cap
+from roboscript.clock import Clock
+from roboscript.control import WheelSpeedLoop
+from roboscript.drivers.asip import messages as m
+from roboscript.drivers.asip.codec import AsipCodec
+from roboscript.drivers.base import Driver
+from roboscript.drivers.codec import Codec, Role
+from roboscript.errors import DeviceError, LinkError, LinkTimeoutError
+from roboscript.profiles import RobotProfile
+from roboscript.transport.link import Link
+
+__all__ = ["AsipDriver"]
+
+logger = logging.getLogger(__name__)
+
+_PROBE_INTERVAL_S = 0.25
+_ENCODER_FRAME_S = 0.033
+_PID_REFRESH_S = 2.0
+_PID_DURATION_MS = 3000
+_SILENCE_LIMIT_S = 1.0
+_POWER_REFRESH_S = 0.5
+
+
+class AsipDriver(Driver):
+    """Host side of ASIP (see the module docstring)."""
+
+    protocol = "asip"
+
+    @classmethod
+    def make_codec(cls, profile: RobotProfile) -> Codec[Any]:
+        """An ASIP codec in the host role."""
+        return AsipCodec(Role.HOST)
+
+    def __init__(self, link: Link, profile: RobotProfile, clock: Clock) -> None:
+        super().__init__(link, profile, clock)
+        self.firmware_pid = profile.firmware_pid
+        self.version: m.VersionReply | None = None
+        self.startup: m.StartupLine | None = None
+        self.services: dict[str, str] = {}
+        self._phase = "probe"
+        self._next_probe_s = 0.0
+        # Sensor cache.
+        self.encoder_totals = [0, 0]
+        self.wheel_speeds_mm_s = [0.0, 0.0]
+        self.bump_pressed: tuple[bool, ...] = (False, False)
+        self.ir_values: tuple[int, ...] | None = None
+        self.distance_cm: int | None = None
+        self.errors: list[m.ErrorReply] = []
+        # Setpoints.
+        self._target_mm_s = (0.0, 0.0)
+        self._sent_rpm: tuple[int, int] | None = None
+        self._sent_at_s = -math.inf
+        self._sent_power: tuple[int, int] | None = None
+        self._host_loop = WheelSpeedLoop(
+            profile.gains.get("wheel_speed", (0.0015, 0.004, 0.0)), profile.max_speed_mm_s * 1.3
+        )
+        self._mm_per_tick = math.pi * profile.wheel_diameter_mm / profile.ticks_per_rev
+        self._tones: list[tuple[int, int]] = []
+        self._caps: dict[str, object] = {}
+
+    # ----------------------------------------------------------------------------- handshake
+
+    def start(self) -> None:
+        """Send the first version probe."""
+        self._probe(self.clock.now())
+
+    def _probe(self, now_s: float) -> None:
+        self.link.send(m.VersionRequest() if self._phase == "probe" else m.ServiceNamesRequest())
+        self._next_probe_s = now_s + _PROBE_INTERVAL_S
+
+    def _configure(self) -> None:
+        caps = self.profile.capabilities
+        self.link.send(m.SetAutoEventInterval("I", 0))
+        if "M" in self.services:
+            self.link.send(m.EnableEncoderEvents(True))
+        if cap.BUMPER in caps and "B" in self.services:
+            self.link.send(m.SetAutoEventInterval("B", 50))
+        if cap.LINE in caps and "R" in self.services:
+            self.link.send(m.SetAutoEventInterval("R", 50))
+        if cap.RANGE in caps and "D" in self.services:
+            self.link.send(m.SetAutoEventInterval("D", 100))
+        self.stop_all()
+        self._caps = self._build_capabilities()
+        self._phase = "ready"
+        self.ready = True
+
+    def _build_capabilities(self) -> dict[str, object]:
+        wanted = self.profile.capabilities
+        have = {
+            cap.DRIVE_BASE: "M",
+            cap.BUMPER: "B",
+            cap.LINE: "R",
+            cap.RANGE: "D",
+            cap.SPEAKER: "T",
+            cap.DISPLAY: "L",
+        }
+        makers = {
+            cap.DRIVE_BASE: lambda: _DriveBase(self),
+            cap.BUMPER: lambda: _Bumpers(self),
+            cap.LINE: lambda: _LineSensors(self),
+            cap.RANGE: lambda: _RangeSensor(self),
+            cap.SPEAKER: lambda: _Speaker(self),
+            cap.DISPLAY: lambda: _Display(self),
+        }
+        result: dict[str, object] = {}
+        for name, service in have.items():
+            if name not in wanted:
+                continue
+            if service in self.services:
+                result[name] = makers[name]()
+            else:
+                self.notice(f"the board has no {self.services_name(service)} service: no {name}")
+        return result
+
+    @staticmethod
+    def services_name(service: str) -> str:
+        """A service id's name, for messages."""
+        return {
+            "M": "motor",
+            "B": "bump",
+            "R": "IR",
+            "D": "distance",
+            "T": "tone",
+            "L": "LCD",
+        }.get(service, service)
+
+    def describe(self) -> str:
+        """Sketch, chip and ASIP version, as the board reported them."""
+        if self.version is not None:
+            v = self.version
+            return f"{v.sketch} on {v.chip} (ASIP {v.major}.{v.minor})"
+        if self.startup is not None:
+            return f"{self.startup.sketch} on {self.startup.chip} (ASIP)"
+        return self.profile.name
+
+    # ------------------------------------------------------------------------- sense / act
+
+    def tick(self, now_s: float, dt_s: float) -> None:
+        """Read events, advance the handshake, watch for silence."""
+        for message in self.link.poll():
+            self._handle(message)
+        if self._phase == "probe" and (self.version or self.startup):
+            self._phase = "discover"
+            self._probe(now_s)
+        elif self._phase == "discover" and self.services:
+            self._configure()
+        elif self._phase != "ready" and now_s >= self._next_probe_s:
+            self._probe(now_s)
+        if self.ready and "M" in self.services:
+            last = self.link.last_receive_s
+            if last is not None and now_s - last > _SILENCE_LIMIT_S:
+                raise LinkTimeoutError(
+                    f"the robot stopped responding (nothing for {now_s - last:.1f} s)"
+                )
+
+    def flush(self, now_s: float, dt_s: float) -> None:
+        """Send wheel setpoints and tones."""
+        if not self.ready:
+            return
+        for frequency, duration in self._tones:
+            self.link.send(m.PlayTone(frequency, duration))
+        self._tones.clear()
+        if self.firmware_pid:
+            self._flush_rpm(now_s)
+        else:
+            self._flush_power(now_s, dt_s)
+
+    def _flush_rpm(self, now_s: float) -> None:
+        per_rev = math.pi * self.profile.wheel_diameter_mm
+        rpm = (
+            round(self._target_mm_s[0] * 60.0 / per_rev),
+            round(self._target_mm_s[1] * 60.0 / per_rev),
+        )
+        if rpm == (0, 0):
+            if self._sent_rpm not in (None, (0, 0)):
+                self.link.send(m.StopMotors())
+                self._sent_rpm = (0, 0)
+            return
+        stale = now_s - self._sent_at_s >= _PID_REFRESH_S
+        if rpm == self._sent_rpm and not stale:
+            return
+        if 0 in rpm:  # V1.1 ignores rpm 0: stop that wheel instead
+            for motor, value in enumerate(rpm):
+                if value == 0:
+                    self.link.send(m.StopMotor(motor))
+                else:
+                    self.link.send(m.SetMotorRpm(motor, value, _PID_DURATION_MS))
+        else:
+            self.link.send(m.SetMotorsRpm(rpm[0], rpm[1], _PID_DURATION_MS))
+        self._sent_rpm = rpm
+        self._sent_at_s = now_s
+
+    def _flush_power(self, now_s: float, dt_s: float) -> None:
+        self._host_loop.set_targets(*self._target_mm_s)
+        left, right = self._host_loop.update(
+            (self.wheel_speeds_mm_s[0], self.wheel_speeds_mm_s[1]), dt_s
+        )
+        power = (round(left * 100), round(right * 100))
+        if power != self._sent_power or now_s - self._sent_at_s >= _POWER_REFRESH_S:
+            self.link.send(m.SetMotorsPower(*power))
+            self._sent_power = power
+            self._sent_at_s = now_s
+
+    def _handle(self, message: object) -> None:
+        if isinstance(message, m.EncoderEvent):
+            for index, (delta, total) in enumerate(message.counts[:2]):
+                self.encoder_totals[index] = total
+                self.wheel_speeds_mm_s[index] = delta * self._mm_per_tick / _ENCODER_FRAME_S
+        elif isinstance(message, m.BumpEvent):
+            self.bump_pressed = message.pressed
+        elif isinstance(message, m.IrEvent):
+            self.ir_values = message.values
+        elif isinstance(message, m.DistanceEvent):
+            self.distance_cm = message.distances_cm[0] if message.distances_cm else None
+        elif isinstance(message, m.VersionReply):
+            self.version = message
+        elif isinstance(message, m.StartupLine):
+            self.startup = message
+        elif isinstance(message, m.ServiceNamesReply):
+            self.services = dict(message.services)
+        elif isinstance(message, m.ErrorReply):
+            self._handle_error(message)
+        elif isinstance(message, m.InfoLine | m.DebugLine):
+            logger.debug("board says: %s", message.text)
+
+    def _handle_error(self, error: m.ErrorReply) -> None:
+        if error.service == "M" and error.tag in "rRca" and error.errno == m.ErrorCode.UNKNOWN_REQUEST:
+            if self.firmware_pid:
+                self.firmware_pid = False
+                self._sent_rpm = None
+                self.notice(
+                    "this board's firmware has no motor PID: roboscript holds the wheel "
+                    "speeds itself"
+                )
+            return
+        self.errors.append(error)
+        logger.warning("the board refused a request: %s (%s)", error.text, error.errno)
+
+    def raise_errors(self) -> None:
+        """Raise the first error the board reported since the last call, if any.
+
+        Raises:
+            DeviceError: With the board's error text.
+        """
+        if self.errors:
+            error = self.errors.pop(0)
+            raise DeviceError(
+                f"the board refused {error.service},{error.tag}: {error.text}", code=error.errno
+            )
+
+    def capabilities(self) -> dict[str, object]:
+        """Capability objects by name (after the handshake)."""
+        return dict(self._caps)
+
+    def stop_all(self) -> None:
+        """Stop both motors; never raises."""
+        self._target_mm_s = (0.0, 0.0)
+        self._sent_rpm = (0, 0)
+        self._sent_power = (0, 0)
+        try:
+            self.link.send(m.StopMotors())
+            self.link.send(m.SetMotorsPower(0, 0))
+        except LinkError as exc:
+            logger.debug("stop not sent: %s", exc)
+
+    # ------------------------------------------------------------------ capability plumbing
+
+    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
+        """Store wheel speed targets (sent in the act phase)."""
+        self._target_mm_s = (left_mm_s, right_mm_s)
+
+    def queue_tone(self, frequency_hz: float, duration_s: float) -> None:
+        """Queue a tone (sent in the act phase)."""
+        frequency = max(1, min(65535, round(frequency_hz)))
+        duration = max(1, round(duration_s * 1000))
+        self._tones.append((frequency, duration))
+
+
+class _DriveBase:
+    def __init__(self, driver: AsipDriver) -> None:
+        self._driver = driver
+        self.track_mm = driver.profile.track_mm
+        self.max_speed_mm_s = driver.profile.max_speed_mm_s
+        self.odometry_is_estimated = False
+
+    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
+        limit = self.max_speed_mm_s
+        self._driver.set_wheel_speeds(
+            max(-limit, min(limit, left_mm_s)), max(-limit, min(limit, right_mm_s))
+        )
+
+    def stop(self) -> None:
+        self._driver.set_wheel_speeds(0.0, 0.0)
+
+    def wheel_distances_mm(self) -> tuple[float, float]:
+        per_tick = self._driver._mm_per_tick
+        totals = self._driver.encoder_totals
+        return totals[0] * per_tick, totals[1] * per_tick
+
+
+class _RangeSensor:
+    max_range_mm = 1000.0
+
+    def __init__(self, driver: AsipDriver) -> None:
+        self._driver = driver
+
+    def distance_mm(self) -> float | None:
+        cm = self._driver.distance_cm
+        return None if cm is None or cm <= 0 else cm * 10.0
+
+
+class _Bumpers:
+    names = ("left", "right")
+
+    def __init__(self, driver: AsipDriver) -> None:
+        self._driver = driver
+
+    def pressed(self) -> frozenset[str]:
+        return frozenset(
+            name for name, down in zip(self.names, self._driver.bump_pressed, strict=False) if down
+        )
+
+
+class _LineSensors:
+    names = ("left", "center", "right")
+    dark_threshold = 500.0
+
+    def __init__(self, driver: AsipDriver) -> None:
+        self._driver = driver
+
+    def values(self) -> tuple[float, ...] | None:
+        values = self._driver.ir_values
+        return None if values is None else tuple(float(v) for v in values)
+
+
+class _Speaker:
+    def __init__(self, driver: AsipDriver) -> None:
+        self._driver = driver
+
+    def beep(self, frequency_hz: float, duration_s: float) -> None:
+        self._driver.queue_tone(frequency_hz, duration_s)
+
+
+class _Display:
+    def __init__(self, driver: AsipDriver) -> None:
+        self._driver = driver
+
+    def show_text(self, text: str) -> None:
+        link = self._driver.link
+        link.send(m.LcdClear())
+        clean = "".join(ch if ch.isascii() and ch.isprintable() else "?" for ch in text)
+        rows = [clean[i : i + m.LCD_COLUMNS] for i in range(0, len(clean), m.LCD_COLUMNS)]
+        for line, row in enumerate(rows[: m.LCD_LINES]):
+            link.send(m.LcdWrite(line, row))
+
+    def clear(self) -> None:
+        self._driver.link.send(m.LcdClear())

@@ -1,0 +1,81 @@
+"""The host-side driver contract: what every protocol driver provides.
+
+A driver owns a :class:`~roboscript.transport.Link` and turns it into capabilities. It is
+ticked twice per scheduler tick: :meth:`Driver.tick` in the *sense* phase (read the link,
+update cached sensor values, advance the handshake, watch for silence) and :meth:`Driver.flush`
+in the *act* phase (send setpoints that changed). It never blocks and never sleeps.
+
+Safety: :meth:`Driver.stop_all` must stop every actuator with the fewest bytes that work on
+the real firmware, must be callable at any time (even before the handshake finished), and
+must never raise: it is called on every exit path, including after the link has failed.
+"""
+
+from __future__ import annotations
+
+import abc
+from typing import Any, ClassVar
+
+from roboscript.clock import Clock
+from roboscript.drivers.codec import Codec
+from roboscript.profiles import RobotProfile
+from roboscript.transport.link import Link
+
+__all__ = ["Driver"]
+
+
+class Driver(abc.ABC):
+    """Base class of protocol drivers.
+
+    Args:
+        link: The open link to the robot (its codec made by :meth:`make_codec`).
+        profile: The robot model.
+        clock: The scheduler's clock.
+    """
+
+    protocol: ClassVar[str]
+
+    def __init__(self, link: Link, profile: RobotProfile, clock: Clock) -> None:
+        self.link = link
+        self.profile = profile
+        self.clock = clock
+        self.ready = False
+        self.notices: list[str] = []
+        """One-line messages for the user (for example a switch to host-side control)."""
+
+    @classmethod
+    @abc.abstractmethod
+    def make_codec(cls, profile: RobotProfile) -> Codec[Any]:
+        """The host-role codec for this protocol."""
+
+    @abc.abstractmethod
+    def start(self) -> None:
+        """Begin the handshake (send the first probe)."""
+
+    @abc.abstractmethod
+    def tick(self, now_s: float, dt_s: float) -> None:
+        """Sense phase: read the link, update sensor values, advance the handshake.
+
+        Raises:
+            LinkError: The link was lost or the robot stopped responding.
+        """
+
+    @abc.abstractmethod
+    def flush(self, now_s: float, dt_s: float) -> None:
+        """Act phase: send setpoints that changed since the last tick."""
+
+    @abc.abstractmethod
+    def capabilities(self) -> dict[str, object]:
+        """The capability objects, by capability name (after the handshake)."""
+
+    @abc.abstractmethod
+    def stop_all(self) -> None:
+        """Stop every actuator now. Never raises."""
+
+    def describe(self) -> str:
+        """What is on the other end, in a few words (after the handshake)."""
+        return self.profile.name
+
+    def notice(self, text: str) -> None:
+        """Record a one-line notice for the user."""
+        if text not in self.notices:
+            self.notices.append(text)

@@ -1,0 +1,174 @@
+"""The roboscript exception tree.
+
+Every branch is also a builtin exception, so code that knows nothing of roboscript can still
+catch what it expects (a bad mission is a ``ValueError``, a lost link is an ``OSError``)::
+
+    RoboscriptError(Exception)
+    ├── InputError(RoboscriptError, ValueError)        a file a user wrote is wrong
+    │   ├── MissionError                               mission YAML / Python
+    │   ├── ProfileError                               robot profile
+    │   ├── WorldError                                 simulator world
+    │   └── SpecError                                  teacher test spec
+    ├── CapabilityError(RoboscriptError, LookupError)  the robot lacks what is asked of it
+    ├── ProtocolError(RoboscriptError, ValueError)
+    │   ├── LocalProtocolError                         we tried to send something illegal
+    │   └── RemoteProtocolError                        the peer sent bytes we cannot parse
+    ├── DeviceError(RoboscriptError, RuntimeError)     the device reported an error itself
+    └── LinkError(RoboscriptError, OSError)            the transport failed
+        ├── LinkTimeoutError(LinkError, TimeoutError)  nothing answered in time
+        └── LinkClosedError(LinkError, ConnectionError) the peer went away
+
+Example scenarios:
+
+* ``drvie:`` in a mission file -> :class:`MissionError` with ``path``, ``line``, ``col`` and a
+  ``hint`` ("did you mean 'drive'?").
+* ``follow_line`` on a robot without line sensors -> :class:`CapabilityError`.
+* ``M,m,0,500`` (power out of range) built by a driver -> :class:`LocalProtocolError`.
+* ``@M,e,2,{x:y}`` read from the wire -> :class:`RemoteProtocolError` (counted and skipped).
+* ``~S,W,7{INVALID_DEVICE_NUMBER}`` from the board -> :class:`DeviceError`.
+* The USB cable is pulled -> :class:`LinkClosedError`; no startup line within the handshake
+  time -> :class:`LinkTimeoutError`.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "CapabilityError",
+    "DeviceError",
+    "InputError",
+    "LinkClosedError",
+    "LinkError",
+    "LinkTimeoutError",
+    "LocalProtocolError",
+    "MissionError",
+    "ProfileError",
+    "ProtocolError",
+    "RemoteProtocolError",
+    "RoboscriptError",
+    "SpecError",
+    "WorldError",
+]
+
+
+class RoboscriptError(Exception):
+    """Base of every error roboscript raises on purpose."""
+
+
+class InputError(RoboscriptError, ValueError):
+    """A file written by a user (mission, profile, world, test spec) is invalid.
+
+    Attributes:
+        message: What is wrong, in the writer's terms.
+        path: The file, or ``None`` when the input did not come from a file.
+        line: 1-based line number, or ``None``.
+        col: 1-based column number, or ``None``.
+        hint: A suggestion such as ``"did you mean 'drive'?"``, or ``None``.
+        severity: ``"error"`` or ``"warning"``.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        path: str | None = None,
+        line: int | None = None,
+        col: int | None = None,
+        hint: str | None = None,
+        severity: str = "error",
+    ) -> None:
+        self.message = message
+        self.path = path
+        self.line = line
+        self.col = col
+        self.hint = hint
+        self.severity = severity
+        super().__init__(self.format())
+
+    def format(self) -> str:
+        """Return the ``file:line:col: error: message (hint)`` form users see."""
+        where = self.path or "<input>"
+        if self.line is not None:
+            where += f":{self.line}"
+            if self.col is not None:
+                where += f":{self.col}"
+        text = f"{where}: {self.severity}: {self.message}"
+        if self.hint:
+            text += f" ({self.hint})"
+        return text
+
+
+class MissionError(InputError):
+    """A mission file is invalid (unknown action, bad unit, unreachable state, ...)."""
+
+
+class ProfileError(InputError):
+    """A robot profile is invalid or names no known robot."""
+
+
+class WorldError(InputError):
+    """A simulator world file is invalid."""
+
+
+class SpecError(InputError):
+    """A teacher test spec is invalid."""
+
+
+class CapabilityError(RoboscriptError, LookupError):
+    """The robot lacks a capability a mission or action needs.
+
+    Attributes:
+        missing: The capability names that are missing.
+    """
+
+    def __init__(self, message: str, *, missing: tuple[str, ...] = ()) -> None:
+        self.missing = missing
+        super().__init__(message)
+
+
+class ProtocolError(RoboscriptError, ValueError):
+    """Bytes that do not follow a robot protocol."""
+
+
+class LocalProtocolError(ProtocolError):
+    """We tried to encode a message that is illegal for the protocol or our role."""
+
+
+class RemoteProtocolError(ProtocolError):
+    """The peer sent bytes that cannot be parsed.
+
+    The codec has already consumed the offending bytes, so decoding may continue.
+
+    Attributes:
+        kind: A short, stable name for the fault (``"bad_checksum"``, ``"overlong"``, ...),
+            used to count faults and log each kind once.
+        data: The offending bytes (possibly truncated).
+    """
+
+    def __init__(self, message: str, *, kind: str = "malformed", data: bytes = b"") -> None:
+        self.kind = kind
+        self.data = data
+        super().__init__(message)
+
+
+class DeviceError(RoboscriptError, RuntimeError):
+    """The device itself reported an error.
+
+    Attributes:
+        code: The device's error number or status, when it gives one.
+    """
+
+    def __init__(self, message: str, *, code: int | None = None) -> None:
+        self.code = code
+        super().__init__(message)
+
+
+class LinkError(RoboscriptError, OSError):
+    """The transport to the robot failed."""
+
+
+class LinkTimeoutError(LinkError, TimeoutError):
+    """The robot did not answer within the time allowed."""
+
+
+class LinkClosedError(LinkError, ConnectionError):
+    """The link to the robot was closed or lost."""

@@ -1,0 +1,341 @@
+"""Guard expressions: ``range.distance_cm < 20 and not bumper.any``, compiled without ``eval``.
+
+The text is parsed with :func:`ast.parse` and only an allow-list of node types is accepted:
+``and``/``or``/``not``, comparisons (chains too), ``+ - * /``, numbers, ``true``/``false`` and
+names rooted at the sensors and mission values below. There are no calls, no subscripts, no
+strings and no attribute chains beyond one dot, so a guard cannot reach anything but these
+values. The result is a tree of closures evaluated against a :class:`GuardEnv`.
+
+Names:
+
+=====================  ==================================================  ===============
+name                   value                                               needs
+=====================  ==================================================  ===============
+``range.distance_mm``  distance ahead in mm (no echo reads as infinity)    ``range``
+``range.distance_cm``  the same in cm                                      ``range``
+``bumper.left``        left bump switch pressed (also ``right``, ``any``)  ``bumper``
+``line.left``          line sensor reading 0-1023 (``center``, ``right``)  ``line``
+``line.any``           any line sensor over a dark line                    ``line``
+``heading_deg``        turn since the start, degrees clockwise             ``drive_base``
+``visits.STATE``       how many times STATE has been entered               --
+``elapsed``            seconds since the mission started                   --
+``state_time``         seconds since the current state was entered         --
+=====================  ==================================================  ===============
+
+A number may carry a unit (``20 cm``, ``1.5 s``, ``90 deg``): it is converted to the unit of
+the name it is compared with (``range.distance_cm < 200 mm`` compares in cm).
+"""
+
+from __future__ import annotations
+
+import ast
+import difflib
+import operator
+import re
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from roboscript import capabilities as cap
+from roboscript.mission.quantities import DIMENSIONS, QuantityError, parse_quantity
+
+__all__ = ["Guard", "GuardEnv", "GuardError", "compile_guard"]
+
+
+class GuardError(ValueError):
+    """A guard expression is not valid.
+
+    Attributes:
+        offset: 0-based character offset of the problem in the expression.
+        hint: A suggestion, or ``None``.
+    """
+
+    def __init__(self, message: str, offset: int = 0, hint: str | None = None) -> None:
+        super().__init__(message)
+        self.offset = offset
+        self.hint = hint
+
+
+class GuardEnv:
+    """The values a guard can read at one moment. Subclassed by the mission runner."""
+
+    def sensor(self, root: str, attr: str | None) -> float | bool:
+        """Value of ``root`` or ``root.attr`` (``range.distance_mm``, ``heading_deg``)."""
+        raise NotImplementedError
+
+    def visits(self, state: str) -> int:
+        """How many times ``state`` has been entered."""
+        raise NotImplementedError
+
+
+# name -> (unit dimension or None, capability needed or None)
+_ATTRS: dict[str, dict[str, tuple[str | None, str]]] = {
+    "range": {
+        "distance_mm": ("mm", cap.RANGE),
+        "distance_cm": ("cm", cap.RANGE),
+        "distance": ("mm", cap.RANGE),
+    },
+    "bumper": {name: ("", cap.BUMPER) for name in ("left", "right", "any")},
+    "line": {name: ("", cap.LINE) for name in ("left", "center", "right", "any")},
+}
+_PLAIN: dict[str, tuple[str | None, str | None]] = {
+    "heading_deg": ("deg", cap.DRIVE_BASE),
+    "elapsed": ("s", None),
+    "state_time": ("s", None),
+}
+_UNIT_DIMENSION = {"mm": "distance", "cm": "distance", "deg": "angle", "s": "time"}
+_UNIT_FACTOR = {"mm": 1.0, "cm": 10.0, "deg": 1.0, "s": 1.0}
+
+_NUMBER_WITH_UNIT = re.compile(
+    r"(?<![\w.])(\d+(?:\.\d*)?|\.\d+)\s*(mm|cm|m|ms|s|sec|min|deg|rad|°)(?![\w/])"
+)
+
+_COMPARE: dict[type[ast.cmpop], Callable[[Any, Any], bool]] = {
+    ast.Lt: operator.lt,
+    ast.LtE: operator.le,
+    ast.Gt: operator.gt,
+    ast.GtE: operator.ge,
+    ast.Eq: operator.eq,
+    ast.NotEq: operator.ne,
+}
+_ARITH: dict[type[ast.operator], Callable[[Any, Any], Any]] = {
+    ast.Add: operator.add,
+    ast.Sub: operator.sub,
+    ast.Mult: operator.mul,
+    ast.Div: operator.truediv,
+}
+
+_Eval = Callable[[GuardEnv], Any]
+
+
+@dataclass(frozen=True)
+class Guard:
+    """A compiled guard.
+
+    Attributes:
+        source: The expression as written.
+        capabilities: Capability names the guard reads.
+        states: State names it reads through ``visits.STATE``.
+    """
+
+    source: str
+    _evaluate: _Eval = field(repr=False, compare=False)
+    capabilities: frozenset[str] = frozenset()
+    states: frozenset[str] = frozenset()
+
+    def __call__(self, env: GuardEnv) -> bool:
+        """Evaluate the guard now."""
+        return bool(self._evaluate(env))
+
+
+@dataclass
+class _Quantity:
+    value: float
+    unit: str
+    offset: int
+
+
+class _Compiler:
+    def __init__(self, source: str, state_names: frozenset[str] | None) -> None:
+        self.source = source
+        self.state_names = state_names
+        self.capabilities: set[str] = set()
+        self.states: set[str] = set()
+        self.quantities: dict[str, _Quantity] = {}
+
+    def fail(self, message: str, node: ast.AST | None = None, hint: str | None = None) -> GuardError:
+        offset = getattr(node, "col_offset", 0) if node is not None else 0
+        return GuardError(message, self._source_offset(offset), hint)
+
+    def _source_offset(self, offset: int) -> int:
+        return max(0, offset)
+
+    def rewrite(self) -> str:
+        # Each "20 cm" becomes an identifier of the same length, so offsets still match.
+        def replace(match: re.Match[str]) -> str:
+            index = len(self.quantities)
+            name = f"_{index}".ljust(len(match.group(0)), "_")
+            self.quantities[name] = _Quantity(float(match.group(1)), match.group(2), match.start())
+            return name
+
+        return _NUMBER_WITH_UNIT.sub(replace, self.source)
+
+    def compile(self) -> Guard:
+        text = self.rewrite()
+        text = re.sub(r"\btrue\b", "True", re.sub(r"\bfalse\b", "False", text))
+        try:
+            tree = ast.parse(text.strip(), mode="eval")
+        except SyntaxError as exc:
+            offset = (exc.offset or 1) - 1
+            raise GuardError(
+                f"cannot read the condition '{self.source}'", self._source_offset(offset)
+            ) from None
+        evaluate = self.node(tree.body)
+        return Guard(self.source, evaluate, frozenset(self.capabilities), frozenset(self.states))
+
+    # ------------------------------------------------------------------------------ nodes
+
+    def node(self, node: ast.expr) -> _Eval:
+        if isinstance(node, ast.BoolOp):
+            parts = [self.node(value) for value in node.values]
+            if isinstance(node.op, ast.And):
+                return lambda env: all(part(env) for part in parts)
+            return lambda env: any(part(env) for part in parts)
+        if isinstance(node, ast.UnaryOp):
+            operand = self.node(node.operand)
+            if isinstance(node.op, ast.Not):
+                return lambda env: not operand(env)
+            if isinstance(node.op, ast.USub):
+                return lambda env: -operand(env)
+            raise self.fail("only 'not' and '-' can stand before a value", node)
+        if isinstance(node, ast.Compare):
+            return self.compare(node)
+        if isinstance(node, ast.BinOp):
+            op = _ARITH.get(type(node.op))
+            if op is None:
+                raise self.fail("only + - * / are allowed in a condition", node)
+            left, right = self.node(node.left), self.node(node.right)
+            return lambda env: op(left(env), right(env))
+        if isinstance(node, ast.Constant):
+            value = node.value
+            if isinstance(value, bool | int | float):
+                return lambda env: value
+            raise self.fail("a condition compares numbers, not text", node)
+        if isinstance(node, ast.Name | ast.Attribute):
+            reader, _ = self.name(node)
+            return reader
+        if isinstance(node, ast.Call):
+            raise self.fail("a condition cannot call functions", node)
+        raise self.fail("this is not allowed in a condition", node)
+
+    def unit_of(self, node: ast.expr) -> str | None:
+        if isinstance(node, ast.Name | ast.Attribute) and not self.is_quantity(node):
+            return self.name(node)[1]
+        return None
+
+    def is_quantity(self, node: ast.expr) -> bool:
+        return isinstance(node, ast.Name) and node.id in self.quantities
+
+    def operand(self, node: ast.expr, unit: str | None) -> _Eval:
+        if self.is_quantity(node):
+            assert isinstance(node, ast.Name)
+            quantity = self.quantities[node.id]
+            target = unit or _default_unit(quantity.unit)
+            dimension = _UNIT_DIMENSION.get(target or "")
+            if dimension is None:
+                raise self.fail(
+                    f"'{quantity.value:g} {quantity.unit}' is compared with a value that has no unit",
+                    node,
+                )
+            try:
+                base = parse_quantity(f"{quantity.value} {quantity.unit}", dimension)
+            except QuantityError as exc:
+                raise self.fail(str(exc), node) from None
+            value = base / _UNIT_FACTOR[target or "mm"]
+            return lambda env: value
+        return self.node(node)
+
+    def compare(self, node: ast.Compare) -> _Eval:
+        items = [node.left, *node.comparators]
+        units = [self.unit_of(item) for item in items]
+        unit = next((u for u in units if u), None)
+        parts = [self.operand(item, unit) for item in items]
+        ops = []
+        for op in node.ops:
+            func = _COMPARE.get(type(op))
+            if func is None:
+                raise self.fail("use < <= > >= == or != to compare", node)
+            ops.append(func)
+
+        def evaluate(env: GuardEnv) -> bool:
+            left = parts[0](env)
+            for func, part in zip(ops, parts[1:], strict=True):
+                right = part(env)
+                if not func(left, right):
+                    return False
+                left = right
+            return True
+
+        return evaluate
+
+    def name(self, node: ast.Name | ast.Attribute) -> tuple[_Eval, str | None]:
+        if isinstance(node, ast.Name):
+            if node.id in self.quantities:
+                raise self.fail("a number with a unit must be compared with a sensor value", node)
+            if node.id in _PLAIN:
+                unit, needs = _PLAIN[node.id]
+                if needs:
+                    self.capabilities.add(needs)
+                ident = node.id
+                return (lambda env: env.sensor(ident, None)), unit
+            if node.id in _ATTRS or node.id == "visits":
+                raise self.fail(f"'{node.id}' needs a '.' and a name after it", node)
+            raise self.unknown(node.id, node)
+        value = node.value
+        if not isinstance(value, ast.Name):
+            raise self.fail("a name has at most one '.'", node)
+        root, attr = value.id, node.attr
+        if root == "visits":
+            if self.state_names is not None and attr not in self.state_names:
+                close = difflib.get_close_matches(attr, sorted(self.state_names), n=1)
+                raise self.fail(
+                    f"'visits.{attr}': there is no state '{attr}'",
+                    node,
+                    f"did you mean 'visits.{close[0]}'?" if close else None,
+                )
+            self.states.add(attr)
+            return (lambda env: env.visits(attr)), None
+        if root not in _ATTRS:
+            raise self.unknown(root, value)
+        attrs = _ATTRS[root]
+        if attr not in attrs:
+            close = difflib.get_close_matches(attr, sorted(attrs), n=1)
+            raise self.fail(
+                f"'{root}' has no '{attr}' (it has {', '.join(sorted(attrs))})",
+                node,
+                f"did you mean '{root}.{close[0]}'?" if close else None,
+            )
+        unit, needs = attrs[attr]
+        self.capabilities.add(needs)
+        return (lambda env: env.sensor(root, attr)), unit or None
+
+    def unknown(self, name: str, node: ast.AST) -> GuardError:
+        known = [*_PLAIN, *(f"{r}.{a}" for r, attrs in _ATTRS.items() for a in attrs), "visits"]
+        close = difflib.get_close_matches(name, [*_PLAIN, *_ATTRS, "visits"], n=1)
+        return self.fail(
+            f"unknown name '{name}' in a condition",
+            node,
+            f"did you mean '{close[0]}'?" if close else f"names: {', '.join(known[:8])}, ...",
+        )
+
+
+def _default_unit(unit: str) -> str | None:
+    for dimension_key, base in (("distance", "mm"), ("time", "s"), ("angle", "deg")):
+        if unit in DIMENSIONS[dimension_key].units or unit.lower() in DIMENSIONS[dimension_key].units:
+            return base
+    return None
+
+
+def compile_guard(source: str, state_names: frozenset[str] | None = None) -> Guard:
+    """Compile a guard expression.
+
+    Args:
+        source: The expression, e.g. ``"range.distance_cm < 20 and not bumper.any"``.
+        state_names: The mission's states, to check ``visits.STATE`` (``None`` skips it).
+
+    Raises:
+        GuardError: With the offset of the problem and a hint where one fits.
+    """
+    if not isinstance(source, str) or not source.strip():
+        raise GuardError("a condition cannot be empty")
+    return _Compiler(source, state_names).compile()
+
+
+def guard_names() -> Mapping[str, str | None]:
+    """Every name a guard can read, with the capability it needs (for docs and errors)."""
+    names: dict[str, str | None] = {name: needs for name, (_, needs) in _PLAIN.items()}
+    for root, attrs in _ATTRS.items():
+        for attr, (_, needs) in attrs.items():
+            names[f"{root}.{attr}"] = needs
+    names["visits.STATE"] = None
+    return names

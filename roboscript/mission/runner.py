@@ -1,0 +1,307 @@
+"""Run a mission: a ``transitions`` state machine ticked by the scheduler.
+
+This module is the only user of ``transitions``. It hands the machine only callables it
+built itself: ``transitions`` imports any dotted string it is given as a callback, so a
+string from a mission file must never reach it. Timeouts are counted on the scheduler's clock
+(not with ``transitions``' thread-based ``Timeout``), so simulated runs stay deterministic.
+
+Each tick, in the current state:
+
+1. the ``when`` conditions are tried in order; the first that holds moves on;
+2. the action is updated; when it ends, its outcome (``done``, ``failed``, ``timeout``) is
+   routed by ``on`` (conditional entries tried in order). A ``failed`` or ``timeout`` nobody
+   routes ends the mission in failure, with the action's reason;
+3. the state's ``timeout`` is checked.
+
+Entering a final state runs its action (if any) to its end, then the mission ends with the
+state's outcome. On the way out of every state the action's ``stop`` is called, and when the
+mission ends the wheels are stopped.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections import Counter
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from transitions import Machine, State
+
+from roboscript import capabilities as cap
+from roboscript.actions.base import ActionContext, Outcome, Result
+from roboscript.mission.guards import GuardEnv
+from roboscript.mission.spec import MissionSpec, TransitionSpec
+
+__all__ = ["MissionResult", "MissionRunner"]
+
+logger = logging.getLogger(__name__)
+
+
+class _QuietModelOverride(logging.Filter):
+    """Drop transitions' note for every method it leaves off our bare model (on purpose)."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return "due to model override policy" not in record.getMessage()
+
+
+logging.getLogger("transitions.core").addFilter(_QuietModelOverride())
+
+
+@dataclass
+class MissionResult:
+    """How a mission ended (the core of ``run --json``).
+
+    Attributes:
+        mission: Mission name.
+        outcome: ``success``, ``failure`` or ``error``.
+        final_state: The state the mission ended in.
+        reason: Why, when the outcome is not success.
+        duration_s: Mission time on the scheduler clock, seconds.
+        states: Every state entered, as ``[time_s, name]``.
+    """
+
+    mission: str
+    outcome: str = "running"
+    final_state: str | None = None
+    reason: str | None = None
+    duration_s: float = 0.0
+    states: list[tuple[float, str]] = field(default_factory=list)
+
+
+class _Model:
+    """The object ``transitions`` manages: it holds the state and nothing else."""
+
+    state: str
+
+    def trigger(self, name: str) -> bool:  # replaced by the machine (model_override)
+        raise NotImplementedError
+
+
+class MissionRunner(GuardEnv):
+    """Runs one mission on a robot's capabilities.
+
+    Args:
+        spec: The mission.
+        capabilities: The robot's capability objects by name.
+        robot_name: For messages.
+        on_state: Called with ``(time_s, state)`` whenever a state is entered.
+    """
+
+    def __init__(
+        self,
+        spec: MissionSpec,
+        capabilities: Mapping[str, object],
+        *,
+        robot_name: str = "the robot",
+        on_state: Callable[[float, str], None] | None = None,
+    ) -> None:
+        self.spec = spec
+        self.capabilities = capabilities
+        self.ctx = ActionContext(capabilities, robot_name)
+        self.result = MissionResult(spec.name)
+        self.finished = False
+        self.action: Any = None
+        self.action_result: Result | None = None
+        self._visits: Counter[str] = Counter()
+        self._start_s: float | None = None
+        self._state_start_s = 0.0
+        self._on_state = on_state
+        self._odometry_origin: tuple[float, float] | None = None
+        self._model = _Model()
+        self._machine = self._build_machine()
+
+    # ------------------------------------------------------------------------ the machine
+
+    def _build_machine(self) -> Machine:
+        states = [
+            State(
+                name,
+                on_enter=[self._make_enter(name)],
+                on_exit=[self._make_exit(name)],
+            )
+            for name in self.spec.states
+        ]
+        machine = Machine(
+            model=self._model,
+            states=states,
+            initial=self.spec.initial,
+            auto_transitions=False,
+            ignore_invalid_triggers=True,
+            send_event=True,
+            queued=False,
+            model_override=True,
+        )
+        for name, state in self.spec.states.items():
+            for outcome, options in state.on.items():
+                for option in options:
+                    self._add(machine, outcome, name, option)
+            for option in state.when:
+                self._add(machine, "check", name, option)
+        return machine
+
+    def _add(self, machine: Machine, trigger: str, source: str, option: TransitionSpec) -> None:
+        conditions = []
+        guard = option.guard
+        if guard is not None:
+
+            def condition(event: Any, guard: Callable[[Any], bool] = guard) -> bool:
+                return bool(guard(self))
+
+            condition.__name__ = option.guard_text or "condition"
+            conditions.append(condition)
+        machine.add_transition(trigger, source, option.target, conditions=conditions)
+
+    def _make_enter(self, name: str) -> Callable[[Any], None]:
+        def enter(event: Any) -> None:
+            self._enter(name)
+
+        return enter
+
+    def _make_exit(self, name: str) -> Callable[[Any], None]:
+        def exit_(event: Any) -> None:
+            self._exit()
+
+        return exit_
+
+    # ------------------------------------------------------------------------------ states
+
+    @property
+    def state(self) -> str:
+        """The current state's name."""
+        return self._model.state
+
+    def _now(self) -> float:
+        return self.ctx.now_s
+
+    def _enter(self, name: str) -> None:
+        now = self._now()
+        start = self._start_s if self._start_s is not None else now
+        self._visits[name] += 1
+        self._state_start_s = now
+        self.result.states.append((round(now - start, 3), name))
+        if self._on_state is not None:
+            self._on_state(now - start, name)
+        spec = self.spec.states[name]
+        self.action_result = None
+        self.action = spec.action.factory() if spec.action is not None else None
+        if self.action is not None:
+            self.action.start(self.ctx)
+
+    def _exit(self) -> None:
+        if self.action is not None:
+            self.action.stop(self.ctx)
+            self.action = None
+
+    def _fire(self, trigger: str) -> bool:
+        return bool(self._model.trigger(trigger))
+
+    # -------------------------------------------------------------------------------- tick
+
+    def tick(self, now_s: float, dt_s: float) -> None:
+        """Advance the mission by one scheduler tick."""
+        if self.finished:
+            return
+        self.ctx.now_s = now_s
+        self.ctx.dt_s = dt_s
+        if self._start_s is None:
+            self._start_s = now_s
+            if cap.DRIVE_BASE in self.capabilities:
+                base = self.capabilities[cap.DRIVE_BASE]
+                self._odometry_origin = base.wheel_distances_mm()  # type: ignore[attr-defined]
+            self._enter(self.state)
+        name = self.state
+        state = self.spec.states[name]
+        if state.when and not state.final and self._fire("check"):
+            return
+        if self.action is not None and self.action_result is None:
+            result = self.action.update(self.ctx)
+            if result is not None:
+                self.action_result = result
+                if self._route(name, result):
+                    return
+        if state.final and (self.action is None or self.action_result is not None):
+            outcome = "success" if state.final == "success" else "failure"
+            reason = None if outcome == "success" else f"ended in the failure state '{name}'"
+            self.finish(outcome, reason)
+            return
+        if state.timeout_s is not None and now_s - self._state_start_s >= state.timeout_s - 1e-9:
+            if not self._fire("timeout"):
+                self.finish("failure", f"state '{name}' timed out after {state.timeout_s:g} s")
+
+    def _route(self, name: str, result: Result) -> bool:
+        """Route an action's outcome; True if the mission moved on or ended."""
+        state = self.spec.states[name]
+        if state.final:
+            return False
+        if self._fire(result.outcome.value):
+            return True
+        if result.outcome is Outcome.DONE:
+            return False  # the state waits for a condition or its timeout
+        action_name = state.action.name if state.action else "the action"
+        why = result.reason or result.outcome.value
+        self.finish("failure", f"{action_name} {result.outcome.value} in state '{name}': {why}")
+        return True
+
+    def finish(self, outcome: str, reason: str | None = None) -> None:
+        """End the mission now with ``outcome`` (``success``, ``failure`` or ``error``)."""
+        if self.finished:
+            return
+        self.finished = True
+        self._exit()
+        base = self.capabilities.get(cap.DRIVE_BASE)
+        if base is not None:
+            base.stop()  # type: ignore[attr-defined]
+        self.result.outcome = outcome
+        self.result.final_state = self.state
+        self.result.reason = reason
+        self.result.duration_s = self.elapsed()
+
+    @property
+    def start_time_s(self) -> float:
+        """Scheduler time at which the mission started (0 before it has)."""
+        return self._start_s or 0.0
+
+    def elapsed(self) -> float:
+        """Seconds since the mission started."""
+        return 0.0 if self._start_s is None else round(self.ctx.now_s - self._start_s, 6)
+
+    # ----------------------------------------------------------------------------- guards
+
+    def visits(self, state: str) -> int:
+        """How many times ``state`` has been entered."""
+        return self._visits[state]
+
+    def sensor(self, root: str, attr: str | None) -> float | bool:
+        """The value a guard name reads (see :mod:`roboscript.mission.guards`)."""
+        if root == "elapsed":
+            return self.elapsed()
+        if root == "state_time":
+            return self.ctx.now_s - self._state_start_s
+        if root == "heading_deg":
+            return self._heading_deg()
+        if root == "range":
+            reading = self.ctx.get(cap.RANGE).distance_mm()
+            value = math.inf if reading is None else float(reading)
+            return value / 10.0 if attr == "distance_cm" else value
+        if root == "bumper":
+            pressed = self.ctx.get(cap.BUMPER).pressed()
+            return bool(pressed) if attr == "any" else attr in pressed
+        if root == "line":
+            sensors = self.ctx.get(cap.LINE)
+            values = sensors.values() or tuple(0.0 for _ in sensors.names)
+            if attr == "any":
+                return any(value > sensors.dark_threshold for value in values)
+            return float(values[sensors.names.index(attr)])
+        raise KeyError(root)
+
+    def _heading_deg(self) -> float:
+        if cap.HEADING in self.capabilities:
+            heading = self.ctx.get(cap.HEADING).heading_deg()
+            return 0.0 if heading is None else ((heading + 180.0) % 360.0) - 180.0
+        base = self.ctx.drive_base
+        left, right = base.wheel_distances_mm()
+        origin = self._odometry_origin or (0.0, 0.0)
+        turned = math.degrees(((left - origin[0]) - (right - origin[1])) / base.track_mm)
+        return ((turned + 180.0) % 360.0) - 180.0

@@ -1,0 +1,140 @@
+"""A mission as data: frozen dataclasses both the YAML and the Python loaders produce.
+
+There is one set of rules for both syntaxes: the checks (:mod:`roboscript.mission.checks`) and
+the runner work on a :class:`MissionSpec`, never on YAML.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+__all__ = [
+    "OUTCOMES",
+    "ActionSpec",
+    "Location",
+    "MissionSpec",
+    "StateSpec",
+    "TransitionSpec",
+]
+
+OUTCOMES = ("done", "failed", "timeout")
+"""Outcomes a state's ``on`` can route."""
+
+
+@dataclass(frozen=True)
+class Location:
+    """Where something was written: file, 1-based line and column."""
+
+    path: str
+    line: int | None = None
+    col: int | None = None
+
+    def __str__(self) -> str:
+        text = self.path
+        if self.line is not None:
+            text += f":{self.line}"
+            if self.col is not None:
+                text += f":{self.col}"
+        return text
+
+
+@dataclass(frozen=True)
+class ActionSpec:
+    """An action with its parameters converted to units.
+
+    Attributes:
+        name: The action word (``drive``).
+        kwargs: Constructor keywords with units in their names (``distance_mm=500.0``).
+        factory: Builds a fresh action object for each state entry.
+        requires: Capability names the action needs.
+        location: Where the action was written.
+    """
+
+    name: str
+    kwargs: Mapping[str, Any]
+    factory: Callable[[], Any] = field(compare=False, repr=False)
+    requires: frozenset[str] = frozenset()
+    location: Location | None = None
+
+
+@dataclass(frozen=True)
+class TransitionSpec:
+    """One way out of a state: go to ``target`` if ``guard`` holds (always, when ``None``).
+
+    Attributes:
+        target: The next state's name.
+        guard: A compiled guard (:class:`~roboscript.mission.guards.Guard`) or a callable
+            ``(env) -> bool`` from a Python mission; ``None`` means unconditional.
+        guard_text: The guard as written, for diagrams and messages.
+        location: Where the transition was written.
+    """
+
+    target: str
+    guard: Callable[[Any], bool] | None = field(default=None, compare=False)
+    guard_text: str | None = None
+    location: Location | None = None
+
+
+@dataclass(frozen=True)
+class StateSpec:
+    """One state of a mission.
+
+    Attributes:
+        name: State name.
+        action: What the state does, or ``None`` for a state that only waits on guards.
+        on: Outcome (``done``/``failed``/``timeout``) -> transitions tried in order.
+        when: Guarded transitions checked every tick while in the state, in order.
+        timeout_s: The state's time bound, seconds, or ``None``.
+        final: ``"success"`` or ``"failure"`` for a final state, else ``None``.
+        description: Free text.
+        location: Where the state was written.
+    """
+
+    name: str
+    action: ActionSpec | None = None
+    on: Mapping[str, tuple[TransitionSpec, ...]] = field(default_factory=dict)
+    when: tuple[TransitionSpec, ...] = ()
+    timeout_s: float | None = None
+    final: str | None = None
+    description: str = ""
+    location: Location | None = None
+
+    def targets(self) -> list[TransitionSpec]:
+        """Every transition out of the state."""
+        found = list(self.when)
+        for transitions in self.on.values():
+            found.extend(transitions)
+        return found
+
+
+@dataclass(frozen=True)
+class MissionSpec:
+    """A whole mission.
+
+    Attributes:
+        name: Mission name.
+        description: Free text.
+        initial: The first state.
+        states: States by name, in the order written.
+        path: The file the mission came from.
+        location: Where the mission's top level starts.
+    """
+
+    name: str
+    initial: str
+    states: Mapping[str, StateSpec]
+    description: str = ""
+    path: str = "<mission>"
+    location: Location | None = None
+
+    def requires(self) -> frozenset[str]:
+        """Every capability the mission's actions and guards need."""
+        needed: set[str] = set()
+        for state in self.states.values():
+            if state.action is not None:
+                needed |= state.action.requires
+            for transition in state.targets():
+                needed |= set(getattr(transition.guard, "capabilities", ()))
+        return frozenset(needed)

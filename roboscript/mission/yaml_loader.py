@@ -1,0 +1,397 @@
+"""Read a YAML mission into a :class:`~roboscript.mission.spec.MissionSpec`.
+
+Every problem is reported in the student's terms, ``file:line:col: error: ...`` with a "did
+you mean" where one fits. All problems in a file are collected, so one run of
+``roboscript check`` lists them all; the first is raised, carrying the rest.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from roboscript.actions import ACTIONS, Action, Param
+from roboscript.errors import InputError, MissionError
+from roboscript.mission.guards import GuardError, compile_guard
+from roboscript.mission.quantities import DIMENSIONS, QuantityError, parse_quantity
+from roboscript.mission.source import Mark, YamlList, YamlMap, load_yaml, load_yaml_text
+from roboscript.mission.spec import (
+    OUTCOMES,
+    ActionSpec,
+    Location,
+    MissionSpec,
+    StateSpec,
+    TransitionSpec,
+)
+
+__all__ = ["MissionProblems", "build_action", "load_yaml_mission", "parse_yaml_mission"]
+
+_TOP_KEYS = ("mission", "description", "initial", "states")
+_STATE_KEYS = ("do", "on", "when", "timeout", "final", "description")
+
+
+class MissionProblems(MissionError):
+    """The first error in a mission, carrying every problem found (errors and warnings).
+
+    Attributes:
+        problems: All problems, in file order.
+    """
+
+    def __init__(self, problems: list[InputError]) -> None:
+        self.problems = problems
+        first = next(p for p in problems if p.severity == "error")
+        super().__init__(
+            first.message,
+            path=first.path,
+            line=first.line,
+            col=first.col,
+            hint=first.hint,
+        )
+
+
+def _suggest(word: str, choices: Any) -> str | None:
+    close = difflib.get_close_matches(word, sorted(choices), n=1)
+    return f"did you mean '{close[0]}'?" if close else None
+
+
+def build_action(
+    cls: type[Action], values: Mapping[str, Any]
+) -> tuple[dict[str, Any], list[tuple[str, str, str | None]]]:
+    """Convert mission parameters to an action's keyword arguments.
+
+    Args:
+        cls: The action class.
+        values: Parameter values by YAML name (quantities may carry units).
+
+    Returns:
+        The keyword arguments, and the problems as ``(param name, message, hint)``.
+    """
+    kwargs: dict[str, Any] = {}
+    problems: list[tuple[str, str, str | None]] = []
+    params = {p.name: p for p in cls.params}
+    for name, value in values.items():
+        param = params.get(name)
+        if param is None:
+            hint = _suggest(name, params) or (
+                f"'{cls.name}' takes {', '.join(params)}" if params else None
+            )
+            problems.append((name, f"'{cls.name}' has no parameter '{name}'", hint))
+            continue
+        try:
+            kwargs[param.kwarg] = _convert(param, value)
+        except ValueError as exc:
+            problems.append((name, f"{cls.name} {name}: {exc}", None))
+    for param in cls.params:
+        if param.required and param.kwarg not in kwargs and param.name not in values:
+            problems.append(("", f"'{cls.name}' needs '{param.name}' ({param.doc})", None))
+    return kwargs, problems
+
+
+def _convert(param: Param, value: Any) -> Any:
+    if param.kind in DIMENSIONS:
+        try:
+            return parse_quantity(value, param.kind)
+        except QuantityError as exc:
+            raise ValueError(str(exc)) from None
+    if param.kind == "choice":
+        if value not in param.choices:
+            raise ValueError(f"expected one of {', '.join(param.choices)}, got {value!r}")
+        return value
+    if param.kind == "text":
+        if not isinstance(value, str | int | float):
+            raise ValueError(f"expected text, got {value!r}")
+        return str(value)
+    return value
+
+
+class _Reader:
+    def __init__(self, path: str) -> None:
+        self.path = path
+        self.problems: list[InputError] = []
+
+    def problem(
+        self, message: str, mark: Mark | None, hint: str | None = None, severity: str = "error"
+    ) -> None:
+        line, col = mark if mark else (None, None)
+        self.problems.append(
+            MissionError(message, path=self.path, line=line, col=col, hint=hint, severity=severity)
+        )
+
+    def loc(self, mark: Mark | None) -> Location:
+        return Location(self.path, *(mark or (None, None)))
+
+    # ------------------------------------------------------------------------------ top
+
+    def read(self, data: Any) -> MissionSpec | None:
+        if not isinstance(data, YamlMap):
+            self.problem(
+                "a mission file is a mapping with 'mission:', 'initial:' and 'states:'", (1, 1)
+            )
+            return None
+        for key in data:
+            if key not in _TOP_KEYS:
+                self.problem(f"unknown key '{key}'", data.key_mark(key), _suggest(key, _TOP_KEYS))
+        states_raw = data.get("states")
+        if not isinstance(states_raw, YamlMap) or not states_raw:
+            self.problem(
+                "a mission needs 'states:', a mapping of state names to states",
+                data.key_mark("states") if "states" in data else data.mark,
+            )
+            return None
+        names = frozenset(str(name) for name in states_raw)
+        states: dict[str, StateSpec] = {}
+        for name, raw in states_raw.items():
+            state = self.state(str(name), raw, states_raw.value_mark(name), states_raw.key_mark(name), names)
+            if state is not None:
+                states[state.name] = state
+        initial = data.get("initial", next(iter(states_raw)))
+        if not isinstance(initial, str) or initial not in names:
+            self.problem(
+                f"the initial state '{initial}' is not one of the states",
+                data.value_mark("initial"),
+                _suggest(str(initial), names),
+            )
+        mission = data.get("mission", Path(self.path).stem)
+        return MissionSpec(
+            name=str(mission),
+            initial=str(initial),
+            states=states,
+            description=str(data.get("description", "")),
+            path=self.path,
+            location=self.loc(data.mark),
+        )
+
+    # ---------------------------------------------------------------------------- states
+
+    def state(
+        self, name: str, raw: Any, mark: Mark, key_mark: Mark, names: frozenset[str]
+    ) -> StateSpec | None:
+        if raw is None:
+            raw = YamlMap()
+            raw.mark, raw.key_marks, raw.value_marks = mark, {}, {}
+        if not isinstance(raw, YamlMap):
+            self.problem(f"state '{name}' must be a mapping (do:, on:, when:, final:)", mark)
+            return None
+        for key in raw:
+            if key not in _STATE_KEYS:
+                self.problem(
+                    f"unknown key '{key}' in state '{name}'",
+                    raw.key_mark(key),
+                    _suggest(key, _STATE_KEYS),
+                )
+        action = self.action(raw["do"], raw.value_mark("do")) if "do" in raw else None
+        on: dict[str, tuple[TransitionSpec, ...]] = {}
+        if "on" in raw:
+            on = self.on(raw["on"], raw.value_mark("on"), names)
+        when: tuple[TransitionSpec, ...] = ()
+        if "when" in raw:
+            when = self.when(raw["when"], raw.value_mark("when"), names)
+        timeout_s = None
+        if "timeout" in raw:
+            try:
+                timeout_s = parse_quantity(raw["timeout"], "time")
+                if timeout_s <= 0:
+                    self.problem("a timeout must be positive", raw.value_mark("timeout"))
+            except QuantityError as exc:
+                self.problem(f"timeout: {exc}", raw.value_mark("timeout"))
+        final = None
+        if "final" in raw:
+            value = raw["final"]
+            if value is True or value == "success":
+                final = "success"
+            elif value == "failure":
+                final = "failure"
+            elif value is not False:
+                self.problem(
+                    f"final must be 'success' or 'failure', got {value!r}", raw.value_mark("final")
+                )
+        return StateSpec(
+            name=name,
+            action=action,
+            on=on,
+            when=when,
+            timeout_s=timeout_s,
+            final=final,
+            description=str(raw.get("description", "")),
+            location=self.loc(key_mark),
+        )
+
+    def action(self, raw: Any, mark: Mark) -> ActionSpec | None:
+        if isinstance(raw, str):
+            name, params, name_mark, params_mark = raw, YamlMap(), mark, mark
+            params.mark, params.key_marks, params.value_marks = mark, {}, {}
+        elif isinstance(raw, YamlMap) and len(raw) == 1:
+            name = next(iter(raw))
+            name_mark = raw.key_mark(name)
+            params_mark = raw.value_mark(name)
+            params = raw[name]
+            if params is None:
+                params = YamlMap()
+                params.mark, params.key_marks, params.value_marks = params_mark, {}, {}
+            if not isinstance(params, YamlMap):
+                self.problem(
+                    f"the parameters of '{name}' must be a mapping, e.g. {{{name}: {{...}}}}",
+                    params_mark,
+                )
+                return None
+        else:
+            self.problem("'do' names one action, e.g. do: {drive: {distance: 50 cm}}", mark)
+            return None
+        cls = ACTIONS.get(name)
+        if cls is None:
+            self.problem(f"unknown action '{name}'", name_mark, _suggest(name, ACTIONS))
+            return None
+        kwargs, problems = build_action(cls, params)
+        for param_name, message, hint in problems:
+            where = params.value_mark(param_name) if param_name in params else name_mark
+            if param_name in params and "has no parameter" in message:
+                where = params.key_mark(param_name)
+            self.problem(message, where, hint)
+        if problems:
+            return None
+        try:
+            cls(**kwargs)
+        except ValueError as exc:
+            self.problem(f"{name}: {exc}", name_mark)
+            return None
+        return ActionSpec(
+            name=name,
+            kwargs=kwargs,
+            factory=lambda: cls(**kwargs),
+            requires=cls.requires,
+            location=self.loc(name_mark),
+        )
+
+    # ------------------------------------------------------------------------ transitions
+
+    def target(self, value: Any, mark: Mark, names: frozenset[str]) -> str | None:
+        if not isinstance(value, str):
+            self.problem(f"expected a state name, got {value!r}", mark)
+            return None
+        if value not in names:
+            self.problem(f"there is no state '{value}'", mark, _suggest(value, names))
+            return None
+        return value
+
+    def guarded(self, item: Any, mark: Mark, names: frozenset[str], need_if: bool) -> TransitionSpec | None:
+        if isinstance(item, str) and not need_if:
+            target = self.target(item, mark, names)
+            return TransitionSpec(target, location=self.loc(mark)) if target else None
+        if not isinstance(item, YamlMap):
+            self.problem("expected {if: CONDITION, goto: STATE}", mark)
+            return None
+        for key in item:
+            if key not in ("if", "goto"):
+                self.problem(f"unknown key '{key}'", item.key_mark(key), _suggest(key, ("if", "goto")))
+        if "goto" not in item:
+            self.problem("this choice needs 'goto: STATE'", item.mark)
+            return None
+        target = self.target(item["goto"], item.value_mark("goto"), names)
+        guard = None
+        text = None
+        if "if" in item:
+            text = item["if"]
+            if isinstance(text, bool):
+                text = "true" if text else "false"
+            if not isinstance(text, str):
+                self.problem("a condition is text, e.g. if: \"range.distance_cm < 20\"", item.value_mark("if"))
+                return None
+            try:
+                guard = compile_guard(text, names)
+            except GuardError as exc:
+                line, col = item.value_mark("if")
+                quoted = 1 if self._quoted(line, col) else 0
+                self.problem(str(exc), (line, col + quoted + exc.offset), exc.hint)
+                return None
+        elif need_if:
+            self.problem("each 'when' entry needs 'if: CONDITION'", item.mark)
+            return None
+        if target is None:
+            return None
+        return TransitionSpec(target, guard, text, self.loc(item.mark))
+
+    def _quoted(self, line: int, col: int) -> bool:
+        try:
+            text = Path(self.path).read_text(encoding="utf-8").splitlines()[line - 1]
+        except (OSError, IndexError):
+            return False
+        return col - 1 < len(text) and text[col - 1] in "\"'"
+
+    def on(self, raw: Any, mark: Mark, names: frozenset[str]) -> dict[str, tuple[TransitionSpec, ...]]:
+        if not isinstance(raw, YamlMap):
+            self.problem("'on' maps outcomes to states, e.g. on: {done: next, timeout: stuck}", mark)
+            return {}
+        result: dict[str, tuple[TransitionSpec, ...]] = {}
+        for outcome, value in raw.items():
+            if outcome not in OUTCOMES:
+                self.problem(
+                    f"unknown outcome '{outcome}' (outcomes: {', '.join(OUTCOMES)})",
+                    raw.key_mark(outcome),
+                    _suggest(outcome, OUTCOMES),
+                )
+                continue
+            vmark = raw.value_mark(outcome)
+            items = value if isinstance(value, YamlList) else [value]
+            marks = value.item_marks if isinstance(value, YamlList) else [vmark]
+            found = []
+            for item, item_mark in zip(items, marks, strict=True):
+                transition = self.guarded(item, item_mark, names, need_if=False)
+                if transition is not None:
+                    found.append(transition)
+            result[outcome] = tuple(found)
+        return result
+
+    def when(self, raw: Any, mark: Mark, names: frozenset[str]) -> tuple[TransitionSpec, ...]:
+        if not isinstance(raw, YamlList):
+            self.problem("'when' is a list of {if: CONDITION, goto: STATE}", mark)
+            return ()
+        found = []
+        for item, item_mark in zip(raw, raw.item_marks, strict=True):
+            transition = self.guarded(item, item_mark, names, need_if=True)
+            if transition is not None:
+                found.append(transition)
+        return tuple(found)
+
+
+def _finish(reader: _Reader, data: Any, profile: Any) -> tuple[MissionSpec, list[InputError]]:
+    from roboscript.mission.checks import check_mission
+
+    spec = reader.read(data)
+    if spec is not None and not any(p.severity == "error" for p in reader.problems):
+        reader.problems.extend(check_mission(spec, profile))
+    errors = [p for p in reader.problems if p.severity == "error"]
+    if errors or spec is None:
+        reader.problems.sort(key=lambda p: (p.line or 0, p.col or 0))
+        raise MissionProblems(reader.problems)
+    return spec, [p for p in reader.problems if p.severity != "error"]
+
+
+def load_yaml_mission(
+    path: str | Path, profile: Any = None
+) -> tuple[MissionSpec, list[InputError]]:
+    """Load and check a YAML mission file.
+
+    Args:
+        path: The mission file.
+        profile: A :class:`~roboscript.profiles.RobotProfile` to check capabilities against,
+            or ``None``.
+
+    Returns:
+        The mission and its warnings.
+
+    Raises:
+        MissionProblems: The first error, with every problem in ``problems``.
+    """
+    reader = _Reader(str(path))
+    return _finish(reader, load_yaml(path, error=MissionError), profile)
+
+
+def parse_yaml_mission(
+    text: str, path: str = "<mission>", profile: Any = None
+) -> tuple[MissionSpec, list[InputError]]:
+    """Like :func:`load_yaml_mission`, from text."""
+    reader = _Reader(path)
+    return _finish(reader, load_yaml_text(text, path, error=MissionError), profile)
+

@@ -1,0 +1,169 @@
+"""Robot profiles: what a robot is, which protocol it speaks and what it can do.
+
+Built-in profiles are defined here; a profile file (YAML) starts from a built-in one and
+changes what differs::
+
+    extends: mirto
+    name: mirto-classroom-3
+    track_mm: 165
+    gains:
+      wheel_speed: [0.004, 0.02, 0.0]
+"""
+
+from __future__ import annotations
+
+import difflib
+from dataclasses import dataclass, field, fields, replace
+from pathlib import Path
+from typing import Any
+
+from roboscript import capabilities as cap
+from roboscript.errors import ProfileError
+
+__all__ = ["BUILTIN_PROFILES", "RobotProfile", "get_profile"]
+
+
+@dataclass(frozen=True)
+class RobotProfile:
+    """A robot model.
+
+    Attributes:
+        name: Profile name (``mirto``, ``asip-basic``, ...).
+        protocol: Protocol family: ``asip``, ``spike``, ``stackmod`` or ``plen``.
+        description: One line for ``roboscript robots``.
+        baudrate: Serial speed, bits per second.
+        capabilities: Capability names the robot has (see :mod:`roboscript.capabilities`).
+        firmware_pid: True if the firmware holds wheel speeds itself.
+        wheel_diameter_mm: Wheel diameter.
+        track_mm: Distance between the wheels.
+        ticks_per_rev: Encoder ticks per wheel revolution.
+        body_radius_mm: Radius of the body (simulated collisions).
+        max_speed_mm_s: Fastest wheel speed the robot holds reliably.
+        gains: Host PID gains ``(kp, ki, kd)`` by loop name (``wheel_speed``, ``heading``,
+            ``wall``, ``line``).
+        handshake_timeout_s: How long to wait for the robot to answer at connection.
+    """
+
+    name: str
+    protocol: str
+    description: str
+    baudrate: int
+    capabilities: frozenset[str]
+    firmware_pid: bool
+    wheel_diameter_mm: float = 64.0
+    track_mm: float = 162.0
+    ticks_per_rev: int = 1632
+    body_radius_mm: float = 100.0
+    max_speed_mm_s: float = 300.0
+    gains: dict[str, tuple[float, float, float]] = field(default_factory=dict)
+    handshake_timeout_s: float = 3.0
+
+    def lacks(self, capability: str) -> bool:
+        """True if the robot does not have ``capability``."""
+        return capability not in self.capabilities
+
+
+_ASIP_CAPS = frozenset(
+    {cap.DRIVE_BASE, cap.RANGE, cap.BUMPER, cap.LINE, cap.SPEAKER, cap.DISPLAY}
+)
+
+BUILTIN_PROFILES: dict[str, RobotProfile] = {
+    "mirto": RobotProfile(
+        name="mirto",
+        protocol="asip",
+        description="MIRTO robot, ASIP 1.1 firmware with motor PID",
+        baudrate=57600,
+        capabilities=_ASIP_CAPS,
+        firmware_pid=True,
+    ),
+    "asip-basic": RobotProfile(
+        name="asip-basic",
+        protocol="asip",
+        description="ASIP robot whose firmware has no PID: the host closes every loop",
+        baudrate=57600,
+        capabilities=_ASIP_CAPS,
+        firmware_pid=False,
+        gains={"wheel_speed": (0.0015, 0.004, 0.0)},
+    ),
+}
+
+
+def get_profile(name_or_path: str) -> RobotProfile:
+    """Return a built-in profile by name, or load a profile file.
+
+    Raises:
+        ProfileError: Unknown name, or an invalid profile file (with ``file:line:col``).
+    """
+    if name_or_path in BUILTIN_PROFILES:
+        return BUILTIN_PROFILES[name_or_path]
+    if name_or_path.endswith((".yaml", ".yml")) or Path(name_or_path).exists():
+        return _load_profile_file(Path(name_or_path))
+    close = difflib.get_close_matches(name_or_path, list(BUILTIN_PROFILES), n=1)
+    hint = f"did you mean '{close[0]}'?" if close else None
+    raise ProfileError(
+        f"no robot called '{name_or_path}' (built-in: {', '.join(BUILTIN_PROFILES)})",
+        hint=hint,
+    )
+
+
+_NUMBER_FIELDS = {
+    f.name: f.type
+    for f in fields(RobotProfile)
+    if f.name in {"wheel_diameter_mm", "track_mm", "body_radius_mm", "max_speed_mm_s"}
+}
+
+
+def _load_profile_file(path: Path) -> RobotProfile:
+    from roboscript.mission.source import YamlMap, load_yaml
+
+    data = load_yaml(path, error=ProfileError)
+
+    def fail(message: str, key: str | None = None) -> ProfileError:
+        line, col = (
+            data.key_mark(key) if isinstance(data, YamlMap) and key else (None, None)
+        )
+        return ProfileError(message, path=str(path), line=line, col=col)
+
+    if not isinstance(data, YamlMap):
+        raise fail("a profile file must be a mapping with 'extends:' and the values to change")
+    base_name = data.get("extends")
+    if base_name not in BUILTIN_PROFILES:
+        raise fail(
+            f"'extends' must name a built-in robot ({', '.join(BUILTIN_PROFILES)})", "extends"
+        )
+    changes: dict[str, Any] = {"name": str(data.get("name", path.stem))}
+    allowed = {"extends", "name", "description", "gains", "ticks_per_rev", *_NUMBER_FIELDS}
+    for key, value in data.items():
+        if key not in allowed:
+            close = difflib.get_close_matches(key, sorted(allowed), n=1)
+            raise ProfileError(
+                f"unknown profile key '{key}'",
+                path=str(path),
+                line=data.key_mark(key)[0],
+                col=data.key_mark(key)[1],
+                hint=f"did you mean '{close[0]}'?" if close else None,
+            )
+        if key in _NUMBER_FIELDS or key == "ticks_per_rev":
+            if isinstance(value, bool) or not isinstance(value, int | float) or value <= 0:
+                raise fail(f"'{key}' must be a positive number", key)
+            changes[key] = int(value) if key == "ticks_per_rev" else float(value)
+        elif key == "description":
+            changes[key] = str(value)
+        elif key == "gains":
+            changes[key] = _read_gains(value, fail)
+    return replace(BUILTIN_PROFILES[base_name], **changes)
+
+
+def _read_gains(value: Any, fail: Any) -> dict[str, tuple[float, float, float]]:
+    if not isinstance(value, dict):
+        raise fail("'gains' maps a loop name to [kp, ki, kd]", "gains")
+    gains = {}
+    for loop, triple in value.items():
+        if (
+            not isinstance(triple, list)
+            or len(triple) != 3
+            or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in triple)
+        ):
+            raise fail(f"gains for '{loop}' must be [kp, ki, kd]", "gains")
+        gains[str(loop)] = (float(triple[0]), float(triple[1]), float(triple[2]))
+    return gains

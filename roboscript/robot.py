@@ -1,0 +1,238 @@
+"""The robot: a container of capabilities that always stops when you are done with it.
+
+Example:
+    >>> from roboscript.robot import Robot
+    >>> with Robot.connect("mirto") as robot:        # the built-in simulator
+    ...     robot.speaker.beep(880, 0.2)
+    ...     robot.run_for(0.5)
+    >>> # here the motors have been told to stop and the port is closed
+
+:meth:`Robot.connect` opens the port (``sim://`` by default), starts the driver's handshake
+on the scheduler and waits until the robot has answered, never with a fixed sleep. Leaving
+the ``with`` block, normally or by any exception (Ctrl-C included), sends the stop command
+first and closes the port after.
+"""
+
+from __future__ import annotations
+
+import logging
+import urllib.parse
+from types import TracebackType
+from typing import Any, cast
+
+from roboscript import capabilities as cap
+from roboscript.clock import Clock, MonotonicClock, SimClock
+from roboscript.errors import CapabilityError, LinkError, LinkTimeoutError
+from roboscript.profiles import RobotProfile, get_profile
+from roboscript.scheduler import Scheduler
+
+__all__ = ["Robot"]
+
+logger = logging.getLogger(__name__)
+
+DEFAULT_PERIOD_S = 0.02
+
+
+class Robot:
+    """A connected robot and the scheduler that runs it.
+
+    Use :meth:`connect` to make one. Capabilities are attributes (``robot.drive_base``,
+    ``robot.speaker``, ...) and :attr:`capabilities` maps their names to the objects.
+
+    Attributes:
+        profile: The robot model.
+        scheduler: The tick loop the robot's driver (and simulation) runs on.
+        clock: The scheduler's clock.
+        url: The port the robot was reached on.
+        simulation: The in-process simulation, when the port is ``sim://``.
+    """
+
+    def __init__(
+        self,
+        profile: RobotProfile,
+        driver: Any,
+        scheduler: Scheduler,
+        *,
+        url: str,
+        simulation: Any = None,
+    ) -> None:
+        self.profile = profile
+        self.driver = driver
+        self.scheduler = scheduler
+        self.clock: Clock = scheduler.clock
+        self.url = url
+        self.simulation = simulation
+        self.capabilities: dict[str, object] = driver.capabilities()
+        self._closed = False
+
+    # ----------------------------------------------------------------------------- connect
+
+    @classmethod
+    def connect(
+        cls,
+        robot: str = "mirto",
+        port: str | None = None,
+        *,
+        world: str = "empty",
+        seed: int = 1,
+        start: tuple[float, float, float] | None = None,
+        period_s: float = DEFAULT_PERIOD_S,
+        realtime: bool = False,
+        wire_log: str | None = None,
+    ) -> Robot:
+        """Connect to a robot (by default, a simulated one) and finish the handshake.
+
+        Args:
+            robot: A built-in profile name or a profile file path.
+            port: A serial port or URL; ``None`` means the in-process simulator.
+            world: Simulator world (name or path); only used for ``sim://``.
+            seed: Simulator seed; only used for ``sim://``.
+            start: Simulator start pose ``(x_mm, y_mm, heading_deg)``, or the world's.
+            period_s: Scheduler tick period, seconds.
+            realtime: Pace a simulated robot to the wall clock.
+            wire_log: Record every byte to this file.
+
+        Raises:
+            ProfileError: Unknown robot.
+            LinkError: The port cannot be opened.
+            LinkTimeoutError: The robot did not answer within the profile's handshake time.
+        """
+        from roboscript.drivers import driver_class
+        from roboscript.transport import Link, open_port
+        from roboscript.transport.wirelog import WireLog
+
+        profile = get_profile(robot)
+        url = port or _sim_url(profile.name, world, seed, start)
+        driver_cls = driver_class(profile.protocol)
+        serial_port = open_port(url, baudrate=profile.baudrate)
+        simulation = getattr(serial_port, "simulation", None)
+        clock: Clock = SimClock() if simulation is not None and not realtime else MonotonicClock()
+        scheduler = Scheduler(clock, period_s)
+        log = WireLog(wire_log) if wire_log else None
+        link = Link(serial_port, driver_cls.make_codec(profile), clock=clock, wire_log=log, name=url)
+        driver = driver_cls(link, profile, clock)
+        if simulation is not None:
+            scheduler.add(simulation, "sense")
+        scheduler.add(driver.tick, "sense")
+        scheduler.add(driver.flush, "act")
+        try:
+            driver.start()
+            answered = scheduler.run(
+                until=lambda: bool(driver.ready), max_duration_s=profile.handshake_timeout_s
+            )
+        except BaseException:
+            driver.stop_all()
+            link.close()
+            raise
+        if not answered:
+            link.close()
+            raise LinkTimeoutError(
+                f"{profile.name} did not answer on {url} within "
+                f"{profile.handshake_timeout_s:g} s: is it switched on and running its firmware?"
+            )
+        for text in driver.notices:
+            logger.warning("%s", text)
+        return cls(profile, driver, scheduler, url=url, simulation=simulation)
+
+    # -------------------------------------------------------------------------- capabilities
+
+    def has(self, name: str) -> bool:
+        """True if the robot has capability ``name``."""
+        return name in self.capabilities
+
+    def require(self, *names: str) -> None:
+        """Check that the robot has every capability in ``names``.
+
+        Raises:
+            CapabilityError: Naming each missing capability.
+        """
+        missing = tuple(name for name in names if name not in self.capabilities)
+        if missing:
+            listed = ", ".join(f"{n} ({cap.CAPABILITY_NAMES.get(n, n)})" for n in missing)
+            raise CapabilityError(f"{self.profile.name} has no {listed}", missing=missing)
+
+    def _get(self, name: str) -> Any:
+        self.require(name)
+        return self.capabilities[name]
+
+    @property
+    def drive_base(self) -> cap.DriveBase:
+        """The wheels (:class:`~roboscript.capabilities.DriveBase`)."""
+        return cast(cap.DriveBase, self._get(cap.DRIVE_BASE))
+
+    @property
+    def range(self) -> cap.RangeSensor:
+        """The distance sensor."""
+        return cast(cap.RangeSensor, self._get(cap.RANGE))
+
+    @property
+    def bumper(self) -> cap.Bumpers:
+        """The bump switches."""
+        return cast(cap.Bumpers, self._get(cap.BUMPER))
+
+    @property
+    def line(self) -> cap.LineSensors:
+        """The line sensors."""
+        return cast(cap.LineSensors, self._get(cap.LINE))
+
+    @property
+    def speaker(self) -> cap.Speaker:
+        """The tone generator."""
+        return cast(cap.Speaker, self._get(cap.SPEAKER))
+
+    @property
+    def display(self) -> cap.Display:
+        """The text display."""
+        return cast(cap.Display, self._get(cap.DISPLAY))
+
+    @property
+    def heading(self) -> cap.HeadingSensor:
+        """The IMU heading."""
+        return cast(cap.HeadingSensor, self._get(cap.HEADING))
+
+    # ------------------------------------------------------------------------------ running
+
+    def run_for(self, duration_s: float) -> None:
+        """Tick the scheduler for ``duration_s`` seconds of its clock."""
+        self.scheduler.run(until=lambda: False, max_duration_s=duration_s)
+
+    def describe(self) -> str:
+        """What is on the other end, as the robot reported it."""
+        return str(self.driver.describe())
+
+    # ------------------------------------------------------------------------------ safety
+
+    def stop(self) -> None:
+        """Stop every actuator now (sends the stop command; never raises)."""
+        self.driver.stop_all()
+
+    def close(self) -> None:
+        """Stop the robot, then close the port. Safe to call more than once."""
+        if self._closed:
+            return
+        self._closed = True
+        try:
+            self.stop()
+        finally:
+            self.driver.link.close()
+
+    def __enter__(self) -> Robot:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        try:
+            self.close()
+        except LinkError as error:
+            logger.debug("closing after %s: %s", exc_type, error)
+
+
+def _sim_url(robot: str, world: str, seed: int, start: tuple[float, float, float] | None) -> str:
+    query: dict[str, str] = {"world": world, "seed": str(seed)}
+    if start is not None:
+        query.update(x=f"{start[0]:g}", y=f"{start[1]:g}", heading=f"{start[2]:g}")
+    return f"sim://{robot}?{urllib.parse.urlencode(query)}"

@@ -1,0 +1,152 @@
+"""The tick loop: one thread, sense -> think -> act, on an injected clock.
+
+Each tick calls every task of the ``sense`` phase (simulation steps, link polls), then
+``think`` (the mission runner and its actions), then ``act`` (drivers flush setpoints), then
+``after`` (telemetry, status lines). Tasks receive ``now_s`` and ``dt_s``; ``dt_s`` is always
+greater than zero, because controllers divide by it (simple-pid refuses ``dt == 0``).
+
+Real-time runs sleep until absolute deadlines (``next += period``), which does not drift the
+way ``sleep(period)`` does. A tick that starts more than one period late is an *overrun*: it is
+counted, the measured ``dt_s`` is passed on, and the schedule restarts from now instead of
+bursting to catch up. On a :class:`~roboscript.clock.SimClock` the loop jumps from deadline to
+deadline, so every ``dt_s`` equals the period exactly.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Literal, Protocol
+
+from roboscript.clock import Clock
+
+__all__ = ["Phase", "Scheduler", "SchedulerStats", "Tickable"]
+
+logger = logging.getLogger(__name__)
+
+Phase = Literal["sense", "think", "act", "after"]
+_PHASES: tuple[Phase, ...] = ("sense", "think", "act", "after")
+
+
+class Tickable(Protocol):
+    """Anything the scheduler calls once per tick."""
+
+    def tick(self, now_s: float, dt_s: float) -> None:
+        """Do one tick's work without blocking.
+
+        Args:
+            now_s: Scheduler time in seconds.
+            dt_s: Seconds since the previous tick; always > 0.
+        """
+        ...
+
+
+@dataclass
+class SchedulerStats:
+    """What the loop measured.
+
+    Attributes:
+        ticks: Ticks run.
+        overruns: Ticks that started more than one period late.
+        max_lateness_s: Largest delay between a deadline and the tick's start, seconds.
+        lateness_s: Per-tick lateness samples (kept only when ``record_lateness`` is set).
+    """
+
+    ticks: int = 0
+    overruns: int = 0
+    max_lateness_s: float = 0.0
+    lateness_s: list[float] = field(default_factory=list)
+
+
+class Scheduler:
+    """Runs tasks at a fixed period on a clock.
+
+    Args:
+        clock: Where time comes from (real or simulated).
+        period_s: Tick period in seconds (0.02 = 50 Hz).
+        record_lateness: Keep every tick's lateness in :attr:`stats` (for benchmarks).
+
+    Example:
+        >>> from roboscript.clock import SimClock
+        >>> sched = Scheduler(SimClock(), period_s=0.01)
+        >>> seen = []
+        >>> sched.add(lambda now, dt: seen.append(round(dt, 3)))
+        >>> sched.run(until=lambda: len(seen) == 3)
+        >>> seen
+        [0.01, 0.01, 0.01]
+    """
+
+    def __init__(self, clock: Clock, period_s: float = 0.02, *, record_lateness: bool = False):
+        if period_s <= 0:
+            raise ValueError("the tick period must be positive")
+        self.clock = clock
+        self.period_s = period_s
+        self.stats = SchedulerStats()
+        self._record = record_lateness
+        self._tasks: dict[Phase, list[Callable[[float, float], None]]] = {p: [] for p in _PHASES}
+        self._last_tick_s: float | None = None
+        self._next_deadline_s: float | None = None
+
+    def add(self, task: Tickable | Callable[[float, float], None], phase: Phase = "think") -> None:
+        """Add a task, called every tick in ``phase`` in the order added."""
+        call = task.tick if hasattr(task, "tick") else task
+        self._tasks[phase].append(call)  # type: ignore[arg-type]
+
+    def remove(self, task: Tickable | Callable[[float, float], None]) -> None:
+        """Remove a task added earlier (no error if it is not there)."""
+        call = task.tick if hasattr(task, "tick") else task
+        for calls in self._tasks.values():
+            if call in calls:
+                calls.remove(call)  # type: ignore[arg-type]
+
+    def step(self) -> None:
+        """Run one tick now, without waiting for a deadline."""
+        now = self.clock.now()
+        if self._last_tick_s is None:
+            dt = self.period_s
+        else:
+            # A clock with coarse resolution can repeat a reading; dt must still be > 0.
+            dt = max(now - self._last_tick_s, 1e-6)
+        self._last_tick_s = now
+        self.stats.ticks += 1
+        for phase in _PHASES:
+            for call in self._tasks[phase]:
+                call(now, dt)
+
+    def run(
+        self,
+        until: Callable[[], bool],
+        *,
+        max_duration_s: float | None = None,
+    ) -> bool:
+        """Tick at the period until ``until()`` is true or ``max_duration_s`` has passed.
+
+        Args:
+            until: Checked after every tick; the loop ends when it returns true.
+            max_duration_s: Upper bound on run time by the scheduler's clock, seconds.
+
+        Returns:
+            True if ``until()`` became true, False if the time bound ended the run.
+        """
+        start = self.clock.now()
+        if self._next_deadline_s is None:
+            self._next_deadline_s = start
+        while True:
+            self.clock.sleep_until(self._next_deadline_s)
+            now = self.clock.now()
+            lateness = now - self._next_deadline_s
+            if lateness > self.stats.max_lateness_s:
+                self.stats.max_lateness_s = lateness
+            if self._record:
+                self.stats.lateness_s.append(lateness)
+            if lateness > self.period_s:
+                self.stats.overruns += 1
+                logger.debug("tick %d started %.1f ms late", self.stats.ticks, lateness * 1e3)
+                self._next_deadline_s = now
+            self.step()
+            self._next_deadline_s += self.period_s
+            if until():
+                return True
+            if max_duration_s is not None and self.clock.now() - start >= max_duration_s - 1e-9:
+                return False

@@ -1,0 +1,151 @@
+"""A simulated robot: a world, a body and a device, stepped at a fixed physics rate.
+
+The simulation is a *Tickable*: in-process (``sim://``) it runs in lockstep with the mission
+scheduler, advancing its physics in fixed steps up to the scheduler's time on every tick; in
+``roboscript sim`` it is ticked from the wall clock. Bytes to and from the device go through
+:meth:`Simulation.write` and :meth:`Simulation.read`, the way a serial line would carry them.
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Callable
+
+from roboscript.profiles import RobotProfile, get_profile
+from roboscript.sim.body import Body, BodySpec, SimLog
+from roboscript.sim.device import SimDevice
+from roboscript.sim.world import Pose, World, load_world
+
+__all__ = ["Simulation", "body_spec_for", "build_device", "make_simulation"]
+
+PHYSICS_DT_S = 0.005
+PATH_INTERVAL_S = 0.1
+
+
+class Simulation:
+    """A world, a body and a device on simulated time.
+
+    Args:
+        world: The static world.
+        profile: The robot being simulated.
+        seed: Seed of every random draw in the run.
+        start: Start pose (default: the world's).
+        physics_dt_s: Fixed physics step, seconds.
+    """
+
+    def __init__(
+        self,
+        world: World,
+        profile: RobotProfile,
+        seed: int = 1,
+        *,
+        start: Pose | None = None,
+        physics_dt_s: float = PHYSICS_DT_S,
+    ) -> None:
+        self.world = world
+        self.profile = profile
+        self.seed = seed
+        self.rng = random.Random(seed)
+        self.body = Body(world, body_spec_for(profile), self.rng, start)
+        self.device: SimDevice = build_device(profile, self.body)
+        self.physics_dt_s = physics_dt_s
+        self.time_s = 0.0
+        self._steps = 0
+        self._to_host = bytearray()
+        self._next_path_s = 0.0
+        self._record_path()
+
+    @property
+    def log(self) -> SimLog:
+        """What has happened so far (tones, collisions, path)."""
+        return self.body.log
+
+    def connect(self) -> None:
+        """A host opened the line: the device greets it."""
+        self.device.connect(self.time_s)
+        self._collect()
+
+    def tick(self, now_s: float, dt_s: float) -> None:
+        """Advance physics and firmware in fixed steps up to ``now_s``."""
+        del dt_s  # the simulation keeps its own fixed step
+        step = self.physics_dt_s
+        while (self._steps + 1) * step <= now_s + 1e-9:
+            self._steps += 1
+            self.time_s = self._steps * step
+            self.body.step(step)
+            self.device.step(self.time_s)
+            if self.time_s >= self._next_path_s - 1e-9:
+                self._record_path()
+        self._collect()
+
+    def write(self, data: bytes) -> None:
+        """Bytes from the host reach the device."""
+        self.device.receive(data, self.time_s)
+        self._collect()
+
+    def read(self, size: int) -> bytes:
+        """Take up to ``size`` bytes the device has sent."""
+        data = bytes(self._to_host[:size])
+        del self._to_host[:size]
+        return data
+
+    @property
+    def in_waiting(self) -> int:
+        """Bytes waiting for the host."""
+        return len(self._to_host)
+
+    def stop_all(self) -> None:
+        """Cut the device's actuators (power loss)."""
+        self.device.stop_all()
+
+    def _collect(self) -> None:
+        self._to_host += self.device.read_output()
+
+    def _record_path(self) -> None:
+        body = self.body
+        self.log.path.append(
+            (round(self.time_s, 3), round(body.x_mm, 1), round(body.y_mm, 1), round(body.heading_deg, 2))
+        )
+        self._next_path_s = self.time_s + PATH_INTERVAL_S
+
+
+def body_spec_for(profile: RobotProfile) -> BodySpec:
+    """The simulated body of a robot profile."""
+    return BodySpec(
+        wheel_diameter_mm=profile.wheel_diameter_mm,
+        track_mm=profile.track_mm,
+        ticks_per_rev=profile.ticks_per_rev,
+        body_radius_mm=profile.body_radius_mm,
+    )
+
+
+def _mirto_board(firmware_pid: bool) -> Callable[[Body], SimDevice]:
+    def build(body: Body) -> SimDevice:
+        from roboscript.drivers.asip.device import BoardConfig, MirtoBoard
+
+        return MirtoBoard(body, BoardConfig(firmware_pid=firmware_pid))
+
+    return build
+
+
+_DEVICES: dict[str, Callable[[RobotProfile], Callable[[Body], SimDevice]]] = {
+    "asip": lambda profile: _mirto_board(profile.firmware_pid),
+}
+
+
+def build_device(profile: RobotProfile, body: Body) -> SimDevice:
+    """The simulated controller for ``profile``'s protocol, on ``body``."""
+    try:
+        factory = _DEVICES[profile.protocol]
+    except KeyError:
+        raise NotImplementedError(
+            f"the simulator has no {profile.protocol} device yet"
+        ) from None
+    return factory(profile)(body)
+
+
+def make_simulation(
+    robot: str = "mirto", world: str = "empty", seed: int = 1, start: Pose | None = None
+) -> Simulation:
+    """Build a simulation from a profile name and a world name or path."""
+    return Simulation(load_world(world), get_profile(robot), seed, start=start)

@@ -1,0 +1,141 @@
+"""A link joins a port and a protocol codec: bytes in, messages out, and back.
+
+The link never blocks and has no thread: the scheduler calls :meth:`Link.poll` every tick. A
+read takes everything the port has in one large chunk and the codec frames it in Python (no
+``readline()`` on the hot path: it costs a system call per byte). Garbage on the wire is
+counted by kind and skipped; each kind is logged once, so a noisy cable cannot flood the log.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections import Counter
+from typing import Any, Protocol
+
+import serial
+
+from roboscript.clock import Clock
+from roboscript.drivers.codec import Codec, drain
+from roboscript.errors import LinkClosedError, RemoteProtocolError
+from roboscript.transport.wirelog import WireLog
+
+__all__ = ["Link", "PortLike"]
+
+logger = logging.getLogger(__name__)
+
+_READ_CHUNK = 65536
+
+
+class PortLike(Protocol):
+    """The part of pyserial's port API a link uses."""
+
+    def read(self, size: int = 1) -> bytes: ...
+
+    def write(self, data: bytes, /) -> int | None: ...
+
+    def close(self) -> None: ...
+
+
+class Link:
+    """Pumps bytes between a port and a codec.
+
+    Args:
+        port: An open, non-blocking port (see :func:`~roboscript.transport.open_port`).
+        codec: The protocol codec, in the host role.
+        clock: Timestamps for the wire log and :attr:`last_receive_s`.
+        wire_log: Where to record every byte, or ``None``.
+        name: The port's name, for messages.
+    """
+
+    def __init__(
+        self,
+        port: PortLike,
+        codec: Codec[Any],
+        *,
+        clock: Clock,
+        wire_log: WireLog | None = None,
+        name: str = "the robot",
+    ) -> None:
+        self.port = port
+        self.codec = codec
+        self.clock = clock
+        self.wire_log = wire_log
+        self.name = name
+        self.faults: Counter[str] = Counter()
+        self.last_receive_s: float | None = None
+        self.bytes_received = 0
+        self.bytes_sent = 0
+        self.closed = False
+
+    def poll(self) -> list[Any]:
+        """Read what has arrived and return the complete messages in order.
+
+        Raises:
+            LinkClosedError: The device disconnected.
+        """
+        if self.closed:
+            raise LinkClosedError(f"the link to {self.name} is closed")
+        try:
+            data = self.port.read(_READ_CHUNK)
+        except (serial.SerialException, OSError) as exc:
+            self.closed = True
+            raise LinkClosedError(f"the connection to {self.name} was lost") from exc
+        if not data:
+            return []
+        now = self.clock.now()
+        self.last_receive_s = now
+        self.bytes_received += len(data)
+        if self.wire_log is not None:
+            self.wire_log.record(now, "<", data)
+        self.codec.receive_data(data)
+        messages = []
+        for item in drain(self.codec):
+            if isinstance(item, RemoteProtocolError):
+                self._fault(item)
+            else:
+                messages.append(item)
+        return messages
+
+    def send(self, message: object) -> None:
+        """Encode and write one message.
+
+        Raises:
+            LocalProtocolError: The message is illegal (nothing is written).
+            LinkClosedError: The device disconnected.
+        """
+        self.write(self.codec.send(message))
+
+    def write(self, data: bytes) -> None:
+        """Write raw bytes.
+
+        Raises:
+            LinkClosedError: The device disconnected.
+        """
+        if self.closed:
+            raise LinkClosedError(f"the link to {self.name} is closed")
+        try:
+            self.port.write(data)
+        except (serial.SerialException, OSError) as exc:
+            self.closed = True
+            raise LinkClosedError(f"the connection to {self.name} was lost") from exc
+        self.bytes_sent += len(data)
+        if self.wire_log is not None:
+            self.wire_log.record(self.clock.now(), ">", data)
+
+    def close(self) -> None:
+        """Close the port and flush the wire log (safe to call twice)."""
+        if self.wire_log is not None:
+            self.wire_log.flush()
+        if not self.closed:
+            self.closed = True
+            try:
+                self.port.close()
+            except (serial.SerialException, OSError) as exc:
+                logger.debug("closing %s: %s", self.name, exc)
+
+    def _fault(self, fault: RemoteProtocolError) -> None:
+        if not self.faults[fault.kind]:
+            logger.warning("%s sent bytes roboscript cannot read (%s); skipping them", self.name, fault)
+        self.faults[fault.kind] += 1
+
+

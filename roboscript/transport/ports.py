@@ -1,0 +1,45 @@
+"""Opening ports by URL."""
+
+from __future__ import annotations
+
+import serial
+
+from roboscript.errors import LinkError
+from roboscript.transport.link import PortLike
+
+__all__ = ["open_port"]
+
+_HANDLERS = "roboscript.transport.urlhandler"
+if _HANDLERS not in serial.protocol_handler_packages:
+    serial.protocol_handler_packages.append(_HANDLERS)
+
+
+def open_port(url: str, *, baudrate: int = 115200) -> PortLike:
+    """Open a serial port or URL for non-blocking reads.
+
+    Args:
+        url: A device path or a pyserial URL, or ``sim://ROBOT?world=W&seed=N``.
+        baudrate: Line speed in bits per second (ignored by sockets and ``sim://``).
+
+    Raises:
+        LinkError: The port does not exist, is busy, or refused the connection; the message
+            names the port.
+    """
+    try:
+        port: PortLike = serial.serial_for_url(url, baudrate=baudrate, timeout=0, write_timeout=2)
+    except serial.SerialException as exc:
+        raise LinkError(f"cannot open {url}: {_reason(exc)}") from exc
+    except ValueError as exc:
+        raise LinkError(f"cannot open {url}: {exc}") from exc
+    return port
+
+
+def _reason(exc: Exception) -> str:
+    text = str(exc)
+    if "No such file" in text or "could not open port" in text and "2]" in text:
+        return "there is no such port (is the robot plugged in? try 'roboscript ports')"
+    if "Connection refused" in text or "111" in text:
+        return "nothing is listening there (is 'roboscript sim' running?)"
+    if "Permission denied" in text:
+        return "permission denied (on Linux, add yourself to the 'dialout' group)"
+    return text

@@ -1,0 +1,1 @@
+"""pyserial URL handlers of roboscript (pyserial imports ``protocol_<scheme>`` from here)."""

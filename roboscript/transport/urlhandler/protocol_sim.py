@@ -1,0 +1,98 @@
+"""``sim://ROBOT?world=W&seed=N&x=MM&y=MM&heading=DEG``: an in-process simulated robot.
+
+pyserial finds this module by name (``protocol_sim``) once ``open_port`` has registered the
+package. The port's :attr:`Serial.simulation` is a Tickable: the caller adds it to the
+scheduler, so the device runs in lockstep with the mission and a run is deterministic. Writes
+reach the device at once; reads return what the device has sent so far and never block.
+"""
+
+from __future__ import annotations
+
+import urllib.parse
+
+from serial.serialutil import PortNotOpenError, SerialBase, SerialException
+
+from roboscript.errors import InputError
+from roboscript.sim.simulation import Simulation, make_simulation
+from roboscript.sim.world import Pose
+
+__all__ = ["Serial", "parse_sim_url"]
+
+
+def parse_sim_url(url: str) -> tuple[str, str, int, Pose | None]:
+    """Split a ``sim://`` URL into (robot, world, seed, start pose or None).
+
+    Raises:
+        ValueError: The URL is not a valid ``sim://`` URL.
+    """
+    parts = urllib.parse.urlsplit(url)
+    if parts.scheme != "sim":
+        raise ValueError(f"expected a sim:// URL, got {url!r}")
+    robot = parts.netloc or "mirto"
+    query = urllib.parse.parse_qs(parts.query)
+    world = query.get("world", ["empty"])[-1]
+    try:
+        seed = int(query.get("seed", ["1"])[-1])
+        start = None
+        if {"x", "y", "heading"} & query.keys():
+            start = Pose(
+                float(query.get("x", ["0"])[-1]),
+                float(query.get("y", ["0"])[-1]),
+                float(query.get("heading", ["0"])[-1]),
+            )
+    except ValueError as exc:
+        raise ValueError(f"bad number in {url!r}: {exc}") from None
+    return robot, world, seed, start
+
+
+class Serial(SerialBase):
+    """A pyserial port backed by a :class:`~roboscript.sim.simulation.Simulation`."""
+
+    simulation: Simulation | None = None
+
+    def open(self) -> None:
+        """Build the simulation named by the URL and power the device on."""
+        if self._port is None:
+            raise SerialException("port must be configured before it can be used")
+        try:
+            robot, world, seed, start = parse_sim_url(str(self._port))
+            self.simulation = make_simulation(robot, world, seed, start)
+        except (ValueError, InputError, NotImplementedError) as exc:
+            raise SerialException(str(exc)) from exc
+        self.simulation.connect()
+        self.is_open = True
+
+    def close(self) -> None:
+        """Close the port (the simulation stays readable for its log)."""
+        self.is_open = False
+
+    def _reconfigure_port(self) -> None:
+        """Baud rate and framing mean nothing to a simulation."""
+
+    @property
+    def in_waiting(self) -> int:
+        """Bytes the device has sent and the host has not read."""
+        return self._sim().in_waiting
+
+    def read(self, size: int = 1) -> bytes:
+        """Return up to ``size`` bytes the device has sent (never blocks)."""
+        return self._sim().read(size)
+
+    def write(self, data: bytes | bytearray | memoryview, /) -> int:
+        """Deliver bytes to the device at once."""
+        chunk = bytes(data)
+        self._sim().write(chunk)
+        return len(chunk)
+
+    def reset_input_buffer(self) -> None:
+        """Discard bytes waiting for the host."""
+        sim = self._sim()
+        sim.read(sim.in_waiting)
+
+    def reset_output_buffer(self) -> None:
+        """Nothing is buffered on the way to the device."""
+
+    def _sim(self) -> Simulation:
+        if not self.is_open or self.simulation is None:
+            raise PortNotOpenError()
+        return self.simulation
