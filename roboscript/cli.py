@@ -79,7 +79,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
     )
     if not quiet:
         _err(f"{spec.name} on {robot.describe()} ({robot.url})")
-    runner = MissionRunner(spec, robot.capabilities, robot_name=profile.name, on_state=on_state)
+    sim = robot.simulation
+    runner = MissionRunner(
+        spec,
+        robot.capabilities,
+        robot_name=profile.name,
+        on_state=on_state,
+        on_start=(lambda now_s: sim.sample_path()) if sim is not None else None,
+    )
     robot.scheduler.add(runner, "think")
     interrupted = False
     try:
@@ -103,7 +110,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
         print(json.dumps(summary, indent=2))
     else:
         if result.outcome == "success":
-            _err(f"success: {spec.name} ended in '{result.final_state}' after {result.duration_s:.2f} s")
+            _err(
+                f"success: {spec.name} ended in '{result.final_state}'"
+                f" after {result.duration_s:.2f} s"
+            )
         else:
             _err(f"{result.outcome}: {result.reason}")
     if interrupted:

@@ -63,9 +63,7 @@ class RobotProfile:
         return capability not in self.capabilities
 
 
-_ASIP_CAPS = frozenset(
-    {cap.DRIVE_BASE, cap.RANGE, cap.BUMPER, cap.LINE, cap.SPEAKER, cap.DISPLAY}
-)
+_ASIP_CAPS = frozenset({cap.DRIVE_BASE, cap.RANGE, cap.BUMPER, cap.LINE, cap.SPEAKER, cap.DISPLAY})
 
 BUILTIN_PROFILES: dict[str, RobotProfile] = {
     "mirto": RobotProfile(
@@ -119,9 +117,7 @@ def _load_profile_file(path: Path) -> RobotProfile:
     data = load_yaml(path, error=ProfileError)
 
     def fail(message: str, key: str | None = None) -> ProfileError:
-        line, col = (
-            data.key_mark(key) if isinstance(data, YamlMap) and key else (None, None)
-        )
+        line, col = data.key_mark(key) if isinstance(data, YamlMap) and key else (None, None)
         return ProfileError(message, path=str(path), line=line, col=col)
 
     if not isinstance(data, YamlMap):

@@ -20,6 +20,8 @@ import urllib.parse
 from types import TracebackType
 from typing import Any, cast
 
+from typing_extensions import Self
+
 from roboscript import capabilities as cap
 from roboscript.clock import Clock, MonotonicClock, SimClock
 from roboscript.errors import CapabilityError, LinkError, LinkTimeoutError
@@ -109,7 +111,9 @@ class Robot:
         clock: Clock = SimClock() if simulation is not None and not realtime else MonotonicClock()
         scheduler = Scheduler(clock, period_s)
         log = WireLog(wire_log) if wire_log else None
-        link = Link(serial_port, driver_cls.make_codec(profile), clock=clock, wire_log=log, name=url)
+        link = Link(
+            serial_port, driver_cls.make_codec(profile), clock=clock, wire_log=log, name=url
+        )
         driver = driver_cls(link, profile, clock)
         if simulation is not None:
             scheduler.add(simulation, "sense")
@@ -216,7 +220,7 @@ class Robot:
         finally:
             self.driver.link.close()
 
-    def __enter__(self) -> Robot:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(

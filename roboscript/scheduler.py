@@ -91,23 +91,21 @@ class Scheduler:
     def add(self, task: Tickable | Callable[[float, float], None], phase: Phase = "think") -> None:
         """Add a task, called every tick in ``phase`` in the order added."""
         call = task.tick if hasattr(task, "tick") else task
-        self._tasks[phase].append(call)  # type: ignore[arg-type]
+        self._tasks[phase].append(call)
 
     def remove(self, task: Tickable | Callable[[float, float], None]) -> None:
         """Remove a task added earlier (no error if it is not there)."""
         call = task.tick if hasattr(task, "tick") else task
         for calls in self._tasks.values():
             if call in calls:
-                calls.remove(call)  # type: ignore[arg-type]
+                calls.remove(call)
 
     def step(self) -> None:
         """Run one tick now, without waiting for a deadline."""
         now = self.clock.now()
-        if self._last_tick_s is None:
-            dt = self.period_s
-        else:
-            # A clock with coarse resolution can repeat a reading; dt must still be > 0.
-            dt = max(now - self._last_tick_s, 1e-6)
+        # A clock with coarse resolution can repeat a reading; dt must still be > 0.
+        last = self._last_tick_s
+        dt = self.period_s if last is None else max(now - last, 1e-6)
         self._last_tick_s = now
         self.stats.ticks += 1
         for phase in _PHASES:
@@ -136,8 +134,7 @@ class Scheduler:
             self.clock.sleep_until(self._next_deadline_s)
             now = self.clock.now()
             lateness = now - self._next_deadline_s
-            if lateness > self.stats.max_lateness_s:
-                self.stats.max_lateness_s = lateness
+            self.stats.max_lateness_s = max(self.stats.max_lateness_s, lateness)
             if self._record:
                 self.stats.lateness_s.append(lateness)
             if lateness > self.period_s:

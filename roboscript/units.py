@@ -9,7 +9,7 @@ __all__ = ["clamp", "hypot_mm", "wrap_angle_deg"]
 
 def clamp(value: float, low: float, high: float) -> float:
     """Return ``value`` limited to ``[low, high]``."""
-    return low if value < low else high if value > high else value
+    return low if value < low else min(value, high)
 
 
 def wrap_angle_deg(angle_deg: float) -> float:

@@ -24,7 +24,5 @@ __all__ = [
     "Wait",
 ]
 
-ACTIONS: dict[str, type[Action]] = {
-    cls.name: cls for cls in (Drive, Rotate, PlayTone, Wait, Stop)
-}
+ACTIONS: dict[str, type[Action]] = {cls.name: cls for cls in (Drive, Rotate, PlayTone, Wait, Stop)}
 """Built-in actions by name."""

@@ -131,7 +131,8 @@ def _check_capabilities(spec: MissionSpec, profile: object) -> list[InputError]:
                 problems.append(
                     _problem(
                         f"'{action.name}' needs {missing} "
-                        f"({cap.CAPABILITY_NAMES.get(missing, missing)}), which {robot} does not have",
+                        f"({cap.CAPABILITY_NAMES.get(missing, missing)}),"
+                        f" which {robot} does not have",
                         action.location,
                         _INSTEAD.get(missing),
                     )

@@ -75,8 +75,8 @@ _ATTRS: dict[str, dict[str, tuple[str | None, str]]] = {
         "distance_cm": ("cm", cap.RANGE),
         "distance": ("mm", cap.RANGE),
     },
-    "bumper": {name: ("", cap.BUMPER) for name in ("left", "right", "any")},
-    "line": {name: ("", cap.LINE) for name in ("left", "center", "right", "any")},
+    "bumper": dict.fromkeys(("left", "right", "any"), ("", cap.BUMPER)),
+    "line": dict.fromkeys(("left", "center", "right", "any"), ("", cap.LINE)),
 }
 _PLAIN: dict[str, tuple[str | None, str | None]] = {
     "heading_deg": ("deg", cap.DRIVE_BASE),
@@ -143,8 +143,12 @@ class _Compiler:
         self.states: set[str] = set()
         self.quantities: dict[str, _Quantity] = {}
 
-    def fail(self, message: str, node: ast.AST | None = None, hint: str | None = None) -> GuardError:
+    def fail(
+        self, message: str, node: ast.AST | None = None, hint: str | None = None
+    ) -> GuardError:
         offset = getattr(node, "col_offset", 0) if node is not None else 0
+        if isinstance(node, ast.Attribute) and node.end_col_offset is not None:
+            offset = node.end_col_offset - len(node.attr)  # point at the misspelt part
         return GuardError(message, self._source_offset(offset), hint)
 
     def _source_offset(self, offset: int) -> int:
@@ -224,7 +228,8 @@ class _Compiler:
             dimension = _UNIT_DIMENSION.get(target or "")
             if dimension is None:
                 raise self.fail(
-                    f"'{quantity.value:g} {quantity.unit}' is compared with a value that has no unit",
+                    f"'{quantity.value:g} {quantity.unit}' is compared with a value"
+                    " that has no unit",
                     node,
                 )
             try:
@@ -311,7 +316,10 @@ class _Compiler:
 
 def _default_unit(unit: str) -> str | None:
     for dimension_key, base in (("distance", "mm"), ("time", "s"), ("angle", "deg")):
-        if unit in DIMENSIONS[dimension_key].units or unit.lower() in DIMENSIONS[dimension_key].units:
+        if (
+            unit in DIMENSIONS[dimension_key].units
+            or unit.lower() in DIMENSIONS[dimension_key].units
+        ):
             return base
     return None
 

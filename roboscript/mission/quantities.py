@@ -97,19 +97,19 @@ def parse_quantity(value: object, dimension: str, default_unit: str | None = Non
     if not unit:
         factor = 1.0 if default_unit is None else dim.units.get(default_unit, 1.0)
         return number * factor
-    factor = _unit_for(dim, unit)
-    if factor is None:
+    unit_factor = _unit_for(dim, unit)
+    if unit_factor is None:
         other = next(
             (d for d in DIMENSIONS.values() if d is not dim and _unit_for(d, unit) is not None),
             None,
         )
-        fits = ", ".join(sorted({u for u in dim.units if u.isascii()}, key=len)[:5])
+        fits = ", ".join([u for u in dim.units if u.isascii()][:5])
         if other is not None:
             raise QuantityError(
                 f"'{unit}' is a unit of {other.name}, but this is a {dim.name} (use {fits})"
             )
         raise QuantityError(f"unknown unit '{unit}' for a {dim.name} (use {fits})")
-    return number * factor
+    return number * unit_factor
 
 
 def _example(dim: Dimension) -> str:

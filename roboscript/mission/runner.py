@@ -87,6 +87,7 @@ class MissionRunner(GuardEnv):
         capabilities: The robot's capability objects by name.
         robot_name: For messages.
         on_state: Called with ``(time_s, state)`` whenever a state is entered.
+        on_start: Called with the scheduler time when the mission starts.
     """
 
     def __init__(
@@ -96,6 +97,7 @@ class MissionRunner(GuardEnv):
         *,
         robot_name: str = "the robot",
         on_state: Callable[[float, str], None] | None = None,
+        on_start: Callable[[float], None] | None = None,
     ) -> None:
         self.spec = spec
         self.capabilities = capabilities
@@ -108,6 +110,7 @@ class MissionRunner(GuardEnv):
         self._start_s: float | None = None
         self._state_start_s = 0.0
         self._on_state = on_state
+        self._on_start = on_start
         self._odometry_origin: tuple[float, float] | None = None
         self._model = _Model()
         self._machine = self._build_machine()
@@ -142,7 +145,7 @@ class MissionRunner(GuardEnv):
         return machine
 
     def _add(self, machine: Machine, trigger: str, source: str, option: TransitionSpec) -> None:
-        conditions = []
+        conditions: list[str | Callable[..., bool | None]] = []
         guard = option.guard
         if guard is not None:
 
@@ -195,7 +198,18 @@ class MissionRunner(GuardEnv):
             self.action = None
 
     def _fire(self, trigger: str) -> bool:
-        return bool(self._model.trigger(trigger))
+        moved = bool(self._model.trigger(trigger))
+        if moved:
+            self._end_if_final()
+        return moved
+
+    def _end_if_final(self) -> None:
+        """A final state without an action ends the mission as soon as it is entered."""
+        state = self.spec.states[self.state]
+        if state.final and self.action is None:
+            outcome = "success" if state.final == "success" else "failure"
+            reason = None if outcome == "success" else f"ended in the failure state '{state.name}'"
+            self.finish(outcome, reason)
 
     # -------------------------------------------------------------------------------- tick
 
@@ -207,10 +221,15 @@ class MissionRunner(GuardEnv):
         self.ctx.dt_s = dt_s
         if self._start_s is None:
             self._start_s = now_s
+            if self._on_start is not None:
+                self._on_start(now_s)
             if cap.DRIVE_BASE in self.capabilities:
                 base = self.capabilities[cap.DRIVE_BASE]
                 self._odometry_origin = base.wheel_distances_mm()  # type: ignore[attr-defined]
             self._enter(self.state)
+            self._end_if_final()
+            if self.finished:
+                return
         name = self.state
         state = self.spec.states[name]
         if state.when and not state.final and self._fire("check"):
@@ -221,14 +240,16 @@ class MissionRunner(GuardEnv):
                 self.action_result = result
                 if self._route(name, result):
                     return
-        if state.final and (self.action is None or self.action_result is not None):
+        if state.final and self.action_result is not None:
             outcome = "success" if state.final == "success" else "failure"
             reason = None if outcome == "success" else f"ended in the failure state '{name}'"
             self.finish(outcome, reason)
             return
-        if state.timeout_s is not None and now_s - self._state_start_s >= state.timeout_s - 1e-9:
-            if not self._fire("timeout"):
-                self.finish("failure", f"state '{name}' timed out after {state.timeout_s:g} s")
+        timed_out = (
+            state.timeout_s is not None and now_s - self._state_start_s >= state.timeout_s - 1e-9
+        )
+        if timed_out and not self._fire("timeout"):
+            self.finish("failure", f"state '{name}' timed out after {state.timeout_s:g} s")
 
     def _route(self, name: str, result: Result) -> bool:
         """Route an action's outcome; True if the mission moved on or ended."""

@@ -8,7 +8,7 @@ tags such as ``!!python/object`` are refused, as are duplicate keys.
 from __future__ import annotations
 
 import re
-from collections.abc import Hashable
+from collections.abc import Hashable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -61,7 +61,7 @@ class _Loader(yaml.SafeLoader):
     source_path: str = "<input>"
     error: type[InputError] = InputError
 
-    def construct_yaml_map_with_marks(self, node: yaml.MappingNode) -> YamlMap:
+    def construct_yaml_map_with_marks(self, node: yaml.MappingNode) -> Iterator[YamlMap]:
         result = YamlMap()
         result.mark = _mark(node)
         result.key_marks = {}
@@ -89,7 +89,7 @@ class _Loader(yaml.SafeLoader):
             result.key_marks[key] = _mark(key_node)
             result.value_marks[key] = _mark(value_node)
 
-    def construct_yaml_seq_with_marks(self, node: yaml.SequenceNode) -> YamlList:
+    def construct_yaml_seq_with_marks(self, node: yaml.SequenceNode) -> Iterator[YamlList]:
         result = YamlList()
         result.mark = _mark(node)
         result.item_marks = [_mark(item) for item in node.value]

@@ -26,13 +26,13 @@ from roboscript.mission.spec import (
     TransitionSpec,
 )
 
-__all__ = ["MissionProblems", "build_action", "load_yaml_mission", "parse_yaml_mission"]
+__all__ = ["MissionProblemsError", "build_action", "load_yaml_mission", "parse_yaml_mission"]
 
 _TOP_KEYS = ("mission", "description", "initial", "states")
 _STATE_KEYS = ("do", "on", "when", "timeout", "final", "description")
 
 
-class MissionProblems(MissionError):
+class MissionProblemsError(MissionError):
     """The first error in a mission, carrying every problem found (errors and warnings).
 
     Attributes:
@@ -52,7 +52,7 @@ class MissionProblems(MissionError):
 
 
 def _suggest(word: str, choices: Any) -> str | None:
-    close = difflib.get_close_matches(word, sorted(choices), n=1)
+    close = difflib.get_close_matches(word, sorted(choices), n=1, cutoff=0.5)
     return f"did you mean '{close[0]}'?" if close else None
 
 
@@ -143,7 +143,9 @@ class _Reader:
         names = frozenset(str(name) for name in states_raw)
         states: dict[str, StateSpec] = {}
         for name, raw in states_raw.items():
-            state = self.state(str(name), raw, states_raw.value_mark(name), states_raw.key_mark(name), names)
+            state = self.state(
+                str(name), raw, states_raw.value_mark(name), states_raw.key_mark(name), names
+            )
             if state is not None:
                 states[state.name] = state
         initial = data.get("initial", next(iter(states_raw)))
@@ -275,7 +277,9 @@ class _Reader:
             return None
         return value
 
-    def guarded(self, item: Any, mark: Mark, names: frozenset[str], need_if: bool) -> TransitionSpec | None:
+    def guarded(
+        self, item: Any, mark: Mark, names: frozenset[str], need_if: bool
+    ) -> TransitionSpec | None:
         if isinstance(item, str) and not need_if:
             target = self.target(item, mark, names)
             return TransitionSpec(target, location=self.loc(mark)) if target else None
@@ -284,7 +288,9 @@ class _Reader:
             return None
         for key in item:
             if key not in ("if", "goto"):
-                self.problem(f"unknown key '{key}'", item.key_mark(key), _suggest(key, ("if", "goto")))
+                self.problem(
+                    f"unknown key '{key}'", item.key_mark(key), _suggest(key, ("if", "goto"))
+                )
         if "goto" not in item:
             self.problem("this choice needs 'goto: STATE'", item.mark)
             return None
@@ -296,7 +302,9 @@ class _Reader:
             if isinstance(text, bool):
                 text = "true" if text else "false"
             if not isinstance(text, str):
-                self.problem("a condition is text, e.g. if: \"range.distance_cm < 20\"", item.value_mark("if"))
+                self.problem(
+                    'a condition is text, e.g. if: "range.distance_cm < 20"', item.value_mark("if")
+                )
                 return None
             try:
                 guard = compile_guard(text, names)
@@ -319,9 +327,13 @@ class _Reader:
             return False
         return col - 1 < len(text) and text[col - 1] in "\"'"
 
-    def on(self, raw: Any, mark: Mark, names: frozenset[str]) -> dict[str, tuple[TransitionSpec, ...]]:
+    def on(
+        self, raw: Any, mark: Mark, names: frozenset[str]
+    ) -> dict[str, tuple[TransitionSpec, ...]]:
         if not isinstance(raw, YamlMap):
-            self.problem("'on' maps outcomes to states, e.g. on: {done: next, timeout: stuck}", mark)
+            self.problem(
+                "'on' maps outcomes to states, e.g. on: {done: next, timeout: stuck}", mark
+            )
             return {}
         result: dict[str, tuple[TransitionSpec, ...]] = {}
         for outcome, value in raw.items():
@@ -364,7 +376,7 @@ def _finish(reader: _Reader, data: Any, profile: Any) -> tuple[MissionSpec, list
     errors = [p for p in reader.problems if p.severity == "error"]
     if errors or spec is None:
         reader.problems.sort(key=lambda p: (p.line or 0, p.col or 0))
-        raise MissionProblems(reader.problems)
+        raise MissionProblemsError(reader.problems)
     return spec, [p for p in reader.problems if p.severity != "error"]
 
 
@@ -382,7 +394,7 @@ def load_yaml_mission(
         The mission and its warnings.
 
     Raises:
-        MissionProblems: The first error, with every problem in ``problems``.
+        MissionProblemsError: The first error, with every problem in ``problems``.
     """
     reader = _Reader(str(path))
     return _finish(reader, load_yaml(path, error=MissionError), profile)
@@ -394,4 +406,3 @@ def parse_yaml_mission(
     """Like :func:`load_yaml_mission`, from text."""
     reader = _Reader(path)
     return _finish(reader, load_yaml_text(text, path, error=MissionError), profile)
-

@@ -222,7 +222,9 @@ class Body:
 
     def bumpers_pressed(self) -> tuple[bool, ...]:
         """Each bump switch (in :attr:`BodySpec.bumper_names` order): pressed or not."""
-        return tuple(self.in_contact and self.contact_side == name for name in self.spec.bumper_names)
+        return tuple(
+            self.in_contact and self.contact_side == name for name in self.spec.bumper_names
+        )
 
     def line_readings(self) -> tuple[int, ...]:
         """IR reflectance 0-1023 of each line sensor (dark tape reads high)."""

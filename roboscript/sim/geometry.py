@@ -68,7 +68,7 @@ def closest_point(px: float, py: float, seg: Segment) -> tuple[float, float]:
     if length2 == 0.0:
         return seg.x0, seg.y0
     t = ((px - seg.x0) * ex + (py - seg.y0) * ey) / length2
-    t = 0.0 if t < 0.0 else 1.0 if t > 1.0 else t
+    t = 0.0 if t < 0.0 else min(t, 1.0)
     return seg.x0 + t * ex, seg.y0 + t * ey
 
 

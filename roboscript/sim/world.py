@@ -20,6 +20,7 @@ Built-in worlds ship as package data in ``roboscript/sim/worlds/``.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field
 from importlib import resources
@@ -189,14 +190,14 @@ class _WorldReader:
         walls: list[Segment] = []
         for item, mark in self.items(top, "walls"):
             pts = self.shape(item, mark, "a wall", set())
-            walls.extend(Segment(*a, *b) for a, b in zip(pts, pts[1:], strict=False))
+            walls.extend(Segment(*a, *b) for a, b in itertools.pairwise(pts))
         lines: list[TapeLine] = []
         for item, mark in self.items(top, "lines"):
             pts = self.shape(item, mark, "a line", {"width"})
             width = 20.0
             if isinstance(item, YamlMap) and "width" in item:
                 width = self.length(item["width"], item.value_mark("width"))
-            segs = tuple(Segment(*a, *b) for a, b in zip(pts, pts[1:], strict=False))
+            segs = tuple(Segment(*a, *b) for a, b in itertools.pairwise(pts))
             lines.append(TapeLine(segs, width))
         regions: dict[str, Region] = {}
         if "regions" in top:
@@ -207,7 +208,9 @@ class _WorldReader:
         if "start" in top:
             start = self.pose(top["start"], top.value_mark("start"))
         name = str(top.get("world", Path(self.path).stem))
-        return World(name, str(top.get("description", "")), tuple(walls), tuple(lines), regions, start)
+        return World(
+            name, str(top.get("description", "")), tuple(walls), tuple(lines), regions, start
+        )
 
     def items(self, top: YamlMap, key: str) -> list[tuple[Any, Mark]]:
         if key not in top:

@@ -135,7 +135,7 @@ class Link:
 
     def _fault(self, fault: RemoteProtocolError) -> None:
         if not self.faults[fault.kind]:
-            logger.warning("%s sent bytes roboscript cannot read (%s); skipping them", self.name, fault)
+            logger.warning(
+                "%s sent bytes roboscript cannot read (%s); skipping them", self.name, fault
+            )
         self.faults[fault.kind] += 1
-
-

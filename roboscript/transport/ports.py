@@ -36,7 +36,7 @@ def open_port(url: str, *, baudrate: int = 115200) -> PortLike:
 
 def _reason(exc: Exception) -> str:
     text = str(exc)
-    if "No such file" in text or "could not open port" in text and "2]" in text:
+    if "No such file" in text or ("could not open port" in text and "2]" in text):
         return "there is no such port (is the robot plugged in? try 'roboscript ports')"
     if "Connection refused" in text or "111" in text:
         return "nothing is listening there (is 'roboscript sim' running?)"

@@ -36,7 +36,7 @@ _MIN_MSG_LEN = 4
 _MAX_COUNT = 256  # bound on element counts read from a request (pixels, bars)
 
 
-class _NeedMore(Exception):
+class _NeedMoreError(Exception):
     """Internal: the buffer ends inside a request."""
 
 
@@ -52,7 +52,7 @@ class _Cursor:
 
     def read(self) -> int:
         if self.pos >= len(self.buf):
-            raise _NeedMore
+            raise _NeedMoreError
         byte = self.buf[self.pos]
         self.pos += 1
         return byte
@@ -67,7 +67,7 @@ class _Cursor:
             if byte is None:
                 if self.final:
                     return 0
-                raise _NeedMore
+                raise _NeedMoreError
             if byte == 0x2D or 0x30 <= byte <= 0x39:
                 break
             self.pos += 1
@@ -86,7 +86,7 @@ class _Cursor:
             if following is None:
                 if self.final:
                     break
-                raise _NeedMore
+                raise _NeedMoreError
             if not 0x30 <= following <= 0x39:
                 break
         return -value if negative else value
@@ -98,7 +98,7 @@ class _Cursor:
         end = self.buf.find(b"\n", self.pos)
         if end < 0:
             if not self.final:
-                raise _NeedMore
+                raise _NeedMoreError
             end = len(self.buf)
         text = bytes(self.buf[self.pos : end]).decode("ascii", "replace").rstrip("\r")
         self.pos = min(end + 1, len(self.buf))
@@ -108,7 +108,7 @@ class _Cursor:
         end = self.buf.find(b"\n", self.pos)
         if end < 0:
             if not self.final:
-                raise _NeedMore
+                raise _NeedMoreError
             self.pos = len(self.buf)
         else:
             self.pos = end + 1
@@ -288,7 +288,7 @@ class AsipCodec:
             cursor = _Cursor(self._buf, final)
             try:
                 message = self._parse_request(cursor)
-            except _NeedMore:
+            except _NeedMoreError:
                 self._timed_out = False
                 return None
             except RemoteProtocolError:
@@ -308,9 +308,7 @@ class AsipCodec:
         separator = cur.read()
         if separator != 0x2C:
             self.stats.fault("malformed", 2)
-            raise RemoteProtocolError(
-                f"request {service!r} not followed by ','", kind="malformed"
-            )
+            raise RemoteProtocolError(f"request {service!r} not followed by ','", kind="malformed")
         if service != "#" and service not in self.services:
             cur.discard_line()
             return m.InvalidServiceRequest(service)
@@ -769,8 +767,10 @@ _ENCODER_TABLE: list[tuple[type, Role, Callable[..., str]]] = [
     (
         m.ServiceNamesReply,
         _D,
-        lambda msg: "@#,N,"
-        + _body(len(msg.services), ",".join(f"{sid}:{name}" for sid, name in msg.services)),
+        lambda msg: (
+            "@#,N,"
+            + _body(len(msg.services), ",".join(f"{sid}:{name}" for sid, name in msg.services))
+        ),
     ),
     (
         m.PinServicesReply,

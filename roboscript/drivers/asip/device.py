@@ -146,7 +146,9 @@ class MirtoBoard:
                 modes.append(int(m.PinMode.RESERVED))
             elif owner == "I":
                 # Without STRICT_PINMODE every free analog pin starts in ANALOG mode.
-                modes.append(int(m.PinMode.ANALOG if pin in _ANALOG_PINS else m.PinMode.UNALLOCATED))
+                modes.append(
+                    int(m.PinMode.ANALOG if pin in _ANALOG_PINS else m.PinMode.UNALLOCATED)
+                )
             else:
                 modes.append(int(m.PinMode.OTHER_SERVICE))
         state.pin_modes = modes
@@ -268,7 +270,7 @@ class MirtoBoard:
         elif now_s - wheel.prev_pulse_s > _AUTO_STOP_S:
             self._stop_wheel(index)
             return
-        frame_ms = int(round(_MOTOR_FRAME_S * 1000))
+        frame_ms = round(_MOTOR_FRAME_S * 1000)
         target = wheel.target_ticks_per_s * frame_ms // 1000
         error = target - encoder
         pid = _cdiv(cfg.kp * error - cfg.kd * (encoder - wheel.prev_input) + wheel.iterm, cfg.ko)
@@ -297,7 +299,9 @@ class MirtoBoard:
             if values:
                 self._send(m.AnalogEvent(values))
         elif service == "B":
-            self._send(m.BumpEvent(tuple(0 if pressed else 1 for pressed in body.bumpers_pressed())))
+            self._send(
+                m.BumpEvent(tuple(0 if pressed else 1 for pressed in body.bumpers_pressed()))
+            )
         elif service == "R":
             self._send(m.IrEvent(body.line_readings()))
         elif service == "D":
@@ -309,12 +313,14 @@ class MirtoBoard:
 
     # ------------------------------------------------------------------------------ requests
 
-    def _handle(self, msg: object, now_s: float) -> None:  # noqa: C901 - one branch per request
+    def _handle(self, msg: object, now_s: float) -> None:
         state = self.state
         if isinstance(msg, m.InvalidServiceRequest):
             self._error(msg.service, "?", m.ErrorCode.INVALID_SERVICE)
         elif isinstance(msg, m.VersionRequest):
-            self._send(m.VersionReply(1, 1, self.config.chip, len(_PIN_SERVICES), self.config.sketch))
+            self._send(
+                m.VersionReply(1, 1, self.config.chip, len(_PIN_SERVICES), self.config.sketch)
+            )
         elif isinstance(msg, m.ServiceNamesRequest):
             self._send(m.ServiceNamesReply(tuple(_SERVICE_NAMES.items())))
         elif isinstance(msg, m.PinServicesRequest):
@@ -427,16 +433,22 @@ class MirtoBoard:
         elif isinstance(msg, m.AnalogWrite):
             if msg.pin not in _PWM_PINS or _PIN_SERVICES[msg.pin] != "I":
                 self._error("I", "a", m.ErrorCode.INVALID_PIN)
-        elif isinstance(msg, m.UnknownRequest):
-            if msg.service not in "TL":  # tone and LCD ignore unknown tags silently
-                self._error(msg.service, msg.tag, m.ErrorCode.UNKNOWN_REQUEST)
+        elif isinstance(msg, m.UnknownRequest) and msg.service not in "TL":
+            # (tone and LCD ignore unknown tags silently)
+            self._error(msg.service, msg.tag, m.ErrorCode.UNKNOWN_REQUEST)
 
     def _set_pin_mode(self, msg: m.SetPinMode) -> None:
         state = self.state
         if msg.pin >= len(_PIN_SERVICES) or _PIN_SERVICES[msg.pin] != "I":
             self._error("I", "P", m.ErrorCode.MODE_UNAVAILABLE)
             return
-        if msg.mode not in (m.PinMode.INPUT, m.PinMode.INPUT_PULLUP, m.PinMode.OUTPUT, m.PinMode.ANALOG, m.PinMode.PWM):
+        if msg.mode not in (
+            m.PinMode.INPUT,
+            m.PinMode.INPUT_PULLUP,
+            m.PinMode.OUTPUT,
+            m.PinMode.ANALOG,
+            m.PinMode.PWM,
+        ):
             self._error("I", "P", m.ErrorCode.INVALID_MODE)
             return
         if msg.mode is m.PinMode.ANALOG and msg.pin not in _ANALOG_PINS:

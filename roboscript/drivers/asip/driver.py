@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from typing import Any
 
 from roboscript import capabilities as cap
@@ -121,7 +122,7 @@ class AsipDriver(Driver):
             cap.SPEAKER: "T",
             cap.DISPLAY: "L",
         }
-        makers = {
+        makers: dict[str, Callable[[], object]] = {
             cap.DRIVE_BASE: lambda: _DriveBase(self),
             cap.BUMPER: lambda: _Bumpers(self),
             cap.LINE: lambda: _LineSensors(self),
@@ -251,7 +252,11 @@ class AsipDriver(Driver):
             logger.debug("board says: %s", message.text)
 
     def _handle_error(self, error: m.ErrorReply) -> None:
-        if error.service == "M" and error.tag in "rRca" and error.errno == m.ErrorCode.UNKNOWN_REQUEST:
+        if (
+            error.service == "M"
+            and error.tag in "rRca"
+            and error.errno == m.ErrorCode.UNKNOWN_REQUEST
+        ):
             if self.firmware_pid:
                 self.firmware_pid = False
                 self._sent_rpm = None

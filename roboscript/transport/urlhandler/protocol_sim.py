@@ -9,12 +9,16 @@ reach the device at once; reads return what the device has sent so far and never
 from __future__ import annotations
 
 import urllib.parse
+from typing import TYPE_CHECKING
 
 from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 
 from roboscript.errors import InputError
 from roboscript.sim.simulation import Simulation, make_simulation
 from roboscript.sim.world import Pose
+
+if TYPE_CHECKING:
+    from _typeshed import ReadableBuffer
 
 __all__ = ["Serial", "parse_sim_url"]
 
@@ -52,10 +56,10 @@ class Serial(SerialBase):
 
     def open(self) -> None:
         """Build the simulation named by the URL and power the device on."""
-        if self._port is None:
+        if self.port is None:
             raise SerialException("port must be configured before it can be used")
         try:
-            robot, world, seed, start = parse_sim_url(str(self._port))
+            robot, world, seed, start = parse_sim_url(str(self.port))
             self.simulation = make_simulation(robot, world, seed, start)
         except (ValueError, InputError, NotImplementedError) as exc:
             raise SerialException(str(exc)) from exc
@@ -78,9 +82,9 @@ class Serial(SerialBase):
         """Return up to ``size`` bytes the device has sent (never blocks)."""
         return self._sim().read(size)
 
-    def write(self, data: bytes | bytearray | memoryview, /) -> int:
+    def write(self, data: ReadableBuffer, /) -> int:
         """Deliver bytes to the device at once."""
-        chunk = bytes(data)
+        chunk = memoryview(data).tobytes()
         self._sim().write(chunk)
         return len(chunk)
 

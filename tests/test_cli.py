@@ -1,0 +1,150 @@
+"""The command line as students, teachers and scripts use it."""
+
+from __future__ import annotations
+
+import json
+import socket
+import threading
+import time
+from pathlib import Path
+
+from helpers import run_cli
+
+
+def test_square_succeeds_with_four_tones_and_returns_home() -> None:
+    result = run_cli("run", "missions/square.yaml", "--json")
+    assert result.returncode == 0, result.stderr
+    summary = json.loads(result.stdout)
+    assert summary["mission"] == "square"
+    assert summary["robot"] == "mirto"
+    assert summary["outcome"] == "success"
+    assert summary["final_state"] == "finished"
+    assert summary["reason"] is None
+    assert [tone["frequency_hz"] for tone in summary["sim"]["tones"]] == [880.0] * 4
+    pose = summary["sim"]["final_pose"]
+    assert (pose["x_mm"] ** 2 + pose["y_mm"] ** 2) ** 0.5 < 50.0
+    assert summary["sim"]["collisions"] == 0
+    assert [name for _, name in summary["states"]].count("side") == 4
+    t, x, y, _heading = summary["sim"]["path"][0]
+    assert (t, x, y) == (0.0, 0.0, 0.0)
+
+
+def test_same_seed_prints_identical_json() -> None:
+    first = run_cli("run", "missions/square.yaml", "--json", "--seed", "7")
+    second = run_cli("run", "missions/square.yaml", "--json", "--seed", "7")
+    assert first.returncode == second.returncode == 0
+    assert first.stdout == second.stdout
+
+
+def test_different_seeds_differ_in_noise() -> None:
+    first = json.loads(run_cli("run", "missions/square.yaml", "--json", "--seed", "1").stdout)
+    second = json.loads(run_cli("run", "missions/square.yaml", "--json", "--seed", "2").stdout)
+    assert first["sim"]["path"] != second["sim"]["path"]
+
+
+def test_human_output_lists_states_and_result() -> None:
+    result = run_cli("run", "missions/square.yaml")
+    assert result.returncode == 0
+    assert result.stdout == ""
+    assert "success: square ended in 'finished'" in result.stderr
+    assert "corner" in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def test_misspelt_action_exits_2_with_location_and_suggestion(tmp_path: Path) -> None:
+    mission = tmp_path / "typo.yaml"
+    mission.write_text(
+        "mission: typo\n"
+        "states:\n"
+        "  go:\n"
+        "    do: {drvie: {distance: 50 cm}}\n"
+        "    on: {done: end}\n"
+        "  end:\n"
+        "    final: success\n",
+        encoding="utf-8",
+    )
+    result = run_cli("run", str(mission))
+    assert result.returncode == 2
+    assert result.stderr.strip() == (
+        f"{mission}:4:10: error: unknown action 'drvie' (did you mean 'drive'?)"
+    )
+
+
+def test_check_accepts_the_examples() -> None:
+    result = run_cli("check", "missions/")
+    assert result.returncode == 0, result.stderr
+    assert "0 with errors" in result.stderr
+
+
+def test_check_reports_every_problem_in_a_file(tmp_path: Path) -> None:
+    mission = tmp_path / "two.yaml"
+    mission.write_text(
+        "states:\n"
+        "  a:\n"
+        "    do: {drive: {distance: 50 deg}}\n"
+        "    on: {done: bb}\n"
+        "  b:\n"
+        "    final: success\n",
+        encoding="utf-8",
+    )
+    result = run_cli("check", str(mission))
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert lines[0].startswith(f"{mission}:3:") and "'deg' is a unit of angle" in lines[0]
+    assert lines[1] == f"{mission}:4:16: error: there is no state 'bb' (did you mean 'b'?)"
+
+
+_accepted: list[socket.socket] = []
+
+
+def _silent_server() -> tuple[socket.socket, int]:
+    """A TCP server that accepts one client and never says anything."""
+    server = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    server.bind(("127.0.0.1", 0))
+    server.listen(1)
+    accepted = _accepted
+
+    def accept() -> None:
+        try:
+            conn, _ = server.accept()
+            accepted.append(conn)
+        except OSError:
+            pass
+
+    threading.Thread(target=accept, daemon=True).start()
+    return server, server.getsockname()[1]
+
+
+def test_port_where_nothing_answers_fails_in_a_few_seconds_with_one_sentence() -> None:
+    server, port = _silent_server()
+    try:
+        started = time.monotonic()
+        result = run_cli("run", "missions/square.yaml", "--port", f"socket://127.0.0.1:{port}")
+        elapsed = time.monotonic() - started
+    finally:
+        server.close()
+    assert result.returncode == 1
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert "did not answer" in lines[0]
+    assert "Traceback" not in result.stderr
+    assert elapsed < 10.0
+
+
+def test_port_that_does_not_exist_is_one_sentence() -> None:
+    result = run_cli("run", "missions/square.yaml", "--port", "/dev/does-not-exist-42")
+    assert result.returncode == 1
+    assert len(result.stderr.strip().splitlines()) == 1
+    assert "cannot open /dev/does-not-exist-42" in result.stderr
+
+
+def test_unknown_robot_is_invalid_input() -> None:
+    result = run_cli("run", "missions/square.yaml", "--robot", "mirt")
+    assert result.returncode == 2
+    assert "did you mean 'mirto'?" in result.stderr
+
+
+def test_robots_lists_profiles() -> None:
+    result = run_cli("robots")
+    assert result.returncode == 0
+    assert "mirto" in result.stdout and "asip-basic" in result.stdout

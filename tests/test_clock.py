@@ -1,0 +1,31 @@
+"""Clocks."""
+
+from __future__ import annotations
+
+import pytest
+
+from roboscript.clock import Clock, MonotonicClock, SimClock
+
+
+def test_sim_clock_jumps_and_never_goes_back() -> None:
+    clock = SimClock(1.0)
+    clock.sleep_until(3.5)
+    assert clock.now() == 3.5
+    clock.sleep_until(2.0)
+    assert clock.now() == 3.5
+    clock.advance(0.5)
+    assert clock.now() == 4.0
+    with pytest.raises(ValueError):
+        clock.advance(-1.0)
+
+
+def test_monotonic_clock_waits_until_the_deadline() -> None:
+    clock = MonotonicClock()
+    start = clock.now()
+    clock.sleep_until(start + 0.02)
+    assert clock.now() >= start + 0.02
+
+
+def test_both_clocks_satisfy_the_protocol() -> None:
+    assert isinstance(SimClock(), Clock)
+    assert isinstance(MonotonicClock(), Clock)

@@ -1,0 +1,68 @@
+"""The robot container: connection, capabilities, and stopping on every way out."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from roboscript.errors import CapabilityError
+from roboscript.robot import Robot
+from roboscript.transport.wirelog import read_wire_log
+
+
+def test_connect_to_the_default_simulator_and_read_capabilities() -> None:
+    with Robot.connect("mirto") as robot:
+        assert robot.describe() == "mirto2017 on ATmega328P (ASIP 1.1)"
+        assert {"drive_base", "range", "bumper", "line", "speaker", "display"} <= set(
+            robot.capabilities
+        )
+        with pytest.raises(CapabilityError, match="mirto has no heading"):
+            robot.require("heading")
+
+
+def _last_sent(log: Path) -> list[bytes]:
+    return [data for _, direction, data in read_wire_log(log) if direction == ">"]
+
+
+def test_leaving_the_block_by_an_exception_stops_the_motors(tmp_path: Path) -> None:
+    log = tmp_path / "run.wire"
+    with pytest.raises(ZeroDivisionError), Robot.connect("mirto", wire_log=str(log)) as robot:
+        robot.drive_base.set_wheel_speeds(200, 200)
+        robot.run_for(0.5)
+        assert robot.simulation.body.wheel_speed_mm_s[0] > 100
+        _ = 1 / 0
+    sent = _last_sent(log)
+    assert sent[-2:] == [b"M,S,0\n", b"M,M,0,0\n"]
+    assert robot.simulation.body.power == [0.0, 0.0]
+
+
+def test_keyboard_interrupt_inside_the_block_stops_the_motors(tmp_path: Path) -> None:
+    log = tmp_path / "run.wire"
+    with pytest.raises(KeyboardInterrupt), Robot.connect("mirto", wire_log=str(log)) as robot:
+        robot.drive_base.set_wheel_speeds(200, -200)
+        robot.run_for(0.3)
+        raise KeyboardInterrupt
+    assert _last_sent(log)[-2:] == [b"M,S,0\n", b"M,M,0,0\n"]
+    assert robot.simulation.body.power == [0.0, 0.0]
+
+
+def test_wheel_speeds_use_firmware_pid_on_mirto(tmp_path: Path) -> None:
+    log = tmp_path / "run.wire"
+    with Robot.connect("mirto", wire_log=str(log)) as robot:
+        robot.drive_base.set_wheel_speeds(150, 150)
+        robot.run_for(1.0)
+        left, right = robot.drive_base.wheel_distances_mm()
+    assert any(data.startswith(b"M,R,45,45,3000") for data in _last_sent(log))
+    assert 100 < left < 160 and 100 < right < 160
+
+
+def test_asip_basic_holds_wheel_speeds_on_the_host(tmp_path: Path) -> None:
+    log = tmp_path / "run.wire"
+    with Robot.connect("asip-basic", wire_log=str(log)) as robot:
+        robot.drive_base.set_wheel_speeds(150, 150)
+        robot.run_for(2.0)
+        speeds = robot.driver.wheel_speeds_mm_s
+    sent = b"".join(_last_sent(log))
+    assert b"M,R," not in sent and b"M,M," in sent
+    assert all(120 < speed < 180 for speed in speeds)
