@@ -186,6 +186,37 @@ def _cmd_check(args: argparse.Namespace) -> int:
     return EXIT_INPUT if bad else EXIT_OK
 
 
+# ------------------------------------------------------------------------------------- sim
+
+
+def _cmd_sim(args: argparse.Namespace) -> int:
+    from roboscript.sim.server import SimServer, parse_host_port
+    from roboscript.sim.simulation import make_simulation
+
+    simulation = make_simulation(args.robot, args.world, args.seed)
+
+    def announce(line: str) -> None:
+        print(line, flush=True)
+
+    server = SimServer(simulation, announce)
+    try:
+        if args.pty:
+            server.serve_pty(max_runtime_s=args.max_runtime)
+        else:
+            try:
+                host, port = parse_host_port(args.tcp)
+            except ValueError as exc:
+                _err(f"error: --tcp {exc}")
+                return EXIT_INPUT
+            server.serve_tcp(host, port, max_runtime_s=args.max_runtime)
+    except KeyboardInterrupt:
+        _err("stopped")
+    except OSError as exc:
+        _err(f"error: cannot serve the simulator: {exc.strerror or exc}")
+        return EXIT_FAILED
+    return EXIT_OK
+
+
 # ---------------------------------------------------------------------------------- robots
 
 
@@ -231,6 +262,20 @@ def _parser() -> argparse.ArgumentParser:
     check.add_argument("paths", nargs="+", metavar="PATH", help="files or folders")
     check.add_argument("--robot", help="also check against this robot's capabilities")
     check.set_defaults(func=_cmd_check)
+
+    sim = sub.add_parser(
+        "sim", help="serve a simulated robot's protocol bytes on a TCP port or a pty"
+    )
+    sim.add_argument("--robot", default="mirto", help="robot profile name (default: mirto)")
+    sim.add_argument("--world", default="empty", help="simulator world name or file")
+    sim.add_argument("--seed", type=int, default=1, help="simulator seed (default: 1)")
+    where = sim.add_mutually_exclusive_group(required=True)
+    where.add_argument(
+        "--tcp", metavar="HOST:PORT", help="listen on this TCP address (port 0: any)"
+    )
+    where.add_argument("--pty", action="store_true", help="open a pseudo-terminal; print its path")
+    sim.add_argument("--max-runtime", type=float, metavar="SECONDS", help=argparse.SUPPRESS)
+    sim.set_defaults(func=_cmd_sim)
 
     robots = sub.add_parser("robots", help="list the built-in robot profiles")
     robots.set_defaults(func=_cmd_robots)
