@@ -47,22 +47,20 @@ def _print_problems(error: InputError) -> None:
 # ------------------------------------------------------------------------------------- run
 
 
-def _load_mission(path: str, profile: Any) -> Any:
-    from roboscript.mission import load_mission
+def _load_mission(path: str, robot: str | None) -> tuple[Any, Any]:
+    from roboscript.mission import mission_for_robot
 
-    spec, warnings = load_mission(path, profile)
+    spec, profile, warnings = mission_for_robot(path, robot)
     for warning in warnings:
         _err(warning.format())
-    return spec
+    return spec, profile
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
     from roboscript.mission.runner import MissionRunner
-    from roboscript.profiles import get_profile
     from roboscript.robot import Robot
 
-    profile = get_profile(args.robot)
-    spec = _load_mission(args.mission, profile)
+    spec, profile = _load_mission(args.mission, args.robot)
     quiet = args.json or args.quiet
 
     def on_state(time_s: float, name: str) -> None:
@@ -70,9 +68,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
             _err(f"{time_s:8.2f} s  {name}")
 
     robot = Robot.connect(
-        args.robot,
+        profile,
         args.port,
-        world=args.world,
+        world=args.world or spec.world or "empty",
         seed=args.seed,
         realtime=args.realtime,
         wire_log=args.wire_log,
@@ -161,9 +159,6 @@ def _summary(result: Any, robot_name: str, robot: Any, start_s: float) -> dict[s
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
-    from roboscript.profiles import get_profile
-
-    profile = get_profile(args.robot) if args.robot else None
     files: list[Path] = []
     for raw in args.paths:
         path = Path(raw)
@@ -177,7 +172,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
     bad = 0
     for path in files:
         try:
-            _load_mission(str(path), profile)
+            _load_mission(str(path), args.robot)
         except InputError as exc:
             _print_problems(exc)
             bad += 1
@@ -245,9 +240,13 @@ def _parser() -> argparse.ArgumentParser:
 
     run = sub.add_parser("run", help="run a mission (on the built-in simulator by default)")
     run.add_argument("mission", help="mission file (.yaml)")
-    run.add_argument("--robot", default="mirto", help="robot profile name or file (default: mirto)")
+    run.add_argument(
+        "--robot", help="robot profile name or file (default: the mission's robot, or mirto)"
+    )
     run.add_argument("--port", help="serial port or URL (default: the in-process simulator)")
-    run.add_argument("--world", default="empty", help="simulator world name or file")
+    run.add_argument(
+        "--world", help="simulator world name or file (default: the mission's world, or empty)"
+    )
     run.add_argument("--seed", type=int, default=1, help="simulator seed (default: 1)")
     run.add_argument("--realtime", action="store_true", help="pace the simulator to the wall clock")
     run.add_argument(

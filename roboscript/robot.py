@@ -72,7 +72,7 @@ class Robot:
     @classmethod
     def connect(
         cls,
-        robot: str = "mirto",
+        robot: str | RobotProfile = "mirto",
         port: str | None = None,
         *,
         world: str = "empty",
@@ -85,7 +85,7 @@ class Robot:
         """Connect to a robot (by default, a simulated one) and finish the handshake.
 
         Args:
-            robot: A built-in profile name or a profile file path.
+            robot: A built-in profile name, a profile file path, or a profile.
             port: A serial port or URL; ``None`` means the in-process simulator.
             world: Simulator world (name or path); only used for ``sim://``.
             seed: Simulator seed; only used for ``sim://``.
@@ -103,7 +103,7 @@ class Robot:
         from roboscript.transport import Link, open_port
         from roboscript.transport.wirelog import WireLog
 
-        profile = get_profile(robot)
+        profile = robot if isinstance(robot, RobotProfile) else get_profile(robot)
         url = port or _sim_url(profile.name, world, seed, start)
         driver_cls = driver_class(profile.protocol)
         serial_port = open_port(url, baudrate=profile.baudrate)

@@ -10,7 +10,7 @@ from typing import Any
 
 from roboscript.errors import InputError, MissionError
 
-__all__ = ["load_mission"]
+__all__ = ["load_mission", "mission_for_robot"]
 
 
 def load_mission(path: str | Path, profile: Any = None) -> tuple[Any, list[InputError]]:
@@ -34,3 +34,29 @@ def load_mission(path: str | Path, profile: Any = None) -> tuple[Any, list[Input
     raise MissionError(
         f"a mission file ends in .yaml (got '{suffix or Path(path).name}')", path=str(path)
     )
+
+
+def mission_for_robot(
+    path: str | Path, robot: str | None = None
+) -> tuple[Any, Any, list[InputError]]:
+    """Load a mission and the robot to run it on, and check that they fit.
+
+    The robot is ``robot`` if given, else the one the mission names, else ``mirto``.
+
+    Returns:
+        ``(spec, profile, warnings)``.
+
+    Raises:
+        MissionError: The mission is invalid or needs what the robot lacks.
+        ProfileError: The robot is unknown.
+    """
+    from roboscript.mission.checks import check_capabilities
+    from roboscript.mission.yaml_loader import MissionProblemsError
+    from roboscript.profiles import get_profile
+
+    spec, warnings = load_mission(path)
+    profile = get_profile(robot or spec.robot or "mirto")
+    problems = check_capabilities(spec, profile)
+    if problems:
+        raise MissionProblemsError(problems)
+    return spec, profile, warnings

@@ -11,7 +11,7 @@ from roboscript import capabilities as cap
 from roboscript.errors import InputError, MissionError
 from roboscript.mission.spec import Location, MissionSpec, StateSpec
 
-__all__ = ["check_mission"]
+__all__ = ["check_capabilities", "check_mission"]
 
 _CAN_FAIL = {"drive": "stalled", "rotate": "stalled"}
 
@@ -116,11 +116,12 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                 )
             )
     if profile is not None:
-        problems.extend(_check_capabilities(spec, profile))
+        problems.extend(check_capabilities(spec, profile))
     return problems
 
 
-def _check_capabilities(spec: MissionSpec, profile: object) -> list[InputError]:
+def check_capabilities(spec: MissionSpec, profile: object) -> list[InputError]:
+    """Errors for every action or condition the robot of ``profile`` cannot serve."""
     have: frozenset[str] = getattr(profile, "capabilities", frozenset())
     robot = getattr(profile, "name", "the robot")
     problems: list[InputError] = []

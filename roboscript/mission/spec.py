@@ -120,6 +120,8 @@ class MissionSpec:
         states: States by name, in the order written.
         path: The file the mission came from.
         location: Where the mission's top level starts.
+        robot: The robot the mission is written for (``--robot`` overrides it), or ``None``.
+        world: The simulator world it is written for (``--world`` overrides it), or ``None``.
     """
 
     name: str
@@ -128,6 +130,8 @@ class MissionSpec:
     description: str = ""
     path: str = "<mission>"
     location: Location | None = None
+    robot: str | None = None
+    world: str | None = None
 
     def requires(self) -> frozenset[str]:
         """Every capability the mission's actions and guards need."""

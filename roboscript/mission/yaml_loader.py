@@ -28,7 +28,7 @@ from roboscript.mission.spec import (
 
 __all__ = ["MissionProblemsError", "build_action", "load_yaml_mission", "parse_yaml_mission"]
 
-_TOP_KEYS = ("mission", "description", "initial", "states")
+_TOP_KEYS = ("mission", "description", "robot", "world", "initial", "states")
 _STATE_KEYS = ("do", "on", "when", "timeout", "final", "description")
 
 
@@ -156,6 +156,12 @@ class _Reader:
                 _suggest(str(initial), names),
             )
         mission = data.get("mission", Path(self.path).stem)
+        hints: dict[str, str | None] = {}
+        for key in ("robot", "world"):
+            value = data.get(key)
+            if value is not None and not isinstance(value, str):
+                self.problem(f"'{key}' names a {key}, e.g. {key}: mirto", data.value_mark(key))
+            hints[key] = value if isinstance(value, str) else None
         return MissionSpec(
             name=str(mission),
             initial=str(initial),
@@ -163,6 +169,8 @@ class _Reader:
             description=str(data.get("description", "")),
             path=self.path,
             location=self.loc(data.mark),
+            robot=hints["robot"],
+            world=hints["world"],
         )
 
     # ---------------------------------------------------------------------------- states
