@@ -212,6 +212,25 @@ def _cmd_sim(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+# ----------------------------------------------------------------------------------- ports
+
+
+def _cmd_ports(args: argparse.Namespace) -> int:
+    from roboscript.transport.discovery import list_robot_ports
+
+    ports = list_robot_ports()
+    if not ports:
+        _err("no serial ports found (is the robot plugged in and switched on?)")
+        return EXIT_OK
+    for info in ports:
+        usb = f"[{info.usb_id}]" if info.usb_id else ""
+        line = f"{info.device:<16} {usb:<11} {info.description}"
+        print(line.rstrip())
+        if info.hint:
+            print(f"{'':<16} probably: {info.hint}")
+    return EXIT_OK
+
+
 # ---------------------------------------------------------------------------------- robots
 
 
@@ -275,6 +294,9 @@ def _parser() -> argparse.ArgumentParser:
     where.add_argument("--pty", action="store_true", help="open a pseudo-terminal; print its path")
     sim.add_argument("--max-runtime", type=float, metavar="SECONDS", help=argparse.SUPPRESS)
     sim.set_defaults(func=_cmd_sim)
+
+    ports = sub.add_parser("ports", help="list serial ports with a hint of which robot each is")
+    ports.set_defaults(func=_cmd_ports)
 
     robots = sub.add_parser("robots", help="list the built-in robot profiles")
     robots.set_defaults(func=_cmd_robots)

@@ -73,7 +73,6 @@ _ATTRS: dict[str, dict[str, tuple[str | None, str]]] = {
     "range": {
         "distance_mm": ("mm", cap.RANGE),
         "distance_cm": ("cm", cap.RANGE),
-        "distance": ("mm", cap.RANGE),
     },
     "bumper": dict.fromkeys(("left", "right", "any"), ("", cap.BUMPER)),
     "line": dict.fromkeys(("left", "center", "right", "any"), ("", cap.LINE)),

@@ -130,7 +130,7 @@ def test_guard_errors_point_into_the_condition(write_mission: Callable[..., Path
     )
     assert problems(write_mission(text)) == [
         (
-            "M:8:21: error: 'range' has no 'distnce_cm' (it has distance, distance_cm, distance_mm)"
+            "M:8:21: error: 'range' has no 'distnce_cm' (it has distance_cm, distance_mm)"
             " (did you mean 'range.distance_cm'?)"
         )
     ]

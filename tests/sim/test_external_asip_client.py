@@ -61,13 +61,13 @@ def test_python_asip_client_moves_motors_and_reads_sensors() -> None:
     finally:
         server.terminate()
         server.wait(timeout=10)
-    line = next(
-        (row for row in client.stdout.splitlines() if row.startswith("RESULT ")), None
-    )
+    line = next((row for row in client.stdout.splitlines() if row.startswith("RESULT ")), None)
     assert line is not None, client.stdout + client.stderr
     result = json.loads(line[len("RESULT ") :])
     assert all(count > 500 for count in result["during"]), result
-    assert all(after > before for after, before in zip(result["during"], result["before"]))
+    assert all(
+        after > before for after, before in zip(result["during"], result["before"], strict=True)
+    )
     assert all(0 <= value <= 1023 for value in result["irs"]), result
     assert result["irs"] != [0, 0, 0], "IR events never reached the client"
     assert result["bumps"] == [False, False]

@@ -110,9 +110,7 @@ def test_pty_path_is_the_first_line_and_speaks_asip() -> None:
             found = None
             while time.monotonic() < deadline and found is None:
                 codec.receive_data(port.read(4096))
-                found = next(
-                    (msg for msg in drain(codec) if isinstance(msg, m.VersionReply)), None
-                )
+                found = next((msg for msg in drain(codec) if isinstance(msg, m.VersionReply)), None)
             assert found is not None
     finally:
         proc.terminate()
