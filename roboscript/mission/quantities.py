@@ -83,15 +83,15 @@ def parse_quantity(value: object, dimension: str, default_unit: str | None = Non
     """
     dim = DIMENSIONS[dimension]
     if isinstance(value, bool):
-        raise QuantityError(f"expected a {dim.name}, got {value!r}")
+        raise QuantityError(f"expected {_a(dim.name)}, got {value!r}")
     if isinstance(value, int | float):
         factor = 1.0 if default_unit is None else dim.units.get(default_unit, 1.0)
         return float(value) * factor
     if not isinstance(value, str):
-        raise QuantityError(f"expected a {dim.name} such as {_example(dim)}, got {value!r}")
+        raise QuantityError(f"expected {_a(dim.name)} such as {_example(dim)}, got {value!r}")
     match = _QUANTITY.match(value)
     if not match:
-        raise QuantityError(f"expected a {dim.name} such as {_example(dim)}, got {value!r}")
+        raise QuantityError(f"expected {_a(dim.name)} such as {_example(dim)}, got {value!r}")
     number = float(match.group(1))
     unit = (match.group(2) or "").strip()
     if not unit:
@@ -106,10 +106,14 @@ def parse_quantity(value: object, dimension: str, default_unit: str | None = Non
         fits = ", ".join([u for u in dim.units if u.isascii()][:5])
         if other is not None:
             raise QuantityError(
-                f"'{unit}' is a unit of {other.name}, but this is a {dim.name} (use {fits})"
+                f"'{unit}' is a unit of {other.name}, but this is {_a(dim.name)} (use {fits})"
             )
-        raise QuantityError(f"unknown unit '{unit}' for a {dim.name} (use {fits})")
+        raise QuantityError(f"unknown unit '{unit}' for {_a(dim.name)} (use {fits})")
     return number * unit_factor
+
+
+def _a(noun: str) -> str:
+    return f"an {noun}" if noun[0] in "aeiou" else f"a {noun}"
 
 
 def _example(dim: Dimension) -> str:

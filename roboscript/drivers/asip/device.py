@@ -184,13 +184,14 @@ class MirtoBoard:
             self.codec.parse_timeout()
             self._process(now_s)
         state = self.state
-        if state.motor_frames and now_s >= state.next_motor_frame_s:
+        # The epsilon keeps float sums of intervals (20 x 0.05 s) from slipping a tick.
+        if state.motor_frames and now_s >= state.next_motor_frame_s - 1e-9:
             self._motor_frame(now_s)
             state.next_motor_frame_s += _MOTOR_FRAME_S
             if state.next_motor_frame_s < now_s:
                 state.next_motor_frame_s = now_s + _MOTOR_FRAME_S
         for service, event in state.auto.items():
-            if event.interval_s > 0 and now_s >= event.next_s:
+            if event.interval_s > 0 and now_s >= event.next_s - 1e-9:
                 self._report(service)
                 event.next_s += event.interval_s
                 if event.next_s < now_s:

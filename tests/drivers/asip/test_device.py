@@ -1,0 +1,176 @@
+"""The simulated MIRTO board, driven through raw ASIP bytes as the firmware would be."""
+
+from __future__ import annotations
+
+import pytest
+
+from roboscript.profiles import get_profile
+from roboscript.sim.simulation import Simulation, make_simulation
+from roboscript.sim.world import load_world
+
+
+class Board:
+    """A simulated board plus a clock, speaking bytes."""
+
+    def __init__(self, robot: str = "mirto", world: str = "empty") -> None:
+        self.sim: Simulation = make_simulation(robot, world, seed=1)
+        self.now = 0.0
+        self.sim.connect()
+
+    def run(self, seconds: float) -> None:
+        end = self.now + seconds
+        while self.now < end - 1e-9:
+            self.now = round(self.now + 0.01, 6)
+            self.sim.tick(self.now, 0.01)
+
+    def send(self, data: bytes) -> None:
+        self.sim.write(data)
+
+    def lines(self) -> list[str]:
+        text = self.sim.read(self.sim.in_waiting).decode("latin-1")
+        return [line for line in text.split("\n") if line]
+
+
+def test_greeting_has_the_startup_line_modes_map_and_unprefixed_lines() -> None:
+    board = Board()
+    lines = board.lines()
+    assert lines[0] == "!mirto2017 running on ATmega328P with Services: I M B R D T L "
+    assert lines[1].startswith("@I,p,20,{6,6,7,")
+    assert lines[2].startswith("@I,M,20,{4:1,4:2,4:4,4:8,4:10,4:20,4:40,4:80,2:1,")
+    assert "Motors is service M\r" in lines
+
+
+def test_analog_stream_runs_every_50_ms_from_power_on_until_stopped() -> None:
+    board = Board()
+    board.lines()
+    board.run(1.0)
+    analog = [line for line in board.lines() if line.startswith("@I,a,")]
+    assert len(analog) == 20
+    assert analog[0].startswith("@I,a,2,{4:") and analog[0].endswith("}")
+    board.send(b"I,A,0\n")
+    board.run(0.5)
+    assert not [line for line in board.lines() if line.startswith("@I,a")]
+
+
+def test_encoder_events_every_33_ms_only_when_enabled() -> None:
+    board = Board()
+    board.send(b"I,A,0\n")
+    board.run(0.5)
+    assert not [x for x in board.lines() if x.startswith("@M,e")]
+    board.send(b"M,A,1\n")
+    board.run(0.99)
+    events = [x for x in board.lines() if x.startswith("@M,e")]
+    assert len(events) == 30
+    assert events[0] == "@M,e,2,{0:0,0:0}"
+
+
+def test_firmware_pid_holds_rpm_and_stops_after_the_duration() -> None:
+    board = Board()
+    board.send(b"I,A,0\nM,A,1\nM,R,40,40,1500\n")
+    board.run(1.2)
+    events = [x for x in board.lines() if x.startswith("@M,e")]
+    delta = int(events[-1].split("{")[1].split(":")[0])
+    target = 40 * 1632 / 60 * 0.033  # ticks per 33 ms frame at 40 rpm
+    assert delta == pytest.approx(target, rel=0.15)
+    board.run(1.0)
+    board.lines()
+    board.run(0.5)
+    still = [x for x in board.lines() if x.startswith("@M,e")]
+    assert all(x.startswith("@M,e,2,{0:") for x in still[-3:])
+
+
+def test_pid_stops_after_two_seconds_without_an_encoder_pulse() -> None:
+    board = Board(world="square-room")
+    body = board.sim.body
+    body.y_mm = 1000.0 - 101.0  # nose at the north wall: the wheels cannot turn
+    board.send(b"I,A,0\nM,R,40,40,10000\n")
+    board.run(1.0)
+    assert board.sim.device.state.wheels[0].pid_active  # type: ignore[attr-defined]
+    board.run(1.5)
+    assert not board.sim.device.state.wheels[0].pid_active  # type: ignore[attr-defined]
+    assert body.power == [0.0, 0.0]
+
+
+def test_board_without_pid_refuses_the_pid_tags() -> None:
+    board = Board("asip-basic")
+    board.lines()
+    board.send(b"M,R,30,30,1000\nM,r,0,30,1000\nM,c,10,1000\nM,a,90,90\n")
+    assert board.lines() == [
+        "~M,R,2{UNKNOWN_REQUEST}",
+        "~M,r,2{UNKNOWN_REQUEST}",
+        "~M,c,2{UNKNOWN_REQUEST}",
+        "~M,a,2{UNKNOWN_REQUEST}",
+    ]
+
+
+@pytest.mark.parametrize(
+    ("request_bytes", "reply"),
+    [
+        (b"X,?\n", "~X,?,1{INVALID_SERVICE}"),
+        (b"S,W,0,90\n", "~S,?,1{INVALID_SERVICE}"),
+        (b"M,z,1,2\n", "~M,z,2{UNKNOWN_REQUEST}"),
+        (b"#,Q\n", "~#,Q,2{UNKNOWN_REQUEST}"),
+        (b"I,P,0,1\n", "~I,P,4{MODE_UNAVAILABLE}"),
+        (b"I,P,18,5\n", "~I,P,5{INVALID_MODE}"),
+        (b"I,d,18,1\n", "~I,d,6{WRONG_MODE}"),
+        (b"I,a,18,100\n", "~I,a,3{INVALID_PIN}"),
+        (b"#,?\n", "@#,?,1,1,ATmega328P,20,mirto2017"),
+        (
+            b"#,N\n",
+            "@#,N,7,{I:ASIP core IO,M:Motors,B:Bump Sensors,R:IR Sensors,D:Distance,T:Tone,L:LCD}",
+        ),
+        (b"I,m\n", "@I,m,6,{14:0,15:1,16:2,17:3,18:4,19:5}"),
+        (b"D,M\n", "@D,e,1,{0}"),
+    ],
+)
+def test_replies_and_errors_match_the_firmware(request_bytes: bytes, reply: str) -> None:
+    board = Board()
+    board.send(b"I,A,0\n")
+    board.lines()
+    board.send(request_bytes)
+    assert board.lines() == [reply]
+
+
+def test_tone_and_lcd_ignore_unknown_tags_silently() -> None:
+    board = Board()
+    board.send(b"I,A,0\n")
+    board.lines()
+    board.send(b"T,Z\nL,Z\n")
+    assert board.lines() == []
+
+
+def test_pullup_input_reports_every_port_at_once() -> None:
+    board = Board()
+    board.send(b"I,A,0\n")
+    board.lines()
+    board.send(b"I,P,18,2\n")
+    assert board.lines() == ["@I,d,2,0", "@I,d,3,10", "@I,d,4,0"]
+
+
+def test_request_without_newline_completes_after_the_parse_timeout() -> None:
+    board = Board()
+    board.send(b"T,P,440,250")
+    board.run(0.5)
+    assert board.sim.log.tones == []
+    board.run(0.6)
+    assert [(f, d) for _, f, d in board.sim.log.tones] == [(440.0, 0.25)]
+
+
+def test_restart_zeroes_every_auto_report() -> None:
+    board = Board()
+    board.send(b"M,A,1\nB,A,20\n")
+    board.run(0.2)
+    board.send(b"#,R\n")
+    board.lines()
+    board.run(0.5)
+    assert board.lines() == []
+
+
+def test_distance_is_reported_in_cm_towards_a_wall() -> None:
+    sim = Simulation(load_world("square-room"), get_profile("mirto"), seed=1)
+    sim.connect()
+    sim.write(b"D,M\n")
+    text = sim.read(sim.in_waiting).decode()
+    reading = int(text.strip().splitlines()[-1].split("{")[1].rstrip("}"))
+    # centre of a 2 m room, sensor 90 mm ahead of the centre: about 91 cm to the wall
+    assert 88 <= reading <= 93
