@@ -91,9 +91,9 @@ class _Cursor:
                 break
         return -value if negative else value
 
-    def rest_of_line(self) -> str:
-        """Text up to the newline (consumed, not returned); a comma right here is skipped."""
-        if self.peek() == 0x2C:
+    def rest_of_line(self, *, skip_comma: bool = True) -> str:
+        """Text up to the newline (consumed, not returned); a comma right here may be skipped."""
+        if skip_comma and self.peek() == 0x2C:
             self.pos += 1
         end = self.buf.find(b"\n", self.pos)
         if end < 0:
@@ -162,6 +162,7 @@ class AsipCodec:
         self._buf = bytearray()
         self._skipping_overlong = False
         self._timed_out = False
+        self._overflowed = 0  # device role: bytes dropped by receive_data, not yet reported
 
     # ----------------------------------------------------------------------------- receiving
 
@@ -172,7 +173,7 @@ class AsipCodec:
             # A request never needs this much; keep the newest bytes so parsing resynchronises.
             excess = len(self._buf) - self._max_buffer
             del self._buf[:excess]
-            self.stats.fault("overlong", excess)
+            self._overflowed += excess  # counted and raised by the next next_message()
 
     def parse_timeout(self) -> None:
         """Tell a device-role codec that the line was quiet for the board's 1 s read timeout.
@@ -193,6 +194,10 @@ class AsipCodec:
         """
         if self.role is Role.HOST:
             return self._next_reply()
+        if self._overflowed:
+            dropped, self._overflowed = self._overflowed, 0
+            self.stats.fault("overlong", dropped)
+            raise RemoteProtocolError(f"{dropped} request bytes over the buffer", kind="overlong")
         return self._next_request()
 
     # ------------------------------------------------------------------ host: decode replies
@@ -294,6 +299,13 @@ class AsipCodec:
             except RemoteProtocolError:
                 del self._buf[: max(cursor.pos, 1)]
                 raise
+            except LocalProtocolError as exc:  # e.g. a tone over 2**31 ms, non-ASCII LCD text
+                dropped = max(cursor.pos, 1)
+                del self._buf[:dropped]
+                self.stats.fault("out_of_range", dropped)
+                raise RemoteProtocolError(
+                    f"request out of range: {exc}", kind="out_of_range"
+                ) from None
             del self._buf[: cursor.pos]
             if message is not None:
                 self.stats.messages += 1
@@ -302,16 +314,16 @@ class AsipCodec:
     def _parse_request(self, cur: _Cursor) -> m.AsipMessage | None:
         service = chr(cur.read())
         if service == "!":
-            return m.DebugEchoRequest(cur.rest_of_line())
+            return m.DebugEchoRequest(cur.rest_of_line(skip_comma=False))
         if service == "$":
             return self._parse_config(cur)
+        if service != "#" and service not in self.services:
+            cur.discard_line()  # the firmware looks the id up before it reads the separator
+            return m.InvalidServiceRequest(service)
         separator = cur.read()
         if separator != 0x2C:
             self.stats.fault("malformed", 2)
             raise RemoteProtocolError(f"request {service!r} not followed by ','", kind="malformed")
-        if service != "#" and service not in self.services:
-            cur.discard_line()
-            return m.InvalidServiceRequest(service)
         tag = chr(cur.read())
         while tag == " ":  # the seed writes "M, M, 30, -30"
             tag = chr(cur.read())
@@ -345,7 +357,10 @@ class AsipCodec:
             raise LocalProtocolError(
                 f"{type(message).__name__} is sent by the {role.value}, not the {self.role.value}"
             )
-        return (encode(message) + "\n").encode("ascii")
+        try:  # latin-1: a service or tag byte read from the wire goes back out unchanged
+            return (encode(message) + "\n").encode("latin-1")
+        except UnicodeEncodeError as exc:
+            raise LocalProtocolError(f"{type(message).__name__} has a non-byte character") from exc
 
 
 # ------------------------------------------------------------------------------------------
@@ -596,7 +611,7 @@ def _parse_lcd(codec: AsipCodec, cur: _Cursor, tag: str) -> m.AsipMessage:
             return m.LcdWriteAt(line, column, text)
         return m.UnknownRequest("L", tag, (line, column))
     if tag == "G":
-        count = min(max(cur.parse_int(), 0), m.LCD_LINES)
+        count = min(max(cur.parse_int(), 0), _MAX_COUNT)
         bars = tuple((line, max(0, min(value, 100))) for line, value in _pairs(cur, count))
         if all(0 <= line < m.LCD_LINES for line, _ in bars):
             return m.LcdBarGraph(bars)
@@ -626,13 +641,15 @@ def _parse_pixels_or_pressure(codec: AsipCodec, cur: _Cursor, tag: str) -> m.Asi
         if tag == "P":
             count = min(max(cur.parse_int(), 0), _MAX_COUNT)
             pairs = tuple(
-                (max(pixel, 0), max(0, min(color, 0xFFFFFF))) for pixel, color in _pairs(cur, count)
+                (max(0, min(pixel, 0xFFFF)), max(0, min(color, 0xFFFFFF)))
+                for pixel, color in _pairs(cur, count)
             )
             message = m.PixelsSet(strip, pairs)
         elif tag == "p":
             count = min(max(cur.parse_int(), 0), _MAX_COUNT)
             message = m.PixelsSetRgb(
-                strip, tuple((max(cur.parse_int(), 0), _rgb(cur)) for _ in range(count))
+                strip,
+                tuple((max(0, min(cur.parse_int(), 0xFFFF)), _rgb(cur)) for _ in range(count)),
             )
         elif tag == "S":
             count = min(max(cur.parse_int(), 0), _MAX_COUNT)

@@ -120,7 +120,7 @@ def test_board_without_pid_refuses_the_pid_tags() -> None:
             "@#,N,7,{I:ASIP core IO,M:Motors,B:Bump Sensors,R:IR Sensors,D:Distance,T:Tone,L:LCD}",
         ),
         (b"I,m\n", "@I,m,6,{14:0,15:1,16:2,17:3,18:4,19:5}"),
-        (b"D,M\n", "@D,e,1,{0}"),
+        (b"D,M\n", "@D,e,2,{0,0}"),  # front and right sensors; 0 = no echo
     ],
 )
 def test_replies_and_errors_match_the_firmware(request_bytes: bytes, reply: str) -> None:
@@ -171,6 +171,8 @@ def test_distance_is_reported_in_cm_towards_a_wall() -> None:
     sim.connect()
     sim.write(b"D,M\n")
     text = sim.read(sim.in_waiting).decode()
-    reading = int(text.strip().splitlines()[-1].split("{")[1].rstrip("}"))
+    front, right = text.strip().splitlines()[-1].split("{")[1].rstrip("}").split(",")
+    reading = int(front)
     # centre of a 2 m room, sensor 90 mm ahead of the centre: about 91 cm to the wall
     assert 88 <= reading <= 93
+    assert 88 <= int(right) <= 93  # the right sensor sits 80 mm right of the centre
