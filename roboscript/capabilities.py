@@ -23,29 +23,38 @@ from typing import Protocol, runtime_checkable
 __all__ = [
     "BUMPER",
     "CAPABILITY_NAMES",
+    "COLOR",
     "DISPLAY",
     "DRIVE_BASE",
+    "FORCE",
     "HEADING",
+    "JOINTS",
     "LEDS",
     "LINE",
     "RANGE",
     "SERVOS",
+    "SIDE_RANGE",
     "SPEAKER",
     "WALKER",
     "Bumpers",
+    "ColorSensor",
     "Display",
     "DriveBase",
+    "ForceSensor",
     "HeadingSensor",
+    "Joints",
     "Leds",
     "LineSensors",
     "RangeSensor",
     "Servos",
+    "SideRangeSensor",
     "Speaker",
     "Walker",
 ]
 
 DRIVE_BASE = "drive_base"
 RANGE = "range"
+SIDE_RANGE = "side_range"
 BUMPER = "bumper"
 LINE = "line"
 SPEAKER = "speaker"
@@ -54,10 +63,14 @@ HEADING = "heading"
 LEDS = "leds"
 SERVOS = "servos"
 WALKER = "walker"
+JOINTS = "joints"
+FORCE = "force"
+COLOR = "color"
 
 CAPABILITY_NAMES: dict[str, str] = {
     DRIVE_BASE: "two driven wheels with encoders or timing",
     RANGE: "a distance sensor (ultrasonic or time of flight)",
+    SIDE_RANGE: "a distance sensor facing sideways (for wall following)",
     BUMPER: "bump switches",
     LINE: "downward IR line sensors",
     SPEAKER: "a tone generator",
@@ -66,6 +79,9 @@ CAPABILITY_NAMES: dict[str, str] = {
     LEDS: "RGB LEDs",
     SERVOS: "hobby servos",
     WALKER: "legs that walk by gait motions",
+    JOINTS: "servo joints moved by name (humanoid limbs)",
+    FORCE: "a force (push) sensor",
+    COLOR: "a colour sensor",
 }
 """Every capability name with a phrase for error messages."""
 
@@ -111,6 +127,20 @@ class RangeSensor(Protocol):
 
     def distance_mm(self) -> float | None:
         """Distance to the nearest obstacle in mm, or ``None`` for no echo / no reading."""
+        ...
+
+
+@runtime_checkable
+class SideRangeSensor(Protocol):
+    """A distance sensor facing to one side, for following walls."""
+
+    side: str
+    """``"left"`` or ``"right"``: which way it faces."""
+    max_range_mm: float
+    """Readings beyond this are reported as no echo."""
+
+    def distance_mm(self) -> float | None:
+        """Distance from the sensor to the wall in mm, or ``None`` for no echo / no reading."""
         ...
 
 
@@ -197,6 +227,11 @@ class Servos(Protocol):
 class Walker(Protocol):
     """Legs moved by gait motions (humanoids)."""
 
+    stride_mm: float
+    """Approximate distance of one walking step on a flat floor, mm."""
+    turn_step_deg: float
+    """Approximate rotation of one turning step, degrees."""
+
     def walk(self, steps: int) -> None:
         """Start walking ``steps`` steps; negative walks backward."""
         ...
@@ -205,10 +240,68 @@ class Walker(Protocol):
         """Start turning ``steps`` steps; positive turns right."""
         ...
 
+    def play_motion(self, slot: int) -> None:
+        """Start the motion stored in ``slot`` of the robot's motion memory."""
+        ...
+
     def busy(self) -> bool:
         """True while a gait motion is playing."""
         ...
 
     def stop(self) -> None:
-        """Stop after the current frame."""
+        """Stop as soon as the robot stands safely.
+
+        A humanoid finishes the step it is in (both feet down) rather than freezing on one
+        leg, so :meth:`busy` may stay true for up to one step after this call.
+        """
+        ...
+
+
+@runtime_checkable
+class Joints(Protocol):
+    """Servo joints addressed by name (a humanoid's limbs).
+
+    Angles are offsets from each joint's home angle, in degrees; which way is positive for
+    each joint is the robot's own convention (see its page under ``docs/robots/``).
+    """
+
+    names: tuple[str, ...]
+    """Joint names, e.g. ``("left_shoulder_pitch", ...)``."""
+
+    def set_angle(self, name: str, angle_deg: float) -> None:
+        """Move joint ``name`` to ``angle_deg`` away from its home angle."""
+        ...
+
+    def angle_deg(self, name: str) -> float | None:
+        """The offset last commanded for ``name``, degrees, or ``None`` if none was."""
+        ...
+
+    def home(self) -> None:
+        """Move every joint to its home angle."""
+        ...
+
+
+@runtime_checkable
+class ForceSensor(Protocol):
+    """A push sensor (the SPIKE force sensor)."""
+
+    def force_n(self) -> float | None:
+        """Force on the tip in newtons (0 to about 10), or ``None`` before the first reading."""
+        ...
+
+    def pressed(self) -> bool:
+        """True while the tip is pushed in."""
+        ...
+
+
+@runtime_checkable
+class ColorSensor(Protocol):
+    """A colour sensor, usually looking down at the floor."""
+
+    def color_name(self) -> str | None:
+        """The colour seen (``"black"``, ``"red"``, ``"white"``, ...), or ``None`` for none."""
+        ...
+
+    def rgb(self) -> tuple[int, int, int] | None:
+        """Raw red, green and blue, each 0-1023, or ``None`` before the first reading."""
         ...

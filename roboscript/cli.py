@@ -82,6 +82,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         spec,
         robot.capabilities,
         robot_name=profile.name,
+        gains=profile.gains,
         on_state=on_state,
         on_start=(lambda now_s: sim.sample_path()) if sim is not None else None,
     )

@@ -42,6 +42,8 @@ class RobotProfile:
         gains: Host PID gains ``(kp, ki, kd)`` by loop name (``wheel_speed``, ``heading``,
             ``wall``, ``line``).
         handshake_timeout_s: How long to wait for the robot to answer at connection.
+        options: Protocol-specific settings (StackMod: module addresses, wiring and
+            calibration, see :mod:`roboscript.drivers.stackmod.options`); empty for others.
     """
 
     name: str
@@ -57,13 +59,16 @@ class RobotProfile:
     max_speed_mm_s: float = 300.0
     gains: dict[str, tuple[float, float, float]] = field(default_factory=dict)
     handshake_timeout_s: float = 3.0
+    options: dict[str, Any] = field(default_factory=dict)
 
     def lacks(self, capability: str) -> bool:
         """True if the robot does not have ``capability``."""
         return capability not in self.capabilities
 
 
-_ASIP_CAPS = frozenset({cap.DRIVE_BASE, cap.RANGE, cap.BUMPER, cap.LINE, cap.SPEAKER, cap.DISPLAY})
+_ASIP_CAPS = frozenset(
+    {cap.DRIVE_BASE, cap.RANGE, cap.SIDE_RANGE, cap.BUMPER, cap.LINE, cap.SPEAKER, cap.DISPLAY}
+)
 
 BUILTIN_PROFILES: dict[str, RobotProfile] = {
     "mirto": RobotProfile(
@@ -82,6 +87,58 @@ BUILTIN_PROFILES: dict[str, RobotProfile] = {
         capabilities=_ASIP_CAPS,
         firmware_pid=False,
         gains={"wheel_speed": (0.0015, 0.004, 0.0)},
+    ),
+    "stackmod-rover": RobotProfile(
+        name="stackmod-rover",
+        protocol="stackmod",
+        description="StackMod modules on a 9600 baud line: no encoders, timed moves",
+        baudrate=9600,
+        capabilities=frozenset(
+            {cap.DRIVE_BASE, cap.RANGE, cap.LINE, cap.BUMPER, cap.SPEAKER, cap.SERVOS}
+        ),
+        firmware_pid=False,
+        wheel_diameter_mm=65.0,
+        track_mm=140.0,
+        body_radius_mm=90.0,
+        handshake_timeout_s=2.0,
+    ),
+    "spike-prime": RobotProfile(
+        name="spike-prime",
+        protocol="spike",
+        description="LEGO SPIKE Prime hub (App 3 firmware) running roboscript's agent",
+        baudrate=115200,
+        capabilities=frozenset(
+            {
+                cap.DRIVE_BASE,
+                cap.RANGE,
+                cap.BUMPER,
+                cap.SPEAKER,
+                cap.DISPLAY,
+                cap.HEADING,
+                cap.FORCE,
+                cap.COLOR,
+            }
+        ),
+        firmware_pid=True,
+        # LEGO's driving base: 56 mm wheels, 112 mm apart; motor degrees are the encoder ticks.
+        wheel_diameter_mm=56.0,
+        track_mm=112.0,
+        ticks_per_rev=360,
+        body_radius_mm=90.0,
+        max_speed_mm_s=350.0,
+        # Room for a first upload of the agent over BLE (about 10 kB in 20-byte packets).
+        handshake_timeout_s=20.0,
+    ),
+    "plen2": RobotProfile(
+        name="plen2",
+        protocol="plen",
+        description="PLEN2 humanoid, firmware 1.4.2: walks and turns by gait motions",
+        baudrate=2_000_000,
+        capabilities=frozenset({cap.WALKER, cap.JOINTS}),
+        firmware_pid=False,
+        body_radius_mm=60.0,
+        # Room for a first install of the four gait motions (32-byte writes 50 ms apart).
+        handshake_timeout_s=20.0,
     ),
 }
 
@@ -129,6 +186,7 @@ def _load_profile_file(path: Path) -> RobotProfile:
         )
     changes: dict[str, Any] = {"name": str(data.get("name", path.stem))}
     allowed = {"extends", "name", "description", "gains", "ticks_per_rev", *_NUMBER_FIELDS}
+    allowed.add("options")
     for key, value in data.items():
         if key not in allowed:
             close = difflib.get_close_matches(key, sorted(allowed), n=1)
@@ -147,6 +205,11 @@ def _load_profile_file(path: Path) -> RobotProfile:
             changes[key] = str(value)
         elif key == "gains":
             changes[key] = _read_gains(value, fail)
+        elif key == "options":
+            if not isinstance(value, dict):
+                raise fail("'options' maps option names to values", key)
+            # Values are checked by the protocol's driver, which knows what they mean.
+            changes[key] = {**BUILTIN_PROFILES[base_name].options, **value}
     return replace(BUILTIN_PROFILES[base_name], **changes)
 
 

@@ -6,6 +6,7 @@ import os
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
 MISSIONS = ROOT / "missions"
@@ -26,3 +27,50 @@ def run_cli(
         env=env,
         check=False,
     )
+
+
+def run_action(bot: object, action: object, limit_s: float = 30.0) -> object:
+    """Run one action on a connected robot until it ends; return its Result."""
+    from roboscript.actions import ActionContext
+
+    robot: Any = bot
+    act: Any = action
+    ctx = ActionContext(robot.capabilities, gains=robot.profile.gains)
+    state: dict[str, Any] = {}
+
+    def tick(now: float, dt: float) -> None:
+        ctx.now_s, ctx.dt_s = now, dt
+        if "started" not in state:
+            act.start(ctx)
+            state["started"] = True
+            return
+        if "result" not in state:
+            result = act.update(ctx)
+            if result is not None:
+                state["result"] = result
+                act.stop(ctx)
+
+    robot.scheduler.add(tick)
+    robot.scheduler.run(until=lambda: "result" in state, max_duration_s=limit_s)
+    robot.scheduler.remove(tick)
+    robot.run_for(0.5)  # let the wheels coast to a stop before anyone measures
+    return state.get("result")
+
+
+def write_track(path: Path) -> Path:
+    """A rounded-rectangle tape track (1 m straights, 300 mm bends); start on the right straight."""
+    import math
+
+    points: list[tuple[float, float]] = [(300.0, -500.0), (300.0, 500.0)]
+    for centre_y, start_deg in ((500.0, 0.0), (-500.0, 180.0)):
+        for i in range(25):
+            angle = math.radians(start_deg + 180.0 * i / 24)
+            points.append((300.0 * math.cos(angle), centre_y + 300.0 * math.sin(angle)))
+    polyline = ", ".join(f"[{x:.1f}, {y:.1f}]" for x, y in points)
+    path.write_text(
+        "world: test-track\n"
+        "start: {x: 300 mm, y: -300 mm, heading: 0 deg}\n"
+        f"lines:\n  - {{polyline: [{polyline}], width: 20 mm}}\n",
+        encoding="utf-8",
+    )
+    return path

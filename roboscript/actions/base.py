@@ -110,13 +110,38 @@ class ActionContext:
         now_s: Scheduler time, seconds.
         dt_s: Seconds since the previous tick (> 0).
         robot_name: For messages.
+        gains: Host PID gains ``(kp, ki, kd)`` by loop name, from the robot profile.
+        env: What conditions read (the mission runner), or ``None`` outside a mission.
     """
 
-    def __init__(self, capabilities: Mapping[str, object], robot_name: str = "the robot") -> None:
+    def __init__(
+        self,
+        capabilities: Mapping[str, object],
+        robot_name: str = "the robot",
+        *,
+        gains: Mapping[str, tuple[float, float, float]] | None = None,
+        env: Any = None,
+    ) -> None:
         self.capabilities = capabilities
         self.robot_name = robot_name
+        self.gains = dict(gains or {})
+        self.env = env
         self.now_s = 0.0
         self.dt_s = 0.0
+
+    def gain(self, loop: str, default: tuple[float, float, float]) -> tuple[float, float, float]:
+        """The robot profile's gains for ``loop``, or ``default``."""
+        return self.gains.get(loop, default)
+
+    def holds(self, condition: Any) -> bool:
+        """Evaluate a compiled condition (a guard) now; False outside a mission."""
+        if condition is None or self.env is None:
+            return False
+        return bool(condition(self.env))
+
+    def has(self, name: str) -> bool:
+        """True if the robot has capability ``name``."""
+        return name in self.capabilities
 
     def get(self, name: str) -> Any:
         """The capability ``name``.
@@ -158,6 +183,9 @@ class Action(abc.ABC):
     """The parameters, in documentation order."""
     requires: ClassVar[frozenset[str]] = frozenset()
     """Capability names the action needs."""
+    bounded_by: ClassVar[tuple[str, ...]] = ()
+    """Parameters that end an otherwise endless action; without one of them, its state
+    needs a ``timeout`` or a ``when`` (checked at load time)."""
 
     feedback: str = ""
     """A short progress text for status lines (``"driving 230/500 mm"``)."""

@@ -1,11 +1,13 @@
-"""Actions that wait or make sound: ``wait`` and ``play_tone``."""
+"""Actions that wait or make sound: ``wait``, ``wait_until`` and ``play_tone``."""
 
 from __future__ import annotations
+
+from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.actions.base import Action, ActionContext, Param, Result
 
-__all__ = ["PlayTone", "Wait"]
+__all__ = ["PlayTone", "Wait", "WaitUntil"]
 
 
 class Wait(Action):
@@ -71,3 +73,41 @@ class PlayTone(Action):
         played = ctx.now_s - self._start_s
         self.feedback = f"tone {self.frequency_hz:.0f} Hz"
         return Result.done() if played >= self.duration_s - 1e-9 else None
+
+
+class WaitUntil(Action):
+    """Wait until a condition holds, for at most a time bound.
+
+    Args:
+        condition: The condition (a guard such as ``"range.distance_cm < 20"``).
+        timeout_s: The most it waits, seconds. Every wait has a bound.
+
+    Outcomes: ``done`` when the condition holds; ``timeout`` when the bound passes first.
+    """
+
+    name = "wait_until"
+    summary = "Wait until a condition holds (with a time bound)."
+    params = (
+        Param("condition", "condition", "guard", "what to wait for"),
+        Param("timeout", "timeout_s", "time", "the most it waits (every wait has a bound)"),
+    )
+
+    def __init__(self, condition: Any, timeout_s: float) -> None:
+        if timeout_s <= 0:
+            raise ValueError("wait_until needs a positive timeout")
+        self.condition = condition
+        self.timeout_s = timeout_s
+        self._start_s = 0.0
+
+    def start(self, ctx: ActionContext) -> None:
+        self._start_s = ctx.now_s
+
+    def update(self, ctx: ActionContext) -> Result | None:
+        if ctx.holds(self.condition):
+            return Result.done()
+        waited = ctx.now_s - self._start_s
+        self.feedback = f"waiting {waited:.1f}/{self.timeout_s:.1f} s"
+        if waited >= self.timeout_s - 1e-9:
+            text = getattr(self.condition, "source", "the condition")
+            return Result.timeout(f"'{text}' did not hold within {self.timeout_s:g} s")
+        return None

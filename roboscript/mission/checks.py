@@ -24,6 +24,20 @@ _INSTEAD = {
     cap.WALKER: "use drive/rotate on a wheeled robot",
 }
 
+_INSTEAD_NEEDS = {
+    cap.DRIVE_BASE: cap.WALKER,
+    cap.RANGE: cap.BUMPER,
+    cap.DISPLAY: cap.SPEAKER,
+    cap.SPEAKER: cap.DISPLAY,
+}
+"""What the suggestion in ``_INSTEAD`` needs: a robot without it gets no suggestion."""
+
+
+def _instead(missing: str, have: frozenset[str]) -> str | None:
+    """What to use instead of ``missing``, if the robot has what that needs."""
+    needs = _INSTEAD_NEEDS.get(missing)
+    return _INSTEAD.get(missing) if needs is None or needs in have else None
+
 
 def _problem(
     message: str, where: Location | None, hint: str | None = None, severity: str = "error"
@@ -95,6 +109,15 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
             )
         if state.final:
             continue
+        action = state.action
+        if action is not None and not action.bounded and state.timeout_s is None and not state.when:
+            problems.append(
+                _problem(
+                    f"'{action.name}' in state '{name}' never ends as written",
+                    action.location,
+                    "give it 'until' or 'duration', or give the state a 'timeout' or a 'when'",
+                )
+            )
         if state.timeout_s is not None and not state.on.get("timeout"):
             problems.append(
                 _problem(
@@ -135,7 +158,7 @@ def check_capabilities(spec: MissionSpec, profile: object) -> list[InputError]:
                         f"({cap.CAPABILITY_NAMES.get(missing, missing)}),"
                         f" which {robot} does not have",
                         action.location,
-                        _INSTEAD.get(missing),
+                        _instead(missing, have),
                     )
                 )
         for transition in state.targets():
@@ -146,7 +169,7 @@ def check_capabilities(spec: MissionSpec, profile: object) -> list[InputError]:
                         f"the condition '{transition.guard_text}' reads {missing}, "
                         f"which {robot} does not have",
                         transition.location,
-                        _INSTEAD.get(missing),
+                        _instead(missing, have),
                     )
                 )
     return problems

@@ -88,6 +88,7 @@ class MissionRunner(GuardEnv):
         robot_name: For messages.
         on_state: Called with ``(time_s, state)`` whenever a state is entered.
         on_start: Called with the scheduler time when the mission starts.
+        gains: Host PID gains from the robot profile, for the actions' control loops.
     """
 
     def __init__(
@@ -98,14 +99,16 @@ class MissionRunner(GuardEnv):
         robot_name: str = "the robot",
         on_state: Callable[[float, str], None] | None = None,
         on_start: Callable[[float], None] | None = None,
+        gains: Mapping[str, tuple[float, float, float]] | None = None,
     ) -> None:
         self.spec = spec
         self.capabilities = capabilities
-        self.ctx = ActionContext(capabilities, robot_name)
+        self.ctx = ActionContext(capabilities, robot_name, gains=gains, env=self)
         self.result = MissionResult(spec.name)
         self.finished = False
         self.action: Any = None
         self.action_result: Result | None = None
+        self._cause: str | None = None  # the last failure routed by 'on', for the final reason
         self._visits: Counter[str] = Counter()
         self._start_s: float | None = None
         self._state_start_s = 0.0
@@ -148,9 +151,13 @@ class MissionRunner(GuardEnv):
         conditions: list[str | Callable[..., bool | None]] = []
         guard = option.guard
         if guard is not None:
+            text = option.guard_text or "condition"
 
             def condition(event: Any, guard: Callable[[Any], bool] = guard) -> bool:
-                return bool(guard(self))
+                held = bool(guard(self))
+                if held and trigger == "check":
+                    self._cause = f"'{text}' held in state '{source}'"
+                return held
 
             condition.__name__ = option.guard_text or "condition"
             conditions.append(condition)
@@ -208,8 +215,7 @@ class MissionRunner(GuardEnv):
         state = self.spec.states[self.state]
         if state.final and self.action is None:
             outcome = "success" if state.final == "success" else "failure"
-            reason = None if outcome == "success" else f"ended in the failure state '{state.name}'"
-            self.finish(outcome, reason)
+            self.finish(outcome, self._final_reason(outcome, state.name))
 
     # -------------------------------------------------------------------------------- tick
 
@@ -242,12 +248,13 @@ class MissionRunner(GuardEnv):
                     return
         if state.final and self.action_result is not None:
             outcome = "success" if state.final == "success" else "failure"
-            reason = None if outcome == "success" else f"ended in the failure state '{name}'"
-            self.finish(outcome, reason)
+            self.finish(outcome, self._final_reason(outcome, name))
             return
         timed_out = (
             state.timeout_s is not None and now_s - self._state_start_s >= state.timeout_s - 1e-9
         )
+        if timed_out:
+            self._cause = f"state '{name}' timed out after {state.timeout_s:g} s"
         if timed_out and not self._fire("timeout"):
             self.finish("failure", f"state '{name}' timed out after {state.timeout_s:g} s")
 
@@ -256,14 +263,23 @@ class MissionRunner(GuardEnv):
         state = self.spec.states[name]
         if state.final:
             return False
+        action_name = state.action.name if state.action else "the action"
+        why = result.reason or result.outcome.value
+        cause = f"{action_name} {result.outcome.value} in state '{name}': {why}"
+        if result.outcome is not Outcome.DONE:
+            self._cause = cause
         if self._fire(result.outcome.value):
             return True
         if result.outcome is Outcome.DONE:
             return False  # the state waits for a condition or its timeout
-        action_name = state.action.name if state.action else "the action"
-        why = result.reason or result.outcome.value
-        self.finish("failure", f"{action_name} {result.outcome.value} in state '{name}': {why}")
+        self.finish("failure", cause)
         return True
+
+    def _final_reason(self, outcome: str, state: str) -> str | None:
+        if outcome == "success":
+            return None
+        text = f"ended in the failure state '{state}'"
+        return f"{text} after {self._cause}" if self._cause else text
 
     def finish(self, outcome: str, reason: str | None = None) -> None:
         """End the mission now with ``outcome`` (``success``, ``failure`` or ``error``)."""

@@ -50,6 +50,8 @@ class ActionSpec:
         factory: Builds a fresh action object for each state entry.
         requires: Capability names the action needs.
         location: Where the action was written.
+        bounded: False for an action that would run forever as written (``follow_wall``
+            without ``until`` or ``duration``): its state then needs a timeout or a condition.
     """
 
     name: str
@@ -57,6 +59,7 @@ class ActionSpec:
     factory: Callable[[], Any] = field(compare=False, repr=False)
     requires: frozenset[str] = frozenset()
     location: Location | None = None
+    bounded: bool = True
 
 
 @dataclass(frozen=True)

@@ -57,13 +57,16 @@ def _suggest(word: str, choices: Any) -> str | None:
 
 
 def build_action(
-    cls: type[Action], values: Mapping[str, Any]
+    cls: type[Action],
+    values: Mapping[str, Any],
+    state_names: frozenset[str] | None = None,
 ) -> tuple[dict[str, Any], list[tuple[str, str, str | None]]]:
     """Convert mission parameters to an action's keyword arguments.
 
     Args:
         cls: The action class.
         values: Parameter values by YAML name (quantities may carry units).
+        state_names: The mission's states, for conditions that read ``visits.STATE``.
 
     Returns:
         The keyword arguments, and the problems as ``(param name, message, hint)``.
@@ -80,7 +83,9 @@ def build_action(
             problems.append((name, f"'{cls.name}' has no parameter '{name}'", hint))
             continue
         try:
-            kwargs[param.kwarg] = _convert(param, value)
+            kwargs[param.kwarg] = _convert(param, value, state_names)
+        except GuardError as exc:
+            problems.append((name, f"{cls.name} {name}: {exc}", exc.hint))
         except ValueError as exc:
             problems.append((name, f"{cls.name} {name}: {exc}", None))
     for param in cls.params:
@@ -89,7 +94,13 @@ def build_action(
     return kwargs, problems
 
 
-def _convert(param: Param, value: Any) -> Any:
+def _convert(param: Param, value: Any, state_names: frozenset[str] | None = None) -> Any:
+    if value is None and not param.required:
+        return param.default
+    if param.kind == "count":
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ValueError(f"expected a whole number, got {value!r}")
+        return value
     if param.kind in DIMENSIONS:
         try:
             return parse_quantity(value, param.kind)
@@ -99,6 +110,18 @@ def _convert(param: Param, value: Any) -> Any:
         if value not in param.choices:
             raise ValueError(f"expected one of {', '.join(param.choices)}, got {value!r}")
         return value
+    if param.kind == "guard":
+        if isinstance(value, bool):
+            value = "true" if value else "false"
+        if not isinstance(value, str):
+            raise ValueError(
+                f'expected a condition such as "range.distance_cm < 20", got {value!r}'
+            )
+        return compile_guard(value, state_names)
+    if param.kind == "color":
+        from roboscript.actions.output import parse_color
+
+        return parse_color(value)
     if param.kind == "text":
         if not isinstance(value, str | int | float):
             raise ValueError(f"expected text, got {value!r}")
@@ -191,7 +214,7 @@ class _Reader:
                     raw.key_mark(key),
                     _suggest(key, _STATE_KEYS),
                 )
-        action = self.action(raw["do"], raw.value_mark("do")) if "do" in raw else None
+        action = self.action(raw["do"], raw.value_mark("do"), names) if "do" in raw else None
         on: dict[str, tuple[TransitionSpec, ...]] = {}
         if "on" in raw:
             on = self.on(raw["on"], raw.value_mark("on"), names)
@@ -228,7 +251,7 @@ class _Reader:
             location=self.loc(key_mark),
         )
 
-    def action(self, raw: Any, mark: Mark) -> ActionSpec | None:
+    def action(self, raw: Any, mark: Mark, names: frozenset[str]) -> ActionSpec | None:
         if isinstance(raw, str):
             name, params, name_mark, params_mark = raw, YamlMap(), mark, mark
             params.mark, params.key_marks, params.value_marks = mark, {}, {}
@@ -253,7 +276,7 @@ class _Reader:
         if cls is None:
             self.problem(f"unknown action '{name}'", name_mark, _suggest(name, ACTIONS))
             return None
-        kwargs, problems = build_action(cls, params)
+        kwargs, problems = build_action(cls, params, names)
         for param_name, message, hint in problems:
             where = params.value_mark(param_name) if param_name in params else name_mark
             if param_name in params and "has no parameter" in message:
@@ -266,12 +289,17 @@ class _Reader:
         except ValueError as exc:
             self.problem(f"{name}: {exc}", name_mark)
             return None
+        guard_caps: set[str] = set()
+        for value in kwargs.values():
+            guard_caps |= set(getattr(value, "capabilities", ()))
         return ActionSpec(
             name=name,
             kwargs=kwargs,
             factory=lambda: cls(**kwargs),
-            requires=cls.requires,
+            requires=cls.requires | guard_caps,
             location=self.loc(name_mark),
+            bounded=not cls.bounded_by
+            or any(kwargs.get(p.kwarg) is not None for p in cls.params if p.name in cls.bounded_by),
         )
 
     # ------------------------------------------------------------------------ transitions

@@ -28,6 +28,8 @@ from roboscript.sim.world import Pose, World
 
 __all__ = ["Body", "BodySpec", "SimLog"]
 
+_NEW_CONTACT_S = 0.25
+
 
 @dataclass(frozen=True)
 class BodySpec:
@@ -49,6 +51,7 @@ class BodySpec:
         line_sensor_offsets_mm: (forward, right) positions of IR sensors, left to right.
         bumper_names: Bump switches, left then right.
         imu_drift_deg_s: Yaw drift rate of the simulated IMU.
+        side_range_offset_mm: Side range sensor's distance right of the body centre.
     """
 
     wheel_diameter_mm: float = 64.0
@@ -70,6 +73,7 @@ class BodySpec:
     )
     bumper_names: tuple[str, ...] = ("left", "right")
     imu_drift_deg_s: float = 0.02
+    side_range_offset_mm: float = 80.0
 
     @property
     def mm_per_tick(self) -> float:
@@ -122,6 +126,7 @@ class Body:
         self._ticks_exact = [0.0, 0.0]
         self.ticks = [0, 0]
         self.in_contact = False
+        self._last_contact_s = -math.inf
         self.contact_side: str | None = None
         self._imu_bias_deg = 0.0
         self.log = SimLog()
@@ -184,8 +189,11 @@ class Body:
             self.contact_side = None
             self.heading_deg = new_heading
             return True
-        if not self.in_contact:
+        # A body held against a wall re-touches it step after step (it stops up to one step
+        # short); only a contact after a quarter second clear of walls is a new collision.
+        if not self.in_contact and self.time_s - self._last_contact_s > _NEW_CONTACT_S:
             self.log.collisions.append(self.time_s)
+        self._last_contact_s = self.time_s
         self.in_contact = True
         self.contact_side = hit
         return False
@@ -218,6 +226,22 @@ class Body:
         if nearest is None:
             return None
         noisy = nearest + self.rng.gauss(0.0, spec.range_noise_mm)
+        return max(0.0, noisy) if noisy <= spec.range_max_mm else None
+
+    def side_range_mm(self) -> float | None:
+        """The side-facing range sensor: one ray square to the right, with noise.
+
+        It sits on the body's edge, so readings are the gap between the robot's side and the
+        wall; ``None`` when nothing is within :attr:`BodySpec.range_max_mm`.
+        """
+        spec = self.spec
+        rx, ry = heading_vector(self.heading_deg + 90.0)
+        ox = self.x_mm + rx * spec.side_range_offset_mm
+        oy = self.y_mm + ry * spec.side_range_offset_mm
+        hit = ray_cast(ox, oy, rx, ry, list(self.world.walls), spec.range_max_mm)
+        if hit is None:
+            return None
+        noisy = hit + self.rng.gauss(0.0, spec.range_noise_mm)
         return max(0.0, noisy) if noisy <= spec.range_max_mm else None
 
     def bumpers_pressed(self) -> tuple[bool, ...]:

@@ -128,7 +128,10 @@ states:
     sched.run(until=lambda: runner.finished, max_duration_s=10)
     assert runner.result.outcome == "failure"
     assert runner.result.final_state == "bumped"
-    assert runner.result.reason == "ended in the failure state 'bumped'"
+    assert (
+        runner.result.reason
+        == "ended in the failure state 'bumped' after 'bumper.any' held in state 'go'"
+    )
     assert base.speeds == (0.0, 0.0)
     assert 1.0 < runner.result.duration_s < 1.1
 

@@ -306,11 +306,12 @@ class MirtoBoard:
         elif service == "R":
             self._send(m.IrEvent(body.line_readings()))
         elif service == "D":
-            self._send(m.DistanceEvent((self._distance_cm(),)))
+            self._send(m.DistanceEvent(self._distances_cm()))
 
-    def _distance_cm(self) -> int:
-        reading = self.body.range_mm()
-        return 0 if reading is None else int(reading // 10)
+    def _distances_cm(self) -> tuple[int, ...]:
+        # Two HC-SR04 sensors on the distance service: 0 faces forward, 1 faces right.
+        readings = (self.body.range_mm(), self.body.side_range_mm())
+        return tuple(0 if r is None else int(r // 10) for r in readings)
 
     # ------------------------------------------------------------------------------ requests
 
@@ -338,18 +339,17 @@ class MirtoBoard:
                 event.next_s = now_s + event.interval_s
         elif isinstance(msg, m.MeasureRequest):
             if msg.service == "D":
-                self._send(m.DistanceEvent((self._distance_cm(),)))
+                self._send(m.DistanceEvent(self._distances_cm()))
             else:
                 self._error(msg.service, "M", m.ErrorCode.UNKNOWN_REQUEST)
         elif isinstance(msg, m.EnableEncoderEvents):
             state.encoder_events = msg.enabled
         elif isinstance(msg, m.SetMotorPower):
+            # As on the board, power does not stop a running PID: its next frame overrides it.
             if msg.motor < 2:
-                self._stop_wheel(msg.motor)
                 self._set_pwm(msg.motor, msg.power_pct * self.config.max_pwm // 100)
         elif isinstance(msg, m.SetMotorsPower):
             for index, power in enumerate((msg.power0_pct, msg.power1_pct)):
-                self._stop_wheel(index)
                 self._set_pwm(index, power * self.config.max_pwm // 100)
         elif isinstance(msg, m.StopMotor):
             if msg.motor < 2:

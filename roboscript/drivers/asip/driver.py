@@ -12,9 +12,14 @@ dies leaves the wheels running for at most 3 s. ``M,c`` and ``M,a`` are not used
 because they round speeds down to whole cm/s (about 2 degrees short on a 90 degree turn);
 distances and angles are measured by the actions from the encoders instead.
 
+Because every ``M,R`` restarts the firmware PID from zero output, setpoints that change every
+tick (steering: following a wall or a line) are held by the host instead: the driver stops the
+firmware PID (``M,S,0``; power requests do not stop it) and runs
+:class:`~roboscript.control.WheelSpeedLoop` on the encoder events, sending ``M,M`` power; once
+the setpoints have been steady for half a second it hands them back to the firmware.
+
 Without firmware PID (``asip-basic``, or a board that answers ``M,R`` with
-``~M,R,2{UNKNOWN_REQUEST}``), the host holds wheel speeds with
-:class:`~roboscript.control.WheelSpeedLoop` and sends ``M,M`` power.
+``~M,R,2{UNKNOWN_REQUEST}``), the host holds wheel speeds that way all the time.
 
 Stopping sends ``M,S,0`` and ``M,M,0,0`` (``M,S`` needs the dummy argument, see the codec).
 """
@@ -47,6 +52,8 @@ _PID_REFRESH_S = 2.0
 _PID_DURATION_MS = 3000
 _SILENCE_LIMIT_S = 1.0
 _POWER_REFRESH_S = 0.5
+_STEERING_GAP_S = 0.3  # two setpoint changes closer than this mean "steering"
+_STEADY_S = 0.5  # steady this long and the firmware PID takes the wheels back
 
 
 class AsipDriver(Driver):
@@ -73,12 +80,16 @@ class AsipDriver(Driver):
         self.bump_pressed: tuple[bool, ...] = (False, False)
         self.ir_values: tuple[int, ...] | None = None
         self.distance_cm: int | None = None
+        self.side_distance_cm: int | None = None
         self.errors: list[m.ErrorReply] = []
         # Setpoints.
         self._target_mm_s = (0.0, 0.0)
         self._sent_rpm: tuple[int, int] | None = None
         self._sent_at_s = -math.inf
         self._sent_power: tuple[int, int] | None = None
+        self._target_changed_s = -math.inf
+        self._host_until_s = -math.inf
+        self._host_mode = False
         self._host_loop = WheelSpeedLoop(
             profile.gains.get("wheel_speed", (0.0015, 0.004, 0.0)), profile.max_speed_mm_s * 1.3
         )
@@ -105,7 +116,7 @@ class AsipDriver(Driver):
             self.link.send(m.SetAutoEventInterval("B", 50))
         if cap.LINE in caps and "R" in self.services:
             self.link.send(m.SetAutoEventInterval("R", 50))
-        if cap.RANGE in caps and "D" in self.services:
+        if (cap.RANGE in caps or cap.SIDE_RANGE in caps) and "D" in self.services:
             self.link.send(m.SetAutoEventInterval("D", 100))
         self.stop_all()
         self._caps = self._build_capabilities()
@@ -119,6 +130,7 @@ class AsipDriver(Driver):
             cap.BUMPER: "B",
             cap.LINE: "R",
             cap.RANGE: "D",
+            cap.SIDE_RANGE: "D",
             cap.SPEAKER: "T",
             cap.DISPLAY: "L",
         }
@@ -127,6 +139,7 @@ class AsipDriver(Driver):
             cap.BUMPER: lambda: _Bumpers(self),
             cap.LINE: lambda: _LineSensors(self),
             cap.RANGE: lambda: _RangeSensor(self),
+            cap.SIDE_RANGE: lambda: _SideRangeSensor(self),
             cap.SPEAKER: lambda: _Speaker(self),
             cap.DISPLAY: lambda: _Display(self),
         }
@@ -188,9 +201,18 @@ class AsipDriver(Driver):
         for frequency, duration in self._tones:
             self.link.send(m.PlayTone(frequency, duration))
         self._tones.clear()
-        if self.firmware_pid:
+        steering = now_s < self._host_until_s and self._target_mm_s != (0.0, 0.0)
+        if self.firmware_pid and not steering:
+            if self._host_mode:
+                self._host_mode = False
+                self._sent_rpm = None  # hand the wheels back to the firmware PID
             self._flush_rpm(now_s)
         else:
+            if not self._host_mode:
+                self._host_mode = True
+                self._sent_power = None
+                if self.firmware_pid:
+                    self.link.send(m.StopMotors())  # power requests do not stop the PID
             self._flush_power(now_s, dt_s)
 
     def _flush_rpm(self, now_s: float) -> None:
@@ -239,7 +261,9 @@ class AsipDriver(Driver):
         elif isinstance(message, m.IrEvent):
             self.ir_values = message.values
         elif isinstance(message, m.DistanceEvent):
-            self.distance_cm = message.distances_cm[0] if message.distances_cm else None
+            values = message.distances_cm
+            self.distance_cm = values[0] if values else None
+            self.side_distance_cm = values[1] if len(values) > 1 else None
         elif isinstance(message, m.VersionReply):
             self.version = message
         elif isinstance(message, m.StartupLine):
@@ -299,7 +323,13 @@ class AsipDriver(Driver):
 
     def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
         """Store wheel speed targets (sent in the act phase)."""
-        self._target_mm_s = (left_mm_s, right_mm_s)
+        target = (left_mm_s, right_mm_s)
+        if target != self._target_mm_s:
+            now = self.clock.now()
+            if now - self._target_changed_s < _STEERING_GAP_S:
+                self._host_until_s = now + _STEADY_S
+            self._target_changed_s = now
+        self._target_mm_s = target
 
     def queue_tone(self, frequency_hz: float, duration_s: float) -> None:
         """Queue a tone (sent in the act phase)."""
@@ -330,6 +360,12 @@ class _DriveBase:
         return totals[0] * per_tick, totals[1] * per_tick
 
 
+def _cm_to_mm(cm: int | None) -> float | None:
+    """A distance reading in mm: 0 cm is no echo; the board truncates to whole centimetres,
+    so the middle of the centimetre is the unbiased estimate."""
+    return None if cm is None or cm <= 0 else cm * 10.0 + 5.0
+
+
 class _RangeSensor:
     max_range_mm = 1000.0
 
@@ -337,8 +373,20 @@ class _RangeSensor:
         self._driver = driver
 
     def distance_mm(self) -> float | None:
-        cm = self._driver.distance_cm
-        return None if cm is None or cm <= 0 else cm * 10.0
+        return _cm_to_mm(self._driver.distance_cm)
+
+
+class _SideRangeSensor:
+    """Distance sensor 1 of the distance service, facing right (the MIRTO wall follower)."""
+
+    side = "right"
+    max_range_mm = 1000.0
+
+    def __init__(self, driver: AsipDriver) -> None:
+        self._driver = driver
+
+    def distance_mm(self) -> float | None:
+        return _cm_to_mm(self._driver.side_distance_cm)
 
 
 class _Bumpers:
