@@ -182,6 +182,18 @@ def _cmd_check(args: argparse.Namespace) -> int:
     return EXIT_INPUT if bad else EXIT_OK
 
 
+# ----------------------------------------------------------------------------------- graph
+
+
+def _cmd_graph(args: argparse.Namespace) -> int:
+    from roboscript.mission import load_mission
+    from roboscript.mission.graph import to_dot, to_mermaid
+
+    spec, _ = load_mission(args.mission)
+    print(to_dot(spec) if args.format == "dot" else to_mermaid(spec), end="")
+    return EXIT_OK
+
+
 # ------------------------------------------------------------------------------------- sim
 
 
@@ -281,6 +293,11 @@ def _parser() -> argparse.ArgumentParser:
     check.add_argument("paths", nargs="+", metavar="PATH", help="files or folders")
     check.add_argument("--robot", help="also check against this robot's capabilities")
     check.set_defaults(func=_cmd_check)
+
+    graph = sub.add_parser("graph", help="print a mission's state diagram (mermaid or dot)")
+    graph.add_argument("mission", help="mission file")
+    graph.add_argument("--format", choices=("mermaid", "dot"), default="mermaid")
+    graph.set_defaults(func=_cmd_graph)
 
     sim = sub.add_parser(
         "sim", help="serve a simulated robot's protocol bytes on a TCP port or a pty"

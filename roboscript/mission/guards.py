@@ -13,6 +13,7 @@ name                   value                                               needs
 =====================  ==================================================  ===============
 ``range.distance_mm``  distance ahead in mm (no echo reads as infinity)    ``range``
 ``range.distance_cm``  the same in cm                                      ``range``
+``side_range.distance_cm`` gap to a wall beside the robot (also ``_mm``)  ``side_range``
 ``bumper.left``        left bump switch pressed (also ``right``, ``any``)  ``bumper``
 ``line.left``          line sensor reading 0-1023 (``center``, ``right``)  ``line``
 ``line.any``           any line sensor over a dark line                    ``line``
@@ -73,6 +74,10 @@ _ATTRS: dict[str, dict[str, tuple[str | None, str]]] = {
     "range": {
         "distance_mm": ("mm", cap.RANGE),
         "distance_cm": ("cm", cap.RANGE),
+    },
+    "side_range": {
+        "distance_mm": ("mm", cap.SIDE_RANGE),
+        "distance_cm": ("cm", cap.SIDE_RANGE),
     },
     "bumper": dict.fromkeys(("left", "right", "any"), ("", cap.BUMPER)),
     "line": dict.fromkeys(("left", "center", "right", "any"), ("", cap.LINE)),

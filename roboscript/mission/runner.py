@@ -107,6 +107,7 @@ class MissionRunner(GuardEnv):
         self.result = MissionResult(spec.name)
         self.finished = False
         self.action: Any = None
+        self.during: list[Any] = []
         self.action_result: Result | None = None
         self._cause: str | None = None  # the last failure routed by 'on', for the final reason
         self._visits: Counter[str] = Counter()
@@ -198,11 +199,33 @@ class MissionRunner(GuardEnv):
         self.action = spec.action.factory() if spec.action is not None else None
         if self.action is not None:
             self.action.start(self.ctx)
+        self.during = [extra.factory() for extra in spec.during]
+        for extra in self.during:
+            extra.start(self.ctx)
 
     def _exit(self) -> None:
+        for extra in self.during:
+            extra.stop(self.ctx)
+        self.during = []
         if self.action is not None:
             self.action.stop(self.ctx)
             self.action = None
+
+    def record_inner_state(self, name: str) -> None:
+        """Add a nested machine's state to this mission's timeline."""
+        start = self._start_s if self._start_s is not None else self.ctx.now_s
+        self.result.states.append((round(self.ctx.now_s - start, 3), name))
+        if self._on_state is not None:
+            self._on_state(self.ctx.now_s - start, name)
+
+    def _tick_during(self) -> None:
+        still = []
+        for extra in self.during:
+            if extra.update(self.ctx) is None:
+                still.append(extra)
+            else:
+                extra.stop(self.ctx)
+        self.during = still
 
     def _fire(self, trigger: str) -> bool:
         moved = bool(self._model.trigger(trigger))
@@ -240,6 +263,8 @@ class MissionRunner(GuardEnv):
         state = self.spec.states[name]
         if state.when and not state.final and self._fire("check"):
             return
+        if self.during:
+            self._tick_during()
         if self.action is not None and self.action_result is None:
             result = self.action.update(self.ctx)
             if result is not None:
@@ -318,8 +343,8 @@ class MissionRunner(GuardEnv):
             return self.ctx.now_s - self._state_start_s
         if root == "heading_deg":
             return self._heading_deg()
-        if root == "range":
-            reading = self.ctx.get(cap.RANGE).distance_mm()
+        if root in ("range", "side_range"):
+            reading = self.ctx.get(cap.RANGE if root == "range" else cap.SIDE_RANGE).distance_mm()
             value = math.inf if reading is None else float(reading)
             return value / 10.0 if attr == "distance_cm" else value
         if root == "bumper":

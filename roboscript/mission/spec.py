@@ -52,6 +52,7 @@ class ActionSpec:
         location: Where the action was written.
         bounded: False for an action that would run forever as written (``follow_wall``
             without ``until`` or ``duration``): its state then needs a timeout or a condition.
+        inner: For nested states, the inner machine.
     """
 
     name: str
@@ -60,6 +61,7 @@ class ActionSpec:
     requires: frozenset[str] = frozenset()
     location: Location | None = None
     bounded: bool = True
+    inner: MissionSpec | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -87,6 +89,7 @@ class StateSpec:
     Attributes:
         name: State name.
         action: What the state does, or ``None`` for a state that only waits on guards.
+        during: Actions run alongside ``action`` while in the state, stopped on leaving it.
         on: Outcome (``done``/``failed``/``timeout``) -> transitions tried in order.
         when: Guarded transitions checked every tick while in the state, in order.
         timeout_s: The state's time bound, seconds, or ``None``.
@@ -97,6 +100,7 @@ class StateSpec:
 
     name: str
     action: ActionSpec | None = None
+    during: tuple[ActionSpec, ...] = ()
     on: Mapping[str, tuple[TransitionSpec, ...]] = field(default_factory=dict)
     when: tuple[TransitionSpec, ...] = ()
     timeout_s: float | None = None
@@ -142,6 +146,8 @@ class MissionSpec:
         for state in self.states.values():
             if state.action is not None:
                 needed |= state.action.requires
+            for extra in state.during:
+                needed |= extra.requires
             for transition in state.targets():
                 needed |= set(getattr(transition.guard, "capabilities", ()))
         return frozenset(needed)

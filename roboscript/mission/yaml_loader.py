@@ -29,7 +29,11 @@ from roboscript.mission.spec import (
 __all__ = ["MissionProblemsError", "build_action", "load_yaml_mission", "parse_yaml_mission"]
 
 _TOP_KEYS = ("mission", "description", "robot", "world", "initial", "states")
-_STATE_KEYS = ("do", "on", "when", "timeout", "final", "description")
+_STATE_KEYS = ("do", "during", "on", "when", "timeout", "final", "description")
+_COMPOSITES = ("parallel", "repeat", "states", "mission")
+
+
+_LOADING: set[str] = set()  # mission files being loaded, to refuse a file that includes itself
 
 
 class MissionProblemsError(MissionError):
@@ -60,7 +64,7 @@ def build_action(
     cls: type[Action],
     values: Mapping[str, Any],
     state_names: frozenset[str] | None = None,
-) -> tuple[dict[str, Any], list[tuple[str, str, str | None]]]:
+) -> tuple[dict[str, Any], list[tuple[str, str, str | None, int | None]]]:
     """Convert mission parameters to an action's keyword arguments.
 
     Args:
@@ -69,10 +73,11 @@ def build_action(
         state_names: The mission's states, for conditions that read ``visits.STATE``.
 
     Returns:
-        The keyword arguments, and the problems as ``(param name, message, hint)``.
+        The keyword arguments, and the problems as ``(param name, message, hint, offset)``;
+        ``offset`` is the character in a condition where the problem is, else ``None``.
     """
     kwargs: dict[str, Any] = {}
-    problems: list[tuple[str, str, str | None]] = []
+    problems: list[tuple[str, str, str | None, int | None]] = []
     params = {p.name: p for p in cls.params}
     for name, value in values.items():
         param = params.get(name)
@@ -80,17 +85,17 @@ def build_action(
             hint = _suggest(name, params) or (
                 f"'{cls.name}' takes {', '.join(params)}" if params else None
             )
-            problems.append((name, f"'{cls.name}' has no parameter '{name}'", hint))
+            problems.append((name, f"'{cls.name}' has no parameter '{name}'", hint, None))
             continue
         try:
             kwargs[param.kwarg] = _convert(param, value, state_names)
         except GuardError as exc:
-            problems.append((name, f"{cls.name} {name}: {exc}", exc.hint))
+            problems.append((name, f"{cls.name} {name}: {exc}", exc.hint, exc.offset))
         except ValueError as exc:
-            problems.append((name, f"{cls.name} {name}: {exc}", None))
+            problems.append((name, f"{cls.name} {name}: {exc}", None, None))
     for param in cls.params:
         if param.required and param.kwarg not in kwargs and param.name not in values:
-            problems.append(("", f"'{cls.name}' needs '{param.name}' ({param.doc})", None))
+            problems.append(("", f"'{cls.name}' needs '{param.name}' ({param.doc})", None, None))
     return kwargs, problems
 
 
@@ -147,15 +152,18 @@ class _Reader:
 
     # ------------------------------------------------------------------------------ top
 
-    def read(self, data: Any) -> MissionSpec | None:
+    def read(self, data: Any, inner_of: str | None = None) -> MissionSpec | None:
         if not isinstance(data, YamlMap):
             self.problem(
                 "a mission file is a mapping with 'mission:', 'initial:' and 'states:'", (1, 1)
             )
             return None
-        for key in data:
-            if key not in _TOP_KEYS:
-                self.problem(f"unknown key '{key}'", data.key_mark(key), _suggest(key, _TOP_KEYS))
+        if inner_of is None:
+            for key in data:
+                if key not in _TOP_KEYS:
+                    self.problem(
+                        f"unknown key '{key}'", data.key_mark(key), _suggest(key, _TOP_KEYS)
+                    )
         states_raw = data.get("states")
         if not isinstance(states_raw, YamlMap) or not states_raw:
             self.problem(
@@ -178,7 +186,7 @@ class _Reader:
                 data.value_mark("initial"),
                 _suggest(str(initial), names),
             )
-        mission = data.get("mission", Path(self.path).stem)
+        mission = inner_of or data.get("mission", Path(self.path).stem)
         hints: dict[str, str | None] = {}
         for key in ("robot", "world"):
             value = data.get(key)
@@ -214,7 +222,21 @@ class _Reader:
                     raw.key_mark(key),
                     _suggest(key, _STATE_KEYS),
                 )
-        action = self.action(raw["do"], raw.value_mark("do"), names) if "do" in raw else None
+        action = None
+        if "do" in raw:
+            action = self.action(raw["do"], raw.value_mark("do"), names, label=name)
+        during: list[ActionSpec] = []
+        if "during" in raw:
+            items = raw["during"]
+            if not isinstance(items, YamlList):
+                self.problem(
+                    "'during' is a list of actions run alongside 'do'", raw.value_mark("during")
+                )
+            else:
+                for item, item_mark in zip(items, items.item_marks, strict=True):
+                    extra = self.action(item, item_mark, names, label=name)
+                    if extra is not None:
+                        during.append(extra)
         on: dict[str, tuple[TransitionSpec, ...]] = {}
         if "on" in raw:
             on = self.on(raw["on"], raw.value_mark("on"), names)
@@ -243,6 +265,7 @@ class _Reader:
         return StateSpec(
             name=name,
             action=action,
+            during=tuple(during),
             on=on,
             when=when,
             timeout_s=timeout_s,
@@ -251,7 +274,13 @@ class _Reader:
             location=self.loc(key_mark),
         )
 
-    def action(self, raw: Any, mark: Mark, names: frozenset[str]) -> ActionSpec | None:
+    def action(
+        self, raw: Any, mark: Mark, names: frozenset[str], label: str = ""
+    ) -> ActionSpec | None:
+        if isinstance(raw, YamlMap) and "states" in raw:
+            return self.inline_machine(raw, mark, label)
+        if isinstance(raw, YamlMap) and len(raw) == 1 and next(iter(raw)) in _COMPOSITES:
+            return self.composite(raw, names, label)
         if isinstance(raw, str):
             name, params, name_mark, params_mark = raw, YamlMap(), mark, mark
             params.mark, params.key_marks, params.value_marks = mark, {}, {}
@@ -277,10 +306,13 @@ class _Reader:
             self.problem(f"unknown action '{name}'", name_mark, _suggest(name, ACTIONS))
             return None
         kwargs, problems = build_action(cls, params, names)
-        for param_name, message, hint in problems:
+        for param_name, message, hint, offset in problems:
             where = params.value_mark(param_name) if param_name in params else name_mark
             if param_name in params and "has no parameter" in message:
                 where = params.key_mark(param_name)
+            elif offset is not None:
+                line, col = where
+                where = (line, col + (1 if self._quoted(line, col) else 0) + offset)
             self.problem(message, where, hint)
         if problems:
             return None
@@ -300,6 +332,117 @@ class _Reader:
             location=self.loc(name_mark),
             bounded=not cls.bounded_by
             or any(kwargs.get(p.kwarg) is not None for p in cls.params if p.name in cls.bounded_by),
+        )
+
+    # ------------------------------------------------------------------------ composites
+
+    def composite(self, raw: YamlMap, names: frozenset[str], label: str) -> ActionSpec | None:
+        from roboscript.actions.composite import Parallel, Repeat
+
+        kind = next(iter(raw))
+        mark = raw.key_mark(kind)
+        body = raw[kind]
+        if kind == "mission":
+            return self.mission_file(body, raw.value_mark(kind), label)
+        if kind == "parallel":
+            if (
+                not isinstance(body, YamlMap)
+                or len(body) != 1
+                or next(iter(body)) not in ("all", "any")
+            ):
+                self.problem("write parallel: {all: [ACTIONS]} or parallel: {any: [ACTIONS]}", mark)
+                return None
+            mode = next(iter(body))
+            items = body[mode]
+            if not isinstance(items, YamlList) or not items:
+                self.problem(f"parallel {mode}: needs a list of actions", body.value_mark(mode))
+                return None
+            children = [
+                self.action(item, item_mark, names, label)
+                for item, item_mark in zip(items, items.item_marks, strict=True)
+            ]
+            if any(child is None for child in children):
+                return None
+            specs = [child for child in children if child is not None]
+            factories = [child.factory for child in specs]
+            return ActionSpec(
+                name="parallel",
+                kwargs={"mode": mode, "actions": tuple(c.name for c in specs)},
+                factory=lambda: Parallel(factories, mode),
+                requires=frozenset().union(*(c.requires for c in specs)),
+                location=self.loc(mark),
+                bounded=all(c.bounded for c in specs)
+                if mode == "all"
+                else any(c.bounded for c in specs),
+            )
+        # repeat
+        if not isinstance(body, YamlMap) or set(body) != {"times", "do"}:
+            self.problem("write repeat: {times: N, do: ACTION}", mark)
+            return None
+        times = body["times"]
+        if isinstance(times, bool) or not isinstance(times, int) or times < 1:
+            self.problem(
+                "repeat times must be a whole number of at least 1", body.value_mark("times")
+            )
+            return None
+        child = self.action(body["do"], body.value_mark("do"), names, label)
+        if child is None:
+            return None
+        make = child.factory
+        return ActionSpec(
+            name="repeat",
+            kwargs={"times": times, "action": child.name},
+            factory=lambda: Repeat(make, times),
+            requires=child.requires,
+            location=self.loc(mark),
+            bounded=child.bounded,
+        )
+
+    def inline_machine(self, raw: YamlMap, mark: Mark, label: str) -> ActionSpec | None:
+        for key in raw:
+            if key not in ("states", "initial", "description"):
+                self.problem(
+                    f"unknown key '{key}' in the inner states of '{label}'",
+                    raw.key_mark(key),
+                    _suggest(key, ("states", "initial", "description")),
+                )
+        inner = _Reader(self.path)
+        spec = inner.read(raw, inner_of=label)
+        if spec is not None and not any(p.severity == "error" for p in inner.problems):
+            from roboscript.mission.checks import check_mission
+
+            inner.problems.extend(check_mission(spec))
+        self.problems.extend(inner.problems)
+        if spec is None or any(p.severity == "error" for p in inner.problems):
+            return None
+        return self._machine_action(spec, label, mark)
+
+    def mission_file(self, value: Any, mark: Mark, label: str) -> ActionSpec | None:
+        if not isinstance(value, str):
+            self.problem("mission: names a mission file, e.g. mission: patrol.yaml", mark)
+            return None
+        path = (Path(self.path).parent / value).resolve()
+        if str(path) in _LOADING:
+            self.problem(f"'{value}' includes itself (directly or through another file)", mark)
+            return None
+        try:
+            spec, warnings = load_yaml_mission(path)
+        except MissionError as exc:
+            self.problems.extend(getattr(exc, "problems", [exc]))
+            return None
+        self.problems.extend(warnings)
+        return self._machine_action(spec, label, mark)
+
+    def _machine_action(self, spec: MissionSpec, label: str, mark: Mark) -> ActionSpec:
+        from roboscript.mission.nested import SubMission
+
+        return ActionSpec(
+            name="states",
+            kwargs={"mission": spec.name, "states": tuple(spec.states)},
+            factory=lambda: SubMission(spec, label),
+            requires=spec.requires(),
+            location=self.loc(mark),
+            inner=spec,
         )
 
     # ------------------------------------------------------------------------ transitions
@@ -432,8 +575,13 @@ def load_yaml_mission(
     Raises:
         MissionProblemsError: The first error, with every problem in ``problems``.
     """
-    reader = _Reader(str(path))
-    return _finish(reader, load_yaml(path, error=MissionError), profile)
+    key = str(Path(path).resolve())
+    _LOADING.add(key)
+    try:
+        reader = _Reader(str(path))
+        return _finish(reader, load_yaml(path, error=MissionError), profile)
+    finally:
+        _LOADING.discard(key)
 
 
 def parse_yaml_mission(

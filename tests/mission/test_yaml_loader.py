@@ -105,6 +105,39 @@ def test_valid_mission_loads_with_units_converted(write_mission: Callable[..., P
             "M:5:10: error: 'play_tone' needs 'frequency' (pitch)",
         ),
         (
+            GOOD.replace(
+                "do: {drive: {distance: 30 cm}}", 'do: {wait_until: {condition: "bumper.any"}}'
+            ),
+            (
+                "M:5:10: error: 'wait_until' needs 'timeout' (the most it waits"
+                " (every wait has a bound))"
+            ),
+        ),
+        (
+            GOOD.replace("do: {drive: {distance: 30 cm}}", "do: {follow_wall: {side: left}}"),
+            (
+                "M:5:10: error: 'follow_wall' in state 'go' never ends as written"
+                " (give it 'until' or 'duration', or give the state a 'timeout' or a 'when')"
+            ),
+        ),
+        (
+            GOOD.replace(
+                "do: {drive: {distance: 30 cm}}",
+                'do: {wait_until: {condition: "rnage.distance_cm < 3", timeout: 2 s}}',
+            ),
+            (
+                "M:5:35: error: wait_until condition: unknown name 'rnage' in a condition"
+                " (did you mean 'range'?)"
+            ),
+        ),
+        (
+            GOOD.replace("do: {drive: {distance: 30 cm}}", "do: {set_led: {color: mauve}}"),
+            (
+                "M:5:27: error: set_led color: expected a colour (off, black, white, red, green,"
+                " blue, yellow, orange, purple, cyan, pink, '#RRGGBB' or [r, g, b]), got 'mauve'"
+            ),
+        ),
+        (
             "mission: x\nstates: []\n",
             "M:2:1: error: a mission needs 'states:', a mapping of state names to states",
         ),
@@ -157,6 +190,23 @@ def test_unhandled_outcomes_are_warnings(write_mission: Callable[..., Path]) -> 
             "if 'drive' fails (stalled) in state 'go', the mission ends in failure"
             " (add 'on: {failed: STATE}' to handle it)"
         ),
+    ]
+
+
+def test_follow_line_on_a_robot_without_line_sensors_is_refused(
+    write_mission: Callable[..., Path],
+) -> None:
+    from dataclasses import replace
+
+    no_line = replace(
+        get_profile("mirto"), name="wheels-only", capabilities=frozenset({"drive_base"})
+    )
+    text = GOOD.replace("do: {drive: {distance: 30 cm}}", "do: {follow_line: {duration: 5 s}}")
+    assert problems(write_mission(text), no_line) == [
+        (
+            "M:5:10: error: 'follow_line' needs line (downward IR line sensors),"
+            " which wheels-only does not have (use follow_wall or drive with a range condition)"
+        )
     ]
 
 

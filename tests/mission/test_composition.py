@@ -1,0 +1,132 @@
+"""Nested states, parallel, repeat and during, run on the simulated MIRTO."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from pathlib import Path
+
+from helpers import run_cli
+
+NESTED = """
+mission: nested
+states:
+  patrol:
+    do:
+      initial: out
+      states:
+        out:
+          do: {drive: {distance: 30 cm}}
+          on: {done: back, failed: oops}
+        back:
+          do: {repeat: {times: 2, do: {rotate: {angle: 90 deg}}}}
+          on: {done: home, failed: oops}
+        home: {final: success}
+        oops: {final: failure}
+    during:
+      - {play_tone: {frequency: 440 Hz, duration: 1 s}}
+    on: {done: tune, failed: sad}
+  tune:
+    do:
+      parallel:
+        all:
+          - {drive: {distance: 20 cm}}
+          - {play_tone: {frequency: 660 Hz, duration: 500 ms}}
+    on: {done: happy, failed: sad}
+  happy: {final: success}
+  sad: {final: failure}
+"""
+
+
+def _run(path: Path) -> dict[str, object]:
+    result = run_cli("run", str(path), "--json")
+    assert result.returncode in (0, 1), result.stderr
+    summary: dict[str, object] = json.loads(result.stdout)
+    return summary
+
+
+def test_nested_states_appear_in_the_timeline_and_compose(
+    write_mission: Callable[..., Path],
+) -> None:
+    summary = _run(write_mission(NESTED))
+    assert summary["outcome"] == "success"
+    names = [name for _, name in summary["states"]]  # type: ignore[attr-defined]
+    assert names == ["patrol", "patrol.out", "patrol.back", "patrol.home", "tune", "happy"]
+    sim = summary["sim"]
+    assert [t["frequency_hz"] for t in sim["tones"]] == [440.0, 660.0]  # type: ignore[index]
+    pose = sim["final_pose"]  # type: ignore[index]
+    assert abs(pose["heading_deg"] - 180.0) < 3.0  # two right-angle turns
+    assert abs(pose["y_mm"] - 100.0) < 15.0  # 30 cm out, turned round, 20 cm back
+
+
+def test_inner_failure_reason_reaches_the_outer_mission(
+    write_mission: Callable[..., Path],
+) -> None:
+    text = NESTED.replace("do: {drive: {distance: 30 cm}}", "do: {drive: {distance: 3 m}}")
+    summary = _run(write_mission(text))
+    assert summary["outcome"] == "success" or summary["outcome"] == "failure"
+    path = write_mission(text.replace("world", "w"))
+    result = run_cli("run", str(path), "--json", "--world", "square-room")
+    data = json.loads(result.stdout)
+    assert data["outcome"] == "failure"
+    assert data["reason"] == (
+        "ended in the failure state 'sad' after states failed in state 'patrol': "
+        "ended in the failure state 'oops' after drive failed in state 'out': stalled"
+    )
+
+
+def test_parallel_any_ends_with_the_first(write_mission: Callable[..., Path]) -> None:
+    path = write_mission(
+        "states:\n  both:\n    do:\n      parallel:\n        any:\n"
+        "          - {wait: {duration: 1 s}}\n          - {wait: {duration: 5 s}}\n"
+        "    on: {done: end}\n  end: {final: success}\n"
+    )
+    summary = _run(path)
+    assert summary["outcome"] == "success"
+    assert abs(float(summary["duration_s"]) - 1.0) < 0.05  # type: ignore[arg-type]
+
+
+def test_mission_file_as_a_state(write_mission: Callable[..., Path]) -> None:
+    write_mission(
+        "states:\n  hop:\n    do: {drive: {distance: 10 cm}}\n    on: {done: ok, failed: no}\n"
+        "  ok: {final: success}\n  no: {final: failure}\n",
+        name="hop.yaml",
+    )
+    outer = write_mission(
+        "states:\n  twice:\n    do: {repeat: {times: 2, do: {wait: {duration: 0.1 s}}}}\n"
+        "    on: {done: jump}\n  jump:\n    do: {mission: hop.yaml}\n"
+        "    on: {done: end, failed: end}\n  end: {final: success}\n",
+        name="outer.yaml",
+    )
+    summary = _run(outer)
+    assert [n for _, n in summary["states"]] == ["twice", "jump", "jump.hop", "jump.ok", "end"]  # type: ignore[attr-defined]
+
+
+def test_a_mission_that_includes_itself_is_refused(write_mission: Callable[..., Path]) -> None:
+    path = write_mission(
+        "states:\n  loop:\n    do: {mission: self.yaml}\n    on: {done: end}\n"
+        "  end: {final: success}\n",
+        name="self.yaml",
+    )
+    result = run_cli("check", str(path))
+    assert result.returncode == 2
+    assert "'self.yaml' includes itself" in result.stderr
+
+
+def test_graph_prints_mermaid_from_the_real_machine() -> None:
+    result = run_cli("graph", "missions/square.yaml")
+    assert result.returncode == 0
+    out = result.stdout
+    assert out.startswith("---\ntitle: square\n---\nstateDiagram-v2\n")
+    assert "  [*] --> side\n" in out
+    assert "  beep --> finished : done [visits.side >= 4]\n" in out
+    assert "  side --> stuck : when [bumper.any]\n" in out
+    assert "  finished --> [*] : success\n" in out
+
+
+def test_graph_prints_dot_with_nested_clusters(write_mission: Callable[..., Path]) -> None:
+    result = run_cli("graph", str(write_mission(NESTED)), "--format", "dot")
+    assert result.returncode == 0
+    assert result.stdout.startswith('digraph "nested" {')
+    assert "subgraph cluster_patrol {" in result.stdout
+    assert 'patrol__out -> patrol__back [label="done"];' in result.stdout
