@@ -66,3 +66,17 @@ def test_asip_basic_holds_wheel_speeds_on_the_host(tmp_path: Path) -> None:
     sent = b"".join(_last_sent(log))
     assert b"M,R," not in sent and b"M,M," in sent
     assert all(120 < speed < 180 for speed in speeds)
+
+
+@pytest.mark.parametrize("robot", ["mirto", "asip-basic"])
+def test_stopping_after_steering_leaves_the_motors_unpowered(robot: str) -> None:
+    with Robot.connect(robot) as bot:
+        base = bot.drive_base
+        for step in range(50):  # a new setpoint every tick: steering, held by the host
+            base.set_wheel_speeds(120.0 + step, 120.0 - step)
+            bot.run_for(0.02)
+        assert bot.simulation.body.power != [0.0, 0.0]
+        base.stop()
+        bot.run_for(1.0)
+        assert bot.simulation.body.power == [0.0, 0.0]
+        assert max(abs(s) for s in bot.simulation.body.wheel_speed_mm_s) < 1.0

@@ -13,23 +13,13 @@ from typing import Any, ClassVar
 
 from roboscript import capabilities as cap
 from roboscript.actions.base import Action, ActionContext, Param, Result
+from roboscript.actions.sensing import heading_deg
 from roboscript.control import LineFollower, Stall, WallFollower, wheel_speeds
 
 __all__ = ["FollowLine", "FollowWall"]
 
 _LOST_WALL_S = 1.0
 _LOST_LINE_S = 0.5
-
-
-def heading_deg(ctx: ActionContext) -> float:
-    """The robot's heading, clockwise positive: the IMU's if it has one, else odometry's."""
-    if ctx.has(cap.HEADING):
-        reading = ctx.get(cap.HEADING).heading_deg()
-        if reading is not None:
-            return float(reading)
-    base = ctx.drive_base
-    left, right = base.wheel_distances_mm()
-    return math.degrees((left - right) / base.track_mm)
 
 
 def _travelled(base: cap.DriveBase) -> float:

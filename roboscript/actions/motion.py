@@ -3,6 +3,10 @@
 Both moves measure their progress from the wheel encoders and slow to a crawl for the last
 stretch, so they stop within a millimetre or two whatever the cruise speed: the motors coast
 for a few hundredths of a second after the stop, and at crawl speed that is short.
+
+A robot with an IMU turns by the IMU and holds its heading with it while driving (wheel slip
+is invisible to the encoders but not to a gyro). Without one, the wheel-speed loops (firmware
+or host) already keep both wheels rolling alike, which is all odometry could check.
 """
 
 from __future__ import annotations
@@ -11,34 +15,15 @@ import math
 
 from roboscript import capabilities as cap
 from roboscript.actions.base import Action, ActionContext, Param, Result
+from roboscript.actions.sensing import imu_heading_deg
+from roboscript.control import HeadingHold, Settle, Stall, angle_error_deg, wheel_speeds
 
 __all__ = ["Drive", "Rotate", "Stop"]
-
-_STALL_TIME_S = 1.0
-_STALL_PROGRESS_MM = 2.0
 
 
 def _angle_deg(distances: tuple[float, float], track_mm: float) -> float:
     """Rotation from wheel travel, degrees clockwise."""
     return math.degrees((distances[0] - distances[1]) / track_mm)
-
-
-class _Stall:
-    """Fails a move whose wheels are powered but do not turn."""
-
-    def __init__(self) -> None:
-        self._mark_s = 0.0
-        self._mark_mm = 0.0
-
-    def reset(self, now_s: float, travelled_mm: float) -> None:
-        self._mark_s = now_s
-        self._mark_mm = travelled_mm
-
-    def stalled(self, now_s: float, travelled_mm: float) -> bool:
-        if abs(travelled_mm - self._mark_mm) >= _STALL_PROGRESS_MM:
-            self.reset(now_s, travelled_mm)
-            return False
-        return now_s - self._mark_s >= _STALL_TIME_S
 
 
 class Drive(Action):
@@ -79,7 +64,9 @@ class Drive(Action):
         self.duration_s = duration_s
         self._start_s = 0.0
         self._origin = (0.0, 0.0)
-        self._stall = _Stall()
+        self._stall = Stall()
+        self._hold: HeadingHold | None = None
+        self._hold_deg: float | None = None
 
     def _travelled(self, base: cap.DriveBase) -> float:
         left, right = base.wheel_distances_mm()
@@ -90,9 +77,20 @@ class Drive(Action):
         self._origin = base.wheel_distances_mm()
         self._start_s = ctx.now_s
         self._stall.reset(ctx.now_s, 0.0)
+        self._hold_deg = imu_heading_deg(ctx)
+        if self._hold_deg is not None:
+            self._hold = HeadingHold(ctx.gain("heading", (2.0, 0.0, 0.05)), 30.0)
         direction = -1.0 if (self.distance_mm or 0.0) < 0 else 1.0
         speed = min(self.speed_mm_s, base.max_speed_mm_s) * direction
         base.set_wheel_speeds(speed, speed)
+
+    def _steer(self, ctx: ActionContext, speed: float) -> None:
+        base = ctx.drive_base
+        turn = 0.0
+        heading = imu_heading_deg(ctx)
+        if self._hold is not None and self._hold_deg is not None and heading is not None:
+            turn = self._hold.update(self._hold_deg, heading, ctx.dt_s)
+        base.set_wheel_speeds(*wheel_speeds(speed, turn, base.track_mm))
 
     def update(self, ctx: ActionContext) -> Result | None:
         base = ctx.drive_base
@@ -103,6 +101,7 @@ class Drive(Action):
             if ctx.now_s - self._start_s >= self.duration_s:
                 base.stop()
                 return Result.done()
+            self._steer(ctx, min(self.speed_mm_s, base.max_speed_mm_s))
         else:
             direction = -1.0 if self.distance_mm < 0 else 1.0
             remaining = abs(self.distance_mm) - travelled * direction
@@ -114,8 +113,8 @@ class Drive(Action):
                 return Result.done()
             slow_zone = max(15.0, cruise * 0.12)
             speed = crawl if remaining < slow_zone else cruise
-            base.set_wheel_speeds(speed * direction, speed * direction)
-        if not base.odometry_is_estimated and self._stall.stalled(ctx.now_s, travelled):
+            self._steer(ctx, speed * direction)
+        if not base.odometry_is_estimated and self._stall.update(ctx.now_s, travelled):
             base.stop()
             return Result.failed("stalled")
         return None
@@ -126,6 +125,11 @@ class Drive(Action):
 
 class Rotate(Action):
     """Turn in place by an angle.
+
+    Turns at the cruise rate, slows to a crawl near the end, stops, and then settles: the
+    action is done when the remaining error has stayed within :attr:`TOLERANCE_DEG` for
+    :attr:`DWELL_S` (an overshoot is turned back at crawl speed). The angle is measured with
+    the IMU when the robot has one, else with the wheel encoders.
 
     Args:
         angle_deg: How far to turn; positive turns right (clockwise seen from above).
@@ -144,6 +148,8 @@ class Rotate(Action):
     requires = frozenset({cap.DRIVE_BASE})
 
     CRAWL_DEG_S = 20.0
+    TOLERANCE_DEG = 1.0
+    DWELL_S = 0.15
 
     def __init__(self, angle_deg: float, turn_rate_deg_s: float = 90.0) -> None:
         if turn_rate_deg_s <= 0:
@@ -151,37 +157,62 @@ class Rotate(Action):
         self.angle_deg = angle_deg
         self.turn_rate_deg_s = turn_rate_deg_s
         self._origin = (0.0, 0.0)
-        self._stall = _Stall()
+        self._imu_last: float | None = None
+        self._imu_turned = 0.0
+        self._stall = Stall()
+        self._settle = Settle(self.TOLERANCE_DEG, self.DWELL_S)
+        self._settling = False
 
-    def _turned(self, base: cap.DriveBase) -> float:
+    def _turned(self, ctx: ActionContext) -> float:
+        """Degrees turned since the start, clockwise positive (not wrapped)."""
+        heading = imu_heading_deg(ctx)
+        if self._imu_last is not None and heading is not None:
+            # Accumulate small steps, so turns beyond 180 degrees are counted whole.
+            self._imu_turned -= angle_error_deg(self._imu_last, heading)
+            self._imu_last = heading
+            return self._imu_turned
+        base = ctx.drive_base
         left, right = base.wheel_distances_mm()
         return _angle_deg((left - self._origin[0], right - self._origin[1]), base.track_mm)
 
     def _set_rate(self, base: cap.DriveBase, rate_deg_s: float) -> None:
-        wheel = math.radians(rate_deg_s) * base.track_mm / 2.0
-        base.set_wheel_speeds(wheel, -wheel)
+        base.set_wheel_speeds(*wheel_speeds(0.0, rate_deg_s, base.track_mm))
 
     def start(self, ctx: ActionContext) -> None:
         base = ctx.drive_base
         self._origin = base.wheel_distances_mm()
+        self._imu_last = imu_heading_deg(ctx)
+        self._imu_turned = 0.0
+        self._settling = False
         self._stall.reset(ctx.now_s, 0.0)
 
     def update(self, ctx: ActionContext) -> Result | None:
         base = ctx.drive_base
-        turned = self._turned(base)
+        turned = self._turned(ctx)
         direction = -1.0 if self.angle_deg < 0 else 1.0
         remaining = abs(self.angle_deg) - turned * direction
         self.feedback = f"turning {abs(turned):.0f}/{abs(self.angle_deg):.0f} deg"
         max_rate = math.degrees(2.0 * base.max_speed_mm_s / base.track_mm)
         cruise = min(self.turn_rate_deg_s, max_rate)
         crawl = min(cruise, self.CRAWL_DEG_S)
-        if remaining <= crawl * 0.03:
+        if not self._settling and remaining <= crawl * 0.03:
+            self._settling = True  # stop and let the wheels coast, then check the result
             base.stop()
-            return Result.done()
+        if self._settling:
+            if self._settle.update(remaining, ctx.dt_s):
+                base.stop()
+                return Result.done()
+            if abs(remaining) > self.TOLERANCE_DEG:
+                # Off after coasting: creep towards the target, slower the closer it is.
+                creep = min(crawl, max(5.0, 4.0 * abs(remaining)))
+                self._set_rate(base, math.copysign(creep, remaining) * direction)
+            else:
+                base.stop()
+            return None
         slow_zone = max(6.0, cruise * 0.12)
         self._set_rate(base, (crawl if remaining < slow_zone else cruise) * direction)
         arc_mm = math.radians(turned) * base.track_mm / 2.0
-        if not base.odometry_is_estimated and self._stall.stalled(ctx.now_s, arc_mm):
+        if not base.odometry_is_estimated and self._stall.update(ctx.now_s, arc_mm):
             base.stop()
             return Result.failed("stalled")
         return None

@@ -205,7 +205,9 @@ class AsipDriver(Driver):
         if self.firmware_pid and not steering:
             if self._host_mode:
                 self._host_mode = False
-                self._sent_rpm = None  # hand the wheels back to the firmware PID
+                # Clear the host's last power, then hand the wheels back to the firmware PID.
+                self.link.send(m.SetMotorsPower(0, 0))
+                self._sent_rpm = None
             self._flush_rpm(now_s)
         else:
             if not self._host_mode:
@@ -222,7 +224,7 @@ class AsipDriver(Driver):
             round(self._target_mm_s[1] * 60.0 / per_rev),
         )
         if rpm == (0, 0):
-            if self._sent_rpm not in (None, (0, 0)):
+            if self._sent_rpm != (0, 0):
                 self.link.send(m.StopMotors())
                 self._sent_rpm = (0, 0)
             return
