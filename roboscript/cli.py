@@ -61,7 +61,16 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from roboscript.robot import Robot
 
     spec, profile = _load_mission(args.mission, args.robot)
+    world = args.world or spec.world or "empty"
+    if args.port is None:
+        from roboscript.sim.world import load_world
+
+        load_world(world)  # a bad world file is the user's input: file:line:col, exit 2
     quiet = args.json or args.quiet
+    if args.plot:
+        from roboscript.sim.plot import require_matplotlib
+
+        require_matplotlib()  # say so before the run, not after it
 
     def on_state(time_s: float, name: str) -> None:
         if not quiet:
@@ -70,7 +79,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     robot = Robot.connect(
         profile,
         args.port,
-        world=args.world or spec.world or "empty",
+        world=world,
         seed=args.seed,
         realtime=args.realtime,
         wire_log=args.wire_log,
@@ -83,6 +92,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         robot.capabilities,
         robot_name=profile.name,
         gains=profile.gains,
+        device_errors=robot.driver.take_device_error,
         on_state=on_state,
         on_start=(lambda now_s: sim.sample_path()) if sim is not None else None,
     )
@@ -115,9 +125,27 @@ def _cmd_run(args: argparse.Namespace) -> int:
             )
         else:
             _err(f"{result.outcome}: {result.reason}")
+    plotted = _write_plot(args.plot, result, sim) if args.plot else True
     if interrupted:
         return EXIT_INTERRUPTED
-    return EXIT_OK if result.outcome == "success" else EXIT_FAILED
+    return EXIT_OK if result.outcome == "success" and plotted else EXIT_FAILED
+
+
+def _write_plot(path: str, result: Any, sim: Any) -> bool:
+    """Draw the simulated run into the PNG ``path`` (``run --plot``); False if it failed."""
+    if sim is None:
+        _err("error: --plot draws simulated runs only (this robot was reached on a port)")
+        return False
+    from roboscript.sim.plot import plot_run
+
+    ended = f"{result.outcome} in '{result.final_state}'" if result.final_state else result.outcome
+    title = f"{result.mission}: {ended} ({sim.world.name}, seed {sim.seed})"
+    try:
+        plot_run(sim.world, sim.log, title, path, body_radius_mm=sim.body.spec.body_radius_mm)
+    except OSError as exc:
+        _err(f"error: cannot write the plot {path}: {exc.strerror or exc}")
+        return False
+    return True
 
 
 def _summary(result: Any, robot_name: str, robot: Any, start_s: float) -> dict[str, Any]:
@@ -160,11 +188,15 @@ def _summary(result: Any, robot_name: str, robot: Any, start_s: float) -> dict[s
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
+    from roboscript.mission.python_loader import is_python_mission
+
     files: list[Path] = []
     for raw in args.paths:
         path = Path(raw)
         if path.is_dir():
             files.extend(sorted(p for p in path.rglob("*.yaml") if p.is_file()))
+            # A folder also holds behaviours and helpers: only .py files with a Mission class.
+            files.extend(sorted(p for p in path.rglob("*.py") if is_python_mission(p)))
         else:
             files.append(path)
     if not files:
@@ -271,7 +303,7 @@ def _parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     run = sub.add_parser("run", help="run a mission (on the built-in simulator by default)")
-    run.add_argument("mission", help="mission file (.yaml)")
+    run.add_argument("mission", help="mission file (.yaml or .py)")
     run.add_argument(
         "--robot", help="robot profile name or file (default: the mission's robot, or mirto)"
     )
@@ -286,6 +318,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     run.add_argument("--json", action="store_true", help="print one JSON summary on stdout")
     run.add_argument("--wire-log", metavar="FILE", help="record every byte on the wire")
+    run.add_argument(
+        "--plot", metavar="FILE", help="draw the simulated run as a PNG (needs matplotlib)"
+    )
     run.add_argument("--quiet", action="store_true", help="print only the result")
     run.set_defaults(func=_cmd_run)
 

@@ -20,7 +20,7 @@ from typing import Any
 from roboscript import capabilities as cap
 from roboscript.errors import ProfileError
 
-__all__ = ["BUILTIN_PROFILES", "RobotProfile", "get_profile"]
+__all__ = ["BUILTIN_PROFILES", "RobotProfile", "get_profile", "register_profile"]
 
 
 @dataclass(frozen=True)
@@ -94,7 +94,15 @@ BUILTIN_PROFILES: dict[str, RobotProfile] = {
         description="StackMod modules on a 9600 baud line: no encoders, timed moves",
         baudrate=9600,
         capabilities=frozenset(
-            {cap.DRIVE_BASE, cap.RANGE, cap.LINE, cap.BUMPER, cap.SPEAKER, cap.SERVOS}
+            {
+                cap.DRIVE_BASE,
+                cap.RANGE,
+                cap.SIDE_RANGE,
+                cap.LINE,
+                cap.BUMPER,
+                cap.SPEAKER,
+                cap.SERVOS,
+            }
         ),
         firmware_pid=False,
         wheel_diameter_mm=65.0,
@@ -143,14 +151,29 @@ BUILTIN_PROFILES: dict[str, RobotProfile] = {
 }
 
 
+_REGISTERED: dict[str, RobotProfile] = {}
+
+
+def register_profile(profile: RobotProfile) -> None:
+    """Make a profile (from a file, say) findable by name in this process.
+
+    ``sim://NAME`` URLs carry only a name; registering lets a profile file's robot be
+    simulated in-process.
+    """
+    if profile.name not in BUILTIN_PROFILES:
+        _REGISTERED[profile.name] = profile
+
+
 def get_profile(name_or_path: str) -> RobotProfile:
-    """Return a built-in profile by name, or load a profile file.
+    """Return a built-in or registered profile by name, or load a profile file.
 
     Raises:
         ProfileError: Unknown name, or an invalid profile file (with ``file:line:col``).
     """
     if name_or_path in BUILTIN_PROFILES:
         return BUILTIN_PROFILES[name_or_path]
+    if name_or_path in _REGISTERED:
+        return _REGISTERED[name_or_path]
     if name_or_path.endswith((".yaml", ".yml")) or Path(name_or_path).exists():
         return _load_profile_file(Path(name_or_path))
     close = difflib.get_close_matches(name_or_path, list(BUILTIN_PROFILES), n=1)

@@ -25,7 +25,7 @@ from typing_extensions import Self
 from roboscript import capabilities as cap
 from roboscript.clock import Clock, MonotonicClock, SimClock
 from roboscript.errors import CapabilityError, LinkError, LinkTimeoutError
-from roboscript.profiles import RobotProfile, get_profile
+from roboscript.profiles import RobotProfile, get_profile, register_profile
 from roboscript.scheduler import Scheduler
 
 __all__ = ["Robot"]
@@ -104,6 +104,7 @@ class Robot:
         from roboscript.transport.wirelog import WireLog
 
         profile = robot if isinstance(robot, RobotProfile) else get_profile(robot)
+        register_profile(profile)
         url = port or _sim_url(profile.name, world, seed, start)
         driver_cls = driver_class(profile.protocol)
         serial_port = open_port(url, baudrate=profile.baudrate)

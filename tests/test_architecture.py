@@ -35,6 +35,7 @@ CODEC_FILES = [
     if p.parent != PACKAGE / "drivers"
     and p.name not in {"driver.py", "device.py", "__init__.py"}
     and not p.name.startswith(("agent", "ble"))
+    and p.parent.name != "agent"  # MicroPython run on the robot (the SPIKE hub agent)
 ]
 
 

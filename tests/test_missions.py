@@ -8,7 +8,8 @@ from pathlib import Path
 import pytest
 from helpers import MISSIONS, run_cli
 
-EXAMPLES = sorted(p for p in MISSIONS.glob("*.yaml"))
+# Python missions sit beside their YAML twins; behaviours live in missions/behaviours/.
+EXAMPLES = sorted([*MISSIONS.glob("*.yaml"), *MISSIONS.glob("*.py")])
 
 
 def test_there_are_examples() -> None:

@@ -17,6 +17,9 @@ __all__ = ["DRIVERS", "driver_class"]
 
 DRIVERS: dict[str, tuple[str, str]] = {
     "asip": ("roboscript.drivers.asip.driver", "AsipDriver"),
+    "stackmod": ("roboscript.drivers.stackmod.driver", "StackModDriver"),
+    "spike": ("roboscript.drivers.spike.driver", "SpikeDriver"),
+    "plen": ("roboscript.drivers.plen.driver", "PlenDriver"),
 }
 """Protocol name -> (module, class) of its host driver."""
 

@@ -41,6 +41,8 @@ class Driver(abc.ABC):
         self.ready = False
         self.notices: list[str] = []
         """One-line messages for the user (for example a switch to host-side control)."""
+        self.device_errors: list[str] = []
+        """Errors the robot reported (refused requests), oldest first, not yet taken."""
 
     @classmethod
     @abc.abstractmethod
@@ -74,6 +76,13 @@ class Driver(abc.ABC):
     def describe(self) -> str:
         """What is on the other end, in a few words (after the handshake)."""
         return self.profile.name
+
+    def take_device_error(self) -> str | None:
+        """The oldest error the robot reported and nobody has taken yet, or ``None``.
+
+        The mission runner takes them every tick and fails the running action with them.
+        """
+        return self.device_errors.pop(0) if self.device_errors else None
 
     def notice(self, text: str) -> None:
         """Record a one-line notice for the user."""

@@ -17,7 +17,7 @@ def load_mission(path: str | Path, profile: Any = None) -> tuple[Any, list[Input
     """Load and check a mission file.
 
     Args:
-        path: A ``.yaml`` mission.
+        path: A ``.yaml`` mission, or a ``.py`` one (which is imported: it is code).
         profile: A robot profile to check capabilities against, or ``None``.
 
     Returns:
@@ -31,8 +31,13 @@ def load_mission(path: str | Path, profile: Any = None) -> tuple[Any, list[Input
         from roboscript.mission.yaml_loader import load_yaml_mission
 
         return load_yaml_mission(path, profile)
+    if suffix == ".py":
+        from roboscript.mission.python_loader import load_python_mission
+
+        return load_python_mission(path, profile)
     raise MissionError(
-        f"a mission file ends in .yaml (got '{suffix or Path(path).name}')", path=str(path)
+        f"a mission file ends in .yaml or .py (got '{suffix or Path(path).name}')",
+        path=str(path),
     )
 
 

@@ -33,6 +33,7 @@ from roboscript import capabilities as cap
 from roboscript.actions.base import ActionContext, Outcome, Result
 from roboscript.mission.guards import GuardEnv
 from roboscript.mission.spec import MissionSpec, TransitionSpec
+from roboscript.mission.student_code import student_fault
 
 __all__ = ["MissionResult", "MissionRunner"]
 
@@ -89,6 +90,8 @@ class MissionRunner(GuardEnv):
         on_state: Called with ``(time_s, state)`` whenever a state is entered.
         on_start: Called with the scheduler time when the mission starts.
         gains: Host PID gains from the robot profile, for the actions' control loops.
+        device_errors: Returns the next error the robot reported, or ``None``; such an error
+            fails the running action with the robot's reason.
     """
 
     def __init__(
@@ -100,6 +103,7 @@ class MissionRunner(GuardEnv):
         on_state: Callable[[float, str], None] | None = None,
         on_start: Callable[[float], None] | None = None,
         gains: Mapping[str, tuple[float, float, float]] | None = None,
+        device_errors: Callable[[], str | None] | None = None,
     ) -> None:
         self.spec = spec
         self.capabilities = capabilities
@@ -115,6 +119,7 @@ class MissionRunner(GuardEnv):
         self._state_start_s = 0.0
         self._on_state = on_state
         self._on_start = on_start
+        self._device_errors = device_errors
         self._odometry_origin: tuple[float, float] | None = None
         self._model = _Model()
         self._machine = self._build_machine()
@@ -243,7 +248,23 @@ class MissionRunner(GuardEnv):
     # -------------------------------------------------------------------------------- tick
 
     def tick(self, now_s: float, dt_s: float) -> None:
-        """Advance the mission by one scheduler tick."""
+        """Advance the mission by one scheduler tick.
+
+        An exception from a student's code (a behaviour's start/update/stop, a guard method)
+        ends the mission in failure with one sentence naming it, the state and the exception;
+        the traceback goes to the debug log. Any other exception propagates.
+        """
+        try:
+            self._tick(now_s, dt_s)
+        except Exception as exc:
+            reason = student_fault(exc, self.state)
+            if reason is None:
+                raise
+            self.action = None  # it may be the code that raised: do not call its stop()
+            self.during = []
+            self.finish("failure", reason)
+
+    def _tick(self, now_s: float, dt_s: float) -> None:
         if self.finished:
             return
         self.ctx.now_s = now_s
@@ -266,7 +287,8 @@ class MissionRunner(GuardEnv):
         if self.during:
             self._tick_during()
         if self.action is not None and self.action_result is None:
-            result = self.action.update(self.ctx)
+            refused = self._device_errors() if self._device_errors is not None else None
+            result = Result.failed(refused) if refused else self.action.update(self.ctx)
             if result is not None:
                 self.action_result = result
                 if self._route(name, result):
@@ -311,7 +333,15 @@ class MissionRunner(GuardEnv):
         if self.finished:
             return
         self.finished = True
-        self._exit()
+        try:
+            self._exit()
+        except Exception as exc:
+            fault = student_fault(exc, self.state)  # a student's behaviour raised in stop()
+            if fault is None:
+                raise
+            self.action, self.during = None, []
+            if outcome == "success":
+                outcome, reason = "failure", fault
         base = self.capabilities.get(cap.DRIVE_BASE)
         if base is not None:
             base.stop()  # type: ignore[attr-defined]

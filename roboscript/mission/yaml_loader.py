@@ -28,7 +28,7 @@ from roboscript.mission.spec import (
 
 __all__ = ["MissionProblemsError", "build_action", "load_yaml_mission", "parse_yaml_mission"]
 
-_TOP_KEYS = ("mission", "description", "robot", "world", "initial", "states")
+_TOP_KEYS = ("mission", "description", "robot", "world", "behaviours", "initial", "states")
 _STATE_KEYS = ("do", "during", "on", "when", "timeout", "final", "description")
 _COMPOSITES = ("parallel", "repeat", "states", "mission")
 
@@ -138,6 +138,8 @@ class _Reader:
     def __init__(self, path: str) -> None:
         self.path = path
         self.problems: list[InputError] = []
+        self.actions: Mapping[str, type[Action]] = ACTIONS  # plus the mission's behaviours
+        self.broken: frozenset[str] = frozenset()  # behaviours whose file has errors
 
     def problem(
         self, message: str, mark: Mark | None, hint: str | None = None, severity: str = "error"
@@ -164,6 +166,14 @@ class _Reader:
                     self.problem(
                         f"unknown key '{key}'", data.key_mark(key), _suggest(key, _TOP_KEYS)
                     )
+        if inner_of is None and "behaviours" in data:
+            from roboscript.mission.behaviours import behaviours_from_yaml
+
+            extra, problems, self.broken = behaviours_from_yaml(
+                data["behaviours"], data.value_mark("behaviours"), self.path
+            )
+            self.problems.extend(problems)
+            self.actions = {**ACTIONS, **extra}
         states_raw = data.get("states")
         if not isinstance(states_raw, YamlMap) or not states_raw:
             self.problem(
@@ -301,9 +311,10 @@ class _Reader:
         else:
             self.problem("'do' names one action, e.g. do: {drive: {distance: 50 cm}}", mark)
             return None
-        cls = ACTIONS.get(name)
+        cls = self.actions.get(name)
         if cls is None:
-            self.problem(f"unknown action '{name}'", name_mark, _suggest(name, ACTIONS))
+            if name not in self.broken:  # else its behaviour file's errors say why
+                self.problem(f"unknown action '{name}'", name_mark, _suggest(name, self.actions))
             return None
         kwargs, problems = build_action(cls, params, names)
         for param_name, message, hint, offset in problems:
@@ -320,6 +331,11 @@ class _Reader:
             cls(**kwargs)
         except ValueError as exc:
             self.problem(f"{name}: {exc}", name_mark)
+            return None
+        except Exception as exc:  # noqa: BLE001 - a student's behaviour may raise anything
+            from roboscript.mission.student_code import StudentCodeError
+
+            self.problem(StudentCodeError(f"behaviour '{name}'", exc).reason(None), name_mark)
             return None
         guard_caps: set[str] = set()
         for value in kwargs.values():
@@ -407,6 +423,7 @@ class _Reader:
                     _suggest(key, ("states", "initial", "description")),
                 )
         inner = _Reader(self.path)
+        inner.actions, inner.broken = self.actions, self.broken
         spec = inner.read(raw, inner_of=label)
         if spec is not None and not any(p.severity == "error" for p in inner.problems):
             from roboscript.mission.checks import check_mission

@@ -2,7 +2,9 @@
 
 The body knows physics, not protocols: a simulated board (ASIP, SPIKE, ...) sets motor power
 and reads encoders and sensors through it. Every random draw comes from one seeded
-``random.Random`` in a fixed order, so a run is a pure function of its seed and inputs.
+``random.Random`` in a fixed order, so a run is a pure function of its seed and inputs: the
+sensors draw from their own streams, split off that source when the body is built, so reading a
+sensor more or less often never changes the wheel slip.
 
 Model, per fixed step ``dt``:
 
@@ -12,9 +14,13 @@ Model, per fixed step ``dt``:
   rotation times ``1 - slip``, with slip drawn per step (seeded), so odometry drifts a little.
 * The pose follows the exact arc of the two wheel travels. If the body circle would overlap a
   wall, the body stays where it was (it is stopped by the wall) and a collision is recorded
-  when contact begins; the bump switch on that side reads pressed while in contact.
-* The range sensor casts rays across its beam cone and reports the nearest echo with seeded
-  noise; the IR line sensors read dark over floor tape; the IMU yaw drifts slowly.
+  when contact begins; the bump switch on that side reads pressed while in contact. Contact
+  ends once the body is ``contact_release_mm`` clear of every wall, so a robot that keeps
+  pushing (and creeps the last millimetre) is one collision, not one per step.
+* The range sensors are HC-SR04-like: a cone of rays, nearest echo, no echo from a wall met at
+  a grazing angle, at most one measurement per 60 ms (see :mod:`roboscript.sim.sensors`). The
+  IR line sensors read the part of their spot covered by tape, so they change smoothly across a
+  tape edge. The IMU yaw drifts slowly.
 """
 
 from __future__ import annotations
@@ -23,10 +29,17 @@ import math
 import random
 from dataclasses import dataclass, field
 
-from roboscript.sim.geometry import circle_hits_segment, closest_point, heading_vector, ray_cast
+from roboscript.sim.geometry import (
+    NearbySegments,
+    circle_hits_segment,
+    closest_point,
+    heading_vector,
+    segment_distance,
+)
+from roboscript.sim.sensors import Sonar, SonarSpec, TapeReader
 from roboscript.sim.world import Pose, World
 
-__all__ = ["Body", "BodySpec", "SimLog"]
+__all__ = ["Body", "BodySpec", "Contact", "SimLog"]
 
 _NEW_CONTACT_S = 0.25
 
@@ -46,11 +59,16 @@ class BodySpec:
         slip_sd: Standard deviation of per-step wheel slip (fraction of travel).
         range_max_mm: Farthest echo the range sensor reports.
         range_cone_deg: Full width of the range sensor's beam.
+        range_rays: Rays cast across the beam.
+        range_incidence_max_deg: Largest angle from a wall's normal that still echoes.
+        range_period_s: Shortest time between two range measurements.
         range_noise_mm: Standard deviation of range noise.
         range_offset_mm: Sensor distance ahead of the body centre.
         line_sensor_offsets_mm: (forward, right) positions of IR sensors, left to right.
+        line_spot_mm: Diameter of the patch of floor each IR sensor sees.
         bumper_names: Bump switches, left then right.
         imu_drift_deg_s: Yaw drift rate of the simulated IMU.
+        contact_release_mm: Gap to every wall at which a contact ends (bumper travel).
         side_range_offset_mm: Side range sensor's distance right of the body centre.
     """
 
@@ -64,6 +82,9 @@ class BodySpec:
     slip_sd: float = 0.01
     range_max_mm: float = 1000.0
     range_cone_deg: float = 15.0
+    range_rays: int = 7
+    range_incidence_max_deg: float = 22.5
+    range_period_s: float = 0.06
     range_noise_mm: float = 3.0
     range_offset_mm: float = 90.0
     line_sensor_offsets_mm: tuple[tuple[float, float], ...] = (
@@ -71,8 +92,10 @@ class BodySpec:
         (80.0, 0.0),
         (80.0, 15.0),
     )
+    line_spot_mm: float = 8.0
     bumper_names: tuple[str, ...] = ("left", "right")
     imu_drift_deg_s: float = 0.02
+    contact_release_mm: float = 5.0
     side_range_offset_mm: float = 80.0
 
     @property
@@ -82,12 +105,36 @@ class BodySpec:
 
 
 @dataclass
+class Contact:
+    """One collision: the body touching a wall.
+
+    Attributes:
+        start_s: Simulated time the contact began.
+        x_mm: Body centre when it began, east.
+        y_mm: Body centre when it began, north.
+        side: Bump switch that pressed (``left`` or ``right``).
+        end_s: Time it ended, or ``None`` while still touching.
+    """
+
+    start_s: float
+    x_mm: float
+    y_mm: float
+    side: str
+    end_s: float | None = None
+
+    def duration_s(self, now_s: float) -> float:
+        """How long the contact lasted (up to ``now_s`` if it has not ended)."""
+        return (now_s if self.end_s is None else self.end_s) - self.start_s
+
+
+@dataclass
 class SimLog:
     """What happened during a simulated run, for reports and grading.
 
     Attributes:
         tones: (time s, frequency Hz, duration s) of each tone started.
         collisions: Time (s) each collision began.
+        contacts: Each collision with where it began and how long it lasted.
         path: (time s, x mm, y mm, heading deg) samples.
         distance_travelled_mm: Path length of the body centre.
         display: The text on the display now.
@@ -95,6 +142,7 @@ class SimLog:
 
     tones: list[tuple[float, float, float]] = field(default_factory=list)
     collisions: list[float] = field(default_factory=list)
+    contacts: list[Contact] = field(default_factory=list)
     path: list[tuple[float, float, float, float]] = field(default_factory=list)
     distance_travelled_mm: float = 0.0
     display: str = ""
@@ -130,6 +178,33 @@ class Body:
         self.contact_side: str | None = None
         self._imu_bias_deg = 0.0
         self.log = SimLog()
+        # Only walls near the body can stop it; refreshed every 100 mm of travel.
+        self._near_walls = NearbySegments(
+            world.walls, spec.body_radius_mm + spec.contact_release_mm, 100.0
+        )
+        # Split in a fixed order: one stream per sensor (see the module docstring).
+        self._front_sonar = Sonar(
+            self._sonar_spec(spec.range_offset_mm, 0.0, 0.0), world.walls, _split(rng)
+        )
+        self._side_sonar = Sonar(
+            self._sonar_spec(0.0, spec.side_range_offset_mm, 90.0), world.walls, _split(rng)
+        )
+        self._line_rng = _split(rng)
+        self._tape = TapeReader(world.lines, spec.line_spot_mm)
+
+    def _sonar_spec(self, forward_mm: float, right_mm: float, bearing_deg: float) -> SonarSpec:
+        spec = self.spec
+        return SonarSpec(
+            forward_mm=forward_mm,
+            right_mm=right_mm,
+            bearing_deg=bearing_deg,
+            cone_deg=spec.range_cone_deg,
+            rays=spec.range_rays,
+            max_range_mm=spec.range_max_mm,
+            incidence_max_deg=spec.range_incidence_max_deg,
+            noise_mm=spec.range_noise_mm,
+            period_s=spec.range_period_s,
+        )
 
     @property
     def pose(self) -> Pose:
@@ -164,6 +239,19 @@ class Body:
                 self.ticks[i] = int(self._ticks_exact[i])
                 self.wheel_speed_mm_s[i] = 0.0
 
+    def displace(self, forward_mm: float, turn_deg: float) -> bool:
+        """Move the body directly, for robots that walk instead of rolling.
+
+        The move follows the same arc as wheels would (``forward_mm`` along the heading,
+        negative backward; ``turn_deg`` clockwise, negative counterclockwise) and meets walls
+        the same way: a blocked move leaves the body where it was and records a collision.
+
+        Returns:
+            False if a wall blocked the move.
+        """
+        half_turn_mm = math.radians(turn_deg) * self.spec.track_mm / 2.0
+        return self._move(forward_mm + half_turn_mm, forward_mm - half_turn_mm)
+
     def _move(self, left_mm: float, right_mm: float) -> bool:
         """Move by the wheel travels; False if a wall blocked the move."""
         if left_mm == 0.0 and right_mm == 0.0:
@@ -185,22 +273,36 @@ class Body:
         if hit is None:
             self.x_mm, self.y_mm = new_x, new_y
             self.log.distance_travelled_mm += math.hypot(dx, dy)
-            self.in_contact = False
-            self.contact_side = None
             self.heading_deg = new_heading
+            # The bumper stays pressed until the body is clear of the wall by its travel, so
+            # creeping the last millimetre against a wall does not flicker it.
+            if self.in_contact and self._clear_of_walls():
+                self.in_contact = False
+                self.contact_side = None
+                self.log.contacts[-1].end_s = self.time_s
             return True
         # A body held against a wall re-touches it step after step (it stops up to one step
         # short); only a contact after a quarter second clear of walls is a new collision.
         if not self.in_contact and self.time_s - self._last_contact_s > _NEW_CONTACT_S:
             self.log.collisions.append(self.time_s)
+            self.log.contacts.append(Contact(self.time_s, self.x_mm, self.y_mm, hit))
+        elif self.log.contacts:
+            self.log.contacts[-1].end_s = None  # the same contact goes on
         self._last_contact_s = self.time_s
         self.in_contact = True
         self.contact_side = hit
         return False
 
+    def _clear_of_walls(self) -> bool:
+        gap = self.spec.body_radius_mm + self.spec.contact_release_mm
+        return all(
+            segment_distance(self.x_mm, self.y_mm, seg) >= gap
+            for seg in self._near_walls.around(self.x_mm, self.y_mm)
+        )
+
     def _wall_contact(self, x_mm: float, y_mm: float) -> str | None:
         radius = self.spec.body_radius_mm
-        for seg in self.world.walls:
+        for seg in self._near_walls.around(x_mm, y_mm):
             if circle_hits_segment(x_mm, y_mm, radius, seg):
                 qx, qy = closest_point(x_mm, y_mm, seg)
                 bearing = math.degrees(math.atan2(qx - x_mm, qy - y_mm)) - self.heading_deg
@@ -211,38 +313,19 @@ class Body:
     # ------------------------------------------------------------------------------ sensors
 
     def range_mm(self) -> float | None:
-        """Nearest echo across the beam cone with noise, or ``None`` for no echo."""
-        spec = self.spec
-        fx, fy = heading_vector(self.heading_deg)
-        ox = self.x_mm + fx * spec.range_offset_mm
-        oy = self.y_mm + fy * spec.range_offset_mm
-        nearest: float | None = None
-        half = spec.range_cone_deg / 2.0
-        for offset in (-half, 0.0, half):
-            dx, dy = heading_vector(self.heading_deg + offset)
-            hit = ray_cast(ox, oy, dx, dy, list(self.world.walls), spec.range_max_mm)
-            if hit is not None and (nearest is None or hit < nearest):
-                nearest = hit
-        if nearest is None:
-            return None
-        noisy = nearest + self.rng.gauss(0.0, spec.range_noise_mm)
-        return max(0.0, noisy) if noisy <= spec.range_max_mm else None
+        """The forward range sensor: millimetres from the sensor, or ``None`` for no echo.
+
+        A new measurement at most every :attr:`BodySpec.range_period_s`; the last one between.
+        """
+        return self._front_sonar.read(self.x_mm, self.y_mm, self.heading_deg, self.time_s)
 
     def side_range_mm(self) -> float | None:
-        """The side-facing range sensor: one ray square to the right, with noise.
+        """The side-facing range sensor, square to the right (same model as the front one).
 
         It sits on the body's edge, so readings are the gap between the robot's side and the
-        wall; ``None`` when nothing is within :attr:`BodySpec.range_max_mm`.
+        wall; ``None`` when nothing echoes within :attr:`BodySpec.range_max_mm`.
         """
-        spec = self.spec
-        rx, ry = heading_vector(self.heading_deg + 90.0)
-        ox = self.x_mm + rx * spec.side_range_offset_mm
-        oy = self.y_mm + ry * spec.side_range_offset_mm
-        hit = ray_cast(ox, oy, rx, ry, list(self.world.walls), spec.range_max_mm)
-        if hit is None:
-            return None
-        noisy = hit + self.rng.gauss(0.0, spec.range_noise_mm)
-        return max(0.0, noisy) if noisy <= spec.range_max_mm else None
+        return self._side_sonar.read(self.x_mm, self.y_mm, self.heading_deg, self.time_s)
 
     def bumpers_pressed(self) -> tuple[bool, ...]:
         """Each bump switch (in :attr:`BodySpec.bumper_names` order): pressed or not."""
@@ -251,17 +334,26 @@ class Body:
         )
 
     def line_readings(self) -> tuple[int, ...]:
-        """IR reflectance 0-1023 of each line sensor (dark tape reads high)."""
+        """IR reflectance 0-1023 of each line sensor, left to right.
+
+        Bare floor reads about 90 and tape about 850; in between in proportion to the part of
+        the sensor's spot on tape, plus seeded noise.
+        """
         fx, fy = heading_vector(self.heading_deg)
         rx, ry = fy, -fx  # unit vector to the robot's right
         readings = []
         for forward, right in self.spec.line_sensor_offsets_mm:
             px = self.x_mm + fx * forward + rx * right
             py = self.y_mm + fy * forward + ry * right
-            base = 850.0 if self.world.on_tape(px, py) else 90.0
-            readings.append(int(max(0.0, min(1023.0, base + self.rng.gauss(0.0, 12.0)))))
+            value = 90.0 + 760.0 * self._tape.coverage(px, py)
+            readings.append(int(max(0.0, min(1023.0, value + self._line_rng.gauss(0.0, 12.0)))))
         return tuple(readings)
 
     def imu_heading_deg(self) -> float:
         """IMU yaw: the true heading plus slow drift, degrees clockwise."""
         return (self.heading_deg + self._imu_bias_deg) % 360.0
+
+
+def _split(rng: random.Random) -> random.Random:
+    """A new random stream seeded from ``rng`` (one draw from it)."""
+    return random.Random(rng.getrandbits(64))

@@ -137,8 +137,35 @@ def _mirto_board(firmware_pid: bool) -> Callable[[Body], SimDevice]:
     return build
 
 
+def _stackmod_modules(profile: RobotProfile) -> Callable[[Body], SimDevice]:
+    from roboscript.drivers.stackmod.device import StackModRover
+    from roboscript.drivers.stackmod.options import StackModOptions
+
+    # Checked here, before any body exists, so a bad option fails like a bad profile.
+    options = StackModOptions.from_mapping(profile.options, profile=profile.name)
+    return lambda body: StackModRover(body, options)
+
+
+def _spike_hub(profile: RobotProfile) -> Callable[[Body], SimDevice]:
+    from roboscript.drivers.spike.device import HubConfig, SpikeHub
+    from roboscript.drivers.spike.options import SpikeOptions
+
+    # Checked here, before any body exists, so a bad option fails like a bad profile.
+    config = HubConfig(SpikeOptions.from_mapping(profile.options, profile=profile.name))
+    return lambda body: SpikeHub(body, config)
+
+
+def _plen2_board(profile: RobotProfile) -> Callable[[Body], SimDevice]:
+    from roboscript.drivers.plen.device import Plen2Board
+
+    return Plen2Board
+
+
 _DEVICES: dict[str, Callable[[RobotProfile], Callable[[Body], SimDevice]]] = {
     "asip": lambda profile: _mirto_board(profile.firmware_pid),
+    "stackmod": _stackmod_modules,
+    "spike": _spike_hub,
+    "plen": _plen2_board,
 }
 
 

@@ -15,7 +15,7 @@ from typing import Any, Protocol
 import serial
 
 from roboscript.clock import Clock
-from roboscript.drivers.codec import Codec, drain
+from roboscript.drivers.codec import Codec
 from roboscript.errors import LinkClosedError, RemoteProtocolError
 from roboscript.transport.wirelog import WireLog
 
@@ -88,13 +88,19 @@ class Link:
         if self.wire_log is not None:
             self.wire_log.record(now, "<", data)
         self.codec.receive_data(data)
+        # drain() inlined: this runs once per received chunk on every round trip, and the
+        # generator cost about 0.3 µs of a ~15 µs loopback round trip (tests/bench).
         messages = []
-        for item in drain(self.codec):
-            if isinstance(item, RemoteProtocolError):
-                self._fault(item)
-            else:
-                messages.append(item)
-        return messages
+        next_message = self.codec.next_message
+        while True:
+            try:
+                message = next_message()
+            except RemoteProtocolError as fault:
+                self._fault(fault)  # one bad frame never hides the good ones after it
+                continue
+            if message is None:
+                return messages
+            messages.append(message)
 
     def send(self, message: object) -> None:
         """Encode and write one message.

@@ -6,6 +6,7 @@ import serial
 
 from roboscript.errors import LinkError
 from roboscript.transport.link import PortLike
+from roboscript.transport.socketport import SocketPort, parse_socket_url
 
 __all__ = ["open_port"]
 
@@ -25,6 +26,15 @@ def open_port(url: str, *, baudrate: int = 115200) -> PortLike:
         LinkError: The port does not exist, is busy, or refused the connection; the message
             names the port.
     """
+    if url[:9].lower() == "socket://":
+        try:
+            address = parse_socket_url(url)
+            if address is not None:  # plain host:port; options go to pyserial's handler
+                return SocketPort(*address)
+        except ValueError as exc:
+            raise LinkError(f"cannot open {url}: {exc}") from exc
+        except OSError as exc:
+            raise LinkError(f"cannot open {url}: {_reason(exc)}") from exc
     try:
         port: PortLike = serial.serial_for_url(url, baudrate=baudrate, timeout=0, write_timeout=2)
     except serial.SerialException as exc:

@@ -7,7 +7,8 @@ from pathlib import Path
 import pytest
 
 from roboscript.errors import WorldError
-from roboscript.sim.world import load_world
+from roboscript.sim.geometry import heading_vector, ray_cast, segment_distance
+from roboscript.sim.world import World, load_world
 
 
 def test_square_room_has_four_walls_and_a_region() -> None:
@@ -68,5 +69,69 @@ def test_golden_world_errors(tmp_path: Path, text: str, expected: str) -> None:
 
 
 def test_unknown_world_name_lists_the_built_ins() -> None:
-    with pytest.raises(WorldError, match="built-in worlds: corridor, empty, square-room"):
+    with pytest.raises(
+        WorldError, match="built-in worlds: corridor, empty, line-track, maze, square-room"
+    ):
         load_world("squre-room")
+
+
+# ----------------------------------------------------------------------------- built-ins
+
+CELL_MM = 500.0
+HEADINGS = ((0.0, 1.0), (1.0, 0.0), (0.0, -1.0), (-1.0, 0.0))  # N E S W: clockwise
+
+
+def _open(world: World, x: float, y: float, heading: int) -> bool:
+    """True if no wall lies between a cell centre and the next one in ``heading``."""
+    dx, dy = HEADINGS[heading]
+    return ray_cast(x, y, dx, dy, list(world.walls), CELL_MM) is None
+
+
+def test_maze_is_left_by_keeping_a_hand_on_the_right_wall() -> None:
+    world = load_world("maze")
+    x, y, heading = world.start.x_mm, world.start.y_mm, round(world.start.heading_deg / 90) % 4
+    cells = [(x, y)]
+    for _ in range(100):
+        if world.regions["exit"].contains(x, y):
+            break
+        for turn in (1, 0, -1, 2):  # right, straight, left, back
+            if _open(world, x, y, (heading + turn) % 4):
+                heading = (heading + turn) % 4
+                x, y = x + CELL_MM * HEADINGS[heading][0], y + CELL_MM * HEADINGS[heading][1]
+                cells.append((x, y))
+                break
+    assert world.regions["exit"].contains(x, y)
+    assert world.regions["start-cell"].contains(*cells[0])
+    assert 10 < len(cells) < 40  # a real maze, not a straight run
+
+
+def test_maze_passages_are_wide_enough_for_the_robot() -> None:
+    world = load_world("maze")
+    gaps = [
+        segment_distance(x, y, wall)
+        for x in (250.0 + CELL_MM * i for i in range(5))
+        for y in (250.0 + CELL_MM * j for j in range(4))
+        for wall in world.walls
+    ]
+    assert min(gaps) >= 250.0 - 1e-9  # every cell centre is 25 cm from every wall
+
+
+def test_line_track_starts_on_a_closed_line_facing_along_it() -> None:
+    world = load_world("line-track")
+    (tape,) = world.lines
+    assert tape.width_mm == 20.0
+    first, last = tape.segments[0], tape.segments[-1]
+    assert (first.x0, first.y0) == (last.x1, last.y1)  # closed
+    ahead = heading_vector(world.start.heading_deg)
+    for distance in (0.0, 80.0, 200.0):  # the IR sensors sit 80 mm ahead of the centre
+        assert world.on_tape(
+            world.start.x_mm + ahead[0] * distance, world.start.y_mm + ahead[1] * distance
+        )
+    assert world.regions["start-zone"].contains(world.start.x_mm, world.start.y_mm)
+    assert not world.regions["lap-check"].contains(world.start.x_mm, world.start.y_mm)
+
+
+def test_corridor_starts_20_cm_from_its_left_wall() -> None:
+    world = load_world("corridor")
+    start = world.start
+    assert min(segment_distance(start.x_mm, start.y_mm, w) for w in world.walls) == 200.0

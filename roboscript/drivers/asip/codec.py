@@ -34,6 +34,7 @@ DEFAULT_SERVICES = "IMEBRDSTLPAGH"
 
 _MIN_MSG_LEN = 4
 _MAX_COUNT = 256  # bound on element counts read from a request (pixels, bars)
+_TEXT_BYTES = b"\t" + bytes(range(0x20, 0x80))  # printable ASCII and tab: what a line may hold
 
 
 class _NeedMoreError(Exception):
@@ -240,7 +241,8 @@ class AsipCodec:
         return RemoteProtocolError(f"{why}: {line[:64]!r}", kind=kind, data=line[:64])
 
     def _decode_line(self, line: bytes) -> m.AsipMessage:
-        if not line.isascii() or any(byte < 0x20 and byte != 0x09 for byte in line):
+        # translate() deletes the allowed bytes in C; a per-byte Python loop cost ~1 µs a line.
+        if line.translate(None, _TEXT_BYTES):
             raise self._bad(line, "not ASCII text", kind="garbage")
         text = line.decode("ascii")
         head = text[0]

@@ -38,7 +38,7 @@ from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
 from roboscript.drivers.base import Driver
 from roboscript.drivers.codec import Codec, Role
-from roboscript.errors import DeviceError, LinkError, LinkTimeoutError
+from roboscript.errors import LinkError, LinkTimeoutError
 from roboscript.profiles import RobotProfile
 from roboscript.transport.link import Link
 
@@ -52,6 +52,19 @@ _PID_REFRESH_S = 2.0
 _PID_DURATION_MS = 3000
 _SILENCE_LIMIT_S = 1.0
 _POWER_REFRESH_S = 0.5
+_ERROR_MEANINGS: dict[int, str] = {
+    m.ErrorCode.INVALID_SERVICE: "the sketch has no such service",
+    m.ErrorCode.UNKNOWN_REQUEST: "the service does not know that request",
+    m.ErrorCode.INVALID_PIN: "that pin cannot do it",
+    m.ErrorCode.MODE_UNAVAILABLE: "that pin is reserved",
+    m.ErrorCode.INVALID_MODE: "that pin mode is not supported",
+    m.ErrorCode.WRONG_MODE: "the pin is in the wrong mode for that",
+    m.ErrorCode.INVALID_DEVICE_NUMBER: "there is no device with that number",
+    m.ErrorCode.DEVICE_NOT_AVAILABLE: "that device is not fitted",
+    m.ErrorCode.I2C_NOT_ENABLED: "I2C is not enabled",
+}
+"""What ASIP error numbers mean, in words a student can act on."""
+
 _STEERING_GAP_S = 0.3  # two setpoint changes closer than this mean "steering"
 _STEADY_S = 0.5  # steady this long and the firmware PID takes the wheels back
 
@@ -81,7 +94,6 @@ class AsipDriver(Driver):
         self.ir_values: tuple[int, ...] | None = None
         self.distance_cm: int | None = None
         self.side_distance_cm: int | None = None
-        self.errors: list[m.ErrorReply] = []
         # Setpoints.
         self._target_mm_s = (0.0, 0.0)
         self._sent_rpm: tuple[int, int] | None = None
@@ -291,20 +303,9 @@ class AsipDriver(Driver):
                     "speeds itself"
                 )
             return
-        self.errors.append(error)
-        logger.warning("the board refused a request: %s (%s)", error.text, error.errno)
-
-    def raise_errors(self) -> None:
-        """Raise the first error the board reported since the last call, if any.
-
-        Raises:
-            DeviceError: With the board's error text.
-        """
-        if self.errors:
-            error = self.errors.pop(0)
-            raise DeviceError(
-                f"the board refused {error.service},{error.tag}: {error.text}", code=error.errno
-            )
+        text = _ERROR_MEANINGS.get(error.errno, error.text or f"error {error.errno}")
+        self.device_errors.append(f"the board refused '{error.service},{error.tag}': {text}")
+        logger.warning("the board refused %s,%s: %s", error.service, error.tag, error.text)
 
     def capabilities(self) -> dict[str, object]:
         """Capability objects by name (after the handshake)."""

@@ -1,0 +1,401 @@
+"""A simulated PLEN2: firmware 1.4.2's device side, on a simulated body.
+
+This is a second, independent implementation of the protocol (it never imports the host
+driver), written from the firmware's behaviour:
+
+* Every command is silent except the getters ``<JS``, ``<MO`` and ``<VI``, answered in the
+  firmware's tab-indented, CRLF JSON. Bad bytes are dropped without a word. Nothing is sent
+  when a host connects.
+* Joints: 24 slots holding absolute angles in tenths of a degree, each with min, max and home
+  (``>HO``, ``>MA``, ``>MI``, ``>JS``); ``$AN`` and ``$AD`` are clamped to [min, max]; ``$HP``
+  moves every joint home.
+* Motion memory: 90 slots of a header and up to 20 frames, written by ``>MH`` and ``>MF``.
+* Playback with the motion controller's timing: every 32 ms (``UPDATE_INTERVAL_S``, counted from
+  power-on) each joint moves one equal fixed-point step (16 fractional bits, C integer
+  division) towards the next frame, ``transition_time_ms // 32`` steps per frame. Interpolation
+  starts from the last frame the controller played, not from where ``$AD`` left a joint.
+  ``$PM`` is ignored while a motion plays. A loop code ``[begin, end, count]`` jumps back after
+  ``end`` ``count`` times (0 and 255: until stopped), then plays on; a jump code continues with
+  another slot. ``$SM`` clears both flags, so the frame in progress and the rest of the motion
+  still play.
+* Interpreter: ``#PU`` queues (slot, count − 1) (31 entries), ``#PO`` plays the next entry with
+  that loop count over the motion's loop section (or the whole motion), ``#RI`` empties the
+  queue and stops at once; an entry is also played when a motion ends.
+
+Walking: the body moves by the legs' own geometry (a planar two-segment leg per side, thigh
+and shank ``LEG_SEGMENT_MM`` long, straight at the factory home angles, hips
+``HIP_WIDTH_MM`` apart). Leaning (the thigh rolls) lowers one hip and raises the other. A foot
+is planted over a joint change when it reaches lowest both before and after it; the body then
+moves by the opposite of that foot's travel, forward along the heading and round by its
+thigh-yaw twist (both feet down: their mean). The sign conventions, an assumption about the
+servo mounting: a positive left thigh or knee pitch offset swings the thigh forward or bends
+the knee, a positive left thigh roll leans the robot right; the right side is mirrored
+(negative offsets), as its home angles are; a positive thigh-yaw offset turns that foot's toes
+outward. Ankles and arms do not move the body. Walls stop the body as they stop a wheeled one.
+
+Simplifications: an erased slot dumps as a motion of no frames (a real EEPROM prints whatever
+it holds) and ``$PM`` of one does nothing; an ``>MF`` that was never written reads as an
+erased frame (65535 ms, every value −1).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass, replace
+
+from roboscript.drivers.codec import Role
+from roboscript.drivers.plen import messages as m
+from roboscript.drivers.plen.codec import PlenCodec
+from roboscript.errors import RemoteProtocolError
+from roboscript.sim.body import Body
+
+__all__ = ["HIP_WIDTH_MM", "LEG_SEGMENT_MM", "UPDATE_INTERVAL_S", "Plen2Board"]
+
+UPDATE_INTERVAL_S = 0.032
+"""The motion controller's update period, seconds (``UPDATE_INTERVAL_MS``)."""
+LEG_SEGMENT_MM = 45.0
+"""Length of the simulated thigh and of the shank, mm."""
+HIP_WIDTH_MM = 50.0
+"""Distance between the simulated hip joints, mm."""
+
+_UPDATE_INTERVAL_MS = 32
+_FIXED_BITS = 16
+_QUEUE_SIZE = 32
+_ERASED_TIME_MS = 0xFFFF
+_ERASED_VALUE = -1
+_TOUCH_MM = 0.01
+"""A foot this close to the lowest one is on the floor too, mm."""
+
+_LEFT_THIGH_YAW, _LEFT_THIGH_ROLL, _LEFT_THIGH_PITCH, _LEFT_KNEE = 1, 4, 5, 6
+_RIGHT_THIGH_YAW, _RIGHT_THIGH_ROLL, _RIGHT_THIGH_PITCH, _RIGHT_KNEE = 13, 16, 17, 18
+
+
+def _cdiv(a: int, b: int) -> int:
+    """C integer division (truncates toward zero)."""
+    q = abs(a) // abs(b)
+    return q if (a >= 0) == (b >= 0) else -q
+
+
+@dataclass(frozen=True)
+class _Foot:
+    """Where a foot is relative to the pelvis: ahead, below, and turned (clockwise)."""
+
+    forward_mm: float
+    down_mm: float
+    yaw_cw_deg: float
+
+
+@dataclass
+class _Frame:
+    index: int
+    transition_time_ms: int
+    values: list[int]
+
+
+class Plen2Board:
+    """The simulated PLEN2 control board on a body (see the module docstring).
+
+    Args:
+        body: The simulated body the board moves.
+    """
+
+    def __init__(self, body: Body) -> None:
+        self.body = body
+        self.codec = PlenCodec(Role.DEVICE)
+        self._out = bytearray()
+        factory = m.factory_joint_settings().joints
+        self.min_ddeg = [joint.min_ddeg for joint in factory]
+        self.max_ddeg = [joint.max_ddeg for joint in factory]
+        self.home_ddeg = [joint.home_ddeg for joint in factory]
+        self.angles_ddeg = list(self.home_ddeg)
+        """Absolute angle of every joint now, tenths of a degree."""
+        self.headers: dict[int, m.MotionHeader] = {}
+        self.frames: dict[tuple[int, int], m.MotionFrame] = {}
+        self.queue: deque[tuple[int, int]] = deque()
+        """The interpreter's queue: (slot, loop count)."""
+        self.playing = False
+        self.header: m.MotionHeader | None = None
+        """The header of the motion playing (its loop and jump flags change as it plays)."""
+        self._current = _Frame(0, 0, [0] * m.JOINT_COUNT)
+        self._next = _Frame(0, 0, [0] * m.JOINT_COUNT)
+        self._count = 0
+        self._fixed = [0] * m.JOINT_COUNT
+        self._step = [0] * m.JOINT_COUNT
+        self._next_update_s = UPDATE_INTERVAL_S
+        self._feet = self._foot_positions()
+
+    # ------------------------------------------------------------------------- SimDevice API
+
+    def connect(self, now_s: float) -> None:
+        """A host opened the port: the firmware says nothing and forgets a half command."""
+        self.codec = PlenCodec(Role.DEVICE)
+
+    def receive(self, data: bytes, now_s: float) -> None:
+        """Parse and act on command bytes."""
+        self.codec.receive_data(data)
+        while True:
+            try:
+                message = self.codec.next_message()
+            except RemoteProtocolError:
+                continue  # the firmware resets its parser silently
+            if message is None:
+                return
+            self._handle(message)
+
+    def step(self, now_s: float) -> None:
+        """Run the 32 ms updates due by ``now_s``."""
+        while now_s >= self._next_update_s - 1e-9:
+            self._next_update_s += UPDATE_INTERVAL_S
+            if self.playing:
+                self._update()
+
+    def read_output(self) -> bytes:
+        """Take the bytes written since the last call."""
+        data = bytes(self._out)
+        self._out.clear()
+        return data
+
+    def stop_all(self) -> None:
+        """Power loss: playback and the interpreter's queue end, the servos stop where they are."""
+        self.queue.clear()
+        self.playing = False
+
+    # --------------------------------------------------------------------- motion memory
+
+    def store(self, header: m.MotionHeader, frames: list[m.MotionFrame]) -> None:
+        """Write a motion into the motion memory, as ``>MH`` and ``>MF`` would."""
+        self.headers[header.slot] = header
+        for frame in frames:
+            self.frames[(frame.slot, frame.index)] = frame
+
+    def _frame(self, slot: int, index: int) -> _Frame:
+        stored = self.frames.get((slot, index))
+        if stored is None:
+            return _Frame(index, _ERASED_TIME_MS, [_ERASED_VALUE] * m.JOINT_COUNT)
+        return _Frame(index, stored.transition_time_ms, list(stored.offsets_ddeg))
+
+    def dump(self, slot: int) -> m.MotionReply:
+        """What ``<MO`` answers for ``slot``."""
+        header = self.headers.get(slot)
+        if header is None:
+            return m.MotionReply(slot, "", ())
+        frames = []
+        for index in range(header.frame_length):
+            frame = self._frame(slot, index)
+            frames.append(m.MotionReplyFrame(index, frame.transition_time_ms, tuple(frame.values)))
+        loop = (
+            m.LoopCode(header.loop_begin, header.loop_end, header.loop_count)
+            if header.use_loop
+            else None
+        )
+        jump = m.JumpCode(header.jump_slot) if header.use_jump else None
+        return m.MotionReply(slot, header.name, tuple(frames), loop, jump)
+
+    # -------------------------------------------------------------------------- commands
+
+    def _send(self, reply: m.Reply) -> None:
+        self._out += self.codec.send(reply)
+
+    def _handle(self, msg: m.PlenMessage) -> None:
+        if isinstance(msg, m.SetAngle):
+            self._set_angle(msg.joint, msg.angle_ddeg)
+            self._move_body()
+        elif isinstance(msg, m.SetAngleDiff):
+            self._set_angle(msg.joint, self.home_ddeg[msg.joint] + msg.diff_ddeg)
+            self._move_body()
+        elif isinstance(msg, m.HomePosition):
+            self.angles_ddeg = list(self.home_ddeg)
+            self._move_body()
+        elif isinstance(msg, m.PlayMotion):
+            self._play(msg.slot)
+        elif isinstance(msg, m.StopMotion):
+            if self.header is not None:
+                self.header = replace(self.header, use_loop=False, use_jump=False)
+        elif isinstance(msg, m.PushMotion):
+            if len(self.queue) < _QUEUE_SIZE - 1:
+                self.queue.append((msg.slot, (msg.play_count - 1) & 0xFF))
+        elif isinstance(msg, m.PopMotion):
+            self._pop()
+        elif isinstance(msg, m.ResetInterpreter):
+            self.queue.clear()
+            self._stop()
+        else:
+            self._handle_setting(msg)
+
+    def _handle_setting(self, msg: m.PlenMessage) -> None:
+        if isinstance(msg, m.SetHome):
+            self.home_ddeg[msg.joint] = msg.angle_ddeg
+        elif isinstance(msg, m.SetMax):
+            if msg.angle_ddeg > self.min_ddeg[msg.joint]:
+                self.max_ddeg[msg.joint] = msg.angle_ddeg
+        elif isinstance(msg, m.SetMin):
+            if msg.angle_ddeg < self.max_ddeg[msg.joint]:
+                self.min_ddeg[msg.joint] = msg.angle_ddeg
+        elif isinstance(msg, m.ResetJointSettings):
+            factory = m.factory_joint_settings().joints
+            self.min_ddeg = [joint.min_ddeg for joint in factory]
+            self.max_ddeg = [joint.max_ddeg for joint in factory]
+            self.home_ddeg = [joint.home_ddeg for joint in factory]
+        elif isinstance(msg, m.MotionHeader):
+            self.headers[msg.slot] = msg
+        elif isinstance(msg, m.MotionFrame):
+            self.frames[(msg.slot, msg.index)] = msg
+        elif isinstance(msg, m.GetJointSettings):
+            self._send(
+                m.JointSettingsReply(
+                    tuple(
+                        m.JointSetting(joint, low, high, home)
+                        for joint, (low, high, home) in enumerate(
+                            zip(self.min_ddeg, self.max_ddeg, self.home_ddeg, strict=True)
+                        )
+                    )
+                )
+            )
+        elif isinstance(msg, m.GetMotion):
+            self._send(self.dump(msg.slot))
+        elif isinstance(msg, m.GetVersion):
+            self._send(m.VersionReply())
+
+    def _set_angle(self, joint: int, angle_ddeg: int) -> None:
+        self.angles_ddeg[joint] = max(self.min_ddeg[joint], min(self.max_ddeg[joint], angle_ddeg))
+
+    # -------------------------------------------------------------------------- playback
+
+    def _play(self, slot: int) -> None:
+        if self.playing or slot not in self.headers:
+            return
+        self.header = self.headers[slot]
+        self._setup(0)
+        self.playing = True
+
+    def _pop(self) -> None:
+        if not self.queue:
+            return
+        slot, loop_count = self.queue.popleft()
+        self._play(slot)
+        header = self.header
+        if header is None:
+            return
+        # As the firmware does, this edits the playing header even when the play was ignored.
+        if loop_count != 0:
+            if not header.use_loop:
+                header = replace(
+                    header, use_loop=True, loop_begin=0, loop_end=header.frame_length - 1
+                )
+        else:
+            header = replace(header, use_loop=False)
+        self.header = replace(header, use_jump=False, loop_count=loop_count)
+
+    def _stop(self) -> None:
+        self.playing = False
+        self._current = self._next
+
+    def _setup(self, index: int) -> None:
+        assert self.header is not None
+        self._next = self._frame(self.header.slot, index)
+        # A transition under 32 ms divides by zero in the firmware; here it takes one update.
+        self._count = max(1, self._next.transition_time_ms // _UPDATE_INTERVAL_MS)
+        for joint in range(m.JOINT_COUNT):
+            self._fixed[joint] = self._current.values[joint] << _FIXED_BITS
+            target = self._next.values[joint] << _FIXED_BITS
+            self._step[joint] = _cdiv(target - self._fixed[joint], self._count)
+
+    def _update(self) -> None:
+        self._count -= 1
+        for joint in range(m.JOINT_COUNT):
+            self._fixed[joint] += self._step[joint]
+            self._set_angle(joint, self.home_ddeg[joint] + (self._fixed[joint] >> _FIXED_BITS))
+        self._move_body()
+        if self._count > 0:
+            return
+        if self._next_loadable():
+            self._load_next()
+            if not self.playing and self.queue:
+                self._pop()
+        else:
+            self._stop()
+            if self.queue:
+                self._pop()
+
+    def _next_loadable(self) -> bool:
+        header = self.header
+        assert header is not None
+        if header.use_loop or header.use_jump:
+            return True
+        return self._next.index + 1 < header.frame_length
+
+    def _load_next(self) -> None:
+        header = self.header
+        assert header is not None
+        self._current = self._next
+        index = self._current.index
+        if header.use_loop and index >= header.loop_end:
+            count = header.loop_count
+            if count != m.LOOP_FOREVER:
+                count = (count - 1) & 0xFF
+            self.header = replace(header, loop_count=count, use_loop=count != 0)
+            self._setup(header.loop_begin)
+            return
+        if not header.use_loop and header.use_jump and index >= header.frame_length - 1:
+            jumped = self.headers.get(header.jump_slot)
+            if jumped is None:
+                self._stop()
+                return
+            self.header = jumped
+            self._setup(0)
+            return
+        if index + 1 >= m.FRAME_LENGTH_MAX:
+            self._stop()
+            return
+        self._setup(index + 1)
+
+    # ---------------------------------------------------------------------------- walking
+
+    def _offset_rad(self, joint: int, sign: int = 1) -> float:
+        """A joint's angle from its factory home, radians, with the side's sign applied."""
+        return math.radians(sign * (self.angles_ddeg[joint] - m.FACTORY_HOME_DDEG[joint]) / 10.0)
+
+    def _foot_positions(self) -> tuple[_Foot, _Foot]:
+        """Left and right foot relative to the pelvis, from the joint angles now."""
+        # Leaning right lowers the right hip and raises the left one.
+        lean = (self._offset_rad(_LEFT_THIGH_ROLL) + self._offset_rad(_RIGHT_THIGH_ROLL, -1)) / 2
+        hip_drop_mm = HIP_WIDTH_MM / 2.0 * math.sin(lean)
+
+        def leg(pitch: int, knee: int, yaw: int, sign: int, drop_mm: float) -> _Foot:
+            thigh = self._offset_rad(pitch, sign)
+            shank = thigh - self._offset_rad(knee, sign)
+            return _Foot(
+                forward_mm=LEG_SEGMENT_MM * (math.sin(thigh) + math.sin(shank)),
+                down_mm=LEG_SEGMENT_MM * (math.cos(thigh) + math.cos(shank)) + drop_mm,
+                yaw_cw_deg=-math.degrees(self._offset_rad(yaw)),
+            )
+
+        return (
+            leg(_LEFT_THIGH_PITCH, _LEFT_KNEE, _LEFT_THIGH_YAW, 1, -hip_drop_mm),
+            leg(_RIGHT_THIGH_PITCH, _RIGHT_KNEE, _RIGHT_THIGH_YAW, -1, hip_drop_mm),
+        )
+
+    def _move_body(self) -> None:
+        """Move the body by the travel of the planted foot since the last joint change.
+
+        A foot is planted over a change when it is the lowest (within 0.01 mm) both before and
+        after it; a foot coming down or lifting off in between is in the air. When neither
+        foot is planted throughout (the weight changed feet), the lower one on average is.
+        """
+        before = self._feet
+        after = self._foot_positions()
+        self._feet = after
+
+        def on_floor(feet: tuple[_Foot, _Foot]) -> set[int]:
+            lowest = max(foot.down_mm for foot in feet)
+            return {side for side, foot in enumerate(feet) if foot.down_mm > lowest - _TOUCH_MM}
+
+        planted = sorted(on_floor(before) & on_floor(after))
+        if not planted:
+            reach = [old.down_mm + new.down_mm for old, new in zip(before, after, strict=True)]
+            planted = [0 if reach[0] >= reach[1] else 1]
+        forward_mm = -sum(after[i].forward_mm - before[i].forward_mm for i in planted)
+        turn_deg = -sum(after[i].yaw_cw_deg - before[i].yaw_cw_deg for i in planted)
+        if forward_mm or turn_deg:
+            self.body.displace(forward_mm / len(planted), turn_deg / len(planted))

@@ -1,0 +1,643 @@
+"""The SPIKE Prime host driver: the App 3 hub protocol plus roboscript's agent on the hub.
+
+The hub protocol has no motor commands, so the driver runs a small program of its own on the
+hub (the *agent*, ``roboscript/drivers/spike/agent/hub_agent.py``) and sends it commands over
+TunnelMessage (:mod:`roboscript.drivers.spike.tunnel`). Sensor readings come from the
+firmware's own DeviceNotification messages.
+
+Handshake, advanced in :meth:`SpikeDriver.tick` on the scheduler clock (never a fixed sleep;
+one request at a time, each answered within ``_REPLY_TIMEOUT_S``):
+
+1. ``InfoRequest`` every 0.5 s until ``InfoResponse``: the max packet size goes to a BLE port
+   (it writes in pieces of that size), the max chunk size sets the upload chunks. The hub's
+   name is asked for ``describe()``.
+2. ``ProgramFlowRequest(start, agent slot)``. A NACK (empty slot) means: upload.
+3. ``VersionQuery`` over the tunnel every 0.25 s, and only once the hub has said the program
+   started: a TunnelMessage while no program runs crashes the hub (spike-prime-docs issue 8).
+   The same ``AGENT_VERSION`` as the agent source in this package -> 5. Another version, no
+   answer within 3 s (some other program is in the slot), or the program ending -> 4.
+4. Upload: ``ProgramFlowRequest(stop)``, ``ClearSlotRequest`` (a NACK is fine),
+   ``StartFileUploadRequest`` with the file CRC, then ``TransferChunkRequest`` one at a time
+   with the running CRC, then 2 again. If the fresh agent does not answer either, connecting
+   fails with a sentence saying so.
+5. ``Configure`` (the drive motor ports) and ``DeviceNotificationRequest(telemetry_ms)``;
+   ready at the first DeviceNotification that holds both drive motors.
+
+Wheel speeds are held by the hub (``motor_pair.move_tank``): the driver sends ``Tank`` in
+motor degrees per second when the rounded speeds change, and again every 0.5 s with a 1.5 s
+watchdog, so a host that dies leaves the wheels running for at most 1.5 s. Zero speeds send
+``Stop`` (brake). Wheel distances come from the motors' positions (the left motor is mounted
+mirrored, so its position is negated); the heading from the IMU yaw, which the hub counts
+counter-clockwise (negated: roboscript's turns are clockwise positive).
+
+:meth:`SpikeDriver.stop_all` sends ``Stop`` over the tunnel (if the agent runs) and
+``ProgramFlowRequest(stop)``; a later motion command starts the agent again.
+"""
+
+from __future__ import annotations
+
+import importlib.resources
+import logging
+import math
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from roboscript import capabilities as cap
+from roboscript.clock import Clock
+from roboscript.drivers.base import Driver
+from roboscript.drivers.codec import Codec, Role
+from roboscript.drivers.spike import messages as m
+from roboscript.drivers.spike import tunnel as t
+from roboscript.drivers.spike.codec import SpikeCodec
+from roboscript.drivers.spike.crc import crc32
+from roboscript.drivers.spike.options import SpikeOptions, port_name
+from roboscript.errors import (
+    DeviceError,
+    LinkClosedError,
+    LinkError,
+    LinkTimeoutError,
+    LocalProtocolError,
+)
+from roboscript.profiles import RobotProfile
+from roboscript.transport.link import Link
+
+__all__ = ["AGENT_FILE_NAME", "SpikeDriver", "agent_source"]
+
+logger = logging.getLogger(__name__)
+
+AGENT_FILE_NAME = "roboscript_agent.py"
+"""The name the agent is stored under on the hub."""
+
+_INFO_RETRY_S = 0.5
+_REPLY_TIMEOUT_S = 2.0
+_VERSION_RETRY_S = 0.25
+_VERSION_TIMEOUT_S = 3.0
+_TANK_REFRESH_S = 0.5
+_WATCHDOG_MS = 1500
+_ACCELERATION_DEG_S2 = 4000
+_BEEP_VOLUME_PERCENT = 100
+_CONSOLE_LINES = 5
+
+
+def agent_source() -> bytes:
+    """The agent program, as uploaded to the hub (package data)."""
+    package = importlib.resources.files("roboscript.drivers.spike")
+    return package.joinpath("agent", "hub_agent.py").read_bytes()
+
+
+@dataclass
+class _Pending:
+    reply_type: type[m.Message]
+    on_reply: Callable[[Any], None]
+    deadline_s: float
+    name: str
+
+
+class SpikeDriver(Driver):
+    """Host side of the SPIKE Prime hub and its agent (see the module docstring)."""
+
+    protocol = "spike"
+
+    @classmethod
+    def make_codec(cls, profile: RobotProfile) -> Codec[Any]:
+        """A SPIKE hub codec in the host role."""
+        return SpikeCodec(Role.HOST)
+
+    def __init__(self, link: Link, profile: RobotProfile, clock: Clock) -> None:
+        super().__init__(link, profile, clock)
+        self.options = SpikeOptions.from_mapping(profile.options, profile=profile.name)
+        self.agent = agent_source()
+        version = t.agent_version_of(self.agent)
+        assert version is not None, "the packaged agent has no AGENT_VERSION"
+        self.agent_version = version
+        self.info: m.InfoResponse | None = None
+        self.hub_name: str | None = None
+        self.hub_agent_version: str | None = None
+        self.uploaded = False
+        self.console: deque[str] = deque(maxlen=_CONSOLE_LINES)
+        self.refusals: list[t.Refused] = []
+        self.move_results: dict[int, t.MoveStatus] = {}
+        self._phase = "info"
+        self._now_s = 0.0
+        self._pending: _Pending | None = None
+        self._next_probe_s = 0.0
+        self._version_deadline_s = 0.0
+        self._chunks: list[bytes] = []
+        self._running_crc = 0
+        self._agent_running = False
+        self._stopping = False
+        # Sensor cache (raw hub values; None until the first reading).
+        self._positions: dict[int, int] = {}
+        self._origins: tuple[int, int] | None = None
+        self._yaw: int | None = None
+        self._yaw_origin = 0
+        self.distance_mm: int | None = None
+        self.force_percent: int | None = None
+        self.force_pressed = False
+        self.color: m.DeviceColor | None = None
+        # Set points.
+        self._target_mm_s = (0.0, 0.0)
+        self._sent_deg_s: tuple[int, int] | None = None
+        self._sent_at_s = -math.inf
+        self._power: tuple[int, int] | None = None
+        self._queue: list[t.Record] = []
+        self._move_seq = 0
+        self._mm_per_deg = math.pi * profile.wheel_diameter_mm / profile.ticks_per_rev
+        self._caps: dict[str, object] = {}
+
+    # ----------------------------------------------------------------------------- handshake
+
+    def start(self) -> None:
+        """Send the first InfoRequest."""
+        self._now_s = self.clock.now()
+        self._probe_info()
+
+    def _probe_info(self) -> None:
+        self.link.send(m.InfoRequest())
+        self._next_probe_s = self._now_s + _INFO_RETRY_S
+
+    def _request(
+        self, message: m.Message, reply_type: type[m.Message], on_reply: Callable[[Any], None]
+    ) -> None:
+        self._pending = _Pending(
+            reply_type, on_reply, self._now_s + _REPLY_TIMEOUT_S, type(message).__name__
+        )
+        self.link.send(message)
+
+    def _on_info(self, info: m.InfoResponse) -> None:
+        self.info = info
+        set_packet_size = getattr(self.link.port, "set_max_packet_size", None)
+        if callable(set_packet_size):
+            set_packet_size(info.max_packet_size)
+        self.link.send(m.GetHubNameRequest())
+        self._start_agent()
+
+    def _start_agent(self) -> None:
+        self._phase = "start"
+        self._agent_running = False
+        slot = self.options.agent_slot
+        self._request(
+            m.ProgramFlowRequest(m.ProgramAction.START, slot),
+            m.ProgramFlowResponse,
+            self._on_started,
+        )
+
+    def _on_started(self, reply: m.ProgramFlowResponse) -> None:
+        if reply.status is not m.ResponseStatus.ACKNOWLEDGED:
+            self._upload_or_fail(f"slot {self.options.agent_slot} is empty")
+            return
+        self._agent_running = True
+        self._phase = "version"
+        self._version_deadline_s = self._now_s + _VERSION_TIMEOUT_S
+        self._query_version()
+
+    def _query_version(self) -> None:
+        self._tunnel(t.VersionQuery())
+        self._next_probe_s = self._now_s + _VERSION_RETRY_S
+
+    def _on_version(self, version: str) -> None:
+        self.hub_agent_version = version
+        if version == self.agent_version:
+            self._configure()
+        else:
+            self._upload_or_fail(f"the hub has {version!r}, not {self.agent_version!r}")
+
+    def _upload_or_fail(self, why: str) -> None:
+        if self.uploaded:
+            last = f" (the hub printed: {self.console[-1]})" if self.console else ""
+            raise DeviceError(
+                f"roboscript's agent did not start on the hub after the upload: {why}{last};"
+                " is the hub running SPIKE App 3 firmware?"
+            )
+        logger.info("uploading roboscript's agent to slot %d: %s", self.options.agent_slot, why)
+        self._phase = "upload"
+        self._request(
+            m.ProgramFlowRequest(m.ProgramAction.STOP, self.options.agent_slot),
+            m.ProgramFlowResponse,
+            lambda _: self._clear_slot(),
+        )
+
+    def _clear_slot(self) -> None:
+        self._agent_running = False
+        self._request(  # a NACK only means the slot was empty already
+            m.ClearSlotRequest(self.options.agent_slot), m.ClearSlotResponse, self._open_upload
+        )
+
+    def _open_upload(self, _: m.ClearSlotResponse) -> None:
+        assert self.info is not None
+        data = self.agent
+        # A running CRC equals the file CRC only if every chunk but the last is a multiple of
+        # 4 bytes (the CRC pads each piece to 4 bytes).
+        size = max(4, min(self.info.max_chunk_size, self.info.max_message_size - 16) // 4 * 4)
+        self._chunks = [data[i : i + size] for i in range(0, len(data), size)]
+        self._running_crc = 0
+        self._request(
+            m.StartFileUploadRequest(AGENT_FILE_NAME, self.options.agent_slot, crc32(data)),
+            m.StartFileUploadResponse,
+            self._on_upload_opened,
+        )
+
+    def _on_upload_opened(self, reply: m.StartFileUploadResponse) -> None:
+        if reply.status is not m.ResponseStatus.ACKNOWLEDGED:
+            raise DeviceError(
+                f"the hub refused to store roboscript's agent in slot {self.options.agent_slot}"
+            )
+        self._send_chunk()
+
+    def _send_chunk(self) -> None:
+        if not self._chunks:
+            self.uploaded = True
+            self._start_agent()
+            return
+        chunk = self._chunks.pop(0)
+        self._running_crc = crc32(chunk, self._running_crc)
+        self._request(
+            m.TransferChunkRequest(self._running_crc, chunk),
+            m.TransferChunkResponse,
+            self._on_chunk,
+        )
+
+    def _on_chunk(self, reply: m.TransferChunkResponse) -> None:
+        if reply.status is not m.ResponseStatus.ACKNOWLEDGED:
+            raise DeviceError("the hub refused a piece of roboscript's agent (CRC check failed)")
+        self._send_chunk()
+
+    def _configure(self) -> None:
+        self._phase = "configure"
+        self._tunnel(t.Configure(self.options.left_motor, self.options.right_motor))
+        self._sent_deg_s = None
+        self._power = None
+        if self.ready:  # a restart after stop_all: telemetry is on already
+            self._phase = "ready"
+            return
+        self._request(
+            m.DeviceNotificationRequest(self.options.telemetry_ms),
+            m.DeviceNotificationResponse,
+            lambda _: None,
+        )
+
+    def _become_ready(self) -> None:
+        self._phase = "ready"
+        self._origins = (
+            self._positions[self.options.left_motor],
+            self._positions[self.options.right_motor],
+        )
+        self._yaw_origin = self._yaw or 0
+        self._caps = self._build_capabilities()
+        self.ready = True
+
+    def _build_capabilities(self) -> dict[str, object]:
+        makers: dict[str, Callable[[], object]] = {
+            cap.DRIVE_BASE: lambda: _DriveBase(self),
+            cap.RANGE: lambda: _RangeSensor(self),
+            cap.BUMPER: lambda: _Bumper(self),
+            cap.SPEAKER: lambda: _Speaker(self),
+            cap.DISPLAY: lambda: _Display(self),
+            cap.HEADING: lambda: _Heading(self),
+            cap.FORCE: lambda: _ForceSensor(self),
+            cap.COLOR: lambda: _ColorSensor(self),
+        }
+        return {name: make() for name, make in makers.items() if name in self.profile.capabilities}
+
+    def describe(self) -> str:
+        """The hub's name, firmware and agent version."""
+        if self.info is None:
+            return self.profile.name
+        info = self.info
+        name = f" '{self.hub_name}'" if self.hub_name else ""
+        firmware = f"{info.firmware_major}.{info.firmware_minor}.{info.firmware_build}"
+        return f"SPIKE Prime hub{name} (firmware {firmware}, {self.agent_version})"
+
+    # ------------------------------------------------------------------------- sense / act
+
+    def tick(self, now_s: float, dt_s: float) -> None:
+        """Read messages, advance the handshake, watch for silence."""
+        self._now_s = now_s
+        for message in self.link.poll():
+            self._handle(message)
+        pending = self._pending
+        if pending is not None and now_s >= pending.deadline_s:
+            raise LinkTimeoutError(
+                f"the SPIKE hub did not answer {pending.name} within {_REPLY_TIMEOUT_S:g} s"
+            )
+        if self._phase == "info" and now_s >= self._next_probe_s:
+            self._probe_info()
+        elif self._phase == "version" and self._pending is None:
+            if now_s >= self._version_deadline_s:
+                self._upload_or_fail("the program in the slot does not answer")
+            elif now_s >= self._next_probe_s:
+                self._query_version()
+        if self.ready:
+            last = self.link.last_receive_s
+            limit = max(1.0, 10 * self.options.telemetry_ms / 1000.0)
+            if last is not None and now_s - last > limit:
+                raise LinkTimeoutError(
+                    f"the SPIKE hub stopped responding (nothing for {now_s - last:.1f} s)"
+                )
+
+    def flush(self, now_s: float, dt_s: float) -> None:
+        """Send wheel set points, tones and text to the agent."""
+        self._now_s = now_s
+        if not self.ready:
+            return
+        restart = self._wants_motion() or self._queue
+        if self._phase == "stopped" and restart and self._pending is None:
+            self._stopping = False
+            self._start_agent()
+        if self._phase != "ready":
+            return
+        self._flush_motion(now_s)
+        for record in self._queue:
+            self._tunnel(record)
+        self._queue.clear()
+
+    def _wants_motion(self) -> bool:
+        return self._target_mm_s != (0.0, 0.0) or bool(self._power and any(self._power))
+
+    def _flush_motion(self, now_s: float) -> None:
+        if self._power is not None:
+            if now_s - self._sent_at_s >= _TANK_REFRESH_S:
+                self._tunnel(t.Power(*self._power, _WATCHDOG_MS))
+                self._sent_at_s = now_s
+            return
+        left, right = (round(speed / self._mm_per_deg) for speed in self._target_mm_s)
+        speeds = (left, right)
+        if speeds == (0, 0):
+            if self._sent_deg_s != (0, 0):
+                self._tunnel(t.Stop())
+                self._sent_deg_s = (0, 0)
+            return
+        if speeds == self._sent_deg_s and now_s - self._sent_at_s < _TANK_REFRESH_S:
+            return
+        self._tunnel(t.Tank(left, right, _ACCELERATION_DEG_S2, _WATCHDOG_MS))
+        self._sent_deg_s = speeds
+        self._sent_at_s = now_s
+
+    def _tunnel(self, record: t.Record) -> None:
+        self.link.send(m.TunnelMessage(record.encode()))
+
+    def _handle(self, message: object) -> None:
+        pending = self._pending
+        if pending is not None and isinstance(message, pending.reply_type):
+            self._pending = None
+            pending.on_reply(message)
+        elif isinstance(message, m.DeviceNotification):
+            self._read_devices(message)
+        elif isinstance(message, m.TunnelMessage):
+            for record in t.decode_records(message.data, Role.HOST):
+                self._handle_record(record)
+        elif isinstance(message, m.ConsoleNotification):
+            for line in message.text.splitlines():
+                self.console.append(line)
+                logger.info("hub says: %s", line)
+        elif isinstance(message, m.ProgramFlowNotification):
+            if message.action is m.ProgramAction.STOP:
+                self._program_stopped()
+        elif isinstance(message, m.InfoResponse) and self._phase == "info":
+            self._on_info(message)
+        elif isinstance(message, m.GetHubNameResponse):
+            self.hub_name = message.name
+
+    def _handle_record(self, record: t.Record | Exception) -> None:
+        if isinstance(record, Exception):
+            logger.debug("unreadable tunnel reply: %s", record)
+        elif isinstance(record, t.Version):
+            if self._phase == "version":
+                self._on_version(record.text)
+        elif isinstance(record, t.MoveDone):
+            self.move_results[record.seq] = record.status
+        elif isinstance(record, t.Refused):
+            self.refusals.append(record)
+            name = t.COMMAND_TYPES.get(record.refused_op)
+            logger.warning(
+                "the agent on the hub refused %s: %s",
+                name.__name__ if name else f"op 0x{record.refused_op:02x}",
+                record.reason.name.lower().replace("_", " "),
+            )
+
+    def _program_stopped(self) -> None:
+        was_running = self._agent_running
+        self._agent_running = False
+        if self._stopping or self._phase in ("upload", "start", "stopped"):
+            return
+        if self._phase == "version":
+            self._upload_or_fail("the program in the slot ended")
+        elif self._phase == "configure" and not self.ready:
+            last = f": {self.console[-1]}" if self.console else ""
+            raise DeviceError("roboscript's agent stopped while starting on the SPIKE hub" + last)
+        elif was_running and self.ready:
+            last = f": {self.console[-1]}" if self.console else ""
+            raise LinkClosedError(
+                "the program on the SPIKE hub stopped (was the centre button pressed?)" + last
+            )
+
+    def _read_devices(self, notification: m.DeviceNotification) -> None:
+        options = self.options
+        for device in notification.devices:
+            if isinstance(device, m.DeviceMotor):
+                self._positions[device.port] = device.position_deg
+            elif isinstance(device, m.DeviceImu):
+                self._yaw = device.yaw
+            elif isinstance(device, m.DeviceDistance) and device.port == options.distance:
+                self.distance_mm = device.distance_mm
+            elif isinstance(device, m.DeviceForce) and device.port == options.force:
+                self.force_percent = device.force_percent
+                self.force_pressed = device.pressed
+            elif isinstance(device, m.DeviceColor) and device.port == options.color:
+                self.color = device
+        if self._phase == "configure" and not self.ready:
+            missing = [
+                port_name(port)
+                for port in (options.left_motor, options.right_motor)
+                if port not in self._positions
+            ]
+            if missing:
+                found = ", ".join(port_name(p) for p in sorted(self._positions)) or "none"
+                raise DeviceError(
+                    f"no drive motor on port {' and '.join(missing)} of the SPIKE hub (motors"
+                    f" found on: {found}); set left_motor and right_motor in the profile options"
+                )
+            self._become_ready()
+
+    def capabilities(self) -> dict[str, object]:
+        """Capability objects by name (after the handshake)."""
+        return dict(self._caps)
+
+    def stop_all(self) -> None:
+        """Brake the wheels and stop the agent's program; never raises."""
+        self._target_mm_s = (0.0, 0.0)
+        self._power = None
+        self._sent_deg_s = (0, 0)
+        self._queue.clear()
+        self._pending = None
+        try:
+            if self._agent_running:
+                self._tunnel(t.Stop())
+            if self.info is not None:
+                # Waited for like a request, so that a restart cannot take this answer for
+                # its own and send tunnel messages while no program runs.
+                self._request(
+                    m.ProgramFlowRequest(m.ProgramAction.STOP, self.options.agent_slot),
+                    m.ProgramFlowResponse,
+                    lambda _: None,
+                )
+        except (LinkError, LocalProtocolError) as exc:
+            logger.debug("stop not sent: %s", exc)
+        self._agent_running = False
+        self._stopping = True
+        if self.ready:
+            self._phase = "stopped"
+
+    # ------------------------------------------------------------------ capability plumbing
+
+    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
+        """Store wheel speed targets, mm/s forward (sent in the act phase)."""
+        if self._power is not None:
+            self._power = None
+            self._sent_deg_s = None
+        self._target_mm_s = (left_mm_s, right_mm_s)
+
+    def set_power(self, left_duty: int, right_duty: int) -> None:
+        """Drive the wheels at a duty (-10000..10000, forward positive) without speed control.
+
+        Raises:
+            LocalProtocolError: A duty out of range.
+        """
+        t.Power(left_duty, right_duty, _WATCHDOG_MS)  # checks the ranges now, not in flush
+        self._power = (left_duty, right_duty)
+        self._target_mm_s = (0.0, 0.0)
+        self._sent_at_s = -math.inf
+
+    def move_for_degrees(self, degrees: int, left_deg_s: int, right_deg_s: int) -> int:
+        """Turn the wheels by ``degrees`` (on the faster wheel) with the hub's own control.
+
+        Returns:
+            The move's sequence number; :attr:`move_results` holds its
+            :class:`~roboscript.drivers.spike.tunnel.MoveStatus` once the hub reports it.
+        """
+        self._move_seq = (self._move_seq + 1) % 256
+        self._queue.append(t.TankForDegrees(self._move_seq, degrees, left_deg_s, right_deg_s))
+        self._sent_deg_s = None
+        return self._move_seq
+
+    def queue_record(self, record: t.Record) -> None:
+        """Queue a tunnel command (sent in the act phase)."""
+        self._queue.append(record)
+
+    def wheel_distances_mm(self) -> tuple[float, float]:
+        """Distance each wheel has rolled since connection, mm; forward positive."""
+        if self._origins is None:
+            return (0.0, 0.0)
+        left = self._positions[self.options.left_motor] - self._origins[0]
+        right = self._positions[self.options.right_motor] - self._origins[1]
+        return (-left * self._mm_per_deg, right * self._mm_per_deg)
+
+    def heading_deg(self) -> float | None:
+        """Yaw since connection, degrees clockwise, -180..180; ``None`` before any reading."""
+        if self._yaw is None:
+            return None
+        return float((-(self._yaw - self._yaw_origin) + 180) % 360 - 180)
+
+
+class _DriveBase:
+    def __init__(self, driver: SpikeDriver) -> None:
+        self._driver = driver
+        self.track_mm = driver.profile.track_mm
+        self.max_speed_mm_s = driver.profile.max_speed_mm_s
+        self.odometry_is_estimated = False
+
+    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
+        limit = self.max_speed_mm_s
+        self._driver.set_wheel_speeds(
+            max(-limit, min(limit, left_mm_s)), max(-limit, min(limit, right_mm_s))
+        )
+
+    def stop(self) -> None:
+        self._driver.set_wheel_speeds(0.0, 0.0)
+
+    def wheel_distances_mm(self) -> tuple[float, float]:
+        return self._driver.wheel_distances_mm()
+
+
+class _RangeSensor:
+    max_range_mm = 2000.0
+
+    def __init__(self, driver: SpikeDriver) -> None:
+        self._driver = driver
+
+    def distance_mm(self) -> float | None:
+        reading = self._driver.distance_mm
+        return None if reading is None or reading < 0 else float(reading)
+
+
+class _Bumper:
+    """The force sensor at the front, read as one bump switch."""
+
+    names = ("front",)
+
+    def __init__(self, driver: SpikeDriver) -> None:
+        self._driver = driver
+
+    def pressed(self) -> frozenset[str]:
+        return frozenset(self.names) if self._driver.force_pressed else frozenset()
+
+
+class _ForceSensor:
+    def __init__(self, driver: SpikeDriver) -> None:
+        self._driver = driver
+
+    def force_n(self) -> float | None:
+        percent = self._driver.force_percent
+        return None if percent is None else percent / 10.0  # full scale is 10 N
+
+    def pressed(self) -> bool:
+        return self._driver.force_pressed
+
+
+class _ColorSensor:
+    def __init__(self, driver: SpikeDriver) -> None:
+        self._driver = driver
+
+    def color_name(self) -> str | None:
+        reading = self._driver.color
+        if reading is None or reading.color == m.Color.NONE:
+            return None
+        if isinstance(reading.color, m.Color):
+            return reading.color.name.lower()
+        return None
+
+    def rgb(self) -> tuple[int, int, int] | None:
+        reading = self._driver.color
+        return None if reading is None else (reading.red, reading.green, reading.blue)
+
+
+class _Speaker:
+    def __init__(self, driver: SpikeDriver) -> None:
+        self._driver = driver
+
+    def beep(self, frequency_hz: float, duration_s: float) -> None:
+        frequency = max(1, min(0xFFFF, round(frequency_hz)))
+        duration = max(1, min(0xFFFF, round(duration_s * 1000)))
+        self._driver.queue_record(t.Beep(frequency, duration, _BEEP_VOLUME_PERCENT))
+
+
+class _Display:
+    def __init__(self, driver: SpikeDriver) -> None:
+        self._driver = driver
+
+    def show_text(self, text: str) -> None:
+        data = text.encode("utf-8")[: t.MAX_TEXT_BYTES]
+        self._driver.queue_record(t.ShowText(data.decode("utf-8", "ignore")))
+
+    def clear(self) -> None:
+        self._driver.queue_record(t.ClearDisplay())
+
+
+class _Heading:
+    def __init__(self, driver: SpikeDriver) -> None:
+        self._driver = driver
+
+    def heading_deg(self) -> float | None:
+        return self._driver.heading_deg()

@@ -1,0 +1,114 @@
+"""How a SPIKE Prime robot is built: which device is on which hub port, and agent settings.
+
+These are *profile options* (:attr:`RobotProfile.options
+<roboscript.profiles.RobotProfile.options>`), read here into a :class:`SpikeOptions`. Both the
+host driver and the simulated hub use them, so the simulator is wired the way the profile says.
+A profile file changes only what differs::
+
+    extends: spike-prime
+    name: team-4-base
+    options:
+      left_motor: E
+      right_motor: F
+      distance: A
+
+The defaults follow a LEGO driving base: drive motors on A (left, mounted mirrored, as
+``motor_pair`` expects) and B (right), force sensor on C (used as a front bumper), distance
+sensor on D, colour sensor on E.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from roboscript.drivers.spike.messages import SLOT_COUNT, HubPort
+from roboscript.errors import ProfileError
+
+__all__ = ["SpikeOptions", "port_name"]
+
+_PORT_OPTIONS = ("left_motor", "right_motor", "force", "distance", "color")
+
+
+def port_name(port: int) -> str:
+    """A hub port number as printed on the hub (0 -> ``"A"``)."""
+    return HubPort(port).name
+
+
+@dataclass(frozen=True)
+class SpikeOptions:
+    """The options of a SPIKE Prime robot profile (defaults: the ``spike-prime`` profile).
+
+    Ports are written as letters ``A``..``F`` in a profile file and held as numbers 0..5.
+
+    Attributes:
+        left_motor: Port of the left drive motor.
+        right_motor: Port of the right drive motor.
+        force: Port of the force sensor read as the front bumper (and ``force``).
+        distance: Port of the distance sensor (``range``).
+        color: Port of the colour sensor (``color``).
+        agent_slot: Program slot (0-19) the agent is uploaded to and run from. The default,
+            the last slot, is the one students are least likely to use.
+        telemetry_ms: Interval of the hub's DeviceNotification messages, milliseconds
+            (10-1000): how often wheel positions and sensors are read.
+    """
+
+    left_motor: int = int(HubPort.A)
+    right_motor: int = int(HubPort.B)
+    force: int = int(HubPort.C)
+    distance: int = int(HubPort.D)
+    color: int = int(HubPort.E)
+    agent_slot: int = SLOT_COUNT - 1
+    telemetry_ms: int = 50
+
+    @classmethod
+    def from_mapping(cls, options: Mapping[str, Any], *, profile: str) -> SpikeOptions:
+        """Read the options of a profile, checking every value.
+
+        Args:
+            options: Option name -> value, as written in the profile (unknown names refused).
+            profile: The profile's name, for error messages.
+
+        Raises:
+            ProfileError: An unknown option or a bad value, naming both.
+        """
+        known = {f.name for f in dataclasses.fields(cls)}
+        values: dict[str, int] = {}
+        for name, value in options.items():
+            if name not in known:
+                close = difflib.get_close_matches(name, sorted(known), n=1)
+                raise ProfileError(
+                    f"{profile}: unknown SPIKE option '{name}'",
+                    hint=f"did you mean '{close[0]}'?" if close else None,
+                )
+            values[name] = _read(name, value, profile)
+        result = cls(**values)
+        if result.left_motor == result.right_motor:
+            raise ProfileError(f"{profile}: left_motor and right_motor must be different ports")
+        return result
+
+    @property
+    def ports(self) -> dict[str, int]:
+        """Each device role (``left_motor``, ``distance``, ...) -> its port."""
+        return {name: getattr(self, name) for name in _PORT_OPTIONS}
+
+
+def _read(name: str, value: object, profile: str) -> int:
+    """Check and convert one option value.
+
+    Raises:
+        ProfileError: The value does not fit the option.
+    """
+    if name in _PORT_OPTIONS:
+        if isinstance(value, str) and value.upper() in HubPort.__members__:
+            return int(HubPort[value.upper()])
+        raise ProfileError(f"{profile}: option '{name}' must be a port letter A-F, got {value!r}")
+    low, high = (0, SLOT_COUNT - 1) if name == "agent_slot" else (10, 1000)
+    if isinstance(value, int) and not isinstance(value, bool) and low <= value <= high:
+        return value
+    raise ProfileError(
+        f"{profile}: option '{name}' must be a whole number {low}-{high}, got {value!r}"
+    )

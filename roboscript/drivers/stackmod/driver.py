@@ -1,0 +1,446 @@
+"""The StackMod host driver: a rover built from StackMod modules on one serial line.
+
+The modules (see :mod:`roboscript.drivers.stackmod.options` for addresses and wiring) are
+reached as one serial byte stream, 9600 baud, through a USB-serial bridge. They speak only when
+asked, so the driver is the line's master:
+
+* **Handshake** (never a fixed sleep): ``{a$ARM01}`` arms every module, then ``{a?ARM0}`` asks
+  each one in turn whether it is armed. The robot is ready when every module has answered 1.
+* **GETs**, one in flight at a time (:class:`~roboscript.drivers.stackmod.poller.GetPoller`):
+  each is sent again if its answer has not come within ``get_timeout_s`` on the scheduler
+  clock, up to ``get_retries`` times, then :class:`~roboscript.errors.LinkTimeoutError` names
+  the silent module.
+* **Sensors are polled while they are read.** At 9600 baud one GET and its answer take about
+  22 ms of line time, so polling every sensor all the time would give each only a few readings
+  a second. A reading of a range, line or bump sensor asks for that sensor to be polled for
+  the next second; the first call returns ``None`` (nothing pressed, for bumpers) until the
+  answer arrives, one or two ticks later. Readings older than a second count as missing.
+* **Motors** get ``{M$MTRn±ppp}`` whenever the power changes. A SET is never acknowledged, so
+  a heartbeat GET of one motor every 0.25 s both proves the line is alive and catches a SET
+  that was lost (its power is then sent again).
+* **No encoders.** Wheel distances are the commanded wheel speeds integrated over time with the
+  profile's calibration (``wheel_speed_mm_s_per_pct``), so ``drive`` and ``rotate`` run on time
+  and cannot notice a stall; the driver says so once.
+* **Stopping** sends MTR +000 to both motors (and silences the buzzer); it never raises.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable, Iterable
+from typing import Any
+
+from roboscript import capabilities as cap
+from roboscript.clock import Clock
+from roboscript.drivers.base import Driver
+from roboscript.drivers.codec import Codec, Role
+from roboscript.drivers.stackmod.codec import StackModCodec
+from roboscript.drivers.stackmod.messages import ULT_NO_ECHO, Command, Get, GetReply, Set
+from roboscript.drivers.stackmod.options import StackModOptions
+from roboscript.drivers.stackmod.poller import GetPoller
+from roboscript.errors import DeviceError, LinkError
+from roboscript.profiles import RobotProfile
+from roboscript.transport.link import Link
+
+__all__ = ["StackModDriver"]
+
+logger = logging.getLogger(__name__)
+
+_HEARTBEAT_S = 0.25
+"""A motor setpoint is read back at least this often (liveness and lost-SET check)."""
+_WANT_HOLD_S = 1.0
+"""A sensor is polled for this long after it was last read."""
+_STALE_S = 1.0
+"""Readings older than this count as missing."""
+
+_Key = tuple[int, Command, int]
+"""(address, command, selector): one thing a GET reads."""
+
+
+def _options(profile: RobotProfile) -> StackModOptions:
+    return StackModOptions.from_mapping(profile.options, profile=profile.name)
+
+
+class StackModDriver(Driver):
+    """Host side of a StackMod rover (see the module docstring).
+
+    Raises:
+        ProfileError: The profile's options are invalid.
+    """
+
+    protocol = "stackmod"
+
+    @classmethod
+    def make_codec(cls, profile: RobotProfile) -> Codec[Any]:
+        """A StackMod codec in the host role, with the profile's checksum rule."""
+        return StackModCodec(Role.HOST, checksum=_options(profile).checksum)
+
+    def __init__(self, link: Link, profile: RobotProfile, clock: Clock) -> None:
+        super().__init__(link, profile, clock)
+        self.options = opts = _options(profile)
+        self.poller = GetPoller(
+            timeout_s=opts.get_timeout_s, retries=opts.get_retries, describe=opts.describe_module
+        )
+        self.lost_sets = 0
+        """Motor SETs found not applied by the heartbeat (and sent again)."""
+        self._unconfirmed = list(opts.module_roles)
+        self._arm_refusals: dict[int, int] = {}
+        self._readings: dict[_Key, tuple[int, float]] = {}
+        self._wanted_until: dict[_Key, float] = {}
+        self._sensor_keys: list[_Key] = []
+        self._next_sensor = 0
+        # Motors: percent of power per wheel (forward positive, before inversion).
+        self._motors = (opts.left_motor, opts.right_motor)
+        self._signs = (-1 if opts.invert_left else 1, -1 if opts.invert_right else 1)
+        self._target_pct = [0, 0]
+        self._sent_pct: list[int | None] = [None, None]
+        self._heartbeat_wheel = 0
+        self._heartbeat_s = -math.inf
+        self._heartbeat_expect: tuple[int, int] | None = None
+        # Odometry estimated from the power sent and the time it was applied.
+        self.wheel_distances_mm = [0.0, 0.0]
+        self._integrated_to_s: float | None = None
+        # Servos and buzzer.
+        self._servo_targets: dict[int, int] = {}
+        self._servo_sent: dict[int, int] = {}
+        self._buzzer_on = False
+        self._buzzer_for_s: float | None = None
+        self._buzzer_off_at_s: float | None = None
+        self._caps: dict[str, object] = {}
+
+    # ----------------------------------------------------------------------------- handshake
+
+    def start(self) -> None:
+        """Arm every module; the GETs that confirm it go out in the act phase."""
+        for address in self._unconfirmed:
+            self.link.send(Set(address, Command.ARM, 0, 1))
+
+    def _confirm(self, reply: GetReply) -> None:
+        if reply.value != 1:
+            refusals = self._arm_refusals.get(reply.address, 0) + 1
+            self._arm_refusals[reply.address] = refusals
+            if refusals > self.options.get_retries:
+                raise DeviceError(
+                    f"{self.options.describe_module(reply.address)} stays disarmed "
+                    f"after {refusals} ARM requests"
+                )
+            # The ARM SET was lost on the line: arm again, then ask again.
+            self.link.send(Set(reply.address, Command.ARM, 0, 1))
+            return
+        if reply.address in self._unconfirmed:
+            self._unconfirmed.remove(reply.address)
+        if not self._unconfirmed:
+            self._become_ready()
+
+    def _become_ready(self) -> None:
+        opts = self.options
+        self.stop_all()
+        wanted = self.profile.capabilities
+        makers: dict[str, Callable[[], object]] = {
+            cap.DRIVE_BASE: lambda: _DriveBase(self),
+            cap.RANGE: lambda: _RangeSensor(self, 0),
+            cap.SIDE_RANGE: lambda: _SideRangeSensor(self, 1),
+            cap.LINE: lambda: _LineSensors(self),
+            cap.BUMPER: lambda: _Bumpers(self),
+            cap.SPEAKER: lambda: _Buzzer(self),
+            cap.SERVOS: lambda: _Servos(self),
+        }
+        self._caps = {name: make() for name, make in makers.items() if name in wanted}
+        self._sensor_keys = [
+            *((opts.ultrasonic_address, Command.ULT, i) for i in (0, 1)),
+            *((opts.ir_address, Command.IRS, i) for i in range(3)),
+            *((opts.io_address, Command.DGT, pin) for pin in opts.bumper_pins),
+        ]
+        self.ready = True
+        self.notice(
+            f"{self.profile.name} has no wheel encoders: distances and angles are estimated "
+            f"from time ({opts.wheel_speed_mm_s_per_pct:g} mm/s per % of motor power), so "
+            "drive and rotate run on time and cannot tell when the robot is stuck"
+        )
+
+    def describe(self) -> str:
+        """The modules and their addresses."""
+        roles = self.options.module_roles
+        modules = ", ".join(f"{'/'.join(r)} {chr(a)}" for a, r in roles.items())
+        return f"StackMod modules ({modules}; {self.options.checksum} checksum)"
+
+    # ------------------------------------------------------------------------- sense / act
+
+    def tick(self, now_s: float, dt_s: float) -> None:
+        """Read replies, integrate odometry, resend an overdue GET.
+
+        Raises:
+            LinkTimeoutError: A module left a GET unanswered after every retry.
+            LinkClosedError: The line was lost.
+            DeviceError: A module stayed disarmed after every ARM (handshake).
+        """
+        self._integrate(now_s)
+        for message in self.link.poll():
+            if isinstance(message, GetReply):
+                self._handle(message, now_s)
+        again = self.poller.resend_due(now_s)
+        if again is not None:
+            logger.debug("no answer to %s yet: sending it again", again)
+            self.link.send(again)
+
+    def _handle(self, reply: GetReply, now_s: float) -> None:
+        self.poller.answered(reply)
+        key = (reply.address, reply.command, reply.selector)
+        self._readings[key] = (reply.value, now_s)
+        if reply.command is Command.ARM and not self.ready:
+            self._confirm(reply)
+        elif reply.command is Command.MTR and self._heartbeat_expect is not None:
+            motor, expected = self._heartbeat_expect
+            if reply.address == self.options.motor_address and reply.selector == motor:
+                self._heartbeat_expect = None
+                wheel = self._motors.index(motor)
+                # A newer SET may be on its way; only a power nobody changed since is lost.
+                if reply.value != expected and self._sent_wire(wheel) == expected:
+                    self.lost_sets += 1
+                    self._sent_pct[wheel] = None
+
+    def flush(self, now_s: float, dt_s: float) -> None:
+        """Send changed setpoints, then the next GET if none is in flight."""
+        if self.ready:
+            self._flush_motors()
+            self._flush_servos()
+            self._flush_buzzer(now_s)
+        if self.poller.in_flight is None:
+            request = self._next_request(now_s)
+            if request is not None:
+                self.link.send(request)
+                self.poller.sent(request, now_s)
+
+    def _sent_wire(self, wheel: int) -> int | None:
+        """The MTR value last sent for ``wheel`` (sign as on the wire), or ``None``."""
+        sent = self._sent_pct[wheel]
+        return None if sent is None else sent * self._signs[wheel]
+
+    def _flush_motors(self) -> None:
+        for wheel in (0, 1):
+            if self._target_pct[wheel] != self._sent_pct[wheel]:
+                motor = self._motors[wheel]
+                value = self._target_pct[wheel] * self._signs[wheel]
+                self.link.send(Set(self.options.motor_address, Command.MTR, motor, value))
+                self._sent_pct[wheel] = self._target_pct[wheel]
+
+    def _flush_servos(self) -> None:
+        for number, angle in self._servo_targets.items():
+            if self._servo_sent.get(number) != angle:
+                self.link.send(Set(self.options.servo_address, Command.SRV, number, angle))
+                self._servo_sent[number] = angle
+
+    def _flush_buzzer(self, now_s: float) -> None:
+        if self._buzzer_for_s is not None:
+            # Timed from the moment the pin is set, so the beep lasts as long as asked.
+            self._buzzer_off_at_s = now_s + self._buzzer_for_s
+            self._buzzer_for_s = None
+        off_at = self._buzzer_off_at_s
+        sound = off_at is not None and now_s < off_at - 1e-9
+        if sound != self._buzzer_on:
+            opts = self.options
+            self.link.send(Set(opts.io_address, Command.DGT, opts.buzzer_pin, int(sound)))
+            self._buzzer_on = sound
+        if not sound:
+            self._buzzer_off_at_s = None
+
+    def _next_request(self, now_s: float) -> Get | None:
+        if not self.ready:
+            if not self._unconfirmed:
+                return None
+            return Get(self._unconfirmed[0], Command.ARM, 0)
+        if now_s - self._heartbeat_s >= _HEARTBEAT_S - 1e-9:
+            return self._heartbeat(now_s)
+        keys = self._sensor_keys
+        for offset in range(len(keys)):
+            index = (self._next_sensor + offset) % len(keys)
+            if self._wanted_until.get(keys[index], -math.inf) >= now_s:
+                self._next_sensor = index + 1
+                address, command, selector = keys[index]
+                return Get(address, command, selector)
+        return None
+
+    def _heartbeat(self, now_s: float) -> Get:
+        wheel = self._heartbeat_wheel
+        self._heartbeat_wheel = 1 - wheel
+        self._heartbeat_s = now_s
+        motor = self._motors[wheel]
+        sent = self._sent_wire(wheel)
+        self._heartbeat_expect = None if sent is None else (motor, sent)
+        return Get(self.options.motor_address, Command.MTR, motor)
+
+    def _integrate(self, now_s: float) -> None:
+        """Advance the estimated wheel distances to ``now_s`` at the power last sent."""
+        last = self._integrated_to_s
+        self._integrated_to_s = now_s
+        if last is None or now_s <= last:
+            return
+        per_pct = self.options.wheel_speed_mm_s_per_pct
+        for wheel in (0, 1):
+            self.wheel_distances_mm[wheel] += (
+                (self._sent_pct[wheel] or 0) * per_pct * (now_s - last)
+            )
+
+    def capabilities(self) -> dict[str, object]:
+        """Capability objects by name (after the handshake)."""
+        return dict(self._caps)
+
+    def stop_all(self) -> None:
+        """Send MTR +000 to both motors and silence the buzzer; never raises."""
+        self._integrate(self.clock.now())
+        self._target_pct = [0, 0]
+        opts = self.options
+        try:
+            for wheel in (0, 1):
+                self._sent_pct[wheel] = 0
+                self.link.send(Set(opts.motor_address, Command.MTR, self._motors[wheel], 0))
+            self._buzzer_for_s = self._buzzer_off_at_s = None
+            if self._buzzer_on:
+                self._buzzer_on = False
+                self.link.send(Set(opts.io_address, Command.DGT, opts.buzzer_pin, 0))
+        except LinkError as exc:
+            logger.debug("stop not sent: %s", exc)
+
+    # ------------------------------------------------------------------ capability plumbing
+
+    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
+        """Store wheel speed targets as motor power (sent in the act phase)."""
+        self._target_pct = [self._power_pct(left_mm_s), self._power_pct(right_mm_s)]
+
+    def _power_pct(self, speed_mm_s: float) -> int:
+        opts = self.options
+        pct = round(speed_mm_s / opts.wheel_speed_mm_s_per_pct)
+        pct = max(-100, min(100, pct))
+        if 0 < abs(pct) < opts.min_power_pct:
+            pct = opts.min_power_pct if pct > 0 else -opts.min_power_pct
+        return pct
+
+    def reading(self, keys: Iterable[_Key]) -> list[int] | None:
+        """The fresh readings of ``keys``, or ``None`` if any is missing or stale.
+
+        Reading a sensor also asks for it to be polled for the next second.
+        """
+        now_s = self.clock.now()
+        keys = list(keys)
+        for key in keys:
+            self._wanted_until[key] = now_s + _WANT_HOLD_S
+        values = []
+        for key in keys:
+            found = self._readings.get(key)
+            if found is None or now_s - found[1] > _STALE_S:
+                return None
+            values.append(found[0])
+        return values
+
+    def set_servo(self, number: int, angle_deg: int) -> None:
+        """Store a servo position (sent in the act phase)."""
+        self._servo_targets[number] = angle_deg
+
+    def beep(self, duration_s: float) -> None:
+        """Sound the buzzer for ``duration_s`` seconds from the next act phase (scheduler clock)."""
+        self._buzzer_for_s = duration_s
+
+
+class _DriveBase:
+    odometry_is_estimated = True
+
+    def __init__(self, driver: StackModDriver) -> None:
+        self._driver = driver
+        self.track_mm = driver.profile.track_mm
+        self.max_speed_mm_s = driver.profile.max_speed_mm_s
+
+    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
+        limit = self.max_speed_mm_s
+        self._driver.set_wheel_speeds(
+            max(-limit, min(limit, left_mm_s)), max(-limit, min(limit, right_mm_s))
+        )
+
+    def stop(self) -> None:
+        self._driver.set_wheel_speeds(0.0, 0.0)
+
+    def wheel_distances_mm(self) -> tuple[float, float]:
+        left, right = self._driver.wheel_distances_mm
+        return left, right
+
+
+class _RangeSensor:
+    max_range_mm = 4000.0
+
+    def __init__(self, driver: StackModDriver, sensor: int) -> None:
+        self._driver = driver
+        self._key = (driver.options.ultrasonic_address, Command.ULT, sensor)
+
+    def distance_mm(self) -> float | None:
+        values = self._driver.reading([self._key])
+        if values is None or values[0] == ULT_NO_ECHO:
+            return None
+        return values[0] * 10.0
+
+
+class _SideRangeSensor(_RangeSensor):
+    side = "right"
+
+
+class _LineSensors:
+    names = ("left", "center", "right")
+    dark_threshold = 500.0
+
+    def __init__(self, driver: StackModDriver) -> None:
+        self._driver = driver
+        self._keys = [(driver.options.ir_address, Command.IRS, i) for i in range(3)]
+
+    def values(self) -> tuple[float, ...] | None:
+        values = self._driver.reading(self._keys)
+        return None if values is None else tuple(float(v) for v in values)
+
+
+class _Bumpers:
+    names = ("left", "right")
+
+    def __init__(self, driver: StackModDriver) -> None:
+        self._driver = driver
+        opts = driver.options
+        self._keys = [(opts.io_address, Command.DGT, pin) for pin in opts.bumper_pins]
+
+    def pressed(self) -> frozenset[str]:
+        # Each switch is read on its own, so one late answer does not hide the other.
+        return frozenset(
+            name
+            for name, key in zip(self.names, self._keys, strict=True)
+            if self._driver.reading([key]) == [1]
+        )
+
+
+class _Buzzer:
+    """An active buzzer on a digital pin: one pitch, any length."""
+
+    def __init__(self, driver: StackModDriver) -> None:
+        self._driver = driver
+        self.fixed_frequency_hz = driver.options.buzzer_frequency_hz
+        """The only pitch this speaker plays, hertz."""
+
+    def beep(self, frequency_hz: float, duration_s: float) -> None:
+        if abs(frequency_hz - self.fixed_frequency_hz) > 1.0:
+            text = (
+                f"the buzzer has one pitch ({self.fixed_frequency_hz:g} Hz): "
+                "play_tone frequencies are ignored"
+            )
+            if text not in self._driver.notices:
+                logger.warning("%s", text)
+            self._driver.notice(text)
+        self._driver.beep(max(0.0, duration_s))
+
+
+class _Servos:
+    def __init__(self, driver: StackModDriver) -> None:
+        self._driver = driver
+        self.count = driver.options.servo_count
+
+    def set_angle(self, index: int, angle_deg: float) -> None:
+        if not 0 <= index < self.count:
+            raise ValueError(f"servo index must be 0..{self.count - 1}, got {index}")
+        if not 0.0 <= angle_deg <= 180.0:
+            raise ValueError(f"a servo angle must be 0-180 degrees, got {angle_deg:g}")
+        # Servos are numbered from 1 on the wire, as in the StackMod document's example.
+        self._driver.set_servo(index + 1, round(angle_deg))

@@ -1,0 +1,737 @@
+"""Compile a :class:`~roboscript.mission.python_api.Mission` class into a ``MissionSpec``.
+
+The result is the same data the YAML loader makes, checked by the same rules
+(:mod:`roboscript.mission.checks`), so ``run``, ``check`` and ``graph`` treat both syntaxes
+alike. Every problem is located where it was written (the positions come from the file's
+syntax tree, :mod:`roboscript.mission.python_source`), all problems are collected, and the
+first is raised as a :class:`~roboscript.mission.yaml_loader.MissionProblemsError` carrying
+the rest, exactly as for YAML.
+
+Guard methods are compiled to :class:`MethodGuard` objects. What they read cannot be known
+for certain without running them, so the compiler reads their code: every ``self.range``,
+``self.bumper``, ``self.line`` and ``self.heading_deg`` (in the method and in the methods it
+calls on ``self``) adds the capability it needs, so a mission's fit to a robot is checked
+before the robot moves. A mission's ``requires`` adds what the code hides.
+"""
+
+from __future__ import annotations
+
+import ast
+import contextlib
+import copy
+import difflib
+import functools
+import inspect
+import keyword as pykeyword
+import re
+import weakref
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from roboscript import capabilities as cap
+from roboscript.actions.base import Action
+from roboscript.errors import InputError, LinkError, MissionError
+from roboscript.mission.guards import GuardEnv, GuardError, compile_guard, guard_names
+from roboscript.mission.python_api import Mission, StateDef
+from roboscript.mission.python_source import PythonSource, item, keyword
+from roboscript.mission.spec import (
+    ActionSpec,
+    Location,
+    MissionSpec,
+    StateSpec,
+    TransitionSpec,
+)
+from roboscript.mission.student_code import StudentCodeError, shown_path
+
+__all__ = ["MethodGuard", "compile_mission", "mission_states"]
+
+# The capability each value a guard method can read needs: {"range": "range", ...}.
+_SENSOR_CAPABILITY: dict[str, str] = {
+    name.split(".")[0]: needs for name, needs in guard_names().items() if needs is not None
+}
+_KEYWORDS = {"done": "on_done", "failed": "on_failed", "timeout": "on_timeout"}
+
+
+def mission_states(cls: type[Mission]) -> dict[str, StateDef]:
+    """The states of a mission class by name, in the order written (base classes first)."""
+    found: dict[str, StateDef] = {}
+    for klass in reversed(cls.__mro__):
+        for name, value in vars(klass).items():
+            if isinstance(value, StateDef):
+                found[name] = value
+            elif name in found:
+                del found[name]  # a subclass replaced the state with something else
+    return found
+
+
+# --------------------------------------------------------------------------- guard methods
+
+
+class _Instances:
+    """One object of the mission class per run (per runner), made at the first guard."""
+
+    def __init__(self, cls: type[Mission], state_names: frozenset[str]) -> None:
+        self._cls = cls
+        self._state_names = state_names
+        self._by_env: weakref.WeakKeyDictionary[Any, Mission] = weakref.WeakKeyDictionary()
+        self._last: tuple[Any, Mission] | None = None  # for runners that cannot be weak keys
+
+    def get(self, env: GuardEnv) -> Mission:
+        if self._last is not None and self._last[0] is env:
+            return self._last[1]
+        try:
+            mission = self._by_env.get(env)
+        except TypeError:
+            mission = None
+        if mission is None:
+            try:
+                mission = self._cls()
+            except (LinkError, StudentCodeError):
+                raise
+            except Exception as exc:
+                raise StudentCodeError(f"mission class {self._cls.__name__}", exc) from exc
+            mission._bind(env, self._state_names)
+            with contextlib.suppress(TypeError):  # unhashable runners use the last slot
+                self._by_env[env] = mission
+        self._last = (env, mission)
+        return mission
+
+
+@dataclass(frozen=True)
+class MethodGuard:
+    """A condition written in Python: a guard method of the mission, or a function.
+
+    Attributes:
+        source: The method's name, for diagrams and messages.
+        capabilities: Capability names it reads (found in its code, plus ``requires``).
+        states: State names it passes to ``visits``, as far as its code shows.
+        where: ``file:line`` of its ``def``, for messages.
+    """
+
+    source: str
+    _read: Callable[[Mission], object] = field(repr=False, compare=False)
+    _instances: _Instances = field(repr=False, compare=False)
+    capabilities: frozenset[str] = frozenset()
+    states: frozenset[str] = frozenset()
+    where: str | None = None
+
+    def __call__(self, env: GuardEnv) -> bool:
+        """Run the condition now.
+
+        Raises:
+            StudentCodeError: It raised, or returned None (a missing ``return``).
+        """
+        mission = self._instances.get(env)
+        try:
+            value = self._read(mission)
+        except (LinkError, StudentCodeError):
+            raise
+        except Exception as exc:
+            raise StudentCodeError(f"condition '{self.source}'", exc) from exc
+        if value is None:
+            raise StudentCodeError(
+                f"condition '{self.source}'",
+                problem="returned None instead of True or False (is 'return' missing?)",
+                where=self.where,
+            )
+        return bool(value)
+
+
+@dataclass
+class _Scan:
+    """What a guard's code reads, found without running it."""
+
+    capabilities: set[str] = field(default_factory=set)
+    states: dict[str, ast.Constant] = field(default_factory=dict)
+    returns_value: bool = False
+
+
+def _walk_own(node: ast.AST) -> Iterator[ast.AST]:
+    """Every node of a function's body, not entering nested functions or classes."""
+    todo = list(ast.iter_child_nodes(node))
+    while todo:
+        child = todo.pop()
+        yield child
+        if not isinstance(
+            child, ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda | ast.ClassDef
+        ):
+            todo.extend(ast.iter_child_nodes(child))
+
+
+# ------------------------------------------------------------------------------- compiling
+
+
+class _Compiler:
+    def __init__(self, cls: type[Mission], path: str | None) -> None:
+        self.cls = cls
+        self.problems: list[InputError] = []
+        self.file = _file_of(cls)
+        self.shown = path or shown_path(self.file)
+        self._sources: dict[str, PythonSource] = {}
+        self.source = self.source_of(self.file)
+        self.states = mission_states(cls)
+        first_line = next(
+            (s.where[1] for s in self.states.values() if s.where and s.where[0] == self.file),
+            None,
+        )
+        self.class_node = self.source.class_def(cls.__name__, first_line)
+        self.names = frozenset(self.states)
+        self.instances = _Instances(cls, self.names)
+        self.method_guards: dict[str, MethodGuard] = {}
+
+    def source_of(self, filename: str) -> PythonSource:
+        if filename not in self._sources:
+            same = self.file == filename
+            self._sources[filename] = PythonSource(
+                filename, self.shown if same else shown_path(filename)
+            )
+        return self._sources[filename]
+
+    def problem(
+        self, message: str, where: Location, hint: str | None = None, severity: str = "error"
+    ) -> None:
+        self.problems.append(
+            MissionError(
+                message,
+                path=where.path,
+                line=where.line,
+                col=where.col,
+                hint=hint,
+                severity=severity,
+            )
+        )
+
+    @property
+    def class_loc(self) -> Location:
+        return self.source.loc(self.class_node)
+
+    def attribute_loc(self, name: str) -> Location:
+        found = self.source.assignment(self.class_node, name)
+        return self.source.loc(found[1]) if found else self.class_loc
+
+    # ----------------------------------------------------------------------------- top
+
+    def compile(self) -> MissionSpec | None:
+        cls = self.cls
+        if not self.states:
+            self.problem(
+                f"mission {cls.__name__} has no states",
+                self.class_loc,
+                "add one, e.g. go = state(Drive(distance_mm=300), initial=True, on_done='end')",
+            )
+            return None
+        self.declared = self.requires()
+        states: dict[str, StateSpec] = {}
+        for state_name, definition in self.states.items():
+            built = self.state(state_name, definition)
+            if built is not None:
+                states[state_name] = built
+        initial = self.initial()
+        hints: dict[str, str | None] = {}
+        for key in ("robot", "world"):
+            value: Any = getattr(cls, key, None)
+            if value is not None and not isinstance(value, str):
+                self.problem(
+                    f"'{key}' names a {key}, e.g. {key} = \"mirto\"", self.attribute_loc(key)
+                )
+                value = None
+            hints[key] = value
+        name: Any = getattr(cls, "name", None)
+        if name is not None and not isinstance(name, str):
+            self.problem("'name' is the mission's name, as text", self.attribute_loc("name"))
+            name = None
+        return MissionSpec(
+            name=name or _kebab(cls.__name__),
+            initial=initial or next(iter(self.states)),
+            states=states,
+            description=_description(cls),
+            path=self.shown,
+            location=self.class_loc,
+            robot=hints["robot"],
+            world=hints["world"],
+        )
+
+    def requires(self) -> frozenset[str]:
+        raw = getattr(self.cls, "requires", ())
+        if isinstance(raw, str):
+            raw = (raw,)
+        names: set[str] = set()
+        for entry in raw if isinstance(raw, tuple | list | set | frozenset) else [raw]:
+            if isinstance(entry, str) and entry in cap.CAPABILITY_NAMES:
+                names.add(entry)
+            else:
+                self.problem(
+                    f"requires: unknown capability {entry!r}",
+                    self.attribute_loc("requires"),
+                    _suggest(str(entry), cap.CAPABILITY_NAMES)
+                    or f"capabilities: {', '.join(cap.CAPABILITY_NAMES)}",
+                )
+        return frozenset(names)
+
+    def initial(self) -> str | None:
+        marked = [name for name, s in self.states.items() if s.initial is True]
+        for name, definition in self.states.items():
+            if definition.initial not in (True, False):
+                self.problem(
+                    f"state '{name}': initial is True or False, got {definition.initial!r}",
+                    self.keyword_loc(name, "initial"),
+                )
+        if not marked:
+            first = next(iter(self.states))
+            self.problem(
+                f"mission {self.cls.__name__} has no initial state",
+                self.class_loc,
+                f"mark the first state, e.g. {first} = state(..., initial=True)",
+            )
+            return None
+        for extra in marked[1:]:
+            self.problem(
+                f"states '{marked[0]}' and '{extra}' are both initial; a mission starts in one",
+                self.keyword_loc(extra, "initial"),
+            )
+        return marked[0]
+
+    # -------------------------------------------------------------------------- states
+
+    def call_of(self, name: str) -> tuple[ast.expr | None, ast.expr | None]:
+        found = self.source.assignment(self.class_node, name)
+        if found is None:
+            return None, None
+        return found
+
+    def state_loc(self, name: str) -> Location:
+        target, _ = self.call_of(name)
+        if target is not None:
+            return self.source.loc(target)
+        where = self.states[name].where
+        if where is not None:
+            return Location(self.source_of(where[0]).shown, where[1])
+        return self.class_loc
+
+    def keyword_loc(self, name: str, key: str) -> Location:
+        _, call = self.call_of(name)
+        node = keyword(call, key)
+        return self.source.loc(node) if node is not None else self.state_loc(name)
+
+    def state(self, name: str, definition: StateDef) -> StateSpec | None:
+        where = self.state_loc(name)
+        if name.startswith("_") or hasattr(Mission, name):
+            self.problem(
+                f"a state cannot be called '{name}': Mission uses that name",
+                where,
+                "choose another name",
+            )
+            return None
+        if len(definition.names) > 1:
+            self.problem(
+                f"one state(...) is assigned to {' and '.join(definition.names)}",
+                where,
+                "write a separate state(...) for each",
+            )
+        _, call = self.call_of(name)
+        action = self.action(name, definition.action, self.action_node(call))
+        during: list[ActionSpec] = []
+        extras = definition.during
+        if isinstance(extras, Action):
+            extras = [extras]
+        during_node = keyword(call, "during")
+        for index, extra in enumerate(extras or ()):
+            built = self.action(name, extra, item(during_node, index, len(extras or ())))
+            if built is not None:
+                during.append(built)
+        on: dict[str, tuple[TransitionSpec, ...]] = {}
+        for outcome, route in definition.routes.items():
+            if route is not None:
+                node = keyword(call, _KEYWORDS[outcome])
+                on[outcome] = self.choices(name, route, node, need_condition=False)
+        when: tuple[TransitionSpec, ...] = ()
+        if definition.when is not None:
+            when = self.choices(name, definition.when, keyword(call, "when"), need_condition=True)
+        timeout_s = definition.timeout_s
+        if timeout_s is not None and (
+            isinstance(timeout_s, bool) or not isinstance(timeout_s, int | float) or timeout_s <= 0
+        ):
+            self.problem(
+                f"state '{name}': timeout_s is a positive number of seconds, got {timeout_s!r}",
+                self.keyword_loc(name, "timeout_s"),
+            )
+            timeout_s = None
+        final = None
+        if definition.final is True or definition.final == "success":
+            final = "success"
+        elif definition.final == "failure":
+            final = "failure"
+        elif definition.final not in (None, False):
+            self.problem(
+                f"state '{name}': final is 'success' or 'failure', got {definition.final!r}",
+                self.keyword_loc(name, "final"),
+            )
+        return StateSpec(
+            name=name,
+            action=action,
+            during=tuple(during),
+            on=on,
+            when=when,
+            timeout_s=float(timeout_s) if timeout_s is not None else None,
+            final=final,
+            description=str(definition.description or ""),
+            location=where,
+        )
+
+    @staticmethod
+    def action_node(call: ast.expr | None) -> ast.expr | None:
+        if isinstance(call, ast.Call) and call.args:
+            return call.args[0]
+        return keyword(call, "action")
+
+    def action(self, name: str, action: object, node: ast.expr | None) -> ActionSpec | None:
+        if action is None:
+            return None
+        where = self.source.loc(node) if node is not None else self.state_loc(name)
+        if isinstance(action, type) and issubclass(action, Action):
+            self.problem(
+                f"state '{name}': {action.__name__} is a kind of action; call it to make one",
+                where,
+                f"write {action.__name__}(...)",
+            )
+            return None
+        if not isinstance(action, Action):
+            self.problem(
+                f"state '{name}' does {action!r}, which is not an action",
+                where,
+                "use an action such as Drive(distance_mm=300)",
+            )
+            return None
+        kind = type(action)
+        action_name = getattr(kind, "name", None)
+        if not isinstance(action_name, str):
+            self.problem(f"action class {kind.__name__} has no name", where)
+            return None
+        template = self.conditions_in(action, node, where)
+        if template is None:
+            return None
+        try:
+            copy.deepcopy(template)
+        except Exception as exc:  # noqa: BLE001 - a student's action may hold anything
+            self.problem(
+                f"state '{name}': {action_name} cannot be copied for each visit ({exc})", where
+            )
+            return None
+        kwargs = {
+            p.kwarg: getattr(template, p.kwarg) for p in kind.params if hasattr(template, p.kwarg)
+        }
+        guard_caps: set[str] = set()
+        for value in kwargs.values():
+            guard_caps |= set(getattr(value, "capabilities", ()))
+        return ActionSpec(
+            name=action_name,
+            kwargs=kwargs,
+            # Each entry runs a fresh copy, so nothing carries over from an earlier visit.
+            factory=functools.partial(copy.deepcopy, template),
+            requires=frozenset(kind.requires) | guard_caps,
+            location=where,
+            bounded=not kind.bounded_by
+            or any(
+                kwargs.get(p.kwarg) is not None for p in kind.params if p.name in kind.bounded_by
+            ),
+        )
+
+    def conditions_in(self, action: Action, node: ast.expr | None, where: Location) -> Any:
+        """The action with its condition parameters (``until=``, ...) compiled, or ``None``.
+
+        Python missions write them as in transitions: a guard method's name or an
+        expression, e.g. ``WaitUntil(condition="range.distance_cm < 20", timeout_s=5)``.
+        """
+        template: Any = action
+        for param in type(action).params:
+            raw = getattr(action, param.kwarg, None)
+            written = isinstance(raw, str) or (callable(raw) and not hasattr(raw, "capabilities"))
+            if param.kind != "guard" or not written:
+                continue  # not a condition, or one compiled already
+            guard = self.condition(raw, keyword(node, param.kwarg), where)
+            if guard is None:
+                return None
+            if template is action:
+                template = copy.copy(action)
+            setattr(template, param.kwarg, guard)
+        return template
+
+    # --------------------------------------------------------------------- transitions
+
+    def choices(
+        self, name: str, route: object, node: ast.expr | None, *, need_condition: bool
+    ) -> tuple[TransitionSpec, ...]:
+        items = route if isinstance(route, list) else [route]
+        found = []
+        for index, entry in enumerate(items):
+            entry_node = item(node, index, len(items)) if isinstance(route, list) else node
+            transition = self.choice(name, entry, entry_node, need_condition=need_condition)
+            if transition is not None:
+                found.append(transition)
+        return tuple(found)
+
+    def choice(
+        self, name: str, entry: object, node: ast.expr | None, *, need_condition: bool
+    ) -> TransitionSpec | None:
+        where = self.source.loc(node) if node is not None else self.state_loc(name)
+        if isinstance(entry, tuple):
+            if len(entry) != 2:
+                self.problem(
+                    "a conditional choice is (condition, state), e.g. ('bumper_hit', 'stuck')",
+                    where,
+                )
+                return None
+            condition, target_raw = entry
+            target = self.target(target_raw, item(node, 1, 2), where)
+            guard = self.condition(condition, item(node, 0, 2), where)
+            if guard is None or target is None:
+                return None
+            return TransitionSpec(target, guard, guard.source, where)
+        if need_condition:
+            self.problem(
+                f"state '{name}': each 'when' entry is (condition, state)",
+                where,
+                f"e.g. when=[('bumper_hit', {entry!r})]" if isinstance(entry, str) else None,
+            )
+            return None
+        target = self.target(entry, node, where)
+        return TransitionSpec(target, location=where) if target is not None else None
+
+    def target(self, value: object, node: ast.expr | None, fallback: Location) -> str | None:
+        where = self.source.loc(node) if node is not None else fallback
+        if isinstance(value, StateDef):
+            for name, definition in self.states.items():
+                if definition is value:
+                    return name
+            self.problem(f"{value!r} is not a state of {self.cls.__name__}", where)
+            return None
+        if not isinstance(value, str):
+            self.problem(f"expected a state name, got {value!r}", where)
+            return None
+        if value not in self.names:
+            self.problem(f"there is no state '{value}'", where, _suggest(value, self.names))
+            return None
+        return value
+
+    # ---------------------------------------------------------------------- conditions
+
+    def condition(self, raw: object, node: ast.expr | None, fallback: Location) -> Any:
+        where = self.source.loc(node) if node is not None else fallback
+        if callable(raw) and not isinstance(raw, str | StateDef):
+            method = getattr(raw, "__name__", "")
+            if inspect.isfunction(getattr(self.cls, method, None)) and _owned(
+                self.cls, method, raw
+            ):
+                return self.method_guard(method, where)
+            return self.function_guard(raw, where)
+        if not isinstance(raw, str):
+            self.problem(
+                f"a condition is a method's name or an expression as text, got {raw!r}", where
+            )
+            return None
+        text = raw.strip()
+        if text.isidentifier() and not pykeyword.iskeyword(text) and text not in ("true", "false"):
+            return self.method_guard(text, where)
+        try:
+            return compile_guard(text, self.names)
+        except GuardError as exc:
+            self.problem(str(exc), _shift(where, node, raw, exc.offset), exc.hint)
+            return None
+
+    def method_guard(self, name: str, where: Location) -> MethodGuard | None:
+        if name in self.method_guards:
+            return self.method_guards[name]
+        value = inspect.getattr_static(self.cls, name, None)
+        if isinstance(value, StateDef):
+            self.problem(
+                f"'{name}' is a state, not a condition",
+                where,
+                "a condition names a method that returns True or False; "
+                "for several choices, use a list: [(condition, state), state]",
+            )
+            return None
+        if not inspect.isfunction(value) or hasattr(Mission, name):
+            methods = _methods(self.cls)
+            self.problem(
+                f"{self.cls.__name__} has no method '{name}'",
+                where,
+                _suggest(name, methods)
+                or f"define it: def {name}(self) -> bool: ... (return True or False)",
+            )
+            return None
+        signature = inspect.signature(value)
+        extra = [p for p in list(signature.parameters.values())[1:] if p.default is p.empty]
+        def_loc, _ = self.def_of(value)
+        if not signature.parameters or extra:
+            self.problem(
+                f"condition method '{name}' must take only self", def_loc, f"def {name}(self):"
+            )
+            return None
+        scan = self.scan(value)
+        for state_name, constant in scan.states.items():
+            if state_name not in self.names:
+                self.problem(
+                    f"visits('{state_name}'): there is no state '{state_name}'",
+                    self.source_of(value.__code__.co_filename).loc(constant),
+                    _suggest(state_name, self.names),
+                )
+        if not scan.returns_value:
+            self.problem(
+                f"condition method '{name}' never returns a value, so it never holds",
+                def_loc,
+                "return True or False, e.g. return self.bumper.any",
+                "warning",
+            )
+        guard = MethodGuard(
+            source=name,
+            _read=lambda mission: getattr(mission, name)(),
+            _instances=self.instances,
+            capabilities=frozenset(scan.capabilities) | self.declared,
+            states=frozenset(scan.states),
+            where=f"{def_loc.path}:{def_loc.line}" if def_loc.line else None,
+        )
+        self.method_guards[name] = guard
+        return guard
+
+    def function_guard(self, func: Callable[..., object], where: Location) -> MethodGuard:
+        label = getattr(func, "__name__", "condition")
+        label = "lambda" if label == "<lambda>" else label
+        return MethodGuard(
+            source=label,
+            _read=func,
+            _instances=self.instances,
+            capabilities=self.declared,
+            where=f"{where.path}:{where.line}" if where.line else None,
+        )
+
+    def def_of(self, func: Callable[..., object]) -> tuple[Location, ast.AST | None]:
+        code = getattr(func, "__code__", None)
+        if code is None:
+            return self.class_loc, None
+        source = self.source_of(code.co_filename)
+        node = source.function_def(code.co_name, code.co_firstlineno)
+        return source.loc(node, code.co_firstlineno), node
+
+    def scan(self, func: Callable[..., object], seen: set[str] | None = None) -> _Scan:
+        """What a guard method reads, following the methods it calls on ``self``."""
+        seen = seen if seen is not None else set()
+        result = _Scan()
+        _, node = self.def_of(func)
+        if node is None:
+            result.returns_value = True  # cannot tell; do not warn
+            return result
+        seen.add(getattr(func, "__name__", ""))
+        for child in _walk_own(node):
+            if isinstance(child, ast.Return) and child.value is not None:
+                result.returns_value = True
+            if not isinstance(child, ast.Attribute):
+                continue
+            if not (isinstance(child.value, ast.Name) and child.value.id == "self"):
+                continue
+            if child.attr in _SENSOR_CAPABILITY:
+                result.capabilities.add(_SENSOR_CAPABILITY[child.attr])
+            helper = inspect.getattr_static(self.cls, child.attr, None)
+            if (
+                inspect.isfunction(helper)
+                and child.attr not in seen
+                and not hasattr(Mission, child.attr)
+            ):
+                inner = self.scan(helper, seen)
+                result.capabilities |= inner.capabilities
+                result.states.update(inner.states)
+        for child in _walk_own(node):
+            if (
+                isinstance(child, ast.Call)
+                and isinstance(child.func, ast.Attribute)
+                and child.func.attr == "visits"
+                and isinstance(child.func.value, ast.Name)
+                and child.func.value.id == "self"
+                and child.args
+                and isinstance(child.args[0], ast.Constant)
+                and isinstance(child.args[0].value, str)
+            ):
+                result.states[child.args[0].value] = child.args[0]
+        return result
+
+
+def _file_of(cls: type) -> str:
+    """The file a class was written in, as its code objects name it."""
+    try:
+        return inspect.getsourcefile(cls) or inspect.getfile(cls)
+    except (TypeError, OSError):
+        return f"<{cls.__module__}>"
+
+
+def _owned(cls: type, name: str, func: object) -> bool:
+    """True if ``func`` is the function the mission class defines as ``name``."""
+    return any(vars(klass).get(name) is func for klass in cls.__mro__)
+
+
+def _methods(cls: type[Mission]) -> list[str]:
+    return sorted(
+        name
+        for klass in cls.__mro__
+        if klass not in (Mission, object)
+        for name, value in vars(klass).items()
+        if inspect.isfunction(value) and not name.startswith("_")
+    )
+
+
+def _shift(where: Location, node: ast.expr | None, raw: str, offset: int) -> Location:
+    """The position of character ``offset`` of a condition written as a one-line string."""
+    if where.col is None or not isinstance(node, ast.Constant) or node.end_lineno != node.lineno:
+        return where
+    leading = len(raw) - len(raw.lstrip())
+    return Location(where.path, where.line, where.col + 1 + leading + offset)
+
+
+def _suggest(word: str, choices: Any) -> str | None:
+    close = difflib.get_close_matches(word, sorted(choices), n=1, cutoff=0.5)
+    return f"did you mean '{close[0]}'?" if close else None
+
+
+def _kebab(name: str) -> str:
+    """``BumpAndTurn`` -> ``bump-and-turn``."""
+    return re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "-", name).lower()
+
+
+def _description(cls: type) -> str:
+    """The class docstring, with each paragraph's lines joined (as YAML's ``>`` does)."""
+    doc = cls.__dict__.get("__doc__")
+    if not isinstance(doc, str):
+        return ""
+    paragraphs = inspect.cleandoc(doc).split("\n\n")
+    return "\n\n".join(" ".join(p.split()) for p in paragraphs).strip()
+
+
+def compile_mission(
+    cls: type[Mission], profile: Any = None, *, path: str | Path | None = None
+) -> tuple[MissionSpec, list[InputError]]:
+    """Compile and check a Python mission class.
+
+    Args:
+        cls: A subclass of :class:`~roboscript.mission.python_api.Mission`.
+        profile: A robot profile to check capabilities against, or ``None``.
+        path: How messages name the mission's file (default: where the class was written).
+
+    Returns:
+        The mission and its warnings.
+
+    Raises:
+        MissionProblemsError: The first error, with every problem in ``problems``.
+    """
+    from roboscript.mission.checks import check_mission
+
+    compiler = _Compiler(cls, str(path) if path is not None else None)
+    spec = compiler.compile()
+    problems = compiler.problems
+    if spec is not None and not any(p.severity == "error" for p in problems):
+        problems.extend(check_mission(spec, profile))
+    if spec is None or any(p.severity == "error" for p in problems):
+        from roboscript.mission.yaml_loader import MissionProblemsError
+
+        problems.sort(key=lambda p: (p.path != compiler.shown, p.line or 0, p.col or 0))
+        raise MissionProblemsError(problems)
+    return spec, [p for p in problems if p.severity != "error"]

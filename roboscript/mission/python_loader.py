@@ -1,0 +1,110 @@
+"""Load a Python mission file: import it, find its one Mission class, compile and check it.
+
+A Python mission is code, run with the permissions of whoever runs it: ``roboscript run``
+and ``roboscript check`` import the file. Teachers grading untrusted submissions run each in
+a separate process (the grader does).
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+from typing import Any
+
+from roboscript.errors import InputError, MissionError
+from roboscript.mission.python_api import Mission
+from roboscript.mission.python_source import PythonSource
+from roboscript.mission.spec import MissionSpec
+from roboscript.mission.student_code import import_student_file
+
+__all__ = ["find_mission_class", "is_python_mission", "load_python_mission"]
+
+
+def find_mission_class(module: Any, path: str) -> type[Mission]:
+    """The one mission class a module defines.
+
+    Base classes that another mission class of the file extends do not count, so a file may
+    hold a template and the mission built on it.
+
+    Raises:
+        MissionError: The file defines no mission class, or several.
+    """
+    classes = [
+        value
+        for value in vars(module).values()
+        if isinstance(value, type)
+        and issubclass(value, Mission)
+        and value is not Mission
+        and value.__module__ == module.__name__
+    ]
+    leaves = [c for c in classes if not any(o is not c and issubclass(o, c) for o in classes)]
+    if not leaves:
+        raise MissionError(
+            "this file holds no mission",
+            path=path,
+            line=1,
+            col=1,
+            hint="write a class that extends Mission: class MyMission(Mission): ...",
+        )
+    if len(leaves) > 1:
+        names = ", ".join(c.__name__ for c in leaves)
+        source = PythonSource(module.__file__ or path, path)
+        where = source.loc(source.class_def(leaves[1].__name__))
+        raise MissionError(
+            f"this file holds {len(leaves)} missions ({names}); a mission file holds one",
+            path=path,
+            line=where.line,
+            col=where.col,
+            hint="move each mission to a file of its own",
+        )
+    return leaves[0]
+
+
+def load_python_mission(
+    path: str | Path, profile: Any = None
+) -> tuple[MissionSpec, list[InputError]]:
+    """Load and check a Python mission file.
+
+    Args:
+        path: The ``.py`` file.
+        profile: A :class:`~roboscript.profiles.RobotProfile` to check capabilities against,
+            or ``None``.
+
+    Returns:
+        The mission and its warnings.
+
+    Raises:
+        MissionError: The file does not import, or holds no mission or several.
+        MissionProblemsError: The mission is invalid (every problem is in ``problems``).
+    """
+    from roboscript.mission.python_compiler import compile_mission
+
+    module = import_student_file(path, kind="mission")
+    cls = find_mission_class(module, str(path))
+    return compile_mission(cls, profile, path=str(path))
+
+
+def is_python_mission(path: str | Path) -> bool:
+    """Whether a ``.py`` file looks like a mission, judged from its text without running it.
+
+    Used when ``roboscript check`` walks a folder, which also holds behaviours and helpers:
+    a file counts if it defines a class whose base is named ``Mission`` (or it mentions
+    ``Mission`` but does not parse, so the syntax error is reported).
+    """
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return False
+    if "Mission" not in text:
+        return False
+    try:
+        tree = ast.parse(text)
+    except SyntaxError:
+        return True
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ClassDef):
+            for base in node.bases:
+                name = base.id if isinstance(base, ast.Name) else getattr(base, "attr", "")
+                if name == "Mission":
+                    return True
+    return False

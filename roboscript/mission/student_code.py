@@ -1,0 +1,335 @@
+"""Code students wrote: importing their files, and telling them in their terms what went wrong.
+
+Python missions and behaviour files are ordinary Python: importing one runs it with the
+student's permissions, so roboscript never imports one unless a student asked for it (by
+running or checking a mission). Teachers who grade untrusted submissions run each one in a
+separate process.
+
+Two kinds of trouble are reported here:
+
+* at load time, a file that does not import (a syntax error, an exception, an unknown name):
+  :func:`import_student_file` raises a :class:`~roboscript.errors.MissionError` located at the
+  student's line, with a "did you mean" where one fits;
+* at run time, an exception raised by a student's behaviour or condition method:
+  :func:`student_fault` turns it into one sentence, ``your behaviour 'spin' raised
+  ZeroDivisionError in state 'go': division by zero (spin.py:14)``, and the mission ends in
+  failure instead of the program crashing (the traceback goes to the debug log).
+"""
+
+from __future__ import annotations
+
+import builtins
+import difflib
+import hashlib
+import importlib.util
+import logging
+import re
+import sys
+import sysconfig
+import traceback
+from collections.abc import Iterable
+from pathlib import Path
+from types import ModuleType, TracebackType
+from typing import Any
+
+from roboscript.errors import LinkError, MissionError, RoboscriptError
+
+__all__ = [
+    "StudentCodeError",
+    "import_student_file",
+    "is_student_class",
+    "shown_path",
+    "student_fault",
+]
+
+logger = logging.getLogger(__name__)
+
+_PACKAGE_DIR = Path(__file__).resolve().parent.parent
+_LIBRARY_DIRS = tuple(
+    {
+        str(Path(p).resolve())
+        for key in ("stdlib", "platstdlib", "purelib", "platlib")
+        if (p := sysconfig.get_paths().get(key))
+    }
+)
+
+# (resolved path, modification time, size) -> module; a file is imported once per version, so
+# a behaviour class keeps its identity between `check` and `run` in one process.
+_IMPORTED: dict[tuple[str, int, int], ModuleType] = {}
+
+
+def shown_path(path: str | Path) -> str:
+    """``path`` as a student would type it: relative to the working directory when inside it."""
+    try:
+        return str(Path(path).resolve().relative_to(Path.cwd().resolve()))
+    except (ValueError, OSError):
+        return str(path)
+
+
+def is_student_class(cls: type) -> bool:
+    """True if ``cls`` was written outside roboscript (by a student or a teacher)."""
+    module = cls.__module__ or ""
+    return module != "roboscript" and not module.startswith("roboscript.")
+
+
+def _is_library_file(filename: str) -> bool:
+    if filename.startswith("<"):
+        return True  # <frozen importlib._bootstrap>, <string>
+    resolved = str(Path(filename).resolve())
+    return resolved.startswith(str(_PACKAGE_DIR)) or resolved.startswith(_LIBRARY_DIRS)
+
+
+def _student_frame(tb: TracebackType | None) -> traceback.FrameSummary | None:
+    """The innermost frame of the traceback that runs a student's file."""
+    found = None
+    for frame in traceback.extract_tb(tb):
+        if not _is_library_file(frame.filename):
+            found = frame
+    return found
+
+
+def _where(frame: traceback.FrameSummary | None) -> str | None:
+    if frame is None:
+        return None
+    return f"{shown_path(frame.filename)}:{frame.lineno}"
+
+
+# --------------------------------------------------------------------------------- run time
+
+
+class StudentCodeError(RoboscriptError, RuntimeError):
+    """Student code (a behaviour or a condition method) raised or misbehaved while running.
+
+    Attributes:
+        what: What the student wrote, for the sentence (``behaviour 'spin'``,
+            ``condition 'four_sides_done'``).
+        error: The exception it raised, or ``None``.
+        problem: What it did instead of raising (``returned None``), or ``None``.
+        where: ``file:line`` in the student's file, or ``None``.
+    """
+
+    def __init__(
+        self,
+        what: str,
+        error: BaseException | None = None,
+        *,
+        problem: str | None = None,
+        where: str | None = None,
+    ) -> None:
+        self.what = what
+        self.error = error
+        self.problem = problem
+        self.where = where
+        if where is None and error is not None:
+            self.where = _where(_student_frame(error.__traceback__))
+        super().__init__(self.reason(None))
+
+    def reason(self, state: str | None) -> str:
+        """The one sentence a student reads, naming the state when it is known."""
+        did = self.problem or f"raised {type(self.error).__name__}"
+        text = f"your {self.what} {did}"
+        if state is not None:
+            text += f" in state '{state}'"
+        detail = str(self.error) if self.error is not None and self.problem is None else ""
+        if detail:
+            text += f": {detail}"
+        if self.where:
+            text += f" ({self.where})"
+        return text
+
+
+def _student_action(tb: TracebackType | None) -> Any:
+    """The outermost student-written action running in the traceback, or ``None``.
+
+    Outermost, so that a behaviour calling its own helpers is named, and a built-in
+    composite action running a student's behaviour blames the behaviour, not itself.
+    """
+    from roboscript.actions.base import Action
+
+    for frame, _ in traceback.walk_tb(tb):
+        owner = frame.f_locals.get("self")
+        if isinstance(owner, Action) and is_student_class(type(owner)):
+            return owner
+    return None
+
+
+def student_fault(exc: BaseException, state: str) -> str | None:
+    """Describe ``exc`` as a student's mistake, or return ``None`` if it is not one.
+
+    Args:
+        exc: An exception raised while a mission ran.
+        state: The state the mission was in.
+
+    Returns:
+        One sentence naming the behaviour or condition, the state and the exception, when
+        ``exc`` came out of code a student wrote; ``None`` for anything else (a roboscript
+        bug, or a lost link, which is the robot's fault, not the student's).
+    """
+    if isinstance(exc, LinkError):
+        return None
+    if isinstance(exc, StudentCodeError):
+        fault = exc
+    else:
+        action = _student_action(exc.__traceback__)
+        if action is None:
+            return None
+        name = getattr(type(action), "name", type(action).__name__)
+        fault = StudentCodeError(f"behaviour '{name}'", exc)
+    reason = fault.reason(state)
+    logger.debug("%s", reason, exc_info=fault.error or fault)
+    return reason
+
+
+# -------------------------------------------------------------------------------- load time
+
+
+def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleType:
+    """Import a student's Python file as a module of its own.
+
+    The file's folder is put first on ``sys.path`` while it is imported, as ``python FILE``
+    would, so it can import files beside it. A file is imported once per version of its
+    contents (modification time and size).
+
+    Args:
+        path: The ``.py`` file, as the student named it (used in messages).
+        kind: ``mission`` or ``behaviour``, for messages.
+
+    Returns:
+        The module.
+
+    Raises:
+        MissionError: The file cannot be read, has a syntax error, or raised while it was
+            imported; located at the student's line, with a hint where one fits.
+    """
+    file = Path(path)
+    try:
+        stat = file.resolve().stat()
+    except OSError as exc:
+        raise MissionError(f"cannot read the file: {exc.strerror}", path=str(path)) from None
+    key = (str(file.resolve()), stat.st_mtime_ns, stat.st_size)
+    if key in _IMPORTED:
+        return _IMPORTED[key]
+    digest = hashlib.sha1(key[0].encode("utf-8")).hexdigest()[:10]  # a module name, not security
+    stem = re.sub(r"\W", "_", file.stem)
+    name = f"_roboscript_{kind}_{stem}_{digest}"
+    spec = importlib.util.spec_from_file_location(name, file.resolve())
+    if spec is None or spec.loader is None:
+        raise MissionError(f"a {kind} file is a Python file ending in .py", path=str(path))
+    module = importlib.util.module_from_spec(spec)
+    folder = str(file.resolve().parent)
+    sys.modules[name] = module  # classes look their module up here (inspect, dataclasses)
+    sys.path.insert(0, folder)
+    try:
+        spec.loader.exec_module(module)
+    except SyntaxError as exc:
+        del sys.modules[name]
+        raise _syntax_problem(exc, path) from None
+    except (Exception, SystemExit) as exc:  # noqa: BLE001 - reported in the student's terms
+        del sys.modules[name]
+        raise _import_problem(exc, path, module, kind) from None
+    finally:
+        if folder in sys.path:
+            sys.path.remove(folder)
+    _IMPORTED[key] = module
+    return module
+
+
+def _syntax_problem(exc: SyntaxError, path: str | Path) -> MissionError:
+    where = str(path)
+    if exc.filename and Path(exc.filename).resolve() != Path(path).resolve():
+        where = shown_path(exc.filename)
+    message = exc.msg or "invalid syntax"
+    if not message.startswith(("invalid syntax", "expected", "unexpected")):
+        message = f"syntax error: {message}"
+    return MissionError(message, path=where, line=exc.lineno, col=exc.offset)
+
+
+_UNEXPECTED_KEYWORD = re.compile(
+    r"^(?:(\w+)\.)?(\w+)\(\) got an unexpected keyword argument '(\w+)'"
+)
+_MISSING_ARGUMENT = re.compile(
+    r"^(?:(\w+)\.)?(\w+)\(\) missing \d+ required (?:positional |keyword-only )?argument"
+)
+_CANNOT_IMPORT = re.compile(r"^cannot import name '(\w+)' from '([\w.]+)'")
+
+
+def _import_problem(
+    exc: BaseException, path: str | Path, module: ModuleType, kind: str
+) -> MissionError:
+    frames = traceback.extract_tb(exc.__traceback__)
+    frame = _student_frame(exc.__traceback__)
+    where, line, col = str(path), None, None
+    if frame is not None:
+        if Path(frame.filename).resolve() != Path(path).resolve():
+            where = shown_path(frame.filename)
+        line = frame.lineno
+        colno = getattr(frame, "colno", None)  # Python 3.11+
+        col = colno + 1 if colno is not None else None
+    raised_by_roboscript = bool(frames) and frames[-1].filename.startswith(str(_PACKAGE_DIR))
+    message, hint = _explain(exc, module, raised_by_roboscript, kind)
+    return MissionError(message, path=where, line=line, col=col, hint=hint)
+
+
+def _explain(
+    exc: BaseException, module: ModuleType, raised_by_roboscript: bool, kind: str
+) -> tuple[str, str | None]:
+    """A message and a hint for an exception raised while a student's file was imported."""
+    text = str(exc)
+    if isinstance(exc, SystemExit):
+        return f"the {kind} file called exit() while it was loaded", None
+    if isinstance(exc, RoboscriptError | ValueError) and raised_by_roboscript:
+        return text, None  # roboscript's own sentence, e.g. "drive speed must be positive"
+    if isinstance(exc, TypeError):
+        match = _UNEXPECTED_KEYWORD.match(text)
+        if match:
+            owner, func, keyword = match.groups()
+            callee = owner if func == "__init__" and owner else func
+            return f"{callee}() has no parameter '{keyword}'", _suggest(
+                keyword, _parameters(callee, module)
+            )
+        match = _MISSING_ARGUMENT.match(text)
+        if match:
+            owner, func = match.groups()
+            callee = owner if func == "__init__" and owner else func
+            return text.replace(f"{owner}.{func}()" if owner else f"{func}()", f"{callee}()"), None
+    if isinstance(exc, NameError) and not isinstance(exc, UnboundLocalError):
+        name = getattr(exc, "name", None) or ""
+        if name in _roboscript_names():
+            return f"NameError: {text}", f"add 'from roboscript import {name}'"
+        known = [*vars(module), *dir(builtins)]
+        return f"NameError: {text}", _suggest(name, [*known, *_roboscript_names()])
+    if isinstance(exc, ImportError):
+        match = _CANNOT_IMPORT.match(text)
+        if match and match.group(2) == "roboscript":
+            name = match.group(1)
+            return f"roboscript has no '{name}' to import", _suggest(name, _roboscript_names())
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__, None
+
+
+def _roboscript_names() -> list[str]:
+    import roboscript
+
+    return list(getattr(roboscript, "__all__", []))
+
+
+def _parameters(callee: str, module: ModuleType) -> list[str]:
+    import inspect
+
+    target = getattr(module, callee, None)
+    if target is None:
+        import roboscript
+
+        target = getattr(roboscript, callee, None) if callee[:1].isupper() else None
+        if callee == "state":
+            from roboscript.mission.python_api import state
+
+            target = state
+    try:
+        return list(inspect.signature(target).parameters) if callable(target) else []
+    except (TypeError, ValueError):
+        return []
+
+
+def _suggest(word: str, choices: Iterable[str]) -> str | None:
+    close = difflib.get_close_matches(word, sorted(set(choices)), n=1, cutoff=0.6)
+    return f"did you mean '{close[0]}'?" if close else None

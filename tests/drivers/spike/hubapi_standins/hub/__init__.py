@@ -1,0 +1,1 @@
+"""Stand-in for the SPIKE App 3 ``hub`` module (only what roboscript's agent uses)."""

@@ -1,0 +1,410 @@
+"""Python missions as classes: what they compile to, how guard methods run, and their errors."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+from helpers import ROOT
+
+from roboscript import Drive, Mission, PlayTone, Rotate, Wait, WaitUntil, state
+from roboscript.clock import SimClock
+from roboscript.errors import MissionError
+from roboscript.mission import load_mission
+from roboscript.mission.checks import check_capabilities
+from roboscript.mission.python_compiler import compile_mission
+from roboscript.mission.runner import MissionRunner
+from roboscript.mission.student_code import shown_path
+from roboscript.profiles import get_profile
+from roboscript.scheduler import Scheduler
+
+
+class FakeBase:
+    track_mm = 160.0
+    max_speed_mm_s = 300.0
+    odometry_is_estimated = False
+
+    def __init__(self) -> None:
+        self.speeds = (0.0, 0.0)
+        self.travel = [0.0, 0.0]
+
+    def set_wheel_speeds(self, left: float, right: float) -> None:
+        self.speeds = (left, right)
+
+    def stop(self) -> None:
+        self.speeds = (0.0, 0.0)
+
+    def wheel_distances_mm(self) -> tuple[float, float]:
+        return self.travel[0], self.travel[1]
+
+    def tick(self, now: float, dt: float) -> None:
+        self.travel[0] += self.speeds[0] * dt
+        self.travel[1] += self.speeds[1] * dt
+
+
+class FakeSpeaker:
+    def __init__(self) -> None:
+        self.tones: list[tuple[float, float]] = []
+
+    def beep(self, frequency_hz: float, duration_s: float) -> None:
+        self.tones.append((frequency_hz, duration_s))
+
+
+class FakeRange:
+    def __init__(self) -> None:
+        self.mm: float | None = 1000.0
+
+    def distance_mm(self) -> float | None:
+        return self.mm
+
+
+def run(cls: type[Mission], max_s: float = 60.0, **caps: Any) -> MissionRunner:
+    spec, _ = compile_mission(cls)
+    base = caps.setdefault("drive_base", FakeBase())
+    caps.setdefault("speaker", FakeSpeaker())
+    sched = Scheduler(SimClock(), 0.02)
+    sched.add(base, "sense")
+    runner = MissionRunner(spec, caps)
+    sched.add(runner)
+    sched.run(until=lambda: runner.finished, max_duration_s=max_s)
+    return runner
+
+
+class Square(Mission):
+    """Drive a square
+    and beep at every corner.
+
+    Twice as fun.
+    """
+
+    robot = "mirto"
+
+    side = state(
+        Drive(distance_mm=200, speed_mm_s=100),
+        initial=True,
+        timeout_s=10,
+        on_done="corner",
+        on_failed="stuck",
+        on_timeout="stuck",
+    )
+    corner = state(Rotate(angle_deg=90), on_done="beep", on_failed="stuck")
+    beep = state(
+        PlayTone(frequency_hz=880, duration_s=0.1),
+        on_done=[("four_sides_done", "finished"), "side"],
+    )
+    stuck = state(PlayTone(frequency_hz=220), final="failure")
+    finished = state(final="success")
+
+    def four_sides_done(self) -> bool:
+        return self.visits("side") >= 4
+
+
+def test_a_mission_class_compiles_to_states_targets_and_actions() -> None:
+    spec, warnings = compile_mission(Square)
+    assert warnings == []
+    assert spec.name == "square"
+    assert spec.description == "Drive a square and beep at every corner.\n\nTwice as fun."
+    assert (spec.robot, spec.world) == ("mirto", None)
+    assert spec.initial == "side"
+    assert list(spec.states) == ["side", "corner", "beep", "stuck", "finished"]
+    side = spec.states["side"]
+    assert side.action is not None and side.action.name == "drive"
+    assert side.action.kwargs["distance_mm"] == 200 and side.action.kwargs["speed_mm_s"] == 100
+    assert side.timeout_s == 10.0
+    assert {k: [t.target for t in v] for k, v in side.on.items()} == {
+        "done": ["corner"],
+        "failed": ["stuck"],
+        "timeout": ["stuck"],
+    }
+    beep = spec.states["beep"].on["done"]
+    assert [(t.target, t.guard_text) for t in beep] == [
+        ("finished", "four_sides_done"),
+        ("side", None),
+    ]
+    assert spec.states["stuck"].final == "failure" and spec.states["finished"].final == "success"
+    assert spec.requires() == {"drive_base", "speaker"}
+
+
+def test_a_mission_class_runs_with_its_guard_methods() -> None:
+    speaker = FakeSpeaker()
+    runner = run(Square, speaker=speaker)
+    assert runner.result.outcome == "success"
+    names = [name for _, name in runner.result.states]
+    assert names == ["side", "corner", "beep"] * 4 + ["finished"]
+    assert speaker.tones == [(880, 0.1)] * 4
+
+
+def test_every_visit_runs_a_fresh_copy_of_the_action() -> None:
+    template = Drive(distance_mm=200)
+
+    class Twice(Mission):
+        go = state(template, initial=True, on_done=[("again", "go"), "end"])
+        end = state(final=True)
+
+        def again(self) -> bool:
+            return self.visits("go") < 2
+
+    spec, _ = compile_mission(Twice)
+    action = spec.states["go"].action
+    assert action is not None
+    first, second = action.factory(), action.factory()
+    assert first is not second and first is not template
+    assert run(Twice).result.outcome == "success"
+    assert template._origin == (0.0, 0.0)  # the template itself never ran
+
+
+def test_guard_methods_read_the_mission_values_and_declare_what_they_read() -> None:
+    class Approach(Mission):
+        go = state(Drive(distance_mm=5000), initial=True, on_done="end", when=[("close", "end")])
+        end = state(PlayTone(frequency_hz=440), final="success")
+
+        def close(self) -> bool:
+            return self.near(300) and self.state_time > 0.5 and self.elapsed > 0.5
+
+        def near(self, limit_mm: float) -> bool:
+            return self.range.distance_mm < limit_mm
+
+    spec, _ = compile_mission(Approach)
+    (transition,) = spec.states["go"].when
+    assert transition.guard is not None
+    assert set(getattr(transition.guard, "capabilities", ())) == {"range"}
+    assert spec.requires() == {"drive_base", "speaker", "range"}
+
+    sensor = FakeRange()
+    base = FakeBase()
+
+    def closer(now: float, dt: float) -> None:
+        sensor.mm = 1000.0 - (base.travel[0] + base.travel[1]) / 2
+
+    sched = Scheduler(SimClock(), 0.02)
+    sched.add(base, "sense")
+    sched.add(closer, "sense")
+    runner = MissionRunner(spec, {"drive_base": base, "speaker": FakeSpeaker(), "range": sensor})
+    sched.add(runner)
+    sched.run(until=lambda: runner.finished, max_duration_s=30)
+    assert runner.result.outcome == "success"
+    assert sensor.mm is not None and 290 < sensor.mm < 300  # 150 mm/s, 3 mm a tick
+
+
+def test_capabilities_read_by_guard_methods_are_checked_against_the_robot() -> None:
+    class LineCounter(Mission):
+        requires = ("heading",)
+        go = state(Drive(distance_mm=500), initial=True, on_done="end", when=[("dark", "end")])
+        end = state(final=True)
+
+        def dark(self) -> bool:
+            return self.line.any
+
+    spec, _ = compile_mission(LineCounter)
+    problems = [p.message for p in check_capabilities(spec, get_profile("mirto"))]
+    assert problems == ["the condition 'dark' reads heading, which mirto does not have"]
+    problems = [p.message for p in check_capabilities(spec, get_profile("spike-prime"))]
+    assert problems == ["the condition 'dark' reads line, which spike-prime does not have"]
+
+
+def test_a_condition_that_is_not_a_plain_name_is_an_expression() -> None:
+    class Timed(Mission):
+        go = state(
+            Wait(duration_s=5), initial=True, on_done="end", when=[("state_time >= 1 s", "end")]
+        )
+        end = state(final=True)
+
+    runner = run(Timed)
+    assert runner.result.outcome == "success"
+    assert 1.0 <= runner.result.duration_s < 1.1
+
+
+def test_condition_parameters_of_actions_take_methods_or_expressions() -> None:
+    class Waiting(Mission):
+        first = state(
+            WaitUntil(condition="elapsed > 0.5", timeout_s=5), initial=True, on_done="second"
+        )
+        second = state(WaitUntil(condition="later", timeout_s=5), final="success")
+
+        def later(self) -> bool:
+            return self.elapsed > 1.0
+
+    runner = run(Waiting)
+    assert runner.result.outcome == "success"
+    assert 1.0 < runner.result.duration_s < 1.1
+
+
+def test_a_guard_method_that_raises_ends_the_mission_in_one_sentence() -> None:
+    class Oops(Mission):
+        go = state(Wait(duration_s=5), initial=True, on_done="end", when=[("broken", "end")])
+        end = state(final=True)
+
+        def broken(self) -> bool:
+            return self.elapsed > 0.1 and 1 / 0 > 0
+
+    runner = run(Oops)
+    assert runner.result.outcome == "failure"
+    line = Oops.broken.__code__.co_firstlineno + 1
+    assert runner.result.reason == (
+        "your condition 'broken' raised ZeroDivisionError in state 'go': division by zero"
+        f" ({shown_path(__file__)}:{line})"
+    )
+
+
+def test_a_guard_method_without_return_is_a_warning_and_a_failure_when_run() -> None:
+    class Forgot(Mission):
+        go = state(Wait(duration_s=5), initial=True, on_done="end", when=[("forgot", "end")])
+        end = state(final=True)
+
+        def forgot(self) -> bool:
+            self.elapsed > 1  # noqa: B015 - the mistake under test
+
+    _spec, warnings = compile_mission(Forgot)
+    assert [w.message for w in warnings] == [
+        "condition method 'forgot' never returns a value, so it never holds"
+    ]
+    runner = run(Forgot)
+    assert runner.result.outcome == "failure"
+    assert runner.result.reason is not None
+    assert runner.result.reason.startswith(
+        "your condition 'forgot' returned None instead of True or False (is 'return' missing?)"
+        " in state 'go'"
+    )
+
+
+def test_mission_values_are_read_only_and_only_there_while_running() -> None:
+    with pytest.raises(RuntimeError, match="only be read while the mission runs"):
+        _ = Square().elapsed
+    mission = Square()
+    with pytest.raises(AttributeError):
+        mission.elapsed = 3.0  # type: ignore[misc]
+
+
+def test_a_subclass_can_replace_one_state() -> None:
+    class Slow(Square):
+        corner = state(Rotate(angle_deg=90, turn_rate_deg_s=30), on_done="beep")
+
+    spec, _ = compile_mission(Slow)
+    assert list(spec.states) == ["side", "corner", "beep", "stuck", "finished"]
+    corner = spec.states["corner"].action
+    assert corner is not None and corner.kwargs["turn_rate_deg_s"] == 30
+
+
+# ------------------------------------------------------------------------ golden messages
+
+BAD = """\
+from roboscript import Drive, Mission, PlayTone, Rotate, state
+
+
+class Bad(Mission):
+    side = state(Drive(distance_mm=500), initial=True, on_done="cornr", when=[("bumpd", "end")])
+    corner = state(Rotate(angle_deg=90), on_done=[("visits.sied >= 4", "end"), "side"])
+    beep = state(PlayTone, on_done=("side", "end"))
+    wait = state(timeout_s=-1, on_timeout="end", initial=True)
+    end = state(final="sucess")
+    range = state(final=True)
+
+    def bumped(self) -> bool:
+        return self.bumper.any
+"""
+
+
+def messages(path: Path) -> list[str]:
+    with pytest.raises(MissionError) as info:
+        load_mission(path)
+    found = getattr(info.value, "problems", [info.value])
+    return [p.format().replace(str(path), "M") for p in found]
+
+
+def test_golden_messages_for_a_bad_python_mission(write_mission: Callable[..., Path]) -> None:
+    path = write_mission(BAD, "bad.py")
+    assert messages(path) == [
+        "M:5:64: error: there is no state 'cornr' (did you mean 'corner'?)",
+        "M:5:80: error: Bad has no method 'bumpd' (did you mean 'bumped'?)",
+        "M:6:60: error: 'visits.sied': there is no state 'sied' (did you mean 'visits.side'?)",
+        (
+            "M:7:18: error: state 'beep': PlayTone is a kind of action; call it to make one"
+            " (write PlayTone(...))"
+        ),
+        (
+            "M:7:37: error: 'side' is a state, not a condition (a condition names a method that"
+            " returns True or False; for several choices, use a list: [(condition, state), state])"
+        ),
+        "M:8:28: error: state 'wait': timeout_s is a positive number of seconds, got -1",
+        "M:8:58: error: states 'side' and 'wait' are both initial; a mission starts in one",
+        "M:9:23: error: state 'end': final is 'success' or 'failure', got 'sucess'",
+        (
+            "M:10:5: error: a state cannot be called 'range': Mission uses that name"
+            " (choose another name)"
+        ),
+    ]
+
+
+def test_structure_checks_are_the_yaml_ones(write_mission: Callable[..., Path]) -> None:
+    path = write_mission(
+        "from roboscript import Drive, Mission, state\n"
+        "\n"
+        "class Lost(Mission):\n"
+        "    go = state(Drive(distance_mm=100), initial=True, on_done='end', on_failed='end')\n"
+        "    end = state(final=True)\n"
+        "    island = state(Drive(distance_mm=100))\n",
+        "lost.py",
+    )
+    assert messages(path) == [
+        (
+            "M:6:5: error: state 'island' can never be reached from 'go'"
+            " (add a transition to it, or remove it)"
+        ),
+        (
+            "M:6:5: error: state 'island' has no way out"
+            " (add 'on: {done: NEXT}', a 'when' condition, or 'final: success')"
+        ),
+        (
+            "M:6:20: warning: if 'drive' fails (stalled) in state 'island', the mission ends in"
+            " failure (add 'on: {failed: STATE}' to handle it)"
+        ),
+    ]
+
+
+def test_a_mission_without_initial_state_says_how_to_mark_one(
+    write_mission: Callable[..., Path],
+) -> None:
+    path = write_mission(
+        "from roboscript import Drive, Mission, state\n"
+        "\n"
+        "class NoStart(Mission):\n"
+        "    go = state(Drive(distance_mm=100), on_done='end', on_failed='end')\n"
+        "    end = state(final=True)\n",
+        "nostart.py",
+    )
+    assert messages(path) == [
+        (
+            "M:3:1: error: mission NoStart has no initial state"
+            " (mark the first state, e.g. go = state(..., initial=True))"
+        )
+    ]
+
+
+# ------------------------------------------------------------------------------- exports
+
+
+def test_importing_roboscript_loads_no_heavy_library() -> None:
+    code = (
+        "import sys, roboscript\n"
+        "heavy = {'transitions', 'yaml', 'serial'} & {m.split('.')[0] for m in sys.modules}\n"
+        "assert not heavy, heavy\n"
+        "from roboscript import Mission, state, Drive, Rotate, PlayTone, Wait, Stop\n"
+        "heavy = {'transitions', 'yaml', 'serial'} & {m.split('.')[0] for m in sys.modules}\n"
+        "assert not heavy, heavy\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT)
+
+
+def test_every_built_in_action_is_exported_by_its_class_name() -> None:
+    import roboscript
+    from roboscript.actions import ACTIONS
+
+    for cls in ACTIONS.values():
+        assert cls.__name__ in roboscript.__all__, f"roboscript.__all__ lacks {cls.__name__}"
+        assert getattr(roboscript, cls.__name__) is cls
+    with pytest.raises(AttributeError):
+        _ = roboscript.Drvie  # type: ignore[attr-defined]

@@ -1,0 +1,212 @@
+"""Python mission files: loading by path, errors in the student's terms, and the YAML twins."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+from helpers import MISSIONS, run_cli
+
+from roboscript.errors import MissionError
+from roboscript.mission import load_mission
+from roboscript.mission.python_loader import is_python_mission
+from roboscript.mission.spec import MissionSpec
+
+TWINS = sorted(p for p in MISSIONS.glob("*.py") if p.with_suffix(".yaml").exists())
+
+GOOD = """\
+from roboscript import Drive, Mission, state
+
+
+class Hello(Mission):
+    go = state(Drive(distance_mm=300), initial=True, on_done="end", on_failed="end")
+    end = state(final="success")
+"""
+
+
+def messages(path: Path) -> list[str]:
+    with pytest.raises(MissionError) as info:
+        load_mission(path)
+    found = getattr(info.value, "problems", [info.value])
+    return [p.format().replace(str(path), "M") for p in found]
+
+
+def test_a_python_mission_file_loads_by_path(write_mission: Callable[..., Path]) -> None:
+    spec, warnings = load_mission(write_mission(GOOD, "hello.py"))
+    assert spec.name == "hello" and spec.initial == "go" and warnings == []
+    assert spec.states["go"].location is not None
+    assert (spec.states["go"].location.line, spec.states["go"].location.col) == (5, 5)
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        (
+            GOOD.replace("initial=True,", "initial=True"),
+            "M:5:48: error: invalid syntax. Perhaps you forgot a comma?",
+        ),
+        (
+            GOOD.replace("Drive(distance_mm=300)", "Drvie(distance_mm=300)"),
+            "M:5:16: error: NameError: name 'Drvie' is not defined (did you mean 'Drive'?)",
+        ),
+        (
+            GOOD.replace("Drive(distance_mm=300)", "Rotate(angle_deg=90)"),
+            (
+                "M:5:16: error: NameError: name 'Rotate' is not defined"
+                " (add 'from roboscript import Rotate')"
+            ),
+        ),
+        (
+            GOOD.replace("Drive, Mission", "Drvie, Mission"),
+            "M:1:1: error: roboscript has no 'Drvie' to import (did you mean 'Drive'?)",
+        ),
+        (
+            GOOD.replace("distance_mm=300", "distnce_mm=300"),
+            "M:5:16: error: Drive() has no parameter 'distnce_mm' (did you mean 'distance_mm'?)",
+        ),
+        (
+            GOOD.replace("on_done=", "on_dnoe="),
+            "M:5:10: error: state() has no parameter 'on_dnoe' (did you mean 'on_done'?)",
+        ),
+        (
+            GOOD.replace("distance_mm=300", "distance_mm=300, speed_mm_s=-5"),
+            "M:5:16: error: drive speed must be positive (use a negative distance to reverse)",
+        ),
+        (
+            GOOD + "\nprint(1 / 0)\n",
+            "M:8:7: error: ZeroDivisionError: division by zero",
+        ),
+        (
+            "import math\n",
+            (
+                "M:1:1: error: this file holds no mission"
+                " (write a class that extends Mission: class MyMission(Mission): ...)"
+            ),
+        ),
+        (
+            GOOD + GOOD.replace("Hello", "Again").replace("from roboscript", "\nfrom roboscript"),
+            (
+                "M:11:1: error: this file holds 2 missions (Hello, Again); a mission file holds one"
+                " (move each mission to a file of its own)"
+            ),
+        ),
+    ],
+)
+def test_golden_messages_for_python_mission_files(
+    write_mission: Callable[..., Path], text: str, expected: str
+) -> None:
+    assert messages(write_mission(text, "hello.py")) == [expected]
+
+
+def test_a_file_may_hold_a_template_and_the_mission_built_on_it(
+    write_mission: Callable[..., Path],
+) -> None:
+    text = GOOD + "\n\nclass Longer(Hello):\n    go = state(Drive(distance_mm=900), initial=True,"
+    text += ' on_done="end", on_failed="end")\n'
+    spec, _ = load_mission(write_mission(text, "longer.py"))
+    assert spec.name == "longer"
+    action = spec.states["go"].action
+    assert action is not None and action.kwargs["distance_mm"] == 900
+
+
+def test_a_mission_imports_files_beside_it(tmp_path: Path) -> None:
+    (tmp_path / "distances.py").write_text("SIDE_MM = 420\n", encoding="utf-8")
+    path = tmp_path / "uses.py"
+    path.write_text(
+        GOOD.replace("from roboscript", "from distances import SIDE_MM\nfrom roboscript").replace(
+            "distance_mm=300", "distance_mm=SIDE_MM"
+        ),
+        encoding="utf-8",
+    )
+    spec, _ = load_mission(path)
+    action = spec.states["go"].action
+    assert action is not None and action.kwargs["distance_mm"] == 420
+
+
+def test_check_finds_python_missions_in_a_folder_but_not_behaviours(tmp_path: Path) -> None:
+    (tmp_path / "hello.py").write_text(GOOD, encoding="utf-8")
+    (tmp_path / "helper.py").write_text("SIDE_MM = 1\n", encoding="utf-8")
+    (tmp_path / "broken.py").write_text("class X(Mission)\n", encoding="utf-8")
+    assert is_python_mission(tmp_path / "hello.py")
+    assert not is_python_mission(tmp_path / "helper.py")
+    assert is_python_mission(tmp_path / "broken.py")  # so its syntax error is reported
+    assert not is_python_mission(MISSIONS / "behaviours" / "zigzag.py")
+    result = run_cli("check", str(tmp_path))
+    assert result.returncode == 2
+    assert result.stderr.splitlines()[-1] == "checked 2 files: 1 with errors"
+    assert "broken.py:1:17: error: expected ':'" in result.stderr
+
+
+# ------------------------------------------------------------------------------- the twins
+
+
+def _shape(spec: MissionSpec) -> dict[str, Any]:
+    """What a mission does, leaving out its description and how its conditions are spelt
+    (methods or expressions)."""
+
+    def transitions(items: Any) -> list[tuple[str, bool, frozenset[str]]]:
+        return [
+            (t.target, t.guard is not None, frozenset(getattr(t.guard, "capabilities", ())))
+            for t in items
+        ]
+
+    states = {}
+    for name, state in spec.states.items():
+        action = None
+        if state.action is not None:
+            defaults = {
+                p.kwarg: p.default
+                for p in type(state.action.factory()).params
+                if p.default is not None and not p.required
+            }
+            action = (
+                state.action.name,
+                {
+                    **defaults,
+                    **{k: float(v) for k, v in state.action.kwargs.items() if v is not None},
+                },
+                state.action.requires,
+            )
+        states[name] = {
+            "action": action,
+            "on": {outcome: transitions(items) for outcome, items in state.on.items()},
+            "when": transitions(state.when),
+            "timeout_s": state.timeout_s,
+            "final": state.final,
+        }
+    return {
+        "name": spec.name,
+        "initial": spec.initial,
+        "robot": spec.robot,
+        "world": spec.world,
+        "requires": spec.requires(),
+        "states": states,
+    }
+
+
+def test_there_are_twins() -> None:
+    assert {p.stem for p in TWINS} >= {"square", "bump_and_turn"}
+
+
+@pytest.mark.parametrize("twin", TWINS, ids=lambda p: p.name)
+def test_a_python_twin_compiles_to_the_same_mission_as_its_yaml(twin: Path) -> None:
+    python_spec, python_warnings = load_mission(twin)
+    yaml_spec, yaml_warnings = load_mission(twin.with_suffix(".yaml"))
+    assert _shape(python_spec) == _shape(yaml_spec)
+    assert [w.message for w in python_warnings] == [w.message for w in yaml_warnings]
+
+
+@pytest.mark.parametrize("twin", TWINS, ids=lambda p: p.name)
+def test_a_python_twin_runs_like_its_yaml(twin: Path) -> None:
+    runs = []
+    for path in (twin, twin.with_suffix(".yaml")):
+        result = run_cli("run", str(path.relative_to(MISSIONS.parent)), "--json", "--seed", "3")
+        assert result.returncode == 0, result.stderr
+        runs.append(json.loads(result.stdout))
+    python_run, yaml_run = runs
+    assert python_run["outcome"] == yaml_run["outcome"] == "success"
+    assert python_run["states"] == yaml_run["states"]
+    assert python_run == yaml_run
