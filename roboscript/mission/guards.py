@@ -24,13 +24,15 @@ name                   value                                               needs
 =====================  ==================================================  ===============
 
 A number may carry a unit (``20 cm``, ``1.5 s``, ``90 deg``): it is converted to the unit of
-the name it is compared with (``range.distance_cm < 200 mm`` compares in cm).
+the name it is compared with (``range.distance_cm < 200 mm`` compares in cm). Arithmetic never
+raises: dividing by zero gives infinity (or not-a-number for 0/0, which compares false).
 """
 
 from __future__ import annotations
 
 import ast
 import difflib
+import math
 import operator
 import re
 from collections.abc import Callable, Mapping
@@ -102,11 +104,20 @@ _COMPARE: dict[type[ast.cmpop], Callable[[Any, Any], bool]] = {
     ast.Eq: operator.eq,
     ast.NotEq: operator.ne,
 }
+
+
+def _divide(left: float, right: float) -> float:
+    """Division that never raises: x/0 is +-infinity (nan for 0/0, and nan compares false)."""
+    if right == 0:
+        return math.nan if left == 0 else math.copysign(math.inf, left) * math.copysign(1, right)
+    return float(left) / float(right)
+
+
 _ARITH: dict[type[ast.operator], Callable[[Any, Any], Any]] = {
     ast.Add: operator.add,
     ast.Sub: operator.sub,
     ast.Mult: operator.mul,
-    ast.Div: operator.truediv,
+    ast.Div: _divide,
 }
 
 _Eval = Callable[[GuardEnv], Any]
