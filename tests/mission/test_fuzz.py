@@ -167,7 +167,10 @@ def test_division_by_zero_in_a_guard_is_infinite_not_an_error() -> None:
 def test_nothing_in_a_mission_file_runs_code(tmp_path: Path) -> None:
     marker = tmp_path / "pwned"
     attempts = [
-        f"mission: !!python/object/apply:os.system ['touch {marker}']\nstates: {{a: {{final: success}}}}\n",
+        (
+            f"mission: !!python/object/apply:os.system ['touch {marker}']\n"
+            "states: {a: {final: success}}\n"
+        ),
         f"states:\n  a: !!python/object/new:os.system ['touch {marker}']\n",
         (
             "states:\n  a:\n    do: {wait: {duration: 1 s}}\n    on:\n      done:\n"
