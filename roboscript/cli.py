@@ -72,9 +72,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
         require_matplotlib()  # say so before the run, not after it
 
+    from roboscript.status import StatusLine, describe_robot
+
+    status = StatusLine(sys.stderr, live=not quiet and sys.stderr.isatty())
+
     def on_state(time_s: float, name: str) -> None:
         if not quiet:
-            _err(f"{time_s:8.2f} s  {name}")
+            status.state(time_s, name)
 
     robot = Robot.connect(
         profile,
@@ -97,6 +101,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
         on_start=(lambda now_s: sim.sample_path()) if sim is not None else None,
     )
     robot.scheduler.add(runner, "think")
+    if status.live:
+
+        def show(now_s: float, dt_s: float) -> None:
+            feedback = getattr(runner.action, "feedback", "") or ""
+            status.update(runner.elapsed(), runner.state, feedback, describe_robot(robot))
+
+        robot.scheduler.add(show, "after")
     interrupted = False
     try:
         with robot:
@@ -113,6 +124,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
                 runner.finish("failure", f"the mission did not finish within {args.max_time:g} s")
     except LinkError as exc:
         runner.finish("error", str(exc))
+    status.close()
     result = runner.result
     summary = _summary(result, profile.name, robot, runner.start_time_s)
     if args.json:
