@@ -134,7 +134,7 @@ BUILTIN_PROFILES: dict[str, RobotProfile] = {
         ticks_per_rev=360,
         body_radius_mm=90.0,
         max_speed_mm_s=350.0,
-        # Room for a first upload of the agent over BLE (about 10 kB in 20-byte packets).
+        # Room for a first upload of the agent over BLE (about 9 kB in 20-byte packets).
         handshake_timeout_s=20.0,
     ),
     "plen2": RobotProfile(

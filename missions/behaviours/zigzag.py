@@ -87,9 +87,14 @@ class ZigZag(Action):
         travelled_mm = self._travelled_mm(ctx)
         leg_done_mm = travelled_mm - self._leg_start_mm
         self.feedback = f"leg {self._leg + 1}/{self.legs}: {leg_done_mm:.0f}/{self.leg_mm:.0f} mm"
+        # Stalled: no progress for STALL_S. Robots without encoders compute their distances
+        # from time, so they cannot tell; they skip this check.
         if abs(travelled_mm - self._progress_mm) >= 2.0:
             self._progress_mm, self._progress_s = travelled_mm, ctx.now_s
-        elif ctx.now_s - self._progress_s >= self.STALL_S:
+        elif (
+            ctx.now_s - self._progress_s >= self.STALL_S
+            and not ctx.drive_base.odometry_is_estimated
+        ):
             ctx.drive_base.stop()
             return Result.failed("stalled")
         if leg_done_mm < self.leg_mm:

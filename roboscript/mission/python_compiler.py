@@ -180,6 +180,7 @@ class _Compiler:
         self.names = frozenset(self.states)
         self.instances = _Instances(cls, self.names)
         self.method_guards: dict[str, MethodGuard] = {}
+        self.declared: frozenset[str] = frozenset()  # the class's `requires`
 
     def source_of(self, filename: str) -> PythonSource:
         if filename not in self._sources:
@@ -233,8 +234,9 @@ class _Compiler:
         for key in ("robot", "world"):
             value: Any = getattr(cls, key, None)
             if value is not None and not isinstance(value, str):
+                example = "mirto" if key == "robot" else "square-room"
                 self.problem(
-                    f"'{key}' names a {key}, e.g. {key} = \"mirto\"", self.attribute_loc(key)
+                    f"'{key}' names a {key}, e.g. {key} = \"{example}\"", self.attribute_loc(key)
                 )
                 value = None
             hints[key] = value

@@ -39,13 +39,22 @@ def find_mission_class(module: Any, path: str) -> type[Mission]:
     ]
     leaves = [c for c in classes if not any(o is not c and issubclass(o, c) for o in classes)]
     if not leaves:
-        raise MissionError(
-            "this file holds no mission",
-            path=path,
-            line=1,
-            col=1,
-            hint="write a class that extends Mission: class MyMission(Mission): ...",
+        from roboscript.actions.base import Action
+
+        behaviours = sorted(
+            str(getattr(value, "name", value.__name__))
+            for value in vars(module).values()
+            if isinstance(value, type)
+            and issubclass(value, Action)
+            and value.__module__ == module.__name__
         )
+        hint = "write a class that extends Mission: class MyMission(Mission): ..."
+        if behaviours:
+            hint = (
+                f"it holds behaviours ({', '.join(behaviours)}): list the file under"
+                " 'behaviours:' in a YAML mission, or import it in a Python one"
+            )
+        raise MissionError("this file holds no mission", path=path, line=1, col=1, hint=hint)
     if len(leaves) > 1:
         names = ", ".join(c.__name__ for c in leaves)
         source = PythonSource(module.__file__ or path, path)

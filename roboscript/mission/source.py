@@ -131,14 +131,14 @@ def load_yaml_text(
     except yaml.reader.ReaderError as exc:
         # PyYAML checks for unprintable characters before it parses anything.
         offset = max(0, exc.position)
-        line = text.count("\n", 0, offset) + 1
-        col = offset - (text.rfind("\n", 0, offset) + 1) + 1
+        bad_line = text.count("\n", 0, offset) + 1
+        bad_col = offset - (text.rfind("\n", 0, offset) + 1) + 1
         code = f"U+{exc.character:04X}" if isinstance(exc.character, int) else repr(exc.character)
         raise error(
             f"the file contains a character YAML does not allow ({code})",
             path=path,
-            line=line,
-            col=col,
+            line=bad_line,
+            col=bad_col,
         ) from None
     loader.source_path = path
     loader.error = error

@@ -54,7 +54,7 @@ def test_follow_wall_holds_20_cm_within_2_cm_after_settling(robot: str, seed: in
     runner = run(robot, "corridor", WALL, seed, sample)
     assert runner.result.outcome == "success", runner.result.reason
     assert len(gaps) > 500
-    assert 180.0 <= min(gaps) and max(gaps) <= 220.0, (min(gaps), max(gaps))
+    assert min(gaps) >= 180.0 and max(gaps) <= 220.0, (min(gaps), max(gaps))
 
 
 def test_follow_wall_without_a_wall_fails_lost_wall() -> None:

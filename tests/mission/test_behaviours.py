@@ -308,3 +308,12 @@ def test_a_python_mission_imports_a_behaviour(tmp_path: Path) -> None:
     summary = json.loads(result.stdout)
     assert summary["outcome"] == "success"
     assert 290 < summary["sim"]["distance_travelled_mm"] < 320
+
+
+def test_the_tutorial_shows_the_example_as_it_is() -> None:
+    tutorial = (MISSIONS.parent / "docs" / "tutorial" / "write-your-own-behaviour.md").read_text(
+        encoding="utf-8"
+    )
+    for example in (MISSIONS / "behaviours" / "zigzag.py", MISSIONS / "zigzag.yaml"):
+        text = example.read_text(encoding="utf-8")
+        assert text in tutorial, f"the tutorial's copy of {example.name} is out of date"

@@ -233,6 +233,39 @@ def test_condition_parameters_of_actions_take_methods_or_expressions() -> None:
     assert 1.0 < runner.result.duration_s < 1.1
 
 
+def test_targets_may_be_state_objects_and_conditions_functions() -> None:
+    class Objects(Mission):
+        end = state(final=True)
+        go = state(
+            Wait(duration_s=5), initial=True, on_done=end, when=[(lambda m: m.elapsed > 1, end)]
+        )
+
+    spec, _ = compile_mission(Objects)
+    (transition,) = spec.states["go"].when
+    assert (transition.target, transition.guard_text) == ("end", "lambda")
+    runner = run(Objects)
+    assert runner.result.outcome == "success"
+    assert 1.0 < runner.result.duration_s < 1.1
+
+
+def test_during_runs_actions_alongside_the_state_action() -> None:
+    class Tune(Mission):
+        go = state(
+            Drive(distance_mm=200, speed_mm_s=100),
+            initial=True,
+            during=[PlayTone(frequency_hz=440, duration_s=0.5)],
+            on_done="end",
+            on_failed="end",
+        )
+        end = state(final=True)
+
+    spec, _ = compile_mission(Tune)
+    assert [extra.name for extra in spec.states["go"].during] == ["play_tone"]
+    speaker = FakeSpeaker()
+    assert run(Tune, speaker=speaker).result.outcome == "success"
+    assert speaker.tones == [(440, 0.5)]
+
+
 def test_a_guard_method_that_raises_ends_the_mission_in_one_sentence() -> None:
     class Oops(Mission):
         go = state(Wait(duration_s=5), initial=True, on_done="end", when=[("broken", "end")])
@@ -408,3 +441,16 @@ def test_every_built_in_action_is_exported_by_its_class_name() -> None:
         assert getattr(roboscript, cls.__name__) is cls
     with pytest.raises(AttributeError):
         _ = roboscript.Drvie  # type: ignore[attr-defined]
+
+
+def test_the_python_tutorial_lists_every_action_with_its_keywords() -> None:
+    from roboscript.actions import ACTIONS
+
+    tutorial = (ROOT / "docs" / "tutorial" / "python-missions.md").read_text(encoding="utf-8")
+    rows = {line.split("|")[1].strip(): line for line in tutorial.splitlines() if "| `" in line}
+    for name, cls in ACTIONS.items():
+        row = rows.get(f"`{cls.__name__}`")
+        assert row is not None, f"python-missions.md lacks {cls.__name__}"
+        assert f"`{name}`" in row
+        for param in cls.params:
+            assert f"`{param.kwarg}`" in row, f"{cls.__name__}({param.kwarg}=) is undocumented"

@@ -80,6 +80,16 @@ def test_a_python_mission_file_loads_by_path(write_mission: Callable[..., Path])
             "M:8:7: error: ZeroDivisionError: division by zero",
         ),
         (
+            (
+                "from roboscript import Action, Result\n\n\nclass Spin(Action):\n"
+                "    name = 'spin'\n\n    def update(self, ctx):\n        return Result.done()\n"
+            ),
+            (
+                "M:1:1: error: this file holds no mission (it holds behaviours (spin): list the"
+                " file under 'behaviours:' in a YAML mission, or import it in a Python one)"
+            ),
+        ),
+        (
             "import math\n",
             (
                 "M:1:1: error: this file holds no mission"

@@ -16,8 +16,9 @@ behaves as the firmware does as far as roboscript relies on it:
   motors. A program that defines ``AGENT_VERSION = "..."`` is taken to be roboscript's agent:
   after ``agent_boot_s`` it prints its ready line (ConsoleNotification) and then interprets
   the tunnel commands of :mod:`roboscript.drivers.spike.tunnel` as the real agent does, with
-  the hub's speed control simulated by a feed-forward plus position loop per motor. Other
-  programs run silently and ignore the tunnel.
+  the hub's speed control simulated by a feed-forward plus position loop per motor, and its
+  brake as a shorted motor (a push against the wheel's speed). Other programs run silently
+  and ignore the tunnel.
 * **DeviceNotification** at the requested interval: battery, IMU, the 5x5 matrix, then each
   port's device in port order. Motor positions are the body's wheel rotation in degrees (the
   left motor mounted mirrored, so its position falls as the robot drives forward); IMU yaw is

@@ -117,7 +117,7 @@ class SpikeDriver(Driver):
         self.hub_agent_version: str | None = None
         self.uploaded = False
         self.console: deque[str] = deque(maxlen=_CONSOLE_LINES)
-        self.refusals: list[t.Refused] = []
+        self.refusals: deque[t.Refused] = deque(maxlen=_CONSOLE_LINES)
         self.move_results: dict[int, t.MoveStatus] = {}
         self._phase = "info"
         self._now_s = 0.0
@@ -186,7 +186,7 @@ class SpikeDriver(Driver):
 
     def _on_started(self, reply: m.ProgramFlowResponse) -> None:
         if reply.status is not m.ResponseStatus.ACKNOWLEDGED:
-            self._upload_or_fail(f"slot {self.options.agent_slot} is empty")
+            self._upload_or_fail(f"slot {self.options.agent_slot} is empty", replaces=False)
             return
         self._agent_running = True
         self._phase = "version"
@@ -202,16 +202,20 @@ class SpikeDriver(Driver):
         if version == self.agent_version:
             self._configure()
         else:
-            self._upload_or_fail(f"the hub has {version!r}, not {self.agent_version!r}")
+            why = f"the hub has {version!r}, not {self.agent_version!r}"
+            self._upload_or_fail(why, replaces=False)  # an update of roboscript's own agent
 
-    def _upload_or_fail(self, why: str) -> None:
+    def _upload_or_fail(self, why: str, *, replaces: bool = True) -> None:
         if self.uploaded:
             last = f" (the hub printed: {self.console[-1]})" if self.console else ""
             raise DeviceError(
                 f"roboscript's agent did not start on the hub after the upload: {why}{last};"
                 " is the hub running SPIKE App 3 firmware?"
             )
-        logger.info("uploading roboscript's agent to slot %d: %s", self.options.agent_slot, why)
+        slot = self.options.agent_slot
+        logger.info("uploading roboscript's agent to slot %d: %s", slot, why)
+        if replaces:
+            self.notice(f"roboscript's agent replaced the program in slot {slot} of the hub")
         self._phase = "upload"
         self._request(
             m.ProgramFlowRequest(m.ProgramAction.STOP, self.options.agent_slot),

@@ -159,6 +159,7 @@ def test_an_agent_of_another_version_is_replaced() -> None:
     assert session.driver.uploaded
     assert session.hub.slots[SLOT] == agent_source()
     assert session.ready_s < 2.0  # it said its version: no waiting for a timeout
+    assert session.driver.notices == []
 
 
 def test_a_foreign_program_in_the_slot_is_replaced_once_it_fails_to_answer() -> None:
@@ -166,6 +167,9 @@ def test_a_foreign_program_in_the_slot_is_replaced_once_it_fails_to_answer() -> 
     assert session.driver.uploaded
     assert session.hub.slots[SLOT] == agent_source()
     assert session.ready_s > 3.0  # the version query's time limit
+    assert session.driver.notices == [
+        "roboscript's agent replaced the program in slot 19 of the hub"
+    ]
 
 
 def test_the_hub_gets_no_tunnel_message_while_no_program_runs() -> None:
