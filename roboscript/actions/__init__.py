@@ -6,6 +6,7 @@
 from __future__ import annotations
 
 from roboscript.actions.base import REQUIRED, Action, ActionContext, Outcome, Param, Result
+from roboscript.actions.composite import Parallel, Repeat
 from roboscript.actions.following import FollowLine, FollowWall
 from roboscript.actions.gait import Turn, Walk
 from roboscript.actions.motion import Drive, Rotate, Stop
@@ -22,8 +23,10 @@ __all__ = [
     "FollowLine",
     "FollowWall",
     "Outcome",
+    "Parallel",
     "Param",
     "PlayTone",
+    "Repeat",
     "Result",
     "Rotate",
     "Servo",

@@ -8,6 +8,7 @@ entered again starts from scratch.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable, Sequence
 
 from roboscript.actions.base import Action, ActionContext, Outcome, Result
@@ -17,11 +18,32 @@ __all__ = ["Parallel", "Repeat"]
 ActionFactory = Callable[[], Action]
 
 
+def _factory(item: Action | ActionFactory) -> ActionFactory:
+    """An action given as an instance is a template: every run gets a fresh copy."""
+    if isinstance(item, Action):
+        return lambda: copy.deepcopy(item)
+    return item
+
+
+def _needs(items: Sequence[Action | ActionFactory]) -> frozenset[str]:
+    needed: set[str] = set()
+    for item in items:
+        if isinstance(item, Action):
+            needed |= type(item).requires | getattr(item, "child_requires", frozenset())
+    return frozenset(needed)
+
+
 class Parallel(Action):
     """Run actions together.
 
+    Example (a Python mission)::
+
+        show_off = state(Parallel([Drive(distance_mm=500), PlayTone(frequency_hz=523,
+                                   duration_s=2)]), on_done="next")
+
     Args:
-        factories: Makers of the child actions.
+        factories: The child actions (each copied afresh when the parallel starts), or makers
+            of them.
         mode: ``"all"``: done when every child is done, failed as soon as one fails;
             ``"any"``: done as soon as one child is done (the others are stopped), failed
             only if every child failed.
@@ -32,12 +54,14 @@ class Parallel(Action):
     name = "parallel"
     summary = "Run actions at the same time."
 
-    def __init__(self, factories: Sequence[ActionFactory], mode: str = "all") -> None:
+    def __init__(self, factories: Sequence[Action | ActionFactory], mode: str = "all") -> None:
         if mode not in ("all", "any"):
             raise ValueError("parallel runs 'all' or 'any'")
         if not factories:
             raise ValueError("parallel needs at least one action")
-        self.factories = list(factories)
+        self.child_requires = _needs(factories)
+        """Capabilities the children need (the class itself needs none)."""
+        self.factories = [_factory(item) for item in factories]
         self.mode = mode
         self._children: list[Action] = []
         self._results: list[Result | None] = []
@@ -84,8 +108,12 @@ class Parallel(Action):
 class Repeat(Action):
     """Run one action several times in a row.
 
+    Example (a Python mission)::
+
+        square = state(Repeat(Rotate(angle_deg=90), times=4), on_done="home")
+
     Args:
-        factory: Maker of the action to repeat.
+        factory: The action to repeat (copied afresh for each run), or a maker of it.
         times: How many times (at least 1).
 
     Outcomes: ``done`` after the last run; the first run that does not end ``done`` ends the
@@ -95,10 +123,12 @@ class Repeat(Action):
     name = "repeat"
     summary = "Run an action several times."
 
-    def __init__(self, factory: ActionFactory, times: int) -> None:
+    def __init__(self, factory: Action | ActionFactory, times: int) -> None:
         if times < 1:
             raise ValueError("repeat needs 'times' of at least 1")
-        self.factory = factory
+        self.child_requires = _needs([factory])
+        """Capabilities the repeated action needs."""
+        self.factory = _factory(factory)
         self.times = times
         self.count = 0
         self._child: Action | None = None

@@ -392,6 +392,8 @@ class _Compiler:
         if action is None:
             return None
         where = self.source.loc(node) if node is not None else self.state_loc(name)
+        if isinstance(action, type) and issubclass(action, Mission):
+            return self.nested(name, action, where)
         if isinstance(action, type) and issubclass(action, Action):
             self.problem(
                 f"state '{name}': {action.__name__} is a kind of action; call it to make one",
@@ -432,12 +434,39 @@ class _Compiler:
             kwargs=kwargs,
             # Each entry runs a fresh copy, so nothing carries over from an earlier visit.
             factory=functools.partial(copy.deepcopy, template),
-            requires=frozenset(kind.requires) | guard_caps,
+            requires=frozenset(kind.requires)
+            | frozenset(getattr(template, "child_requires", frozenset()))
+            | guard_caps,
             location=where,
             bounded=not kind.bounded_by
             or any(
                 kwargs.get(p.kwarg) is not None for p in kind.params if p.name in kind.bounded_by
             ),
+        )
+
+    def nested(self, name: str, cls: type[Mission], where: Location) -> ActionSpec | None:
+        """A state whose action is another Mission class: its machine runs nested."""
+        from roboscript.mission.checks import check_mission
+        from roboscript.mission.nested import SubMission
+
+        if cls is self.cls:
+            self.problem(
+                f"state '{name}' nests its own mission", where, "nest another Mission class"
+            )
+            return None
+        inner = _Compiler(cls, None)
+        spec = inner.compile()
+        self.problems.extend(inner.problems)
+        if spec is None or any(p.severity == "error" for p in inner.problems):
+            return None
+        self.problems.extend(check_mission(spec))
+        return ActionSpec(
+            name="states",
+            kwargs={"mission": spec.name, "states": tuple(spec.states)},
+            factory=functools.partial(SubMission, spec, name),
+            requires=spec.requires(),
+            location=where,
+            inner=spec,
         )
 
     def conditions_in(self, action: Action, node: ast.expr | None, where: Location) -> Any:
