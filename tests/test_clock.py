@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import ctypes
+import sys
+import threading
+
 import pytest
 
 from roboscript.clock import Clock, MonotonicClock, SimClock
@@ -29,3 +33,22 @@ def test_monotonic_clock_waits_until_the_deadline() -> None:
 def test_both_clocks_satisfy_the_protocol() -> None:
     assert isinstance(SimClock(), Clock)
     assert isinstance(MonotonicClock(), Clock)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="timer slack is Linux's")
+def test_monotonic_clock_tightens_the_sleeping_threads_timer_slack() -> None:
+    libc = ctypes.CDLL(None, use_errno=True)
+    seen: list[int] = []
+
+    def sleep_once() -> None:  # slack is per thread: the test runner's is left as it was
+        before = libc.prctl(30, 0, 0, 0, 0)  # PR_GET_TIMERSLACK, in ns
+        clock = MonotonicClock()
+        clock.sleep_until(clock.now() + 0.001)
+        seen.extend((before, libc.prctl(30, 0, 0, 0, 0)))
+
+    worker = threading.Thread(target=sleep_once)
+    worker.start()
+    worker.join()
+    before, after = seen
+    assert after == 1000
+    assert after <= before

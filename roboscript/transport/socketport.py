@@ -109,3 +109,10 @@ class SocketPort:
         """Close the connection (safe to call twice)."""
         self.is_open = False
         self._socket.close()
+
+    def __del__(self) -> None:
+        # pyserial's ports close themselves when collected (io.IOBase); so does this one,
+        # without the ResourceWarning a socket collected open would raise.
+        sock = getattr(self, "_socket", None)  # absent if the connection failed
+        if sock is not None:
+            sock.close()

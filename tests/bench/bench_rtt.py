@@ -23,12 +23,12 @@ import time
 import urllib.parse
 
 import devices
-from benchlib import Row, at_most, info, percentile, wire_time_s
+from benchlib import Row, at_most, info, percentile, pinned_to_one_core, wire_time_s
 
 from roboscript.clock import MonotonicClock
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.codec import Role
+from roboscript.drivers.codec import Role, drain
 from roboscript.transport import Link, open_port
 
 __all__ = ["GOAL_RATIO", "measure"]
@@ -52,6 +52,25 @@ def _raw_round_trips(sock: socket.socket, count: int, samples: list[float]) -> N
             if not more:
                 raise ConnectionError("the device hung up")
             data += more
+        samples.append(clock() - start)
+
+
+def _raw_codec_round_trips(
+    sock: socket.socket, codec: AsipCodec, count: int, samples: list[float]
+) -> None:
+    """The raw socket plus the same codec work as the link: encode, then decode the reply."""
+    clock = time.perf_counter
+    request = m.VersionRequest()
+    for _ in range(count):
+        start = clock()
+        sock.sendall(codec.send(request))
+        answered = False
+        while not answered:
+            data = sock.recv(4096)
+            if not data:
+                raise ConnectionError("the device hung up")
+            codec.receive_data(data)
+            answered = any(type(message) is m.VersionReply for message in drain(codec))
         samples.append(clock() - start)
 
 
@@ -83,18 +102,24 @@ def measure(quick: bool = False) -> list[Row]:
     """Run the round trips and return the p50 and p99 ratio rows."""
     blocks, per_block, warm_up = (4, 150, 100) if quick else (10, 250, 300)
     raw_samples: list[float] = []
+    codec_samples: list[float] = []
     link_samples: list[float] = []
-    with devices.replying_socket(_REPLY, clients=2) as url:
+    with pinned_to_one_core(), devices.replying_socket(_REPLY, clients=3) as url:
         raw = _raw_socket(url)
+        raw_codec = _raw_socket(url)
+        codec = AsipCodec(Role.HOST)
         link = Link(open_port(url), AsipCodec(Role.HOST), clock=MonotonicClock(), name=url)
         try:
             _raw_round_trips(raw, warm_up, [])
+            _raw_codec_round_trips(raw_codec, codec, warm_up, [])
             _link_round_trips(link, warm_up, [])
-            for _ in range(blocks):
+            for _ in range(blocks):  # take turns, so a slow moment of the machine hits all
                 _raw_round_trips(raw, per_block, raw_samples)
+                _raw_codec_round_trips(raw_codec, codec, per_block, codec_samples)
                 _link_round_trips(link, per_block, link_samples)
         finally:
             raw.close()
+            raw_codec.close()
             link.close()
     rows = []
     wire_us = wire_time_s(len(_REQUEST) + len(_REPLY)) * 1e6
@@ -111,6 +136,17 @@ def measure(quick: bool = False) -> list[Row]:
             )
         )
     link_p50 = percentile(link_samples, 0.5) * 1e6
+    codec_p50 = percentile(codec_samples, 0.5) * 1e6
+    raw_p50 = percentile(raw_samples, 0.5) * 1e6
+    rows.append(
+        info(
+            "3",
+            "ASIP #,? round trip p50: Link ÷ raw socket + the same codec",
+            link_p50 / codec_p50,
+            f"raw socket + AsipCodec {codec_p50:.1f} µs: decoding costs "
+            f"{codec_p50 - raw_p50:.1f} µs, port and link {link_p50 - codec_p50:.1f} µs",
+        )
+    )
     rows.append(
         info(
             "3",
@@ -124,12 +160,11 @@ def measure(quick: bool = False) -> list[Row]:
 
 def main() -> None:
     """Print this benchmark's rows."""
-    from benchlib import format_table, pin_to_one_core
+    from benchlib import format_table
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer round trips")
     args = parser.parse_args()
-    print(pin_to_one_core())
     print(format_table(measure(args.quick)))
 
 

@@ -9,17 +9,19 @@ This directory is not collected by pytest (its files are not named ``test_*.py``
 
 from __future__ import annotations
 
+import contextlib
 import datetime
 import math
 import os
 import platform
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 __all__ = [
     "BITS_PER_BYTE_8N1",
+    "PINNING_NOTE",
     "WIRE_BAUD",
     "Row",
     "at_least",
@@ -29,7 +31,7 @@ __all__ = [
     "info",
     "machine_header",
     "percentile",
-    "pin_to_one_core",
+    "pinned_to_one_core",
     "wire_time_s",
 ]
 
@@ -116,28 +118,39 @@ def percentile(samples: Sequence[float], fraction: float) -> float:
     return ordered[index]
 
 
-def pin_to_one_core() -> str:
-    """Pin this process (and the children it forks later) to one CPU.
+PINNING_NOTE = (
+    "rows 1-3 run this process and its device process on one CPU (the idlest when each "
+    "starts; performance.md D.6); rows 4-6 are not pinned"
+)
+"""What :func:`pinned_to_one_core` does, for table headers."""
+
+
+@contextlib.contextmanager
+def pinned_to_one_core() -> Iterator[int | None]:
+    """Pin this process, and the device processes it forks meanwhile, to one CPU.
 
     Two processes that talk over a socket on one core hand over without a cross-core wake-up,
     which in a VM costs tens of microseconds and varies; on one core the loopback figures
-    repeat within about 1 % (performance.md D.6).
+    repeat within about 1 % (performance.md D.6). The core chosen is the least busy one, so
+    other work on the machine disturbs the run least. Loops with no peer process (the
+    scheduler, idle CPU, the simulator) are better left unpinned: the kernel can then wake
+    them on whichever core is free.
 
-    Returns:
-        What was done, for the table header.
+    Yields:
+        The CPU pinned to, or ``None`` where the platform cannot pin.
     """
     if not hasattr(os, "sched_setaffinity"):
-        return "not pinned (no sched_setaffinity on this platform)"
-    allowed = sorted(os.sched_getaffinity(0))
-    busy = _busy_fractions(allowed)
-    # The idlest core: other work on the machine then disturbs the run least. Ties go to the
-    # last core, since interrupts and housekeeping tend to land on CPU 0.
-    core = min(reversed(allowed), key=lambda cpu: busy.get(cpu, 0.0))
+        yield None
+        return
+    allowed = os.sched_getaffinity(0)
+    busy = _busy_fractions(sorted(allowed))
+    # Ties go to the last core: interrupts and housekeeping tend to land on CPU 0.
+    core = min(sorted(allowed, reverse=True), key=lambda cpu: busy.get(cpu, 0.0))
     os.sched_setaffinity(0, {core})
-    load = f", {busy[core]:.0%} busy before the run" if core in busy else ""
-    return (
-        f"benchmark and device processes pinned to CPU {core} of {len(allowed)} allowed{load}"
-    )
+    try:
+        yield core
+    finally:
+        os.sched_setaffinity(0, allowed)
 
 
 def _cpu_times() -> dict[int, tuple[int, int]]:
@@ -156,7 +169,7 @@ def _cpu_times() -> dict[int, tuple[int, int]]:
     return times
 
 
-def _busy_fractions(cpus: Sequence[int], window_s: float = 0.3) -> dict[int, float]:
+def _busy_fractions(cpus: Sequence[int], window_s: float = 0.2) -> dict[int, float]:
     """Share of ``window_s`` each CPU spent busy (other processes on the machine)."""
     before = _cpu_times()
     time.sleep(window_s)
@@ -184,11 +197,11 @@ def machine_header(pinning: str) -> list[str]:
     """Lines naming when and where the table was measured."""
     now = datetime.datetime.now().astimezone()
     implementation = platform.python_implementation()
+    system = f"{platform.system()} {platform.release()}"
     return [
         f"date:    {now:%Y-%m-%d %H:%M %Z}",
         f"python:  {implementation} {platform.python_version()} ({sys.executable})",
-        f"machine: {_cpu_model()}, {os.cpu_count()} cores, {platform.system()} "
-        f"{platform.release()}",
+        f"machine: {_cpu_model()}, {os.cpu_count()} cores, {system}",
         f"pinning: {pinning}",
     ]
 
@@ -219,7 +232,6 @@ def format_markdown(rows: Sequence[Row]) -> str:
     for row in rows:
         goal = (row.goal or "—").replace(">=", "≥").replace("<=", "≤")
         lines.append(
-            f"| {row.key} | {row.name} | {row.ratio_text} | {goal} | {row.verdict} | "
-            f"{row.detail} |"
+            f"| {row.key} | {row.name} | {row.ratio_text} | {goal} | {row.verdict} | {row.detail} |"
         )
     return "\n".join(lines)

@@ -1,0 +1,116 @@
+"""Grading throughput: a class of 30 missions x 3 seeds, each about 60 s of simulated time.
+
+Run by hand, not by pytest::
+
+    python tests/bench/bench_grading.py [--quick] [--jobs N]
+
+It grades the way ``roboscript grade`` does: every run in a worker process of its own (forked
+from a preloaded server), ``--jobs`` at a time (default: one per core), each judged by five
+expectations (outcome, collisions, regions, a wall-distance band, duration). It prints the wall
+time of the whole class and the aggregate real-time factor (simulated seconds of all runs per
+wall second). Goal: the class in under 60 s on the 2-core reference machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+for _path in (str(HERE), str(HERE.parent.parent)):
+    if _path not in sys.path:
+        sys.path.insert(0, _path)
+
+from benchlib import Row, at_most, format_table, info, machine_header  # noqa: E402
+
+from roboscript.grading.batch import find_specs, find_submissions, grade_class  # noqa: E402
+from roboscript.grading.pool import default_jobs  # noqa: E402
+
+__all__ = ["CLASS_WALL_GOAL_S", "measure"]
+
+KEY = "7"
+STUDENTS = 30
+SEEDS = 3
+CLASS_WALL_GOAL_S = 60.0
+"""The issue's goal: 30 missions x 3 seeds of about 60 s each, graded in under a minute."""
+
+SPEC = """\
+test: patrol-minute
+description: Benchmark load for the grader.
+world: square-room
+runs:
+{runs}
+max_time: 75 s
+expect:
+  - outcome: success
+  - no_collisions: true
+  - never_enter: [centre]
+  - wall_distance: {{state: follow, side: right, min: 5 cm, max: 60 cm}}
+  - max_duration: 70 s
+"""
+
+
+def _make_class(folder: Path, students: int, seeds: int) -> tuple[Path, Path]:
+    """A spec and a class folder: half the students patrol, half follow the walls."""
+    runs = "\n".join(f"  - {{seed: {seed}}}" for seed in range(1, seeds + 1))
+    spec = folder / "spec.yaml"
+    spec.write_text(SPEC.format(runs=runs), encoding="utf-8")
+    submissions = folder / "class"
+    submissions.mkdir()
+    loads = ("patrol_60s.yaml", "follow_walls_60s.yaml")
+    for i in range(students):
+        shutil.copy(HERE / loads[i % 2], submissions / f"student{i + 1:02d}.yaml")
+    return spec, submissions
+
+
+def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
+    """Grade the benchmark class once; return the rows (wall time against the goal, RTF)."""
+    students = 10 if quick else STUDENTS
+    with tempfile.TemporaryDirectory(prefix="bench-grading-") as tmp:
+        spec, submissions = _make_class(Path(tmp), students, SEEDS)
+        specs = find_specs([str(spec)])
+        found = find_submissions([str(submissions)])
+        started = time.perf_counter()
+        report = grade_class(specs, found, jobs)
+        wall_s = time.perf_counter() - started
+    simulated_s = sum(r.record.duration_s for r in report.results if r.record is not None)
+    unfinished = [r for r in report.results if r.record is None]
+    if unfinished:
+        raise SystemExit(f"{len(unfinished)} runs did not finish: {unfinished[0].message}")
+    runs = len(report.results)
+    workers = jobs or default_jobs()
+    detail = (
+        f"{runs} runs ({students} missions x {SEEDS} seeds), {simulated_s:.0f} s simulated,"
+        f" {wall_s:.1f} s wall, {workers} workers"
+    )
+    # Scale a --quick class up to the full one, so the goal reads the same.
+    projected_s = wall_s * STUDENTS / students
+    return [
+        at_most(
+            KEY,
+            "grading: a class of 30 x 3 one-minute runs, wall s",
+            projected_s,
+            CLASS_WALL_GOAL_S,
+            detail,
+            unit="s",
+        ),
+        info(KEY, "grading: aggregate real-time factor", simulated_s / wall_s, detail),
+    ]
+
+
+def main() -> None:
+    """Print this benchmark's rows."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="10 missions instead of 30")
+    parser.add_argument("--jobs", type=int, help="workers at once (default: one per core)")
+    args = parser.parse_args()
+    print("\n".join(machine_header("not pinned (one worker process per run)")))
+    print(format_table(measure(args.quick, args.jobs)))
+
+
+if __name__ == "__main__":
+    main()
