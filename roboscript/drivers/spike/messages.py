@@ -462,6 +462,9 @@ class _Layout:
     tails: tuple[int, ...]  # for each field, the fixed wire size of the fields after it
     fixed: struct.Struct | None  # the whole payload, when every field has a fixed size
     converted: bool  # some field's value differs from its struct value (bool, pixels)
+    # The checks a value unpacked from the wire still needs: struct already guarantees the
+    # wire type's range, but not an enum's members or a narrower documented range.
+    wire_checks: tuple[tuple[int, _Checker], ...] = ()
 
 
 def _struct_code(spec: _Spec) -> str:
@@ -484,7 +487,13 @@ def _build_layout(cls: type[_Record]) -> _Layout:
         fixed = struct.Struct("<" + "".join(_struct_code(spec) for spec in specs))
     converted = any(spec.kind in (_Kind.BOOL, _Kind.PIXELS) for spec in specs)
     checkers = tuple(_checker(spec) for spec in specs)
-    return _Layout(names, specs, checkers, tuple(tails), fixed, converted)
+    wire_checks = tuple(
+        (index, checkers[index])
+        for index, spec in enumerate(specs)
+        if spec.kind is _Kind.INT
+        and (spec.enum is not None or spec.low is not None or spec.high is not None)
+    )
+    return _Layout(names, specs, checkers, tuple(tails), fixed, converted, wire_checks)
 
 
 _LAYOUTS: dict[type[_Record], _Layout] = {}
@@ -586,6 +595,8 @@ class _Record:
             values: Sequence[Any] = layout.fixed.unpack(payload)
             if layout.converted:
                 values = [_from_wire(s, v) for s, v in zip(layout.specs, values, strict=True)]
+            if cls.__post_init__ is _Record.__post_init__:
+                return cls._trusted(layout, list(values), payload)
         else:
             values = cls._read_fields(layout, payload)
         build: Callable[..., _Record] = cls
@@ -593,6 +604,24 @@ class _Record:
             return build(*values)
         except LocalProtocolError as exc:
             raise _remote("bad_value", str(exc), payload) from None
+
+    @classmethod
+    def _trusted(cls, layout: _Layout, values: list[Any], payload: bytes) -> _Record:
+        """Build from unpacked wire values, running only the checks struct cannot make.
+
+        Decoding a DeviceNotification builds several records per frame at the telemetry
+        rate; re-checking what the struct format already guarantees cost about 20 µs a frame.
+        """
+        for index, check in layout.wire_checks:
+            try:
+                values[index] = check(values[index])
+            except (TypeError, ValueError) as exc:
+                name = layout.names[index]
+                raise _remote("bad_value", f"{cls.__name__}.{name} {exc}", payload) from None
+        record = object.__new__(cls)
+        for name, value in zip(layout.names, values, strict=True):
+            object.__setattr__(record, name, value)
+        return record
 
     @classmethod
     def _read_fields(cls, layout: _Layout, payload: bytes) -> list[Any]:
