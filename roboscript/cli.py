@@ -22,7 +22,6 @@ from roboscript import __version__
 from roboscript.errors import (
     CapabilityError,
     InputError,
-    LinkError,
     RoboscriptError,
 )
 
@@ -57,8 +56,7 @@ def _load_mission(path: str, robot: str | None) -> tuple[Any, Any]:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from roboscript.mission.runner import MissionRunner
-    from roboscript.robot import Robot
+    from roboscript.session import run_session, session_summary
 
     spec, profile = _load_mission(args.mission, args.robot)
     world = args.world or spec.world or "empty"
@@ -80,53 +78,32 @@ def _cmd_run(args: argparse.Namespace) -> int:
         if not quiet:
             status.state(time_s, name)
 
-    robot = Robot.connect(
+    def show(runner: Any, robot: Any) -> None:
+        feedback = getattr(runner.action, "feedback", "") or ""
+        status.update(runner.elapsed(), runner.state, feedback, describe_robot(robot))
+
+    def on_connected(robot: Any) -> None:
+        if not quiet:
+            _err(f"{spec.name} on {robot.describe()} ({robot.url})")
+
+    session = run_session(
+        spec,
         profile,
-        args.port,
+        port=args.port,
         world=world,
         seed=args.seed,
         realtime=args.realtime,
         wire_log=args.wire_log,
-    )
-    if not quiet:
-        _err(f"{spec.name} on {robot.describe()} ({robot.url})")
-    sim = robot.simulation
-    runner = MissionRunner(
-        spec,
-        robot.capabilities,
-        robot_name=profile.name,
-        gains=profile.gains,
-        device_errors=robot.driver.take_device_error,
+        max_time_s=args.max_time,
         on_state=on_state,
-        on_start=(lambda now_s: sim.sample_path()) if sim is not None else None,
+        on_connected=on_connected,
+        on_tick=show if status.live else None,
     )
-    robot.scheduler.add(runner, "think")
-    if status.live:
-
-        def show(now_s: float, dt_s: float) -> None:
-            feedback = getattr(runner.action, "feedback", "") or ""
-            status.update(runner.elapsed(), runner.state, feedback, describe_robot(robot))
-
-        robot.scheduler.add(show, "after")
-    interrupted = False
-    try:
-        with robot:
-            try:
-                robot.scheduler.run(until=lambda: runner.finished, max_duration_s=args.max_time)
-            except KeyboardInterrupt:
-                interrupted = True
-                robot.stop()
-                runner.finish("error", "interrupted by Ctrl-C")
-            except LinkError as exc:
-                robot.stop()
-                runner.finish("error", str(exc))
-            if not runner.finished:
-                runner.finish("failure", f"the mission did not finish within {args.max_time:g} s")
-    except LinkError as exc:
-        runner.finish("error", str(exc))
     status.close()
-    result = runner.result
-    summary = _summary(result, profile.name, robot, runner.start_time_s)
+    result = session.result
+    sim = session.simulation
+    interrupted = session.interrupted
+    summary = session_summary(session)
     if args.json:
         print(json.dumps(summary, indent=2))
     else:
@@ -160,42 +137,6 @@ def _write_plot(path: str, result: Any, sim: Any) -> bool:
     return True
 
 
-def _summary(result: Any, robot_name: str, robot: Any, start_s: float) -> dict[str, Any]:
-    """The ``run --json`` object; simulator times are on the mission clock, like ``states``."""
-    summary: dict[str, Any] = {
-        "mission": result.mission,
-        "robot": robot_name,
-        "outcome": result.outcome,
-        "final_state": result.final_state,
-        "reason": result.reason,
-        "duration_s": round(result.duration_s, 3),
-        "states": [[round(t, 3), name] for t, name in result.states],
-    }
-    sim = robot.simulation
-    if sim is not None:
-        body = sim.body
-        log = sim.log
-        summary["sim"] = {
-            "seed": sim.seed,
-            "world": sim.world.name,
-            "final_pose": {
-                "x_mm": round(body.x_mm, 1),
-                "y_mm": round(body.y_mm, 1),
-                "heading_deg": round(body.heading_deg, 1),
-            },
-            "distance_travelled_mm": round(log.distance_travelled_mm, 1),
-            "collisions": len(log.collisions),
-            "tones": [
-                {"t_s": round(t - start_s, 3), "frequency_hz": f, "duration_s": round(d, 3)}
-                for t, f, d in log.tones
-            ],
-            "path": [
-                [round(t - start_s, 3), x, y, h] for t, x, y, h in log.path if t >= start_s - 1e-9
-            ],
-        }
-    return summary
-
-
 # ----------------------------------------------------------------------------------- check
 
 
@@ -214,16 +155,82 @@ def _cmd_check(args: argparse.Namespace) -> int:
     if not files:
         _err("nothing to check: no mission files found")
         return EXIT_INPUT
+    from roboscript.grading.spec import is_test_spec, load_test_spec
+
     bad = 0
     for path in files:
         try:
-            _load_mission(str(path), args.robot)
+            if path.suffix.lower() in (".yaml", ".yml") and is_test_spec(path):
+                load_test_spec(path)  # a teacher's test spec, not a mission
+            else:
+                _load_mission(str(path), args.robot)
         except InputError as exc:
             _print_problems(exc)
             bad += 1
     checked = len(files)
     _err(f"checked {checked} file{'s' if checked != 1 else ''}: {bad} with errors")
     return EXIT_INPUT if bad else EXIT_OK
+
+
+# ----------------------------------------------------------------------------------- grade
+
+
+def _cmd_grade(args: argparse.Namespace) -> int:
+    from roboscript.grading.batch import find_specs, find_submissions, grade_class
+
+    if args.jobs is not None and args.jobs < 1:
+        _err("error: --jobs must be 1 or more")
+        return EXIT_INPUT
+    specs = find_specs(args.specs)  # a SpecError prints file:line:col and exits 2
+    submissions = find_submissions(args.missions)
+    quiet = args.json or args.quiet
+    runs = sum(len(spec.variants) for spec in specs) * len(submissions)
+    done = 0
+
+    def progress(result: Any) -> None:
+        nonlocal done
+        done += 1
+        if not quiet:
+            mark = "ok" if result.passed else result.status
+            _err(f"[{done}/{runs}] {result.student} {result.test} {result.label}: {mark}")
+
+    report = grade_class(specs, submissions, args.jobs, progress)
+    if args.json:
+        from roboscript.grading.json_report import report_dict
+
+        print(json.dumps(report_dict(report), indent=2, ensure_ascii=False))
+    else:
+        from roboscript.grading.table import format_table
+
+        print(format_table(report, sys.stdout.encoding))
+    written = _write_grade_reports(args, report)
+    if not written:
+        return EXIT_FAILED
+    return EXIT_OK if report.passed else EXIT_FAILED
+
+
+def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
+    """Write --junit, --csv and --html; False (after saying why) if one cannot be written."""
+    from roboscript.grading.gradebook import write_gradebook
+    from roboscript.grading.html_report import write_html
+    from roboscript.grading.junit import write_junit
+
+    writers = [
+        (args.junit, write_junit),
+        (args.csv, write_gradebook),
+        (args.html, write_html),
+    ]
+    for target, write in writers:
+        if not target:
+            continue
+        try:
+            write(report, target)
+        except OSError as exc:
+            _err(f"error: cannot write {target}: {exc.strerror or exc}")
+            return False
+    if args.html and not (args.json or args.quiet):
+        _err(f"report: {Path(args.html) / 'index.html'}")
+    return True
 
 
 # ----------------------------------------------------------------------------------- graph
@@ -340,6 +347,31 @@ def _parser() -> argparse.ArgumentParser:
     check.add_argument("paths", nargs="+", metavar="PATH", help="files or folders")
     check.add_argument("--robot", help="also check against this robot's capabilities")
     check.set_defaults(func=_cmd_check)
+
+    grade = sub.add_parser(
+        "grade", help="grade students' missions against teacher test specs on the simulator"
+    )
+    grade.add_argument(
+        "specs", nargs="+", metavar="TEST_SPEC", help="test spec files or folders of them"
+    )
+    grade.add_argument(
+        "--mission",
+        dest="missions",
+        action="extend",
+        nargs="+",
+        required=True,
+        metavar="MISSION",
+        help="mission files, globs or folders of submissions (one student per file or folder)",
+    )
+    grade.add_argument("--json", action="store_true", help="print one JSON report on stdout")
+    grade.add_argument("--junit", metavar="FILE", help="write JUnit XML (one case per run)")
+    grade.add_argument("--csv", metavar="FILE", help="write a gradebook CSV (one row per student)")
+    grade.add_argument("--html", metavar="DIR", help="write an HTML report (DIR/index.html)")
+    grade.add_argument(
+        "--jobs", type=int, metavar="N", help="runs at once (default: one per CPU core)"
+    )
+    grade.add_argument("--quiet", action="store_true", help="print only the table")
+    grade.set_defaults(func=_cmd_grade)
 
     graph = sub.add_parser("graph", help="print a mission's state diagram (mermaid or dot)")
     graph.add_argument("mission", help="mission file")

@@ -1,0 +1,12 @@
+"""Grading: teacher test specs run against students' missions on the simulator.
+
+* :mod:`~roboscript.grading.spec` reads a test spec (world, robot, run variants, expectations);
+* :mod:`~roboscript.grading.expectations` judges each expectation on a run's record, with a
+  signed margin and the time of the first violation;
+* :mod:`~roboscript.grading.run` is one graded run, a pure function of spec, mission and
+  variant; :mod:`~roboscript.grading.pool` runs many, each in a worker process of its own with
+  a wall-clock limit;
+* :mod:`~roboscript.grading.batch` finds the submissions and grades a class;
+* the reports: :mod:`~roboscript.grading.table` (terminal), :mod:`~roboscript.grading.junit`,
+  :mod:`~roboscript.grading.gradebook` (CSV), :mod:`~roboscript.grading.html_report`.
+"""

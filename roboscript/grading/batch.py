@@ -1,0 +1,332 @@
+"""Grading a class: finding the students' missions, pairing them with tests, running them all.
+
+Submissions (``--mission``) are files, globs or folders:
+
+* a file is one student, named after the file (``alice.yaml`` -> ``alice``);
+* a folder is a class: each mission file directly in it is one student (named after the file),
+  and each sub-folder is one student (named after the folder) holding their mission(s);
+* a glob's files are students named after the files, its folders students named after the
+  folders (``subs/*`` -> one student per folder of ``subs``).
+
+Students with the same file name (``subs/*/square.yaml``) are told apart by their folder. Python
+files count only if they define a ``Mission`` class (behaviours and helpers do not); YAML files
+that are test specs do not count.
+
+With several tests, a student with one mission runs it in every test; a student with several
+runs, in each test, the mission named after the test (``square-50cm.yaml``) or after the spec
+file; a student without one is marked ``missing`` for that test.
+"""
+
+from __future__ import annotations
+
+import glob
+import re
+from collections import Counter
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from roboscript.errors import InputError
+from roboscript.grading.pool import RunTask, run_tasks
+from roboscript.grading.record import RunResult, Verdict
+from roboscript.grading.spec import TestSpec, is_test_spec, load_test_spec
+from roboscript.sim.world import World, load_world
+
+__all__ = [
+    "Cell",
+    "ClassReport",
+    "Submission",
+    "find_specs",
+    "find_submissions",
+    "grade_class",
+    "mission_for_test",
+]
+
+_MISSION_SUFFIXES = (".yaml", ".yml", ".py")
+
+
+@dataclass(frozen=True)
+class Submission:
+    """One student's work: their name and mission files (paths as given)."""
+
+    student: str
+    missions: tuple[str, ...]
+
+
+def _is_mission_file(path: Path) -> bool:
+    from roboscript.mission.python_loader import is_python_mission
+
+    if not path.is_file() or path.suffix.lower() not in _MISSION_SUFFIXES:
+        return False
+    if path.suffix.lower() == ".py":
+        return is_python_mission(path)  # read as text, never imported here
+    return not is_test_spec(path)
+
+
+def _missions_in(folder: Path) -> list[Path]:
+    return sorted(
+        p
+        for p in folder.rglob("*")
+        if not any(part.startswith((".", "__")) for part in p.relative_to(folder).parts)
+        and _is_mission_file(p)
+    )
+
+
+def find_submissions(patterns: Sequence[str]) -> list[Submission]:
+    """The students and their missions, in name order.
+
+    Raises:
+        InputError: A pattern matches no mission.
+    """
+    singles: list[Path] = []  # one student per file, named after it
+    folders: list[Path] = []  # one student per folder, named after it
+    for pattern in patterns:
+        path = Path(pattern)
+        if path.is_dir():
+            children = sorted(path.iterdir())
+            singles += [p for p in children if _is_mission_file(p)]
+            folders += [p for p in children if p.is_dir() and not p.name.startswith((".", "__"))]
+            if not any(_missions_in(path)):
+                raise InputError(f"no mission files in the folder {pattern}")
+        elif path.is_file():
+            if path.suffix.lower() not in _MISSION_SUFFIXES:
+                raise InputError(f"{pattern} is not a mission file (.yaml or .py)")
+            singles.append(path)
+        else:
+            matches = sorted(Path(m) for m in glob.glob(pattern, recursive=True))
+            found = [m for m in matches if _is_mission_file(m)]
+            found_dirs = [m for m in matches if m.is_dir() and _missions_in(m)]
+            if not found and not found_dirs:
+                raise InputError(f"no mission matches '{pattern}'")
+            singles += found
+            folders += found_dirs
+    by_student: dict[str, list[str]] = {}
+    singles = list(dict.fromkeys(singles))
+    stems = Counter(file.stem for file in singles)
+    parents = Counter(file.parent.name for file in singles)
+    for file in singles:
+        # subs/*/square.yaml: every file is "square", so each student is named by the folder.
+        name = file.stem
+        if stems[file.stem] > 1:
+            unique_parent = parents[file.parent.name] == 1
+            name = file.parent.name if unique_parent else f"{file.parent.name}/{file.stem}"
+        by_student.setdefault(name, []).append(str(file))
+    for folder in folders:
+        missions = [str(p) for p in _missions_in(folder)]
+        if missions:
+            by_student.setdefault(folder.name, []).extend(missions)
+    return [
+        Submission(name, tuple(dict.fromkeys(files)))
+        for name, files in sorted(by_student.items(), key=lambda item: item[0].lower())
+    ]
+
+
+def find_specs(paths: Sequence[str]) -> list[TestSpec]:
+    """Load the test specs named (folders: every test spec in them).
+
+    Raises:
+        SpecError: A spec is invalid.
+        InputError: A folder holds no test spec.
+    """
+    files: list[Path] = []
+    for raw in paths:
+        path = Path(raw)
+        if path.is_dir():
+            found = sorted(p for p in path.rglob("*.y*ml") if is_test_spec(p))
+            if not found:
+                raise InputError(f"no test specs (YAML files starting 'test:') in {raw}")
+            files += found
+        else:
+            files.append(path)
+    specs = [load_test_spec(p) for p in dict.fromkeys(files)]
+    seen: dict[str, str] = {}
+    for spec in specs:
+        if spec.name in seen:
+            raise InputError(
+                f"two specs are both called '{spec.name}' ({seen[spec.name]} and {spec.path})"
+            )
+        seen[spec.name] = spec.path
+    return specs
+
+
+def _key(text: str) -> str:
+    return re.sub(r"[-_\s]+", "-", text.strip().lower())
+
+
+def mission_for_test(submission: Submission, spec: TestSpec) -> str | None:
+    """The mission a student runs in ``spec`` (see the module docstring), or ``None``."""
+    if len(submission.missions) == 1:
+        return submission.missions[0]
+    wanted = {_key(spec.name), _key(Path(spec.path).stem)}
+    for mission in submission.missions:
+        if _key(Path(mission).stem) in wanted:
+            return mission
+    return None
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One student in one test: every run, and what to show for it.
+
+    Attributes:
+        student: The student.
+        test: The test.
+        results: One per run variant, in the spec's order.
+    """
+
+    student: str
+    test: str
+    results: tuple[RunResult, ...]
+
+    @property
+    def passed_runs(self) -> int:
+        """Runs that passed."""
+        return sum(1 for r in self.results if r.passed)
+
+    @property
+    def total_runs(self) -> int:
+        """Runs in all."""
+        return len(self.results)
+
+    @property
+    def passed(self) -> bool:
+        """True if every run passed."""
+        return self.passed_runs == self.total_runs
+
+    @property
+    def score(self) -> float:
+        """Mean of the runs' scores, 0 to 1 (partial credit for expectations that held)."""
+        if not self.results:
+            return 0.0
+        return round(sum(r.score for r in self.results) / len(self.results), 4)
+
+    def worst(self) -> tuple[RunResult | None, Verdict | None]:
+        """The run to look at first and its telling verdict.
+
+        That is the first run that did not pass (with its first failed verdict), or, when all
+        passed, the run and verdict that passed with the least room to spare.
+        """
+        for result in self.results:
+            if not result.passed:
+                return result, result.worst_verdict()
+        tightest: tuple[RunResult | None, Verdict | None] = (None, None)
+        least = float("inf")
+        for result in self.results:
+            verdict = result.worst_verdict()
+            relative = verdict.relative_margin if verdict is not None else None
+            if relative is not None and relative < least:
+                least = relative
+                tightest = (result, verdict)
+        return tightest
+
+    def summary(self) -> str:
+        """What the class table shows beside the pass count: the worst margin or the reason."""
+        result, verdict = self.worst()
+        if result is None:
+            return ""
+        if not result.passed and result.status != "failed":
+            return result.message
+        if verdict is None:
+            return result.message
+        if verdict.margin:
+            return f"{verdict.name} {verdict.margin}"
+        return verdict.text
+
+
+@dataclass
+class ClassReport:
+    """A class graded against a set of tests.
+
+    Attributes:
+        specs: The tests, in the order given.
+        submissions: The students.
+        results: Every run, by test, then student, then variant.
+        worlds: The worlds the runs used, by the name or path the variants give.
+    """
+
+    specs: list[TestSpec]
+    submissions: list[Submission]
+    results: list[RunResult]
+    worlds: dict[str, World] = field(default_factory=dict)
+
+    @property
+    def passed(self) -> bool:
+        """True if every run of every student passed."""
+        return all(r.passed for r in self.results)
+
+    def cell(self, student: str, test: str) -> Cell:
+        """One student in one test."""
+        found = tuple(r for r in self.results if r.student == student and r.test == test)
+        return Cell(student, test, found)
+
+    def student_score(self, student: str) -> float:
+        """A student's mean score over the tests, 0 to 1."""
+        cells = [self.cell(student, spec.name) for spec in self.specs]
+        return round(sum(c.score for c in cells) / len(cells), 4) if cells else 0.0
+
+    def world_for(self, result: RunResult) -> World | None:
+        """The world a run happened in."""
+        spec = next((s for s in self.specs if s.name == result.test), None)
+        if spec is None or result.variant >= len(spec.variants):
+            return None
+        return self.worlds.get(spec.variants[result.variant].world)
+
+    def spec_for(self, test: str) -> TestSpec:
+        """The spec of a test by name."""
+        return next(s for s in self.specs if s.name == test)
+
+
+def grade_class(
+    specs: Sequence[TestSpec],
+    submissions: Sequence[Submission],
+    jobs: int | None = None,
+    on_result: Callable[[RunResult], None] | None = None,
+) -> ClassReport:
+    """Run every student's mission on every variant of every test, each in its own worker.
+
+    Returns:
+        The report; its results are in a fixed order (test, student, variant) whatever
+        ``jobs`` is.
+    """
+    worlds = {v.world: load_world(v.world) for spec in specs for v in spec.variants}
+    tasks: list[RunTask] = []
+    slots: list[RunResult | int] = []  # a missing submission's result, or its task's index
+    for spec in specs:
+        for submission in submissions:
+            mission = mission_for_test(submission, spec)
+            for variant in spec.variants:
+                if mission is None:
+                    slots.append(_missing(spec, submission, variant.index, variant.label))
+                    continue
+                slots.append(len(tasks))
+                tasks.append(RunTask(spec, mission, variant, submission.student))
+    done = run_tasks(tasks, jobs, on_result)
+    results = [slot if isinstance(slot, RunResult) else done[slot] for slot in slots]
+    # Records came through a pipe as data: give them back their worlds for the reports.
+    attached = []
+    for result in results:
+        spec = next(s for s in specs if s.name == result.test)
+        world = worlds[spec.variants[result.variant].world]
+        if result.record is not None and result.record.world is None:
+            from dataclasses import replace
+
+            result = replace(result, record=replace(result.record, world=world))
+        attached.append(result)
+    return ClassReport(list(specs), list(submissions), attached, worlds)
+
+
+def _missing(spec: TestSpec, submission: Submission, index: int, label: str) -> RunResult:
+    names = ", ".join(Path(m).name for m in submission.missions)
+    return RunResult(
+        student=submission.student,
+        test=spec.name,
+        variant=index,
+        label=label,
+        seed=spec.variants[index].seed,
+        mission="",
+        status="missing",
+        message=(
+            f"no mission for the test '{spec.name}': name it {spec.name}.yaml or"
+            f" {spec.name}.py (found {names})"
+        ),
+    )

@@ -1,0 +1,341 @@
+"""``roboscript grade --html DIR``: a static report a class can read in any browser.
+
+* ``DIR/index.html``: the class page, one row per student and test: ✓/✗ with the runs that
+  passed, the score, the worst margin (or why it stopped), and a link to each run;
+* ``DIR/runs/*.html``: one page per run: what went wrong in one sentence, the trajectory over
+  the world, the state timeline, and every expectation with its margin and first violation.
+
+Self-contained files: styles are inline, pictures are inline SVG, nothing is fetched. Every
+pass or fail is a word and a symbol as well as a colour; pictures carry a text alternative.
+"""
+
+from __future__ import annotations
+
+import re
+from html import escape
+from pathlib import Path
+
+from roboscript import __version__
+from roboscript.grading.batch import ClassReport
+from roboscript.grading.record import RunResult, Verdict
+from roboscript.grading.svg import (
+    COLLISION,
+    END,
+    PATH,
+    REGION,
+    START,
+    TONE,
+    VIOLATION,
+    state_colours,
+    timeline_svg,
+    trajectory_svg,
+)
+
+__all__ = ["run_page_name", "write_html"]
+
+_CSS = """
+:root { color-scheme: light; }
+body { font: 15px/1.45 system-ui, -apple-system, "Segoe UI", Roboto, sans-serif; color: #1a1a1a;
+       margin: 0 auto; max-width: 1100px; padding: 1.2rem 1.5rem 3rem; background: #fff; }
+h1 { font-size: 1.55rem; margin: 0.2rem 0 0.6rem; }
+h2 { font-size: 1.2rem; margin: 1.6rem 0 0.5rem; border-bottom: 1px solid #ddd; }
+a { color: #0b57d0; }
+a:focus { outline: 3px solid #f9a825; }
+.muted { color: #555; }
+table { border-collapse: collapse; width: 100%; margin: 0.4rem 0 1rem; }
+th, td { text-align: left; padding: 0.35rem 0.6rem; border-bottom: 1px solid #e4e4e4;
+         vertical-align: top; }
+th { background: #f3f4f6; font-weight: 600; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
+.nowrap { white-space: nowrap; }
+.pass { color: #1b5e20; font-weight: 600; }
+.fail { color: #b71c1c; font-weight: 600; }
+.badge { display: inline-block; padding: 0.05rem 0.45rem; border-radius: 0.6rem;
+         font-weight: 600; white-space: nowrap; }
+.badge.pass { background: #e8f5e9; border: 1px solid #81c784; }
+.badge.fail { background: #ffebee; border: 1px solid #e57373; }
+.runs a { margin-right: 0.5rem; white-space: nowrap; }
+.banner { padding: 0.7rem 1rem; border-radius: 6px; margin: 0.6rem 0 1rem; font-size: 1.05rem; }
+.banner.pass { background: #e8f5e9; border-left: 6px solid #2e7d32; }
+.banner.fail { background: #ffebee; border-left: 6px solid #c62828; }
+figure { margin: 0.5rem 0 1rem; }
+figcaption { color: #444; font-size: 0.92rem; margin-top: 0.3rem; }
+svg { max-width: 100%; height: auto; border: 1px solid #ddd; background: #fff; }
+.legend { list-style: none; padding: 0; margin: 0.3rem 0; display: flex; flex-wrap: wrap;
+          gap: 0.3rem 1.2rem; font-size: 0.92rem; }
+.legend svg { border: none; vertical-align: middle; }
+.swatch { display: inline-block; width: 0.9rem; height: 0.9rem; border-radius: 2px;
+          vertical-align: middle; margin-right: 0.3rem; }
+dl.facts { display: grid; grid-template-columns: max-content 1fr; gap: 0.2rem 1rem; }
+dl.facts dt { font-weight: 600; }
+dl.facts dd { margin: 0; }
+pre { background: #f6f8fa; padding: 0.6rem; overflow-x: auto; font-size: 0.85rem; }
+"""
+
+
+def _page(title: str, body: str) -> str:
+    return (
+        "<!DOCTYPE html>\n"
+        '<html lang="en">\n<head>\n<meta charset="utf-8">\n'
+        '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
+        f"<title>{escape(title)}</title>\n<style>{_CSS}</style>\n</head>\n<body>\n"
+        f"{body}\n"
+        f'<p class="muted">Made by roboscript {escape(__version__)} <code>grade</code>.'
+        " Times are on the mission clock (0 s = the mission started).</p>\n"
+        "</body>\n</html>\n"
+    )
+
+
+def _mark(passed: bool) -> str:
+    return '<span class="pass">✓ passed</span>' if passed else '<span class="fail">✗ failed</span>'
+
+
+def _status_words(result: RunResult) -> str:
+    return {
+        "passed": "✓ passed",
+        "failed": "✗ failed",
+        "timeout": "✗ did not finish",
+        "crashed": "✗ crashed",
+        "invalid": "✗ mission error",
+        "missing": "✗ missing",
+    }.get(result.status, result.status)
+
+
+def run_page_name(result: RunResult) -> str:
+    """The run page's file name inside ``runs/``."""
+    raw = f"{result.student}--{result.test}--{result.variant + 1}"
+    return re.sub(r"[^A-Za-z0-9._-]+", "_", raw) + ".html"
+
+
+def write_html(report: ClassReport, folder: str | Path) -> Path:
+    """Write the class page and one page per run into ``folder``; return the class page."""
+    root = Path(folder)
+    runs = root / "runs"
+    runs.mkdir(parents=True, exist_ok=True)
+    for result in report.results:
+        (runs / run_page_name(result)).write_text(_run_page(report, result), encoding="utf-8")
+    index = root / "index.html"
+    index.write_text(_class_page(report), encoding="utf-8")
+    return index
+
+
+# ------------------------------------------------------------------------------ class page
+
+
+def _class_page(report: ClassReport) -> str:
+    runs = len(report.results)
+    passed = sum(1 for r in report.results if r.passed)
+    parts = [
+        "<header><h1>Class report</h1>",
+        (
+            f'<p class="muted">{len(report.submissions)} students, {len(report.specs)} test'
+            f"{'s' if len(report.specs) != 1 else ''}, {runs} runs: <strong>{passed} passed,"
+            f" {runs - passed} failed</strong>.</p></header>"
+        ),
+        "<main>",
+        "<h2>Results</h2>",
+        (
+            '<table><caption class="muted" style="text-align:left">One row per student and test.'
+            " A test passes when every run of it passes; the score gives partial credit for the"
+            " expectations that held.</caption>"
+        ),
+        (
+            '<thead><tr><th scope="col">Student</th><th scope="col">Test</th>'
+            '<th scope="col">Result</th><th scope="col">Score</th>'
+            '<th scope="col">Worst margin, or why it stopped</th><th scope="col">Runs</th>'
+            "</tr></thead><tbody>"
+        ),
+    ]
+    for submission in report.submissions:
+        for spec in report.specs:
+            cell = report.cell(submission.student, spec.name)
+            badge = "pass" if cell.passed else "fail"
+            symbol = "✓" if cell.passed else "✗"
+            links = " ".join(
+                f'<a href="runs/{run_page_name(r)}">{escape(r.label)}'
+                f" {'✓' if r.passed else '✗'}</a>"
+                for r in cell.results
+            )
+            parts.append(
+                f'<tr><th scope="row">{escape(submission.student)}</th>'
+                f'<td class="nowrap">{escape(spec.name)}</td>'
+                f'<td><span class="badge {badge}">{symbol} {cell.passed_runs}/{cell.total_runs}'
+                f" {'passed' if cell.passed else 'failed'}</span></td>"
+                f'<td class="num">{cell.score * 100:.0f}%</td>'
+                f"<td>{escape(cell.summary())}</td>"
+                f'<td class="runs">{links}</td></tr>'
+            )
+    parts.append("</tbody></table>")
+    parts.append("<h2>Tests</h2>")
+    for spec in report.specs:
+        expectations = "".join(
+            f"<li><code>{escape(e.name)}</code>"
+            + (f" (weight {e.weight:g})" if e.weight != 1 else "")
+            + "</li>"
+            for e in spec.expectations
+        )
+        variants = ", ".join(escape(v.label) for v in spec.variants)
+        parts.append(
+            f"<h3>{escape(spec.name)}</h3>"
+            + (f"<p>{escape(spec.description)}</p>" if spec.description else "")
+            + f'<p class="muted">World <code>{escape(_short_world(spec.world))}</code>,'
+            f" robot <code>{escape(spec.robot)}</code>, up to {spec.max_time_s:g} s per run."
+            f" Runs: {variants}.</p><ul>{expectations}</ul>"
+        )
+    parts.append("</main>")
+    return _page("Class report — roboscript grade", "\n".join(parts))
+
+
+def _short_world(world: str) -> str:
+    return Path(world).name if "/" in world or "\\" in world else world
+
+
+# -------------------------------------------------------------------------------- run page
+
+
+def _run_page(report: ClassReport, result: RunResult) -> str:
+    spec = report.spec_for(result.test)
+    title = f"{result.student} — {result.test} — {result.label}"
+    banner = "pass" if result.passed else "fail"
+    parts = [
+        '<nav><a href="../index.html">← Class report</a></nav>',
+        f"<header><h1>{escape(title)}</h1>",
+        f'<div class="banner {banner}" role="status"><strong>{_status_words(result)}</strong>'
+        + (f": {escape(result.message)}" if result.message else "")
+        + f' <span class="muted">(score {result.score * 100:.0f}%)</span></div>',
+        "</header><main>",
+    ]
+    record = result.record
+    world = report.world_for(result)
+    if record is not None and world is not None:
+        parts.append("<h2>Where the robot went</h2>")
+        parts.append(
+            "<figure>"
+            + trajectory_svg(world, record, result.verdicts, spec.expectations)
+            + "<figcaption>Seen from above, north up. The blue line is the path of the"
+            " robot's centre from the start ring to the end square (the circle there is the"
+            " robot's body, the line its heading). Grey strips are floor tape, black lines"
+            " walls, dashed green areas named regions, a dashed red circle the target.</figcaption>"
+            "</figure>"
+        )
+        parts.append(_legend())
+        parts.append("<h2>States over time</h2>")
+        colours = state_colours(record)
+        keys = "".join(
+            f'<li><span class="swatch" style="background:{c}"></span>{escape(n)}</li>'
+            for n, c in colours.items()
+        )
+        parts.append(
+            "<figure>"
+            + timeline_svg(record, result.verdicts)
+            + "<figcaption>Each bar is a stay in a state. Diamonds are tones, crosses"
+            " collisions, a red ! where an expectation first failed.</figcaption></figure>"
+            f'<ul class="legend" aria-label="State colours">{keys}</ul>'
+        )
+    if result.verdicts:
+        parts.append("<h2>Expectations</h2>")
+        parts.append(_verdict_table(result.verdicts))
+    if record is not None:
+        parts.append("<h2>What happened</h2>")
+        parts.append(_facts(result))
+    elif result.status != "missing":
+        parts.append(
+            "<h2>What happened</h2><p>The run did not finish, so there is no trajectory to"
+            " show. " + escape(_advice(result)) + "</p>"
+        )
+    parts.append(
+        f'<p class="muted">Mission <code>{escape(result.mission or "none")}</code>; test spec'
+        f" <code>{escape(spec.path)}</code>; seed {result.seed}.</p>"
+    )
+    parts.append("</main>")
+    return _page(f"{title} — roboscript grade", "\n".join(parts))
+
+
+def _advice(result: RunResult) -> str:
+    if result.status == "timeout":
+        return (
+            "Try the mission with 'roboscript run' at home: if it never finishes, look for a"
+            " condition or behaviour with a loop that never ends."
+        )
+    if result.status == "invalid":
+        return "Run 'roboscript check' on the mission to see every problem with its line."
+    return "Run the mission with 'roboscript run --debug' to see where it stops."
+
+
+def _legend() -> str:
+    def icon(shape: str) -> str:
+        return f'<svg width="18" height="18" viewBox="-9 -9 18 18" aria-hidden="true">{shape}</svg>'
+
+    items = [
+        (icon(f'<line x1="-8" y1="0" x2="8" y2="0" stroke="{PATH}" stroke-width="3"/>'), "path"),
+        (
+            icon(f'<circle r="5" fill="white" stroke="{START}" stroke-width="3"/>'),
+            "start",
+        ),
+        (icon(f'<rect x="-5" y="-5" width="10" height="10" fill="{END}"/>'), "end"),
+        (
+            icon(
+                f'<g stroke="{COLLISION}" stroke-width="3"><line x1="-5" y1="-5" x2="5" y2="5"/>'
+                '<line x1="-5" y1="5" x2="5" y2="-5"/></g>'
+            ),
+            "collision",
+        ),
+        (icon(f'<polygon points="0,-7 6,0 0,7 -6,0" fill="{TONE}"/>'), "tone"),
+        (
+            icon(
+                f'<circle r="7" fill="white" stroke="{VIOLATION}" stroke-width="2"/>'
+                f'<text y="4" text-anchor="middle" font-size="10" fill="{VIOLATION}">!</text>'
+            ),
+            "first violation",
+        ),
+        (
+            icon(
+                f'<rect x="-7" y="-7" width="14" height="14" fill="{REGION}" fill-opacity="0.2"'
+                f' stroke="{REGION}" stroke-dasharray="3 2"/>'
+            ),
+            "region",
+        ),
+    ]
+    entries = "".join(f"<li>{svg} {escape(text)}</li>" for svg, text in items)
+    return f'<ul class="legend" aria-label="Legend">{entries}</ul>'
+
+
+def _verdict_table(verdicts: tuple[Verdict, ...]) -> str:
+    rows = []
+    for verdict in verdicts:
+        when = (
+            f"{verdict.first_violation_s:.2f} s" if verdict.first_violation_s is not None else "—"
+        )
+        weight = f" (weight {verdict.weight:g})" if verdict.weight != 1 else ""
+        rows.append(
+            f'<tr><td class="nowrap">{_mark(verdict.passed)}</td>'
+            f'<th scope="row"><code>{escape(verdict.name)}</code>{weight}</th>'
+            f'<td class="nowrap">{escape(verdict.margin) or "—"}</td><td class="num">{when}</td>'
+            f"<td>{escape(verdict.detail)}</td></tr>"
+        )
+    return (
+        '<table><thead><tr><th scope="col">Result</th><th scope="col">Expectation</th>'
+        '<th scope="col">Margin</th><th scope="col">First failed at</th>'
+        '<th scope="col">What was seen</th></tr></thead><tbody>'
+        + "".join(rows)
+        + "</tbody></table>"
+    )
+
+
+def _facts(result: RunResult) -> str:
+    record = result.record
+    assert record is not None
+    tones = ", ".join(f"{t.frequency_hz:g} Hz at {t.t_s:.1f} s" for t in record.tones) or "none"
+    collisions = ", ".join(f"{c.t_s:.1f} s ({c.side})" for c in record.collisions) or "none"
+    items = [
+        ("Outcome", record.outcome),
+        ("Final state", record.final_state or "—"),
+        ("Reason", record.reason or "—"),
+        ("Duration", f"{record.duration_s:.2f} s"),
+        ("Distance travelled", f"{record.distance_travelled_mm / 10:.1f} cm"),
+        ("Tones", tones),
+        ("Collisions", collisions),
+        ("Robot, world, seed", f"{record.robot}, {record.world_name}, {record.seed}"),
+    ]
+    body = "".join(f"<dt>{escape(k)}</dt><dd>{escape(v)}</dd>" for k, v in items)
+    return f'<dl class="facts">{body}</dl>'

@@ -1,0 +1,292 @@
+"""What a graded run leaves behind: the record of what happened, verdicts, and the run's result.
+
+Everything here is plain frozen data that turns into JSON-ready dictionaries and back
+(:meth:`RunResult.to_dict`, :meth:`RunResult.from_dict`), so a run can be computed in another
+process (or, later, on another machine) and reported anywhere. Times are on the mission clock:
+0 is the moment the mission started.
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+from roboscript.sim.world import World
+
+__all__ = [
+    "RUN_STATUSES",
+    "Collision",
+    "RunRecord",
+    "RunResult",
+    "Tone",
+    "Verdict",
+]
+
+RUN_STATUSES = ("passed", "failed", "timeout", "crashed", "invalid", "missing")
+"""How a run can end for the grader: ``passed`` (every expectation held), ``failed`` (one did
+not), ``timeout`` (the wall-clock limit ended it), ``crashed`` (the worker raised or died),
+``invalid`` (the student's mission did not load), ``missing`` (no mission for this test)."""
+
+
+@dataclass(frozen=True)
+class Tone:
+    """A tone the robot started: when, how high, how long."""
+
+    t_s: float
+    frequency_hz: float
+    duration_s: float
+
+
+@dataclass(frozen=True)
+class Collision:
+    """A collision with a wall: when it began, where the body centre was, which side hit."""
+
+    t_s: float
+    x_mm: float
+    y_mm: float
+    side: str
+
+
+@dataclass(frozen=True)
+class RunRecord:
+    """What happened in one simulated run, read-only (a teacher's ``check`` gets this).
+
+    Attributes:
+        mission: The mission's name.
+        robot: The robot profile's name.
+        world_name: The world's name.
+        seed: The simulator seed.
+        outcome: ``success``, ``failure`` or ``error``.
+        final_state: The state the mission ended in.
+        reason: Why, when the outcome is not success.
+        duration_s: Mission time when it ended, seconds.
+        states: Every state entered, as ``(time_s, name)``.
+        path: Samples ``(time_s, x_mm, y_mm, heading_deg)`` every 0.1 s; heading clockwise
+            from north.
+        tones: Every tone started.
+        collisions: Every collision with a wall.
+        final_pose: ``(x_mm, y_mm, heading_deg)`` when the mission ended.
+        distance_travelled_mm: Path length of the body centre.
+        body_radius_mm: Radius of the robot's round body.
+        side_sensor_offset_mm: How far the side distance sensor sits from the body centre.
+        world: The world the run happened in (walls, tape, regions); not serialised.
+    """
+
+    mission: str
+    robot: str
+    world_name: str
+    seed: int
+    outcome: str
+    final_state: str | None
+    reason: str | None
+    duration_s: float
+    states: tuple[tuple[float, str], ...]
+    path: tuple[tuple[float, float, float, float], ...]
+    tones: tuple[Tone, ...] = ()
+    collisions: tuple[Collision, ...] = ()
+    final_pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    distance_travelled_mm: float = 0.0
+    body_radius_mm: float = 100.0
+    side_sensor_offset_mm: float = 80.0
+    world: World | None = field(default=None, compare=False, repr=False)
+
+    @property
+    def start_pose(self) -> tuple[float, float, float]:
+        """``(x_mm, y_mm, heading_deg)`` when the mission started (the first path sample)."""
+        if not self.path:
+            return self.final_pose
+        _, x, y, h = self.path[0]
+        return x, y, h
+
+    def state_intervals(self) -> list[tuple[float, float, str]]:
+        """``(start_s, end_s, state)`` for each stay in a state, the last ending with the run."""
+        spans = []
+        for i, (start, name) in enumerate(self.states):
+            end = self.states[i + 1][0] if i + 1 < len(self.states) else self.duration_s
+            spans.append((start, max(start, end), name))
+        return spans
+
+    def state_at(self, t_s: float) -> str | None:
+        """The state the mission was in at ``t_s``."""
+        times = [t for t, _ in self.states]
+        i = bisect.bisect_right(times, t_s) - 1
+        return self.states[i][1] if i >= 0 else None
+
+    def pose_at(self, t_s: float) -> tuple[float, float, float]:
+        """The pose ``(x_mm, y_mm, heading_deg)`` at ``t_s``, from the nearest earlier sample."""
+        if not self.path:
+            return self.final_pose
+        times = [p[0] for p in self.path]
+        i = max(0, bisect.bisect_right(times, t_s) - 1)
+        _, x, y, h = self.path[i]
+        return x, y, h
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready dictionary (the world is left out: it is named by ``world_name``)."""
+        data = asdict(self)
+        data.pop("world")
+        data["states"] = [list(s) for s in self.states]
+        data["path"] = [list(p) for p in self.path]
+        data["final_pose"] = list(self.final_pose)
+        return data
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], world: World | None = None) -> RunRecord:
+        """The record :meth:`to_dict` made."""
+        return cls(
+            mission=data["mission"],
+            robot=data["robot"],
+            world_name=data["world_name"],
+            seed=data["seed"],
+            outcome=data["outcome"],
+            final_state=data["final_state"],
+            reason=data["reason"],
+            duration_s=data["duration_s"],
+            states=tuple((t, n) for t, n in data["states"]),
+            path=tuple((t, x, y, h) for t, x, y, h in data["path"]),
+            tones=tuple(Tone(**t) for t in data["tones"]),
+            collisions=tuple(Collision(**c) for c in data["collisions"]),
+            final_pose=(data["final_pose"][0], data["final_pose"][1], data["final_pose"][2]),
+            distance_travelled_mm=data["distance_travelled_mm"],
+            body_radius_mm=data["body_radius_mm"],
+            side_sensor_offset_mm=data["side_sensor_offset_mm"],
+            world=world,
+        )
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """Whether one expectation held, and by how much.
+
+    Attributes:
+        name: The expectation (``final_pose_within``, ``check: lap_time``...).
+        passed: Whether it held.
+        margin: How close it came, signed, in words: ``"passed by 2.1 cm"``,
+            ``"failed by 0.4 s"``; empty when there is no measure (an outcome).
+        first_violation_s: Mission time it first failed, or ``None`` (it held, or failing has
+            no moment, such as a region never reached).
+        detail: One sentence of what was seen.
+        margin_value: The margin as a number in ``margin_unit``: positive passed with room,
+            negative failed by that much; ``None`` without a measure.
+        margin_unit: ``mm``, ``s``, ``deg``, ``Hz`` or ``tones``.
+        relative_margin: The margin as a share of its tolerance (radius, band, limit), to find
+            the tightest pass across expectations; ``None`` when there is no tolerance.
+        weight: Share of the run's score this expectation carries.
+    """
+
+    name: str
+    passed: bool
+    margin: str = ""
+    first_violation_s: float | None = None
+    detail: str = ""
+    margin_value: float | None = None
+    margin_unit: str = ""
+    relative_margin: float | None = None
+    weight: float = 1.0
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready dictionary."""
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> Verdict:
+        """The verdict :meth:`to_dict` made."""
+        return cls(**data)
+
+    @property
+    def text(self) -> str:
+        """One line: ``name: margin (detail)``, for reports."""
+        head = f"{self.name} {self.margin}" if self.margin else self.name
+        if not self.margin:
+            head += " passed" if self.passed else " failed"
+        return f"{head}: {self.detail}" if self.detail else head
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """One student's mission, run on one variant of one test and judged.
+
+    Attributes:
+        student: The student's name.
+        test: The test spec's ``test`` name.
+        variant: Index of the run variant in the spec's ``runs`` (0-based).
+        label: The variant as people read it (``seed 2, start (100, 0) mm 10°``).
+        seed: The simulator seed.
+        mission: The mission file, as given on the command line.
+        status: One of :data:`RUN_STATUSES`.
+        message: One sentence for the student: why it failed (empty when it passed).
+        score: Weighted share of expectations that held, 0 to 1.
+        verdicts: One per expectation, in the spec's order (empty if the run never ended).
+        record: What happened, or ``None`` if the run never ended.
+        wall_time_s: Wall-clock seconds the run took (the only field that varies between
+            identical runs).
+        debug: A traceback or other detail for the teacher; never shown to students.
+    """
+
+    student: str
+    test: str
+    variant: int
+    label: str
+    seed: int
+    mission: str
+    status: str
+    message: str = ""
+    score: float = 0.0
+    verdicts: tuple[Verdict, ...] = ()
+    record: RunRecord | None = None
+    wall_time_s: float = 0.0
+    debug: str = ""
+
+    @property
+    def passed(self) -> bool:
+        """True if every expectation held."""
+        return self.status == "passed"
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready dictionary."""
+        return {
+            "student": self.student,
+            "test": self.test,
+            "variant": self.variant,
+            "label": self.label,
+            "seed": self.seed,
+            "mission": self.mission,
+            "status": self.status,
+            "passed": self.passed,
+            "message": self.message,
+            "score": self.score,
+            "verdicts": [v.to_dict() for v in self.verdicts],
+            "record": self.record.to_dict() if self.record is not None else None,
+            "wall_time_s": self.wall_time_s,
+            "debug": self.debug,
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], world: World | None = None) -> RunResult:
+        """The result :meth:`to_dict` made (``world`` is attached to the record)."""
+        record = data.get("record")
+        return cls(
+            student=data["student"],
+            test=data["test"],
+            variant=data["variant"],
+            label=data["label"],
+            seed=data["seed"],
+            mission=data["mission"],
+            status=data["status"],
+            message=data["message"],
+            score=data["score"],
+            verdicts=tuple(Verdict.from_dict(v) for v in data["verdicts"]),
+            record=RunRecord.from_dict(record, world) if record is not None else None,
+            wall_time_s=data["wall_time_s"],
+            debug=data["debug"],
+        )
+
+    def worst_verdict(self) -> Verdict | None:
+        """The first failed verdict, else the passed one with the least relative margin."""
+        for verdict in self.verdicts:
+            if not verdict.passed:
+                return verdict
+        measured = [v for v in self.verdicts if v.relative_margin is not None]
+        return min(measured, key=lambda v: v.relative_margin or math.inf, default=None)

@@ -1,0 +1,284 @@
+"""Teacher test specs: which world and robot, which run variants, and what must happen.
+
+A test spec (YAML; quantities take units, bare numbers the documented unit)::
+
+    test: square-50cm
+    description: Drive a 50 cm square, beep at each corner, and come home.
+    world: empty            # built-in name, or a world file relative to this spec
+    robot: mirto
+    runs:                   # each run is one seeded variant; the mission must pass all
+      - {seed: 1}
+      - {seed: 2, start: {x: 100 mm, y: 0 mm, heading: 10 deg}}
+    max_time: 60 s          # simulated time
+    wall_time_limit: 60 s   # real time, per run, before the grader gives up on it
+    expect:
+      - outcome: success
+      - final_pose_within: {x: 0 mm, y: 0 mm, radius: 80 mm}
+      - {tones: {count: 4}, weight: 2}
+
+Every mistake is a :class:`~roboscript.errors.SpecError` at ``file:line:col``, with a "did you
+mean" where one fits. The expectations are documented in :mod:`roboscript.grading.expectations`
+and in the teachers' guide.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from roboscript.errors import SpecError
+from roboscript.grading.expectations import Expectation, SpecContext, parse_expectation
+from roboscript.grading.reader import SpecReader, did_you_mean
+from roboscript.mission.source import Mark, YamlMap, load_yaml
+from roboscript.mission.spec import Location
+from roboscript.sim.world import World, builtin_worlds, load_world
+
+__all__ = [
+    "DEFAULT_MAX_TIME_S",
+    "DEFAULT_WALL_TIME_LIMIT_S",
+    "TestSpec",
+    "Variant",
+    "is_test_spec",
+    "load_test_spec",
+]
+
+DEFAULT_MAX_TIME_S = 60.0
+"""Simulated time a mission gets when the spec gives no ``max_time``."""
+DEFAULT_WALL_TIME_LIMIT_S = 60.0
+"""Real time one run may take before the grader stops it. The simulator runs a 60 s mission
+in well under a second, so only a mission stuck in a loop of its own code comes near this."""
+
+_TOP_KEYS = (
+    "test",
+    "description",
+    "world",
+    "robot",
+    "runs",
+    "max_time",
+    "wall_time_limit",
+    "expect",
+)
+_RUN_KEYS = ("seed", "start", "world", "name")
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One run of a test: a seed, and optionally another start pose or world.
+
+    Attributes:
+        index: Position in the spec's ``runs`` (0-based).
+        seed: Simulator seed.
+        world: World name or absolute path.
+        start: ``(x_mm, y_mm, heading_deg)``, or ``None`` for the world's start.
+        name: The teacher's name for it, or empty.
+    """
+
+    index: int
+    seed: int
+    world: str
+    start: tuple[float, float, float] | None = None
+    name: str = ""
+
+    @property
+    def label(self) -> str:
+        """How reports name the variant: its name, else ``seed 2, start (100, 0) mm 10°``."""
+        if self.name:
+            return self.name
+        text = f"seed {self.seed}"
+        if self.start is not None:
+            x, y, h = self.start
+            text += f", start ({x:g}, {y:g}) mm {h:g}°"
+        return text
+
+
+@dataclass(frozen=True)
+class TestSpec:
+    """A whole test spec.
+
+    Attributes:
+        name: The ``test`` name (a column of the class table).
+        path: The spec file.
+        description: Free text for the report.
+        world: The default world, as written (name or path).
+        robot: The robot profile the missions run on.
+        variants: The runs.
+        max_time_s: Simulated time limit per run.
+        wall_time_limit_s: Real time limit per run.
+        expectations: What must hold on every run.
+        location: Where the spec starts.
+    """
+
+    __test__ = False  # not a pytest test class, despite the name
+
+    name: str
+    path: str
+    description: str
+    world: str
+    robot: str
+    variants: tuple[Variant, ...]
+    max_time_s: float
+    wall_time_limit_s: float
+    expectations: tuple[Expectation, ...]
+    location: Location | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready summary for reports (the expectations by name and weight)."""
+        return {
+            "test": self.name,
+            "path": self.path,
+            "description": self.description,
+            "world": self.world,
+            "robot": self.robot,
+            "max_time_s": self.max_time_s,
+            "wall_time_limit_s": self.wall_time_limit_s,
+            "runs": [
+                {
+                    "index": v.index,
+                    "label": v.label,
+                    "seed": v.seed,
+                    "world": v.world,
+                    "start": list(v.start) if v.start is not None else None,
+                }
+                for v in self.variants
+            ],
+            "expect": [{"name": e.name, "weight": e.weight} for e in self.expectations],
+        }
+
+
+def is_test_spec(path: str | Path) -> bool:
+    """Whether a YAML file is a test spec (its first key is ``test:``), judged from its text."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return False
+    for line in text.splitlines():
+        stripped = line.strip()
+        if not stripped or stripped.startswith(("#", "---")):
+            continue
+        return line.startswith("test:")
+    return False
+
+
+def load_test_spec(path: str | Path) -> TestSpec:
+    """Read and check a test spec, its worlds and its region names.
+
+    Raises:
+        SpecError: The spec is invalid (at ``file:line:col``).
+        WorldError: A world it names is invalid.
+    """
+    shown = str(path)
+    reader = SpecReader(shown)
+    top = reader.mapping(load_yaml(path, error=SpecError), "a test spec", (1, 1))
+    reader.allowed(top, _TOP_KEYS, "a test spec", required=("test", "expect"))
+    folder = Path(path).resolve().parent
+    name = reader.text(top, "test")
+    world = reader.text(top, "world") if "world" in top else "empty"
+    worlds: dict[str, World] = {}
+    default_world = _resolve_world(reader, world, folder, top.value_mark("world"), worlds)
+    robot = _robot(reader, top)
+    max_time = (
+        reader.positive(top, "max_time", "time", "s") if "max_time" in top else DEFAULT_MAX_TIME_S
+    )
+    wall_limit = (
+        reader.positive(top, "wall_time_limit", "time", "s")
+        if "wall_time_limit" in top
+        else DEFAULT_WALL_TIME_LIMIT_S
+    )
+    variants = _variants(reader, top, folder, default_world, worlds)
+    items = reader.items(top["expect"], "expect", top.value_mark("expect"))
+    if not items:
+        raise reader.fail("expect lists at least one expectation", top.value_mark("expect"))
+    context = SpecContext(folder, tuple(worlds[v.world] for v in variants))
+    expectations = tuple(parse_expectation(reader, item, mark, context) for item, mark in items)
+    return TestSpec(
+        name=name,
+        path=shown,
+        description=str(top.get("description", "") or ""),
+        world=world,
+        robot=robot,
+        variants=variants,
+        max_time_s=max_time,
+        wall_time_limit_s=wall_limit,
+        expectations=expectations,
+        location=Location(shown, 1, 1),
+    )
+
+
+def _robot(reader: SpecReader, top: YamlMap) -> str:
+    from roboscript.errors import ProfileError
+    from roboscript.profiles import BUILTIN_PROFILES, get_profile
+
+    if "robot" not in top:
+        return "mirto"
+    robot = reader.text(top, "robot")
+    try:
+        get_profile(robot)
+    except ProfileError:
+        raise reader.fail(
+            f"no robot called '{robot}' (built-in robots: {', '.join(BUILTIN_PROFILES)})",
+            top.value_mark("robot"),
+            did_you_mean(robot, BUILTIN_PROFILES),
+        ) from None
+    return robot
+
+
+def _resolve_world(
+    reader: SpecReader, written: str, folder: Path, mark: Mark, worlds: dict[str, World]
+) -> str:
+    """The world's name (built-in) or absolute path, loaded once into ``worlds``."""
+    key = written
+    if written not in builtin_worlds():
+        candidate = folder / written
+        if not candidate.is_file():
+            raise reader.fail(
+                f"no world called '{written}' (built-in worlds: {', '.join(builtin_worlds())};"
+                " or a world file next to the spec)",
+                mark,
+                did_you_mean(written, builtin_worlds()),
+            )
+        key = str(candidate.resolve())
+    if key not in worlds:
+        worlds[key] = load_world(key)  # a WorldError names the world file's own line
+    return key
+
+
+def _variants(
+    reader: SpecReader,
+    top: YamlMap,
+    folder: Path,
+    default_world: str,
+    worlds: dict[str, World],
+) -> tuple[Variant, ...]:
+    if "runs" not in top:
+        return (Variant(0, 1, default_world),)
+    items = reader.items(top["runs"], "runs", top.value_mark("runs"))
+    if not items:
+        raise reader.fail(
+            "runs lists at least one run, such as - {seed: 1}", top.value_mark("runs")
+        )
+    variants = []
+    for index, (item, mark) in enumerate(items):
+        data = reader.mapping(item, "a run", mark)
+        reader.allowed(data, _RUN_KEYS, "a run")
+        seed = reader.integer(data, "seed") if "seed" in data else index + 1
+        world = default_world
+        if "world" in data:
+            world = _resolve_world(
+                reader, reader.text(data, "world"), folder, data.value_mark("world"), worlds
+            )
+        start = None
+        if "start" in data:
+            pose = reader.mapping(data["start"], "start", data.value_mark("start"))
+            reader.allowed(pose, ("x", "y", "heading"), "start")
+            base = worlds[world].start
+            start = (
+                reader.quantity(pose, "x", "distance", "mm") if "x" in pose else base.x_mm,
+                reader.quantity(pose, "y", "distance", "mm") if "y" in pose else base.y_mm,
+                reader.quantity(pose, "heading", "angle", "deg")
+                if "heading" in pose
+                else base.heading_deg,
+            )
+        name = reader.text(data, "name") if "name" in data else ""
+        variants.append(Variant(index, seed, world, start, name))
+    return tuple(variants)

@@ -1,0 +1,58 @@
+"""Finding a class's submissions: who is who, and which mission runs in which test."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+from helpers import MISSIONS
+
+from roboscript.errors import InputError
+from roboscript.grading.batch import Submission, find_submissions, mission_for_test
+from roboscript.grading.spec import load_test_spec
+
+SQUARE = MISSIONS / "square.yaml"
+
+
+def _names(found: list[Submission]) -> dict[str, list[str]]:
+    return {s.student: [Path(m).name for m in s.missions] for s in found}
+
+
+def test_a_class_folder_has_file_students_and_folder_students(tmp_path: Path) -> None:
+    shutil.copy(SQUARE, tmp_path / "alice.yaml")
+    shutil.copy(MISSIONS / "square.py", tmp_path / "bob.py")
+    (tmp_path / "helper.py").write_text("def helps():\n    return 1\n")  # not a mission
+    shutil.copy(MISSIONS / "teacher" / "square" / "test.yaml", tmp_path / "test.yaml")  # a spec
+    carol = tmp_path / "carol"
+    (carol / "behaviours").mkdir(parents=True)
+    shutil.copy(MISSIONS / "zigzag.yaml", carol / "zigzag.yaml")
+    shutil.copy(MISSIONS / "behaviours" / "zigzag.py", carol / "behaviours" / "zigzag.py")
+    assert _names(find_submissions([str(tmp_path)])) == {
+        "alice": ["alice.yaml"],
+        "bob": ["bob.py"],
+        "carol": ["zigzag.yaml"],
+    }
+
+
+def test_a_glob_of_same_named_files_names_students_by_folder(tmp_path: Path) -> None:
+    for student in ("dan", "eve"):
+        (tmp_path / student).mkdir()
+        shutil.copy(SQUARE, tmp_path / student / "square.yaml")
+    found = find_submissions([str(tmp_path / "*" / "square.yaml")])
+    assert list(_names(found)) == ["dan", "eve"]
+
+
+def test_nothing_found_is_an_input_error(tmp_path: Path) -> None:
+    with pytest.raises(InputError, match="no mission matches"):
+        find_submissions([str(tmp_path / "*.yaml")])
+    with pytest.raises(InputError, match="no mission files in the folder"):
+        find_submissions([str(tmp_path)])
+
+
+def test_a_student_with_several_missions_runs_the_one_named_after_the_test() -> None:
+    spec = load_test_spec(MISSIONS / "teacher" / "square" / "test.yaml")
+    both = Submission("amy", ("amy/square_50cm.yaml", "amy/corridor.yaml"))
+    assert mission_for_test(both, spec) == "amy/square_50cm.yaml"
+    assert mission_for_test(Submission("bo", ("bo/anything.yaml",)), spec) == "bo/anything.yaml"
+    assert mission_for_test(Submission("cy", ("cy/a.yaml", "cy/b.yaml")), spec) is None

@@ -1,0 +1,157 @@
+"""``roboscript grade`` as a teacher runs it: the table, exit codes, JSON, JUnit and CSV."""
+
+from __future__ import annotations
+
+import csv
+import json
+import shutil
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+from helpers import MISSIONS, run_cli
+
+TEACHER = MISSIONS / "teacher"
+SQUARE = TEACHER / "square" / "test.yaml"
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, object]:
+    """The square test on a class of two, one good and one off by one, with every report."""
+    root = tmp_path_factory.mktemp("grade")
+    folder = root / "class"
+    folder.mkdir()
+    shutil.copy(TEACHER / "square" / "good.yaml", folder / "amy.yaml")
+    shutil.copy(TEACHER / "square" / "bad.yaml", folder / "bo.yaml")
+    junit, gradebook = root / "junit.xml", root / "grades.csv"
+    table = run_cli(
+        "grade", str(SQUARE), "--mission", str(folder), "--junit", str(junit),
+        "--csv", str(gradebook), "--jobs", "2",
+    )  # fmt: skip
+    as_json = run_cli("grade", str(SQUARE), "--mission", str(folder), "--json", "--jobs", "1")
+    return {"table": table, "json": as_json, "junit": junit, "csv": gradebook}
+
+
+def test_the_table_shows_each_student_with_runs_score_and_worst_margin(
+    graded: dict[str, object],
+) -> None:
+    result = graded["table"]
+    assert result.returncode == 1, result.stderr  # type: ignore[attr-defined]
+    lines = result.stdout.splitlines()  # type: ignore[attr-defined]
+    assert lines[0].split() == ["student", "test", "runs", "score", "worst", "margin", "/", "why"]
+    amy = next(line for line in lines if line.startswith("amy"))
+    bo = next(line for line in lines if line.startswith("bo "))
+    assert "✓ 3/3" in amy and "100%" in amy
+    assert "✗ 0/3" in bo and "60%" in bo and "final_pose_within failed by" in bo
+    assert lines[-1] == "3 of 6 runs passed; 1 of 2 students passed every test"
+    assert "Traceback" not in result.stderr  # type: ignore[attr-defined]
+
+
+def test_json_holds_specs_students_results_and_runs_with_verdicts(
+    graded: dict[str, object],
+) -> None:
+    result = graded["json"]
+    report = json.loads(result.stdout)  # type: ignore[attr-defined]
+    assert report["passed"] is False
+    assert [s["test"] for s in report["specs"]] == ["square-50cm"]
+    assert [s["name"] for s in report["students"]] == ["amy", "bo"]
+    assert [(r["student"], r["passed_runs"], r["total_runs"]) for r in report["results"]] == [
+        ("amy", 3, 3),
+        ("bo", 0, 3),
+    ]
+    run = report["runs"][3]
+    assert (run["student"], run["variant"], run["status"]) == ("bo", 0, "failed")
+    pose = next(v for v in run["verdicts"] if v["name"] == "final_pose_within")
+    assert pose["passed"] is False
+    assert pose["margin"].startswith("failed by ")
+    assert pose["first_violation_s"] == run["record"]["duration_s"]
+    assert run["record"]["path"][0][:3] == [0.0, 0.0, 0.0]
+    assert len(run["record"]["tones"]) == 3
+
+
+def test_junit_is_a_suite_per_test_and_a_case_per_student_and_run(
+    graded: dict[str, object],
+) -> None:
+    root = ET.parse(graded["junit"]).getroot()  # type: ignore[arg-type]
+    assert root.tag == "testsuites"
+    assert (root.get("tests"), root.get("failures"), root.get("errors")) == ("6", "3", "0")
+    (suite,) = root.findall("testsuite")
+    assert suite.get("name") == "square-50cm"
+    cases = suite.findall("testcase")
+    assert [c.get("classname") for c in cases] == ["square-50cm.amy"] * 3 + ["square-50cm.bo"] * 3
+    assert cases[0].get("name") == "seed 1"
+    assert cases[0].find("failure") is None
+    failure = cases[3].find("failure")
+    assert failure is not None
+    assert failure.get("type") == "failed"
+    assert (failure.get("message") or "").startswith("final_pose_within failed by")
+    assert "FAIL tones failed by 1 tone" in (failure.text or "")
+    for case in cases:
+        assert float(case.get("time") or "x") >= 0.0
+
+
+def test_csv_is_a_gradebook_row_per_student(graded: dict[str, object]) -> None:
+    text = Path(graded["csv"]).read_text(encoding="utf-8-sig")  # type: ignore[arg-type]
+    rows = list(csv.reader(text.splitlines()))
+    assert rows == [
+        ["student", "square-50cm", "total", "passed"],
+        ["amy", "100.0", "100.0", "yes"],
+        ["bo", "60.0", "60.0", "no"],
+    ]
+
+
+def test_every_run_passing_exits_0(tmp_path: Path) -> None:
+    good = tmp_path / "amy.yaml"
+    shutil.copy(TEACHER / "square" / "good.yaml", good)
+    result = run_cli("grade", str(SQUARE), "--mission", str(good), "--quiet")
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert result.stderr == ""
+
+
+def test_an_invalid_spec_exits_2_with_its_location(tmp_path: Path) -> None:
+    spec = tmp_path / "spec.yaml"
+    spec.write_text("test: t\nexpect:\n  - final_pose: {x: 0, y: 0, radius: 5 cm}\n")
+    result = run_cli("grade", str(spec), "--mission", str(MISSIONS / "square.yaml"))
+    assert result.returncode == 2
+    assert result.stderr.strip() == (
+        f"{spec}:3:5: error: unknown expectation 'final_pose' (did you mean 'final_pose_within'?)"
+    )
+    assert result.stdout == ""
+
+
+def test_no_missions_found_exits_2(tmp_path: Path) -> None:
+    result = run_cli("grade", str(SQUARE), "--mission", str(tmp_path / "nobody-*.yaml"))
+    assert result.returncode == 2
+    assert "no mission matches" in result.stderr
+
+
+def test_a_folder_per_student_and_a_set_of_tests(tmp_path: Path) -> None:
+    # Each student's folder holds one mission per test, named after the test.
+    for student, kind in (("amy", "good"), ("bo", "bad")):
+        folder = tmp_path / "class" / student
+        folder.mkdir(parents=True)
+        shutil.copy(TEACHER / "square" / f"{kind}.yaml", folder / "square-50cm.yaml")
+        shutil.copy(TEACHER / "corridor" / f"{kind}.yaml", folder / "corridor-wall-follow.yaml")
+    result = run_cli(
+        "grade", str(SQUARE), str(TEACHER / "corridor" / "test.yaml"),
+        "--mission", str(tmp_path / "class"), "--json",
+    )  # fmt: skip
+    report = json.loads(result.stdout)
+    cells = {(r["student"], r["test"]): r["passed"] for r in report["results"]}
+    assert cells == {
+        ("amy", "square-50cm"): True,
+        ("amy", "corridor-wall-follow"): True,
+        ("bo", "square-50cm"): False,
+        ("bo", "corridor-wall-follow"): False,
+    }
+
+
+def test_check_accepts_test_specs_and_reports_their_mistakes(tmp_path: Path) -> None:
+    assert run_cli("check", str(TEACHER)).returncode == 0
+    spec = tmp_path / "spec.yaml"
+    spec.write_text("test: t\nexpect:\n  - tones: {cuont: 4}\n")
+    result = run_cli("check", str(spec))
+    assert result.returncode == 2
+    assert f"{spec}:3:13: error: unknown key 'cuont' in tones (did you mean 'count'?)" in (
+        result.stderr
+    )

@@ -1,0 +1,125 @@
+"""The HTML report: self-contained pages, linked as a teacher clicks them, and shown for real in
+headless Chromium (screenshots of the class page and a run page must not be blank)."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import struct
+import subprocess
+import zlib
+from pathlib import Path
+
+import pytest
+from helpers import MISSIONS, run_cli
+
+TEACHER = MISSIONS / "teacher"
+CHROMIUM_FLAGS = (
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--hide-scrollbars",
+)
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The line-track test graded for a good and a bad student, as HTML."""
+    root = tmp_path_factory.mktemp("html")
+    folder = root / "class"
+    folder.mkdir()
+    shutil.copy(TEACHER / "line-track" / "good.yaml", folder / "amy.yaml")
+    shutil.copy(TEACHER / "line-track" / "bad.yaml", folder / "bo.yaml")
+    out = root / "report"
+    result = run_cli(
+        "grade", str(TEACHER / "line-track" / "test.yaml"), "--mission", str(folder),
+        "--html", str(out), "--quiet",
+    )  # fmt: skip
+    assert result.returncode == 1, result.stderr
+    return out
+
+
+def test_the_class_page_links_every_run_page(report: Path) -> None:
+    index = (report / "index.html").read_text(encoding="utf-8")
+    links = re.findall(r'href="(runs/[^"]+)"', index)
+    assert len(links) == 6
+    for link in links:
+        assert (report / link).is_file(), link
+    assert "✓ 3/3 passed" in index and "✗ 0/3 failed" in index
+    assert "check: stays_on_line failed by" in index
+
+
+def test_pages_are_self_contained_and_accessible(report: Path) -> None:
+    for page in [report / "index.html", *sorted((report / "runs").glob("*.html"))]:
+        text = page.read_text(encoding="utf-8")
+        assert '<html lang="en">' in text
+        # Nothing is fetched: the only URL is the SVG namespace, which is a name, not a fetch.
+        assert not re.search(r'(src|href)="(https?:)?//', text), page.name
+        assert "<link" not in text and "<script" not in text
+        for svg in re.findall(r"<svg [^>]*>", text):
+            assert 'aria-hidden="true"' in svg or ('role="img"' in svg and "aria-labelledby" in svg)
+    run_page = (report / "runs" / "bo--line-track-lap--1.html").read_text(encoding="utf-8")
+    assert "✗ failed" in run_page and "✓ passed" in run_page  # words and symbols, not colour
+    assert "first failed here, at 7.1 s" in run_page
+    assert '<polyline points="' in run_page  # the path
+    assert "State timeline over" in run_page
+
+
+def _chromium() -> str | None:
+    """The Chromium binary, or None (.ci/run installs Debian's package; tests install nothing)."""
+    for name in ("chromium", "chromium-browser"):
+        found = shutil.which(name)
+        if found:
+            return found
+    return None
+
+
+def _screenshot(browser: str, page: Path, png: Path, profile: Path, height: int) -> None:
+    subprocess.run(
+        [
+            browser,
+            *CHROMIUM_FLAGS,
+            f"--user-data-dir={profile}",
+            f"--screenshot={png}",
+            f"--window-size=1280,{height}",
+            page.resolve().as_uri(),
+        ],
+        capture_output=True,
+        timeout=120,
+        check=False,
+    )
+
+
+def _distinct_pixel_bytes(png: Path) -> int:
+    """How many different byte values the decoded image holds (1 or 2 for a blank page)."""
+    data = png.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    offset, idat = 8, b""
+    while offset < len(data):
+        (length,) = struct.unpack(">I", data[offset : offset + 4])
+        kind = data[offset + 4 : offset + 8]
+        if kind == b"IDAT":
+            idat += data[offset + 8 : offset + 8 + length]
+        offset += 12 + length
+    return len(set(zlib.decompress(idat)))
+
+
+def test_a_real_browser_shows_the_class_page_and_a_run_page(report: Path, tmp_path: Path) -> None:
+    browser = _chromium()
+    if browser is None:
+        pytest.skip("Chromium is not installed (apt-get install chromium; .ci/run does it)")
+    shots = {
+        "class": (report / "index.html", 900),
+        "run": (report / "runs" / "bo--line-track-lap--3.html", 1400),
+    }
+    for name, (page, height) in shots.items():
+        png = tmp_path / f"{name}.png"
+        _screenshot(browser, page, png, tmp_path / f"profile-{name}", height)
+        assert png.is_file(), f"Chromium made no screenshot of {page.name}"
+        assert png.stat().st_size > 20_000, f"the {name} page looks empty"
+        assert _distinct_pixel_bytes(png) > 50, f"the {name} page is blank"

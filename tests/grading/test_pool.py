@@ -1,0 +1,182 @@
+"""A graded batch is trustworthy: runs are isolated, bounded in wall time, and deterministic."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import pytest
+from helpers import MISSIONS
+
+from roboscript.grading.batch import find_specs, find_submissions, grade_class
+from roboscript.grading.run import grade_run
+from roboscript.grading.spec import load_test_spec
+
+SPEC = """\
+test: square
+world: empty
+runs:
+  - {seed: 1}
+  - {seed: 2, start: {x: 200 mm, y: 0 mm, heading: 20 deg}}
+max_time: 40 s
+wall_time_limit: 3 s
+expect:
+  - outcome: success
+  - final_pose_within: {x: 0 mm, y: 0 mm, radius: 8 cm, relative_to: start}
+  - tones: {count: 4}
+"""
+
+HANGS = """\
+from roboscript import Drive, Mission, state
+
+
+class Hang(Mission):
+    go = state(Drive(distance_mm=500), initial=True, on_done="end", when=[("stuck", "end")])
+    end = state(final="success")
+
+    def stuck(self) -> bool:
+        while True:
+            pass
+"""
+
+RAISES = """\
+from roboscript import Action, Mission, Param, state
+
+
+class Boom(Action):
+    name = "boom"
+    params = ()
+
+    def update(self, ctx):
+        raise RuntimeError("the wheel fell off")
+
+
+class Crash(Mission):
+    go = state(Boom(), initial=True, on_done="end")
+    end = state(final="success")
+"""
+
+EXITS = """\
+import os
+from roboscript import Mission, Wait, state
+
+
+class Quit(Mission):
+    go = state(Wait(duration_s=1), initial=True, on_done="end", when=[("bye", "end")])
+    end = state(final="success")
+
+    def bye(self) -> bool:
+        print("this must not reach the report")
+        os._exit(3)
+"""
+
+MARKS_ITS_PROCESS = """\
+import os
+from pathlib import Path
+from roboscript import Mission, Wait, state
+
+Path(__file__).with_suffix(".pid").write_text(str(os.getpid()))
+
+
+class Idle(Mission):
+    go = state(Wait(duration_s=0.5), initial=True, on_done="end")
+    end = state(final="success")
+"""
+
+
+@pytest.fixture
+def batch(tmp_path: Path) -> tuple[Path, Path]:
+    """A spec and a class folder: two good students and four kinds of trouble."""
+    spec = tmp_path / "square.yaml"
+    spec.write_text(SPEC, encoding="utf-8")
+    folder = tmp_path / "class"
+    folder.mkdir()
+    shutil.copy(MISSIONS / "square.yaml", folder / "ada.yaml")
+    shutil.copy(MISSIONS / "square.py", folder / "ben.py")
+    (folder / "cy.py").write_text(HANGS, encoding="utf-8")
+    (folder / "di.py").write_text(RAISES, encoding="utf-8")
+    (folder / "ed.py").write_text(EXITS, encoding="utf-8")
+    (folder / "flo.yaml").write_text("mission: flo\nstates: {}\n", encoding="utf-8")
+    return spec, folder
+
+
+def _without_wall_time(report: Any) -> list[dict[str, Any]]:
+    return [replace(r, wall_time_s=0.0).to_dict() for r in report.results]
+
+
+def test_a_batch_survives_hanging_crashing_and_exiting_missions(batch: tuple[Path, Path]) -> None:
+    spec, folder = batch
+    report = grade_class(find_specs([str(spec)]), find_submissions([str(folder)]), jobs=2)
+    by_student = {s.student: report.cell(s.student, "square") for s in report.submissions}
+    assert sorted(by_student) == ["ada", "ben", "cy", "di", "ed", "flo"]
+    assert by_student["ada"].passed and by_student["ben"].passed
+    statuses = {name: {r.status for r in cell.results} for name, cell in by_student.items()}
+    assert statuses["cy"] == {"timeout"}
+    assert statuses["di"] == {"failed"}
+    assert statuses["ed"] == {"crashed"}
+    assert statuses["flo"] == {"invalid"}
+    for name in ("cy", "di", "ed", "flo"):
+        for result in by_student[name].results:
+            message = result.message
+            assert message and "\n" not in message and "Traceback" not in message, message
+    assert (
+        by_student["cy"]
+        .results[0]
+        .message.startswith("timed out after 3 s of wall time (the mission may loop forever")
+    )
+    assert "raised RuntimeError in state 'go': the wheel fell off" in (
+        by_student["di"].results[0].message
+    )
+    assert "exit code 3" in by_student["ed"].results[0].message
+    assert by_student["flo"].results[0].message.startswith("the mission has an error: ")
+    assert not report.passed
+
+
+def test_results_do_not_depend_on_the_number_of_workers(batch: tuple[Path, Path]) -> None:
+    spec, folder = batch
+    for name in ("cy.py", "ed.py"):  # keep the comparison quick: no 3 s timeouts
+        (folder / name).unlink()
+    specs = find_specs([str(spec)])
+    submissions = find_submissions([str(folder)])
+    one = grade_class(specs, submissions, jobs=1)
+    two = grade_class(specs, submissions, jobs=2)
+    assert _without_wall_time(one) == _without_wall_time(two)
+    assert [r.student for r in one.results] == [
+        "ada",
+        "ada",
+        "ben",
+        "ben",
+        "di",
+        "di",
+        "flo",
+        "flo",
+    ]
+
+
+def test_a_run_in_process_equals_the_run_in_a_worker(batch: tuple[Path, Path]) -> None:
+    spec_path, folder = batch
+    spec = load_test_spec(spec_path)
+    mission = str(folder / "ada.yaml")
+    here = grade_run(spec, mission, spec.variants[1], "ada")
+    (folder / "ben.py").unlink()
+    for name in ("cy.py", "di.py", "ed.py", "flo.yaml"):
+        (folder / name).unlink()
+    report = grade_class([spec], find_submissions([str(folder)]), jobs=1)
+    there = report.results[1]
+    assert replace(here, wall_time_s=0.0).to_dict() == replace(there, wall_time_s=0.0).to_dict()
+    assert here.passed
+
+
+def test_student_code_runs_only_in_workers(tmp_path: Path) -> None:
+    spec = tmp_path / "spec.yaml"
+    spec.write_text("test: idle\nexpect:\n  - outcome: success\n", encoding="utf-8")
+    student = tmp_path / "class" / "gus.py"
+    student.parent.mkdir()
+    student.write_text(MARKS_ITS_PROCESS, encoding="utf-8")
+    report = grade_class(find_specs([str(spec)]), find_submissions([str(student.parent)]), jobs=1)
+    assert report.passed
+    worker_pid = int(student.with_suffix(".pid").read_text())
+    assert worker_pid != os.getpid()

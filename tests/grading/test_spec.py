@@ -1,0 +1,208 @@
+"""Reading teacher test specs: the values teachers write, and their mistakes at file:line:col."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from helpers import MISSIONS
+
+from roboscript.errors import InputError, SpecError
+from roboscript.grading.expectations import FinalPose, Tones, WallDistance
+from roboscript.grading.spec import (
+    DEFAULT_MAX_TIME_S,
+    DEFAULT_WALL_TIME_LIMIT_S,
+    is_test_spec,
+    load_test_spec,
+)
+
+TEACHER = MISSIONS / "teacher"
+
+
+def _write(tmp_path: Path, text: str, name: str = "spec.yaml") -> Path:
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def test_the_interfaces_example_reads_with_units(tmp_path: Path) -> None:
+    path = _write(
+        tmp_path,
+        "test: square-50cm\n"
+        "world: empty\n"
+        "robot: mirto\n"
+        "runs:\n"
+        "  - {seed: 1}\n"
+        "  - {seed: 2, start: {x: 100 mm, y: 0 mm, heading: 10 deg}}\n"
+        "max_time: 60 s\n"
+        "expect:\n"
+        "  - outcome: success\n"
+        "  - final_pose_within: {x: 0 mm, y: 0 mm, radius: 8 cm}\n"
+        "  - tones: {count: 4}\n"
+        "  - no_collisions: true\n",
+    )
+    spec = load_test_spec(path)
+    assert spec.name == "square-50cm"
+    assert spec.robot == "mirto"
+    assert [v.seed for v in spec.variants] == [1, 2]
+    assert spec.variants[1].start == (100.0, 0.0, 10.0)
+    assert spec.variants[1].label == "seed 2, start (100, 0) mm 10°"
+    assert spec.max_time_s == 60.0
+    assert spec.wall_time_limit_s == DEFAULT_WALL_TIME_LIMIT_S
+    kinds = [e.kind for e in spec.expectations]
+    assert kinds == ["outcome", "final_pose_within", "tones", "no_collisions"]
+    assert spec.expectations[1].params == FinalPose(0.0, 0.0, 80.0)
+    assert spec.expectations[2].params == Tones(count=4)
+    assert spec.expectations[1].location is not None
+    assert (spec.expectations[1].location.line, spec.expectations[1].location.col) == (10, 5)
+
+
+def test_defaults_one_seeded_run_in_the_empty_world(tmp_path: Path) -> None:
+    spec = load_test_spec(_write(tmp_path, "test: t\nexpect:\n  - outcome: success\n"))
+    assert [(v.seed, v.world, v.start) for v in spec.variants] == [(1, "empty", None)]
+    assert spec.max_time_s == DEFAULT_MAX_TIME_S
+    assert spec.robot == "mirto"
+
+
+def test_weights_settle_and_world_files_next_to_the_spec(tmp_path: Path) -> None:
+    _write(tmp_path, "world: hall\nwalls:\n  - segment: [[0, 1 m], [1 m, 1 m]]\n", "hall.yaml")
+    spec = load_test_spec(
+        _write(
+            tmp_path,
+            "test: t\n"
+            "world: hall.yaml\n"
+            "wall_time_limit: 5 s\n"
+            "expect:\n"
+            "  - {outcome: success, weight: 3}\n"
+            "  - wall_distance: {state: follow, min: 15 cm, max: 25 cm, side: left, settle: 2 s}\n",
+        )
+    )
+    assert spec.variants[0].world == str((tmp_path / "hall.yaml").resolve())
+    assert spec.wall_time_limit_s == 5.0
+    assert spec.expectations[0].weight == 3.0
+    assert spec.expectations[1].params == WallDistance("follow", "left", 150.0, 250.0, 2.0)
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        (
+            "test: t\nexpect:\n  - outcom: success\n",
+            "3:5: error: unknown expectation 'outcom' (did you mean 'outcome'?)",
+        ),
+        (
+            "test: t\nexpect:\n  - outcome: sucess\n",
+            (
+                "3:14: error: outcome must be success or failure (got 'sucess')"
+                " (did you mean 'success'?)"
+            ),
+        ),
+        (
+            "test: t\nrun:\n  - {seed: 1}\nexpect:\n  - outcome: success\n",
+            "2:1: error: unknown key 'run' in a test spec (did you mean 'runs'?)",
+        ),
+        (
+            "test: t\nmax_time: 60 deg\nexpect:\n  - outcome: success\n",
+            "2:11: error: 'deg' is a unit of angle, but this is a time (use s, sec, ms, min)",
+        ),
+        (
+            "test: t\nworld: coridor\nexpect:\n  - outcome: success\n",
+            "2:8: error: no world called 'coridor' (built-in worlds:",
+        ),
+        (
+            "test: t\nworld: corridor\nexpect:\n  - regions_in_order: [start-zone, far-nd]\n",
+            (
+                "4:36: error: the world 'corridor' has no region 'far-nd' (its regions: far-end,"
+                " start-zone) (did you mean 'far-end'?)"
+            ),
+        ),
+        (
+            "test: t\nexpect:\n  - final_pose_within: {x: 0, y: 0, radius: 8 cm, heding: 5}\n",
+            "3:51: error: unknown key 'heding' in final_pose_within (did you mean 'heading'?)",
+        ),
+        (
+            "test: t\nexpect:\n  - wall_distance: {state: s, min: 25 cm, max: 15 cm}\n",
+            "3:36: error: min must be less than max",
+        ),
+        (
+            "test: t\nexpect:\n  - tones: {count: 4, min_count: 2}\n",
+            "3:13: error: give either count or min_count/max_count, not both",
+        ),
+        (
+            "test: t\nrobot: mirtoo\nexpect:\n  - outcome: success\n",
+            "2:8: error: no robot called 'mirtoo'",
+        ),
+        (
+            "test: t\nruns:\n  - {seed: -1}\nexpect:\n  - outcome: success\n",
+            "3:12: error: 'seed' must be a whole number of at least 0",
+        ),
+        (
+            "test: t\nexpect:\n  - {outcome: success, weight: 0}\n",
+            "3:32: error: weight must be a number above 0",
+        ),
+        ("test: t\nexpect: []\n", "2:9: error: expect lists at least one expectation"),
+        ("expect:\n  - outcome: success\n", "1:1: error: a test spec needs 'test'"),
+        (
+            "test: t\nexpect:\n  - no_collisions: yes\n",
+            "3:20: error: write 'no_collisions: true' (got 'yes')",
+        ),
+    ],
+)
+def test_mistakes_are_located_with_a_suggestion(tmp_path: Path, text: str, expected: str) -> None:
+    path = _write(tmp_path, text)
+    with pytest.raises(SpecError) as caught:
+        load_test_spec(path)
+    assert caught.value.format().startswith(f"{path}:{expected}")
+
+
+def test_a_check_function_is_found_without_running_it(tmp_path: Path) -> None:
+    _write(
+        tmp_path,
+        "raise SystemExit('never imported by the spec reader')\n"
+        "def lap_time(run):\n    return True\n",
+        "checks.py",
+    )
+    spec = load_test_spec(_write(tmp_path, "test: t\nexpect:\n  - check: checks.py:lap_time\n"))
+    assert spec.expectations[0].name == "check: lap_time"
+    with pytest.raises(SpecError) as caught:
+        load_test_spec(_write(tmp_path, "test: t\nexpect:\n  - check: checks.py:lap_tme\n"))
+    assert caught.value.format().endswith(
+        "3:12: error: checks.py has no function 'lap_tme' (did you mean 'lap_time'?)"
+    )
+
+
+def test_is_test_spec_tells_specs_from_missions() -> None:
+    assert is_test_spec(TEACHER / "square" / "test.yaml")
+    assert not is_test_spec(TEACHER / "square" / "good.yaml")
+    assert not is_test_spec(MISSIONS / "square.py")
+
+
+@pytest.mark.parametrize("spec", sorted(TEACHER.glob("*/test.yaml")), ids=lambda p: p.parent.name)
+def test_the_shipped_teacher_specs_are_valid(spec: Path) -> None:
+    loaded = load_test_spec(spec)
+    assert len(loaded.variants) >= 2
+    assert isinstance(loaded, object)
+
+
+def test_a_spec_error_is_an_input_error() -> None:
+    assert issubclass(SpecError, InputError)
+
+
+GUIDE = MISSIONS.parent / "docs" / "teachers" / "grading.md"
+
+
+def test_the_guide_documents_every_expectation() -> None:
+    from roboscript.grading.expectations import EXPECTATION_KINDS
+
+    text = GUIDE.read_text(encoding="utf-8")
+    for kind in EXPECTATION_KINDS:
+        assert f"| `{kind}" in text, f"docs/teachers/grading.md lacks a row for {kind}"
+
+
+def test_the_guides_example_spec_is_valid(tmp_path: Path) -> None:
+    text = GUIDE.read_text(encoding="utf-8")
+    example = text.split("```yaml\n", 1)[1].split("```", 1)[0]
+    spec = load_test_spec(_write(tmp_path, example))
+    assert spec.name == "square-50cm"
+    assert spec.variants[2].label == "turned start"
+    assert spec.expectations[2].weight == 2.0
