@@ -29,6 +29,8 @@ def _modules(folder: str) -> list[Path]:
     return sorted((PACKAGE / folder).rglob("*.py"))
 
 
+SHARED_STDLIB_FILES = [PACKAGE / "drivers" / "codec.py", PACKAGE / "drivers" / "options.py"]
+
 CODEC_FILES = [
     p
     for p in _modules("drivers")
@@ -41,7 +43,7 @@ CODEC_FILES = [
 
 @pytest.mark.parametrize("path", CODEC_FILES, ids=lambda p: str(p.relative_to(PACKAGE)))
 def test_codecs_import_only_the_standard_library(path: Path) -> None:
-    allowed_own = {"roboscript.errors", "roboscript.drivers.codec"}
+    allowed_own = {"roboscript.errors", "roboscript.drivers.codec", "roboscript.drivers.options"}
     for name in _imports(path):
         top = name.split(".")[0]
         if top == "roboscript":
@@ -51,6 +53,13 @@ def test_codecs_import_only_the_standard_library(path: Path) -> None:
         else:
             assert top in STDLIB, f"{path.name} imports {name}"
             assert top not in IO_MODULES, f"{path.name} imports {name}: codecs do no IO or timing"
+
+
+@pytest.mark.parametrize("path", SHARED_STDLIB_FILES, ids=lambda p: p.name)
+def test_shared_codec_helpers_import_only_the_standard_library(path: Path) -> None:
+    for name in _imports(path):
+        top = name.split(".")[0]
+        assert name == "roboscript.errors" or (top in STDLIB and top not in IO_MODULES), name
 
 
 def _importers_of(prefix: str) -> set[str]:

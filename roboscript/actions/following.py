@@ -22,6 +22,13 @@ _LOST_WALL_S = 1.0
 _LOST_LINE_S = 0.5
 
 
+def _finished(ctx: ActionContext, until: Any, start_s: float, duration_s: float | None) -> bool:
+    """True once the ``until`` condition holds or ``duration_s`` has passed since ``start_s``."""
+    if ctx.holds(until):
+        return True
+    return duration_s is not None and ctx.now_s - start_s >= duration_s - 1e-9
+
+
 def _travelled(base: cap.DriveBase) -> float:
     left, right = base.wheel_distances_mm()
     return (left + right) / 2.0
@@ -89,10 +96,7 @@ class FollowWall(Action):
         if sensor.side != self.side:
             base.stop()
             return Result.failed(f"not supported: this robot's side sensor faces {sensor.side}")
-        if ctx.holds(self.until):
-            base.stop()
-            return Result.done()
-        if self.duration_s is not None and ctx.now_s - self._start_s >= self.duration_s - 1e-9:
+        if _finished(ctx, self.until, self._start_s, self.duration_s):
             base.stop()
             return Result.done()
         gap = sensor.distance_mm()
@@ -178,10 +182,7 @@ class FollowLine(Action):
     def update(self, ctx: ActionContext) -> Result | None:
         base = ctx.drive_base
         sensors: cap.LineSensors = ctx.get(cap.LINE)
-        if ctx.holds(self.until):
-            base.stop()
-            return Result.done()
-        if self.duration_s is not None and ctx.now_s - self._start_s >= self.duration_s - 1e-9:
+        if _finished(ctx, self.until, self._start_s, self.duration_s):
             base.stop()
             return Result.done()
         readings = sensors.values()

@@ -13,14 +13,15 @@ must never raise: it is called on every exit path, including after the link has 
 from __future__ import annotations
 
 import abc
-from typing import Any, ClassVar
+from collections.abc import Callable
+from typing import Any, ClassVar, Protocol
 
 from roboscript.clock import Clock
 from roboscript.drivers.codec import Codec
 from roboscript.profiles import RobotProfile
 from roboscript.transport.link import Link
 
-__all__ = ["Driver"]
+__all__ = ["Driver", "WheelDriveBase"]
 
 
 class Driver(abc.ABC):
@@ -88,3 +89,51 @@ class Driver(abc.ABC):
         """Record a one-line notice for the user."""
         if text not in self.notices:
             self.notices.append(text)
+
+
+class _WheelSetpoints(Protocol):
+    profile: RobotProfile
+
+    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None: ...
+
+
+class WheelDriveBase:
+    """The ``drive_base`` capability of a driver that takes wheel speed setpoints.
+
+    It limits setpoints to the profile's top speed and reads wheel travel from the driver;
+    the driver decides how speeds are held (firmware PID, host PID, or timing).
+
+    Args:
+        driver: Takes ``set_wheel_speeds(left_mm_s, right_mm_s)``; its ``profile`` gives the
+            track and top speed.
+        distances: Returns the wheel travel (left, right) since connection, mm.
+        odometry_is_estimated: True when travel is computed from time, not encoders.
+    """
+
+    def __init__(
+        self,
+        driver: _WheelSetpoints,
+        distances: Callable[[], tuple[float, float]],
+        *,
+        odometry_is_estimated: bool = False,
+    ) -> None:
+        self._driver = driver
+        self._distances = distances
+        self.track_mm = driver.profile.track_mm
+        self.max_speed_mm_s = driver.profile.max_speed_mm_s
+        self.odometry_is_estimated = odometry_is_estimated
+
+    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
+        """Hold each wheel at a speed, mm/s (forward positive), limited to the top speed."""
+        limit = self.max_speed_mm_s
+        self._driver.set_wheel_speeds(
+            max(-limit, min(limit, left_mm_s)), max(-limit, min(limit, right_mm_s))
+        )
+
+    def stop(self) -> None:
+        """Stop both wheels."""
+        self._driver.set_wheel_speeds(0.0, 0.0)
+
+    def wheel_distances_mm(self) -> tuple[float, float]:
+        """Wheel travel (left, right) since connection, mm; forward positive."""
+        return self._distances()

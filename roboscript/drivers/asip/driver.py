@@ -36,7 +36,7 @@ from roboscript.clock import Clock
 from roboscript.control import WheelSpeedLoop
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.base import Driver
+from roboscript.drivers.base import Driver, WheelDriveBase
 from roboscript.drivers.codec import Codec, Role
 from roboscript.errors import LinkError, LinkTimeoutError
 from roboscript.profiles import RobotProfile
@@ -147,7 +147,7 @@ class AsipDriver(Driver):
             cap.DISPLAY: "L",
         }
         makers: dict[str, Callable[[], object]] = {
-            cap.DRIVE_BASE: lambda: _DriveBase(self),
+            cap.DRIVE_BASE: lambda: WheelDriveBase(self, self.wheel_distances_mm),
             cap.BUMPER: lambda: _Bumpers(self),
             cap.LINE: lambda: _LineSensors(self),
             cap.RANGE: lambda: _RangeSensor(self),
@@ -334,33 +334,18 @@ class AsipDriver(Driver):
             self._target_changed_s = now
         self._target_mm_s = target
 
+    def wheel_distances_mm(self) -> tuple[float, float]:
+        """Wheel travel (left, right) from the encoder totals, mm."""
+        return (
+            self.encoder_totals[0] * self._mm_per_tick,
+            self.encoder_totals[1] * self._mm_per_tick,
+        )
+
     def queue_tone(self, frequency_hz: float, duration_s: float) -> None:
         """Queue a tone (sent in the act phase)."""
         frequency = max(1, min(65535, round(frequency_hz)))
         duration = max(1, round(duration_s * 1000))
         self._tones.append((frequency, duration))
-
-
-class _DriveBase:
-    def __init__(self, driver: AsipDriver) -> None:
-        self._driver = driver
-        self.track_mm = driver.profile.track_mm
-        self.max_speed_mm_s = driver.profile.max_speed_mm_s
-        self.odometry_is_estimated = False
-
-    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
-        limit = self.max_speed_mm_s
-        self._driver.set_wheel_speeds(
-            max(-limit, min(limit, left_mm_s)), max(-limit, min(limit, right_mm_s))
-        )
-
-    def stop(self) -> None:
-        self._driver.set_wheel_speeds(0.0, 0.0)
-
-    def wheel_distances_mm(self) -> tuple[float, float]:
-        per_tick = self._driver._mm_per_tick
-        totals = self._driver.encoder_totals
-        return totals[0] * per_tick, totals[1] * per_tick
 
 
 def _cm_to_mm(cm: int | None) -> float | None:

@@ -46,7 +46,7 @@ from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.clock import Clock
-from roboscript.drivers.base import Driver
+from roboscript.drivers.base import Driver, WheelDriveBase
 from roboscript.drivers.codec import Codec, Role
 from roboscript.drivers.spike import messages as m
 from roboscript.drivers.spike import tunnel as t
@@ -294,7 +294,7 @@ class SpikeDriver(Driver):
 
     def _build_capabilities(self) -> dict[str, object]:
         makers: dict[str, Callable[[], object]] = {
-            cap.DRIVE_BASE: lambda: _DriveBase(self),
+            cap.DRIVE_BASE: lambda: WheelDriveBase(self, self.wheel_distances_mm),
             cap.RANGE: lambda: _RangeSensor(self),
             cap.BUMPER: lambda: _Bumper(self),
             cap.SPEAKER: lambda: _Speaker(self),
@@ -543,26 +543,6 @@ class SpikeDriver(Driver):
         if self._yaw is None:
             return None
         return float((-(self._yaw - self._yaw_origin) + 180) % 360 - 180)
-
-
-class _DriveBase:
-    def __init__(self, driver: SpikeDriver) -> None:
-        self._driver = driver
-        self.track_mm = driver.profile.track_mm
-        self.max_speed_mm_s = driver.profile.max_speed_mm_s
-        self.odometry_is_estimated = False
-
-    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
-        limit = self.max_speed_mm_s
-        self._driver.set_wheel_speeds(
-            max(-limit, min(limit, left_mm_s)), max(-limit, min(limit, right_mm_s))
-        )
-
-    def stop(self) -> None:
-        self._driver.set_wheel_speeds(0.0, 0.0)
-
-    def wheel_distances_mm(self) -> tuple[float, float]:
-        return self._driver.wheel_distances_mm()
 
 
 class _RangeSensor:

@@ -19,12 +19,11 @@ sensor on D, colour sensor on E.
 
 from __future__ import annotations
 
-import dataclasses
-import difflib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from roboscript.drivers.options import read_options
 from roboscript.drivers.spike.messages import SLOT_COUNT, HubPort
 from roboscript.errors import ProfileError
 
@@ -75,17 +74,7 @@ class SpikeOptions:
         Raises:
             ProfileError: An unknown option or a bad value, naming both.
         """
-        known = {f.name for f in dataclasses.fields(cls)}
-        values: dict[str, int] = {}
-        for name, value in options.items():
-            if name not in known:
-                close = difflib.get_close_matches(name, sorted(known), n=1)
-                raise ProfileError(
-                    f"{profile}: unknown SPIKE option '{name}'",
-                    hint=f"did you mean '{close[0]}'?" if close else None,
-                )
-            values[name] = _read(name, value, profile)
-        result = cls(**values)
+        result = read_options(cls, options, profile=profile, family="SPIKE", read=_read)
         if result.left_motor == result.right_motor:
             raise ProfileError(f"{profile}: left_motor and right_motor must be different ports")
         return result

@@ -33,7 +33,7 @@ from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.clock import Clock
-from roboscript.drivers.base import Driver
+from roboscript.drivers.base import Driver, WheelDriveBase
 from roboscript.drivers.codec import Codec, Role
 from roboscript.drivers.stackmod.codec import StackModCodec
 from roboscript.drivers.stackmod.messages import ULT_NO_ECHO, Command, Get, GetReply, Set
@@ -138,7 +138,11 @@ class StackModDriver(Driver):
         self.stop_all()
         wanted = self.profile.capabilities
         makers: dict[str, Callable[[], object]] = {
-            cap.DRIVE_BASE: lambda: _DriveBase(self),
+            cap.DRIVE_BASE: lambda: WheelDriveBase(
+                self,
+                lambda: (self.wheel_distances_mm[0], self.wheel_distances_mm[1]),
+                odometry_is_estimated=True,
+            ),
             cap.RANGE: lambda: _RangeSensor(self, 0),
             cap.SIDE_RANGE: lambda: _SideRangeSensor(self, 1),
             cap.LINE: lambda: _LineSensors(self),
@@ -340,28 +344,6 @@ class StackModDriver(Driver):
     def beep(self, duration_s: float) -> None:
         """Sound the buzzer for ``duration_s`` seconds from the next act phase (scheduler clock)."""
         self._buzzer_for_s = duration_s
-
-
-class _DriveBase:
-    odometry_is_estimated = True
-
-    def __init__(self, driver: StackModDriver) -> None:
-        self._driver = driver
-        self.track_mm = driver.profile.track_mm
-        self.max_speed_mm_s = driver.profile.max_speed_mm_s
-
-    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
-        limit = self.max_speed_mm_s
-        self._driver.set_wheel_speeds(
-            max(-limit, min(limit, left_mm_s)), max(-limit, min(limit, right_mm_s))
-        )
-
-    def stop(self) -> None:
-        self._driver.set_wheel_speeds(0.0, 0.0)
-
-    def wheel_distances_mm(self) -> tuple[float, float]:
-        left, right = self._driver.wheel_distances_mm
-        return left, right
 
 
 class _RangeSensor:

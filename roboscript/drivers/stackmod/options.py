@@ -21,12 +21,11 @@ Every option and its default is a field of :class:`StackModOptions`.
 
 from __future__ import annotations
 
-import dataclasses
-import difflib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, cast
 
+from roboscript.drivers.options import read_options
 from roboscript.drivers.stackmod.codec import CHECKSUM_RULES, ChecksumRule
 from roboscript.drivers.stackmod.messages import ADDRESS_MAX, ADDRESS_MIN
 from roboscript.errors import ProfileError
@@ -107,17 +106,7 @@ class StackModOptions:
         Raises:
             ProfileError: An unknown option or a bad value, naming both.
         """
-        known = {f.name for f in dataclasses.fields(cls)}
-        values: dict[str, Any] = {}
-        for name, value in options.items():
-            if name not in known:
-                close = difflib.get_close_matches(name, sorted(known), n=1)
-                raise ProfileError(
-                    f"{profile}: unknown StackMod option '{name}'",
-                    hint=f"did you mean '{close[0]}'?" if close else None,
-                )
-            values[name] = _read(name, value, profile)
-        result = cls(**values)
+        result = read_options(cls, options, profile=profile, family="StackMod", read=_read)
         result._check(profile)
         return result
 
