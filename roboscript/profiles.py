@@ -67,7 +67,17 @@ class RobotProfile:
 
 
 _ASIP_CAPS = frozenset(
-    {cap.DRIVE_BASE, cap.RANGE, cap.SIDE_RANGE, cap.BUMPER, cap.LINE, cap.SPEAKER, cap.DISPLAY}
+    {
+        cap.DRIVE_BASE,
+        cap.RANGE,
+        cap.SIDE_RANGE,
+        cap.BUMPER,
+        cap.LINE,
+        cap.SPEAKER,
+        cap.DISPLAY,
+        cap.SERVOS,
+        cap.LEDS,
+    }
 )
 
 BUILTIN_PROFILES: dict[str, RobotProfile] = {

@@ -135,8 +135,6 @@ class Robot:
                 f"{profile.name} did not answer on {url} within "
                 f"{profile.handshake_timeout_s:g} s: is it switched on and running its firmware?"
             )
-        for text in driver.notices:
-            logger.warning("%s", text)
         return cls(profile, driver, scheduler, url=url, simulation=simulation)
 
     # -------------------------------------------------------------------------- capabilities

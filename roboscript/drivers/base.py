@@ -13,6 +13,7 @@ must never raise: it is called on every exit path, including after the link has 
 from __future__ import annotations
 
 import abc
+import logging
 from collections.abc import Callable
 from typing import Any, ClassVar, Protocol
 
@@ -22,6 +23,8 @@ from roboscript.profiles import RobotProfile
 from roboscript.transport.link import Link
 
 __all__ = ["Driver", "WheelDriveBase"]
+
+logger = logging.getLogger("roboscript.drivers")
 
 
 class Driver(abc.ABC):
@@ -86,9 +89,10 @@ class Driver(abc.ABC):
         return self.device_errors.pop(0) if self.device_errors else None
 
     def notice(self, text: str) -> None:
-        """Record a one-line notice for the user."""
+        """Tell the user something once, in one line (logged at once as a warning)."""
         if text not in self.notices:
             self.notices.append(text)
+            logger.warning("%s", text)
 
 
 class _WheelSetpoints(Protocol):

@@ -49,7 +49,12 @@ _SERVICE_NAMES = {
     "D": "Distance",
     "T": "Tone",
     "L": "LCD",
+    "S": "Servos",
+    "P": "Pixels",
 }
+# Like the LCD (on I2C), servos and the pixel strip sit on pins the 20-pin map does not show.
+_SERVO_COUNT = 2
+_PIXEL_COUNT = 8
 
 
 def _cdiv(a: int, b: int) -> int:
@@ -118,6 +123,9 @@ class _State:
     auto: dict[str, _AutoEvent] = field(default_factory=dict)
     pin_modes: list[int] = field(default_factory=list)
     lcd: list[str] = field(default_factory=lambda: [""] * m.LCD_LINES)
+    servos_deg: list[int] = field(default_factory=lambda: [90] * _SERVO_COUNT)
+    pixels: list[tuple[int, int, int]] = field(default_factory=lambda: [(0, 0, 0)] * _PIXEL_COUNT)
+    brightness: int = 64
 
 
 class MirtoBoard:
@@ -365,6 +373,22 @@ class MirtoBoard:
             self.body.log.tones.append((now_s, float(msg.frequency_hz), msg.duration_ms / 1000.0))
         elif isinstance(msg, m.LcdWrite | m.LcdWriteAt | m.LcdClear | m.LcdBarGraph):
             self._lcd(msg)
+        elif isinstance(msg, m.ServoWrite):
+            if msg.servo >= _SERVO_COUNT:
+                self._error("S", "W", m.ErrorCode.INVALID_DEVICE_NUMBER)
+            else:
+                state.servos_deg[msg.servo] = msg.angle_deg
+        elif isinstance(
+            msg,
+            m.PixelsSet
+            | m.PixelsSetRgb
+            | m.PixelsSequence
+            | m.PixelsSequenceRgb
+            | m.PixelsBrightness
+            | m.PixelsInfoRequest
+            | m.PixelsClear,
+        ):
+            self._pixels(msg)
         else:
             self._io_or_unknown(msg)
 
@@ -398,6 +422,40 @@ class MirtoBoard:
             rpm = int(60 * speed / (wheel_circ_mm / 10.0))
             self._start_pid(0, rpm, duration, now_s)
             self._start_pid(1, -rpm, duration, now_s)
+
+    def _pixels(self, msg: object) -> None:
+        state = self.state
+        strip = getattr(msg, "strip", 0)
+        tag = {
+            m.PixelsSet: "P", m.PixelsSetRgb: "p", m.PixelsSequence: "S",
+            m.PixelsSequenceRgb: "s", m.PixelsBrightness: "B", m.PixelsInfoRequest: "I",
+            m.PixelsClear: "C",
+        }[type(msg)]  # fmt: skip
+        if strip != 0:
+            self._error("P", tag, m.ErrorCode.INVALID_DEVICE_NUMBER)
+            return
+
+        def unpack(color: int) -> tuple[int, int, int]:
+            return (color >> 16) & 0xFF, (color >> 8) & 0xFF, color & 0xFF
+
+        updates: list[tuple[int, tuple[int, int, int]]] = []
+        if isinstance(msg, m.PixelsSet):
+            updates = [(pixel, unpack(color)) for pixel, color in msg.pixels]
+        elif isinstance(msg, m.PixelsSetRgb):
+            updates = list(msg.pixels)
+        elif isinstance(msg, m.PixelsSequence):
+            updates = [(msg.first + i, unpack(c)) for i, c in enumerate(msg.colors)]
+        elif isinstance(msg, m.PixelsSequenceRgb):
+            updates = [(msg.first + i, rgb) for i, rgb in enumerate(msg.colors)]
+        elif isinstance(msg, m.PixelsBrightness):
+            state.brightness = msg.level
+        elif isinstance(msg, m.PixelsInfoRequest):
+            self._send(m.PixelsInfoReply(0, _PIXEL_COUNT))
+        else:
+            state.pixels = [(0, 0, 0)] * _PIXEL_COUNT
+        for pixel, rgb in updates:
+            if 0 <= pixel < _PIXEL_COUNT:  # the library ignores pixels past the strip's end
+                state.pixels[pixel] = rgb
 
     def _lcd(self, msg: object) -> None:
         lines = self.state.lcd

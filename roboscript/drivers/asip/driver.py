@@ -51,6 +51,7 @@ _ENCODER_FRAME_S = 0.033
 _PID_REFRESH_S = 2.0
 _PID_DURATION_MS = 3000
 _SILENCE_LIMIT_S = 1.0
+_PIXEL_INFO_WAIT_S = 0.5
 _POWER_REFRESH_S = 0.5
 _ERROR_MEANINGS: dict[int, str] = {
     m.ErrorCode.INVALID_SERVICE: "the sketch has no such service",
@@ -94,6 +95,7 @@ class AsipDriver(Driver):
         self.ir_values: tuple[int, ...] | None = None
         self.distance_cm: int | None = None
         self.side_distance_cm: int | None = None
+        self.pixel_count = 0
         # Setpoints.
         self._target_mm_s = (0.0, 0.0)
         self._sent_rpm: tuple[int, int] | None = None
@@ -131,6 +133,15 @@ class AsipDriver(Driver):
         if (cap.RANGE in caps or cap.SIDE_RANGE in caps) and "D" in self.services:
             self.link.send(m.SetAutoEventInterval("D", 100))
         self.stop_all()
+        if cap.LEDS in caps and "P" in self.services:
+            # The strip's length decides the leds capability: wait for it (briefly).
+            self.link.send(m.PixelsInfoRequest(0))
+            self._phase = "pixels"
+            self._next_probe_s = self.clock.now() + _PIXEL_INFO_WAIT_S
+        else:
+            self._finish_handshake()
+
+    def _finish_handshake(self) -> None:
         self._caps = self._build_capabilities()
         self._phase = "ready"
         self.ready = True
@@ -145,6 +156,8 @@ class AsipDriver(Driver):
             cap.SIDE_RANGE: "D",
             cap.SPEAKER: "T",
             cap.DISPLAY: "L",
+            cap.SERVOS: "S",
+            cap.LEDS: "P",
         }
         makers: dict[str, Callable[[], object]] = {
             cap.DRIVE_BASE: lambda: WheelDriveBase(self, self.wheel_distances_mm),
@@ -154,12 +167,16 @@ class AsipDriver(Driver):
             cap.SIDE_RANGE: lambda: _SideRangeSensor(self),
             cap.SPEAKER: lambda: _Speaker(self),
             cap.DISPLAY: lambda: _Display(self),
+            cap.SERVOS: lambda: _Servos(self),
+            cap.LEDS: lambda: _Leds(self),
         }
         result: dict[str, object] = {}
         for name, service in have.items():
             if name not in wanted:
                 continue
-            if service in self.services:
+            if name == cap.LEDS and service in self.services and not self.pixel_count:
+                self.notice("the board's pixel strip did not say how long it is: no leds")
+            elif service in self.services:
                 result[name] = makers[name]()
             else:
                 self.notice(f"the board has no {self.services_name(service)} service: no {name}")
@@ -175,6 +192,8 @@ class AsipDriver(Driver):
             "D": "distance",
             "T": "tone",
             "L": "LCD",
+            "S": "servo",
+            "P": "pixels",
         }.get(service, service)
 
     def describe(self) -> str:
@@ -197,6 +216,9 @@ class AsipDriver(Driver):
             self._probe(now_s)
         elif self._phase == "discover" and self.services:
             self._configure()
+        elif self._phase == "pixels":
+            if self.pixel_count or now_s >= self._next_probe_s:
+                self._finish_handshake()
         elif self._phase != "ready" and now_s >= self._next_probe_s:
             self._probe(now_s)
         if self.ready and "M" in self.services:
@@ -286,6 +308,8 @@ class AsipDriver(Driver):
             self.services = dict(message.services)
         elif isinstance(message, m.ErrorReply):
             self._handle_error(message)
+        elif isinstance(message, m.PixelsInfoReply) and message.strip == 0:
+            self.pixel_count = message.count
         elif isinstance(message, m.InfoLine | m.DebugLine):
             logger.debug("board says: %s", message.text)
 
@@ -375,6 +399,36 @@ class _SideRangeSensor:
 
     def distance_mm(self) -> float | None:
         return _cm_to_mm(self._driver.side_distance_cm)
+
+
+class _Servos:
+    """Servos of the servo service, by the order the sketch declares them (0, 1, ...).
+
+    ASIP cannot say how many there are; a board answers an id it does not have with
+    ``~S,W,7{INVALID_DEVICE_NUMBER}``, which fails the running action.
+    """
+
+    count = 2
+
+    def __init__(self, driver: AsipDriver) -> None:
+        self._driver = driver
+
+    def set_angle(self, index: int, angle_deg: float) -> None:
+        self._driver.link.send(m.ServoWrite(index, round(max(0.0, min(180.0, angle_deg)))))
+
+
+class _Leds:
+    """The first strip of the pixels service (its length asked with ``P,I,0``)."""
+
+    def __init__(self, driver: AsipDriver) -> None:
+        self._driver = driver
+
+    @property
+    def count(self) -> int:
+        return self._driver.pixel_count
+
+    def set_color(self, index: int, rgb: tuple[int, int, int]) -> None:
+        self._driver.link.send(m.PixelsSetRgb(0, ((index, rgb),)))
 
 
 class _Bumpers:

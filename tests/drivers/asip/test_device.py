@@ -34,7 +34,7 @@ class Board:
 def test_greeting_has_the_startup_line_modes_map_and_unprefixed_lines() -> None:
     board = Board()
     lines = board.lines()
-    assert lines[0] == "!mirto2017 running on ATmega328P with Services: I M B R D T L "
+    assert lines[0] == "!mirto2017 running on ATmega328P with Services: I M B R D T L S P "
     assert lines[1].startswith("@I,p,20,{6,6,7,")
     assert lines[2].startswith("@I,M,20,{4:1,4:2,4:4,4:8,4:10,4:20,4:40,4:80,2:1,")
     assert "Motors is service M\r" in lines
@@ -107,7 +107,10 @@ def test_board_without_pid_refuses_the_pid_tags() -> None:
     ("request_bytes", "reply"),
     [
         (b"X,?\n", "~X,?,1{INVALID_SERVICE}"),
-        (b"S,W,0,90\n", "~S,?,1{INVALID_SERVICE}"),
+        (b"X,W,0,90\n", "~X,?,1{INVALID_SERVICE}"),
+        (b"S,W,5,90\n", "~S,W,7{INVALID_DEVICE_NUMBER}"),
+        (b"P,I,0\n", "@P,I,0,8"),
+        (b"P,B,3,10\n", "~P,B,7{INVALID_DEVICE_NUMBER}"),
         (b"M,z,1,2\n", "~M,z,2{UNKNOWN_REQUEST}"),
         (b"#,Q\n", "~#,Q,2{UNKNOWN_REQUEST}"),
         (b"I,P,0,1\n", "~I,P,4{MODE_UNAVAILABLE}"),
@@ -117,7 +120,10 @@ def test_board_without_pid_refuses_the_pid_tags() -> None:
         (b"#,?\n", "@#,?,1,1,ATmega328P,20,mirto2017"),
         (
             b"#,N\n",
-            "@#,N,7,{I:ASIP core IO,M:Motors,B:Bump Sensors,R:IR Sensors,D:Distance,T:Tone,L:LCD}",
+            (
+                "@#,N,9,{I:ASIP core IO,M:Motors,B:Bump Sensors,R:IR Sensors,D:Distance,T:Tone,"
+                "L:LCD,S:Servos,P:Pixels}"
+            ),
         ),
         (b"I,m\n", "@I,m,6,{14:0,15:1,16:2,17:3,18:4,19:5}"),
         (b"D,M\n", "@D,e,2,{0,0}"),  # front and right sensors; 0 = no echo
@@ -176,3 +182,14 @@ def test_distance_is_reported_in_cm_towards_a_wall() -> None:
     # centre of a 2 m room, sensor 90 mm ahead of the centre: about 91 cm to the wall
     assert 88 <= reading <= 93
     assert 88 <= int(right) <= 93  # the right sensor sits 80 mm right of the centre
+
+
+def test_servo_and_pixel_requests_change_the_boards_state() -> None:
+    board = Board()
+    board.send(b"S,W,1,45\nP,P,0,2,{0:16711680,7:255}\nP,p,0,1,{3:1:2:3}\nP,B,0,200\n")
+    state = board.sim.device.state  # type: ignore[attr-defined]
+    assert state.servos_deg == [90, 45]
+    assert state.pixels[0] == (255, 0, 0) and state.pixels[7] == (0, 0, 255)
+    assert state.pixels[3] == (1, 2, 3) and state.brightness == 200
+    board.send(b"P,C,0\n")
+    assert state.pixels == [(0, 0, 0)] * 8

@@ -1,0 +1,43 @@
+"""display, set_led and servo on the simulated MIRTO, through ASIP bytes."""
+
+from __future__ import annotations
+
+import pytest
+from helpers import run_action
+
+from roboscript.actions import Display, Outcome, Servo, SetLed
+from roboscript.actions.output import parse_color
+from roboscript.robot import Robot
+
+
+def test_display_writes_the_lcd() -> None:
+    with Robot.connect("mirto") as bot:
+        result = run_action(bot, Display(text="Hello, class 3B! Ready to roll?"))
+        assert result.outcome is Outcome.DONE
+        assert bot.simulation.log.display == "Hello, class 3B! Read\ny to roll?"
+
+
+def test_set_led_and_servo_reach_the_board() -> None:
+    with Robot.connect("mirto") as bot:
+        assert bot.has("leds") and bot.capabilities["leds"].count == 8
+        assert run_action(bot, SetLed(color=(0, 128, 255), index=2)).outcome is Outcome.DONE
+        assert run_action(bot, Servo(angle_deg=30, index=1)).outcome is Outcome.DONE
+        state = bot.simulation.device.state
+        assert state.pixels[2] == (0, 128, 255)
+        assert state.servos_deg == [90, 30]
+
+
+def test_a_servo_the_board_lacks_fails_with_the_boards_reason() -> None:
+    with Robot.connect("mirto") as bot:
+        result = run_action(bot, Servo(angle_deg=30, index=1, duration_s=0.0))
+        assert result.outcome is Outcome.DONE
+        too_far = run_action(bot, SetLed(color="red", index=8))
+        assert too_far.outcome is Outcome.FAILED
+        assert too_far.reason == "not supported: the robot has 8 LEDs"
+
+
+@pytest.mark.parametrize(
+    ("text", "rgb"), [("red", (255, 0, 0)), ("#10a0FF", (16, 160, 255)), ([1, 2, 3], (1, 2, 3))]
+)
+def test_colours(text: object, rgb: tuple[int, int, int]) -> None:
+    assert parse_color(text) == rgb

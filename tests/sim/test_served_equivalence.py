@@ -1,0 +1,77 @@
+"""A mission run against ``roboscript sim --tcp`` behaves like one on the in-process simulator,
+and a board without motor PID makes the host take over the wheels at run time."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+from helpers import ROOT, run_cli
+
+from roboscript.robot import Robot
+
+SHORT = """
+mission: short
+states:
+  out:
+    do: {drive: {distance: 20 cm, speed: 15 cm/s}}
+    on: {done: turn, failed: stuck}
+  turn:
+    do: {rotate: {angle: 90 deg}}
+    on: {done: beep, failed: stuck}
+  beep:
+    do: {play_tone: {frequency: 660 Hz, duration: 200 ms}}
+    final: success
+  stuck:
+    final: failure
+"""
+
+
+def test_a_mission_over_tcp_matches_the_in_process_simulator(
+    write_mission: Callable[..., Path],
+) -> None:
+    mission = write_mission(SHORT)
+    local = json.loads(run_cli("run", str(mission), "--json").stdout)
+    server = subprocess.Popen(
+        [sys.executable, "-m", "roboscript", "sim", "--robot", "mirto", "--tcp", "127.0.0.1:0"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=ROOT,
+        env=dict(os.environ, PYTHONPATH=str(ROOT)),
+    )
+    try:
+        assert server.stdout is not None
+        match = re.search(r"tcp://127\.0\.0\.1:(\d+)", server.stdout.readline())
+        assert match
+        url = f"socket://127.0.0.1:{match.group(1)}"
+        remote_run = run_cli("run", str(mission), "--port", url, "--json")
+    finally:
+        server.terminate()
+        server.wait(timeout=10)
+    assert remote_run.returncode == 0, remote_run.stderr
+    remote = json.loads(remote_run.stdout)
+    assert remote["outcome"] == local["outcome"] == "success"
+    assert [s for _, s in remote["states"]] == [s for _, s in local["states"]]
+    for (t_remote, _), (t_local, _) in zip(remote["states"], local["states"], strict=True):
+        assert abs(t_remote - t_local) < 0.5  # real time over TCP against simulated lockstep
+    assert "sim" not in remote  # over a port roboscript cannot see the simulator's pose
+
+
+def test_a_board_without_pid_hands_the_wheels_to_the_host(
+    caplog: object,
+) -> None:
+    # The mirto profile expects firmware PID; this simulated board was built without it.
+    with Robot.connect("mirto", port="sim://asip-basic?world=empty&seed=1") as bot:
+        bot.drive_base.set_wheel_speeds(150.0, 150.0)
+        bot.run_for(2.0)
+        assert bot.driver.firmware_pid is False
+        assert bot.driver.notices == [
+            "this board's firmware has no motor PID: roboscript holds the wheel speeds itself"
+        ]
+        assert 200.0 < bot.simulation.body.y_mm < 330.0
