@@ -301,11 +301,13 @@ def _cmd_ports(args: argparse.Namespace) -> int:
 def _cmd_robots(args: argparse.Namespace) -> int:
     from roboscript.profiles import BUILTIN_PROFILES
 
+    width = max(len(name) for name in BUILTIN_PROFILES) + 2
     for profile in BUILTIN_PROFILES.values():
         caps = ", ".join(sorted(profile.capabilities))
-        pid = "firmware PID" if profile.firmware_pid else "host PID"
-        print(f"{profile.name:<12} {profile.protocol:<8} {pid:<12} {profile.description}")
-        print(f"{'':<12} capabilities: {caps}")
+        print(
+            f"{profile.name:<{width}}{profile.protocol:<10}{profile.control:<14}{profile.description}"
+        )
+        print(f"{'':<{width}}capabilities: {caps}")
     return EXIT_OK
 
 

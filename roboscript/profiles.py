@@ -42,6 +42,7 @@ class RobotProfile:
         gains: Host PID gains ``(kp, ki, kd)`` by loop name (``wheel_speed``, ``heading``,
             ``wall``, ``line``).
         handshake_timeout_s: How long to wait for the robot to answer at connection.
+        encoders: False for wheels without encoders (moves are timed from a calibration).
         options: Protocol-specific settings (StackMod: module addresses, wiring and
             calibration, see :mod:`roboscript.drivers.stackmod.options`); empty for others.
     """
@@ -60,6 +61,16 @@ class RobotProfile:
     gains: dict[str, tuple[float, float, float]] = field(default_factory=dict)
     handshake_timeout_s: float = 3.0
     options: dict[str, Any] = field(default_factory=dict)
+    encoders: bool = True
+
+    @property
+    def control(self) -> str:
+        """How the robot moves, in a few words, for ``roboscript robots``."""
+        if cap.DRIVE_BASE not in self.capabilities:
+            return "gait motions" if cap.WALKER in self.capabilities else "no wheels"
+        if self.firmware_pid:
+            return "firmware PID"
+        return "host PID" if self.encoders else "timed moves"
 
     def lacks(self, capability: str) -> bool:
         """True if the robot does not have ``capability``."""
@@ -102,6 +113,7 @@ BUILTIN_PROFILES: dict[str, RobotProfile] = {
         name="stackmod-rover",
         protocol="stackmod",
         description="StackMod modules on a 9600 baud line: no encoders, timed moves",
+        encoders=False,
         baudrate=9600,
         capabilities=frozenset(
             {

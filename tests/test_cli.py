@@ -148,3 +148,13 @@ def test_robots_lists_profiles() -> None:
     result = run_cli("robots")
     assert result.returncode == 0
     assert "mirto" in result.stdout and "asip-basic" in result.stdout
+
+
+def test_robots_says_how_each_robot_moves() -> None:
+    rows = {
+        line.split()[0]: line for line in run_cli("robots").stdout.splitlines() if line[:1] != " "
+    }
+    assert "firmware PID" in rows["mirto"]
+    assert "host PID" in rows["asip-basic"]
+    assert "timed moves" in rows["stackmod-rover"]
+    assert "gait motions" in rows["plen2"]
