@@ -60,10 +60,6 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
     spec, profile = _load_mission(args.mission, args.robot)
     world = args.world or spec.world or "empty"
-    if args.port is None:
-        from roboscript.sim.world import load_world
-
-        load_world(world)  # a bad world file is the user's input: file:line:col, exit 2
     quiet = args.json or args.quiet
     if args.plot:
         from roboscript.sim.plot import require_matplotlib

@@ -86,12 +86,15 @@ class InputError(RoboscriptError, ValueError):
 
     def format(self) -> str:
         """Return the ``file:line:col: error: message (hint)`` form users see."""
-        where = self.path or "<input>"
-        if self.line is not None:
-            where += f":{self.line}"
-            if self.col is not None:
-                where += f":{self.col}"
-        text = f"{where}: {self.severity}: {self.message}"
+        if self.path is None:  # not from a file (a built-in profile's options, say)
+            text = f"{self.severity}: {self.message}"
+        else:
+            where = self.path
+            if self.line is not None:
+                where += f":{self.line}"
+                if self.col is not None:
+                    where += f":{self.col}"
+            text = f"{where}: {self.severity}: {self.message}"
         if self.hint:
             text += f" ({self.hint})"
         return text

@@ -176,3 +176,14 @@ def test_bad_profile_or_world_file_is_exit_2_with_a_location(
     assert result.returncode == 2
     assert "Traceback" not in result.stderr
     assert result.stderr.strip().replace(str(path), "F").startswith(expected)
+
+
+def test_a_bad_option_in_a_profile_file_is_invalid_input_on_the_simulator(
+    tmp_path: Path,
+) -> None:
+    profile = tmp_path / "rover.yaml"
+    profile.write_text("extends: stackmod-rover\noptions: {motor_address: 7}\n", encoding="utf-8")
+    result = run_cli("run", "missions/square.yaml", "--robot", str(profile))
+    assert result.returncode == 2
+    assert result.stderr.startswith("error: rover: option 'motor_address' must be one character")
+    assert "Traceback" not in result.stderr

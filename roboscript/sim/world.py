@@ -20,6 +20,7 @@ Built-in worlds ship as package data in ``roboscript/sim/worlds/``.
 
 from __future__ import annotations
 
+import difflib
 import itertools
 import math
 from dataclasses import dataclass, field
@@ -132,8 +133,6 @@ class _WorldReader:
         return value
 
     def allowed(self, data: YamlMap, keys: set[str], what: str) -> None:
-        import difflib
-
         for key in data:
             if key not in keys:
                 close = difflib.get_close_matches(key, sorted(keys), n=1)

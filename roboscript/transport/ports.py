@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import serial
 
-from roboscript.errors import LinkError
+from roboscript.errors import InputError, LinkError
 from roboscript.transport.link import PortLike
 from roboscript.transport.socketport import SocketPort, parse_socket_url
 
@@ -25,6 +25,8 @@ def open_port(url: str, *, baudrate: int = 115200) -> PortLike:
     Raises:
         LinkError: The port does not exist, is busy, or refused the connection; the message
             names the port.
+        InputError: A ``sim://`` URL names a world or profile file that is invalid
+            (``file:line:col``), which is the user's input, not a port problem.
     """
     if url[:9].lower() == "socket://":
         try:
@@ -39,6 +41,8 @@ def open_port(url: str, *, baudrate: int = 115200) -> PortLike:
         port: PortLike = serial.serial_for_url(url, baudrate=baudrate, timeout=0, write_timeout=2)
     except serial.SerialException as exc:
         raise LinkError(f"cannot open {url}: {_reason(exc)}") from exc
+    except InputError:
+        raise
     except ValueError as exc:
         raise LinkError(f"cannot open {url}: {exc}") from exc
     return port

@@ -7,6 +7,8 @@ from helpers import run_action
 
 from roboscript.actions import Display, Outcome, Servo, SetLed
 from roboscript.actions.output import parse_color
+from roboscript.mission.runner import MissionRunner
+from roboscript.mission.yaml_loader import parse_yaml_mission
 from roboscript.robot import Robot
 
 
@@ -27,13 +29,33 @@ def test_set_led_and_servo_reach_the_board() -> None:
         assert state.servos_deg == [90, 30]
 
 
-def test_a_servo_the_board_lacks_fails_with_the_boards_reason() -> None:
+def test_a_servo_the_board_lacks_fails_with_the_boards_reason(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import roboscript.drivers.asip.device as board
+
+    monkeypatch.setattr(board, "_SERVO_COUNT", 1)  # a sketch with one servo
+    spec, _ = parse_yaml_mission(
+        "states:\n  arm:\n    do: {servo: {index: 1, angle: 30 deg}}\n"
+        "    on: {done: ok, failed: refused}\n  ok: {final: success}\n"
+        "  refused: {final: failure}\n"
+    )
     with Robot.connect("mirto") as bot:
-        result = run_action(bot, Servo(angle_deg=30, index=1, duration_s=0.0))
-        assert result.outcome is Outcome.DONE
+        runner = MissionRunner(spec, bot.capabilities, device_errors=bot.driver.take_device_error)
+        bot.scheduler.add(runner)
+        bot.scheduler.run(until=lambda: runner.finished, max_duration_s=5)
+    assert runner.result.final_state == "refused"
+    assert runner.result.reason is not None
+    assert runner.result.reason.endswith(
+        "servo failed in state 'arm': the board refused 'S,W': there is no device with that number"
+    )
+
+
+def test_an_led_past_the_end_of_the_strip_is_not_supported() -> None:
+    with Robot.connect("mirto") as bot:
         too_far = run_action(bot, SetLed(color="red", index=8))
-        assert too_far.outcome is Outcome.FAILED
-        assert too_far.reason == "not supported: the robot has 8 LEDs"
+    assert too_far.outcome is Outcome.FAILED
+    assert too_far.reason == "not supported: the robot has 8 LEDs"
 
 
 @pytest.mark.parametrize(

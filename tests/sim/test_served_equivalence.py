@@ -63,9 +63,7 @@ def test_a_mission_over_tcp_matches_the_in_process_simulator(
     assert "sim" not in remote  # over a port roboscript cannot see the simulator's pose
 
 
-def test_a_board_without_pid_hands_the_wheels_to_the_host(
-    caplog: object,
-) -> None:
+def test_a_board_without_pid_hands_the_wheels_to_the_host() -> None:
     # The mirto profile expects firmware PID; this simulated board was built without it.
     with Robot.connect("mirto", port="sim://asip-basic?world=empty&seed=1") as bot:
         bot.drive_base.set_wheel_speeds(150.0, 150.0)

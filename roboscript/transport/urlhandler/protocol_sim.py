@@ -61,7 +61,9 @@ class Serial(SerialBase):
         try:
             robot, world, seed, start = parse_sim_url(str(self.port))
             self.simulation = make_simulation(robot, world, seed, start)
-        except (ValueError, InputError, NotImplementedError) as exc:
+        except InputError:
+            raise  # a bad world or profile is the user's input: open_port lets it through
+        except (ValueError, NotImplementedError) as exc:
             raise SerialException(str(exc)) from exc
         self.simulation.connect()
         self.is_open = True
