@@ -5,11 +5,19 @@ Each tick calls every task of the ``sense`` phase (simulation steps, link polls)
 ``after`` (telemetry, status lines). Tasks receive ``now_s`` and ``dt_s``; ``dt_s`` is always
 greater than zero, because controllers divide by it (simple-pid refuses ``dt == 0``).
 
-Real-time runs sleep until absolute deadlines (``next += period``), which does not drift the
-way ``sleep(period)`` does. A tick that starts more than one period late is an *overrun*: it is
-counted, the measured ``dt_s`` is passed on, and the schedule restarts from now instead of
-bursting to catch up. On a :class:`~roboscript.clock.SimClock` the loop jumps from deadline to
-deadline, so every ``dt_s`` equals the period exactly.
+Real-time runs sleep until absolute deadlines on a fixed grid (``next += period``), which
+does not drift the way ``sleep(period)`` does. A tick that starts more than one period late is
+an *overrun*: it is counted and the measured ``dt_s`` is passed on.
+
+After a stall (a slow tick, or the machine pausing the process for a few milliseconds) the loop
+catches up with its grid, so a run keeps its tick rate, but never faster than two ticks per
+period: a controller's ``dt_s`` never drops below half the period, where a back-to-back burst
+would hand it near-zero ``dt`` values that amplify derivative noise. A loop that falls more than
+``max_catch_up_periods`` behind gives the missed ticks up (counted in
+:attr:`SchedulerStats.skipped_ticks`) and restarts its grid from now.
+
+On a :class:`~roboscript.clock.SimClock` the loop jumps from deadline to deadline, so every
+``dt_s`` equals the period exactly.
 """
 
 from __future__ import annotations
@@ -27,6 +35,7 @@ logger = logging.getLogger(__name__)
 
 Phase = Literal["sense", "think", "act", "after"]
 _PHASES: tuple[Phase, ...] = ("sense", "think", "act", "after")
+_MIN_SPACING = 0.5  # of a period, between tick starts while catching up
 
 
 class Tickable(Protocol):
@@ -48,13 +57,15 @@ class SchedulerStats:
 
     Attributes:
         ticks: Ticks run.
-        overruns: Ticks that started more than one period late.
+        overruns: Ticks that started more than one period after their deadline.
+        skipped_ticks: Ticks given up because the loop fell too far behind to catch up.
         max_lateness_s: Largest delay between a deadline and the tick's start, seconds.
         lateness_s: Per-tick lateness samples (kept only when ``record_lateness`` is set).
     """
 
     ticks: int = 0
     overruns: int = 0
+    skipped_ticks: int = 0
     max_lateness_s: float = 0.0
     lateness_s: list[float] = field(default_factory=list)
 
@@ -66,6 +77,8 @@ class Scheduler:
         clock: Where time comes from (real or simulated).
         period_s: Tick period in seconds (0.02 = 50 Hz).
         record_lateness: Keep every tick's lateness in :attr:`stats` (for benchmarks).
+        max_catch_up_periods: How far behind, in periods, the loop may fall and still catch
+            up; beyond it the missed ticks are skipped and the grid restarts from now.
 
     Example:
         >>> from roboscript.clock import SimClock
@@ -77,9 +90,19 @@ class Scheduler:
         [0.01, 0.01, 0.01]
     """
 
-    def __init__(self, clock: Clock, period_s: float = 0.02, *, record_lateness: bool = False):
+    def __init__(
+        self,
+        clock: Clock,
+        period_s: float = 0.02,
+        *,
+        record_lateness: bool = False,
+        max_catch_up_periods: float = 10.0,
+    ):
         if period_s <= 0:
             raise ValueError("the tick period must be positive")
+        if max_catch_up_periods < 1:
+            raise ValueError("max_catch_up_periods must be at least 1")
+        self.max_catch_up_periods = max_catch_up_periods
         self.clock = clock
         self.period_s = period_s
         self.stats = SchedulerStats()
@@ -130,19 +153,34 @@ class Scheduler:
         start = self.clock.now()
         if self._next_deadline_s is None:
             self._next_deadline_s = start
+        period = self.period_s
+        give_up_s = period * self.max_catch_up_periods
+        stats = self.stats
         while True:
-            self.clock.sleep_until(self._next_deadline_s)
+            deadline = self._next_deadline_s
+            last = self._last_tick_s
+            # Catching up runs at most two ticks per period, so dt never drops below T/2.
+            wake = deadline if last is None else max(deadline, last + period * _MIN_SPACING)
+            self.clock.sleep_until(wake)
             now = self.clock.now()
-            lateness = now - self._next_deadline_s
-            self.stats.max_lateness_s = max(self.stats.max_lateness_s, lateness)
+            lateness = now - deadline
+            stats.max_lateness_s = max(stats.max_lateness_s, lateness)
             if self._record:
-                self.stats.lateness_s.append(lateness)
-            if lateness > self.period_s:
-                self.stats.overruns += 1
-                logger.debug("tick %d started %.1f ms late", self.stats.ticks, lateness * 1e3)
-                self._next_deadline_s = now
+                stats.lateness_s.append(lateness)
+            if lateness > period:
+                stats.overruns += 1
+                if lateness > give_up_s:
+                    skipped = int(lateness / period + 1e-9)
+                    stats.skipped_ticks += skipped
+                    logger.debug(
+                        "tick %d started %.1f ms late: %d ticks skipped",
+                        stats.ticks,
+                        lateness * 1e3,
+                        skipped,
+                    )
+                    self._next_deadline_s = now
             self.step()
-            self._next_deadline_s += self.period_s
+            self._next_deadline_s += period
             if until():
                 return True
             if max_duration_s is not None and self.clock.now() - start >= max_duration_s - 1e-9:

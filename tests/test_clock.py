@@ -52,3 +52,28 @@ def test_monotonic_clock_tightens_the_sleeping_threads_timer_slack() -> None:
     before, after = seen
     assert after == 1000
     assert after <= before
+
+
+def test_monotonic_clock_sleeps_short_of_the_deadline_and_spins_the_rest(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import time
+
+    asked: list[float] = []
+    real_sleep = time.sleep
+
+    def recording_sleep(seconds: float) -> None:
+        asked.append(seconds)
+        real_sleep(seconds)
+
+    monkeypatch.setattr(time, "sleep", recording_sleep)
+    clock = MonotonicClock(spin_s=0.004)
+    start = clock.now()
+    clock.sleep_until(start + 0.01)
+    assert clock.now() >= start + 0.01  # the spin finished the wait: never early
+    assert len(asked) == 1 and asked[0] <= 0.006  # and the sleep left the spin its share
+
+
+def test_monotonic_clock_spin_cannot_be_negative() -> None:
+    with pytest.raises(ValueError):
+        MonotonicClock(spin_s=-0.001)

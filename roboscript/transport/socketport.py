@@ -87,7 +87,13 @@ class SocketPort:
             TimeoutError: The peer stopped reading and the send buffer stayed full.
             OSError: The socket failed.
         """
-        view = memoryview(data)
+        try:
+            sent = self._socket.send(data)
+        except (BlockingIOError, InterruptedError):
+            sent = 0
+        if sent == len(data):  # the usual case: the kernel took it all at once
+            return sent
+        view = memoryview(data)[sent:]
         deadline: float | None = None
         while view:
             try:

@@ -120,7 +120,7 @@ def flood_pty(blob: bytes) -> Iterator[str]:
 # ------------------------------------------------------------------------------ replying
 
 
-def _replying_device(listener: socket.socket, reply: bytes, clients: int) -> None:
+def _replying_device(listener: socket.socket, reply: bytes | None, clients: int) -> None:
     peers = [_accept(listener) for _ in range(clients)]
     listener.close()
     pending = dict.fromkeys(peers, b"")
@@ -132,16 +132,21 @@ def _replying_device(listener: socket.socket, reply: bytes, clients: int) -> Non
                 del pending[peer]
                 peer.close()
                 continue
-            buffered = pending[peer] + data
-            lines = buffered.count(b"\n")
-            pending[peer] = buffered[buffered.rfind(b"\n") + 1 :]
-            if lines:
-                peer.sendall(reply * lines)
+            *lines, pending[peer] = (pending[peer] + data).split(b"\n")
+            if not lines:
+                continue
+            if reply is None:  # echo: "@" + the request line
+                peer.sendall(b"".join(b"@" + line + b"\n" for line in lines))
+            else:
+                peer.sendall(reply * len(lines))
 
 
 @contextlib.contextmanager
-def replying_socket(reply: bytes, clients: int = 2) -> Iterator[str]:
+def replying_socket(reply: bytes | None, clients: int = 2) -> Iterator[str]:
     """A device that answers every newline-terminated request with ``reply``.
+
+    With ``reply=None`` it echoes each request line back as ``"@" + line``: the fixture of
+    performance.md B.1, where ``I,d,13,1`` is answered with ``@I,d,13,1``.
 
     It serves ``clients`` connections at once (made in any order), so two host stacks can
     take turns against the same device in one run.

@@ -21,6 +21,7 @@ Device role
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Callable, Iterable
 
 from roboscript.drivers.asip import messages as m
@@ -156,11 +157,17 @@ class AsipCodec:
         max_buffer_bytes: int = 4096,
     ) -> None:
         self.role = role
+        self._host = role is Role.HOST  # looked up on every received chunk and message
+        self._encoders = _ROLE_ENCODERS[role]
         self.services = services
         self.stats = CodecStats()
         self._max_line = max_line_bytes
         self._max_buffer = max_buffer_bytes
-        self._buf = bytearray()
+        self._buf = bytearray()  # device role: request bytes not yet parsed
+        # Host role: complete lines (and faults, in wire order) waiting for next_message(),
+        # and the start of the line still arriving.
+        self._lines: deque[bytes | RemoteProtocolError] = deque()
+        self._tail = b""
         self._skipping_overlong = False
         self._timed_out = False
         self._overflowed = 0  # device role: bytes dropped by receive_data, not yet reported
@@ -169,8 +176,37 @@ class AsipCodec:
 
     def receive_data(self, data: bytes) -> None:
         """Buffer bytes read from the wire."""
+        if not self._host:
+            self._receive_requests(data)
+            return
+        # Host role (the hot path, so not a method of its own): bytes.split() frames a whole
+        # read in C; complete lines wait in a queue, the start of the next line in _tail.
+        if self._tail:
+            data = self._tail + data
+        lines = data.split(b"\n")
+        tail = lines.pop()
+        if lines:
+            if self._skipping_overlong:  # the end of a line already dropped as overlong
+                self._skipping_overlong = False
+                self.stats.dropped_bytes += len(lines[0]) + 1
+                del lines[0]
+            self._lines.extend(lines)
+        if len(tail) > self._max_line:
+            # Never buffer more than a line's worth: drop it, and its end when it comes.
+            if self._skipping_overlong:
+                self.stats.dropped_bytes += len(tail)
+            else:
+                self._skipping_overlong = True
+                self.stats.fault("overlong", len(tail))
+                self._lines.append(
+                    RemoteProtocolError(f"line longer than {self._max_line} bytes", kind="overlong")
+                )
+            tail = b""
+        self._tail = tail
+
+    def _receive_requests(self, data: bytes) -> None:
         self._buf += data
-        if self.role is Role.DEVICE and len(self._buf) > self._max_buffer:
+        if len(self._buf) > self._max_buffer:
             # A request never needs this much; keep the newest bytes so parsing resynchronises.
             excess = len(self._buf) - self._max_buffer
             del self._buf[:excess]
@@ -185,6 +221,9 @@ class AsipCodec:
 
     def pending_bytes(self) -> int:
         """Number of buffered bytes not yet decoded."""
+        if self._host:
+            lines = (len(line) + 1 for line in self._lines if isinstance(line, bytes))
+            return sum(lines) + len(self._tail)
         return len(self._buf)
 
     def next_message(self) -> m.AsipMessage | None:
@@ -193,8 +232,28 @@ class AsipCodec:
         Raises:
             RemoteProtocolError: For a bad line or request, already consumed.
         """
-        if self.role is Role.HOST:
-            return self._next_reply()
+        if not self._host:
+            return self._next_request_or_overflow()
+        lines = self._lines
+        while lines:
+            line = lines.popleft()
+            if isinstance(line, RemoteProtocolError):
+                raise line  # a fault found while framing, in its place among the lines
+            if len(line) > self._max_line:
+                self.stats.fault("overlong", len(line) + 1)
+                raise RemoteProtocolError(
+                    f"line longer than {self._max_line} bytes", kind="overlong", data=line[:64]
+                )
+            if line.endswith(b"\r"):
+                line = line.rstrip(b"\r")
+            if not line or line.isspace():
+                continue
+            message = self._decode_line(line)
+            self.stats.messages += 1
+            return message
+        return None
+
+    def _next_request_or_overflow(self) -> m.AsipMessage | None:
         if self._overflowed:
             dropped, self._overflowed = self._overflowed, 0
             self.stats.fault("overlong", dropped)
@@ -203,51 +262,25 @@ class AsipCodec:
 
     # ------------------------------------------------------------------ host: decode replies
 
-    def _next_reply(self) -> m.AsipMessage | None:
-        while True:
-            end = self._buf.find(b"\n")
-            if end < 0:
-                if len(self._buf) > self._max_line:
-                    dropped = len(self._buf)
-                    self._buf.clear()
-                    if not self._skipping_overlong:
-                        self._skipping_overlong = True
-                        self.stats.fault("overlong", dropped)
-                        raise RemoteProtocolError(
-                            f"line longer than {self._max_line} bytes", kind="overlong"
-                        )
-                    self.stats.dropped_bytes += dropped
-                return None
-            raw = bytes(self._buf[:end])
-            del self._buf[: end + 1]
-            if self._skipping_overlong:
-                self._skipping_overlong = False
-                self.stats.dropped_bytes += len(raw) + 1
-                continue
-            if len(raw) > self._max_line:
-                self.stats.fault("overlong", len(raw) + 1)
-                raise RemoteProtocolError(
-                    f"line longer than {self._max_line} bytes", kind="overlong", data=raw[:64]
-                )
-            line = raw.rstrip(b"\r")
-            if not line.strip():
-                continue
-            message = self._decode_line(line)
-            self.stats.messages += 1
-            return message
-
     def _bad(self, line: bytes, why: str, kind: str = "malformed") -> RemoteProtocolError:
         self.stats.fault(kind, len(line) + 1)
         return RemoteProtocolError(f"{why}: {line[:64]!r}", kind=kind, data=line[:64])
 
     def _decode_line(self, line: bytes) -> m.AsipMessage:
-        # translate() deletes the allowed bytes in C; a per-byte Python loop cost ~1 µs a line.
-        if line.translate(None, _TEXT_BYTES):
+        # All in C: isascii() and isprintable() pass a normal line without copying it; only a
+        # line with a tab or a control byte pays for translate(), which deletes allowed bytes.
+        if not line.isascii():
             raise self._bad(line, "not ASCII text", kind="garbage")
         text = line.decode("ascii")
+        if not text.isprintable() and line.translate(None, _TEXT_BYTES):
+            raise self._bad(line, "not ASCII text", kind="garbage")
         head = text[0]
         try:
             if head == "@":
+                # The firmware writes "@S,t," with no spaces: one slice finds the decoder.
+                decoder = _EVENT_DECODERS_BY_HEAD.get(text[:5])
+                if decoder is not None:
+                    return decoder(text[5:])
                 return self._decode_event(text)
             if head == "~":
                 return self._decode_error(text)
@@ -269,6 +302,7 @@ class AsipCodec:
         return m.ErrorReply(service, tag, errno, message.strip())
 
     def _decode_event(self, text: str) -> m.AsipMessage:
+        """The general path: the seed's spaced form (``@I, d, ...``) and unknown events."""
         parts = text[1:].split(",", 2)
         service = parts[0].strip()
         tag = parts[1].strip()
@@ -351,13 +385,14 @@ class AsipCodec:
         Raises:
             LocalProtocolError: The message is not one this role sends.
         """
-        encoder = _ENCODERS.get(type(message))
-        if encoder is None:
-            raise LocalProtocolError(f"{type(message).__name__} is not an ASIP message")
-        role, encode = encoder
-        if role is not self.role:
+        encode = self._encoders.get(type(message))
+        if encode is None:
+            other = _ENCODERS.get(type(message))
+            if other is None:
+                raise LocalProtocolError(f"{type(message).__name__} is not an ASIP message")
             raise LocalProtocolError(
-                f"{type(message).__name__} is sent by the {role.value}, not the {self.role.value}"
+                f"{type(message).__name__} is sent by the {other[0].value}, "
+                f"not the {self.role.value}"
             )
         try:  # latin-1: a service or tag byte read from the wire goes back out unchanged
             return (encode(message) + "\n").encode("latin-1")
@@ -373,31 +408,41 @@ def _split_fields(rest: str) -> tuple[str, ...]:
     return tuple(field.strip() for field in rest.split(",")) if rest else ()
 
 
-def _body_items(rest: str) -> list[str]:
-    """``n,{a,b,c}`` -> ``["a", "b", "c"]`` (the count may be absent; spaces tolerated)."""
+def _body_fields(rest: str) -> list[str]:
+    """``n,{a,b,c}`` -> ``["a", "b", "c"]`` unstripped (the count may be absent).
+
+    Numbers need no ``strip()``: ``int()`` and ``float()`` ignore the spaces the seed's
+    examples put after commas.
+    """
     start = rest.find("{")
     end = rest.rfind("}")
     if start < 0 or end < start:
         raise ValueError("missing {...} body")
-    inner = rest[start + 1 : end].strip()
-    if not inner:
+    inner = rest[start + 1 : end]
+    if not inner or inner.isspace():
         return []
-    items = [item.strip() for item in inner.split(",")]
-    count = rest[:start].strip().rstrip(",").strip()
+    items = inner.split(",")
+    count = rest[:start].rstrip().rstrip(",")
     if count and int(count) != len(items):
-        raise ValueError(f"body has {len(items)} fields, header says {count}")
+        raise ValueError(f"body has {len(items)} fields, header says {count.strip()}")
     return items
 
 
+def _body_items(rest: str) -> list[str]:
+    """``n,{a, b}`` -> ``["a", "b"]``: text fields, stripped."""
+    return [item.strip() for item in _body_fields(rest)]
+
+
 def _int_items(rest: str) -> tuple[int, ...]:
-    return tuple(int(item) for item in _body_items(rest))
+    return tuple(map(int, _body_fields(rest)))
 
 
 def _pair_items(rest: str, *, hex_second: bool = False) -> tuple[tuple[int, int], ...]:
+    base = 16 if hex_second else 10
     pairs = []
-    for item in _body_items(rest):
+    for item in _body_fields(rest):  # a loop: a comprehension costs a function call on 3.11
         first, second = item.split(":")
-        pairs.append((int(first), int(second, 16) if hex_second else int(second)))
+        pairs.append((int(first), int(second, base)))
     return tuple(pairs)
 
 
@@ -407,8 +452,9 @@ def _xyz(rest: str) -> tuple[int, int, int]:
 
 
 def _decode_version(rest: str) -> m.VersionReply:
-    major, minor, chip, pins, sketch = (part.strip() for part in rest.split(",", 4))
-    return m.VersionReply(int(major), int(minor), chip, int(pins), sketch)
+    major, minor, chip, pins, sketch = rest.split(",", 4)
+    # int() ignores the spaces the seed's examples put after commas; only text needs strip().
+    return m.VersionReply(int(major), int(minor), chip.strip(), int(pins), sketch.strip())
 
 
 def _decode_service_names(rest: str) -> m.ServiceNamesReply:
@@ -432,7 +478,7 @@ def _decode_distance_seed(rest: str) -> m.DistanceEvent:
 
 def _decode_digital(rest: str) -> m.DigitalPortEvent:
     port, mask = rest.split(",")
-    return m.DigitalPortEvent(int(port), int(mask.strip(), 16))
+    return m.DigitalPortEvent(int(port), int(mask, 16))  # int() ignores surrounding spaces
 
 
 def _decode_pixel_info(rest: str) -> m.PixelsInfoReply:
@@ -443,7 +489,7 @@ def _decode_pixel_info(rest: str) -> m.PixelsInfoReply:
 
 
 def _decode_pressure(rest: str) -> m.PressureEvent:
-    mbar, temp, alt = (float(item) for item in _body_items(rest)[:3])
+    mbar, temp, alt = map(float, _body_fields(rest)[:3])
     return m.PressureEvent(mbar, temp, alt)
 
 
@@ -474,6 +520,11 @@ _EVENT_DECODERS: dict[tuple[str, str], Callable[[str], m.AsipMessage]] = {
     ("H", "e"): _decode_heading,
     ("P", "e"): _decode_pressure,
     ("P", "I"): _decode_pixel_info,
+}
+
+
+_EVENT_DECODERS_BY_HEAD: dict[str, Callable[[str], m.AsipMessage]] = {
+    f"@{service},{tag},": decoder for (service, tag), decoder in _EVENT_DECODERS.items()
 }
 
 
@@ -839,4 +890,8 @@ _ENCODER_TABLE: list[tuple[type, Role, Callable[..., str]]] = [
 
 _ENCODERS: dict[type, tuple[Role, Callable[..., str]]] = {
     cls: (role, encode) for cls, role, encode in _ENCODER_TABLE
+}
+_ROLE_ENCODERS: dict[Role, dict[type, Callable[..., str]]] = {
+    role: {cls: encode for cls, (sender, encode) in _ENCODERS.items() if sender is role}
+    for role in Role
 }

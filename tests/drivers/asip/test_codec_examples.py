@@ -585,3 +585,18 @@ def test_non_messages_are_refused(role: Role) -> None:
         AsipCodec(role).send(b"I,M\n")
     with pytest.raises(LocalProtocolError):
         AsipCodec(role).send(m.InvalidServiceRequest("X"))
+
+
+def test_host_keeps_tabs_and_del_as_text_but_not_other_control_bytes() -> None:
+    got, codec = decode(
+        Role.HOST, b"sketch\tsays hi\x7f\n@I,d,4,1\x1b\n@#,?, 1, 1, ATmega328P, 20, mirto\n"
+    )
+    assert got[0] == m.DebugLine("sketch\tsays hi\x7f")
+    assert isinstance(got[1], RemoteProtocolError) and got[1].kind == "garbage"
+    assert got[2] == m.VersionReply(1, 1, "ATmega328P", 20, "mirto")  # the seed's spaced form
+    assert codec.stats.faults == {"garbage": 1}
+
+
+def test_sending_the_other_roles_message_names_who_sends_it() -> None:
+    with pytest.raises(LocalProtocolError, match="sent by the device, not the host"):
+        AsipCodec(Role.HOST).send(m.VersionReply(1, 1, "x", 1, "y"))
