@@ -1,6 +1,6 @@
 """Run every benchmark and print one table of ratios measured in this run.
 
-    python tests/bench/run_all.py            # the full suite, about a minute
+    python tests/bench/run_all.py            # the full suite, about 80 s
     python tests/bench/run_all.py --quick    # a smoke run, about 15 s
     python tests/bench/run_all.py --markdown table.md  # also as Markdown, for the README
 
