@@ -151,7 +151,9 @@ class Scheduler:
             True if ``until()`` became true, False if the time bound ended the run.
         """
         start = self.clock.now()
-        if self._next_deadline_s is None:
+        # Time between two runs (a handshake, then a mission) was never scheduled: there is
+        # nothing to catch up, so a grid left behind restarts from now.
+        if self._next_deadline_s is None or self._next_deadline_s < start:
             self._next_deadline_s = start
         period = self.period_s
         give_up_s = period * self.max_catch_up_periods

@@ -112,6 +112,18 @@ def test_a_stall_longer_than_the_catch_up_bound_skips_ticks_and_restarts() -> No
     assert [round(b - a, 6) for a, b in itertools.pairwise(starts[2:])] == [0.01] * 3
 
 
+def test_time_between_two_runs_is_not_caught_up() -> None:
+    clock = SimClock()
+    sched = Scheduler(clock, period_s=0.01)
+    starts: list[float] = []
+    sched.add(lambda now, dt: starts.append(now))
+    sched.run(until=lambda: len(starts) == 3)  # e.g. the handshake
+    clock.advance(0.05)  # the mission is loaded: 5 periods in which nothing was due
+    sched.run(until=lambda: len(starts) == 7)
+    assert [round(b - a, 6) for a, b in itertools.pairwise(starts[3:])] == [0.01] * 3
+    assert sched.stats.overruns == 0
+
+
 def test_catch_up_bound_must_be_a_period_or_more() -> None:
     with pytest.raises(ValueError):
         Scheduler(SimClock(), period_s=0.01, max_catch_up_periods=0.5)

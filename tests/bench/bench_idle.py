@@ -13,11 +13,10 @@ pollers), pyfirmata2 at about 2 %. Run alone: ``python tests/bench/bench_idle.py
 
 from __future__ import annotations
 
-import argparse
 import time
 
 import devices
-from benchlib import Row, at_most, info
+from benchlib import Row, at_most, info, run_alone
 
 from roboscript.clock import MonotonicClock
 from roboscript.drivers.asip.codec import AsipCodec
@@ -102,15 +101,5 @@ def measure(quick: bool = False) -> list[Row]:
     return rows
 
 
-def main() -> None:
-    """Print this benchmark's rows."""
-    from benchlib import format_table
-
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="1 s per case, not 3 s")
-    args = parser.parse_args()
-    print(format_table(measure(args.quick)))
-
-
 if __name__ == "__main__":
-    main()
+    run_alone(__doc__, measure, "1 s per case, not 3 s")

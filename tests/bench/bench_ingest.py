@@ -18,7 +18,6 @@ Run alone: ``python tests/bench/bench_ingest.py [--quick]``.
 
 from __future__ import annotations
 
-import argparse
 import random
 import select
 import time
@@ -28,7 +27,16 @@ from dataclasses import dataclass
 from typing import Any
 
 import devices
-from benchlib import WIRE_BAUD, Row, at_least, at_most, info, pinned_to_one_core, wire_time_s
+from benchlib import (
+    WIRE_BAUD,
+    Row,
+    at_least,
+    at_most,
+    info,
+    pinned_to_one_core,
+    run_alone,
+    wire_time_s,
+)
 
 from roboscript.clock import MonotonicClock
 from roboscript.drivers.asip import messages as asip
@@ -245,15 +253,5 @@ def measure(quick: bool = False) -> list[Row]:
     return rows
 
 
-def main() -> None:
-    """Print this benchmark's rows."""
-    from benchlib import format_table
-
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="fewer messages")
-    args = parser.parse_args()
-    print(format_table(measure(args.quick)))
-
-
 if __name__ == "__main__":
-    main()
+    run_alone(__doc__, measure, "fewer messages")

@@ -27,7 +27,6 @@ of them. Run alone: ``python tests/bench/bench_rtt.py [--quick]``.
 
 from __future__ import annotations
 
-import argparse
 import select
 import socket
 import time
@@ -35,7 +34,7 @@ import urllib.parse
 from typing import NamedTuple
 
 import devices
-from benchlib import Row, at_most, info, percentile, pinned_to_one_core, wire_time_s
+from benchlib import Row, at_most, info, percentile, pinned_to_one_core, run_alone, wire_time_s
 
 from roboscript.clock import MonotonicClock
 from roboscript.drivers.asip import messages as m
@@ -207,15 +206,5 @@ def measure(quick: bool = False) -> list[Row]:
     return rows
 
 
-def main() -> None:
-    """Print this benchmark's rows."""
-    from benchlib import format_table
-
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="fewer round trips")
-    args = parser.parse_args()
-    print(format_table(measure(args.quick)))
-
-
 if __name__ == "__main__":
-    main()
+    run_alone(__doc__, measure, "fewer round trips")

@@ -16,14 +16,13 @@ Run alone: ``python tests/bench/bench_scheduler.py [--quick]``.
 
 from __future__ import annotations
 
-import argparse
 import ctypes
 import statistics
 import sys
 import time
 from typing import NamedTuple
 
-from benchlib import Row, at_least, at_most, info, percentile
+from benchlib import Row, at_least, at_most, info, percentile, run_alone
 
 from roboscript.clock import MonotonicClock, tighten_timer_slack
 from roboscript.scheduler import Scheduler
@@ -209,15 +208,5 @@ def measure(quick: bool = False) -> list[Row]:
     return rows
 
 
-def main() -> None:
-    """Print this benchmark's rows."""
-    from benchlib import format_table
-
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="0.6 s per loop, not 3 s")
-    args = parser.parse_args()
-    print(format_table(measure(args.quick)))
-
-
 if __name__ == "__main__":
-    main()
+    run_alone(__doc__, measure, "0.6 s per loop, not 3 s")

@@ -9,6 +9,7 @@ This directory is not collected by pytest (its files are not named ``test_*.py``
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import datetime
 import math
@@ -16,7 +17,7 @@ import os
 import platform
 import sys
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 
 __all__ = [
@@ -235,3 +236,17 @@ def format_markdown(rows: Sequence[Row]) -> str:
             f"| {row.key} | {row.name} | {row.ratio_text} | {goal} | {row.verdict} | {row.detail} |"
         )
     return "\n".join(lines)
+
+
+def run_alone(doc: str, measure: Callable[[bool], list[Row]], quick_help: str) -> None:
+    """A benchmark's own command line: ``--quick``, then print its rows as a table.
+
+    Args:
+        doc: The benchmark module's docstring; its first line describes the command.
+        measure: The benchmark's ``measure(quick)``.
+        quick_help: What ``--quick`` shortens.
+    """
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help=quick_help)
+    args = parser.parse_args()
+    print(format_table(measure(args.quick)))
