@@ -32,6 +32,9 @@ Example scenarios:
 
 from __future__ import annotations
 
+import difflib
+from collections.abc import Iterable
+
 __all__ = [
     "CapabilityError",
     "DeviceError",
@@ -47,7 +50,25 @@ __all__ = [
     "RoboscriptError",
     "SpecError",
     "WorldError",
+    "did_you_mean",
 ]
+
+
+def did_you_mean(word: str, choices: Iterable[str], *, cutoff: float = 0.5) -> str | None:
+    """The hint for a misspelt name: ``"did you mean 'x'?"``, or ``None`` if nothing is close.
+
+    Args:
+        word: What the user wrote.
+        choices: The names that exist.
+        cutoff: How alike (0-1, :func:`difflib.get_close_matches`) a choice must be.
+    """
+    options = sorted(set(choices))
+    # A word cut short ("final_pose") means the choice it begins, before any look-alike.
+    started = [c for c in options if len(word) >= 3 and c.startswith(word)]
+    if started:
+        return f"did you mean '{min(started, key=len)}'?"
+    close = difflib.get_close_matches(word, options, n=1, cutoff=cutoff)
+    return f"did you mean '{close[0]}'?" if close else None
 
 
 class RoboscriptError(Exception):

@@ -139,6 +139,14 @@ class ActionContext:
             return False
         return bool(condition(self.env))
 
+    def has_passed(self, start_s: float, duration_s: float) -> bool:
+        """True once ``duration_s`` seconds have passed since ``start_s``.
+
+        A tick's time is a sum of periods, so 1.1 s at 0.1 s ticks may read 1.0999999999;
+        a nanosecond of slack ends the action on the tick the student expects.
+        """
+        return self.now_s - start_s >= duration_s - 1e-9
+
     def has(self, name: str) -> bool:
         """True if the robot has capability ``name``."""
         return name in self.capabilities

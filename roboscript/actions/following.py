@@ -26,7 +26,7 @@ def _finished(ctx: ActionContext, until: Any, start_s: float, duration_s: float 
     """True once the ``until`` condition holds or ``duration_s`` has passed since ``start_s``."""
     if ctx.holds(until):
         return True
-    return duration_s is not None and ctx.now_s - start_s >= duration_s - 1e-9
+    return duration_s is not None and ctx.has_passed(start_s, duration_s)
 
 
 def _travelled(base: cap.DriveBase) -> float:

@@ -98,7 +98,7 @@ class Drive(Action):
         if self.distance_mm is None:
             assert self.duration_s is not None
             self.feedback = f"driving {ctx.now_s - self._start_s:.1f}/{self.duration_s:.1f} s"
-            if ctx.now_s - self._start_s >= self.duration_s:
+            if ctx.has_passed(self._start_s, self.duration_s):
                 base.stop()
                 return Result.done()
             self._steer(ctx, min(self.speed_mm_s, base.max_speed_mm_s))

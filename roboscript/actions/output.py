@@ -144,4 +144,4 @@ class Servo(Action):
         servos: cap.Servos = ctx.get(cap.SERVOS)
         if self.index >= servos.count:
             return Result.failed(f"not supported: the robot has {servos.count} servos")
-        return Result.done() if ctx.now_s - self._start_s >= self.duration_s - 1e-9 else None
+        return Result.done() if ctx.has_passed(self._start_s, self.duration_s) else None

@@ -35,7 +35,7 @@ class Wait(Action):
     def update(self, ctx: ActionContext) -> Result | None:
         waited = ctx.now_s - self._start_s
         self.feedback = f"waiting {waited:.1f}/{self.duration_s:.1f} s"
-        return Result.done() if waited >= self.duration_s - 1e-9 else None
+        return Result.done() if ctx.has_passed(self._start_s, self.duration_s) else None
 
 
 class PlayTone(Action):
@@ -70,9 +70,8 @@ class PlayTone(Action):
         ctx.speaker.beep(self.frequency_hz, self.duration_s)
 
     def update(self, ctx: ActionContext) -> Result | None:
-        played = ctx.now_s - self._start_s
         self.feedback = f"tone {self.frequency_hz:.0f} Hz"
-        return Result.done() if played >= self.duration_s - 1e-9 else None
+        return Result.done() if ctx.has_passed(self._start_s, self.duration_s) else None
 
 
 class WaitUntil(Action):
@@ -107,7 +106,7 @@ class WaitUntil(Action):
             return Result.done()
         waited = ctx.now_s - self._start_s
         self.feedback = f"waiting {waited:.1f}/{self.timeout_s:.1f} s"
-        if waited >= self.timeout_s - 1e-9:
+        if ctx.has_passed(self._start_s, self.timeout_s):
             text = getattr(self.condition, "source", "the condition")
             return Result.timeout(f"'{text}' did not hold within {self.timeout_s:g} s")
         return None

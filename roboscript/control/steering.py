@@ -53,8 +53,8 @@ class WallFollower:
     angle), and an unlimited loop would turn until the sensor saw along the wall.
 
     The wall's direction is the robot's heading when following starts (walls are followed
-    from alongside them), updated slowly from the readings so that gentle bends are
-    followed too.
+    from alongside them) and stays fixed for the whole follow: the loop is made for straight
+    walls.
 
     Args:
         gains: ``(kp, ki, kd)`` of the outer loop, degrees of approach per mm of gap error.
@@ -75,8 +75,6 @@ class WallFollower:
         max_approach_deg: float = 25.0,
         max_rate_deg_s: float = 60.0,
     ) -> None:
-        self.side = side
-        self.target_mm = target_mm
         self.wall_heading_deg: float | None = None
         self._sign = 1.0 if side == "right" else -1.0
         self._outer = make_pid(

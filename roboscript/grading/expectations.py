@@ -23,7 +23,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from roboscript.grading.reader import SpecReader, did_you_mean
+from roboscript.errors import did_you_mean
+from roboscript.grading.reader import SpecReader
 from roboscript.grading.record import RunRecord, Verdict
 from roboscript.grading.regions import dense_path, nearest_wall_gap_mm, signed_distance_mm
 from roboscript.mission.source import Mark, YamlMap
@@ -174,8 +175,7 @@ def _parse_outcome(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext)
 def _parse_final_state(
     reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext
 ) -> tuple[str, ...]:
-    holder = YamlMap({"final_state": value})
-    holder.mark, holder.key_marks, holder.value_marks = mark, {}, {"final_state": mark}
+    holder = YamlMap.at(mark, {"final_state": value})
     return tuple(name for name, _ in reader.names(holder, "final_state"))
 
 
@@ -215,8 +215,7 @@ def _parse_final_pose(reader: SpecReader, value: Any, mark: Mark, ctx: SpecConte
 def _region_names(
     reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext, key: str
 ) -> tuple[str, ...]:
-    holder = YamlMap({key: value})
-    holder.mark, holder.key_marks, holder.value_marks = mark, {}, {key: mark}
+    holder = YamlMap.at(mark, {key: value})
     names = reader.names(holder, key)
     for name, where in names:
         for world in ctx.worlds:
@@ -297,14 +296,12 @@ def _parse_tones(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -
 
 
 def _frequency(reader: SpecReader, value: Any, mark: Mark) -> float:
-    holder = YamlMap({"frequency": value})
-    holder.mark, holder.key_marks, holder.value_marks = mark, {}, {"frequency": mark}
+    holder = YamlMap.at(mark, {"frequency": value})
     return reader.positive(holder, "frequency", "frequency", "Hz")
 
 
 def _parse_max_duration(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -> float:
-    holder = YamlMap({"max_duration": value})
-    holder.mark, holder.key_marks, holder.value_marks = mark, {}, {"max_duration": mark}
+    holder = YamlMap.at(mark, {"max_duration": value})
     return reader.positive(holder, "max_duration", "time", "s")
 
 

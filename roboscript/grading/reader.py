@@ -7,26 +7,14 @@ list knows where its items were written; :class:`SpecReader` turns a wrong field
 
 from __future__ import annotations
 
-import difflib
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
-from roboscript.errors import SpecError
+from roboscript.errors import SpecError, did_you_mean
 from roboscript.mission.quantities import QuantityError, parse_quantity
 from roboscript.mission.source import Mark, YamlList, YamlMap
 
-__all__ = ["SpecReader", "did_you_mean"]
-
-
-def did_you_mean(word: str, choices: Iterable[str]) -> str | None:
-    """``"did you mean 'x'?"`` for the choice closest to ``word``, or ``None``."""
-    options = sorted(choices)
-    # A word cut short ("final_pose") means the choice it begins, before any look-alike.
-    started = [c for c in options if len(word) >= 3 and c.startswith(word)]
-    if started:
-        return f"did you mean '{min(started, key=len)}'?"
-    close = difflib.get_close_matches(word, options, n=1, cutoff=0.6)
-    return f"did you mean '{close[0]}'?" if close else None
+__all__ = ["SpecReader"]
 
 
 class SpecReader:

@@ -27,9 +27,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from roboscript.errors import SpecError
+from roboscript.errors import SpecError, did_you_mean
 from roboscript.grading.expectations import Expectation, SpecContext, parse_expectation
-from roboscript.grading.reader import SpecReader, did_you_mean
+from roboscript.grading.reader import SpecReader
 from roboscript.mission.source import Mark, YamlMap, load_yaml
 from roboscript.mission.spec import Location
 from roboscript.sim.world import World, builtin_worlds, load_world

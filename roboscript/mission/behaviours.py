@@ -17,7 +17,6 @@ action has, an ``update(ctx)``, parameters of known kinds that its ``__init__`` 
 
 from __future__ import annotations
 
-import difflib
 import inspect
 import re
 from collections.abc import Mapping
@@ -26,7 +25,7 @@ from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.actions import ACTIONS, Action, Param
-from roboscript.errors import InputError, MissionError
+from roboscript.errors import InputError, MissionError, did_you_mean
 from roboscript.mission.python_source import PythonSource
 from roboscript.mission.quantities import DIMENSIONS
 from roboscript.mission.spec import Location
@@ -40,11 +39,6 @@ _NAME = re.compile(r"^[a-z][a-z0-9_]*$")
 def _kinds() -> set[str]:
     """Parameter kinds a mission can convert: quantities, and those built-in actions use."""
     return {*DIMENSIONS, "text", "choice", *(p.kind for a in ACTIONS.values() for p in a.params)}
-
-
-def _suggest(word: str, choices: Any) -> str | None:
-    close = difflib.get_close_matches(word, sorted(choices), n=1, cutoff=0.5)
-    return f"did you mean '{close[0]}'?" if close else None
 
 
 def _error(message: str, where: Location, hint: str | None = None) -> MissionError:
@@ -167,7 +161,7 @@ def _check(
                 _error(
                     f"behaviour '{name}' parameter '{param.name}': unknown kind '{param.kind}'",
                     where,
-                    _suggest(param.kind, kinds) or f"kinds: {', '.join(sorted(kinds))}",
+                    did_you_mean(param.kind, kinds) or f"kinds: {', '.join(sorted(kinds))}",
                 )
             )
             ok = False
@@ -177,7 +171,7 @@ def _check(
                     f"behaviour '{name}' parameter '{param.name}' is passed as "
                     f"{param.kwarg}=..., which its __init__ does not take",
                     where,
-                    _suggest(param.kwarg, accepted),
+                    did_you_mean(param.kwarg, accepted),
                 )
             )
             ok = False
@@ -190,7 +184,7 @@ def _check(
             _error(
                 f"behaviour '{name}' requires '{entry}', which is not a capability",
                 where,
-                _suggest(entry, cap.CAPABILITY_NAMES)
+                did_you_mean(entry, cap.CAPABILITY_NAMES)
                 or f"capabilities: {', '.join(cap.CAPABILITY_NAMES)}",
             )
         )
@@ -263,7 +257,7 @@ def behaviours_from_yaml(
                 _error(
                     f"there is no behaviour file '{entry}' beside the mission",
                     here,
-                    _suggest(entry, nearby) if nearby else f"looked for {path}",
+                    did_you_mean(entry, nearby) if nearby else f"looked for {path}",
                 )
             )
             continue

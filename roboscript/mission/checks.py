@@ -127,7 +127,6 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                     "warning",
                 )
             )
-        action = state.action
         if action is not None and action.name in _CAN_FAIL and not state.on.get("failed"):
             problems.append(
                 _problem(
@@ -149,8 +148,7 @@ def check_capabilities(spec: MissionSpec, profile: object) -> list[InputError]:
     robot = getattr(profile, "name", "the robot")
     problems: list[InputError] = []
     for state in spec.states.values():
-        action = state.action
-        if action is not None:
+        for action in state.actions():
             for missing in sorted(action.requires - have):
                 problems.append(
                     _problem(

@@ -19,7 +19,6 @@ from __future__ import annotations
 import ast
 import contextlib
 import copy
-import difflib
 import functools
 import inspect
 import keyword as pykeyword
@@ -32,7 +31,7 @@ from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.actions.base import Action
-from roboscript.errors import InputError, LinkError, MissionError
+from roboscript.errors import InputError, LinkError, MissionError, did_you_mean
 from roboscript.mission.guards import GuardEnv, GuardError, compile_guard, guard_names
 from roboscript.mission.python_api import Mission, StateDef
 from roboscript.mission.python_source import PythonSource, item, keyword
@@ -164,12 +163,22 @@ def _walk_own(node: ast.AST) -> Iterator[ast.AST]:
 
 
 class _Compiler:
-    def __init__(self, cls: type[Mission], path: str | None) -> None:
+    def __init__(
+        self,
+        cls: type[Mission],
+        path: str | None,
+        *,
+        sources: dict[str, PythonSource] | None = None,
+        nested: dict[type[Mission], MissionSpec | None] | None = None,
+    ) -> None:
         self.cls = cls
         self.problems: list[InputError] = []
         self.file = _file_of(cls)
         self.shown = path or shown_path(self.file)
-        self._sources: dict[str, PythonSource] = {}
+        # Shared with nested compilers: each file is parsed once, and a Mission class nested
+        # in several states is compiled, checked and warned about once (None: it had errors).
+        self._sources: dict[str, PythonSource] = {} if sources is None else sources
+        self._nested: dict[type[Mission], MissionSpec | None] = {} if nested is None else nested
         self.source = self.source_of(self.file)
         self.states = mission_states(cls)
         first_line = next(
@@ -267,7 +276,7 @@ class _Compiler:
                 self.problem(
                     f"requires: unknown capability {entry!r}",
                     self.attribute_loc("requires"),
-                    _suggest(str(entry), cap.CAPABILITY_NAMES)
+                    did_you_mean(str(entry), cap.CAPABILITY_NAMES)
                     or f"capabilities: {', '.join(cap.CAPABILITY_NAMES)}",
                 )
         return frozenset(names)
@@ -454,12 +463,18 @@ class _Compiler:
                 f"state '{name}' nests its own mission", where, "nest another Mission class"
             )
             return None
-        inner = _Compiler(cls, None)
-        spec = inner.compile()
-        self.problems.extend(inner.problems)
-        if spec is None or any(p.severity == "error" for p in inner.problems):
+        if cls not in self._nested:
+            inner = _Compiler(cls, None, sources=self._sources, nested=self._nested)
+            spec = inner.compile()
+            self.problems.extend(inner.problems)
+            if spec is not None and any(p.severity == "error" for p in inner.problems):
+                spec = None
+            if spec is not None:
+                self.problems.extend(check_mission(spec))
+            self._nested[cls] = spec
+        spec = self._nested[cls]
+        if spec is None:
             return None
-        self.problems.extend(check_mission(spec))
         return ActionSpec(
             name="states",
             kwargs={"mission": spec.name, "states": tuple(spec.states)},
@@ -542,7 +557,7 @@ class _Compiler:
             self.problem(f"expected a state name, got {value!r}", where)
             return None
         if value not in self.names:
-            self.problem(f"there is no state '{value}'", where, _suggest(value, self.names))
+            self.problem(f"there is no state '{value}'", where, did_you_mean(value, self.names))
             return None
         return value
 
@@ -588,7 +603,7 @@ class _Compiler:
             self.problem(
                 f"{self.cls.__name__} has no method '{name}'",
                 where,
-                _suggest(name, methods)
+                did_you_mean(name, methods)
                 or f"define it: def {name}(self) -> bool: ... (return True or False)",
             )
             return None
@@ -606,7 +621,7 @@ class _Compiler:
                 self.problem(
                     f"visits('{state_name}'): there is no state '{state_name}'",
                     self.source_of(value.__code__.co_filename).loc(constant),
-                    _suggest(state_name, self.names),
+                    did_you_mean(state_name, self.names),
                 )
         if not scan.returns_value:
             self.problem(
@@ -716,11 +731,6 @@ def _shift(where: Location, node: ast.expr | None, raw: str, offset: int) -> Loc
         return where
     leading = len(raw) - len(raw.lstrip())
     return Location(where.path, where.line, where.col + 1 + leading + offset)
-
-
-def _suggest(word: str, choices: Any) -> str | None:
-    close = difflib.get_close_matches(word, sorted(choices), n=1, cutoff=0.5)
-    return f"did you mean '{close[0]}'?" if close else None
 
 
 def _kebab(name: str) -> str:

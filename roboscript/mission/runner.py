@@ -297,13 +297,12 @@ class MissionRunner(GuardEnv):
             outcome = "success" if state.final == "success" else "failure"
             self.finish(outcome, self._final_reason(outcome, name))
             return
-        timed_out = (
-            state.timeout_s is not None and now_s - self._state_start_s >= state.timeout_s - 1e-9
-        )
-        if timed_out:
+        if state.timeout_s is not None and self.ctx.has_passed(
+            self._state_start_s, state.timeout_s
+        ):
             self._cause = f"state '{name}' timed out after {state.timeout_s:g} s"
-        if timed_out and not self._fire("timeout"):
-            self.finish("failure", f"state '{name}' timed out after {state.timeout_s:g} s")
+            if not self._fire("timeout"):
+                self.finish("failure", self._cause)
 
     def _route(self, name: str, result: Result) -> bool:
         """Route an action's outcome; True if the mission moved on or ended."""

@@ -29,11 +29,21 @@ class YamlMap(dict[str, Any]):
         mark: Where the mapping starts.
         key_marks: Where each key was written.
         value_marks: Where each value starts.
+        quoted: Keys whose value was written in quotes.
     """
 
     mark: Mark
     key_marks: dict[str, Mark]
     value_marks: dict[str, Mark]
+    quoted: set[str]
+
+    @classmethod
+    def at(cls, mark: Mark, values: dict[str, Any] | None = None) -> YamlMap:
+        """A mapping that was not written as one (an absent value, a value given alone),
+        with every key and value placed at ``mark``."""
+        made = cls(values or {})
+        made.mark, made.key_marks, made.value_marks, made.quoted = mark, {}, {}, set()
+        return made
 
     def key_mark(self, key: str) -> Mark:
         """Where ``key`` was written (the mapping's start if it was not)."""
@@ -42,6 +52,11 @@ class YamlMap(dict[str, Any]):
     def value_mark(self, key: str) -> Mark:
         """Where the value of ``key`` starts (the mapping's start if absent)."""
         return self.value_marks.get(key, self.mark)
+
+    def text_mark(self, key: str, offset: int = 0) -> Mark:
+        """Where character ``offset`` of the value of ``key`` was written (inside its quotes)."""
+        line, col = self.value_mark(key)
+        return line, col + (1 if key in self.quoted else 0) + offset
 
 
 class YamlList(list[Any]):
@@ -66,6 +81,7 @@ class _Loader(yaml.SafeLoader):
         result.mark = _mark(node)
         result.key_marks = {}
         result.value_marks = {}
+        result.quoted = set()
         yield result
         self.flatten_mapping(node)
         for key_node, value_node in node.value:
@@ -88,6 +104,8 @@ class _Loader(yaml.SafeLoader):
             result[key] = self.construct_object(value_node, deep=True)
             result.key_marks[key] = _mark(key_node)
             result.value_marks[key] = _mark(value_node)
+            if isinstance(value_node, yaml.ScalarNode) and value_node.style in ("'", '"'):
+                result.quoted.add(key)
 
     def construct_yaml_seq_with_marks(self, node: yaml.SequenceNode) -> Iterator[YamlList]:
         result = YamlList()

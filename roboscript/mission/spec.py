@@ -108,6 +108,10 @@ class StateSpec:
     description: str = ""
     location: Location | None = None
 
+    def actions(self) -> list[ActionSpec]:
+        """The state's action, then its ``during`` actions."""
+        return ([] if self.action is None else [self.action]) + list(self.during)
+
     def targets(self) -> list[TransitionSpec]:
         """Every transition out of the state."""
         found = list(self.when)
@@ -144,10 +148,8 @@ class MissionSpec:
         """Every capability the mission's actions and guards need."""
         needed: set[str] = set()
         for state in self.states.values():
-            if state.action is not None:
-                needed |= state.action.requires
-            for extra in state.during:
-                needed |= extra.requires
+            for action in state.actions():
+                needed |= action.requires
             for transition in state.targets():
                 needed |= set(getattr(transition.guard, "capabilities", ()))
         return frozenset(needed)

@@ -19,7 +19,6 @@ Two kinds of trouble are reported here:
 from __future__ import annotations
 
 import builtins
-import difflib
 import hashlib
 import importlib.util
 import logging
@@ -27,12 +26,11 @@ import re
 import sys
 import sysconfig
 import traceback
-from collections.abc import Iterable
 from pathlib import Path
 from types import ModuleType, TracebackType
 from typing import Any
 
-from roboscript.errors import LinkError, MissionError, RoboscriptError
+from roboscript.errors import LinkError, MissionError, RoboscriptError, did_you_mean
 
 __all__ = [
     "StudentCodeError",
@@ -284,7 +282,7 @@ def _explain(
         if match:
             owner, func, keyword = match.groups()
             callee = owner if func == "__init__" and owner else func
-            return f"{callee}() has no parameter '{keyword}'", _suggest(
+            return f"{callee}() has no parameter '{keyword}'", did_you_mean(
                 keyword, _parameters(callee, module)
             )
         match = _MISSING_ARGUMENT.match(text)
@@ -297,12 +295,12 @@ def _explain(
         if name in _roboscript_names():
             return f"NameError: {text}", f"add 'from roboscript import {name}'"
         known = [*vars(module), *dir(builtins)]
-        return f"NameError: {text}", _suggest(name, [*known, *_roboscript_names()])
+        return f"NameError: {text}", did_you_mean(name, [*known, *_roboscript_names()])
     if isinstance(exc, ImportError):
         match = _CANNOT_IMPORT.match(text)
         if match and match.group(2) == "roboscript":
             name = match.group(1)
-            return f"roboscript has no '{name}' to import", _suggest(name, _roboscript_names())
+            return f"roboscript has no '{name}' to import", did_you_mean(name, _roboscript_names())
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__, None
 
 
@@ -328,8 +326,3 @@ def _parameters(callee: str, module: ModuleType) -> list[str]:
         return list(inspect.signature(target).parameters) if callable(target) else []
     except (TypeError, ValueError):
         return []
-
-
-def _suggest(word: str, choices: Iterable[str]) -> str | None:
-    close = difflib.get_close_matches(word, sorted(set(choices)), n=1, cutoff=0.6)
-    return f"did you mean '{close[0]}'?" if close else None

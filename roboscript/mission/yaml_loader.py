@@ -7,13 +7,12 @@ you mean" where one fits. All problems in a file are collected, so one run of
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from roboscript.actions import ACTIONS, Action, Param
-from roboscript.errors import InputError, MissionError
+from roboscript.errors import InputError, MissionError, did_you_mean
 from roboscript.mission.guards import GuardError, compile_guard
 from roboscript.mission.quantities import DIMENSIONS, QuantityError, parse_quantity
 from roboscript.mission.source import Mark, YamlList, YamlMap, load_yaml, load_yaml_text
@@ -55,11 +54,6 @@ class MissionProblemsError(MissionError):
         )
 
 
-def _suggest(word: str, choices: Any) -> str | None:
-    close = difflib.get_close_matches(word, sorted(choices), n=1, cutoff=0.5)
-    return f"did you mean '{close[0]}'?" if close else None
-
-
 def build_action(
     cls: type[Action],
     values: Mapping[str, Any],
@@ -82,7 +76,7 @@ def build_action(
     for name, value in values.items():
         param = params.get(name)
         if param is None:
-            hint = _suggest(name, params) or (
+            hint = did_you_mean(name, params) or (
                 f"'{cls.name}' takes {', '.join(params)}" if params else None
             )
             problems.append((name, f"'{cls.name}' has no parameter '{name}'", hint, None))
@@ -140,6 +134,9 @@ class _Reader:
         self.problems: list[InputError] = []
         self.actions: Mapping[str, type[Action]] = ACTIONS  # plus the mission's behaviours
         self.broken: frozenset[str] = frozenset()  # behaviours whose file has errors
+        # Mission files used as states, by resolved path (None: it had errors), so a file
+        # used by several states is read, checked and warned about once.
+        self.included: dict[str, MissionSpec | None] = {}
 
     def problem(
         self, message: str, mark: Mark | None, hint: str | None = None, severity: str = "error"
@@ -164,7 +161,7 @@ class _Reader:
             for key in data:
                 if key not in _TOP_KEYS:
                     self.problem(
-                        f"unknown key '{key}'", data.key_mark(key), _suggest(key, _TOP_KEYS)
+                        f"unknown key '{key}'", data.key_mark(key), did_you_mean(key, _TOP_KEYS)
                     )
         if inner_of is None and "behaviours" in data:
             from roboscript.mission.behaviours import behaviours_from_yaml
@@ -194,7 +191,7 @@ class _Reader:
             self.problem(
                 f"the initial state '{initial}' is not one of the states",
                 data.value_mark("initial"),
-                _suggest(str(initial), names),
+                did_you_mean(str(initial), names),
             )
         mission = inner_of or data.get("mission", Path(self.path).stem)
         hints: dict[str, str | None] = {}
@@ -220,8 +217,7 @@ class _Reader:
         self, name: str, raw: Any, mark: Mark, key_mark: Mark, names: frozenset[str]
     ) -> StateSpec | None:
         if raw is None:
-            raw = YamlMap()
-            raw.mark, raw.key_marks, raw.value_marks = mark, {}, {}
+            raw = YamlMap.at(mark)
         if not isinstance(raw, YamlMap):
             self.problem(f"state '{name}' must be a mapping (do:, on:, when:, final:)", mark)
             return None
@@ -230,7 +226,7 @@ class _Reader:
                 self.problem(
                     f"unknown key '{key}' in state '{name}'",
                     raw.key_mark(key),
-                    _suggest(key, _STATE_KEYS),
+                    did_you_mean(key, _STATE_KEYS),
                 )
         action = None
         if "do" in raw:
@@ -292,16 +288,14 @@ class _Reader:
         if isinstance(raw, YamlMap) and len(raw) == 1 and next(iter(raw)) in _COMPOSITES:
             return self.composite(raw, names, label)
         if isinstance(raw, str):
-            name, params, name_mark, params_mark = raw, YamlMap(), mark, mark
-            params.mark, params.key_marks, params.value_marks = mark, {}, {}
+            name, params, name_mark, params_mark = raw, YamlMap.at(mark), mark, mark
         elif isinstance(raw, YamlMap) and len(raw) == 1:
             name = next(iter(raw))
             name_mark = raw.key_mark(name)
             params_mark = raw.value_mark(name)
             params = raw[name]
             if params is None:
-                params = YamlMap()
-                params.mark, params.key_marks, params.value_marks = params_mark, {}, {}
+                params = YamlMap.at(params_mark)
             if not isinstance(params, YamlMap):
                 self.problem(
                     f"the parameters of '{name}' must be a mapping, e.g. {{{name}: {{...}}}}",
@@ -314,7 +308,9 @@ class _Reader:
         cls = self.actions.get(name)
         if cls is None:
             if name not in self.broken:  # else its behaviour file's errors say why
-                self.problem(f"unknown action '{name}'", name_mark, _suggest(name, self.actions))
+                self.problem(
+                    f"unknown action '{name}'", name_mark, did_you_mean(name, self.actions)
+                )
             return None
         kwargs, problems = build_action(cls, params, names)
         for param_name, message, hint, offset in problems:
@@ -322,8 +318,7 @@ class _Reader:
             if param_name in params and "has no parameter" in message:
                 where = params.key_mark(param_name)
             elif offset is not None:
-                line, col = where
-                where = (line, col + (1 if self._quoted(line, col) else 0) + offset)
+                where = params.text_mark(param_name, offset)
             self.problem(message, where, hint)
         if problems:
             return None
@@ -420,10 +415,10 @@ class _Reader:
                 self.problem(
                     f"unknown key '{key}' in the inner states of '{label}'",
                     raw.key_mark(key),
-                    _suggest(key, ("states", "initial", "description")),
+                    did_you_mean(key, ("states", "initial", "description")),
                 )
         inner = _Reader(self.path)
-        inner.actions, inner.broken = self.actions, self.broken
+        inner.actions, inner.broken, inner.included = self.actions, self.broken, self.included
         spec = inner.read(raw, inner_of=label)
         if spec is not None and not any(p.severity == "error" for p in inner.problems):
             from roboscript.mission.checks import check_mission
@@ -442,13 +437,18 @@ class _Reader:
         if str(path) in _LOADING:
             self.problem(f"'{value}' includes itself (directly or through another file)", mark)
             return None
-        try:
-            spec, warnings = load_yaml_mission(path)
-        except MissionError as exc:
-            self.problems.extend(getattr(exc, "problems", [exc]))
-            return None
-        self.problems.extend(warnings)
-        return self._machine_action(spec, label, mark)
+        if str(path) in self.included:
+            spec = self.included[str(path)]
+        else:
+            try:
+                spec, warnings = load_yaml_mission(path)
+            except MissionError as exc:
+                self.problems.extend(getattr(exc, "problems", [exc]))
+                spec = None
+            else:
+                self.problems.extend(warnings)
+            self.included[str(path)] = spec
+        return None if spec is None else self._machine_action(spec, label, mark)
 
     def _machine_action(self, spec: MissionSpec, label: str, mark: Mark) -> ActionSpec:
         from roboscript.mission.nested import SubMission
@@ -469,7 +469,7 @@ class _Reader:
             self.problem(f"expected a state name, got {value!r}", mark)
             return None
         if value not in names:
-            self.problem(f"there is no state '{value}'", mark, _suggest(value, names))
+            self.problem(f"there is no state '{value}'", mark, did_you_mean(value, names))
             return None
         return value
 
@@ -485,7 +485,7 @@ class _Reader:
         for key in item:
             if key not in ("if", "goto"):
                 self.problem(
-                    f"unknown key '{key}'", item.key_mark(key), _suggest(key, ("if", "goto"))
+                    f"unknown key '{key}'", item.key_mark(key), did_you_mean(key, ("if", "goto"))
                 )
         if "goto" not in item:
             self.problem("this choice needs 'goto: STATE'", item.mark)
@@ -505,9 +505,7 @@ class _Reader:
             try:
                 guard = compile_guard(text, names)
             except GuardError as exc:
-                line, col = item.value_mark("if")
-                quoted = 1 if self._quoted(line, col) else 0
-                self.problem(str(exc), (line, col + quoted + exc.offset), exc.hint)
+                self.problem(str(exc), item.text_mark("if", exc.offset), exc.hint)
                 return None
         elif need_if:
             self.problem("each 'when' entry needs 'if: CONDITION'", item.mark)
@@ -515,13 +513,6 @@ class _Reader:
         if target is None:
             return None
         return TransitionSpec(target, guard, text, self.loc(item.mark))
-
-    def _quoted(self, line: int, col: int) -> bool:
-        try:
-            text = Path(self.path).read_text(encoding="utf-8").splitlines()[line - 1]
-        except (OSError, IndexError):
-            return False
-        return col - 1 < len(text) and text[col - 1] in "\"'"
 
     def on(
         self, raw: Any, mark: Mark, names: frozenset[str]
@@ -537,7 +528,7 @@ class _Reader:
                 self.problem(
                     f"unknown outcome '{outcome}' (outcomes: {', '.join(OUTCOMES)})",
                     raw.key_mark(outcome),
-                    _suggest(outcome, OUTCOMES),
+                    did_you_mean(outcome, OUTCOMES),
                 )
                 continue
             vmark = raw.value_mark(outcome)

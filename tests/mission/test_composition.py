@@ -128,3 +128,23 @@ def test_graph_prints_dot_with_nested_clusters(write_mission: Callable[..., Path
     assert result.stdout.startswith('digraph "nested" {')
     assert "subgraph cluster_patrol {" in result.stdout
     assert 'patrol__out -> patrol__back [label="done"];' in result.stdout
+
+
+def test_a_mission_file_used_by_two_states_is_warned_about_once(
+    write_mission: Callable[..., Path],
+) -> None:
+    write_mission(
+        "states:\n  hop:\n    do: {drive: {distance: 10 cm}}\n    on: {done: ok}\n"
+        "  ok: {final: success}\n",
+        name="hop.yaml",
+    )
+    outer = write_mission(
+        "states:\n  one:\n    do: {mission: hop.yaml}\n    on: {done: two, failed: end}\n"
+        "  two:\n    do: {mission: hop.yaml}\n    on: {done: end, failed: end}\n"
+        "  end: {final: success}\n",
+        name="outer.yaml",
+    )
+    result = run_cli("check", str(outer))
+    assert result.returncode == 0, result.stderr
+    warnings = [line for line in result.stderr.splitlines() if "warning:" in line]
+    assert len(warnings) == 1 and "hop.yaml:3:10: warning" in warnings[0], result.stderr

@@ -58,3 +58,25 @@ def test_children_of_a_parallel_count_in_the_capability_check(
     result = run_cli("check", str(write_mission(NESTED, name="twice.py")), "--robot", "plen2")
     assert result.returncode == 2
     assert "needs drive_base" in result.stderr and "plen2 does not have" in result.stderr
+
+
+def test_a_mission_class_nested_in_two_states_is_warned_about_once(
+    write_mission: Callable[..., Path],
+) -> None:
+    text = """from roboscript import Drive, Mission, state
+
+
+class Hop(Mission):
+    hop = state(Drive(distance_mm=100), initial=True, on_done="ok")
+    ok = state(final="success")
+
+
+class Twice(Mission):
+    one = state(Hop, initial=True, on_done="two", on_failed="end")
+    two = state(Hop, on_done="end", on_failed="end")
+    end = state(final="success")
+"""
+    result = run_cli("check", str(write_mission(text, name="twice.py")))
+    assert result.returncode == 0, result.stderr
+    warnings = [line for line in result.stderr.splitlines() if "warning:" in line]
+    assert len(warnings) == 1 and "'drive' fails" in warnings[0], result.stderr

@@ -210,6 +210,22 @@ def test_follow_line_on_a_robot_without_line_sensors_is_refused(
     ]
 
 
+def test_a_during_action_the_robot_cannot_serve_is_refused_at_load_time(
+    write_mission: Callable[..., Path],
+) -> None:
+    from dataclasses import replace
+
+    no_speaker = replace(get_profile("mirto"), name="quiet", capabilities=frozenset({"drive_base"}))
+    text = GOOD.replace(
+        "    on: {done: end, failed: end}",
+        "    during: [{play_tone: {frequency: 440 Hz, duration: 1 s}}]\n"
+        "    on: {done: end, failed: end}",
+    )
+    assert problems(write_mission(text), no_speaker) == [
+        ("M:6:15: error: 'play_tone' needs speaker (a tone generator), which quiet does not have")
+    ]
+
+
 def test_robot_without_a_capability_is_named(write_mission: Callable[..., Path]) -> None:
     from dataclasses import replace
 
