@@ -252,3 +252,21 @@ def test_file_that_is_not_yaml_mission(tmp_path: Path) -> None:
 def test_missing_file_is_a_mission_error(tmp_path: Path) -> None:
     with pytest.raises(MissionError, match="cannot read the file"):
         load_mission(tmp_path / "none.yaml")
+
+
+def test_a_condition_error_has_the_same_column_from_text_as_from_a_file(
+    write_mission: Callable[..., Path],
+) -> None:
+    from roboscript.mission.yaml_loader import parse_yaml_mission
+
+    text = GOOD.replace(
+        "    on: {done: end, failed: end}",
+        '    on: {done: end, failed: end}\n    when: [{if: "range.distance_cm < = 20", goto: end}]',
+    )
+    with pytest.raises(MissionError) as from_text:
+        parse_yaml_mission(text, "typed-in.yaml")  # no such file: the text is all there is
+    with pytest.raises(MissionError) as from_file:
+        load_mission(write_mission(text))
+    # col 17 is the opening quote; the second '=' the compiler stumbles on is col 38.
+    for error in (from_text.value, from_file.value):
+        assert ":7:38: error: cannot read the condition" in str(error)
