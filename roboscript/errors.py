@@ -36,6 +36,7 @@ import difflib
 from collections.abc import Iterable
 
 __all__ = [
+    "FAULT_SAMPLE_BYTES",
     "CapabilityError",
     "DeviceError",
     "InputError",
@@ -52,6 +53,9 @@ __all__ = [
     "WorldError",
     "did_you_mean",
 ]
+
+FAULT_SAMPLE_BYTES = 64
+"""How many of a bad frame's bytes a :class:`RemoteProtocolError` keeps, for the log."""
 
 
 def did_you_mean(word: str, choices: Iterable[str], *, cutoff: float = 0.5) -> str | None:
@@ -165,12 +169,14 @@ class RemoteProtocolError(ProtocolError):
     Attributes:
         kind: A short, stable name for the fault (``"bad_checksum"``, ``"overlong"``, ...),
             used to count faults and log each kind once.
-        data: The offending bytes (possibly truncated).
+        data: The offending bytes, at most the first :data:`FAULT_SAMPLE_BYTES` of them.
     """
 
-    def __init__(self, message: str, *, kind: str = "malformed", data: bytes = b"") -> None:
+    def __init__(
+        self, message: str, *, kind: str = "malformed", data: bytes | bytearray | memoryview = b""
+    ) -> None:
         self.kind = kind
-        self.data = data
+        self.data = bytes(data[:FAULT_SAMPLE_BYTES])
         super().__init__(message)
 
 

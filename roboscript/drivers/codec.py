@@ -25,7 +25,7 @@ from typing import Protocol, TypeVar
 
 from roboscript.errors import RemoteProtocolError
 
-__all__ = ["Codec", "CodecStats", "Role", "drain"]
+__all__ = ["Codec", "CodecStats", "Role", "drain", "readable"]
 
 M_co = TypeVar("M_co", covariant=True)
 
@@ -93,3 +93,14 @@ def drain(codec: Codec[M_co]) -> Iterator[M_co | RemoteProtocolError]:
         if message is None:
             return
         yield message
+
+
+def readable(codec: Codec[M_co]) -> Iterator[M_co]:
+    """Yield every complete message in ``codec``, skipping bad frames.
+
+    For simulated devices: firmware drops what it cannot read without a word, and the codec
+    has already counted it in :attr:`Codec.stats`.
+    """
+    for message in drain(codec):
+        if not isinstance(message, RemoteProtocolError):
+            yield message

@@ -26,7 +26,7 @@ from collections.abc import Callable, Iterable
 
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.codec import CodecStats, Role
-from roboscript.errors import LocalProtocolError, RemoteProtocolError
+from roboscript.errors import FAULT_SAMPLE_BYTES, LocalProtocolError, RemoteProtocolError
 
 __all__ = ["DEFAULT_SERVICES", "AsipCodec"]
 
@@ -242,7 +242,7 @@ class AsipCodec:
             if len(line) > self._max_line:
                 self.stats.fault("overlong", len(line) + 1)
                 raise RemoteProtocolError(
-                    f"line longer than {self._max_line} bytes", kind="overlong", data=line[:64]
+                    f"line longer than {self._max_line} bytes", kind="overlong", data=line
                 )
             if line.endswith(b"\r"):
                 line = line.rstrip(b"\r")
@@ -264,7 +264,7 @@ class AsipCodec:
 
     def _bad(self, line: bytes, why: str, kind: str = "malformed") -> RemoteProtocolError:
         self.stats.fault(kind, len(line) + 1)
-        return RemoteProtocolError(f"{why}: {line[:64]!r}", kind=kind, data=line[:64])
+        return RemoteProtocolError(f"{why}: {line[:FAULT_SAMPLE_BYTES]!r}", kind=kind, data=line)
 
     def _decode_line(self, line: bytes) -> m.AsipMessage:
         # All in C: isascii() and isprintable() pass a normal line without copying it; only a

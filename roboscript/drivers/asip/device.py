@@ -24,8 +24,7 @@ from dataclasses import dataclass, field
 
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.codec import Role
-from roboscript.errors import RemoteProtocolError
+from roboscript.drivers.codec import Role, readable
 from roboscript.sim.body import Body
 
 __all__ = ["BoardConfig", "MirtoBoard"]
@@ -225,13 +224,8 @@ class MirtoBoard:
         self._send(m.ErrorReply(service, tag, int(code)))
 
     def _process(self, now_s: float) -> None:
-        while True:
-            try:
-                message = self.codec.next_message()
-            except RemoteProtocolError:
-                continue  # the firmware drops what it cannot parse, silently
-            if message is None:
-                return
+        # The firmware drops what it cannot parse, silently.
+        for message in readable(self.codec):
             self._handle(message, now_s)
 
     def _set_pwm(self, index: int, pwm: int) -> None:

@@ -92,7 +92,7 @@ from roboscript.drivers.plen.messages import (
     VersionReply,
     joint_id,
 )
-from roboscript.errors import LocalProtocolError, RemoteProtocolError
+from roboscript.errors import FAULT_SAMPLE_BYTES, LocalProtocolError, RemoteProtocolError
 
 __all__ = [
     "DEFAULT_MAX_REPLY_BYTES",
@@ -110,7 +110,6 @@ DEFAULT_MAX_REPLY_BYTES = 65536
 _MAX_DEPTH = 16
 """Deepest bracket nesting accepted in a reply (a ``<MO`` dump nests 5 deep)."""
 
-_FAULT_DATA_LIMIT = 256
 """Most bytes kept in :attr:`RemoteProtocolError.data`."""
 
 _EOL = "\r\n"
@@ -835,11 +834,11 @@ class PlenCodec:
 
     def _fault(self, kind: str, message: str, data: bytes, dropped: int) -> NoReturn:
         self.stats.fault(kind, dropped)
-        raise RemoteProtocolError(message, kind=kind, data=bytes(data[:_FAULT_DATA_LIMIT]))
+        raise RemoteProtocolError(message, kind=kind, data=data)
 
     def _take_junk(self, count: int) -> None:
         """Discard ``count`` garbage bytes from the front of the buffer into the pending run."""
-        room = _FAULT_DATA_LIMIT - len(self._junk_sample)
+        room = FAULT_SAMPLE_BYTES - len(self._junk_sample)
         if room > 0:
             self._junk_sample += self._buffer[: min(room, count)]
         self._junk_count += count

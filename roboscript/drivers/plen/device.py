@@ -43,11 +43,11 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass, replace
+from typing import cast
 
-from roboscript.drivers.codec import Role
+from roboscript.drivers.codec import Role, readable
 from roboscript.drivers.plen import messages as m
 from roboscript.drivers.plen.codec import PlenCodec
-from roboscript.errors import RemoteProtocolError
 from roboscript.sim.body import Body
 
 __all__ = ["HIP_WIDTH_MM", "LEG_SEGMENT_MM", "UPDATE_INTERVAL_S", "Plen2Board"]
@@ -134,14 +134,9 @@ class Plen2Board:
     def receive(self, data: bytes, now_s: float) -> None:
         """Parse and act on command bytes."""
         self.codec.receive_data(data)
-        while True:
-            try:
-                message = self.codec.next_message()
-            except RemoteProtocolError:
-                continue  # the firmware resets its parser silently
-            if message is None:
-                return
-            self._handle(message)
+        for message in readable(self.codec):  # the firmware resets its parser silently
+            # mypy widens PlenMessage's long union to object through the generic.
+            self._handle(cast(m.PlenMessage, message))
 
     def step(self, now_s: float) -> None:
         """Run the 32 ms updates due by ``now_s``."""

@@ -57,7 +57,6 @@ _CODE_OFFSET: Final = 2
 _FIRST_CODE: Final = 3
 _XOR_TABLE: Final = bytes(value ^ XOR_MASK for value in range(256))
 _ESCAPED: Final = re.compile(rb"[\x00-\x02]")
-_SAMPLE_BYTES: Final = 64
 # code word -> (data bytes in its block, delimiter after the block or -1 for none)
 _BLOCKS: Final = tuple(
     (MAX_BLOCK_SIZE, -1)
@@ -70,7 +69,7 @@ _BLOCKS: Final = tuple(
 
 
 def _bad(message: str, data: bytes) -> RemoteProtocolError:
-    return RemoteProtocolError(message, kind="bad_cobs", data=bytes(data[:_SAMPLE_BYTES]))
+    return RemoteProtocolError(message, kind="bad_cobs", data=data)
 
 
 def encode(data: bytes) -> bytes:

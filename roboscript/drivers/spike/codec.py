@@ -38,7 +38,7 @@ from typing import Final, NoReturn
 from roboscript.drivers.codec import CodecStats, Role
 from roboscript.drivers.spike import cobs
 from roboscript.drivers.spike.messages import MESSAGE_TYPES, Message, MessageKind
-from roboscript.errors import LocalProtocolError, RemoteProtocolError
+from roboscript.errors import FAULT_SAMPLE_BYTES, LocalProtocolError, RemoteProtocolError
 
 __all__ = ["MIN_FRAME_BYTES", "SpikeCodec"]
 
@@ -46,7 +46,6 @@ MIN_FRAME_BYTES: Final = 3
 """The smallest ``max_frame_bytes`` a codec accepts (an InfoRequest frame is 3 bytes)."""
 
 _DELIMITERS: Final = re.compile(rb"[\x01\x02]")
-_SAMPLE_BYTES: Final = 64
 
 _SENDS: Final[dict[Role, frozenset[MessageKind]]] = {
     Role.HOST: frozenset({MessageKind.REQUEST, MessageKind.TUNNEL}),
@@ -183,7 +182,9 @@ class SpikeCodec:
             queue += data[start:end]
             return
         # The body alone already reaches max_frame_bytes; with its 0x02 it would exceed it.
-        sample = bytes(queue[:_SAMPLE_BYTES]) or bytes(data[start : start + _SAMPLE_BYTES])
+        sample = bytes(queue[:FAULT_SAMPLE_BYTES]) or bytes(
+            data[start : start + FAULT_SAMPLE_BYTES]
+        )
         dropped = len(queue) + count + (1 if high else 0)
         queue.clear()
         if high:
@@ -197,7 +198,7 @@ class SpikeCodec:
         if not self._high_active:
             self._high_active = True
             return
-        sample = bytes(self._high[:_SAMPLE_BYTES])
+        sample = bytes(self._high[:FAULT_SAMPLE_BYTES])
         dropped = len(self._high) + len(self._low) + (0 if self._high_skip else 1)
         self._high.clear()
         self._low.clear()
@@ -251,4 +252,4 @@ class SpikeCodec:
 
     def _fault(self, kind: str, dropped: int, data: bytes, text: str) -> NoReturn:
         self.stats.fault(kind, dropped)
-        raise RemoteProtocolError(text, kind=kind, data=bytes(data[:_SAMPLE_BYTES]))
+        raise RemoteProtocolError(text, kind=kind, data=data)

@@ -31,7 +31,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from roboscript.drivers.codec import Role
+from roboscript.drivers.codec import Role, readable
 from roboscript.drivers.spike import messages as m
 from roboscript.drivers.spike import tunnel as t
 from roboscript.drivers.spike.codec import SpikeCodec
@@ -172,13 +172,7 @@ class SpikeHub:
     def receive(self, data: bytes, now_s: float) -> None:
         """Decode requests and answer them."""
         self.codec.receive_data(data)
-        while True:
-            try:
-                message = self.codec.next_message()
-            except RemoteProtocolError:
-                continue  # the firmware drops what it cannot read
-            if message is None:
-                return
+        for message in readable(self.codec):  # the firmware drops what it cannot read
             self._handle(message, now_s)
 
     def step(self, now_s: float) -> None:

@@ -117,7 +117,6 @@ class SpikeDriver(Driver):
         self.hub_agent_version: str | None = None
         self.uploaded = False
         self.console: deque[str] = deque(maxlen=_CONSOLE_LINES)
-        self.refusals: deque[t.Refused] = deque(maxlen=_CONSOLE_LINES)
         self.move_results: dict[int, t.MoveStatus] = {}
         self._phase = "info"
         self._now_s = 0.0
@@ -413,13 +412,12 @@ class SpikeDriver(Driver):
         elif isinstance(record, t.MoveDone):
             self.move_results[record.seq] = record.status
         elif isinstance(record, t.Refused):
-            self.refusals.append(record)
             name = t.COMMAND_TYPES.get(record.refused_op)
-            logger.warning(
-                "the agent on the hub refused %s: %s",
-                name.__name__ if name else f"op 0x{record.refused_op:02x}",
-                record.reason.name.lower().replace("_", " "),
-            )
+            what = name.__name__ if name else f"op 0x{record.refused_op:02x}"
+            why = record.reason.name.lower().replace("_", " ")
+            # The runner fails the running action with this sentence, as for an ASIP board.
+            self.device_errors.append(f"the agent on the hub refused {what}: {why}")
+            logger.warning("the agent on the hub refused %s: %s", what, why)
 
     def _program_stopped(self) -> None:
         was_running = self._agent_running

@@ -98,7 +98,6 @@ SHA_BYTES: Final = 20
 UUID_BYTES: Final = 16
 """Length of the device UUID."""
 
-_SAMPLE_BYTES: Final = 64
 _TEXT_ENCODING: Final = "utf-8"
 _TEXT_ERRORS: Final = "surrogateescape"
 
@@ -511,7 +510,7 @@ def _layout(cls: type[_Record]) -> _Layout:
 
 
 def _remote(kind: str, message: str, data: bytes) -> RemoteProtocolError:
-    return RemoteProtocolError(message, kind=kind, data=bytes(data[:_SAMPLE_BYTES]))
+    return RemoteProtocolError(message, kind=kind, data=data)
 
 
 def _string_to_wire(spec: _Spec, value: str) -> bytes:

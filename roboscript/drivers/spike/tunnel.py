@@ -106,7 +106,6 @@ MAX_DUTY: Final = 10000
 _HEADER: Final = 2
 _AGENT_VERSION: Final = re.compile(rb'^AGENT_VERSION = "([^"\r\n]{1,64})"', re.MULTILINE)
 _REPLY_BASE: Final = 0x80
-_SAMPLE_BYTES: Final = 64
 
 
 class MoveStatus(enum.IntEnum):
@@ -199,7 +198,7 @@ class Record:
 
 
 def _remote(kind: str, message: str, data: bytes) -> RemoteProtocolError:
-    return RemoteProtocolError(message, kind=kind, data=bytes(data[:_SAMPLE_BYTES]))
+    return RemoteProtocolError(message, kind=kind, data=data)
 
 
 def _port_problem(*ports: int) -> str | None:

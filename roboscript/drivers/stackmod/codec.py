@@ -100,7 +100,7 @@ from roboscript.drivers.stackmod.messages import (
     Message,
     Set,
 )
-from roboscript.errors import LocalProtocolError, RemoteProtocolError
+from roboscript.errors import FAULT_SAMPLE_BYTES, LocalProtocolError, RemoteProtocolError
 
 __all__ = [
     "CHECKSUM_RULES",
@@ -121,7 +121,6 @@ _GET = 0x3F  # "?"
 _SET = 0x24  # "$"
 _ACTIONS = frozenset({_GET, _SET})
 _DATA_CHARS = frozenset(b"0123456789+-")
-_FAULT_DATA_LIMIT = 64
 """At most this many offending bytes are kept in a RemoteProtocolError's ``data``."""
 
 _WIDEST_DATA = max(f.selector_digits + f.value_width for f in FORMATS.values())
@@ -363,7 +362,7 @@ class StackModCodec:
         Raises:
             RemoteProtocolError: Always.
         """
-        data = bytes(self._buffer[: min(consume, _FAULT_DATA_LIMIT)])
+        data = bytes(self._buffer[: min(consume, FAULT_SAMPLE_BYTES)])
         del self._buffer[:consume]
         self._skipping = True
         self.stats.fault(kind, consume)

@@ -28,11 +28,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from roboscript.drivers.codec import Role
+from roboscript.drivers.codec import Role, readable
 from roboscript.drivers.stackmod.codec import StackModCodec
 from roboscript.drivers.stackmod.messages import ULT_NO_ECHO, Command, Get, Set
 from roboscript.drivers.stackmod.options import StackModOptions
-from roboscript.errors import RemoteProtocolError
 from roboscript.sim.body import Body
 
 __all__ = ["BATTERY_ADC", "SERVO_HOME_DEG", "StackModRover"]
@@ -89,13 +88,7 @@ class StackModRover:
         """Act on request bytes and queue the answers to GETs."""
         self._now_s = now_s
         self.codec.receive_data(data)
-        while True:
-            try:
-                message = self.codec.next_message()
-            except RemoteProtocolError:
-                continue  # a real module drops what it cannot read, silently
-            if message is None:
-                return
+        for message in readable(self.codec):  # a real module drops what it cannot read
             if isinstance(message, Set):
                 self._set(message)
             elif isinstance(message, Get):

@@ -408,8 +408,6 @@ class _Buzzer:
                 f"the buzzer has one pitch ({self.fixed_frequency_hz:g} Hz): "
                 "play_tone frequencies are ignored"
             )
-            if text not in self._driver.notices:
-                logger.warning("%s", text)
             self._driver.notice(text)
         self._driver.beep(max(0.0, duration_s))
 

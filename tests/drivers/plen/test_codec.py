@@ -44,7 +44,7 @@ from roboscript.drivers.plen.messages import (
     VersionReply,
     factory_joint_settings,
 )
-from roboscript.errors import LocalProtocolError, RemoteProtocolError
+from roboscript.errors import FAULT_SAMPLE_BYTES, LocalProtocolError, RemoteProtocolError
 
 ZEROS = (0,) * JOINT_COUNT
 
@@ -487,7 +487,7 @@ def test_overlong_reply_is_dropped_whole() -> None:
     for chunks in ([js + VERSION_WIRE], split(js + VERSION_WIRE, 5)):
         codec = PlenCodec(Role.HOST, max_reply_bytes=200)
         out = feed(codec, *chunks)
-        assert out[0] == ("overlong", js[:200])
+        assert out[0] == ("overlong", js[:FAULT_SAMPLE_BYTES])  # the error keeps the start
         assert out[1:] == [VersionReply()]
         assert codec.stats.faults == {"overlong": 1}
         assert codec.stats.dropped_bytes == len(js.rstrip())

@@ -374,3 +374,15 @@ def test_the_robot_has_every_capability_of_its_profile() -> None:
             (cap.COLOR, cap.ColorSensor),
         ]:
             assert isinstance(robot.capabilities[name], protocol), name
+
+
+def test_a_command_the_agent_refuses_fails_the_running_action_with_its_reason() -> None:
+    session = Session()
+    agent = session.hub._agent
+    assert agent is not None
+    agent.pair = None  # as if the agent had lost its motor configuration
+    session.driver.set_wheel_speeds(100.0, 100.0)
+    session.run(0.1)
+    assert session.driver.take_device_error() == (
+        "the agent on the hub refused Tank: not configured"
+    )

@@ -407,7 +407,7 @@ def test_servo_angles_go_to_servos_numbered_from_1(make_rig: Callable[..., Rig])
 
 
 def test_the_buzzer_sounds_for_the_duration_at_its_one_pitch(
-    make_rig: Callable[..., Rig],
+    make_rig: Callable[..., Rig], caplog: pytest.LogCaptureFixture
 ) -> None:
     rig = make_rig()
     rig.connect()
@@ -420,6 +420,7 @@ def test_the_buzzer_sounds_for_the_duration_at_its_one_pitch(
     assert buzzer[1][0] - buzzer[0][0] == pytest.approx(0.2)
     speaker.beep(440.0, 0.1)
     assert sum("one pitch" in notice for notice in rig.driver.notices) == 1
+    assert sum("one pitch" in record.message for record in caplog.records) == 1  # said once
 
 
 def test_stop_all_silences_the_buzzer(make_rig: Callable[..., Rig]) -> None:
