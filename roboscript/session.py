@@ -43,6 +43,31 @@ class Session:
         """The in-process simulation, or ``None`` for a robot reached on a port."""
         return self.robot.simulation
 
+    def mission_time_s(self, sim_time_s: float) -> float:
+        """A simulator time on the mission clock (0 when the mission started), to the ms."""
+        return round(sim_time_s - self.start_time_s, 3)
+
+    def mission_path(self) -> list[tuple[float, float, float, float]]:
+        """The simulator's path samples from the mission's start: ``(t s, x mm, y mm, deg)``.
+
+        ``run --json`` and the grader both report these, so a graded run is the same run.
+        """
+        start_s = self.start_time_s - 1e-9
+        return [
+            (self.mission_time_s(t), x, y, h)
+            for t, x, y, h in self.simulation.log.path
+            if t >= start_s
+        ]
+
+    def mission_tones(self) -> list[tuple[float, float, float]]:
+        """The tones the simulator heard: ``(t s on the mission clock, Hz, duration s)``."""
+        return [(self.mission_time_s(t), f, round(d, 3)) for t, f, d in self.simulation.log.tones]
+
+    def final_pose(self) -> tuple[float, float, float]:
+        """The simulated body's pose at the end: ``(x mm, y mm, heading deg)``, rounded."""
+        body = self.simulation.body
+        return round(body.x_mm, 1), round(body.y_mm, 1), round(body.heading_deg, 1)
+
 
 def run_session(
     spec: MissionSpec,
@@ -139,25 +164,17 @@ def session_summary(session: Session) -> dict[str, Any]:
     }
     sim = session.simulation
     if sim is not None:
-        start_s = session.start_time_s
-        body = sim.body
-        log = sim.log
+        x_mm, y_mm, heading_deg = session.final_pose()
         summary["sim"] = {
             "seed": sim.seed,
             "world": sim.world.name,
-            "final_pose": {
-                "x_mm": round(body.x_mm, 1),
-                "y_mm": round(body.y_mm, 1),
-                "heading_deg": round(body.heading_deg, 1),
-            },
-            "distance_travelled_mm": round(log.distance_travelled_mm, 1),
-            "collisions": len(log.collisions),
+            "final_pose": {"x_mm": x_mm, "y_mm": y_mm, "heading_deg": heading_deg},
+            "distance_travelled_mm": round(sim.log.distance_travelled_mm, 1),
+            "collisions": len(sim.log.contacts),
             "tones": [
-                {"t_s": round(t - start_s, 3), "frequency_hz": f, "duration_s": round(d, 3)}
-                for t, f, d in log.tones
+                {"t_s": t, "frequency_hz": f, "duration_s": d}
+                for t, f, d in session.mission_tones()
             ],
-            "path": [
-                [round(t - start_s, 3), x, y, h] for t, x, y, h in log.path if t >= start_s - 1e-9
-            ],
+            "path": [list(sample) for sample in session.mission_path()],
         }
     return summary

@@ -29,8 +29,8 @@ from pathlib import Path
 from roboscript.errors import InputError
 from roboscript.grading.pool import RunTask, run_tasks
 from roboscript.grading.record import RunResult, Verdict
-from roboscript.grading.spec import TestSpec, is_test_spec, load_test_spec
-from roboscript.sim.world import World, load_world
+from roboscript.grading.spec import TestSpec, Variant, is_test_spec, load_test_spec
+from roboscript.sim.world import World
 
 __all__ = [
     "Cell",
@@ -288,7 +288,7 @@ def grade_class(
         The report; its results are in a fixed order (test, student, variant) whatever
         ``jobs`` is.
     """
-    worlds = {v.world: load_world(v.world) for spec in specs for v in spec.variants}
+    worlds = {name: world for spec in specs for name, world in spec.worlds.items()}
     tasks: list[RunTask] = []
     slots: list[RunResult | int] = []  # a missing submission's result, or its task's index
     for spec in specs:
@@ -296,33 +296,21 @@ def grade_class(
             mission = mission_for_test(submission, spec)
             for variant in spec.variants:
                 if mission is None:
-                    slots.append(_missing(spec, submission, variant.index, variant.label))
+                    slots.append(_missing(spec, submission, variant))
                     continue
                 slots.append(len(tasks))
                 tasks.append(RunTask(spec, mission, variant, submission.student))
     done = run_tasks(tasks, jobs, on_result)
     results = [slot if isinstance(slot, RunResult) else done[slot] for slot in slots]
-    # Records came through a pipe as data: give them back their worlds for the reports.
-    attached = []
-    for result in results:
-        spec = next(s for s in specs if s.name == result.test)
-        world = worlds[spec.variants[result.variant].world]
-        if result.record is not None and result.record.world is None:
-            from dataclasses import replace
-
-            result = replace(result, record=replace(result.record, world=world))
-        attached.append(result)
-    return ClassReport(list(specs), list(submissions), attached, worlds)
+    # Records come back through a pipe without their worlds; reports find them in `worlds`.
+    return ClassReport(list(specs), list(submissions), results, worlds)
 
 
-def _missing(spec: TestSpec, submission: Submission, index: int, label: str) -> RunResult:
+def _missing(spec: TestSpec, submission: Submission, variant: Variant) -> RunResult:
     names = ", ".join(Path(m).name for m in submission.missions)
-    return RunResult(
+    return spec.result(
+        variant,
         student=submission.student,
-        test=spec.name,
-        variant=index,
-        label=label,
-        seed=spec.variants[index].seed,
         mission="",
         status="missing",
         message=(

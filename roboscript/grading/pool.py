@@ -191,12 +191,9 @@ def _collect(run: _Running, ready: set[Any]) -> RunResult | None:
 
 def _failed(run: _Running, status: str, message: str, debug: str, wall: float) -> RunResult:
     task = run.task
-    return RunResult(
+    return task.spec.result(
+        task.variant,
         student=task.student,
-        test=task.spec.name,
-        variant=task.variant.index,
-        label=task.variant.label,
-        seed=task.variant.seed,
         mission=task.mission,
         status=status,
         message=message,
@@ -222,12 +219,9 @@ def crash_result(task: RunTask, exc: BaseException) -> dict[str, Any]:
     if frames:
         where = f" ({os.path.basename(frames[-1].filename)}:{frames[-1].lineno})"
     text = str(exc).splitlines()[0] if str(exc) else ""
-    return RunResult(
+    return task.spec.result(
+        task.variant,
         student=task.student,
-        test=task.spec.name,
-        variant=task.variant.index,
-        label=task.variant.label,
-        seed=task.variant.seed,
         mission=task.mission,
         status="crashed",
         message=f"the run crashed: {type(exc).__name__}{': ' + text if text else ''}{where}",

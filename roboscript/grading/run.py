@@ -16,7 +16,6 @@ from roboscript.grading.expectations import evaluate
 from roboscript.grading.record import Collision, RunRecord, RunResult, Tone, Verdict
 from roboscript.grading.spec import TestSpec, Variant
 from roboscript.session import Session, run_session
-from roboscript.sim.world import World, load_world
 
 __all__ = ["grade_run", "record_from_session", "run_message", "run_score"]
 
@@ -40,16 +39,7 @@ def grade_run(spec: TestSpec, mission_path: str, variant: Variant, student: str 
     from roboscript.mission import mission_for_robot
 
     started = time.perf_counter()
-    base = RunResult(
-        student=student,
-        test=spec.name,
-        variant=variant.index,
-        label=variant.label,
-        seed=variant.seed,
-        mission=mission_path,
-        status="invalid",
-    )
-    world = load_world(variant.world)
+    base = spec.result(variant, student=student, mission=mission_path, status="invalid")
     try:
         mission, profile, _warnings = mission_for_robot(mission_path, spec.robot)
     except InputError as exc:
@@ -72,7 +62,7 @@ def grade_run(spec: TestSpec, mission_path: str, variant: Variant, student: str 
         )
     except CapabilityError as exc:
         return _finish(base, started, message=f"the mission does not fit the robot: {exc}")
-    record = record_from_session(session, world)
+    record = record_from_session(session)
     verdicts = tuple(evaluate(expectation, record) for expectation in spec.expectations)
     passed = all(v.passed for v in verdicts)
     return _finish(
@@ -113,38 +103,32 @@ def run_message(verdicts: tuple[Verdict, ...]) -> str:
     return text
 
 
-def record_from_session(session: Session, world: World) -> RunRecord:
+def record_from_session(session: Session) -> RunRecord:
     """What a finished simulated run did, on the mission clock."""
     sim = session.simulation
     if sim is None:
         raise ValueError("only simulated runs can be graded")
     result = session.result
-    start_s = session.start_time_s
-    log = sim.log
     body = sim.body
-
-    def clock(t: float) -> float:
-        return round(t - start_s, 3)
-
     return RunRecord(
         mission=result.mission,
         robot=session.profile.name,
-        world_name=world.name,
+        world_name=sim.world.name,
         seed=sim.seed,
         outcome=result.outcome,
         final_state=result.final_state,
         reason=result.reason,
         duration_s=round(result.duration_s, 3),
         states=tuple((round(t, 3), name) for t, name in result.states),
-        path=tuple((clock(t), x, y, h) for t, x, y, h in log.path if t >= start_s - 1e-9),
-        tones=tuple(Tone(clock(t), float(f), round(d, 3)) for t, f, d in log.tones),
+        path=tuple(session.mission_path()),
+        tones=tuple(Tone(t, float(f), d) for t, f, d in session.mission_tones()),
         collisions=tuple(
-            Collision(clock(c.start_s), round(c.x_mm, 1), round(c.y_mm, 1), c.side)
-            for c in log.contacts
+            Collision(session.mission_time_s(c.start_s), round(c.x_mm, 1), round(c.y_mm, 1), c.side)
+            for c in sim.log.contacts
         ),
-        final_pose=(round(body.x_mm, 1), round(body.y_mm, 1), round(body.heading_deg, 1)),
-        distance_travelled_mm=round(log.distance_travelled_mm, 1),
+        final_pose=session.final_pose(),
+        distance_travelled_mm=round(sim.log.distance_travelled_mm, 1),
         body_radius_mm=body.spec.body_radius_mm,
         side_sensor_offset_mm=body.spec.side_range_offset_mm,
-        world=world,
+        world=sim.world,
     )

@@ -23,13 +23,14 @@ and in the teachers' guide.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from roboscript.errors import SpecError, did_you_mean
 from roboscript.grading.expectations import Expectation, SpecContext, parse_expectation
 from roboscript.grading.reader import SpecReader
+from roboscript.grading.record import RunResult
 from roboscript.mission.source import Mark, YamlMap, load_yaml
 from roboscript.mission.spec import Location
 from roboscript.sim.world import World, builtin_worlds, load_world
@@ -107,6 +108,7 @@ class TestSpec:
         wall_time_limit_s: Real time limit per run.
         expectations: What must hold on every run.
         location: Where the spec starts.
+        worlds: The worlds the runs use, loaded once, by the name or path the runs give.
     """
 
     __test__ = False  # not a pytest test class, despite the name
@@ -121,6 +123,25 @@ class TestSpec:
     wall_time_limit_s: float
     expectations: tuple[Expectation, ...]
     location: Location | None = None
+    worlds: dict[str, World] = field(default_factory=dict, compare=False, repr=False)
+
+    def result(
+        self, variant: Variant, *, student: str, mission: str, status: str, **fields: Any
+    ) -> RunResult:
+        """A result of one of this test's runs, named after the run; ``fields`` fill the rest.
+
+        Every result the grader reports starts here: graded, missing, timed out or crashed.
+        """
+        return RunResult(
+            student=student,
+            test=self.name,
+            variant=variant.index,
+            label=variant.label,
+            seed=variant.seed,
+            mission=mission,
+            status=status,
+            **fields,
+        )
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON-ready summary for reports (the expectations by name and weight)."""
@@ -202,6 +223,7 @@ def load_test_spec(path: str | Path) -> TestSpec:
         wall_time_limit_s=wall_limit,
         expectations=expectations,
         location=Location(shown, 1, 1),
+        worlds=worlds,
     )
 
 

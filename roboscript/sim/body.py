@@ -133,7 +133,6 @@ class SimLog:
 
     Attributes:
         tones: (time s, frequency Hz, duration s) of each tone started.
-        collisions: Time (s) each collision began.
         contacts: Each collision with where it began and how long it lasted.
         path: (time s, x mm, y mm, heading deg) samples.
         distance_travelled_mm: Path length of the body centre.
@@ -141,11 +140,15 @@ class SimLog:
     """
 
     tones: list[tuple[float, float, float]] = field(default_factory=list)
-    collisions: list[float] = field(default_factory=list)
     contacts: list[Contact] = field(default_factory=list)
     path: list[tuple[float, float, float, float]] = field(default_factory=list)
     distance_travelled_mm: float = 0.0
     display: str = ""
+
+    @property
+    def collisions(self) -> list[float]:
+        """Time (s) each collision began."""
+        return [contact.start_s for contact in self.contacts]
 
 
 class Body:
@@ -284,7 +287,6 @@ class Body:
         # A body held against a wall re-touches it step after step (it stops up to one step
         # short); only a contact after a quarter second clear of walls is a new collision.
         if not self.in_contact and self.time_s - self._last_contact_s > _NEW_CONTACT_S:
-            self.log.collisions.append(self.time_s)
             self.log.contacts.append(Contact(self.time_s, self.x_mm, self.y_mm, hit))
         elif self.log.contacts:
             self.log.contacts[-1].end_s = None  # the same contact goes on

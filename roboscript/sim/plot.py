@@ -233,10 +233,7 @@ def _draw_run(axes: Axes, log: SimLog, body_radius_mm: float | None) -> None:
             linewidth=1.0,
             zorder=5,
         )
-    if log.contacts:
-        hits = [(c.x_mm, c.y_mm) for c in log.contacts]
-    else:
-        hits = [_position_at(path, t) for t in log.collisions]
+    hits = [(c.x_mm, c.y_mm) for c in log.contacts]
     if hits:
         axes.plot(
             [p[0] for p in hits],

@@ -31,7 +31,7 @@ from typing import Any
 from roboscript.errors import WorldError
 from roboscript.mission.quantities import QuantityError, parse_quantity
 from roboscript.mission.source import Mark, YamlList, YamlMap, load_yaml, load_yaml_text
-from roboscript.sim.geometry import Segment, closest_point, point_in_polygon
+from roboscript.sim.geometry import Segment, point_in_polygon
 
 __all__ = ["Pose", "Region", "TapeLine", "World", "builtin_worlds", "load_world"]
 
@@ -51,15 +51,6 @@ class TapeLine:
 
     segments: tuple[Segment, ...]
     width_mm: float = 20.0
-
-    def covers(self, x_mm: float, y_mm: float) -> bool:
-        """True if the point is on the tape."""
-        half = self.width_mm / 2.0
-        for seg in self.segments:
-            qx, qy = closest_point(x_mm, y_mm, seg)
-            if (qx - x_mm) ** 2 + (qy - y_mm) ** 2 <= half * half:
-                return True
-        return False
 
 
 @dataclass(frozen=True)
@@ -88,10 +79,6 @@ class World:
     lines: tuple[TapeLine, ...] = ()
     regions: dict[str, Region] = field(default_factory=dict)
     start: Pose = Pose()
-
-    def on_tape(self, x_mm: float, y_mm: float) -> bool:
-        """True if the floor at the point is dark tape."""
-        return any(line.covers(x_mm, y_mm) for line in self.lines)
 
 
 def builtin_worlds() -> list[str]:

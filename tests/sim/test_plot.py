@@ -32,7 +32,6 @@ def test_a_run_is_drawn_as_a_png_of_sensible_size(tmp_path: Path) -> None:
     log = SimLog()
     log.path.extend([(0.0, 0.0, 0.0, 0.0), (1.0, 0.0, 500.0, 0.0), (2.0, 300.0, 700.0, 90.0)])
     log.tones.append((1.0, 880.0, 0.2))
-    log.collisions.append(1.5)
     log.contacts.append(Contact(1.5, 100.0, 600.0, "left", 1.8))
     out = tmp_path / "run.png"
     plot_run(load_world("square-room"), log, "test: success", out, body_radius_mm=100.0)

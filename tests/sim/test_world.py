@@ -7,7 +7,9 @@ from pathlib import Path
 import pytest
 
 from roboscript.errors import WorldError
+from roboscript.sim.body import BodySpec
 from roboscript.sim.geometry import heading_vector, ray_cast, segment_distance
+from roboscript.sim.sensors import TapeReader
 from roboscript.sim.world import World, load_world
 
 
@@ -30,7 +32,8 @@ def test_world_file_with_units_lines_and_polygon_regions(tmp_path: Path) -> None
     world = load_world(str(path))
     assert (world.start.x_mm, world.start.y_mm, world.start.heading_deg) == (100.0, -500.0, 90.0)
     assert len(world.walls) == 2
-    assert world.on_tape(10.0, 250.0) and not world.on_tape(20.0, 250.0)
+    tape = TapeReader(world.lines, spot_mm=2.0)  # a pinpoint spot: in or out of the 3 cm tape
+    assert tape.coverage(10.0, 250.0) == 1.0 and tape.coverage(20.0, 250.0) == 0.0
     assert world.regions["goal"].contains(60.0, 20.0)
 
 
@@ -123,9 +126,13 @@ def test_line_track_starts_on_a_closed_line_facing_along_it() -> None:
     first, last = tape.segments[0], tape.segments[-1]
     assert (first.x0, first.y0) == (last.x1, last.y1)  # closed
     ahead = heading_vector(world.start.heading_deg)
+    sensors = TapeReader(world.lines, BodySpec().line_spot_mm)  # what the IR sensors see
     for distance in (0.0, 80.0, 200.0):  # the IR sensors sit 80 mm ahead of the centre
-        assert world.on_tape(
-            world.start.x_mm + ahead[0] * distance, world.start.y_mm + ahead[1] * distance
+        assert (
+            sensors.coverage(
+                world.start.x_mm + ahead[0] * distance, world.start.y_mm + ahead[1] * distance
+            )
+            > 0.9
         )
     assert world.regions["start-zone"].contains(world.start.x_mm, world.start.y_mm)
     assert not world.regions["lap-check"].contains(world.start.x_mm, world.start.y_mm)
