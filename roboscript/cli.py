@@ -248,6 +248,13 @@ def _cmd_sim(args: argparse.Namespace) -> int:
     from roboscript.sim.server import SimServer, parse_host_port
     from roboscript.sim.simulation import make_simulation
 
+    address: tuple[str, int] | None = None
+    if not args.pty:
+        try:
+            address = parse_host_port(args.tcp)
+        except ValueError as exc:
+            _err(f"error: --tcp {exc}")
+            return EXIT_INPUT
     simulation = make_simulation(args.robot, args.world, args.seed)
 
     def announce(line: str) -> None:
@@ -255,16 +262,11 @@ def _cmd_sim(args: argparse.Namespace) -> int:
 
     server = SimServer(simulation, announce)
     try:
-        if args.pty:
+        if address is None:
             server.serve_pty(max_runtime_s=args.max_runtime)
         else:
-            try:
-                host, port = parse_host_port(args.tcp)
-            except ValueError as exc:
-                _err(f"error: --tcp {exc}")
-                return EXIT_INPUT
-            server.serve_tcp(host, port, max_runtime_s=args.max_runtime)
-    except KeyboardInterrupt:
+            server.serve_tcp(*address, max_runtime_s=args.max_runtime)
+    except KeyboardInterrupt:  # the way a server is meant to be stopped: not an error
         _err("stopped")
     except OSError as exc:
         _err(f"error: cannot serve the simulator: {exc.strerror or exc}")
@@ -310,6 +312,17 @@ def _cmd_robots(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------------------------ main
 
 
+def _positive_seconds(text: str) -> float:
+    """An argparse type: a time limit in seconds, greater than 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number of seconds") from None
+    if not value > 0:  # also refuses nan
+        raise argparse.ArgumentTypeError(f"a time limit must be more than 0 s (got {text})")
+    return value
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="roboscript",
@@ -331,7 +344,11 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--seed", type=int, default=1, help="simulator seed (default: 1)")
     run.add_argument("--realtime", action="store_true", help="pace the simulator to the wall clock")
     run.add_argument(
-        "--max-time", type=float, default=300.0, metavar="SECONDS", help="mission time limit"
+        "--max-time",
+        type=_positive_seconds,
+        default=300.0,
+        metavar="SECONDS",
+        help="mission time limit",
     )
     run.add_argument("--json", action="store_true", help="print one JSON summary on stdout")
     run.add_argument("--wire-log", metavar="FILE", help="record every byte on the wire")

@@ -158,3 +158,9 @@ def test_robots_says_how_each_robot_moves() -> None:
     assert "host PID" in rows["asip-basic"]
     assert "timed moves" in rows["stackmod-rover"]
     assert "gait motions" in rows["plen2"]
+
+
+def test_a_time_limit_must_be_positive() -> None:
+    result = run_cli("run", "missions/square.yaml", "--max-time", "-5")
+    assert result.returncode == 2
+    assert "a time limit must be more than 0 s (got -5)" in result.stderr

@@ -1,0 +1,82 @@
+"""What the tutorials and README show a newcomer is what the commands print."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+from helpers import ROOT, run_cli
+
+FIRST_MISSION = ROOT / "docs" / "tutorial" / "first-mission.md"
+
+
+def _text(path: Path) -> str:
+    return path.read_text(encoding="utf-8")
+
+
+def test_the_square_run_ends_as_the_readme_and_the_tutorial_say() -> None:
+    result = run_cli("run", "missions/square.yaml")
+    assert result.returncode == 0, result.stderr
+    lines = result.stderr.splitlines()
+    last = lines[-1]
+    assert f"`{last}`" in _text(ROOT / "README.md")
+    tutorial = _text(FIRST_MISSION)
+    assert last in tutorial
+    assert lines[1] in tutorial and lines[2] in tutorial  # the first two states and times
+
+
+def test_the_json_example_matches_a_real_run() -> None:
+    result = run_cli("run", "missions/square.yaml", "--json")
+    actual = json.loads(result.stdout)
+    example_text = re.search(
+        r"### `--json`\n\n```json\n(.*?)```",
+        _text(ROOT / "docs" / "reference" / "cli.md"),
+        re.DOTALL,
+    )
+    assert example_text is not None
+    example = json.loads(example_text.group(1))
+    assert example.keys() == actual.keys() and example["sim"].keys() == actual["sim"].keys()
+    for key in ("duration_s", "outcome", "final_state"):
+        assert example[key] == actual[key], key
+    assert example["states"] == actual["states"][: len(example["states"])]
+    for key in ("final_pose", "distance_travelled_mm", "collisions"):
+        assert example["sim"][key] == actual["sim"][key], key
+    assert example["sim"]["tones"] == actual["sim"]["tones"][:1]
+
+
+def test_the_tutorials_mistakes_are_reported_as_it_shows(tmp_path: Path) -> None:
+    tutorial = _text(FIRST_MISSION)
+    start = tutorial.index("Create `hello.yaml`")
+    hello = re.search(r"```yaml\n(.*?)```", tutorial[start:], re.DOTALL)
+    assert hello is not None
+    broken = (
+        hello.group(1)
+        .replace("speed: 15 cm/s", "speed: 15 deg")
+        .replace("{rotate:", "{rotat:")
+        .replace("{done: beep}", "{done: beeep}")
+    )
+    (tmp_path / "hello.yaml").write_text(broken, encoding="utf-8")
+    result = run_cli("check", "hello.yaml", cwd=tmp_path)
+    assert result.returncode == 2
+    shown = re.search(r"`check` prints:\n\n```\n(.*?)```", tutorial, re.DOTALL)
+    assert shown is not None
+    assert result.stderr == shown.group(1)
+
+
+def test_the_behaviour_tutorials_run_ends_as_it_shows() -> None:
+    result = run_cli("run", "missions/zigzag.yaml")
+    assert result.returncode == 0, result.stderr
+    doc = _text(ROOT / "docs" / "tutorial" / "write-your-own-behaviour.md")
+    for line in result.stderr.splitlines():
+        assert line in doc, line
+
+
+def test_the_readme_command_summary_is_the_cli_references() -> None:
+    def summary(path: Path) -> str:
+        text = _text(path)
+        found = re.search(r"```\n(roboscript run .*?)```", text, re.DOTALL)
+        assert found is not None, path
+        return found.group(1)
+
+    assert summary(ROOT / "README.md") == summary(ROOT / "docs" / "reference" / "cli.md")
