@@ -172,25 +172,53 @@ def _cmd_check(args: argparse.Namespace) -> int:
 
 
 def _cmd_grade(args: argparse.Namespace) -> int:
-    from roboscript.grading.batch import find_specs, find_submissions, grade_class
+    from roboscript.grading.batch import find_specs, grade_class
 
     if args.jobs is not None and args.jobs < 1:
         _err("error: --jobs must be 1 or more")
         return EXIT_INPUT
     specs = find_specs(args.specs)  # a SpecError prints file:line:col and exits 2
-    submissions = find_submissions(args.missions)
+    submissions = _grade_submissions(args, specs)
+    if args.hang_after is not None and args.hang_after <= 0:
+        _err("error: --hang-after must be more than 0 seconds")
+        return EXIT_INPUT
+    from roboscript.grading.sandbox import detect_isolation
+    from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S
+
+    isolation = detect_isolation()
+    if not isolation.complete:
+        _err(f"warning: {isolation.warning}")
     quiet = args.json or args.quiet
     runs = sum(len(spec.variants) for spec in specs) * len(submissions)
     done = 0
+    # A CI log is read by the student it graded: progress names a hidden run "hidden run N".
+    labels = {(s.name, v.index): v.public_label for s in specs for v in s.variants}
+    journal = _open_journal(args.results)
+    if journal is False:
+        return EXIT_INPUT
 
     def progress(result: Any) -> None:
         nonlocal done
         done += 1
+        if journal:
+            journal.write(json.dumps(result.to_dict(), ensure_ascii=False) + "\n")
+            journal.flush()  # a grader killed now keeps every finished run
         if not quiet:
             mark = "ok" if result.passed else result.status
-            _err(f"[{done}/{runs}] {result.student} {result.test} {result.label}: {mark}")
+            label = labels.get((result.test, result.variant), result.label)
+            _err(f"[{done}/{runs}] {result.student} {result.test} {label}: {mark}")
 
-    report = grade_class(specs, submissions, args.jobs, progress)
+    try:
+        report = grade_class(
+            specs,
+            submissions,
+            args.jobs,
+            progress,
+            hang_after_s=args.hang_after or DEFAULT_HANG_AFTER_S,
+        )
+    finally:
+        if journal:
+            journal.close()
     if args.json:
         from roboscript.grading.json_report import report_dict
 
@@ -205,9 +233,52 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     return EXIT_OK if report.passed else EXIT_FAILED
 
 
+def _open_journal(path: str | None) -> Any:
+    """``--results FILE``, open for one JSON line per finished run; None, or False on error."""
+    if not path:
+        return None
+    try:
+        return open(path, "w", encoding="utf-8")
+    except OSError as exc:
+        _err(f"error: cannot write {path}: {exc.strerror or exc}")
+        return False
+
+
+def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
+    """The students to grade; with --gradescope, everything found is one submission.
+
+    With --gradescope and no mission in the submission, ``results.json`` still tells the
+    student so (every run failed), before the error exits 2.
+    """
+    from roboscript.grading.batch import find_submissions
+
+    if not args.gradescope:
+        return find_submissions(args.missions)
+    from roboscript.grading.gradescope import (
+        no_submission_results,
+        one_submission,
+        write_gradescope,
+    )
+
+    try:
+        found = find_submissions(args.missions)
+    except InputError as exc:
+        try:
+            write_gradescope(no_submission_results(specs, str(exc)), args.gradescope)
+        except OSError as write_error:
+            _err(f"error: cannot write {args.gradescope}: {write_error.strerror or write_error}")
+        raise
+    folders = [m for m in args.missions if Path(m).is_dir()]
+    folder = folders[0] if len(args.missions) == 1 and folders else None
+    name = Path(folder).resolve().name if folder else "submission"
+    return [one_submission(found, name or "submission", folder)]
+
+
 def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
-    """Write --junit, --csv and --html; False (after saying why) if one cannot be written."""
+    """Write --junit, --csv, --html and --gradescope; False (after saying why) if one cannot be
+    written."""
     from roboscript.grading.gradebook import write_gradebook
+    from roboscript.grading.gradescope import write_gradescope
     from roboscript.grading.html_report import write_html
     from roboscript.grading.junit import write_junit
 
@@ -215,6 +286,7 @@ def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
         (args.junit, write_junit),
         (args.csv, write_gradebook),
         (args.html, write_html),
+        (args.gradescope, write_gradescope),
     ]
     for target, write in writers:
         if not target:
@@ -225,7 +297,8 @@ def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
             _err(f"error: cannot write {target}: {exc.strerror or exc}")
             return False
     if args.html and not (args.json or args.quiet):
-        _err(f"report: {Path(args.html) / 'index.html'}")
+        _err(f"report: {Path(args.html) / 'index.html'} (for the teacher only)")
+        _err(f"feedback pages to hand out: {Path(args.html) / 'students'}/ (one per student)")
     return True
 
 
@@ -381,9 +454,29 @@ def _parser() -> argparse.ArgumentParser:
     grade.add_argument("--json", action="store_true", help="print one JSON report on stdout")
     grade.add_argument("--junit", metavar="FILE", help="write JUnit XML (one case per run)")
     grade.add_argument("--csv", metavar="FILE", help="write a gradebook CSV (one row per student)")
-    grade.add_argument("--html", metavar="DIR", help="write an HTML report (DIR/index.html)")
+    grade.add_argument(
+        "--html",
+        metavar="DIR",
+        help="write HTML: the teacher's DIR/index.html and a page per student in DIR/students/",
+    )
+    grade.add_argument(
+        "--gradescope",
+        metavar="FILE",
+        help="write Gradescope's results.json (everything under --mission is one submission)",
+    )
     grade.add_argument(
         "--jobs", type=int, metavar="N", help="runs at once (default: one per CPU core)"
+    )
+    grade.add_argument(
+        "--results",
+        metavar="FILE",
+        help="write each run's result as one JSON line the moment it finishes",
+    )
+    grade.add_argument(
+        "--hang-after",
+        type=float,
+        metavar="SECONDS",
+        help="end a run as hung when its simulated time stops for this long (default: 2)",
     )
     grade.add_argument("--quiet", action="store_true", help="print only the table")
     grade.set_defaults(func=_cmd_grade)

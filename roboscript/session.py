@@ -52,21 +52,15 @@ class Session:
 
         ``run --json`` and the grader both report these, so a graded run is the same run.
         """
-        start_s = self.start_time_s - 1e-9
-        return [
-            (self.mission_time_s(t), x, y, h)
-            for t, x, y, h in self.simulation.log.path
-            if t >= start_s
-        ]
+        return list(self.simulation.path_since(self.start_time_s))
 
     def mission_tones(self) -> list[tuple[float, float, float]]:
         """The tones the simulator heard: ``(t s on the mission clock, Hz, duration s)``."""
-        return [(self.mission_time_s(t), f, round(d, 3)) for t, f, d in self.simulation.log.tones]
+        return list(self.simulation.tones_since(self.start_time_s))
 
     def final_pose(self) -> tuple[float, float, float]:
         """The simulated body's pose at the end: ``(x mm, y mm, heading deg)``, rounded."""
-        body = self.simulation.body
-        return round(body.x_mm, 1), round(body.y_mm, 1), round(body.heading_deg, 1)
+        return tuple(self.simulation.final_pose())
 
 
 def run_session(

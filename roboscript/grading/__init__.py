@@ -8,5 +8,9 @@
   a wall-clock limit;
 * :mod:`~roboscript.grading.batch` finds the submissions and grades a class;
 * the reports: :mod:`~roboscript.grading.table` (terminal), :mod:`~roboscript.grading.junit`,
-  :mod:`~roboscript.grading.gradebook` (CSV), :mod:`~roboscript.grading.html_report`.
+  :mod:`~roboscript.grading.gradebook` (CSV), :mod:`~roboscript.grading.html_report` (the
+  teacher's pages and one per student), :mod:`~roboscript.grading.json_report`,
+  :mod:`~roboscript.grading.gradescope` (Gradescope's ``results.json``); every one of them
+  caps and cleans student-controlled text, and words hidden runs for students, through
+  :mod:`~roboscript.grading.text`.
 """

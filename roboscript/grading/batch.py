@@ -23,13 +23,15 @@ import glob
 import re
 from collections import Counter
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from roboscript.errors import InputError
 from roboscript.grading.pool import RunTask, run_tasks
 from roboscript.grading.record import RunResult, Verdict
 from roboscript.grading.spec import TestSpec, Variant, is_test_spec, load_test_spec
+from roboscript.grading.text import cap_result, public_reason
+from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S, submission_files
 from roboscript.sim.world import World
 
 __all__ = [
@@ -40,6 +42,7 @@ __all__ = [
     "find_submissions",
     "grade_class",
     "mission_for_test",
+    "visible_files",
 ]
 
 _MISSION_SUFFIXES = (".yaml", ".yml", ".py")
@@ -47,10 +50,19 @@ _MISSION_SUFFIXES = (".yaml", ".yml", ".py")
 
 @dataclass(frozen=True)
 class Submission:
-    """One student's work: their name and mission files (paths as given)."""
+    """One student's work: their name and mission files (paths as given).
+
+    Attributes:
+        student: The student's name.
+        missions: Their mission files.
+        folder: Their own folder, when the student is a folder; their graded runs may read
+            everything in it. A student who is a file may read only that file and the files
+            beside it that it names (never another student's mission).
+    """
 
     student: str
     missions: tuple[str, ...]
+    folder: str | None = None
 
 
 def _is_mission_file(path: Path) -> bool:
@@ -101,6 +113,7 @@ def find_submissions(patterns: Sequence[str]) -> list[Submission]:
             singles += found
             folders += found_dirs
     by_student: dict[str, list[str]] = {}
+    own_folder: dict[str, str] = {}
     singles = list(dict.fromkeys(singles))
     stems = Counter(file.stem for file in singles)
     parents = Counter(file.parent.name for file in singles)
@@ -115,10 +128,20 @@ def find_submissions(patterns: Sequence[str]) -> list[Submission]:
         missions = [str(p) for p in _missions_in(folder)]
         if missions:
             by_student.setdefault(folder.name, []).extend(missions)
+            own_folder[folder.name] = str(folder)
     return [
-        Submission(name, tuple(dict.fromkeys(files)))
+        Submission(name, tuple(dict.fromkeys(files)), own_folder.get(name))
         for name, files in sorted(by_student.items(), key=lambda item: item[0].lower())
     ]
+
+
+def visible_files(
+    submission: Submission, mission: str, others: frozenset[Path]
+) -> tuple[Path, ...]:
+    """What ``submission``'s graded run of ``mission`` may read (see :class:`Submission`)."""
+    if submission.folder is not None:
+        return (Path(submission.folder).resolve(),)
+    return submission_files(Path(mission), exclude=others)
 
 
 def find_specs(paths: Sequence[str]) -> list[TestSpec]:
@@ -172,11 +195,16 @@ class Cell:
         student: The student.
         test: The test.
         results: One per run variant, in the spec's order.
+        max_points: What the test is worth (:attr:`TestSpec.max_points`); each run is worth
+            an equal share of it.
+        hidden: The variants (indexes) students must not see the details of.
     """
 
     student: str
     test: str
     results: tuple[RunResult, ...]
+    max_points: float = 0.0
+    hidden: frozenset[int] = frozenset()
 
     @property
     def passed_runs(self) -> int:
@@ -199,6 +227,22 @@ class Cell:
         if not self.results:
             return 0.0
         return round(sum(r.score for r in self.results) / len(self.results), 4)
+
+    @property
+    def run_max_points(self) -> float:
+        """What one run is worth: an equal share of :attr:`max_points`."""
+        return round(self.max_points / self.total_runs, 4) if self.results else 0.0
+
+    def run_points(self, result: RunResult) -> float:
+        """The points one run earned: its share of the test's points times its score."""
+        if not self.results:
+            return 0.0
+        return round(self.max_points / self.total_runs * result.score, 4)
+
+    @property
+    def points(self) -> float:
+        """The points earned: the sum of the runs' points."""
+        return round(sum(self.run_points(r) for r in self.results), 4)
 
     def worst(self) -> tuple[RunResult | None, Verdict | None]:
         """The run to look at first and its telling verdict.
@@ -224,12 +268,15 @@ class Cell:
         result, verdict = self.worst()
         if result is None:
             return ""
+        hidden = result.variant in self.hidden  # CI logs show the table to the student
         if not result.passed and result.status != "failed":
             return result.message
         if verdict is None:
-            return result.message
+            return public_reason(result, hidden)
         if verdict.margin:
             return f"{verdict.name} {verdict.margin}"
+        if hidden:
+            return f"{verdict.name} {'passed' if verdict.passed else 'failed'}"
         return verdict.text
 
 
@@ -257,12 +304,50 @@ class ClassReport:
     def cell(self, student: str, test: str) -> Cell:
         """One student in one test."""
         found = tuple(r for r in self.results if r.student == student and r.test == test)
-        return Cell(student, test, found)
+        spec = next((s for s in self.specs if s.name == test), None)
+        if spec is None:
+            return Cell(student, test, found, float(len(found)))
+        hidden = frozenset(v.index for v in spec.variants if v.hidden)
+        return Cell(student, test, found, spec.max_points, hidden)
 
     def student_score(self, student: str) -> float:
         """A student's mean score over the tests, 0 to 1."""
         cells = [self.cell(student, spec.name) for spec in self.specs]
         return round(sum(c.score for c in cells) / len(cells), 4) if cells else 0.0
+
+    def student_points(self, student: str) -> float:
+        """The points a student earned over every test."""
+        return round(sum(self.cell(student, spec.name).points for spec in self.specs), 4)
+
+    @property
+    def max_points(self) -> float:
+        """The points every test together is worth."""
+        return round(sum(spec.max_points for spec in self.specs), 4)
+
+    def variant_of(self, result: RunResult) -> Variant | None:
+        """The spec's variant a run was made on."""
+        spec = next((s for s in self.specs if s.name == result.test), None)
+        if spec is None or result.variant >= len(spec.variants):
+            return None
+        return spec.variants[result.variant]
+
+    def is_hidden(self, result: RunResult) -> bool:
+        """Whether students must not see the run's variant (``hidden: true`` in the spec)."""
+        variant = self.variant_of(result)
+        return variant is not None and variant.hidden
+
+    def public_label(self, result: RunResult) -> str:
+        """How student-facing reports name the run: its label, or ``hidden run N``."""
+        variant = self.variant_of(result)
+        return variant.public_label if variant is not None else result.label
+
+    def capped(self) -> ClassReport:
+        """This report with every run's text capped (:func:`~roboscript.grading.text.cap`).
+
+        Every report writer starts here, so no student-controlled text reaches a file
+        uncapped, whoever built the report.
+        """
+        return replace(self, results=[cap_result(r) for r in self.results])
 
     def world_for(self, result: RunResult) -> World | None:
         """The world a run happened in."""
@@ -281,14 +366,29 @@ def grade_class(
     submissions: Sequence[Submission],
     jobs: int | None = None,
     on_result: Callable[[RunResult], None] | None = None,
+    *,
+    hang_after_s: float = DEFAULT_HANG_AFTER_S,
 ) -> ClassReport:
     """Run every student's mission on every variant of every test, each in its own worker.
+
+    Args:
+        specs: The tests.
+        submissions: The students.
+        jobs: Runs at once (default: one per CPU core).
+        on_result: Called with each result the moment it is known (in the order runs end).
+        hang_after_s: Wall seconds without simulated progress that end a run as ``hung``.
 
     Returns:
         The report; its results are in a fixed order (test, student, variant) whatever
         ``jobs`` is.
     """
     worlds = {name: world for spec in specs for name, world in spec.worlds.items()}
+    # No student may read another's missions, nor the tests.
+    private = frozenset(
+        [Path(m).resolve() for s in submissions for m in s.missions]
+        + [Path(s.folder).resolve() for s in submissions if s.folder is not None]
+        + [Path(spec.path).resolve() for spec in specs]
+    )
     tasks: list[RunTask] = []
     slots: list[RunResult | int] = []  # a missing submission's result, or its task's index
     for spec in specs:
@@ -299,11 +399,37 @@ def grade_class(
                     slots.append(_missing(spec, submission, variant))
                     continue
                 slots.append(len(tasks))
-                tasks.append(RunTask(spec, mission, variant, submission.student))
+                own = frozenset(Path(m).resolve() for m in submission.missions)
+                visible = visible_files(submission, mission, private - own)
+                tasks.append(
+                    RunTask(spec, mission, variant, submission.student, visible, hang_after_s)
+                )
+    _check_setup(tasks)
     done = run_tasks(tasks, jobs, on_result)
-    results = [slot if isinstance(slot, RunResult) else done[slot] for slot in slots]
+    # Capped as they arrive, so a 20 MB exception message is not kept (or copied) any further.
+    results = [cap_result(slot if isinstance(slot, RunResult) else done[slot]) for slot in slots]
     # Records come back through a pipe without their worlds; reports find them in `worlds`.
     return ClassReport(list(specs), list(submissions), results, worlds)
+
+
+def _check_setup(tasks: Sequence[RunTask]) -> None:
+    """Every submission's files can be shown to its sandbox (else one error, before any run).
+
+    Raises:
+        InputError: Naming the student and what to fix.
+    """
+    from roboscript.grading.sandbox import check_visible
+
+    checked: set[tuple[Path, ...]] = set()
+    for task in tasks:
+        visible = task.visible or (Path(task.mission).resolve(),)
+        if visible in checked:
+            continue
+        checked.add(visible)
+        try:
+            check_visible(visible)
+        except (OSError, ValueError) as exc:
+            raise InputError(f"cannot grade {task.student or task.mission}: {exc}") from None
 
 
 def _missing(spec: TestSpec, submission: Submission, variant: Variant) -> RunResult:

@@ -1,9 +1,18 @@
 """``roboscript grade --csv FILE``: a gradebook, one row per student, one column per test.
 
-Each test column holds the student's score for it in percent (the mean over the runs of the
-weighted share of expectations that held); ``total`` is the mean over the tests, and
-``passed`` says whether every run of every test passed. Spreadsheets and learning platforms
-import it as it is.
+Columns, in order:
+
+* ``student``;
+* one per test, the student's score for it in percent (the mean over the runs of the weighted
+  share of expectations that held);
+* ``total``: the mean of those percentages; ``passed``: whether every run of every test
+  passed (``yes``/``no``);
+* one per test, ``TEST points (of N)``: the points earned out of the N the test is worth
+  (``points:`` in the spec, default one per run);
+* ``points`` and ``max points``: the sum over the tests.
+
+Spreadsheets and learning platforms import it as it is. A student name that a spreadsheet
+would read as a formula (``=``, ``+``, ``-``, ``@``) starts with ``'``.
 """
 
 from __future__ import annotations
@@ -13,23 +22,43 @@ import io
 from pathlib import Path
 
 from roboscript.grading.batch import ClassReport
+from roboscript.grading.text import format_points
 
 __all__ = ["gradebook_csv", "write_gradebook"]
 
 
+def _safe_cell(text: str) -> str:
+    """Text a spreadsheet shows as text, never runs as a formula."""
+    return f"'{text}" if text.startswith(("=", "+", "-", "@", "\t", "\r")) else text
+
+
 def gradebook_csv(report: ClassReport) -> str:
     """The gradebook as CSV text."""
+    report = report.capped()
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
-    writer.writerow(["student", *(spec.name for spec in report.specs), "total", "passed"])
+    writer.writerow(
+        [
+            "student",
+            *(spec.name for spec in report.specs),
+            "total",
+            "passed",
+            *(f"{spec.name} points (of {format_points(spec.max_points)})" for spec in report.specs),
+            "points",
+            "max points",
+        ]
+    )
     for submission in report.submissions:
         cells = [report.cell(submission.student, spec.name) for spec in report.specs]
         writer.writerow(
             [
-                submission.student,
+                _safe_cell(submission.student),
                 *(f"{cell.score * 100:.1f}" for cell in cells),
                 f"{report.student_score(submission.student) * 100:.1f}",
                 "yes" if all(cell.passed for cell in cells) else "no",
+                *(format_points(cell.points) for cell in cells),
+                format_points(report.student_points(submission.student)),
+                format_points(report.max_points),
             ]
         )
     return out.getvalue()

@@ -1,9 +1,18 @@
-"""``roboscript grade --html DIR``: a static report a class can read in any browser.
+"""``roboscript grade --html DIR``: static pages for the teacher, and one for each student.
+
+For the teacher only (every student's name and score, every run in full):
 
 * ``DIR/index.html``: the class page, one row per student and test: ✓/✗ with the runs that
-  passed, the score, the worst margin (or why it stopped), and a link to each run;
+  passed, the score, the points, the worst margin (or why it stopped), a link to each run and
+  to the student's own page;
 * ``DIR/runs/*.html``: one page per run: what went wrong in one sentence, the trajectory over
   the world, the state timeline, and every expectation with its margin and first violation.
+
+For the students, to hand out one each:
+
+* ``DIR/students/NAME.html``: one student's tests and runs, points, and each run as on its run
+  page; nothing of a classmate, no spec path, and a hidden variant only as "hidden run N" with
+  pass or fail and the reason (:func:`~roboscript.grading.text.public_reason`).
 
 Self-contained files: styles are inline, pictures are inline SVG, nothing is fetched. Every
 pass or fail is a word and a symbol as well as a colour; pictures carry a text alternative.
@@ -16,8 +25,9 @@ from html import escape
 from pathlib import Path
 
 from roboscript import __version__
-from roboscript.grading.batch import ClassReport
+from roboscript.grading.batch import Cell, ClassReport
 from roboscript.grading.record import RunResult, Verdict
+from roboscript.grading.spec import TestSpec
 from roboscript.grading.svg import (
     COLLISION,
     END,
@@ -30,8 +40,9 @@ from roboscript.grading.svg import (
     timeline_svg,
     trajectory_svg,
 )
+from roboscript.grading.text import advice, format_points, public_reason
 
-__all__ = ["run_page_name", "write_html"]
+__all__ = ["run_page_name", "student_page_names", "write_html"]
 
 _CSS = """
 :root { color-scheme: light; }
@@ -58,6 +69,9 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: now
 .banner { padding: 0.7rem 1rem; border-radius: 6px; margin: 0.6rem 0 1rem; font-size: 1.05rem; }
 .banner.pass { background: #e8f5e9; border-left: 6px solid #2e7d32; }
 .banner.fail { background: #ffebee; border-left: 6px solid #c62828; }
+.banner.teacher { background: #fff8e1; border-left: 6px solid #f9a825; }
+h2.run { font-size: 1.1rem; border-bottom: none; margin-top: 1.4rem; }
+section { margin-bottom: 2rem; }
 figure { margin: 0.5rem 0 1rem; }
 figcaption { color: #444; font-size: 0.92rem; margin-top: 0.3rem; }
 svg { max-width: 100%; height: auto; border: 1px solid #ddd; background: #fff; }
@@ -95,6 +109,7 @@ def _status_words(result: RunResult) -> str:
         "passed": "✓ passed",
         "failed": "✗ failed",
         "timeout": "✗ did not finish",
+        "hung": "✗ stopped responding",
         "crashed": "✗ crashed",
         "invalid": "✗ mission error",
         "missing": "✗ missing",
@@ -104,29 +119,67 @@ def _status_words(result: RunResult) -> str:
 def run_page_name(result: RunResult) -> str:
     """The run page's file name inside ``runs/``."""
     raw = f"{result.student}--{result.test}--{result.variant + 1}"
-    return re.sub(r"[^A-Za-z0-9._-]+", "_", raw) + ".html"
+    return _safe_name(raw) + ".html"
+
+
+def _safe_name(raw: str) -> str:
+    return re.sub(r"[^A-Za-z0-9._-]+", "_", raw).strip("._") or "student"
+
+
+def student_page_names(report: ClassReport) -> dict[str, str]:
+    """Each student's feedback page's file name inside ``students/`` (``alice.html``)."""
+    names: dict[str, str] = {}
+    taken: set[str] = set()
+    for submission in report.submissions:
+        base = _safe_name(submission.student)
+        name, n = f"{base}.html", 1
+        while name.lower() in taken:  # two names that read the same once made safe
+            n += 1
+            name = f"{base}-{n}.html"
+        taken.add(name.lower())
+        names[submission.student] = name
+    return names
 
 
 def write_html(report: ClassReport, folder: str | Path) -> Path:
-    """Write the class page and one page per run into ``folder``; return the class page."""
+    """Write the teacher's pages and one feedback page per student; return the class page.
+
+    ``folder/index.html`` and ``folder/runs/`` are the teacher's: every student's score, every
+    variant in full. ``folder/students/NAME.html`` is one student's page, to hand out: that
+    student only, hidden variants only as "hidden run N", no spec path.
+    """
+    report = report.capped()
     root = Path(folder)
     runs = root / "runs"
+    students = root / "students"
     runs.mkdir(parents=True, exist_ok=True)
+    students.mkdir(parents=True, exist_ok=True)
     for result in report.results:
         (runs / run_page_name(result)).write_text(_run_page(report, result), encoding="utf-8")
+    pages = student_page_names(report)
+    for submission in report.submissions:
+        page = _student_page(report, submission.student)
+        (students / pages[submission.student]).write_text(page, encoding="utf-8")
     index = root / "index.html"
-    index.write_text(_class_page(report), encoding="utf-8")
+    index.write_text(_class_page(report, pages), encoding="utf-8")
     return index
 
 
 # ------------------------------------------------------------------------------ class page
 
 
-def _class_page(report: ClassReport) -> str:
+def _class_page(report: ClassReport, pages: dict[str, str]) -> str:
     runs = len(report.results)
     passed = sum(1 for r in report.results if r.passed)
     parts = [
         "<header><h1>Class report</h1>",
+        (
+            '<div class="banner teacher" role="note"><strong>For the teacher only.</strong>'
+            " This page and the pages in <code>runs/</code> show every student's name and"
+            " score, and every run in full, hidden ones included: do not share them. Each"
+            " student's own feedback page is in <code>students/</code> (one file per"
+            " student, linked below): hand out those.</div>"
+        ),
         (
             f'<p class="muted">{len(report.submissions)} students, {len(report.specs)} test'
             f"{'s' if len(report.specs) != 1 else ''}, {runs} runs: <strong>{passed} passed,"
@@ -137,13 +190,14 @@ def _class_page(report: ClassReport) -> str:
         (
             '<table><caption class="muted" style="text-align:left">One row per student and test.'
             " A test passes when every run of it passes; the score gives partial credit for the"
-            " expectations that held.</caption>"
+            " expectations that held, and each run earns its share of the test's points."
+            "</caption>"
         ),
         (
             '<thead><tr><th scope="col">Student</th><th scope="col">Test</th>'
-            '<th scope="col">Result</th><th scope="col">Score</th>'
+            '<th scope="col">Result</th><th scope="col">Score</th><th scope="col">Points</th>'
             '<th scope="col">Worst margin, or why it stopped</th><th scope="col">Runs</th>'
-            "</tr></thead><tbody>"
+            '<th scope="col">Student\'s page</th></tr></thead><tbody>'
         ),
     ]
     for submission in report.submissions:
@@ -153,65 +207,109 @@ def _class_page(report: ClassReport) -> str:
             symbol = "✓" if cell.passed else "✗"
             links = " ".join(
                 f'<a href="runs/{run_page_name(r)}">{escape(r.label)}'
-                f" {'✓' if r.passed else '✗'}</a>"
+                f"{' (hidden)' if report.is_hidden(r) else ''} {'✓' if r.passed else '✗'}</a>"
                 for r in cell.results
             )
+            page = f"students/{pages[submission.student]}"
             parts.append(
                 f'<tr><th scope="row">{escape(submission.student)}</th>'
                 f'<td class="nowrap">{escape(spec.name)}</td>'
                 f'<td><span class="badge {badge}">{symbol} {cell.passed_runs}/{cell.total_runs}'
                 f" {'passed' if cell.passed else 'failed'}</span></td>"
                 f'<td class="num">{cell.score * 100:.0f}%</td>'
+                f'<td class="num">{_points(cell.points, cell.max_points)}</td>'
                 f"<td>{escape(cell.summary())}</td>"
-                f'<td class="runs">{links}</td></tr>'
+                f'<td class="runs">{links}</td>'
+                f'<td><a href="{escape(page)}">{escape(pages[submission.student])}</a></td></tr>'
             )
     parts.append("</tbody></table>")
     parts.append("<h2>Tests</h2>")
     for spec in report.specs:
-        expectations = "".join(
-            f"<li><code>{escape(e.name)}</code>"
-            + (f" (weight {e.weight:g})" if e.weight != 1 else "")
-            + "</li>"
-            for e in spec.expectations
+        variants = ", ".join(
+            escape(v.label) + (" (hidden from students)" if v.hidden else "") for v in spec.variants
         )
-        variants = ", ".join(escape(v.label) for v in spec.variants)
         parts.append(
             f"<h3>{escape(spec.name)}</h3>"
             + (f"<p>{escape(spec.description)}</p>" if spec.description else "")
             + f'<p class="muted">World <code>{escape(_short_world(spec.world))}</code>,'
-            f" robot <code>{escape(spec.robot)}</code>, up to {spec.max_time_s:g} s per run."
-            f" Runs: {variants}.</p><ul>{expectations}</ul>"
+            f" robot <code>{escape(spec.robot)}</code>, up to {spec.max_time_s:g} s per run,"
+            f" worth {format_points(spec.max_points)} points. Runs: {variants}. Spec"
+            f" <code>{escape(spec.path)}</code>.</p>" + _expectation_list(spec)
         )
     parts.append("</main>")
-    return _page("Class report — roboscript grade", "\n".join(parts))
+    return _page("Class report (teacher only) — roboscript grade", "\n".join(parts))
 
 
 def _short_world(world: str) -> str:
     return Path(world).name if "/" in world or "\\" in world else world
 
 
+def _points(points: float, max_points: float) -> str:
+    return f"{format_points(points)}/{format_points(max_points)}"
+
+
+def _expectation_list(spec: TestSpec) -> str:
+    items = "".join(
+        f"<li><code>{escape(e.name)}</code>"
+        + (f" (weight {e.weight:g})" if e.weight != 1 else "")
+        + "</li>"
+        for e in spec.expectations
+    )
+    return f"<ul>{items}</ul>"
+
+
 # -------------------------------------------------------------------------------- run page
 
 
 def _run_page(report: ClassReport, result: RunResult) -> str:
+    """The teacher's page of one run: everything, hidden or not."""
     spec = report.spec_for(result.test)
     title = f"{result.student} — {result.test} — {result.label}"
-    banner = "pass" if result.passed else "fail"
+    hidden = report.is_hidden(result)
     parts = [
         '<nav><a href="../index.html">← Class report</a></nav>',
         f"<header><h1>{escape(title)}</h1>",
-        f'<div class="banner {banner}" role="status"><strong>{_status_words(result)}</strong>'
-        + (f": {escape(result.message)}" if result.message else "")
-        + f' <span class="muted">(score {result.score * 100:.0f}%)</span></div>',
+        '<p class="muted">For the teacher: the student sees this run on their own page'
+        + (
+            f", as “{escape(report.public_label(result))}”, without its seed, start or world"
+            if hidden
+            else ""
+        )
+        + ".</p>",
+        _banner(result, result.message, report.cell(result.student, result.test)),
         "</header><main>",
+        *_run_sections(report, result, spec),
+        (
+            f'<p class="muted">Mission <code>{escape(result.mission or "none")}</code>; test'
+            f" spec <code>{escape(spec.path)}</code>; seed {result.seed}.</p>"
+        ),
+        "</main>",
     ]
+    return _page(f"{title} — roboscript grade", "\n".join(parts))
+
+
+def _banner(result: RunResult, reason: str, cell: Cell) -> str:
+    banner = "pass" if result.passed else "fail"
+    return (
+        f'<div class="banner {banner}" role="status"><strong>{_status_words(result)}</strong>'
+        + (f": {escape(reason)}" if reason else "")
+        + f' <span class="muted">(score {result.score * 100:.0f}%,'
+        f" {_points(cell.run_points(result), cell.run_max_points)} points)</span></div>"
+    )
+
+
+def _run_sections(
+    report: ClassReport, result: RunResult, spec: TestSpec, suffix: str = ""
+) -> list[str]:
+    """What happened in a run: pictures, verdicts, facts (``suffix`` keeps ids unique)."""
+    parts: list[str] = []
     record = result.record
     world = report.world_for(result)
     if record is not None and world is not None:
-        parts.append("<h2>Where the robot went</h2>")
+        parts.append("<h3>Where the robot went</h3>" if suffix else "<h2>Where the robot went</h2>")
         parts.append(
             "<figure>"
-            + trajectory_svg(world, record, result.verdicts, spec.expectations)
+            + trajectory_svg(world, record, result.verdicts, spec.expectations, id_suffix=suffix)
             + "<figcaption>Seen from above, north up. The blue line is the path of the"
             " robot's centre from the start ring to the end square (the circle there is the"
             " robot's body, the line its heading). Grey strips are floor tape, black lines"
@@ -219,7 +317,7 @@ def _run_page(report: ClassReport, result: RunResult) -> str:
             "</figure>"
         )
         parts.append(_legend())
-        parts.append("<h2>States over time</h2>")
+        parts.append("<h3>States over time</h3>" if suffix else "<h2>States over time</h2>")
         colours = state_colours(record)
         keys = "".join(
             f'<li><span class="swatch" style="background:{c}"></span>{escape(n)}</li>'
@@ -227,39 +325,111 @@ def _run_page(report: ClassReport, result: RunResult) -> str:
         )
         parts.append(
             "<figure>"
-            + timeline_svg(record, result.verdicts)
+            + timeline_svg(record, result.verdicts, id_suffix=suffix)
             + "<figcaption>Each bar is a stay in a state. Diamonds are tones, crosses"
             " collisions, a red ! where an expectation first failed.</figcaption></figure>"
             f'<ul class="legend" aria-label="State colours">{keys}</ul>'
         )
     if result.verdicts:
-        parts.append("<h2>Expectations</h2>")
+        parts.append("<h3>Expectations</h3>" if suffix else "<h2>Expectations</h2>")
         parts.append(_verdict_table(result.verdicts))
+    what = "<h3>What happened</h3>" if suffix else "<h2>What happened</h2>"
     if record is not None:
-        parts.append("<h2>What happened</h2>")
+        parts.append(what)
         parts.append(_facts(result))
     elif result.status != "missing":
         parts.append(
-            "<h2>What happened</h2><p>The run did not finish, so there is no trajectory to"
-            " show. " + escape(_advice(result)) + "</p>"
+            f"{what}<p>The run did not finish, so there is no trajectory to show. "
+            + escape(advice(result.status))
+            + "</p>"
         )
-    parts.append(
-        f'<p class="muted">Mission <code>{escape(result.mission or "none")}</code>; test spec'
-        f" <code>{escape(spec.path)}</code>; seed {result.seed}.</p>"
-    )
+    return parts
+
+
+# ---------------------------------------------------------------------------- student page
+
+
+def _student_page(report: ClassReport, student: str) -> str:
+    """One student's feedback: their tests and runs only; hidden runs only by number."""
+    cells = [report.cell(student, spec.name) for spec in report.specs]
+    runs = sum(c.total_runs for c in cells)
+    passed = sum(c.passed_runs for c in cells)
+    points = report.student_points(student)
+    everything = all(c.passed for c in cells)
+    parts = [
+        f"<header><h1>Your feedback: {escape(student)}</h1>",
+        (
+            f'<div class="banner {"pass" if everything else "fail"}" role="status"><strong>'
+            f"{'✓' if everything else '✗'} {passed} of {runs} runs passed</strong>:"
+            f" {_points(points, report.max_points)} points.</div>"
+        ),
+        (
+            '<p class="muted">Your own results only. A test is run several times (its runs),'
+            " each with its own seed and sometimes another start, so a mission must work every"
+            " time; each run earns its share of the test's points.</p>"
+        ),
+        "</header><main>",
+        (
+            '<table><thead><tr><th scope="col">Test</th><th scope="col">Result</th>'
+            '<th scope="col">Points</th><th scope="col">Runs</th></tr></thead><tbody>'
+        ),
+    ]
+    for spec, cell in zip(report.specs, cells, strict=True):
+        links = " ".join(
+            f'<a href="#{_anchor(spec.name, r.variant)}">{escape(report.public_label(r))}'
+            f" {'✓' if r.passed else '✗'}</a>"
+            for r in cell.results
+        )
+        parts.append(
+            f'<tr><th scope="row">{escape(spec.name)}</th>'
+            f'<td><span class="badge {"pass" if cell.passed else "fail"}">'
+            f"{'✓' if cell.passed else '✗'} {cell.passed_runs}/{cell.total_runs}"
+            f" {'passed' if cell.passed else 'failed'}</span></td>"
+            f'<td class="num">{_points(cell.points, cell.max_points)}</td>'
+            f'<td class="runs">{links}</td></tr>'
+        )
+    parts.append("</tbody></table>")
+    for spec, cell in zip(report.specs, cells, strict=True):
+        parts.append(
+            f"<section><h2>{escape(spec.name)}:"
+            f" {_points(cell.points, cell.max_points)} points</h2>"
+            + (f"<p>{escape(spec.description)}</p>" if spec.description else "")
+            + "<p>What is checked on every run:</p>"
+            + _expectation_list(spec)
+        )
+        for result in cell.results:
+            parts += _student_run(report, result, spec, cell)
+        parts.append("</section>")
     parts.append("</main>")
-    return _page(f"{title} — roboscript grade", "\n".join(parts))
+    return _page(f"Your feedback: {student} — roboscript grade", "\n".join(parts))
 
 
-def _advice(result: RunResult) -> str:
-    if result.status == "timeout":
-        return (
-            "Try the mission with 'roboscript run' at home: if it never finishes, look for a"
-            " condition or behaviour with a loop that never ends."
+def _anchor(test: str, variant: int) -> str:
+    return f"{_safe_name(test)}-run-{variant + 1}"
+
+
+def _student_run(report: ClassReport, result: RunResult, spec: TestSpec, cell: Cell) -> list[str]:
+    hidden = report.is_hidden(result)
+    label = report.public_label(result)
+    parts = [
+        (
+            f'<h2 id="{_anchor(spec.name, result.variant)}" class="run">{escape(spec.name)},'
+            f" {escape(label)}</h2>"
+        ),
+        _banner(result, public_reason(result, hidden), cell),
+    ]
+    if hidden:
+        parts.append(
+            '<p class="muted">A hidden run: its seed and start are not shown, so that a'
+            " mission is tested on a case it was not tuned to. Make it work from any start.</p>"
         )
-    if result.status == "invalid":
-        return "Run 'roboscript check' on the mission to see every problem with its line."
-    return "Run the mission with 'roboscript run --debug' to see where it stops."
+        return parts
+    parts += _run_sections(report, result, spec, suffix=f"-{_anchor(spec.name, result.variant)}")
+    if result.mission:
+        parts.append(
+            f'<p class="muted">Mission <code>{escape(Path(result.mission).name)}</code>.</p>'
+        )
+    return parts
 
 
 def _legend() -> str:

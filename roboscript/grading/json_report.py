@@ -1,11 +1,15 @@
-"""``roboscript grade --json``: the whole class report as one JSON-ready object."""
+"""``roboscript grade --json``: the whole class report as one JSON-ready object.
+
+It is the teacher's record of everything: hidden variants in full, tracebacks in ``debug``.
+Text is capped (:mod:`roboscript.grading.text`).
+"""
 
 from __future__ import annotations
 
 from typing import Any
 
 from roboscript import __version__
-from roboscript.grading.batch import ClassReport
+from roboscript.grading.batch import Cell, ClassReport
 
 __all__ = ["report_dict"]
 
@@ -14,8 +18,23 @@ def report_dict(report: ClassReport) -> dict[str, Any]:
     """The report: specs, students, one summary per student and test, and every run.
 
     Every field but ``wall_time_s`` is the same for the same specs and missions, whatever
-    ``--jobs`` is.
+    ``--jobs`` is. Points: ``max_points`` is what a test (or a run, its equal share) is worth,
+    ``points`` what was earned.
     """
+    report = report.capped()
+    runs = []
+    cells: dict[tuple[str, str], Cell] = {}
+    for result in report.results:
+        key = (result.student, result.test)
+        cell = cells.get(key) or cells.setdefault(key, report.cell(*key))
+        runs.append(
+            {
+                **result.to_dict(),
+                "hidden": report.is_hidden(result),
+                "points": cell.run_points(result),
+                "max_points": cell.run_max_points,
+            }
+        )
     return {
         "roboscript": __version__,
         "passed": report.passed,
@@ -25,6 +44,8 @@ def report_dict(report: ClassReport) -> dict[str, Any]:
                 "name": s.student,
                 "missions": list(s.missions),
                 "score": report.student_score(s.student),
+                "points": report.student_points(s.student),
+                "max_points": report.max_points,
             }
             for s in report.submissions
         ],
@@ -36,11 +57,13 @@ def report_dict(report: ClassReport) -> dict[str, Any]:
                 "passed_runs": cell.passed_runs,
                 "total_runs": cell.total_runs,
                 "score": cell.score,
+                "points": cell.points,
+                "max_points": cell.max_points,
                 "summary": cell.summary(),
             }
             for s in report.submissions
             for spec in report.specs
             for cell in [report.cell(s.student, spec.name)]
         ],
-        "runs": [result.to_dict() for result in report.results],
+        "runs": runs,
     }

@@ -1,16 +1,20 @@
-"""Run graded runs in worker processes, in parallel, each with a wall-clock limit.
+"""Run graded runs in worker processes, in parallel.
 
-A student's Python mission is code: a condition may loop forever, a behaviour may raise, call
-``exit()`` or eat all the memory. So every run happens in a fresh worker process, and only
-there: the parent never imports a student's file. The parent
+Each run has a worker process of its own that hosts the simulated world and judges the run
+(:mod:`roboscript.grading.worker`); the student's mission runs in a sandboxed process the
+worker starts (:mod:`roboscript.grading.world_host`). Neither the parent nor a worker ever
+loads a student's file. The parent
 
 * starts at most ``jobs`` workers at a time (forked from a server process that has already
   imported roboscript, so a worker is ready in milliseconds; spawned where fork is not
   available);
-* stops a worker that passes its run's wall-clock limit (terminate, then kill) and records the
-  run as ``timeout``;
-* records a worker that raised or died as ``crashed``, with one sentence for the student and
-  the traceback (if any) in the result's ``debug`` field.
+* runs each mission's first run alone: when the mission does not load, crashes or hangs while
+  loading, that one result stands for all of its runs on the same robot, so a broken
+  submission costs one run, not one per variant;
+* gives each result to ``on_result`` the moment it arrives (the command line writes it out at
+  once, so a grader that is killed keeps every finished run);
+* stops a worker that outlives its run's limits by a wide margin (it never should) and records
+  the run as ``crashed``.
 
 Each worker starts from the same state, whatever ran before it or beside it, so results do not
 depend on ``jobs`` or on the order runs finish in; they are returned in the order given.
@@ -30,28 +34,44 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from multiprocessing.connection import Connection, wait
 from multiprocessing.process import BaseProcess
+from pathlib import Path
 from typing import Any
 
 from roboscript.grading.record import RunResult
 from roboscript.grading.spec import TestSpec, Variant
+from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S
 
-__all__ = ["MEMORY_LIMIT_BYTES", "RunTask", "crash_result", "default_jobs", "run_tasks"]
-
-MEMORY_LIMIT_BYTES = 4 * 1024**3
-"""Address space a worker may use (where the OS lets us set it): a runaway student program
-fails its own run instead of starving the teacher's computer."""
+__all__ = ["RunTask", "crash_result", "default_jobs", "run_tasks"]
 
 _KILL_GRACE_S = 2.0
+_BACKSTOP_S = 15.0
+"""A worker enforces its run's limits itself; the parent ends one this far past them."""
 
 
 @dataclass(frozen=True)
 class RunTask:
-    """One run to do: a student's mission on one variant of a test."""
+    """One run to do: a student's mission on one variant of a test.
+
+    Attributes:
+        spec: The test.
+        mission: The mission file.
+        variant: The run variant.
+        student: The student (never passed to the mission).
+        visible: What the mission may read (default: the file and the files it names).
+        hang_after_s: Wall seconds without simulated progress that end the run as ``hung``.
+    """
 
     spec: TestSpec
     mission: str
     variant: Variant
     student: str
+    visible: tuple[Path, ...] | None = None
+    hang_after_s: float = DEFAULT_HANG_AFTER_S
+
+    @property
+    def load_key(self) -> tuple[str, str]:
+        """Runs with the same key load the same mission on the same robot."""
+        return self.mission, self.spec.robot
 
 
 def default_jobs() -> int:
@@ -95,14 +115,29 @@ def run_tasks(
     """
     jobs = max(1, jobs or default_jobs())
     context = _context()
-    pending = list(enumerate(tasks))
-    pending.reverse()  # pop() from the end takes them in order
+    waiting = list(enumerate(tasks))
     results: dict[int, RunResult] = {}
     running: list[_Running] = []
+    probing: set[tuple[str, str]] = set()  # keys whose first run is under way
+    loaded: set[tuple[str, str]] = set()  # keys whose mission is known to load
+
+    def deliver(index: int, result: RunResult) -> None:
+        results[index] = result
+        if on_result is not None:
+            on_result(result)
+
     try:
-        while pending or running:
-            while pending and len(running) < jobs:
-                index, task = pending.pop()
+        while waiting or running:
+            for entry in list(waiting):
+                if len(running) >= jobs:
+                    break
+                index, task = entry
+                key = task.load_key
+                if key in probing:
+                    continue  # wait for the first run of this mission to say whether it loads
+                if key not in loaded:
+                    probing.add(key)
+                waiting.remove(entry)
                 running.append(_start(context, index, task))
             now = time.monotonic()
             timeout = max(0.0, min(r.deadline for r in running) - now)
@@ -118,14 +153,34 @@ def run_tasks(
                 if result is None:
                     still.append(run)
                     continue
-                results[run.index] = result
-                if on_result is not None:
-                    on_result(result)
+                deliver(run.index, result)
+                key = run.task.load_key
+                if key in probing:
+                    probing.discard(key)
+                    if result.during_load:
+                        for entry in [e for e in waiting if e[1].load_key == key]:
+                            waiting.remove(entry)
+                            deliver(entry[0], _same_as(result, entry[1]))
+                    else:
+                        loaded.add(key)
             running = still
     finally:
         for run in running:  # interrupted (Ctrl-C): leave no worker behind
             _stop(run.process)
     return [results[i] for i in range(len(tasks))]
+
+
+def _same_as(first: RunResult, task: RunTask) -> RunResult:
+    """``task``'s result when its mission ended while loading in ``first``."""
+    return task.spec.result(
+        task.variant,
+        student=task.student,
+        mission=task.mission,
+        status=first.status,
+        message=first.message,
+        debug=first.debug,
+        during_load=True,
+    )
 
 
 def _start(context: Any, index: int, task: RunTask) -> _Running:
@@ -136,7 +191,8 @@ def _start(context: Any, index: int, task: RunTask) -> _Running:
     started = time.monotonic()
     process.start()
     sender.close()  # the parent keeps only its reading end, so a dead worker reads as EOF
-    return _Running(task, index, process, receiver, started, started + task.spec.wall_time_limit_s)
+    deadline = started + task.spec.wall_time_limit_s + _BACKSTOP_S
+    return _Running(task, index, process, receiver, started, deadline)
 
 
 def _worker_entry(connection: Connection, task: RunTask) -> None:
@@ -169,21 +225,20 @@ def _collect(run: _Running, ready: set[Any]) -> RunResult | None:
         return _failed(
             run,
             "crashed",
-            "the run stopped unexpectedly (its process ended with exit code"
-            f" {code}): does the mission call exit(), or use a great deal of memory?",
-            f"worker exit code {code}; {data or 'no result was sent'}",
+            "the grader could not finish this run (its world process ended with exit code"
+            f" {code}); this is a roboscript problem, not the student's: please report it",
+            f"world worker exit code {code}; {data or 'no result was sent'}",
             wall,
         )
     if time.monotonic() >= run.deadline:
         _stop(run.process)
         run.connection.close()
-        limit = run.task.spec.wall_time_limit_s
         return _failed(
             run,
-            "timeout",
-            f"timed out after {limit:g} s of wall time (the mission may loop forever:"
-            " look for a condition or behaviour that never returns)",
-            f"stopped by the grader after {limit:g} s of wall time",
+            "crashed",
+            "the grader could not finish this run in time; this is a roboscript problem, not"
+            " the student's: please report it",
+            f"world worker stopped by the parent after {wall:g} s",
             wall,
         )
     return None
@@ -218,12 +273,15 @@ def crash_result(task: RunTask, exc: BaseException) -> dict[str, Any]:
     frames = traceback.extract_tb(exc.__traceback__)
     if frames:
         where = f" ({os.path.basename(frames[-1].filename)}:{frames[-1].lineno})"
-    text = str(exc).splitlines()[0] if str(exc) else ""
+    text = str(exc).splitlines()[0][:300] if str(exc) else ""
     return task.spec.result(
         task.variant,
         student=task.student,
         mission=task.mission,
         status="crashed",
-        message=f"the run crashed: {type(exc).__name__}{': ' + text if text else ''}{where}",
+        message=(
+            f"the grader failed on this run: {type(exc).__name__}{': ' + text if text else ''}"
+            f"{where}; this is a roboscript problem, not the student's: please report it"
+        ),
         debug="".join(traceback.format_exception(exc)),
     ).to_dict()

@@ -16,6 +16,7 @@ from typing import Any
 from roboscript.sim.world import World
 
 __all__ = [
+    "MISSION_REPORTED",
     "RUN_STATUSES",
     "Collision",
     "RunRecord",
@@ -24,10 +25,16 @@ __all__ = [
     "Verdict",
 ]
 
-RUN_STATUSES = ("passed", "failed", "timeout", "crashed", "invalid", "missing")
+RUN_STATUSES = ("passed", "failed", "timeout", "hung", "crashed", "invalid", "missing")
 """How a run can end for the grader: ``passed`` (every expectation held), ``failed`` (one did
-not), ``timeout`` (the wall-clock limit ended it), ``crashed`` (the worker raised or died),
+not), ``timeout`` (the wall-clock limit ended it while simulated time still advanced),
+``hung`` (simulated time stopped advancing: the mission's code did not return), ``crashed``
+(the mission's process died, its own code raised, or it broke the grading wire),
 ``invalid`` (the student's mission did not load), ``missing`` (no mission for this test)."""
+
+MISSION_REPORTED = ("outcome", "final_state", "reason", "state names", "mission name")
+"""What in a :class:`RunRecord` is the mission process's own account (checked, never trusted
+with a name, a score or a verdict); everything else, times included, is the world's."""
 
 
 @dataclass(frozen=True)
@@ -52,6 +59,9 @@ class Collision:
 @dataclass(frozen=True)
 class RunRecord:
     """What happened in one simulated run, read-only (a teacher's ``check`` gets this).
+
+    In a graded run the grader's own simulation records it; only the fields named in
+    :data:`MISSION_REPORTED` come from the mission's process.
 
     Attributes:
         mission: The mission's name.
@@ -223,6 +233,8 @@ class RunResult:
         wall_time_s: Wall-clock seconds the run took (the only field that varies between
             identical runs).
         debug: A traceback or other detail for the teacher; never shown to students.
+        during_load: True when the run ended before the mission had loaded (so every run of
+            this mission on this robot ends the same way, and the grader runs it once).
     """
 
     student: str
@@ -238,6 +250,7 @@ class RunResult:
     record: RunRecord | None = None
     wall_time_s: float = 0.0
     debug: str = ""
+    during_load: bool = False
 
     @property
     def passed(self) -> bool:
@@ -261,6 +274,7 @@ class RunResult:
             "record": self.record.to_dict() if self.record is not None else None,
             "wall_time_s": self.wall_time_s,
             "debug": self.debug,
+            "during_load": self.during_load,
         }
 
     @classmethod
@@ -281,6 +295,7 @@ class RunResult:
             record=RunRecord.from_dict(record, world) if record is not None else None,
             wall_time_s=data["wall_time_s"],
             debug=data["debug"],
+            during_load=bool(data.get("during_load", False)),
         )
 
     def worst_verdict(self) -> Verdict | None:

@@ -1,78 +1,93 @@
 """One graded run: a student's mission on one variant of a test, judged by its expectations.
 
-:func:`grade_run` is a pure function of its arguments: the same spec, mission file and variant
-always give the same :class:`~roboscript.grading.record.RunResult` (but for ``wall_time_s``),
-because the simulator is deterministic and runs on its own clock. It runs the mission in the
-calling process; the grader calls it in a worker process of its own
-(:mod:`roboscript.grading.pool`), since a Python mission is code that may loop or crash.
+:func:`grade_run` runs the mission in a sandboxed process of its own and the simulated world in
+the calling process (:mod:`roboscript.grading.world_host`), joined by the robot's protocol
+bytes; the verdicts are computed here, from the world's record, where the student's code
+cannot reach. The same spec, mission file and variant always give the same
+:class:`~roboscript.grading.record.RunResult` (but for ``wall_time_s``): the simulator is
+deterministic and runs on its own clock, and the wire is lockstep.
+
+Scores (written in the teachers' guide): a run that passed scores 1; a run that failed after
+ending normally (its mission reached a final state by itself, within the test's simulated
+time, without its own code raising) scores the weighted share of expectations that held; every
+other run (out of simulated time, crashed, hung, timed out, invalid, missing) scores 0.
 """
 
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
-from roboscript.errors import CapabilityError, InputError
 from roboscript.grading.expectations import evaluate
-from roboscript.grading.record import Collision, RunRecord, RunResult, Tone, Verdict
+from roboscript.grading.record import RunRecord, RunResult, Verdict
+from roboscript.grading.sandbox import Limits
 from roboscript.grading.spec import TestSpec, Variant
-from roboscript.session import Session, run_session
+from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S, run_world, simulation_record
+from roboscript.session import Session
 
 __all__ = ["grade_run", "record_from_session", "run_message", "run_score"]
 
 
-def grade_run(spec: TestSpec, mission_path: str, variant: Variant, student: str = "") -> RunResult:
+def grade_run(
+    spec: TestSpec,
+    mission_path: str,
+    variant: Variant,
+    student: str = "",
+    *,
+    visible: tuple[Path, ...] | None = None,
+    hang_after_s: float = DEFAULT_HANG_AFTER_S,
+    limits: Limits | None = None,
+) -> RunResult:
     """Run ``mission_path`` on ``variant`` of ``spec`` in the simulator and judge it.
 
     The spec's robot and world are used whatever the mission names; the run ends when the
-    mission does or after the spec's ``max_time`` of simulated time.
+    mission does, after the spec's ``max_time`` of simulated time, when simulated time stops
+    advancing for ``hang_after_s`` of wall time, or at the spec's wall-clock limit.
 
     Args:
         spec: The test.
         mission_path: The student's mission file (``.yaml`` or ``.py``).
         variant: Which of the spec's runs.
-        student: The student's name, for the result.
+        student: The student's name, for the result (never seen by the mission).
+        visible: Files and folders the mission may read (default: the mission file and the
+            files beside it that it names).
+        hang_after_s: Wall seconds without simulated progress that end a run as ``hung``.
+        limits: The sandbox's resource limits (default :class:`~roboscript.grading.sandbox.Limits`).
 
     Returns:
-        The result: ``passed``, ``failed``, or ``invalid`` when the mission does not load or
-        does not fit the robot (the message then quotes the first problem).
+        The result: ``passed`` or ``failed`` (judged), or ``invalid``, ``crashed``, ``hung``
+        or ``timeout`` with one sentence for the student.
     """
-    from roboscript.mission import mission_for_robot
-
     started = time.perf_counter()
-    base = spec.result(variant, student=student, mission=mission_path, status="invalid")
-    try:
-        mission, profile, _warnings = mission_for_robot(mission_path, spec.robot)
-    except InputError as exc:
-        problems = [p.format() for p in getattr(exc, "problems", None) or [exc]]
-        more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
+    base = spec.result(variant, student=student, mission=mission_path, status="crashed")
+    world = run_world(
+        spec, mission_path, variant, visible=visible, hang_after_s=hang_after_s, limits=limits
+    )
+    if world.record is None:
         return _finish(
             base,
             started,
-            message=f"the mission has an error: {problems[0]}{more}",
-            debug="\n".join(problems),
+            status=world.status,
+            message=world.message,
+            debug=world.debug,
+            during_load=not world.loaded,
         )
-    try:
-        session = run_session(
-            mission,
-            profile,
-            world=variant.world,
-            seed=variant.seed,
-            start=variant.start,
-            max_time_s=spec.max_time_s,
-        )
-    except CapabilityError as exc:
-        return _finish(base, started, message=f"the mission does not fit the robot: {exc}")
-    record = record_from_session(session)
+    record = world.record
     verdicts = tuple(evaluate(expectation, record) for expectation in spec.expectations)
-    passed = all(v.passed for v in verdicts)
+    passed = all(v.passed for v in verdicts) and not world.status
+    status = world.status or ("passed" if passed else "failed")
+    message = world.message or run_message(verdicts)
+    if not message and not passed:
+        message = record.reason or "the mission did not end normally"
     return _finish(
         base,
         started,
-        status="passed" if passed else "failed",
-        message=run_message(verdicts),
-        score=run_score(verdicts),
+        status=status,
+        message=message,
+        score=run_score(verdicts) if status == "passed" or world.ended_normally else 0.0,
         verdicts=verdicts,
         record=record,
+        debug=world.debug,
     )
 
 
@@ -104,31 +119,24 @@ def run_message(verdicts: tuple[Verdict, ...]) -> str:
 
 
 def record_from_session(session: Session) -> RunRecord:
-    """What a finished simulated run did, on the mission clock."""
+    """What a finished in-process simulated run did, on the mission clock.
+
+    The grader never uses this (it records from its own world, :func:`grade_run`); it is the
+    reference a graded run is compared with: the same mission, robot, world and seed give the
+    same record either way.
+    """
     sim = session.simulation
     if sim is None:
-        raise ValueError("only simulated runs can be graded")
+        raise ValueError("only simulated runs can be recorded")
     result = session.result
-    body = sim.body
-    return RunRecord(
+    start_s = session.start_time_s
+    return simulation_record(
+        sim,
+        start_s,
+        start_s + result.duration_s,
         mission=result.mission,
-        robot=session.profile.name,
-        world_name=sim.world.name,
-        seed=sim.seed,
         outcome=result.outcome,
         final_state=result.final_state,
         reason=result.reason,
-        duration_s=round(result.duration_s, 3),
         states=tuple((round(t, 3), name) for t, name in result.states),
-        path=tuple(session.mission_path()),
-        tones=tuple(Tone(t, float(f), d) for t, f, d in session.mission_tones()),
-        collisions=tuple(
-            Collision(session.mission_time_s(c.start_s), round(c.x_mm, 1), round(c.y_mm, 1), c.side)
-            for c in sim.log.contacts
-        ),
-        final_pose=session.final_pose(),
-        distance_travelled_mm=round(sim.log.distance_travelled_mm, 1),
-        body_radius_mm=body.spec.body_radius_mm,
-        side_sensor_offset_mm=body.spec.side_range_offset_mm,
-        world=sim.world,
     )

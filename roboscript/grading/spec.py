@@ -9,6 +9,9 @@ A test spec (YAML; quantities take units, bare numbers the documented unit)::
     runs:                   # each run is one seeded variant; the mission must pass all
       - {seed: 1}
       - {seed: 2, start: {x: 100 mm, y: 0 mm, heading: 10 deg}}
+      - {seed: 3, start: {heading: 30 deg}, hidden: true}   # students see "hidden run 3"
+      - {seed: 4, start: {x: 0 mm, y: 300 mm}, expect: {final_pose_within: {y: 300 mm}}}
+    points: 12              # what the test is worth (default: one point per run)
     max_time: 60 s          # simulated time
     wall_time_limit: 60 s   # real time, per run, before the grader gives up on it
     expect:
@@ -28,10 +31,16 @@ from pathlib import Path
 from typing import Any
 
 from roboscript.errors import SpecError, did_you_mean
-from roboscript.grading.expectations import Expectation, SpecContext, parse_expectation
+from roboscript.grading.expectations import (
+    Expectation,
+    RunOverride,
+    SpecContext,
+    apply_run_targets,
+    parse_expectation,
+)
 from roboscript.grading.reader import SpecReader
 from roboscript.grading.record import RunResult
-from roboscript.mission.source import Mark, YamlMap, load_yaml
+from roboscript.mission.source import Mark, YamlList, YamlMap, load_yaml
 from roboscript.mission.spec import Location
 from roboscript.sim.world import World, builtin_worlds, load_world
 
@@ -58,9 +67,10 @@ _TOP_KEYS = (
     "runs",
     "max_time",
     "wall_time_limit",
+    "points",
     "expect",
 )
-_RUN_KEYS = ("seed", "start", "world", "name")
+_RUN_KEYS = ("seed", "start", "world", "name", "hidden", "expect")
 
 
 @dataclass(frozen=True)
@@ -73,6 +83,8 @@ class Variant:
         world: World name or absolute path.
         start: ``(x_mm, y_mm, heading_deg)``, or ``None`` for the world's start.
         name: The teacher's name for it, or empty.
+        hidden: Students never see its seed, start or world: their feedback names it
+            "hidden run N" (see :attr:`public_label`), with pass or fail and the reason.
     """
 
     index: int
@@ -80,6 +92,7 @@ class Variant:
     world: str
     start: tuple[float, float, float] | None = None
     name: str = ""
+    hidden: bool = False
 
     @property
     def label(self) -> str:
@@ -91,6 +104,11 @@ class Variant:
             x, y, h = self.start
             text += f", start ({x:g}, {y:g}) mm {h:g}°"
         return text
+
+    @property
+    def public_label(self) -> str:
+        """How student-facing reports name it: :attr:`label`, or ``hidden run N`` if hidden."""
+        return f"hidden run {self.index + 1}" if self.hidden else self.label
 
 
 @dataclass(frozen=True)
@@ -109,6 +127,8 @@ class TestSpec:
         expectations: What must hold on every run.
         location: Where the spec starts.
         worlds: The worlds the runs use, loaded once, by the name or path the runs give.
+        points: What the test is worth (``points:``), or ``None`` for the default, one point
+            per run; see :attr:`max_points`.
     """
 
     __test__ = False  # not a pytest test class, despite the name
@@ -124,6 +144,13 @@ class TestSpec:
     expectations: tuple[Expectation, ...]
     location: Location | None = None
     worlds: dict[str, World] = field(default_factory=dict, compare=False, repr=False)
+    points: float | None = None
+
+    @property
+    def max_points(self) -> float:
+        """Points the test is worth: ``points:``, else one per run. Each run earns an equal
+        share of it times its score (0 to 1)."""
+        return self.points if self.points is not None else float(len(self.variants))
 
     def result(
         self, variant: Variant, *, student: str, mission: str, status: str, **fields: Any
@@ -153,6 +180,7 @@ class TestSpec:
             "robot": self.robot,
             "max_time_s": self.max_time_s,
             "wall_time_limit_s": self.wall_time_limit_s,
+            "points": self.max_points,
             "runs": [
                 {
                     "index": v.index,
@@ -160,6 +188,7 @@ class TestSpec:
                     "seed": v.seed,
                     "world": v.world,
                     "start": list(v.start) if v.start is not None else None,
+                    "hidden": v.hidden,
                 }
                 for v in self.variants
             ],
@@ -207,11 +236,14 @@ def load_test_spec(path: str | Path) -> TestSpec:
         else DEFAULT_WALL_TIME_LIMIT_S
     )
     variants = _variants(reader, top, folder, default_world, worlds)
+    points = _points(reader, top)
     items = reader.items(top["expect"], "expect", top.value_mark("expect"))
     if not items:
         raise reader.fail("expect lists at least one expectation", top.value_mark("expect"))
     context = SpecContext(folder, tuple(worlds[v.world] for v in variants))
     expectations = tuple(parse_expectation(reader, item, mark, context) for item, mark in items)
+    runs = _run_overrides(top, variants, worlds)
+    expectations = apply_run_targets(reader, expectations, items, runs, folder)
     return TestSpec(
         name=name,
         path=shown,
@@ -224,7 +256,21 @@ def load_test_spec(path: str | Path) -> TestSpec:
         expectations=expectations,
         location=Location(shown, 1, 1),
         worlds=worlds,
+        points=points,
     )
+
+
+def _points(reader: SpecReader, top: YamlMap) -> float | None:
+    """``points:``, a number of at least 0 (0: the test counts for nothing), or ``None``."""
+    if "points" not in top:
+        return None
+    value = top["points"]
+    if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value < 1e9:
+        raise reader.fail(
+            "'points' must be a number of at least 0, such as points: 10",
+            top.value_mark("points"),
+        )
+    return float(value)
 
 
 def _robot(reader: SpecReader, top: YamlMap) -> str:
@@ -302,5 +348,34 @@ def _variants(
                 else base.heading_deg,
             )
         name = reader.text(data, "name") if "name" in data else ""
-        variants.append(Variant(index, seed, world, start, name))
+        hidden = _flag(reader, data, "hidden")
+        variants.append(Variant(index, seed, world, start, name, hidden))
     return tuple(variants)
+
+
+def _flag(reader: SpecReader, data: YamlMap, key: str) -> bool:
+    """``data[key]`` as ``true``/``false`` (``False`` when absent)."""
+    if key not in data:
+        return False
+    value = data[key]
+    if not isinstance(value, bool):
+        raise reader.fail(f"'{key}' must be true or false", data.value_mark(key))
+    return value
+
+
+def _run_overrides(
+    top: YamlMap, variants: tuple[Variant, ...], worlds: dict[str, World]
+) -> list[RunOverride]:
+    """Each run's own targets (its ``expect:``), with what tells its record from the others'."""
+    written = top.get("runs")
+    runs = []
+    for variant in variants:
+        world = worlds[variant.world]
+        start = variant.start or (world.start.x_mm, world.start.y_mm, world.start.heading_deg)
+        key = (world.name, variant.seed, start)
+        data = written[variant.index] if isinstance(written, YamlList) else None
+        if isinstance(data, YamlMap) and "expect" in data:
+            runs.append(RunOverride(key, world, data["expect"], data.value_mark("expect")))
+        else:
+            runs.append(RunOverride(key, world))
+    return runs

@@ -108,6 +108,7 @@ def trajectory_svg(
     expectations: Sequence[Expectation] = (),
     width_px: float = 640.0,
     max_height_px: float = 560.0,
+    id_suffix: str = "",
 ) -> str:
     """The run seen from above: world, path, start and end, collisions, tones, violations.
 
@@ -118,6 +119,7 @@ def trajectory_svg(
         expectations: A ``final_pose_within`` target is drawn as a dashed circle.
         width_px: Largest width of the picture.
         max_height_px: Largest height of the picture.
+        id_suffix: Added to the element ids, to tell several pictures on one page apart.
     """
     xs, ys = _extent(world, record)
     frame = _Frame(xs, ys, width_px, max_height_px)
@@ -128,11 +130,12 @@ def trajectory_svg(
         f" ended at ({record.final_pose[0]:.0f}, {record.final_pose[1]:.0f}) mm"
     )
     out.append(
-        f'<svg xmlns="http://www.w3.org/2000/svg" role="img" aria-labelledby="traj-title"'
+        f'<svg xmlns="http://www.w3.org/2000/svg" role="img"'
+        f' aria-labelledby="traj-title{id_suffix}"'
         f' width="{_f(frame.width)}" height="{_f(frame.height)}"'
         f' viewBox="0 0 {_f(frame.width)} {_f(frame.height)}" class="trajectory">'
     )
-    out.append(f'<title id="traj-title">{escape(title)}</title>')
+    out.append(f'<title id="traj-title{id_suffix}">{escape(title)}</title>')
     out.append(f'<rect width="{_f(frame.width)}" height="{_f(frame.height)}" fill="#fbfbf8"/>')
     out += _grid(frame)
     for region in world.regions.values():
@@ -313,9 +316,15 @@ def _tick_step(duration_s: float) -> float:
 
 
 def timeline_svg(
-    record: RunRecord, verdicts: Sequence[Verdict] = (), width_px: float = 900.0
+    record: RunRecord,
+    verdicts: Sequence[Verdict] = (),
+    width_px: float = 900.0,
+    id_suffix: str = "",
 ) -> str:
-    """The states over time as a strip of bars, with tones, collisions and first violations."""
+    """The states over time as a strip of bars, with tones, collisions and first violations.
+
+    ``id_suffix`` is added to the element ids, to tell several pictures on one page apart.
+    """
     duration = max(record.duration_s, 0.1)
     left, right = 10.0, 20.0
     scale = (width_px - left - right) / duration
@@ -328,13 +337,13 @@ def timeline_svg(
     more = " ..." if len(record.states) > 12 else ""
     out = [
         (
-            f'<svg xmlns="http://www.w3.org/2000/svg" role="img" aria-labelledby="tl-title"'
-            f' width="{_f(width_px)}" height="{_f(height)}" viewBox="0 0 {_f(width_px)}'
-            f' {_f(height)}" class="timeline">'
+            f'<svg xmlns="http://www.w3.org/2000/svg" role="img"'
+            f' aria-labelledby="tl-title{id_suffix}" width="{_f(width_px)}" height="{_f(height)}"'
+            f' viewBox="0 0 {_f(width_px)} {_f(height)}" class="timeline">'
         ),
         (
-            f'<title id="tl-title">State timeline over {duration:.1f} s: {escape(names)}{more}'
-            "</title>"
+            f'<title id="tl-title{id_suffix}">State timeline over {duration:.1f} s:'
+            f" {escape(names)}{more}</title>"
         ),
     ]
     for start, end, name in record.state_intervals():

@@ -1,15 +1,21 @@
 """The class table printed on the terminal: one line per student and test.
 
-Each line shows ✓ or ✗ with the runs that passed out of all runs, the score, and what to look
-at: the first failure's margin (or why the run stopped), or, when every run passed, the
-expectation that passed with the least room to spare.
+Each line shows ✓ or ✗ with the runs that passed out of all runs, the score, the points earned
+out of those the test is worth, and what to look at: the first failure's margin (or why the run
+stopped), or, when every run passed, the expectation that passed with the least room to spare.
+
+A CI job's log is read by the student it graded, so a hidden variant's details never appear
+here (its margin does). Text is capped, and kept to one line.
 """
 
 from __future__ import annotations
 
 from roboscript.grading.batch import ClassReport
+from roboscript.grading.text import NAME_CHARS, cap, format_points
 
 __all__ = ["format_table", "symbols_for"]
+
+_WHY_CHARS = 300
 
 
 def symbols_for(encoding: str | None) -> tuple[str, str]:
@@ -24,27 +30,31 @@ def symbols_for(encoding: str | None) -> tuple[str, str]:
 def format_table(report: ClassReport, encoding: str | None = "utf-8") -> str:
     """The table as text, ending with a one-line summary."""
     ok, bad = symbols_for(encoding)
-    rows: list[tuple[str, str, str, str, str]] = []
+    report = report.capped()
+    rows: list[tuple[str, ...]] = []
     for submission in report.submissions:
         for spec in report.specs:
             cell = report.cell(submission.student, spec.name)
             mark = ok if cell.passed else bad
             rows.append(
                 (
-                    submission.student,
+                    cap(submission.student, NAME_CHARS),
                     spec.name,
                     f"{mark} {cell.passed_runs}/{cell.total_runs}",
                     f"{cell.score * 100:.0f}%",
-                    cell.summary(),
+                    f"{format_points(cell.points)}/{format_points(cell.max_points)}",
+                    cap(" ".join(cell.summary().split()), _WHY_CHARS),
                 )
             )
-    header = ("student", "test", "runs", "score", "worst margin / why")
-    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(4)]
+    header = ("student", "test", "runs", "score", "points", "worst margin / why")
+    numeric = (3, 4)
+    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(5)]
     lines = []
     for row in [header, *rows]:
-        cells = [row[i].ljust(widths[i]) for i in range(4)]
-        cells[3] = row[3].rjust(widths[3])
-        lines.append("  ".join([*cells, row[4]]).rstrip())
+        cells = [
+            row[i].rjust(widths[i]) if i in numeric else row[i].ljust(widths[i]) for i in range(5)
+        ]
+        lines.append("  ".join([*cells, row[5]]).rstrip())
     runs = len(report.results)
     passed_runs = sum(1 for r in report.results if r.passed)
     students = len(report.submissions)
@@ -58,4 +68,5 @@ def format_table(report: ClassReport, encoding: str | None = "utf-8") -> str:
         f"{passed_runs} of {runs} runs passed; {all_passed} of {students} student"
         f"{'s' if students != 1 else ''} passed every test"
     )
+
     return "\n".join(lines)

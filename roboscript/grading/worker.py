@@ -1,20 +1,22 @@
-"""The grading worker: the only place a student's mission is loaded and run.
+"""The grading worker: one graded run's world, in a process of its own.
 
-It runs in a process of its own (see :mod:`roboscript.grading.pool`). Importing this module
-imports everything a run needs, so the fork server that preloads it hands each worker a warm
-interpreter.
+It runs in a process the grader starts (see :mod:`roboscript.grading.pool`) and never loads a
+student's file: it builds the simulated world, starts the student's mission in a sandboxed
+process (:func:`roboscript.grading.run.grade_run`) and judges the run. Importing this module
+imports everything the world side needs, so the fork server that preloads it hands each
+worker a warm interpreter.
 """
 
 from __future__ import annotations
 
 import importlib
 import logging
-import os
-import sys
 from multiprocessing.connection import Connection
 from typing import TYPE_CHECKING
 
 from roboscript.grading.run import grade_run
+from roboscript.grading.sandbox import detect_isolation
+from roboscript.grading.text import cap_result
 
 if TYPE_CHECKING:
     from roboscript.grading.pool import RunTask
@@ -23,51 +25,38 @@ __all__ = ["work"]
 
 # Imported here, once, in the fork server: every worker forked from it starts warm.
 _WARM_MODULES = (
-    "roboscript.drivers.asip.driver",
     "roboscript.drivers.asip.device",
-    "roboscript.mission.yaml_loader",
-    "roboscript.mission.python_loader",
+    "roboscript.drivers.spike.device",
+    "roboscript.drivers.stackmod.device",
+    "roboscript.drivers.plen.device",
     "roboscript.sim.simulation",
+    "roboscript.grading.world_host",
 )
 for _name in _WARM_MODULES:
     importlib.import_module(_name)
+# Probed once here, not once per run (it starts bwrap).
+detect_isolation()
 
 
 def work(connection: Connection, task: RunTask) -> None:
     """Grade one run and send its result dictionary to the parent."""
-    from roboscript.grading.pool import MEMORY_LIMIT_BYTES, crash_result
+    from roboscript.grading.pool import crash_result
 
-    _quiet()
-    _limit_memory(MEMORY_LIMIT_BYTES)
+    logging.disable(logging.WARNING)
     try:
-        result = grade_run(task.spec, task.mission, task.variant, task.student).to_dict()
-    except BaseException as exc:  # noqa: BLE001 - whatever the student's code does is a failed run
+        graded = grade_run(
+            task.spec,
+            task.mission,
+            task.variant,
+            task.student,
+            visible=task.visible,
+            hang_after_s=task.hang_after_s,
+        )
+        # Capped here, so a student's flood never crosses the pipe or reaches --results.
+        result = cap_result(graded).to_dict()
+    except Exception as exc:  # noqa: BLE001 - a bug of ours: report it for this run only
         result = crash_result(task, exc)
     try:
         connection.send(result)
     finally:
         connection.close()
-
-
-def _quiet() -> None:
-    """Send the student's prints (and anything else written) nowhere: reports stay clean."""
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    for fd in (1, 2):
-        os.dup2(devnull, fd)
-    os.close(devnull)
-    sys.stdout = open(os.devnull, "w", encoding="utf-8")  # noqa: SIM115 - lives as long as the worker
-    sys.stderr = sys.stdout
-    logging.disable(logging.WARNING)
-
-
-def _limit_memory(limit_bytes: int) -> None:
-    try:
-        import resource
-    except ImportError:  # not on Windows
-        return
-    try:
-        _soft, hard = resource.getrlimit(resource.RLIMIT_AS)
-        if hard == resource.RLIM_INFINITY or hard > limit_bytes:
-            resource.setrlimit(resource.RLIMIT_AS, (limit_bytes, hard))
-    except (OSError, ValueError):
-        pass

@@ -61,6 +61,8 @@ class MissionResult:
         reason: Why, when the outcome is not success.
         duration_s: Mission time on the scheduler clock, seconds.
         states: Every state entered, as ``[time_s, name]``.
+        code_error: True when an exception from the student's own code (a behaviour, a
+            condition method) ended the mission: the grader scores such a run as crashed.
     """
 
     mission: str
@@ -69,6 +71,7 @@ class MissionResult:
     reason: str | None = None
     duration_s: float = 0.0
     states: list[tuple[float, str]] = field(default_factory=list)
+    code_error: bool = False
 
 
 class _Model:
@@ -262,6 +265,7 @@ class MissionRunner(GuardEnv):
                 raise
             self.action = None  # it may be the code that raised: do not call its stop()
             self.during = []
+            self.result.code_error = True
             self.finish("failure", reason)
 
     def _tick(self, now_s: float, dt_s: float) -> None:
@@ -339,6 +343,7 @@ class MissionRunner(GuardEnv):
             if fault is None:
                 raise
             self.action, self.during = None, []
+            self.result.code_error = True
             if outcome == "success":
                 outcome, reason = "failure", fault
         base = self.capabilities.get(cap.DRIVE_BASE)

@@ -4,11 +4,18 @@ Run by hand, not by pytest::
 
     python tests/bench/bench_grading.py [--quick] [--jobs N]
 
-It grades the way ``roboscript grade`` does: every run in a worker process of its own (forked
-from a preloaded server), ``--jobs`` at a time (default: one per core), each judged by five
-expectations (outcome, collisions, regions, a wall-distance band, duration). It prints the wall
-time of the whole class and the aggregate real-time factor (simulated seconds of all runs per
-wall second). Goal: the class in under 60 s on the 2-core reference machine.
+It grades the way ``roboscript grade`` does: every run's world in a worker process of its own
+(forked from a preloaded server), the student's mission in a sandboxed process beside it,
+``--jobs`` at a time (default: one per core), each judged by five expectations (outcome,
+collisions, regions, a wall-distance band, duration). It grades two classes:
+
+* the honest class: 30 students who all finish;
+* the troubled class: the same, but 3 students hang (one while loading, two mid-run) and 3
+  crash (one while loading, two mid-run), as a real class does.
+
+It prints each class's wall time against the goal (under 60 s on the 2-core reference
+machine), the troubled class's time as a ratio to the honest class's (the cost of the broken
+submissions), and the aggregate real-time factor.
 """
 
 from __future__ import annotations
@@ -18,7 +25,9 @@ import shutil
 import sys
 import tempfile
 import time
+from collections import Counter
 from pathlib import Path
+from typing import Any
 
 HERE = Path(__file__).resolve().parent
 for _path in (str(HERE), str(HERE.parent.parent)):
@@ -54,29 +63,91 @@ expect:
 """
 
 
-def _make_class(folder: Path, students: int, seeds: int) -> tuple[Path, Path]:
-    """A spec and a class folder: half the students patrol, half follow the walls."""
+_TROUBLE = {
+    "hangs_loading.py": "while True:\n    pass\n",
+    "crashes_loading.py": "raise ImportError('no module named robotlib')\n",
+    "hangs_mid_run.py": """\
+from roboscript import Drive, Mission, state
+
+
+class Hang(Mission):
+    go = state(Drive(distance_mm=300), initial=True, on_done="spin", when=[])
+    spin = state(Drive(distance_mm=300), on_done="end", when=[("stuck", "end")])
+    end = state(final="success")
+
+    def stuck(self) -> bool:
+        while True:
+            pass
+""",
+    "crashes_mid_run.py": """\
+from roboscript import Action, Drive, Mission, state
+
+
+class Boom(Action):
+    name = "boom"
+    params = ()
+
+    def update(self, ctx):
+        raise ZeroDivisionError("division by zero")
+
+
+class Crash(Mission):
+    go = state(Drive(distance_mm=300), initial=True, on_done="boom")
+    boom = state(Boom(), on_done="end")
+    end = state(final="success")
+""",
+}
+_TROUBLED = (
+    "hangs_loading.py",
+    "hangs_mid_run.py",
+    "hangs_mid_run.py",
+    "crashes_loading.py",
+    "crashes_mid_run.py",
+    "crashes_mid_run.py",
+)
+
+
+def _make_class(
+    folder: Path, students: int, seeds: int, troubled: bool = False
+) -> tuple[Path, Path]:
+    """A spec and a class folder: half the students patrol, half follow the walls.
+
+    With ``troubled``, six of them hang or crash instead (see the module docstring).
+    """
     runs = "\n".join(f"  - {{seed: {seed}}}" for seed in range(1, seeds + 1))
     spec = folder / "spec.yaml"
     spec.write_text(SPEC.format(runs=runs), encoding="utf-8")
     submissions = folder / "class"
     submissions.mkdir()
     loads = ("patrol_60s.yaml", "follow_walls_60s.yaml")
+    trouble = list(_TROUBLED) if troubled else []
     for i in range(students):
-        shutil.copy(HERE / loads[i % 2], submissions / f"student{i + 1:02d}.yaml")
+        name = f"student{i + 1:02d}"
+        # Spread the trouble through the class, as names would.
+        if trouble and i % (students // len(_TROUBLED)) == 0:
+            text = _TROUBLE[trouble.pop()]
+            (submissions / f"{name}.py").write_text(text, encoding="utf-8")
+            continue
+        shutil.copy(HERE / loads[i % 2], submissions / f"{name}.yaml")
     return spec, submissions
 
 
-def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
-    """Grade the benchmark class once; return the rows (wall time against the goal, RTF)."""
-    students = 10 if quick else STUDENTS
+def _grade(students: int, troubled: bool, jobs: int | None) -> tuple[float, Any]:
     with tempfile.TemporaryDirectory(prefix="bench-grading-") as tmp:
-        spec, submissions = _make_class(Path(tmp), students, SEEDS)
+        spec, submissions = _make_class(Path(tmp), students, SEEDS, troubled)
         specs = find_specs([str(spec)])
         found = find_submissions([str(submissions)])
         started = time.perf_counter()
         report = grade_class(specs, found, jobs)
-        wall_s = time.perf_counter() - started
+        return time.perf_counter() - started, report
+
+
+def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
+    """Grade the benchmark class once; return the rows (wall time against the goal, RTF)."""
+    students = 12 if quick else STUDENTS
+    wall_s, report = _grade(students, False, jobs)
+    troubled_s, troubled = _grade(students, True, jobs)
+    statuses = Counter(r.status for r in troubled.results)
     simulated_s = sum(r.record.duration_s for r in report.results if r.record is not None)
     unfinished = [r for r in report.results if r.record is None]
     if unfinished:
@@ -89,6 +160,11 @@ def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
     )
     # Scale a --quick class up to the full one, so the goal reads the same.
     projected_s = wall_s * STUDENTS / students
+    trouble_detail = (
+        f"{runs} runs, 3 hanging and 3 crashing students: "
+        + ", ".join(f"{n} {status}" for status, n in sorted(statuses.items()))
+        + f"; {troubled_s:.1f} s wall"
+    )
     return [
         at_most(
             KEY,
@@ -98,6 +174,20 @@ def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
             detail,
             unit="s",
         ),
+        at_most(
+            KEY,
+            "grading: the class with 3 hanging and 3 crashing students, wall s",
+            troubled_s * STUDENTS / students,
+            CLASS_WALL_GOAL_S,
+            trouble_detail,
+            unit="s",
+        ),
+        info(
+            KEY,
+            "grading: troubled class time / honest class time",
+            troubled_s / wall_s,
+            "what hanging and crashing students add to a class",
+        ),
         info(KEY, "grading: aggregate real-time factor", simulated_s / wall_s, detail),
     ]
 
@@ -105,7 +195,7 @@ def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
 def main() -> None:
     """Print this benchmark's rows."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="10 missions instead of 30")
+    parser.add_argument("--quick", action="store_true", help="12 missions instead of 30")
     parser.add_argument("--jobs", type=int, help="workers at once (default: one per core)")
     args = parser.parse_args()
     print("\n".join(machine_header("not pinned (one worker process per run)")))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 from pathlib import Path
 
@@ -9,7 +10,13 @@ import pytest
 from helpers import MISSIONS
 
 from roboscript.errors import InputError
-from roboscript.grading.batch import Submission, find_submissions, mission_for_test
+from roboscript.grading.batch import (
+    Submission,
+    find_specs,
+    find_submissions,
+    grade_class,
+    mission_for_test,
+)
 from roboscript.grading.spec import load_test_spec
 
 SQUARE = MISSIONS / "square.yaml"
@@ -56,3 +63,18 @@ def test_a_student_with_several_missions_runs_the_one_named_after_the_test() -> 
     assert mission_for_test(both, spec) == "amy/square_50cm.yaml"
     assert mission_for_test(Submission("bo", ("bo/anything.yaml",)), spec) == "bo/anything.yaml"
     assert mission_for_test(Submission("cy", ("cy/a.yaml", "cy/b.yaml")), spec) is None
+
+
+@pytest.mark.skipif(os.geteuid() != 0, reason="only root's jails need files others can read")
+def test_a_submission_the_sandbox_cannot_read_is_one_error_before_any_run(tmp_path: Path) -> None:
+    from roboscript.grading.sandbox import detect_isolation
+
+    if not detect_isolation().complete:
+        pytest.skip("needs bubblewrap's full isolation")
+    mission = tmp_path / "ada.yaml"
+    mission.write_text((MISSIONS / "square.yaml").read_text(encoding="utf-8"), encoding="utf-8")
+    mission.chmod(0o600)
+    spec = tmp_path / "spec.yaml"
+    spec.write_text("test: t\nexpect:\n  - outcome: success\n", encoding="utf-8")
+    with pytest.raises(InputError, match=r"cannot grade ada: .*chmod o\+rX"):
+        grade_class(find_specs([str(spec)]), find_submissions([str(mission)]))

@@ -1,4 +1,5 @@
-"""``roboscript grade`` as a teacher runs it: the table, exit codes, JSON, JUnit and CSV."""
+"""``roboscript grade`` as a teacher runs it: the table, exit codes, JSON, JUnit and CSV, with
+points."""
 
 from __future__ import annotations
 
@@ -38,11 +39,18 @@ def test_the_table_shows_each_student_with_runs_score_and_worst_margin(
     result = graded["table"]
     assert result.returncode == 1, result.stderr  # type: ignore[attr-defined]
     lines = result.stdout.splitlines()  # type: ignore[attr-defined]
-    assert lines[0].split() == ["student", "test", "runs", "score", "worst", "margin", "/", "why"]
+    assert lines[0].split() == [
+        "student", "test", "runs", "score", "points", "worst", "margin", "/", "why",
+    ]  # fmt: skip
     amy = next(line for line in lines if line.startswith("amy"))
     bo = next(line for line in lines if line.startswith("bo "))
     assert "✓ 3/3" in amy and "100%" in amy
-    assert "✗ 0/3" in bo and "60%" in bo and "final_pose_within failed by" in bo
+    assert "✗ 0/3" in bo and "43%" in bo and "final_pose_within failed by" in bo
+    for line in (amy, bo):  # three runs, a point each: the points are 3 × the score
+        score, points = line.split()[4:6]
+        earned, possible = points.split("/")
+        assert float(earned) == pytest.approx(3 * int(score.rstrip("%")) / 100, abs=0.02)
+        assert possible == "3"
     assert lines[-1] == "3 of 6 runs passed; 1 of 2 students passed every test"
     assert "Traceback" not in result.stderr  # type: ignore[attr-defined]
 
@@ -67,6 +75,10 @@ def test_json_holds_specs_students_results_and_runs_with_verdicts(
     assert pose["first_violation_s"] == run["record"]["duration_s"]
     assert run["record"]["path"][0][:3] == [0.0, 0.0, 0.0]
     assert len(run["record"]["tones"]) == 3
+    assert (run["points"], run["max_points"], run["hidden"]) == (run["score"], 1.0, False)
+    for cell in report["results"]:
+        assert cell["points"] == pytest.approx(3 * cell["score"], abs=1e-3)
+        assert cell["max_points"] == 3.0
 
 
 def test_junit_is_a_suite_per_test_and_a_case_per_student_and_run(
@@ -75,6 +87,7 @@ def test_junit_is_a_suite_per_test_and_a_case_per_student_and_run(
     root = ET.parse(graded["junit"]).getroot()  # type: ignore[arg-type]
     assert root.tag == "testsuites"
     assert (root.get("tests"), root.get("failures"), root.get("errors")) == ("6", "3", "0")
+    assert root.get("skipped") == "0"
     (suite,) = root.findall("testsuite")
     assert suite.get("name") == "square-50cm"
     cases = suite.findall("testcase")
@@ -93,11 +106,18 @@ def test_junit_is_a_suite_per_test_and_a_case_per_student_and_run(
 def test_csv_is_a_gradebook_row_per_student(graded: dict[str, object]) -> None:
     text = Path(graded["csv"]).read_text(encoding="utf-8-sig")  # type: ignore[arg-type]
     rows = list(csv.reader(text.splitlines()))
-    assert rows == [
-        ["student", "square-50cm", "total", "passed"],
+    header, *body = rows
+    assert header == [
+        "student", "square-50cm", "total", "passed", "square-50cm points (of 3)", "points",
+        "max points",
+    ]  # fmt: skip
+    assert [row[:4] for row in body] == [
         ["amy", "100.0", "100.0", "yes"],
-        ["bo", "60.0", "60.0", "no"],
+        ["bo", "42.9", "42.9", "no"],
     ]
+    for row in body:  # three runs, a point each: the points are 3 × the score
+        assert float(row[4]) == pytest.approx(3 * float(row[1]) / 100, abs=0.01)
+        assert row[5:] == [row[4], "3"]
 
 
 def test_every_run_passing_exits_0(tmp_path: Path) -> None:

@@ -2,20 +2,29 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 
+from roboscript.errors import SpecError
 from roboscript.grading.expectations import (
     CheckFunction,
     Expectation,
     FinalPose,
+    PathVisits,
+    RunTargets,
     Tones,
+    Turns,
+    WallAhead,
     WallDistance,
+    Waypoint,
     evaluate,
+    find_turns,
 )
 from roboscript.grading.record import Collision, RunRecord, Tone, Verdict
-from roboscript.sim.geometry import Segment
+from roboscript.grading.spec import load_test_spec
+from roboscript.sim.geometry import Segment, heading_vector
 from roboscript.sim.world import Region, World
 
 ROOM = World(
@@ -326,3 +335,508 @@ def test_the_record_is_read_only() -> None:
     record = _record(_north(1.0))
     with pytest.raises(AttributeError):
         record.outcome = "success"  # type: ignore[misc]
+
+
+# ----------------------------------------------------------------------- shapes and turns
+
+Pose = tuple[float, float, float]
+
+
+def _square(
+    turn_deg: float = 90.0,
+    *,
+    side_mm: float = 500.0,
+    start: Pose = (0.0, 0.0, 0.0),
+    sides: int = 4,
+    rate_deg_s: float = 90.0,
+    pause_s: float = 0.5,
+) -> list[tuple[float, float, float, float]]:
+    """A square driven at 100 mm/s, sampled every 0.1 s: a side, a pause, a turn on the spot of
+    ``turn_deg`` (positive: right), a pause, and so on. Headings are recorded 0-360 like the
+    simulator's, so a left turn from north reads 351, 342, ..."""
+    x, y, h = start
+    path = [(0.0, x, y, h % 360.0)]
+
+    def sample() -> None:
+        t = round(path[-1][0] + 0.1, 3)
+        path.append((t, round(x, 3), round(y, 3), round(h % 360.0, 3)))
+
+    for _ in range(sides):
+        dx, dy = heading_vector(h)
+        for _ in range(round(side_mm / 10.0)):
+            x, y = x + dx * 10.0, y + dy * 10.0
+            sample()
+        for _ in range(round(pause_s / 0.1)):
+            sample()
+        steps = round(abs(turn_deg) / rate_deg_s / 0.1)
+        for _ in range(steps):
+            h += turn_deg / steps
+            sample()
+        for _ in range(round(pause_s / 0.1)):
+            sample()
+    return path
+
+
+SQUARE = PathVisits(
+    (Waypoint(500.0, 0.0), Waypoint(500.0, 500.0), Waypoint(0.0, 500.0), Waypoint(0.0, 0.0)),
+    tolerance_mm=40.0,
+)
+
+
+def test_path_visits_a_right_square_in_order() -> None:
+    verdict = _judge("path_visits", SQUARE, _record(_square()))
+    assert verdict.passed, verdict.detail
+    assert verdict.margin == "passed by 4.0 cm"  # every corner exactly: the whole tolerance
+    assert verdict.relative_margin == pytest.approx(1.0)
+    assert "reached all 4 waypoints in order (4.6 s, 11.6 s, 18.6 s, 25.6 s)" in verdict.detail
+
+
+def test_path_visits_right_is_not_left() -> None:
+    # A left square goes to (-500, 500), a metre from the second corner it should reach.
+    verdict = _judge("path_visits", SQUARE, _record(_square(-90.0)))
+    assert not verdict.passed
+    assert verdict.detail.startswith(
+        "missed waypoint 2 (50 cm forward, 50 cm right): the closest the robot came was 50.0 cm"
+    )
+    assert verdict.detail.endswith("after reaching waypoint 1 at 4.6 s")  # within 4 cm
+    assert verdict.margin == "failed by 46.0 cm"
+    assert verdict.first_violation_s is None  # never reaching a point has no moment
+    mirrored = PathVisits(tuple(Waypoint(w.forward_mm, -w.right_mm) for w in SQUARE.waypoints))
+    assert _judge("path_visits", mirrored, _record(_square(-90.0))).passed
+
+
+def test_path_visits_forward_is_not_back() -> None:
+    ahead = _record(_north(5.0))  # 500 mm north, facing north
+    assert _judge("path_visits", PathVisits((Waypoint(500.0, 0.0),)), ahead).passed
+    behind = _judge("path_visits", PathVisits((Waypoint(-500.0, 0.0),)), ahead)
+    assert not behind.passed
+    assert behind.detail.startswith("missed waypoint 1 (50 cm back)")
+
+
+def test_path_visits_is_in_the_start_frame() -> None:
+    # Starting at (100, 0) facing east: ahead is east, the right-hand side is south.
+    path = _square(start=(100.0, 0.0, 90.0))
+    assert path[50][1:3] == (600.0, 0.0)  # the first corner, 50 cm east of the start
+    verdict = _judge("path_visits", SQUARE, _record(path))
+    assert verdict.passed, verdict.detail
+    # In world terms the square is (600, 0), (600, -500), (100, -500): nowhere near +y.
+    world_frame = PathVisits((Waypoint(500.0, 0.0), Waypoint(500.0, -500.0)))
+    assert not _judge("path_visits", world_frame, _record(path)).passed
+
+
+def test_path_visits_tolerance_is_inclusive() -> None:
+    # North along x = 0: a waypoint 80 mm right of the track is 80 mm away, exactly.
+    record = _record(_north(10.0))
+    edge = _judge("path_visits", PathVisits((Waypoint(500.0, 80.0),), 80.0), record)
+    assert edge.passed
+    assert edge.margin_value == pytest.approx(0.0)
+    beyond = _judge("path_visits", PathVisits((Waypoint(500.0, 81.0),), 80.0), record)
+    assert not beyond.passed
+    assert beyond.margin == "failed by 0.1 cm"
+    assert "the closest the robot came was 8.1 cm, at 5.0 s (allowed 8.0 cm)" in beyond.detail
+
+
+def test_path_visits_in_order_unless_told_otherwise() -> None:
+    # North to y = 1000: it passes 50 cm ahead before 100 cm ahead, not after.
+    backwards = (Waypoint(1000.0, 0.0), Waypoint(500.0, 0.0))
+    record = _record(_north(10.0))
+    verdict = _judge("path_visits", PathVisits(backwards, 80.0), record)
+    assert not verdict.passed
+    # 100 cm ahead is within 8 cm from y = 920 on, so waypoint 2 is looked for from the
+    # stretch of path that reaches it (y = 910 to 920): 41 cm from 50 cm ahead at best.
+    assert verdict.detail.startswith("missed waypoint 2 (50 cm forward): the closest")
+    assert verdict.margin == "failed by 33.0 cm"
+    assert _judge("path_visits", PathVisits(backwards, 80.0, in_order=False), record).passed
+
+
+def test_path_visits_a_fast_robot_cannot_skip_a_waypoint_between_samples() -> None:
+    # 2 m/s: samples 200 mm apart, the waypoint halfway between two of them.
+    path = [(round(i * 0.1, 3), 0.0, i * 200.0, 0.0) for i in range(6)]
+    verdict = _judge("path_visits", PathVisits((Waypoint(330.0, 10.0),), 20.0), _record(path))
+    assert verdict.passed
+    assert verdict.margin == "passed by 1.0 cm"
+    assert "at 0.2 s" in verdict.detail  # 330 mm at 2 m/s: 0.165 s, between two samples
+
+
+def test_path_visits_margin_is_the_worst_waypoint() -> None:
+    waypoints = (Waypoint(300.0, 10.0), Waypoint(600.0, 30.0))
+    verdict = _judge("path_visits", PathVisits(waypoints, 50.0), _record(_north(10.0)))
+    assert verdict.passed
+    assert verdict.margin == "passed by 2.0 cm"
+    assert "the farthest off was waypoint 2 (60 cm forward, 3 cm right), 3.0 cm away" in (
+        verdict.detail
+    )
+
+
+def test_turns_are_found_with_their_direction() -> None:
+    turns = find_turns(_square())
+    assert [(t.start_s, t.angle_deg) for t in turns] == [
+        (5.5, 90.0),
+        (12.5, 90.0),
+        (19.5, 90.0),
+        (26.5, 90.0),
+    ]
+    assert [t.direction for t in turns] == ["right"] * 4
+    # Left turns, recorded as 351, 342, ... from north, are negative, not +351.
+    assert [t.angle_deg for t in find_turns(_square(-90.0))] == [-90.0] * 4
+
+
+def test_a_right_turn_through_north_is_not_a_left_turn() -> None:
+    headings = [350.0, 355.0, 0.0, 5.0, 10.0, 10.0, 10.0, 10.0]
+    path = [(round(i * 0.1, 3), 0.0, 0.0, h) for i, h in enumerate(headings)]
+    assert [t.angle_deg for t in find_turns(path)] == [20.0]
+
+
+def test_turns_direction_fails_at_the_first_wrong_turn() -> None:
+    rule = Turns(direction="right", count=4, angle_deg=90.0)
+    assert _judge("turns", rule, _record(_square())).passed
+    verdict = _judge("turns", rule, _record(_square(-90.0)))
+    assert not verdict.passed
+    assert verdict.first_violation_s == 5.5
+    assert verdict.margin == "failed by 90.0°"
+    assert verdict.detail.startswith(
+        "turned 90° left at 5.5 s; this test wants right turns only; 4 turns (90° left at 5.5 s,"
+    )
+    assert _judge("turns", Turns(direction="left"), _record(_square(-90.0))).passed
+
+
+def test_turns_count_too_many_fails_when_the_extra_turn_starts() -> None:
+    verdict = _judge("turns", Turns(count=3), _record(_square()))
+    assert not verdict.passed
+    assert verdict.first_violation_s == 26.5  # the fourth turn starts
+    assert verdict.margin == "failed by 1 turn"
+    few = _judge("turns", Turns(count=5), _record(_square()))
+    assert not few.passed
+    assert few.first_violation_s is None
+    assert few.detail.startswith("4 turns, expected 5")
+
+
+def test_turns_angle_tolerance_is_inclusive() -> None:
+    record = _record(_square(100.0))
+    assert _judge("turns", Turns(angle_deg=90.0, tolerance_deg=10.0), record).passed
+    verdict = _judge("turns", Turns(angle_deg=89.5, tolerance_deg=10.0), record)
+    assert not verdict.passed
+    assert verdict.margin == "failed by 0.5°"
+    assert verdict.first_violation_s == 6.6  # the end of the first turn
+    assert verdict.detail.startswith("turn 1 was 100° right at 5.5 s, expected 89.5° ± 10°")
+
+
+def test_turns_total_counts_whole_turns_and_their_direction() -> None:
+    assert _judge("turns", Turns(direction="right", total_deg=360.0), _record(_square())).passed
+    left = _judge("turns", Turns(direction="right", total_deg=360.0), _record(_square(-90.0)))
+    assert not left.passed
+    spun = _judge("turns", Turns(total_deg=360.0), _record(_square(-90.0)))
+    assert spun.passed  # no direction asked: 360° either way
+    three = _judge("turns", Turns(total_deg=360.0), _record(_square(sides=3)))
+    assert not three.passed
+    assert three.margin == "failed by 70.0°"
+    assert three.first_violation_s == 21.0  # the end of the run
+
+
+def _spin(headings: list[float]) -> list[tuple[float, float, float, float]]:
+    return [(round(i * 0.1, 3), 0.0, 0.0, h % 360.0) for i, h in enumerate(headings)]
+
+
+def test_a_short_pause_does_not_split_a_turn_but_a_beep_does() -> None:
+    # Two 45° turns at 90°/s, 0.1 s apart, are one 90° turn; 0.3 s apart (a beep) two.
+    half = [9.0 * i for i in range(6)]  # 0 to 45 in 0.5 s
+    one = _spin([*half, 45.0, *(45.0 + h for h in half[1:]), 90.0, 90.0, 90.0])
+    two = _spin([*half, 45.0, 45.0, 45.0, *(45.0 + h for h in half[1:]), 90.0, 90.0, 90.0])
+    assert [t.angle_deg for t in find_turns(one)] == [90.0]
+    assert [(t.start_s, t.angle_deg) for t in find_turns(two)] == [(0.0, 45.0), (0.8, 45.0)]
+
+
+def test_a_wobble_is_not_a_turn() -> None:
+    # Driving north, a 5° correction left and back: no turns, so "right only" still holds.
+    headings = [0, 0, 355, 355, 0, 0, 0] + [0] * 5
+    path = [(round(i * 0.1, 3), 0.0, i * 10.0, float(h)) for i, h in enumerate(headings)]
+    assert find_turns(path) == []
+    path += _square(start=(0.0, 110.0, 0.0))[1:]
+    path = [(round(i * 0.1, 3), x, y, h) for i, (_, x, y, h) in enumerate(path)]
+    assert _judge("turns", Turns(direction="right", count=4), _record(path)).passed
+
+
+def test_turns_never_turning_fails() -> None:
+    verdict = _judge("turns", Turns(direction="right"), _record(_north(5.0)))
+    assert not verdict.passed
+    assert verdict.detail == "the robot never turned"
+
+
+# ---------------------------------------------------------------------- wall ahead at end
+
+
+def _stopped(x: float, y: float, heading: float) -> RunRecord:
+    return _record([(0.0, 0.0, 0.0, 0.0), (5.0, x, y, heading)])
+
+
+def test_wall_ahead_is_measured_from_the_front_of_the_body() -> None:
+    # Facing east at x = 0, the wall at x = 300: the centre is 30 cm away, the body's front
+    # (radius 10 cm) 20 cm.
+    record = _stopped(0.0, 500.0, 90.0)
+    verdict = _judge("wall_ahead_at_end", WallAhead(200.0, 30.0), record)
+    assert verdict.passed
+    assert verdict.margin == "passed by 3.0 cm"
+    assert verdict.detail.startswith("stopped 20.0 cm from the wall ahead")
+    centre = _judge("wall_ahead_at_end", WallAhead(300.0, 30.0), record)
+    assert not centre.passed
+    assert centre.margin == "failed by 7.0 cm"
+    assert "(too close)" in centre.detail
+    assert centre.first_violation_s == 5.0
+
+
+def test_wall_ahead_follows_the_heading() -> None:
+    # At x = 100: east, the wall is 20 cm from the centre (10 cm from the front); west, 40 cm
+    # (30 cm); at 45° the ray meets x = 300 after 200 / sin 45° = 282.8 mm.
+    assert _judge("wall_ahead_at_end", WallAhead(100.0, 5.0), _stopped(100.0, 500.0, 90.0)).passed
+    assert _judge("wall_ahead_at_end", WallAhead(300.0, 5.0), _stopped(100.0, 500.0, 270.0)).passed
+    slanted = _judge("wall_ahead_at_end", WallAhead(182.8, 1.0), _stopped(100.0, 500.0, 45.0))
+    assert slanted.margin_value == pytest.approx(1.0, abs=0.05)
+    north = _judge("wall_ahead_at_end", WallAhead(100.0, 5.0), _stopped(100.0, 500.0, 0.0))
+    assert not north.passed
+    assert north.detail.startswith("no wall straight ahead when the robot stopped (facing 0°)")
+
+
+# ---------------------------------------------------------------------- per-run targets
+
+
+def test_run_targets_are_chosen_by_seed_and_start() -> None:
+    targets = RunTargets(
+        WallAhead(200.0),
+        (
+            (("room", 1, (0.0, 0.0, 0.0)), WallAhead(200.0)),
+            (("room", 2, (0.0, 0.0, 0.0)), WallAhead(300.0)),
+            (("room", 2, (100.0, 0.0, 90.0)), WallAhead(100.0)),
+        ),
+    )
+    expectation = Expectation("wall_ahead_at_end", targets)
+    record = _stopped(100.0, 500.0, 90.0)  # started at (0, 0) facing north, seed 1
+    assert expectation.for_record(record).params == WallAhead(200.0)
+    assert expectation.for_record(replace(record, seed=2)).params == WallAhead(300.0)
+    turned = replace(record, seed=2, path=((0.0, 102.0, 1.0, 90.0), *record.path[1:]))
+    assert expectation.for_record(turned).params == WallAhead(100.0)
+    assert expectation.for_record(replace(record, seed=9)).params == WallAhead(200.0)
+    assert evaluate(expectation, turned).passed  # 10 cm from the front to the wall
+    assert not evaluate(expectation, replace(record, seed=2)).passed
+
+
+def _spec(tmp_path: Path, text: str) -> Path:
+    path = tmp_path / "spec.yaml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def test_a_run_changes_only_the_targets_it_names(tmp_path: Path) -> None:
+    spec = load_test_spec(
+        _spec(
+            tmp_path,
+            "test: t\n"
+            "world: square-room\n"
+            "runs:\n"
+            "  - {seed: 1}\n"
+            "  - {seed: 2, start: {y: 300 mm}, expect: {wall_ahead_at_end: {distance: 50 cm}}}\n"
+            "expect:\n"
+            "  - outcome: success\n"
+            "  - wall_ahead_at_end: {distance: 20 cm, tolerance: 2 cm}\n",
+        )
+    )
+    assert spec.expectations[0].params == "success"
+    targets = spec.expectations[1].params
+    assert isinstance(targets, RunTargets)
+    assert targets.default == WallAhead(200.0, 20.0)
+    assert [params for _, params in targets.runs] == [
+        WallAhead(200.0, 20.0),
+        WallAhead(500.0, 20.0),
+    ]
+    assert [key for key, _ in targets.runs] == [
+        ("square-room", 1, (0.0, 0.0, 0.0)),
+        ("square-room", 2, (0.0, 300.0, 0.0)),
+    ]
+
+
+def test_a_run_may_change_the_tolerance_of_a_short_path_visits(tmp_path: Path) -> None:
+    spec = load_test_spec(
+        _spec(
+            tmp_path,
+            "test: t\n"
+            "runs:\n"
+            "  - {seed: 1}\n"
+            "  - {seed: 2, expect: {path_visits: {tolerance: 2 cm}}}\n"
+            "expect:\n"
+            "  - path_visits: [{forward: 50 cm}, start]\n",
+        )
+    )
+    targets = spec.expectations[0].params
+    assert isinstance(targets, RunTargets)
+    waypoints = (Waypoint(500.0, 0.0), Waypoint(0.0, 0.0))
+    assert [params for _, params in targets.runs] == [
+        PathVisits(waypoints, 80.0),
+        PathVisits(waypoints, 20.0),
+    ]
+
+
+def test_the_new_expectations_read_with_units_and_defaults(tmp_path: Path) -> None:
+    spec = load_test_spec(
+        _spec(
+            tmp_path,
+            "test: t\n"
+            "world: square-room\n"
+            "expect:\n"
+            "  - path_visits: [{forward: 50 cm}, {forward: 500, left: 0.2 m}, start, {back: 1}]\n"
+            "  - path_visits: {waypoints: [{right: 5 cm}], tolerance: 3 cm, in_order: false}\n"
+            "  - turns: {direction: left, count: 4, angle: 0.25 rev, total: 360}\n"
+            "  - wall_ahead_at_end: {distance: 200}\n",
+        )
+    )
+    params = [e.params for e in spec.expectations]
+    assert params[0] == PathVisits(
+        (Waypoint(500.0, 0.0), Waypoint(500.0, -200.0), Waypoint(0.0, 0.0), Waypoint(-1.0, 0.0))
+    )
+    assert params[0].tolerance_mm == 80.0
+    assert params[1] == PathVisits((Waypoint(0.0, 50.0),), 30.0, in_order=False)
+    assert params[2] == Turns("left", 4, 90.0, 360.0, 20.0)
+    assert params[3] == WallAhead(200.0, 30.0)
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        (
+            "expect:\n  - path_visits: [{forwrd: 50 cm}]\n",
+            "3:20: error: unknown key 'forwrd' in a waypoint (did you mean 'forward'?)",
+        ),
+        (
+            "expect:\n  - path_visits: [{forward: 50 cm, back: 2 cm}]\n",
+            "3:36: error: give either forward or back, not both (a negative forward is back)",
+        ),
+        (
+            "expect:\n  - path_visits: [strat]\n",
+            (
+                "3:19: error: a waypoint is written {forward: 50 cm, right: 20 cm} (or back, left),"
+                " or 'start' (got 'strat') (did you mean 'start'?)"
+            ),
+        ),
+        ("expect:\n  - path_visits: []\n", "3:18: error: path_visits lists at least one waypoint"),
+        (
+            "expect:\n  - path_visits: {waypoints: [start], tolerence: 2 cm}\n",
+            "3:39: error: unknown key 'tolerence' in path_visits (did you mean 'tolerance'?)",
+        ),
+        (
+            "expect:\n  - path_visits: [{forward: 50 deg}]\n",
+            "3:29: error: 'deg' is a unit of angle, but this is a distance",
+        ),
+        (
+            "expect:\n  - turns: {direction: rigth}\n",
+            (
+                "3:24: error: 'direction' must be one of: right, left (got 'rigth')"
+                " (did you mean 'right'?)"
+            ),
+        ),
+        (
+            "expect:\n  - turns: {angle: -90 deg}\n",
+            "3:20: error: 'angle' is a size, more than 0; say which way with direction",
+        ),
+        ("expect:\n  - turns: {tolerance: 5 deg}\n", "3:12: error: turns needs at least one of"),
+        (
+            "expect:\n  - wall_ahead_at_end: {distance: 20 cm}\n",
+            "3:24: error: the world 'empty' has no walls, so there is never a wall ahead",
+        ),
+        (
+            "world: square-room\nexpect:\n  - wall_ahead_at_end: {distnce: 20 cm}\n",
+            "4:25: error: unknown key 'distnce' in wall_ahead_at_end (did you mean 'distance'?)",
+        ),
+        (
+            (
+                "runs:\n  - {seed: 2, expect: {final_pose: {x: 1}}}\n"
+                "expect:\n  - final_pose_within: {x: 0, y: 0, radius: 5 cm}\n"
+            ),
+            (
+                "3:24: error: the spec expects no 'final_pose' for this run to change"
+                " (a run changes the targets of the spec's own expectations: final_pose_within)"
+                " (did you mean 'final_pose_within'?)"
+            ),
+        ),
+        (
+            (
+                "runs:\n  - {seed: 2, expect: {final_pose_within: {radius: -1 cm}}}\n"
+                "expect:\n  - final_pose_within: {x: 0, y: 0, radius: 5 cm}\n"
+            ),
+            "3:52: error: 'radius' must be more than 0",
+        ),
+        (
+            (
+                "runs:\n  - {seed: 2, expect: {tones: {count: 1}}}\n"
+                "expect:\n  - {tones: {count: 4}}\n  - {tones: {max_count: 5}}\n"
+            ),
+            "3:24: error: the spec expects 'tones' 2 times, so a run cannot say which to change",
+        ),
+        (
+            (
+                "runs:\n  - {seed: 1, expect: {max_duration: 20 s}}\n  - {seed: 1}\n"
+                "expect:\n  - max_duration: 30 s\n"
+            ),
+            (
+                "3:23: error: runs 1 and 2 have the same world, seed and start, but different"
+                " 'max_duration' targets; give them different seeds"
+            ),
+        ),
+    ],
+)
+def test_mistakes_in_the_new_expectations_are_located(
+    tmp_path: Path, text: str, expected: str
+) -> None:
+    path = _spec(tmp_path, "test: t\n" + text)
+    with pytest.raises(SpecError) as caught:
+        load_test_spec(path)
+    assert caught.value.format().startswith(f"{path}:{expected}"), caught.value.format()
+
+
+STOP_AT_WALL = """\
+mission: stop-at-wall
+initial: forward
+states:
+  forward:
+    do: {drive: {distance: 3 m, speed: 15 cm/s}}
+    timeout: 20 s
+    on: {done: stop, failed: stop, timeout: stop}
+    when:
+      - {if: "range.distance_cm < 30", goto: stop}
+  stop:
+    do: {play_tone: {frequency: 660 Hz, duration: 300 ms}}
+    final: success
+"""
+
+
+def test_wall_ahead_and_run_targets_through_the_grader(tmp_path: Path) -> None:
+    from roboscript.grading.run import grade_run
+
+    # The room's walls are 1 m from its middle. Stopping when the front sensor (1 cm behind
+    # the body's front edge) reads under 30 cm leaves about 27 cm from the front to the wall.
+    spec = load_test_spec(
+        _spec(
+            tmp_path,
+            "test: stop-at-wall\n"
+            "world: square-room\n"
+            "runs:\n"
+            "  - {seed: 1}\n"
+            "  - {seed: 2, start: {x: 300 mm, y: -500 mm, heading: 90 deg},"
+            " expect: {final_pose_within: {x: 63 cm, y: -50 cm}}}\n"
+            "  - {seed: 3, expect: {wall_ahead_at_end: {distance: 40 cm}}}\n"
+            "expect:\n"
+            "  - outcome: success\n"
+            "  - wall_ahead_at_end: {distance: 25 cm, tolerance: 3 cm}\n"
+            "  - final_pose_within: {x: 0 mm, y: 63 cm, radius: 3 cm}\n",
+        )
+    )
+    mission = tmp_path / "stop.yaml"
+    mission.write_text(STOP_AT_WALL, encoding="utf-8")
+    results = [grade_run(spec, str(mission), variant) for variant in spec.variants]
+    assert [r.status for r in results] == ["passed", "passed", "failed"], [
+        r.message for r in results
+    ]
+    first, second, third = (r.verdicts for r in results)
+    assert first[1].detail.startswith("stopped 2")  # 2x cm: measured from the front edge
+    assert "wanted 25.0 cm" in first[1].detail
+    assert "from the target (630, -500) mm" in second[2].detail  # its own target
+    assert not third[1].passed  # the same stop, judged by its own 40 cm
+    assert "wanted 40.0 cm" in third[1].detail
+    assert third[2].passed  # its other targets are the spec's

@@ -1,5 +1,6 @@
 """The HTML report: self-contained pages, linked as a teacher clicks them, and shown for real in
-headless Chromium (screenshots of the class page and a run page must not be blank)."""
+headless Chromium (screenshots of the class page, a run page and a student's page must not be
+blank); a student's page shows that student only, and a hidden run only by number."""
 
 from __future__ import annotations
 
@@ -11,7 +12,10 @@ import zlib
 from pathlib import Path
 
 import pytest
+from hand_graded import HIDDEN_SECRETS, hand_report
 from helpers import MISSIONS, run_cli
+
+from roboscript.grading.html_report import write_html
 
 TEACHER = MISSIONS / "teacher"
 CHROMIUM_FLAGS = (
@@ -55,7 +59,9 @@ def test_the_class_page_links_every_run_page(report: Path) -> None:
 
 
 def test_pages_are_self_contained_and_accessible(report: Path) -> None:
-    for page in [report / "index.html", *sorted((report / "runs").glob("*.html"))]:
+    pages = [report / "index.html", *sorted(report.glob("*/*.html"))]  # runs/, students/
+    assert len(pages) == 1 + 6 + 2
+    for page in pages:
         text = page.read_text(encoding="utf-8")
         assert '<html lang="en">' in text
         # Nothing is fetched: the only URL is the SVG namespace, which is a name, not a fetch.
@@ -68,6 +74,57 @@ def test_pages_are_self_contained_and_accessible(report: Path) -> None:
     assert "first failed here, at 7.1 s" in run_page
     assert '<polyline points="' in run_page  # the path
     assert "State timeline over" in run_page
+
+
+def test_the_teacher_and_student_pages_are_apart(report: Path) -> None:
+    index = (report / "index.html").read_text(encoding="utf-8")
+    assert "For the teacher only." in index[: index.index("<h2>")]
+    assert sorted(p.name for p in (report / "students").iterdir()) == ["amy.html", "bo.html"]
+    assert 'href="students/bo.html"' in index
+    bo = (report / "students" / "bo.html").read_text(encoding="utf-8")
+    assert "amy" not in bo and "index.html" not in bo and "runs/" not in bo
+    assert "test.yaml" not in bo and str(TEACHER) not in bo
+    runs = [p.read_text(encoding="utf-8") for p in sorted((report / "runs").glob("bo--*"))]
+    assert len(runs) == 3  # every run's picture, on one page:
+    assert bo.count('<polyline points="') == sum(r.count('<polyline points="') for r in runs)
+    assert len(set(re.findall(r'id="([^"]+)"', bo))) == len(re.findall(r'id="([^"]+)"', bo))
+
+
+@pytest.fixture
+def hand_pages(tmp_path: Path) -> Path:
+    """The hand-made class (Quentin 6/12 with a hidden run failed, Zelda 12/12) as HTML."""
+    out = tmp_path / "report"
+    write_html(hand_report(tmp_path), out)
+    return out
+
+
+def test_a_students_page_shows_only_that_student(hand_pages: Path) -> None:
+    quentin = (hand_pages / "students" / "Quentin.html").read_text(encoding="utf-8")
+    zelda = (hand_pages / "students" / "Zelda.html").read_text(encoding="utf-8")
+    assert "Zelda" not in quentin and "Quentin" not in zelda
+    assert "1 of 3 runs passed</strong>: 6/12 points" in quentin
+    assert "3 of 3 runs passed</strong>: 12/12 points" in zelda
+    assert "12/12" not in quentin  # not even a classmate's score
+    assert "ZeroDivisionError: division by zero (square.py:12)" in quentin
+    assert "Traceback" not in quentin
+
+
+def test_a_hidden_run_is_named_by_number_with_its_result_and_reason_only(
+    hand_pages: Path,
+) -> None:
+    for page in (hand_pages / "students").iterdir():
+        text = page.read_text(encoding="utf-8")
+        assert "square-50cm, hidden run 3</h2>" in text
+        for secret in HIDDEN_SECRETS:
+            assert secret not in text, (page.name, secret)
+        assert text.count('<polyline points="') == 2 - ("Quentin" in page.name)  # crash: none
+    quentin = (hand_pages / "students" / "Quentin.html").read_text(encoding="utf-8")
+    hidden = quentin[quentin.index("hidden run 3</h2>") :]
+    assert "✗ failed</strong>: final_pose_within failed by 41.5 cm" in hidden
+    # the teacher's pages show it all
+    teacher = (hand_pages / "runs" / "Quentin--square-50cm--3.html").read_text(encoding="utf-8")
+    assert "seed 7919, start (417, -173) mm 33°" in teacher
+    assert "secret-tests" in teacher and "as “hidden run 3”" in teacher
 
 
 def _chromium() -> str | None:
@@ -116,6 +173,7 @@ def test_a_real_browser_shows_the_class_page_and_a_run_page(report: Path, tmp_pa
     shots = {
         "class": (report / "index.html", 900),
         "run": (report / "runs" / "bo--line-track-lap--3.html", 1400),
+        "student": (report / "students" / "bo.html", 1400),
     }
     for name, (page, height) in shots.items():
         png = tmp_path / f"{name}.png"

@@ -9,11 +9,14 @@ from pathlib import Path
 import pytest
 from helpers import MISSIONS, run_cli
 
+from roboscript.grading.run import grade_run
+from roboscript.grading.spec import load_test_spec
+
 TEACHER = MISSIONS / "teacher"
 
 # test folder -> the expectation that catches the bad solution's mistake on its first run
 MISTAKES = {
-    "square": "final_pose_within",  # stops after three sides (visits.side >= 3)
+    "square": "path_visits",  # stops after three sides (visits.side >= 3): never back home
     "corridor": "wall_distance",  # 'distance: 20' is 20 mm, not 20 cm: it scrapes the wall
     "line-track": "check: stays_on_line",  # drives a rectangle "by heart" instead of following
 }
@@ -62,3 +65,100 @@ def test_teacher_specs_are_not_examples_for_the_mission_tests() -> None:
     # tests/test_missions.py runs missions/*.yaml; the teacher folder must stay out of it.
     top_level = {p.name for p in MISSIONS.glob("*.yaml")}
     assert not any(Path(name).stem in {"test", "good", "bad"} for name in top_level)
+
+
+# Four wrong squares the first square spec passed on every run (12 of 12): it checked only that
+# the robot ended where it started, after 4 beeps. Each must now fail every run, and for this.
+_SIDE = """\
+mission: square
+initial: side
+states:
+  side:
+    do: {{drive: {{distance: {side}, speed: 15 cm/s}}}}
+    on: {{done: corner, failed: stuck}}
+  corner:
+    do: {{rotate: {{angle: {angle}}}}}
+    on: {{done: beep, failed: stuck}}
+  beep:
+    do: {{play_tone: {{frequency: 880 Hz, duration: 200 ms}}}}
+    on:
+      done:
+        - {{if: "visits.side >= 4", goto: finished}}
+        - {{goto: side}}
+  stuck:
+    final: failure
+  finished:
+    final: success
+"""
+
+WRONG_SQUARES = {
+    "only-beeps": (
+        """\
+mission: square
+initial: beep
+states:
+  beep:
+    do: {play_tone: {frequency: 880 Hz, duration: 200 ms}}
+    on:
+      done:
+        - {if: "visits.beep >= 4", goto: finished}
+        - {goto: pause}
+  pause:
+    do: {wait: {duration: 300 ms}}
+    on: {done: beep}
+  finished:
+    final: success
+""",
+        {"path_visits", "turns"},
+    ),
+    "44-cm": (_SIDE.format(side="44 cm", angle="90 deg"), {"path_visits"}),
+    "left-turning": (_SIDE.format(side="50 cm", angle="-90 deg"), {"path_visits", "turns"}),
+    "spins-on-the-spot": (
+        """\
+mission: square
+initial: corner
+states:
+  corner:
+    do: {rotate: {angle: 90 deg}}
+    on: {done: beep, failed: stuck}
+  beep:
+    do: {play_tone: {frequency: 880 Hz, duration: 200 ms}}
+    on:
+      done:
+        - {if: "visits.corner >= 4", goto: finished}
+        - {goto: corner}
+  stuck:
+    final: failure
+  finished:
+    final: success
+""",
+        {"path_visits"},
+    ),
+}
+
+
+@pytest.mark.parametrize("name", sorted(WRONG_SQUARES))
+def test_a_wrong_square_fails_every_run(tmp_path: Path, name: str) -> None:
+    text, catches = WRONG_SQUARES[name]
+    mission = tmp_path / f"{name}.yaml"
+    mission.write_text(text, encoding="utf-8")
+    spec = load_test_spec(TEACHER / "square" / "test.yaml")
+    assert len(spec.variants) == 3
+    for variant in spec.variants:
+        result = grade_run(spec, str(mission), variant)
+        failed = {v.name for v in result.verdicts if not v.passed}
+        assert result.status == "failed", (variant.label, result.status, result.message)
+        assert failed == catches, (variant.label, result.message)
+        # What the old spec checked still holds: the mistake is in the shape, not the ending.
+        held = {v.name for v in result.verdicts if v.passed}
+        assert {"outcome", "final_pose_within", "tones", "no_collisions"} <= held
+
+
+def test_the_good_square_passes_the_shape_checks_with_room_to_spare() -> None:
+    spec = load_test_spec(TEACHER / "square" / "test.yaml")
+    for variant in spec.variants:
+        result = grade_run(spec, str(TEACHER / "square" / "good.yaml"), variant)
+        assert result.status == "passed", result.message
+        margins = {v.name: v.relative_margin for v in result.verdicts}
+        assert (margins["path_visits"] or 0.0) > 0.5  # within 2 cm of every corner (of 4)
+        assert (margins["turns"] or 0.0) > 0.5

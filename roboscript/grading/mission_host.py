@@ -1,0 +1,101 @@
+"""The mission process of a graded run: the only place a student's mission is loaded and run.
+
+The grader starts it sandboxed (:mod:`roboscript.grading.sandbox`) as::
+
+    python -I -m roboscript.grading.mission_host FD MISSION ROBOT MAX_TIME_S HANG_AFTER_S
+
+It loads the mission, connects to the robot through ``lockstep://FD`` (the world lives in the
+grader's process, :mod:`roboscript.grading.world_host`), runs the mission exactly as
+``roboscript run`` would, and reports what only it can know: that the mission loaded, each
+state it entered, and how it ended. The world timestamps every report itself and trusts none
+of them with a name, a score or a verdict.
+
+If the mission's own code stops returning, a watchdog thread writes where every thread was to
+standard error (:mod:`faulthandler`) before the grader's hang limit ends the process, so the
+teacher's report can say where it was stuck.
+"""
+
+from __future__ import annotations
+
+import faulthandler
+import logging
+import sys
+from collections.abc import Sequence
+
+from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError
+
+__all__ = ["main"]
+
+_REASON_CHARS = 500
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run one mission over the lockstep wire; the exit status means nothing to the grader."""
+    args = list(sys.argv[1:] if argv is None else argv)
+    fd, mission_path, robot, max_time_s, hang_after_s = (
+        int(args[0]),
+        args[1],
+        args[2],
+        float(args[3]),
+        float(args[4]),
+    )
+    logging.disable(logging.WARNING)
+    channel = WorldChannel.for_fd(fd)
+    watchdog_s = max(0.2, hang_after_s * 0.6)
+    faulthandler.dump_traceback_later(watchdog_s, repeat=True, file=sys.stderr)
+    try:
+        return _run(channel, mission_path, robot, max_time_s)
+    except WorldStoppedError:
+        return 3
+    finally:
+        faulthandler.cancel_dump_traceback_later()
+
+
+def _run(channel: WorldChannel, mission_path: str, robot: str, max_time_s: float) -> int:
+    from roboscript.errors import CapabilityError, InputError
+    from roboscript.mission import mission_for_robot
+
+    try:
+        mission, profile, _warnings = mission_for_robot(mission_path, robot)
+    except InputError as exc:
+        problems = [p.format() for p in getattr(exc, "problems", None) or [exc]]
+        channel.send_json(Kind.LOAD_ERROR, {"message": problems[0], "more": len(problems) - 1})
+        return 2
+    channel.send_json(Kind.LOADED, {"mission": mission.name})
+
+    from roboscript.session import run_session
+
+    def on_state(_t_s: float, name: str) -> None:
+        channel.send(Kind.STATE, name.encode("utf-8", "replace")[:256])
+
+    try:
+        session = run_session(
+            mission,
+            profile,
+            port=f"lockstep://{channel_fd(channel)}",
+            max_time_s=max_time_s,
+            on_state=on_state,
+        )
+    except CapabilityError as exc:
+        channel.send_json(Kind.LOAD_ERROR, {"message": f"it does not fit the robot: {exc}"})
+        return 2
+    result = session.result
+    channel.send_json(
+        Kind.FINISH,
+        {
+            "outcome": result.outcome,
+            "final_state": result.final_state,
+            "reason": (result.reason or "")[:_REASON_CHARS] or None,
+            "code_error": result.code_error,
+        },
+    )
+    return 0
+
+
+def channel_fd(channel: WorldChannel) -> int:
+    """The descriptor a channel was opened on (the port URL names it)."""
+    return channel.fileno()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,136 @@
+"""The words reports show: capped, safe in any file, and the student-facing view of a run.
+
+Much of what a report shows comes from a student's code: the message of an exception it
+raised, a traceback, the reason a mission gave, its state and mission names. A student can make
+any of them as long as they like (a 20 MB exception message once made a 614 MB grader and
+60 MB HTML pages), and put in them characters that break an XML file, a UTF-8 file or a
+terminal. Every report therefore takes that text through :func:`cap` (by way of
+:func:`cap_result`, which caps every field of a run that a report shows): it is cut to a limit,
+visibly (``… (cut: 1234 characters)``), and cleaned.
+
+:func:`public_reason` is what a student may read about a run whose variant the teacher keeps
+hidden: pass or fail and why, never its seed, start, world or the spec's path.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import replace
+
+from roboscript.grading.record import RunRecord, RunResult, Verdict
+
+__all__ = [
+    "DEBUG_CHARS",
+    "MESSAGE_CHARS",
+    "NAME_CHARS",
+    "advice",
+    "cap",
+    "cap_result",
+    "format_points",
+    "public_reason",
+]
+
+MESSAGE_CHARS = 2_000
+"""Longest message, reason or verdict detail a report shows."""
+DEBUG_CHARS = 20_000
+"""Longest debug block (a traceback) a report shows."""
+NAME_CHARS = 200
+"""Longest name (a state, a mission, a final state, a margin) a report shows."""
+
+_MARKER_ROOM = 40  # room for the marker, so a capped text is never longer than its limit
+# Characters that are not allowed in XML 1.0, break UTF-8 output (lone surrogates), or move a
+# terminal's cursor: C0 controls but tab and newline, DEL, C1 controls, U+FFFE and U+FFFF.
+_UNSAFE = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff]")
+
+
+def cap(text: str, limit: int = MESSAGE_CHARS) -> str:
+    """``text`` cleaned, and cut to at most ``limit`` characters with a visible marker.
+
+    Characters that would break a report (control characters, lone surrogates) become
+    ``�``. A cut text ends ``… (cut: N characters)``, N being how many were left out; the
+    result, marker included, is never longer than ``limit``, so capping twice changes nothing.
+    """
+    if len(text) > limit:
+        keep = max(0, limit - _MARKER_ROOM)
+        text = f"{text[:keep]}… (cut: {len(text) - keep} characters)"
+    return _UNSAFE.sub("\ufffd", text)
+
+
+def _cap_verdict(verdict: Verdict) -> Verdict:
+    return replace(
+        verdict,
+        name=cap(verdict.name, NAME_CHARS),
+        margin=cap(verdict.margin, NAME_CHARS),
+        detail=cap(verdict.detail, MESSAGE_CHARS),
+        margin_unit=cap(verdict.margin_unit, NAME_CHARS),
+    )
+
+
+def _cap_record(record: RunRecord) -> RunRecord:
+    return replace(
+        record,
+        mission=cap(record.mission, NAME_CHARS),
+        world_name=cap(record.world_name, NAME_CHARS),
+        final_state=cap(record.final_state, NAME_CHARS) if record.final_state else None,
+        reason=cap(record.reason, MESSAGE_CHARS) if record.reason else record.reason,
+        states=tuple((t, cap(name, NAME_CHARS)) for t, name in record.states),
+    )
+
+
+def cap_result(result: RunResult) -> RunResult:
+    """``result`` with every text a report shows capped by :func:`cap`.
+
+    The message, verdict details and the mission's reason get :data:`MESSAGE_CHARS`, the
+    debug block :data:`DEBUG_CHARS`, names :data:`NAME_CHARS`. The student's name and the
+    mission's path are left as they are: they are file names the grader found.
+    """
+    return replace(
+        result,
+        label=cap(result.label, NAME_CHARS),
+        message=cap(result.message, MESSAGE_CHARS),
+        debug=cap(result.debug, DEBUG_CHARS),
+        verdicts=tuple(_cap_verdict(v) for v in result.verdicts),
+        record=_cap_record(result.record) if result.record is not None else None,
+    )
+
+
+def public_reason(result: RunResult, hidden: bool) -> str:
+    """Why the run did not pass, in words a student may read (empty when it passed).
+
+    A visible run gives its message. A hidden run that failed an expectation gives the
+    expectation and its margin only (``final_pose_within failed by 41.5 cm``): the details
+    name positions, and a target relative to the start would give the start away. A hidden run
+    that did not finish gives its message, which never names the variant.
+    """
+    if result.passed:
+        return ""
+    if not hidden or result.status != "failed":
+        return result.message
+    failed = [v for v in result.verdicts if not v.passed]
+    if not failed:
+        return "an expectation did not hold"
+    first = failed[0]
+    text = f"{first.name} {first.margin}" if first.margin else f"{first.name} failed"
+    if len(failed) > 1:
+        text += f" (and {len(failed) - 1} more check{'s' if len(failed) > 2 else ''} failed)"
+    return text
+
+
+def format_points(points: float) -> str:
+    """Points as people write them: ``3``, ``2.5``, ``6.67`` (at most two decimals)."""
+    text = f"{points:.2f}".rstrip("0").rstrip(".")
+    return "0" if text in ("", "-0") else text
+
+
+def advice(status: str) -> str:
+    """What a student can do about a run that did not finish, in one sentence."""
+    if status in ("timeout", "hung"):
+        return (
+            "Try the mission with 'roboscript run' at home: if it never finishes, look for a"
+            " condition or behaviour with a loop that never ends."
+        )
+    if status == "invalid":
+        return "Run 'roboscript check' on the mission to see every problem with its line."
+    if status == "missing":
+        return "Name your mission after the test, or hand in one mission only."
+    return "Run the mission with 'roboscript run --debug' to see where it stops."

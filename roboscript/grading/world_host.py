@@ -1,0 +1,635 @@
+"""The world side of a graded run: the simulated robot, and everything a grade is computed from.
+
+:func:`run_world` builds the simulation (world, body, simulated device) in the calling process,
+which never loads a student's file, and starts the student's mission in a separate, sandboxed
+process (:mod:`roboscript.grading.mission_host`, :mod:`roboscript.grading.sandbox`). The two
+share one socket: the lockstep wire (:mod:`roboscript.transport.lockstep`), carrying the robot's
+protocol bytes and the mission's scheduler time, exactly what a real robot would see.
+
+Pose, path, tones, collisions and every time come from this side. The mission process can
+report only that it loaded, which states it entered (timed here, on arrival) and how it ended;
+each report is checked (known outcome, printable and short names, the final state is the last
+state entered) and labelled as the mission's own in the record. A mission process that breaks
+the wire's rules, moves the robot before its mission starts, or asks for more time than the
+test allows has its run ended here.
+
+A run ends, in the order they can happen:
+
+* ``invalid``: the mission did not load (its first problem is quoted);
+* ``crashed``: the process ended before the mission finished, or its own code raised (the
+  exception and the student's file and line are quoted from its standard error);
+* ``hung``: simulated time stopped advancing for ``hang_after_s`` of wall time (the
+  watchdog's dump of where it was stuck is quoted);
+* ``timeout``: the run passed the test's wall-clock limit although time kept advancing;
+* otherwise the run is judged on the record: ``passed`` or ``failed``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import re
+import select
+import socket
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from roboscript.grading.record import Collision, RunRecord, Tone
+from roboscript.grading.sandbox import Jail, Limits
+from roboscript.grading.spec import TestSpec, Variant
+from roboscript.profiles import get_profile
+from roboscript.sim.simulation import Simulation
+from roboscript.sim.world import Pose
+from roboscript.transport.lockstep import (
+    FrameDecoder,
+    FrameError,
+    Kind,
+    decode_json,
+    decode_time,
+    encode_frame,
+)
+
+__all__ = [
+    "DEFAULT_HANG_AFTER_S",
+    "MISSION_OUTCOMES",
+    "WorldRun",
+    "run_world",
+]
+
+DEFAULT_HANG_AFTER_S = 2.0
+"""Wall seconds without simulated progress after which a run is ``hung``. An honest run
+advances simulated time many times a millisecond; only code stuck in a loop stops it."""
+
+_LOAD_ALLOWANCE = 2.0
+"""Loading (interpreter start, imports, the mission file) may take this many hang limits."""
+
+MISSION_OUTCOMES = ("success", "failure", "error")
+_NAME_CHARS = 100
+_REASON_CHARS = 500
+_MAX_STATES = 20_000
+_MAX_HOST_BYTES = 32 * 1024**2
+_START_SLACK_MM = 5.0
+_TIME_SLACK_S = 1.0
+_EXIT_GRACE_S = 1.0
+_READ_CHUNK = 1 << 16
+_HANDSHAKE_SLACK_S = 2.0
+_MAX_CANDIDATES = 2000
+_OUT_OF_TIME_MARGIN_S = 0.05
+
+
+@dataclass
+class WorldRun:
+    """What the world saw of one run (the grader judges it; see the module docstring).
+
+    Attributes:
+        status: ``""`` when the run ended and can be judged, else ``invalid``, ``crashed``,
+            ``hung`` or ``timeout``.
+        message: One sentence for the student when ``status`` is set.
+        debug: Detail for the teacher (the mission process's standard error, capped).
+        loaded: True once the mission process reported its mission loaded; a run that ends
+            before that ends the same way on every variant.
+        record: What happened, when the run can be judged.
+        ended_normally: True when the mission reached a final state by itself within the
+            test's simulated time and its own code did not raise.
+    """
+
+    status: str = ""
+    message: str = ""
+    debug: str = ""
+    loaded: bool = False
+    record: RunRecord | None = None
+    ended_normally: bool = False
+
+
+@dataclass
+class _Claims:
+    """What the mission process reported, as received (validated on arrival)."""
+
+    mission: str = ""
+    started_s: float | None = None
+    states: list[tuple[float, str]] = field(default_factory=list)
+    dropped_states: int = 0
+    finish: dict[str, Any] | None = None
+
+
+class _ViolationError(Exception):
+    """The mission process broke the wire's rules: the run ends as crashed."""
+
+
+def run_world(
+    spec: TestSpec,
+    mission_path: str,
+    variant: Variant,
+    *,
+    visible: tuple[Path, ...] | None = None,
+    hang_after_s: float = DEFAULT_HANG_AFTER_S,
+    limits: Limits | None = None,
+) -> WorldRun:
+    """Run ``mission_path`` sandboxed against this process's simulation of ``variant``.
+
+    Args:
+        spec: The test (its robot, worlds, simulated and wall-clock limits).
+        mission_path: The student's mission file.
+        variant: Which of the spec's runs.
+        visible: Files and folders the mission process may read (default: the mission file
+            and the files beside it that it names, see :func:`submission_files`).
+        hang_after_s: Wall seconds without simulated progress that make a run ``hung``.
+        limits: The sandbox's resource limits.
+
+    Returns:
+        What the world saw.
+    """
+    mission = Path(mission_path).resolve()
+    profile = get_profile(spec.robot)
+    world = spec.worlds[variant.world]
+    start = Pose(*variant.start) if variant.start is not None else None
+    sim = Simulation(world, profile, variant.seed, start=start)
+    readable = list(visible if visible is not None else submission_files(mission))
+    robot_file = Path(spec.robot)
+    if robot_file.suffix.lower() in (".yaml", ".yml") and robot_file.is_file():
+        readable.append(robot_file.resolve())  # a teacher's own profile: that file only
+        robot_arg = str(robot_file.resolve())
+    else:
+        robot_arg = spec.robot
+    ours, theirs = socket.socketpair()
+    try:
+        jail = Jail(
+            [
+                sys.executable,
+                "-I",
+                "-m",
+                "roboscript.grading.mission_host",
+                str(theirs.fileno()),
+                str(mission),
+                robot_arg,
+                repr(spec.max_time_s),
+                repr(hang_after_s),
+            ],
+            visible=tuple(dict.fromkeys(readable)),
+            workdir=mission.parent,
+            pass_fds=(theirs.fileno(),),
+            limits=limits or Limits(),
+        )
+    finally:
+        theirs.close()
+    with jail:
+        session = _WorldSession(sim, spec, profile.handshake_timeout_s, ours, jail, hang_after_s)
+        try:
+            return session.run()
+        finally:
+            ours.close()
+
+
+class _WorldSession:
+    """The world's loop for one run: answer the wire, watch the clock, drain the output."""
+
+    def __init__(
+        self,
+        sim: Simulation,
+        spec: TestSpec,
+        handshake_s: float,
+        sock: socket.socket,
+        jail: Jail,
+        hang_after_s: float,
+    ) -> None:
+        self.sim = sim
+        self.spec = spec
+        self.sock = sock
+        self.jail = jail
+        self.hang_after_s = hang_after_s
+        self.decoder = FrameDecoder(Kind.FROM_MISSION)
+        self.claims = _Claims()
+        self.now_s = 0.0
+        self.limit_s = handshake_s + _HANDSHAKE_SLACK_S
+        self.time_up = False
+        self.opened = False
+        self.loaded = False
+        self.host_bytes = 0
+        self.start_pose = (sim.body.x_mm, sim.body.y_mm)
+
+    # ------------------------------------------------------------------------------- loop
+
+    def run(self) -> WorldRun:
+        started = time.monotonic()
+        wall_deadline = started + self.spec.wall_time_limit_s
+        last_progress = started
+        poller = select.poll()
+        poller.register(self.sock, select.POLLIN)
+        for fd in self.jail.fileno_list():
+            poller.register(fd, select.POLLIN)
+        sock_fd = self.sock.fileno()
+        while True:
+            allowance = self.hang_after_s * (1.0 if self.loaded else _LOAD_ALLOWANCE)
+            now = time.monotonic()
+            wait_s = min(last_progress + allowance, wall_deadline) - now
+            events = poller.poll(max(0.0, wait_s) * 1000) if wait_s > 0 else []
+            socket_ready = False
+            for fd, _mask in events:
+                if fd == sock_fd:
+                    socket_ready = True
+                else:
+                    self.jail.drain()
+            if socket_ready:
+                try:
+                    data = self.sock.recv(_READ_CHUNK)
+                except OSError:
+                    data = b""
+                if not data:
+                    return self._ended()
+                before = (self.now_s, self.loaded)
+                try:
+                    self._handle(data)
+                except _LoadFailedError as exc:
+                    return self._invalid(str(exc))
+                except _ViolationError as exc:
+                    return self._broken(str(exc))
+                if self.claims.finish is not None:
+                    return self._finished()
+                if self.time_up:
+                    return self._out_of_time()
+                if (self.now_s, self.loaded) != before:
+                    last_progress = time.monotonic()
+                continue
+            now = time.monotonic()
+            if now >= wall_deadline:
+                return self._stopped("timeout", self._timeout_message())
+            if now - last_progress >= allowance:
+                return self._stopped("hung", self._hung_message(now - last_progress))
+
+    # ----------------------------------------------------------------------------- frames
+
+    def _handle(self, data: bytes) -> None:
+        try:
+            frames = list(self.decoder.feed(data))
+        except FrameError as exc:
+            raise _ViolationError(f"it broke the grading wire ({exc})") from None
+        for kind, payload in frames:
+            self._frame(kind, payload)
+            if self.claims.finish is not None or self.time_up:
+                return
+
+    def _frame(self, kind: bytes, payload: bytes) -> None:
+        sim = self.sim
+        if kind == Kind.OPEN:
+            if not self.opened:
+                self.opened = True
+                sim.connect()
+            self._answer()
+        elif kind == Kind.WRITE:
+            self.host_bytes += len(payload)
+            if self.host_bytes > _MAX_HOST_BYTES:
+                raise _ViolationError("it sent the robot far more bytes than any mission needs")
+            sim.write(payload)
+            self._answer()
+        elif kind == Kind.TICK:
+            self._advance(decode_time_checked(payload))
+        elif kind == Kind.LOADED:
+            info = _json(payload)
+            name = info.get("mission") if isinstance(info, dict) else None
+            self.claims.mission = _name(name) if isinstance(name, str) else ""
+            self.loaded = True
+        elif kind == Kind.LOAD_ERROR:
+            info = _json(payload)
+            message = info.get("message") if isinstance(info, dict) else None
+            more = info.get("more", 0) if isinstance(info, dict) else 0
+            text = _text(message if isinstance(message, str) else "", _REASON_CHARS)
+            if isinstance(more, int) and more > 0:
+                text += f" (and {more} more)"
+            raise _LoadFailedError(text)
+        elif kind == Kind.START:
+            if self.claims.started_s is not None:
+                raise _ViolationError("it started its mission twice")
+            self._check_still()
+            self.claims.started_s = self.now_s
+            self.limit_s = self.now_s + self.spec.max_time_s + _TIME_SLACK_S
+            sim.sample_path()
+        elif kind == Kind.STATE:
+            self._state(payload)
+        elif kind == Kind.FINISH:
+            info = _json(payload)
+            if not isinstance(info, dict):
+                raise _ViolationError("its final report was not an object")
+            self.claims.finish = info
+
+    def _answer(self) -> None:
+        self._reply(Kind.OUTPUT, self.sim.read(self.sim.in_waiting))
+
+    def _reply(self, kind: bytes, payload: bytes = b"") -> None:
+        with contextlib.suppress(OSError):  # the process is gone; the next read sees its end
+            self.sock.sendall(encode_frame(kind, payload))
+
+    def _advance(self, now_s: float) -> None:
+        if now_s < self.now_s:
+            raise _ViolationError("its clock went backwards")
+        if now_s > self.limit_s:
+            self.sim.tick(self.limit_s, 0.0)
+            self.now_s = self.limit_s
+            self.time_up = True
+            self._reply(Kind.STOPPED)
+            return
+        self.sim.tick(now_s, 0.0)
+        self.now_s = now_s
+        self._answer()
+
+    def _check_still(self) -> None:
+        x, y = self.start_pose
+        moved = ((self.sim.body.x_mm - x) ** 2 + (self.sim.body.y_mm - y) ** 2) ** 0.5
+        if moved > _START_SLACK_MM:
+            raise _ViolationError(f"the robot moved {moved:.0f} mm before its mission started")
+
+    def _state(self, payload: bytes) -> None:
+        name = _name(payload.decode("utf-8", "replace"))
+        if not name:
+            raise _ViolationError("it reported a state with no name")
+        if len(self.claims.states) >= _MAX_STATES:
+            self.claims.dropped_states += 1
+            return
+        start = self.claims.started_s if self.claims.started_s is not None else self.now_s
+        self.claims.states.append((round(self.now_s - start, 3), name))
+
+    # ----------------------------------------------------------------------------- endings
+
+    def _finished(self) -> WorldRun:
+        info = self.claims.finish or {}
+        outcome = info.get("outcome")
+        if outcome not in MISSION_OUTCOMES:
+            return self._broken(f"it reported an unknown outcome {_text(str(outcome), 40)!r}")
+        if self.claims.started_s is None or not self.claims.states:
+            return self._broken("it reported an end before its mission had started")
+        last = self.claims.states[-1][1]
+        final_state = info.get("final_state")
+        if not isinstance(final_state, str) or _name(final_state) != last:
+            return self._broken("its final state is not the last state it entered")
+        self._wait_exit()
+        code_error = info.get("code_error") is True
+        reason = info.get("reason")
+        record = self._record(
+            outcome, last, _text(reason, _REASON_CHARS) if isinstance(reason, str) else None
+        )
+        if code_error:
+            run = self._judged_record(record, ended_normally=False)
+            run.status = "crashed"
+            run.message = f"the run crashed: {record.reason or 'the mission raised an exception'}"
+            return run
+        # The mission's own limit stops it on the last tick before max_time.
+        out_of_time = record.duration_s >= self.spec.max_time_s - _OUT_OF_TIME_MARGIN_S
+        return self._judged_record(record, ended_normally=not out_of_time)
+
+    def _out_of_time(self) -> WorldRun:
+        """The run ran out of simulated time (the world stopped it)."""
+        self.jail.kill()
+        reason = f"the mission did not finish within {self.spec.max_time_s:g} s"
+        last = self.claims.states[-1][1] if self.claims.states else None
+        return self._judged_record(self._record("failure", last, reason), ended_normally=False)
+
+    def _judged_record(self, record: RunRecord, ended_normally: bool) -> WorldRun:
+        return WorldRun(
+            loaded=True, record=record, ended_normally=ended_normally, debug=self._output()
+        )
+
+    def _record(self, outcome: str, final_state: str | None, reason: str | None) -> RunRecord:
+        start_s = self.claims.started_s if self.claims.started_s is not None else self.now_s
+        return simulation_record(
+            self.sim,
+            start_s,
+            self.now_s,
+            mission=self.claims.mission or "mission",
+            outcome=outcome,
+            final_state=final_state,
+            reason=reason,
+            states=tuple(self.claims.states),
+        )
+
+    def _wait_exit(self) -> None:
+        deadline = time.monotonic() + _EXIT_GRACE_S
+        while self.jail.poll() is None and time.monotonic() < deadline:
+            self.jail.drain()
+            time.sleep(0.002)
+        self.jail.kill()
+
+    def _ended(self) -> WorldRun:
+        """The wire closed before the mission finished."""
+        self._wait_exit()
+        output = self._output()
+        status = self.jail.poll()
+        return WorldRun(
+            status="crashed",
+            message=crash_message(self.jail.stderr, status, self.loaded),
+            debug=output,
+            loaded=self.loaded,
+        )
+
+    def _invalid(self, problem: str) -> WorldRun:
+        self._wait_exit()
+        return WorldRun(
+            status="invalid",
+            message=f"the mission has an error: {problem}",
+            debug=self._output(),
+            loaded=False,
+        )
+
+    def _broken(self, why: str) -> WorldRun:
+        self.jail.kill()
+        return WorldRun(
+            status="crashed",
+            message=f"the run was stopped: {why}",
+            debug=self._output(),
+            loaded=self.loaded,
+        )
+
+    def _stopped(self, status: str, message: str) -> WorldRun:
+        self.jail.drain()
+        self.jail.kill()
+        return WorldRun(status=status, message=message, debug=self._output(), loaded=self.loaded)
+
+    def _hung_message(self, stalled_s: float) -> str:
+        where = stuck_at(self.jail.stderr)
+        place = f" at {where}" if where else ""
+        phase = "while loading" if not self.loaded else f"at {self.now_s:.2f} s of simulated time"
+        return (
+            f"the mission stopped advancing {phase}: its code did not return for"
+            f" {stalled_s:.1f} s{place} (an endless loop?)"
+        )
+
+    def _timeout_message(self) -> str:
+        limit = self.spec.wall_time_limit_s
+        return f"timed out after {limit:g} s of wall time (the simulation ran too slowly)"
+
+    def _output(self) -> str:
+        parts = []
+        if self.jail.stdout:
+            parts.append("standard output:\n" + self.jail.stdout)
+        if self.jail.stderr:
+            parts.append("standard error:\n" + self.jail.stderr)
+        return "\n".join(parts)
+
+
+def simulation_record(
+    sim: Simulation,
+    start_s: float,
+    end_s: float,
+    *,
+    mission: str,
+    outcome: str,
+    final_state: str | None,
+    reason: str | None,
+    states: tuple[tuple[float, str], ...],
+) -> RunRecord:
+    """The record of a simulated run whose mission started at ``start_s`` and ended at ``end_s``.
+
+    Everything physical comes from ``sim``; ``mission``, ``outcome``, ``final_state``,
+    ``reason`` and the state names are the mission's own account.
+    """
+    return RunRecord(
+        mission=mission,
+        robot=sim.profile.name,
+        world_name=sim.world.name,
+        seed=sim.seed,
+        outcome=outcome,
+        final_state=final_state,
+        reason=reason,
+        duration_s=round(end_s - start_s, 3),
+        states=states,
+        path=tuple(sim.path_since(start_s)),
+        tones=tuple(Tone(t, float(f), d) for t, f, d in sim.tones_since(start_s)),
+        collisions=tuple(
+            Collision(round(c.start_s - start_s, 3), round(c.x_mm, 1), round(c.y_mm, 1), c.side)
+            for c in sim.log.contacts
+        ),
+        final_pose=sim.final_pose(),
+        distance_travelled_mm=round(sim.log.distance_travelled_mm, 1),
+        body_radius_mm=sim.body.spec.body_radius_mm,
+        side_sensor_offset_mm=sim.body.spec.side_range_offset_mm,
+        world=sim.world,
+    )
+
+
+class _LoadFailedError(_ViolationError):
+    """The mission process reported that the mission did not load."""
+
+
+def decode_time_checked(payload: bytes) -> float:
+    """A ``T`` frame's time, which must be a finite number."""
+    try:
+        value = decode_time(payload)
+    except FrameError as exc:
+        raise _ViolationError(f"it broke the grading wire ({exc})") from None
+    if not math.isfinite(value):
+        raise _ViolationError("its clock is not a number")
+    return value
+
+
+def _json(payload: bytes) -> Any:
+    try:
+        return decode_json(payload)
+    except FrameError as exc:
+        raise _ViolationError(f"it broke the grading wire ({exc})") from None
+
+
+def _text(value: str, limit: int) -> str:
+    """Printable text, at most ``limit`` characters."""
+    clean = "".join(c if c.isprintable() else " " for c in value[: limit + 1])
+    return clean[:limit] + "…" if len(clean) > limit else clean
+
+
+def _name(value: str) -> str:
+    return _text(value.strip(), _NAME_CHARS)
+
+
+_TRACE_LINE = re.compile(r'^\s*File "(?P<file>[^"]+)", line (?P<line>\d+)(?:,| in) (?P<func>.*)$')
+_EXCEPTION_LINE = re.compile(
+    r"^(?P<type>[A-Za-z_][\w.]*(?:Error|Exception|Exit|Interrupt|Warning))"
+)
+
+
+def _is_ours(path: str) -> bool:
+    package = str(Path(__file__).resolve().parents[1])
+    return path.startswith((package, sys.prefix, sys.base_prefix, "<"))
+
+
+def stuck_at(stderr: str) -> str:
+    """Where the last watchdog dump in ``stderr`` says the main thread was, in student code.
+
+    Returns:
+        ``file.py:12 in check`` (the innermost frame in a student's file), or ``""``.
+    """
+    dump = stderr.rsplit("Timeout (", 1)
+    if len(dump) < 2:
+        return ""
+    for line in dump[1].splitlines():
+        match = _TRACE_LINE.match(line)
+        if match and not _is_ours(match["file"]):
+            func = match["func"].strip()
+            return f"{Path(match['file']).name}:{match['line']} in {func}"
+    return ""
+
+
+def crash_message(stderr: str, exit_status: int | None, loaded: bool) -> str:
+    """One sentence for a mission process that ended before its mission finished."""
+    phase = "" if loaded else " while loading"
+    lines = [line for line in stderr.splitlines() if line.strip()]
+    where = ""
+    for line in lines:
+        match = _TRACE_LINE.match(line)
+        if match and not _is_ours(match["file"]):
+            where = f" ({Path(match['file']).name}:{match['line']})"
+    for line in reversed(lines):
+        if _EXCEPTION_LINE.match(line):
+            return f"the run crashed{phase}: {_text(line.strip(), _REASON_CHARS)}{where}"
+    if exit_status is not None and exit_status < 0:
+        return (
+            f"the run crashed{phase}: its process was killed by signal {-exit_status}"
+            " (it may have used too much memory or CPU time)"
+        )
+    return (
+        f"the run stopped unexpectedly{phase} (its process ended with exit code {exit_status}"
+        " before the mission finished): does the mission call exit()?"
+    )
+
+
+def submission_files(mission: Path, exclude: frozenset[Path] = frozenset()) -> tuple[Path, ...]:
+    """The files a mission may read in a graded run: itself and the files near it it names.
+
+    A mission that stands alone in a folder shared with other students' files sees only the
+    files (beside it or in its sub-folders, e.g. ``behaviours/zigzag.py``) whose names or
+    module names appear in its own text, and in theirs in turn; never a file in ``exclude``
+    nor anything inside a folder in ``exclude`` (the other students' missions and folders,
+    the test specs).
+
+    Args:
+        mission: The mission file.
+        exclude: Files and folders the student must not see.
+    """
+    mission = mission.resolve()
+    folder = mission.parent
+    seen = [mission]
+    queue = [mission]
+    candidates = []
+    for path in sorted(folder.rglob("*"))[:_MAX_CANDIDATES]:
+        resolved = path.resolve()
+        if not path.is_file() or resolved in exclude:
+            continue
+        if any(parent in exclude for parent in resolved.parents):
+            continue
+        candidates.append((path.relative_to(folder).as_posix(), resolved))
+    while queue:
+        current = queue.pop()
+        try:
+            text = current.read_text(encoding="utf-8", errors="replace")[:1_000_000]
+        except OSError:
+            continue
+        words = set(re.findall(r"[\w.\-/]+", text))
+        words |= {part for word in words for part in word.split("/")}
+        for relative, resolved in candidates:
+            if resolved in seen:
+                continue
+            names = {relative, resolved.name, relative.rsplit(".", 1)[0].replace("/", ".")}
+            if relative.endswith(".py"):
+                names.add(Path(relative).stem)  # import helpers
+            if names & words:
+                seen.append(resolved)
+                queue.append(resolved)
+    return tuple(seen)

@@ -1,0 +1,244 @@
+"""The lockstep wire: a robot's protocol bytes and simulated time between two processes.
+
+When roboscript grades a mission, the simulated world (physics, sensors, the simulated device)
+runs in a process the grader owns, and the student's mission runs in another, sandboxed one.
+They share one socket. It carries what a serial line would carry (the host's bytes to the
+device, the device's bytes to the host) plus the one thing a serial line gets for free: time.
+The mission side asks the world to advance to its scheduler's time; the world steps its
+physics there and answers with the bytes the device sent. Every request that can change what
+the device says is answered before the mission goes on, so a run over this wire is, byte for
+byte, the run the in-process ``sim://`` port gives.
+
+Frames are ``kind (1 byte) | length (4 bytes, big-endian) | payload``.
+
+Mission to world:
+
+=====  ==========================================  ======================================
+kind   payload                                     answer
+=====  ==========================================  ======================================
+``C``  (none): the port was opened                 ``O``: what the device said on power-up
+``W``  bytes the host wrote                        ``O``: what the device answered
+``T``  scheduler time, float64 seconds             ``O`` (advanced), or ``X`` (time is up)
+``L``  UTF-8 JSON ``{"mission": name}``: loaded    none
+``E``  UTF-8 JSON ``{"message": ...}``: load error none; the mission process ends
+``S``  (none): the mission starts now              none
+``Q``  UTF-8 state name: a state was entered now   none
+``F``  UTF-8 JSON outcome, final state, reason     none; the mission process ends
+=====  ==========================================  ======================================
+
+World to mission: ``O`` (device output) and ``X`` (the world has stopped: the time limit was
+reached or the run is over).
+
+This module is sans-IO except :class:`WorldChannel`, the mission side's blocking socket
+endpoint. Everything the mission side sends is a claim; the world validates it
+(:mod:`roboscript.grading.world_host`).
+"""
+
+from __future__ import annotations
+
+import json
+import socket
+import struct
+from collections.abc import Iterator
+from typing import Any, Final
+
+__all__ = [
+    "MAX_PAYLOAD_BYTES",
+    "FrameDecoder",
+    "FrameError",
+    "Kind",
+    "WorldChannel",
+    "WorldStoppedError",
+    "encode_frame",
+    "encode_time",
+]
+
+MAX_PAYLOAD_BYTES: Final = 256 * 1024
+"""Largest payload either side accepts: a serial line's worth of bytes for many seconds."""
+
+_HEADER = struct.Struct(">cI")
+_TIME = struct.Struct(">d")
+
+
+class Kind:
+    """Frame kinds (one ASCII byte each)."""
+
+    OPEN: Final = b"C"
+    WRITE: Final = b"W"
+    TICK: Final = b"T"
+    LOADED: Final = b"L"
+    LOAD_ERROR: Final = b"E"
+    START: Final = b"S"
+    STATE: Final = b"Q"
+    FINISH: Final = b"F"
+    OUTPUT: Final = b"O"
+    STOPPED: Final = b"X"
+
+    FROM_MISSION: Final = frozenset(b"CWTLESQF")
+    FROM_WORLD: Final = frozenset(b"OX")
+
+
+class FrameError(ValueError):
+    """The peer broke the framing: an unknown kind, an oversized or malformed payload."""
+
+
+class WorldStoppedError(ConnectionError):
+    """The world ended the run (its time limit was reached, or it hung up)."""
+
+
+def encode_frame(kind: bytes, payload: bytes = b"") -> bytes:
+    """One frame.
+
+    Raises:
+        FrameError: The payload is larger than :data:`MAX_PAYLOAD_BYTES`.
+    """
+    if len(payload) > MAX_PAYLOAD_BYTES:
+        raise FrameError(f"a {len(payload)}-byte payload is over {MAX_PAYLOAD_BYTES} bytes")
+    return _HEADER.pack(kind, len(payload)) + payload
+
+
+def encode_time(now_s: float) -> bytes:
+    """A ``T`` payload."""
+    return _TIME.pack(now_s)
+
+
+def decode_time(payload: bytes) -> float:
+    """The seconds in a ``T`` payload.
+
+    Raises:
+        FrameError: The payload is not 8 bytes.
+    """
+    if len(payload) != _TIME.size:
+        raise FrameError(f"a time takes 8 bytes, not {len(payload)}")
+    value: float = _TIME.unpack(payload)[0]
+    return value
+
+
+def decode_json(payload: bytes) -> Any:
+    """A JSON payload.
+
+    Raises:
+        FrameError: It is not UTF-8 JSON.
+    """
+    try:
+        return json.loads(payload.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError, RecursionError) as exc:
+        raise FrameError(f"not a JSON payload: {exc}") from None
+
+
+class FrameDecoder:
+    """Frames from a byte stream, for one role.
+
+    Args:
+        accept: The kinds this side may receive (:attr:`Kind.FROM_MISSION` or
+            :attr:`Kind.FROM_WORLD`); anything else is a :class:`FrameError`.
+        max_payload_bytes: Larger payloads are a :class:`FrameError`.
+    """
+
+    def __init__(self, accept: frozenset[int], max_payload_bytes: int = MAX_PAYLOAD_BYTES) -> None:
+        self._accept = accept
+        self._max = max_payload_bytes
+        self._buffer = bytearray()
+
+    def feed(self, data: bytes) -> Iterator[tuple[bytes, bytes]]:
+        """Add bytes; yield each complete ``(kind, payload)``.
+
+        Raises:
+            FrameError: The stream broke the framing; nothing after it can be trusted.
+        """
+        self._buffer += data
+        while len(self._buffer) >= _HEADER.size:
+            kind, size = _HEADER.unpack_from(self._buffer)
+            if kind[0] not in self._accept:
+                raise FrameError(f"unknown frame kind {kind!r}")
+            if size > self._max:
+                raise FrameError(f"a {size}-byte frame is over the {self._max}-byte limit")
+            end = _HEADER.size + size
+            if len(self._buffer) < end:
+                return
+            payload = bytes(self._buffer[_HEADER.size : end])
+            del self._buffer[:end]
+            yield kind, payload
+
+    @property
+    def pending_bytes(self) -> int:
+        """Bytes of an incomplete frame held."""
+        return len(self._buffer)
+
+
+_CHANNELS: dict[int, WorldChannel] = {}
+
+
+class WorldChannel:
+    """The mission side's end of the wire: blocking request/answer over a socket.
+
+    Args:
+        sock: A connected stream socket (the grader passes one end of a socket pair).
+    """
+
+    def __init__(self, sock: socket.socket) -> None:
+        sock.setblocking(True)
+        self._sock = sock
+        self._decoder = FrameDecoder(Kind.FROM_WORLD)
+        self._frames: list[tuple[bytes, bytes]] = []
+        self.stopped = False
+
+    @classmethod
+    def for_fd(cls, fd: int) -> WorldChannel:
+        """The channel on an inherited socket file descriptor (one per descriptor)."""
+        channel = _CHANNELS.get(fd)
+        if channel is None:
+            channel = _CHANNELS[fd] = cls(socket.socket(fileno=fd))
+        return channel
+
+    def send(self, kind: bytes, payload: bytes = b"") -> None:
+        """Send a frame that needs no answer.
+
+        Raises:
+            WorldStoppedError: The world has hung up.
+        """
+        try:
+            self._sock.sendall(encode_frame(kind, payload))
+        except OSError as exc:
+            raise WorldStoppedError(f"the simulated world hung up: {exc}") from None
+
+    def send_json(self, kind: bytes, value: object) -> None:
+        """Send a JSON frame that needs no answer."""
+        self.send(kind, json.dumps(value).encode("utf-8"))
+
+    def request(self, kind: bytes, payload: bytes = b"") -> bytes:
+        """Send a frame and wait for the world's answer: the device's output.
+
+        Raises:
+            WorldStoppedError: The world has stopped the run or hung up.
+        """
+        if self.stopped:
+            raise WorldStoppedError("the simulated world has stopped the run")
+        self.send(kind, payload)
+        kind_back, answer = self._next_frame()
+        if kind_back == Kind.STOPPED:
+            self.stopped = True
+            raise WorldStoppedError("the simulated world has stopped the run (time is up)")
+        return answer
+
+    def _next_frame(self) -> tuple[bytes, bytes]:
+        while not self._frames:
+            try:
+                data = self._sock.recv(MAX_PAYLOAD_BYTES)
+            except OSError as exc:
+                raise WorldStoppedError(f"the simulated world hung up: {exc}") from None
+            if not data:
+                raise WorldStoppedError("the simulated world hung up")
+            try:
+                self._frames.extend(self._decoder.feed(data))
+            except FrameError as exc:
+                raise WorldStoppedError(f"the simulated world broke the wire: {exc}") from None
+        return self._frames.pop(0)
+
+    def fileno(self) -> int:
+        """The socket's file descriptor."""
+        return self._sock.fileno()
+
+    def close(self) -> None:
+        """Close the socket."""
+        self._sock.close()

@@ -1,0 +1,416 @@
+"""Hostile submissions against the real grader: every cheat fails or is contained.
+
+Each student below is one way a class tried to pass itself, harm a classmate or break the
+grader. The whole class is graded once, through ``roboscript grade`` in a subprocess, exactly
+as a teacher runs it, with every report written; then each test checks one promise. The
+honest student's result must come out right whatever the others did.
+
+The cheats need the sandbox's full isolation (bubblewrap); where it is missing the grader
+warns and these tests are skipped (see the teachers' guide for what each platform guarantees).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from roboscript.grading.sandbox import detect_isolation
+
+pytestmark = pytest.mark.skipif(
+    not detect_isolation().complete, reason="needs bubblewrap's full isolation"
+)
+
+SPEC = """\
+test: forward
+description: Drive 50 cm straight ahead, then stop.
+world: empty
+robot: mirto
+runs:
+  - {seed: 1}
+  - {seed: 2, start: {x: 300 mm, y: 100 mm, heading: 0 deg}}
+max_time: 20 s
+expect:
+  - outcome: success
+  - final_pose_within: {x: 0 mm, y: 500 mm, radius: 5 cm, relative_to: start}
+"""
+
+HONEST = """\
+mission: forward
+initial: go
+states:
+  go:
+    do: {drive: {distance: 50 cm, speed: 20 cm/s}}
+    on: {done: finished}
+  finished:
+    final: success
+"""
+
+SPIN = """\
+mission: spin
+behaviours: patch.py
+initial: turn
+states:
+  turn:
+    do: {rotate: {angle: 360 deg}}
+    on: {done: finished}
+  finished:
+    final: success
+"""
+
+# Replaces the grader's record and judge with a perfect run, as far as its own process goes.
+PATCH = """\
+import roboscript.grading.expectations as expectations
+import roboscript.grading.run as run
+import roboscript.grading.world_host as world_host
+from roboscript import Action
+from roboscript.grading.record import Verdict
+
+
+class Nothing(Action):
+    name = "nothing"
+    params = ()
+
+    def update(self, ctx):
+        return None
+
+
+def perfect(*args, **kwargs):
+    return Verdict("anything", True, "passed by a mile")
+
+
+expectations.evaluate = perfect
+run.evaluate = perfect
+run.run_score = lambda *a, **k: 1.0
+world_host.simulation_record = None
+run.record_from_session = None
+"""
+
+IDLE_MISSION = """\
+from roboscript import Mission, Wait, state
+
+{body}
+
+
+class Idle(Mission):
+    go = state(Wait(duration_s=0.5), initial=True, on_done="end")
+    end = state(final="success")
+"""
+
+FORGER = """\
+import os, pickle, struct
+forged = [
+    {"student": "ada", "test": "forward", "status": "failed", "score": 0.0},
+    {"student": "forger", "test": "forward", "status": "passed", "score": 1.0, "passed": True},
+]
+for fd in range(3, 256):
+    for item in forged:
+        try:
+            data = pickle.dumps(item)
+            os.write(fd, struct.pack("!i", len(data)) + data)
+        except OSError:
+            pass
+"""
+
+SNOOP = """\
+import glob, os
+seen = []
+for path in [{spec!r}, {classmate!r}] + glob.glob("/proc/*/cmdline"):
+    try:
+        with open(path, "rb") as handle:
+            text = handle.read(4000)
+    except OSError:
+        continue
+    if b"forward" in text or b"grade" in text:
+        seen.append(path)
+print("SNOOPED", seen)
+folder = os.path.dirname({classmate!r})
+print("SIBLINGS", sorted(os.listdir(folder)) if os.path.isdir(folder) else "none")
+"""
+
+PLANTER = """\
+import pathlib
+for path in {targets!r}:
+    try:
+        pathlib.Path(path).parent.mkdir(parents=True, exist_ok=True)
+        pathlib.Path(path).write_text("PLANTED")
+        print("planted", path)
+    except OSError as exc:
+        print("refused", path, type(exc).__name__)
+"""
+
+EDITOR = """\
+import roboscript.grading.gradebook as gradebook
+try:
+    with open(gradebook.__file__, "a") as handle:
+        handle.write("\\nPLANTED = True\\n")
+    print("edited")
+except OSError as exc:
+    print("refused", type(exc).__name__)
+"""
+
+DAEMON = """\
+import os, pathlib, time
+if os.fork() == 0:
+    os.setsid()
+    if os.fork() == 0:
+        time.sleep(1.5)
+        for path in {targets!r}:
+            try:
+                pathlib.Path(path).write_text("PLANTED BY A DAEMON")
+            except OSError:
+                pass
+        os._exit(0)
+    os._exit(0)
+"""
+
+KILLER = """\
+import os, signal
+for target in (os.getppid(), -1, 0, 1):
+    for sig in (signal.SIGKILL, signal.SIGTERM, signal.SIGSTOP):
+        try:
+            os.kill(target, sig)
+        except (OSError, ValueError):
+            pass
+for pid in os.listdir("/proc"):
+    if pid.isdigit() and int(pid) != os.getpid():
+        try:
+            os.kill(int(pid), signal.SIGKILL)
+        except OSError:
+            pass
+"""
+
+FAKE_LINES = """\
+import os
+for pid in os.listdir("/proc"):
+    for fd in ("1", "2"):
+        try:
+            with open(f"/proc/{pid}/fd/{fd}", "w") as handle:
+                handle.write("FAKE-LINE ada forward: crashed\\n")
+        except OSError:
+            pass
+"""
+
+FORK_BOMB = """\
+import os
+children = 0
+try:
+    while children < 100000:
+        if os.fork() == 0:
+            import time
+            time.sleep(30)
+            os._exit(0)
+        children += 1
+except OSError:
+    pass
+"""
+
+FLOOD = """\
+import sys
+sys.stdout.write("x" * 20_000_000)
+raise RuntimeError("y" * 20_000_000)
+"""
+
+MEMORY = """\
+hog = bytearray(8 * 1024**3)
+"""
+
+DISK = """\
+with open("/tmp/fill", "wb") as handle:
+    for _ in range(2000):
+        handle.write(b"z" * 1024 * 1024)
+"""
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    """The class, graded once by the real command line."""
+    root = tmp_path_factory.mktemp("cheats")
+    teacher = root / "teacher"
+    teacher.mkdir()
+    spec = teacher / "forward.yaml"
+    spec.write_text(SPEC, encoding="utf-8")
+    subs = root / "class"
+    report_dir = root / "report"
+    csv_file = root / "grades.csv"
+    targets = [str(report_dir / "index.html"), str(csv_file), str(spec)]
+
+    def student(name: str, files: dict[str, str]) -> None:
+        folder = subs / name
+        folder.mkdir(parents=True)
+        for file, text in files.items():
+            (folder / file).write_text(text, encoding="utf-8")
+
+    def idle(name: str, body: str) -> None:
+        student(name, {"mission.py": IDLE_MISSION.format(body=body)})
+
+    student("ada", {"forward.yaml": HONEST})
+    student("patcher", {"spin.yaml": SPIN, "patch.py": PATCH})
+    idle("forger", FORGER)
+    idle("snoop", SNOOP.format(spec=str(spec), classmate=str(subs / "ada" / "forward.yaml")))
+    idle("planter", PLANTER.format(targets=targets))
+    idle("editor", EDITOR)
+    idle("daemon", DAEMON.format(targets=targets))
+    idle("killer", KILLER)
+    idle("liar", FAKE_LINES)
+    idle("forker", FORK_BOMB)
+    idle("flooder", FLOOD)
+    idle("hog", MEMORY)
+    idle("filler", DISK)
+    from roboscript.grading import gradebook
+
+    package_file = Path(gradebook.__file__)
+    before = hashlib.sha256(package_file.read_bytes()).hexdigest()
+    results = root / "results.jsonl"
+    command = [
+        sys.executable,
+        "-m",
+        "roboscript",
+        "grade",
+        str(spec),
+        "--mission",
+        str(subs),
+        "--json",
+        "--jobs",
+        "2",
+        "--csv",
+        str(csv_file),
+        "--html",
+        str(report_dir),
+        "--results",
+        str(results),
+    ]
+    done = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
+    time.sleep(2.5)  # give a daemon that escaped time to act: none may have
+    return {
+        "exit": done.returncode,
+        "stdout": done.stdout,
+        "stderr": done.stderr,
+        "report": json.loads(done.stdout) if done.stdout.startswith("{") else None,
+        "csv": csv_file.read_text(encoding="utf-8-sig") if csv_file.exists() else "",
+        "html": report_dir,
+        "spec": spec,
+        "package_hash": (before, hashlib.sha256(package_file.read_bytes()).hexdigest()),
+        "results": results,
+    }
+
+
+def _runs(graded: dict[str, Any], student: str) -> list[dict[str, Any]]:
+    report = graded["report"]
+    assert report is not None, graded["stderr"][-3000:]
+    return [r for r in report["runs"] if r["student"] == student]
+
+
+def test_the_grader_survives_the_class_and_reports_everyone(graded: dict[str, Any]) -> None:
+    assert graded["exit"] == 1, graded["stderr"][-3000:]  # some students failed: exit 1
+    students = {r["student"] for r in graded["report"]["results"]}
+    assert len(students) == 13
+
+
+def test_the_honest_student_passes_whatever_the_class_did(graded: dict[str, Any]) -> None:
+    runs = _runs(graded, "ada")
+    assert [r["status"] for r in runs] == ["passed", "passed"]
+    assert "ada," in graded["csv"] and "PLANTED" not in graded["csv"]
+
+
+def test_patching_the_grader_from_the_mission_changes_nothing(graded: dict[str, Any]) -> None:
+    runs = _runs(graded, "patcher")
+    assert all(r["status"] == "failed" for r in runs)
+    assert all(r["score"] < 1 for r in runs)
+    assert all("final_pose_within" in r["message"] for r in runs)
+
+
+def test_a_forged_result_on_any_descriptor_changes_nothing(graded: dict[str, Any]) -> None:
+    for run in _runs(graded, "forger"):
+        assert run["status"] == "crashed"  # its bytes broke the wire: the run was ended
+        assert run["score"] == 0
+        assert "broke the grading wire" in run["message"]
+
+
+def test_the_spec_and_classmates_files_are_out_of_reach(graded: dict[str, Any]) -> None:
+    output = _runs(graded, "snoop")[0]["debug"]
+    assert "SNOOPED []" in output
+    assert "ada" not in output.split("SIBLINGS", 1)[1].splitlines()[0]
+
+
+def test_nothing_is_planted_in_the_reports_or_the_spec(graded: dict[str, Any]) -> None:
+    assert "refused" in _runs(graded, "planter")[0]["debug"]
+    for page in Path(graded["html"]).rglob("*.html"):
+        assert "PLANTED" not in page.read_text(encoding="utf-8")
+    assert "PLANTED" not in graded["spec"].read_text(encoding="utf-8")
+
+
+def test_the_installed_package_cannot_be_edited(graded: dict[str, Any]) -> None:
+    before, after = graded["package_hash"]
+    assert before == after
+    assert "refused" in _runs(graded, "editor")[0]["debug"]
+
+
+def test_a_daemon_dies_with_its_run(graded: dict[str, Any]) -> None:
+    assert "PLANTED BY A DAEMON" not in graded["csv"]
+    assert "PLANTED" not in graded["spec"].read_text(encoding="utf-8")
+
+
+def test_signals_from_a_student_reach_no_one(graded: dict[str, Any]) -> None:
+    assert graded["report"] is not None
+    assert {r["status"] for r in _runs(graded, "killer")} <= {"passed", "failed", "crashed"}
+
+
+def test_no_fake_line_reaches_the_graders_output(graded: dict[str, Any]) -> None:
+    # What the student printed is kept, inside its own run's JSON string; never as a line.
+    for stream in (graded["stdout"], graded["stderr"]):
+        assert not any(line.startswith("FAKE-LINE") for line in stream.splitlines())
+
+
+def test_a_fork_bomb_memory_hog_and_disk_filler_fail_only_themselves(
+    graded: dict[str, Any],
+) -> None:
+    for name in ("forker", "hog", "filler"):
+        for run in _runs(graded, name):
+            assert run["score"] < 1, name
+    # Both fail while the mission loads: the student is told what the file did.
+    assert all(r["status"] == "invalid" for r in _runs(graded, "hog") + _runs(graded, "filler"))
+    assert "MemoryError" in _runs(graded, "hog")[0]["message"]
+    assert "File too large" in _runs(graded, "filler")[0]["message"]
+
+
+def test_a_flood_of_output_is_cut_everywhere(graded: dict[str, Any]) -> None:
+    runs = _runs(graded, "flooder")
+    assert all(r["status"] == "crashed" for r in runs)
+    assert len(graded["stdout"]) < 2_000_000
+    for run in runs:
+        assert len(run["debug"]) < 200_000
+        assert len(run["message"]) < 5_000
+    for page in Path(graded["html"]).rglob("*.html"):
+        assert page.stat().st_size < 2_000_000
+
+
+def test_every_finished_run_is_in_the_results_file(graded: dict[str, Any]) -> None:
+    lines = graded["results"].read_text(encoding="utf-8").splitlines()
+    assert len(lines) == len(graded["report"]["runs"])
+    assert max(len(line) for line in lines) < 200_000  # the flood is cut there too
+    assert {json.loads(line)["student"] for line in lines} == {
+        r["student"] for r in graded["report"]["runs"]
+    }
+
+
+def test_no_student_process_outlives_the_grader(graded: dict[str, Any]) -> None:
+    marker = b"roboscript.grading.mission_host"
+    alive = []
+    for pid in os.listdir("/proc"):
+        if not pid.isdigit():
+            continue
+        try:
+            cmdline = Path(f"/proc/{pid}/cmdline").read_bytes()
+        except OSError:
+            continue
+        if marker in cmdline and str(graded["spec"].parent.parent).encode() in cmdline:
+            alive.append(pid)
+    assert alive == []

@@ -1,0 +1,193 @@
+"""The world side of a graded run: it records the run itself and trusts the mission with nothing.
+
+A graded run puts the student's mission in a sandboxed process that reaches the simulated
+robot only through the lockstep wire. These tests prove that this costs nothing in fidelity
+(a graded run records exactly what the same run records in-process, for every protocol) and
+that whatever the mission process sends, it cannot make the world record what did not happen.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from helpers import MISSIONS
+
+from roboscript.grading.run import grade_run, record_from_session
+from roboscript.grading.spec import TestSpec, load_test_spec
+from roboscript.mission import mission_for_robot
+from roboscript.session import run_session
+
+SPEC = """\
+test: fidelity
+world: {world}
+robot: {robot}
+runs:
+  - {{seed: 1}}
+  - {{seed: 7, start: {{x: 120 mm, y: -80 mm, heading: 25 deg}}}}
+max_time: {max_time}
+expect:
+  - outcome: success
+"""
+
+
+def _spec(tmp_path: Path, robot: str, world: str = "empty", max_time: str = "60 s") -> TestSpec:
+    path = tmp_path / "test.yaml"
+    path.write_text(SPEC.format(robot=robot, world=world, max_time=max_time), encoding="utf-8")
+    return load_test_spec(path)
+
+
+@pytest.mark.parametrize(
+    ("robot", "mission", "world"),
+    [
+        ("mirto", "square.yaml", "empty"),
+        ("asip-basic", "square.py", "empty"),
+        ("mirto", "bump_and_turn.py", "square-room"),
+        ("spike-prime", "square.yaml", "empty"),
+        ("stackmod-rover", "stackmod_patrol.yaml", "maze"),
+        ("plen2", "plen_walk.yaml", "empty"),
+    ],
+)
+def test_a_graded_run_records_exactly_the_in_process_run(
+    tmp_path: Path, robot: str, mission: str, world: str
+) -> None:
+    spec = _spec(tmp_path, robot, world, max_time="30 s")
+    path = str(MISSIONS / mission)
+    for variant in spec.variants:
+        graded = grade_run(spec, path, variant)
+        assert graded.record is not None, graded.message
+        loaded, profile, _ = mission_for_robot(path, robot)
+        session = run_session(
+            loaded,
+            profile,
+            world=variant.world,
+            seed=variant.seed,
+            start=variant.start,
+            max_time_s=spec.max_time_s,
+        )
+        assert graded.record.to_dict() == record_from_session(session).to_dict()
+        assert graded.record.path, "the world recorded the path"
+
+
+def _mission(tmp_path: Path, name: str, code: str) -> str:
+    path = tmp_path / name
+    path.write_text(code, encoding="utf-8")
+    return str(path)
+
+
+# A Python mission can reach the wire's socket: its descriptor is on the process's command
+# line. Each of these writes frames of its own when the module is imported.
+FORGER = """\
+import json, os, struct, sys, time
+from roboscript import Mission, Wait, state
+
+FD = int(sys.argv[1])
+
+
+def frame(kind, payload=b""):
+    os.write(FD, kind + struct.pack(">I", len(payload)) + payload)
+
+
+{body}
+
+
+class Idle(Mission):
+    go = state(Wait(duration_s=1), initial=True, on_done="end")
+    end = state(final="success")
+"""
+
+
+def _forged(tmp_path: Path, body: str) -> str:
+    return _mission(tmp_path, "forger.py", FORGER.format(body=body))
+
+
+SQUARE = load_test_spec(MISSIONS / "teacher" / "square" / "test.yaml")
+
+
+def test_a_forged_success_before_the_mission_started_scores_nothing(tmp_path: Path) -> None:
+    mission = _forged(
+        tmp_path,
+        'frame(b"F", json.dumps({"outcome": "success", "final_state": "end", "student": "bob",'
+        ' "score": 1, "status": "passed"}).encode())\ntime.sleep(60)',
+    )
+    result = grade_run(SQUARE, mission, SQUARE.variants[0], "alice")
+    assert result.status == "crashed"
+    assert result.score == 0.0
+    assert result.student == "alice"
+    assert "before its mission had started" in result.message
+
+
+def test_a_clock_that_runs_backwards_ends_the_run(tmp_path: Path) -> None:
+    mission = _forged(
+        tmp_path,
+        'frame(b"C")\nframe(b"T", struct.pack(">d", 5.0))\nframe(b"T", struct.pack(">d", 1.0))\n'
+        "time.sleep(60)",
+    )
+    result = grade_run(SQUARE, mission, SQUARE.variants[0])
+    assert (result.status, result.score) == ("crashed", 0.0)
+    assert "clock went backwards" in result.message
+
+
+def test_garbage_on_the_wire_ends_the_run(tmp_path: Path) -> None:
+    mission = _forged(tmp_path, 'os.write(FD, b"Zgarbage")\ntime.sleep(60)')
+    result = grade_run(SQUARE, mission, SQUARE.variants[0])
+    assert result.status == "crashed"
+    assert "broke the grading wire" in result.message
+
+
+def test_asking_for_more_time_than_the_test_allows_runs_out_of_time(tmp_path: Path) -> None:
+    mission = _forged(
+        tmp_path,
+        'frame(b"C")\nframe(b"T", struct.pack(">d", 1e9))\ntime.sleep(60)',
+    )
+    result = grade_run(SQUARE, mission, SQUARE.variants[0])
+    assert result.status == "failed"
+    assert result.score == 0.0
+    assert result.record is not None
+    assert "did not finish within" in (result.record.reason or "")
+
+
+def test_a_flood_of_bytes_to_the_robot_ends_the_run(tmp_path: Path) -> None:
+    mission = _forged(
+        tmp_path,
+        'frame(b"C")\nfor _ in range(400):\n    frame(b"W", b"x" * 200_000)\ntime.sleep(60)',
+    )
+    result = grade_run(SQUARE, mission, SQUARE.variants[0])
+    assert result.status == "crashed"
+    assert "more bytes" in result.message
+
+
+def test_a_student_who_is_a_file_sees_only_the_files_it_names(tmp_path: Path) -> None:
+    from roboscript.grading.batch import find_submissions, visible_files
+
+    folder = tmp_path / "class"
+    folder.mkdir()
+    (folder / "alice.yaml").write_text(
+        (MISSIONS / "zigzag.yaml").read_text(encoding="utf-8").replace("zigzag.py", "alice_b.py"),
+        encoding="utf-8",
+    )
+    (folder / "behaviours").mkdir()
+    (folder / "behaviours" / "alice_b.py").write_text("import alice_util\n", encoding="utf-8")
+    (folder / "alice_util.py").write_text("X = 1\n", encoding="utf-8")
+    (folder / "carol").mkdir()  # a classmate who is a folder
+    (folder / "carol" / "mission.yaml").write_text("mission: carol\n", encoding="utf-8")
+    (folder / "carol" / "alice_util.py").write_text("SECRET = 1\n", encoding="utf-8")
+    (folder / "bob.yaml").write_text("mission: bob  # copies alice.yaml\n", encoding="utf-8")
+    (folder / "notes.txt").write_text("not named by anyone\n", encoding="utf-8")
+    spec = folder / "test.yaml"
+    spec.write_text("test: t\nexpect:\n  - outcome: success\n", encoding="utf-8")
+    students = {s.student: s for s in find_submissions([str(folder)])}
+    assert sorted(students) == ["alice", "bob", "carol"]
+    private = frozenset(
+        (folder / name).resolve() for name in ("alice.yaml", "bob.yaml", "test.yaml", "carol")
+    )
+    alice = students["alice"]
+    seen = visible_files(alice, alice.missions[0], private - {(folder / "alice.yaml").resolve()})
+    assert sorted(p.relative_to(folder.resolve()).as_posix() for p in seen) == [
+        "alice.yaml",
+        "alice_util.py",
+        "behaviours/alice_b.py",
+    ]
+    bob = students["bob"]
+    seen = visible_files(bob, bob.missions[0], private - {(folder / "bob.yaml").resolve()})
+    assert [p.name for p in seen] == ["bob.yaml"]  # naming alice.yaml does not reveal it

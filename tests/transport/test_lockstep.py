@@ -1,0 +1,109 @@
+"""The lockstep wire's framing: both roles read exactly what the other wrote, and nothing else."""
+
+from __future__ import annotations
+
+import socket
+import threading
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from roboscript.transport.lockstep import (
+    MAX_PAYLOAD_BYTES,
+    FrameDecoder,
+    FrameError,
+    Kind,
+    WorldChannel,
+    WorldStoppedError,
+    decode_time,
+    encode_frame,
+    encode_time,
+)
+
+
+def test_a_frame_is_kind_length_payload() -> None:
+    assert encode_frame(Kind.WRITE, b"M,R,45") == b"W\x00\x00\x00\x06M,R,45"
+    assert encode_frame(Kind.START) == b"S\x00\x00\x00\x00"
+
+
+def test_frames_split_anywhere_are_read_whole_and_in_order() -> None:
+    stream = encode_frame(Kind.TICK, encode_time(1.25)) + encode_frame(Kind.WRITE, b"\x00\xff")
+    decoder = FrameDecoder(Kind.FROM_MISSION)
+    frames = []
+    for i in range(len(stream)):
+        frames += decoder.feed(stream[i : i + 1])
+    assert [k for k, _ in frames] == [Kind.TICK, Kind.WRITE]
+    assert decode_time(frames[0][1]) == 1.25
+    assert frames[1][1] == b"\x00\xff"
+    assert decoder.pending_bytes == 0
+
+
+def test_each_role_refuses_the_other_roles_frames() -> None:
+    with pytest.raises(FrameError, match="unknown frame kind"):
+        list(FrameDecoder(Kind.FROM_WORLD).feed(encode_frame(Kind.FINISH, b"{}")))
+    with pytest.raises(FrameError, match="unknown frame kind"):
+        list(FrameDecoder(Kind.FROM_MISSION).feed(encode_frame(Kind.OUTPUT, b"")))
+
+
+def test_an_oversized_frame_is_refused_from_its_header() -> None:
+    header = b"W" + (MAX_PAYLOAD_BYTES + 1).to_bytes(4, "big")
+    with pytest.raises(FrameError, match="over the"):
+        list(FrameDecoder(Kind.FROM_MISSION).feed(header))
+    with pytest.raises(FrameError):
+        encode_frame(Kind.WRITE, bytes(MAX_PAYLOAD_BYTES + 1))
+
+
+def test_a_time_payload_must_be_eight_bytes() -> None:
+    with pytest.raises(FrameError):
+        decode_time(b"\x00" * 7)
+
+
+@given(st.binary(max_size=2000))
+def test_any_bytes_give_frames_or_a_frame_error(data: bytes) -> None:
+    decoder = FrameDecoder(Kind.FROM_MISSION)
+    try:
+        for kind, payload in decoder.feed(data):
+            assert kind[0] in Kind.FROM_MISSION
+            assert len(payload) <= MAX_PAYLOAD_BYTES
+    except FrameError:
+        pass
+
+
+@given(st.lists(st.tuples(st.sampled_from(sorted(Kind.FROM_MISSION)), st.binary(max_size=300))))
+def test_what_is_encoded_is_decoded(frames: list[tuple[int, bytes]]) -> None:
+    stream = b"".join(encode_frame(bytes([k]), p) for k, p in frames)
+    decoded = list(FrameDecoder(Kind.FROM_MISSION).feed(stream))
+    assert decoded == [(bytes([k]), p) for k, p in frames]
+
+
+def _world(sock: socket.socket, answers: list[bytes]) -> None:
+    decoder = FrameDecoder(Kind.FROM_MISSION)
+    for answer in answers:
+        while not list(decoder.feed(sock.recv(100))):
+            pass
+        sock.sendall(answer)
+    sock.close()
+
+
+def test_a_request_returns_the_worlds_output_and_a_stop_ends_the_run() -> None:
+    mission_end, world_end = socket.socketpair()
+    answers = [encode_frame(Kind.OUTPUT, b"@I,v,1\n"), encode_frame(Kind.STOPPED)]
+    thread = threading.Thread(target=_world, args=(world_end, answers))
+    thread.start()
+    channel = WorldChannel(mission_end)
+    assert channel.request(Kind.TICK, encode_time(0.02)) == b"@I,v,1\n"
+    with pytest.raises(WorldStoppedError, match="time is up"):
+        channel.request(Kind.TICK, encode_time(0.04))
+    with pytest.raises(WorldStoppedError):  # and stays stopped, without asking again
+        channel.request(Kind.TICK, encode_time(0.06))
+    thread.join()
+    channel.close()
+
+
+def test_a_world_that_hangs_up_is_a_world_stopped() -> None:
+    mission_end, world_end = socket.socketpair()
+    world_end.close()
+    channel = WorldChannel(mission_end)
+    with pytest.raises(WorldStoppedError, match="hung up"):
+        channel.request(Kind.OPEN)
