@@ -283,6 +283,7 @@ class _WorldSession:
             if self.host_bytes > _MAX_HOST_BYTES:
                 raise _ViolationError("it sent the robot far more bytes than any mission needs")
             sim.write(payload)
+        elif kind == Kind.SYNC:
             self._answer()
         elif kind == Kind.TICK:
             self._advance(decode_time_checked(payload))

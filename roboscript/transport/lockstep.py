@@ -5,9 +5,11 @@ runs in a process the grader owns, and the student's mission runs in another, sa
 They share one socket. It carries what a serial line would carry (the host's bytes to the
 device, the device's bytes to the host) plus the one thing a serial line gets for free: time.
 The mission side asks the world to advance to its scheduler's time; the world steps its
-physics there and answers with the bytes the device sent. Every request that can change what
-the device says is answered before the mission goes on, so a run over this wire is, byte for
-byte, the run the in-process ``sim://`` port gives.
+physics there and answers with the bytes the device sent. The host's writes need no answer:
+the world hands them to the device the moment it reads them, in order, at the current
+simulated time, and what the device answers comes back with the next tick's answer. Should the
+host read before that tick, it first asks for what is waiting (``Y``). So a run over this wire
+is, byte for byte, the run the in-process ``sim://`` port gives, with one round trip a tick.
 
 Frames are ``kind (1 byte) | length (4 bytes, big-endian) | payload``.
 
@@ -17,7 +19,8 @@ Mission to world:
 kind   payload                                     answer
 =====  ==========================================  ======================================
 ``C``  (none): the port was opened                 ``O``: what the device said on power-up
-``W``  bytes the host wrote                        ``O``: what the device answered
+``W``  bytes the host wrote                        none (the device reads them at once)
+``Y``  (none): the host wants to read now          ``O``: what the device has sent
 ``T``  scheduler time, float64 seconds             ``O`` (advanced), or ``X`` (time is up)
 ``L``  UTF-8 JSON ``{"mission": name}``: loaded    none
 ``E``  UTF-8 JSON ``{"message": ...}``: load error none; the mission process ends
@@ -65,6 +68,7 @@ class Kind:
 
     OPEN: Final = b"C"
     WRITE: Final = b"W"
+    SYNC: Final = b"Y"
     TICK: Final = b"T"
     LOADED: Final = b"L"
     LOAD_ERROR: Final = b"E"
@@ -74,7 +78,7 @@ class Kind:
     OUTPUT: Final = b"O"
     STOPPED: Final = b"X"
 
-    FROM_MISSION: Final = frozenset(b"CWTLESQF")
+    FROM_MISSION: Final = frozenset(b"CWYTLESQF")
     FROM_WORLD: Final = frozenset(b"OX")
 
 

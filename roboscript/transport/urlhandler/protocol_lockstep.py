@@ -33,6 +33,7 @@ class RemoteWorld:
     def __init__(self, channel: WorldChannel) -> None:
         self.channel = channel
         self._to_host = bytearray()
+        self._unanswered = False  # writes whose answers have not been collected
 
     def connect(self) -> None:
         """Power the device on: it greets the host."""
@@ -44,11 +45,13 @@ class RemoteWorld:
         self._exchange(Kind.TICK, encode_time(now_s))
 
     def write(self, data: bytes) -> None:
-        """Bytes from the host reach the device."""
-        self._exchange(Kind.WRITE, data)
+        """Bytes from the host reach the device (its answer comes with the next read or tick)."""
+        self._send(Kind.WRITE, data)
+        self._unanswered = True
 
     def read(self, size: int) -> bytes:
         """Take up to ``size`` bytes the device has sent."""
+        self._collect()
         data = bytes(self._to_host[:size])
         del self._to_host[:size]
         return data
@@ -56,7 +59,13 @@ class RemoteWorld:
     @property
     def in_waiting(self) -> int:
         """Bytes waiting for the host."""
+        self._collect()
         return len(self._to_host)
+
+    def _collect(self) -> None:
+        """Read as the in-process port would: after a write, the device has answered it."""
+        if self._unanswered:
+            self._exchange(Kind.SYNC)
 
     def sample_path(self) -> None:
         """The mission starts now (the world starts its mission clock)."""
@@ -77,6 +86,7 @@ class RemoteWorld:
             self._to_host += self.channel.request(kind, payload)
         except WorldStoppedError as exc:
             raise LinkClosedError(str(exc)) from None
+        self._unanswered = False
 
 
 class Serial(SerialBase):
