@@ -107,3 +107,39 @@ def test_a_world_that_hangs_up_is_a_world_stopped() -> None:
     channel = WorldChannel(mission_end)
     with pytest.raises(WorldStoppedError, match="hung up"):
         channel.request(Kind.OPEN)
+
+
+def _echo_world(sock: socket.socket, seen: list[bytes]) -> None:
+    """A world whose device echoes every write; it answers Y and T with what is waiting."""
+    decoder = FrameDecoder(Kind.FROM_MISSION)
+    waiting = b""
+    while data := sock.recv(4096):
+        for kind, payload in decoder.feed(data):
+            seen.append(kind)
+            if kind == Kind.WRITE:
+                waiting += payload
+            elif kind in (Kind.SYNC, Kind.TICK, Kind.OPEN):
+                sock.sendall(encode_frame(Kind.OUTPUT, waiting))
+                waiting = b""
+    sock.close()
+
+
+def test_a_read_right_after_a_write_sees_the_answer_as_in_process() -> None:
+    from roboscript.transport.urlhandler.protocol_lockstep import RemoteWorld
+
+    mission_end, world_end = socket.socketpair()
+    seen: list[bytes] = []
+    thread = threading.Thread(target=_echo_world, args=(world_end, seen))
+    thread.start()
+    world = RemoteWorld(WorldChannel(mission_end))
+    world.connect()
+    world.write(b"I,v\n")
+    assert world.in_waiting == 4  # asks once (Y), as the device answered at once in-process
+    assert world.read(100) == b"I,v\n"
+    assert world.read(100) == b""  # nothing unanswered: no second question
+    world.write(b"A")
+    world.tick(0.02, 0.02)  # the tick's answer carries it: no Y needed
+    assert world.read(10) == b"A"
+    mission_end.close()
+    thread.join()
+    assert seen == [Kind.OPEN, Kind.WRITE, Kind.SYNC, Kind.WRITE, Kind.TICK]
