@@ -498,9 +498,9 @@ def _facts(result: RunResult) -> str:
     tones = ", ".join(f"{t.frequency_hz:g} Hz at {t.t_s:.1f} s" for t in record.tones) or "none"
     collisions = ", ".join(f"{c.t_s:.1f} s ({c.side})" for c in record.collisions) or "none"
     items = [
-        ("Outcome", record.outcome),
-        ("Final state", record.final_state or "—"),
-        ("Reason", record.reason or "—"),
+        ("Outcome (reported by the mission)", record.outcome),
+        ("Final state (reported by the mission)", record.final_state or "—"),
+        ("Reason (reported by the mission)", record.reason or "—"),
         ("Duration", f"{record.duration_s:.2f} s"),
         ("Distance travelled", f"{record.distance_travelled_mm / 10:.1f} cm"),
         ("Tones", tones),

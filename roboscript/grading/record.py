@@ -140,6 +140,7 @@ class RunRecord:
         data["states"] = [list(s) for s in self.states]
         data["path"] = [list(p) for p in self.path]
         data["final_pose"] = list(self.final_pose)
+        data["reported_by_mission"] = list(MISSION_REPORTED)
         return data
 
     @classmethod

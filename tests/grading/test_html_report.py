@@ -74,6 +74,8 @@ def test_pages_are_self_contained_and_accessible(report: Path) -> None:
     assert "first failed here, at 7.1 s" in run_page
     assert '<polyline points="' in run_page  # the path
     assert "State timeline over" in run_page
+    # What only the mission's own process could say is labelled as its claim.
+    assert "Outcome (reported by the mission)" in run_page
 
 
 def test_the_teacher_and_student_pages_are_apart(report: Path) -> None:
