@@ -10,15 +10,11 @@ grader's process, which the mission can reach only through these frames
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
-from serial.serialutil import PortNotOpenError, SerialBase, SerialException
+from serial.serialutil import SerialException
 
 from roboscript.errors import LinkClosedError
+from roboscript.transport.device_port import DevicePort
 from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError, encode_time
-
-if TYPE_CHECKING:
-    from _typeshed import ReadableBuffer
 
 __all__ = ["RemoteWorld", "Serial"]
 
@@ -89,7 +85,7 @@ class RemoteWorld:
         self._unanswered = False
 
 
-class Serial(SerialBase):
+class Serial(DevicePort):
     """A pyserial port whose device lives in the grader's world process."""
 
     simulation: RemoteWorld | None = None
@@ -109,38 +105,3 @@ class Serial(SerialBase):
             raise SerialException(f"cannot use descriptor {fd}: {exc}") from None
         self.simulation.connect()
         self.is_open = True
-
-    def close(self) -> None:
-        """Close the port (the wire stays open for the mission's final report)."""
-        self.is_open = False
-
-    def _reconfigure_port(self) -> None:
-        """Baud rate and framing mean nothing here."""
-
-    @property
-    def in_waiting(self) -> int:
-        """Bytes the device has sent and the host has not read."""
-        return self._world().in_waiting
-
-    def read(self, size: int = 1) -> bytes:
-        """Return up to ``size`` bytes the device has sent (never blocks)."""
-        return self._world().read(size)
-
-    def write(self, data: ReadableBuffer, /) -> int:
-        """Deliver bytes to the device at once."""
-        chunk = memoryview(data).tobytes()
-        self._world().write(chunk)
-        return len(chunk)
-
-    def reset_input_buffer(self) -> None:
-        """Discard bytes waiting for the host."""
-        world = self._world()
-        world.read(world.in_waiting)
-
-    def reset_output_buffer(self) -> None:
-        """Nothing is buffered on the way to the device."""
-
-    def _world(self) -> RemoteWorld:
-        if not self.is_open or self.simulation is None:
-            raise PortNotOpenError()
-        return self.simulation

@@ -9,16 +9,13 @@ reach the device at once; reads return what the device has sent so far and never
 from __future__ import annotations
 
 import urllib.parse
-from typing import TYPE_CHECKING
 
-from serial.serialutil import PortNotOpenError, SerialBase, SerialException
+from serial.serialutil import SerialException
 
 from roboscript.errors import InputError
 from roboscript.sim.simulation import Simulation, make_simulation
 from roboscript.sim.world import Pose
-
-if TYPE_CHECKING:
-    from _typeshed import ReadableBuffer
+from roboscript.transport.device_port import DevicePort
 
 __all__ = ["Serial", "parse_sim_url"]
 
@@ -49,7 +46,7 @@ def parse_sim_url(url: str) -> tuple[str, str, int, Pose | None]:
     return robot, world, seed, start
 
 
-class Serial(SerialBase):
+class Serial(DevicePort):
     """A pyserial port backed by a :class:`~roboscript.sim.simulation.Simulation`."""
 
     simulation: Simulation | None = None
@@ -67,38 +64,3 @@ class Serial(SerialBase):
             raise SerialException(str(exc)) from exc
         self.simulation.connect()
         self.is_open = True
-
-    def close(self) -> None:
-        """Close the port (the simulation stays readable for its log)."""
-        self.is_open = False
-
-    def _reconfigure_port(self) -> None:
-        """Baud rate and framing mean nothing to a simulation."""
-
-    @property
-    def in_waiting(self) -> int:
-        """Bytes the device has sent and the host has not read."""
-        return self._sim().in_waiting
-
-    def read(self, size: int = 1) -> bytes:
-        """Return up to ``size`` bytes the device has sent (never blocks)."""
-        return self._sim().read(size)
-
-    def write(self, data: ReadableBuffer, /) -> int:
-        """Deliver bytes to the device at once."""
-        chunk = memoryview(data).tobytes()
-        self._sim().write(chunk)
-        return len(chunk)
-
-    def reset_input_buffer(self) -> None:
-        """Discard bytes waiting for the host."""
-        sim = self._sim()
-        sim.read(sim.in_waiting)
-
-    def reset_output_buffer(self) -> None:
-        """Nothing is buffered on the way to the device."""
-
-    def _sim(self) -> Simulation:
-        if not self.is_open or self.simulation is None:
-            raise PortNotOpenError()
-        return self.simulation
