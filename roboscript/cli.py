@@ -2,7 +2,8 @@
 
 Exit status: 0 the mission succeeded (or every checked file is valid); 1 the mission failed,
 timed out, or the robot or link failed; 2 the input was invalid (mission, profile, world,
-arguments); 130 interrupted with Ctrl-C. Problems with input print as
+arguments); 130, 143 or 129 ended by Ctrl-C, SIGTERM or SIGHUP (the robot is stopped first).
+Problems with input print as
 ``file:line:col: error: message``, anything else as one plain sentence; a traceback appears
 only with ``--debug``.
 """
@@ -12,7 +13,6 @@ from __future__ import annotations
 import argparse
 import json
 import logging
-import signal
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -24,13 +24,14 @@ from roboscript.errors import (
     InputError,
     RoboscriptError,
 )
+from roboscript.interrupts import exit_status_for, reason_for
+from roboscript.interrupts import install as install_interrupts
 
 __all__ = ["main"]
 
 EXIT_OK = 0
 EXIT_FAILED = 1
 EXIT_INPUT = 2
-EXIT_INTERRUPTED = 130
 
 
 def _err(text: str) -> None:
@@ -112,7 +113,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
             _err(f"{result.outcome}: {result.reason}")
     plotted = _write_plot(args.plot, result, sim) if args.plot else True
     if interrupted:
-        return EXIT_INTERRUPTED
+        return interrupted
     return EXIT_OK if result.outcome == "success" and plotted else EXIT_FAILED
 
 
@@ -516,8 +517,9 @@ def main(argv: Sequence[str] | None = None) -> NoReturn:
         level=logging.DEBUG if args.debug else logging.WARNING,
         format="roboscript: %(message)s",
     )
-    # A second Ctrl-C while stopping must still end the program.
-    signal.signal(signal.SIGINT, signal.default_int_handler)
+    # Ctrl-C, SIGTERM and SIGHUP all stop the robot on the way out; a second one while
+    # stopping must still end the program.
+    install_interrupts()
     try:
         code = args.func(args)
     except InputError as exc:
@@ -535,7 +537,7 @@ def main(argv: Sequence[str] | None = None) -> NoReturn:
             raise
         _err(f"error: {exc}")
         code = EXIT_FAILED
-    except KeyboardInterrupt:
-        _err("interrupted")
-        code = EXIT_INTERRUPTED
+    except KeyboardInterrupt as exc:
+        _err(reason_for(exc))
+        code = exit_status_for(exc)
     sys.exit(code)

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from roboscript.errors import LinkError
+from roboscript.interrupts import exit_status_for, reason_for
 from roboscript.mission.runner import MissionResult, MissionRunner
 from roboscript.mission.spec import MissionSpec
 from roboscript.profiles import RobotProfile
@@ -29,14 +30,15 @@ class Session:
         robot: The robot it ran on (closed by now; its simulation, if any, keeps the log).
         profile: The robot's profile.
         start_time_s: Scheduler time at which the mission started; the mission clock's zero.
-        interrupted: True if Ctrl-C ended the run.
+        interrupted: The exit status a signal asks for (130 Ctrl-C, 143 SIGTERM, 129 SIGHUP)
+            when one ended the run, else 0.
     """
 
     result: MissionResult
     robot: Robot
     profile: RobotProfile
     start_time_s: float
-    interrupted: bool = False
+    interrupted: int = 0
 
     @property
     def simulation(self) -> Any:
@@ -95,8 +97,9 @@ def run_session(
         on_tick: Called after every scheduler tick with the runner and the robot (progress).
 
     Returns:
-        The finished run. A lost link ends the mission with outcome ``error``; Ctrl-C too
-        (and sets ``interrupted``); the robot is always told to stop.
+        The finished run. A lost link ends the mission with outcome ``error``; so do Ctrl-C,
+        SIGTERM and SIGHUP (see :mod:`roboscript.interrupts`), which also set
+        ``interrupted``; the robot is always told to stop first.
 
     Raises:
         LinkError: The robot could not be reached.
@@ -125,15 +128,15 @@ def run_session(
             on_tick(runner, robot)
 
         robot.scheduler.add(after_tick, "after")
-    interrupted = False
+    interrupted = 0
     try:
         with robot:
             try:
                 robot.scheduler.run(until=lambda: runner.finished, max_duration_s=max_time_s)
-            except KeyboardInterrupt:
-                interrupted = True
+            except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM, SIGHUP (roboscript.interrupts)
                 robot.stop()
-                runner.finish("error", "interrupted by Ctrl-C")
+                interrupted = exit_status_for(exc)
+                runner.finish("error", reason_for(exc))
             except LinkError as exc:
                 robot.stop()
                 runner.finish("error", str(exc))

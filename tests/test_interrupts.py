@@ -1,0 +1,89 @@
+"""Whatever signal ends roboscript, the robot is told to stop first, and the exit says which.
+
+Each run is a real ``roboscript run`` process driving a robot in real time. The judge of
+"stopped" is protocol-independent and outside the program: every byte the host sent (its
+wire log) is replayed into a fresh simulated robot of the same kind, whose motors must have
+been driving during the run and must be off after the last byte.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from helpers import ROOT
+
+from roboscript.interrupts import Interrupted, exit_status_for, reason_for
+from roboscript.sim.simulation import make_simulation
+from roboscript.transport.wirelog import read_wire_log
+
+WHEELED = ("mirto", "spike-prime", "stackmod-rover")
+SIGNALS = ("SIGTERM", "SIGHUP", "SIGINT")
+
+
+def test_each_signal_has_its_sentence_and_exit_status() -> None:
+    assert (reason_for(KeyboardInterrupt()), exit_status_for(KeyboardInterrupt())) == (
+        "interrupted by Ctrl-C",
+        130,
+    )
+    term = Interrupted(signal.SIGTERM)
+    assert (term.exit_status, term.reason) == (
+        143,
+        "stopped by SIGTERM (something asked roboscript to end)",
+    )
+    hup = Interrupted(signal.SIGHUP)
+    assert (hup.exit_status, hup.reason) == (129, "stopped by SIGHUP (the terminal was closed)")
+    assert isinstance(term, KeyboardInterrupt)  # every Ctrl-C path stops the robot for it too
+
+
+def _replayed_power(robot: str, log: Path) -> tuple[float, list[float]]:
+    """Replay the host's bytes into a fresh simulated robot: (most power seen, power at end)."""
+    sim = make_simulation(robot)
+    sim.connect()
+    sent = [(t, data) for t, direction, data in read_wire_log(log) if direction == ">"]
+    origin = sent[0][0]
+    most = 0.0
+    for t, data in sent:
+        sim.tick(t - origin, 0.0)
+        most = max(most, *(abs(p) for p in sim.body.power))
+        sim.write(data)
+    sim.tick(sim.time_s + 0.25, 0.0)  # time for the firmware to act on the last bytes
+    return most, list(sim.body.power)
+
+
+@pytest.mark.parametrize("robot", WHEELED)
+@pytest.mark.parametrize("name", SIGNALS)
+def test_a_signal_mid_mission_stops_the_robot_then_exits_with_its_status(
+    tmp_path: Path, robot: str, name: str
+) -> None:
+    signum = getattr(signal, name)
+    log = tmp_path / "wire.log"
+    proc = subprocess.Popen(
+        [
+            *(sys.executable, "-m", "roboscript", "run", str(ROOT / "missions" / "square.yaml")),
+            *("--robot", robot, "--realtime", "--wire-log", str(log)),
+        ],
+        cwd=ROOT,
+        env=dict(os.environ, PYTHONPATH=str(ROOT)),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert proc.stderr is not None
+    for line in proc.stderr:  # progress lines go to stderr, flushed as states are entered
+        if "side" in line:
+            break
+    time.sleep(1.0)  # the mission is under way: the wheels are turning
+    proc.send_signal(signum)
+    _, stderr = proc.communicate(timeout=30)
+    assert proc.returncode == 128 + signum, stderr
+    assert "Traceback" not in stderr
+    assert stderr.strip().splitlines()[-1] == f"error: {Interrupted(signum).reason}"
+    most, end = _replayed_power(robot, log)
+    assert most > 0.1, "the robot never drove: the test proves nothing"
+    assert all(abs(p) < 1e-6 for p in end), f"{robot} left driving at {end} after {name}"
