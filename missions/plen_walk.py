@@ -4,8 +4,8 @@ from roboscript import Mission, Turn, Wait, Walk, state
 
 
 class PlenWalk(Mission):
-    """Four steps forward, a quarter turn right, two steps back, and turn back to face the
-    start. Written for the plen2 robot.
+    """Walk the PLEN2 humanoid round a small loop: four steps forward, a quarter turn right,
+    two steps back, and turn back to face the start. Written for the plen2 robot.
     """
 
     robot = "plen2"

@@ -12,13 +12,12 @@ changes what differs::
 
 from __future__ import annotations
 
-import difflib
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
 from roboscript import capabilities as cap
-from roboscript.errors import ProfileError
+from roboscript.errors import InputError, ProfileError, did_you_mean
 
 __all__ = ["BUILTIN_PROFILES", "RobotProfile", "get_profile", "register_profile"]
 
@@ -198,11 +197,9 @@ def get_profile(name_or_path: str) -> RobotProfile:
         return _REGISTERED[name_or_path]
     if name_or_path.endswith((".yaml", ".yml")) or Path(name_or_path).exists():
         return _load_profile_file(Path(name_or_path))
-    close = difflib.get_close_matches(name_or_path, list(BUILTIN_PROFILES), n=1)
-    hint = f"did you mean '{close[0]}'?" if close else None
     raise ProfileError(
         f"no robot called '{name_or_path}' (built-in: {', '.join(BUILTIN_PROFILES)})",
-        hint=hint,
+        hint=did_you_mean(name_or_path, BUILTIN_PROFILES),
     )
 
 
@@ -214,13 +211,15 @@ _NUMBER_FIELDS = {
 
 
 def _load_profile_file(path: Path) -> RobotProfile:
-    from roboscript.mission.source import YamlMap, load_yaml
+    from roboscript.inputs.fields import FieldReader
+    from roboscript.inputs.source import YamlMap, load_yaml
 
     data = load_yaml(path, error=ProfileError)
+    reader = FieldReader(str(path), ProfileError)
 
-    def fail(message: str, key: str | None = None) -> ProfileError:
-        line, col = data.key_mark(key) if isinstance(data, YamlMap) and key else (None, None)
-        return ProfileError(message, path=str(path), line=line, col=col)
+    def fail(message: str, key: str | None = None) -> InputError:
+        mark = data.key_mark(key) if isinstance(data, YamlMap) and key else None
+        return reader.fail(message, mark)
 
     if not isinstance(data, YamlMap):
         raise fail("a profile file must be a mapping with 'extends:' and the values to change")
@@ -230,18 +229,9 @@ def _load_profile_file(path: Path) -> RobotProfile:
             f"'extends' must name a built-in robot ({', '.join(BUILTIN_PROFILES)})", "extends"
         )
     changes: dict[str, Any] = {"name": str(data.get("name", path.stem))}
-    allowed = {"extends", "name", "description", "gains", "ticks_per_rev", *_NUMBER_FIELDS}
-    allowed.add("options")
+    allowed = ("extends", "name", "description", "gains", "ticks_per_rev", *_NUMBER_FIELDS)
+    reader.allowed(data, (*allowed, "options"), "a profile")
     for key, value in data.items():
-        if key not in allowed:
-            close = difflib.get_close_matches(key, sorted(allowed), n=1)
-            raise ProfileError(
-                f"unknown profile key '{key}'",
-                path=str(path),
-                line=data.key_mark(key)[0],
-                col=data.key_mark(key)[1],
-                hint=f"did you mean '{close[0]}'?" if close else None,
-            )
         if key in _NUMBER_FIELDS or key == "ticks_per_rev":
             if isinstance(value, bool) or not isinstance(value, int | float) or value <= 0:
                 raise fail(f"'{key}' must be a positive number", key)

@@ -18,15 +18,19 @@ from __future__ import annotations
 import logging
 import urllib.parse
 from types import TracebackType
-from typing import Any, cast
-
-from typing_extensions import Self
+from typing import TYPE_CHECKING, Any, cast
 
 from roboscript import capabilities as cap
 from roboscript.clock import Clock, MonotonicClock, SimClock
 from roboscript.errors import CapabilityError, LinkError, LinkTimeoutError
 from roboscript.profiles import RobotProfile, get_profile, register_profile
 from roboscript.scheduler import Scheduler
+
+if TYPE_CHECKING:
+    # typing_extensions is not a dependency: Self (Python 3.11+) is only an annotation here
+    from typing_extensions import Self
+
+    from roboscript.drivers.base import Driver
 
 __all__ = ["Robot"]
 
@@ -52,7 +56,7 @@ class Robot:
     def __init__(
         self,
         profile: RobotProfile,
-        driver: Any,
+        driver: Driver,
         scheduler: Scheduler,
         *,
         url: str,

@@ -19,17 +19,21 @@ import abc
 import enum
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, ClassVar, cast
+from typing import Any, ClassVar, Literal, cast, get_args
 
 from roboscript import capabilities as cap
 from roboscript.errors import CapabilityError
 
 __all__ = [
+    "ACTION_OUTCOMES",
+    "PARAM_KINDS",
     "REQUIRED",
     "Action",
     "ActionContext",
     "Outcome",
+    "OutcomeName",
     "Param",
+    "ParamKind",
     "Result",
 ]
 
@@ -40,6 +44,31 @@ class Outcome(str, enum.Enum):
     DONE = "done"
     FAILED = "failed"
     TIMEOUT = "timeout"
+
+
+OutcomeName = Literal["done", "failed", "timeout"]
+"""An :class:`Outcome` as missions write it (the keys of a state's ``on``)."""
+
+ACTION_OUTCOMES: tuple[OutcomeName, ...] = get_args(OutcomeName)
+
+ParamKind = Literal[
+    "distance",
+    "speed",
+    "time",
+    "angle",
+    "turn_rate",
+    "frequency",
+    "percent",
+    "count",
+    "text",
+    "choice",
+    "guard",
+    "color",
+]
+"""What a :class:`Param` takes: a quantity dimension (``distance`` ... ``count``, read with a
+unit), or ``text``, ``choice`` (one of its words), ``guard`` (a condition) or ``color``."""
+
+PARAM_KINDS: tuple[ParamKind, ...] = get_args(ParamKind)
 
 
 @dataclass(frozen=True)
@@ -91,7 +120,7 @@ class Param:
 
     name: str
     kwarg: str
-    kind: str
+    kind: ParamKind
     doc: str
     default: Any = REQUIRED
     choices: tuple[str, ...] = ()

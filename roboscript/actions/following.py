@@ -12,9 +12,10 @@ import math
 from typing import Any, ClassVar
 
 from roboscript import capabilities as cap
-from roboscript.actions.base import Action, ActionContext, Param, Result
+from roboscript.actions.base import ActionContext, Param, Result
 from roboscript.actions.sensing import heading_deg
-from roboscript.control import LineFollower, Stall, WallFollower, wheel_speeds
+from roboscript.actions.wheels import WheelAction
+from roboscript.control import LineFollower, WallFollower, wheel_speeds
 
 __all__ = ["FollowLine", "FollowWall"]
 
@@ -34,7 +35,7 @@ def _travelled(base: cap.DriveBase) -> float:
     return (left + right) / 2.0
 
 
-class FollowWall(Action):
+class FollowWall(WheelAction):
     """Drive along a wall, keeping a side distance to it.
 
     Args:
@@ -73,6 +74,7 @@ class FollowWall(Action):
             raise ValueError("side must be 'left' or 'right'")
         if distance_mm <= 0 or speed_mm_s <= 0:
             raise ValueError("follow_wall needs a positive distance and speed")
+        super().__init__()
         self.side = side
         self.distance_mm = distance_mm
         self.speed_mm_s = speed_mm_s
@@ -81,14 +83,13 @@ class FollowWall(Action):
         self._start_s = 0.0
         self._last_seen_s = 0.0
         self._loop: WallFollower | None = None
-        self._stall = Stall()
 
     def start(self, ctx: ActionContext) -> None:
         self._start_s = self._last_seen_s = ctx.now_s
         self._loop = WallFollower(
             ctx.gain("wall", (0.15, 0.0, 0.02)), self.distance_mm, self.side, max_rate_deg_s=60.0
         )
-        self._stall.reset(ctx.now_s, _travelled(ctx.drive_base))
+        self.watch_stall(ctx, _travelled(ctx.drive_base))
 
     def update(self, ctx: ActionContext) -> Result | None:
         base = ctx.drive_base
@@ -110,16 +111,10 @@ class FollowWall(Action):
         assert self._loop is not None
         turn = self._loop.update(gap, heading_deg(ctx), ctx.dt_s)
         base.set_wheel_speeds(*wheel_speeds(self.speed_mm_s, turn, base.track_mm))
-        if not base.odometry_is_estimated and self._stall.update(ctx.now_s, _travelled(base)):
-            base.stop()
-            return Result.failed("stalled")
-        return None
-
-    def stop(self, ctx: ActionContext) -> None:
-        ctx.drive_base.stop()
+        return self.stalled(ctx, _travelled(base))
 
 
-class FollowLine(Action):
+class FollowLine(WheelAction):
     """Drive along a dark line on the floor.
 
     Args:
@@ -164,6 +159,7 @@ class FollowLine(Action):
             raise ValueError("edge must be 'center', 'left' or 'right'")
         if speed_mm_s <= 0:
             raise ValueError("follow_line needs a positive speed")
+        super().__init__()
         self.speed_mm_s = speed_mm_s
         self.edge = edge
         self.until = until
@@ -172,12 +168,11 @@ class FollowLine(Action):
         self._last_seen_s = 0.0
         self._last_position = 0.0
         self._loop: LineFollower | None = None
-        self._stall = Stall()
 
     def start(self, ctx: ActionContext) -> None:
         self._start_s = self._last_seen_s = ctx.now_s
         self._loop = LineFollower(ctx.gain("line", (150.0, 0.0, 8.0)), max_rate_deg_s=150.0)
-        self._stall.reset(ctx.now_s, _travelled(ctx.drive_base))
+        self.watch_stall(ctx, _travelled(ctx.drive_base))
 
     def update(self, ctx: ActionContext) -> Result | None:
         base = ctx.drive_base
@@ -204,10 +199,4 @@ class FollowLine(Action):
             speed = self.speed_mm_s * (1.0 - 0.6 * min(1.0, abs(position)))
             self.feedback = f"line at {position:+.2f}"
         base.set_wheel_speeds(*wheel_speeds(speed, turn, base.track_mm))
-        if not base.odometry_is_estimated and self._stall.update(ctx.now_s, _travelled(base)):
-            base.stop()
-            return Result.failed("stalled")
-        return None
-
-    def stop(self, ctx: ActionContext) -> None:
-        ctx.drive_base.stop()
+        return self.stalled(ctx, _travelled(base))

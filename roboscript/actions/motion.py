@@ -16,17 +16,14 @@ import math
 from roboscript import capabilities as cap
 from roboscript.actions.base import Action, ActionContext, Param, Result
 from roboscript.actions.sensing import imu_heading_deg
-from roboscript.control import HeadingHold, Settle, Stall, angle_error_deg, wheel_speeds
+from roboscript.actions.wheels import WheelAction
+from roboscript.angles import turned_deg
+from roboscript.control import HeadingHold, Settle, angle_error_deg, wheel_speeds
 
 __all__ = ["Drive", "Rotate", "Stop"]
 
 
-def _angle_deg(distances: tuple[float, float], track_mm: float) -> float:
-    """Rotation from wheel travel, degrees clockwise."""
-    return math.degrees((distances[0] - distances[1]) / track_mm)
-
-
-class Drive(Action):
+class Drive(WheelAction):
     """Drive straight for a distance, or for a time.
 
     Args:
@@ -59,12 +56,12 @@ class Drive(Action):
             raise ValueError("drive needs a distance or a duration")
         if speed_mm_s <= 0:
             raise ValueError("drive speed must be positive (use a negative distance to reverse)")
+        super().__init__()
         self.distance_mm = distance_mm
         self.speed_mm_s = speed_mm_s
         self.duration_s = duration_s
         self._start_s = 0.0
         self._origin = (0.0, 0.0)
-        self._stall = Stall()
         self._hold: HeadingHold | None = None
         self._hold_deg: float | None = None
 
@@ -76,7 +73,7 @@ class Drive(Action):
         base = ctx.drive_base
         self._origin = base.wheel_distances_mm()
         self._start_s = ctx.now_s
-        self._stall.reset(ctx.now_s, 0.0)
+        self.watch_stall(ctx, 0.0)
         self._hold_deg = imu_heading_deg(ctx)
         if self._hold_deg is not None:
             self._hold = HeadingHold(ctx.gain("heading", (2.0, 0.0, 0.05)), 30.0)
@@ -114,16 +111,10 @@ class Drive(Action):
             slow_zone = max(15.0, cruise * 0.12)
             speed = crawl if remaining < slow_zone else cruise
             self._steer(ctx, speed * direction)
-        if not base.odometry_is_estimated and self._stall.update(ctx.now_s, travelled):
-            base.stop()
-            return Result.failed("stalled")
-        return None
-
-    def stop(self, ctx: ActionContext) -> None:
-        ctx.drive_base.stop()
+        return self.stalled(ctx, travelled)
 
 
-class Rotate(Action):
+class Rotate(WheelAction):
     """Turn in place by an angle.
 
     Turns at the cruise rate, slows to a crawl near the end, stops, and then settles: the
@@ -154,12 +145,12 @@ class Rotate(Action):
     def __init__(self, angle_deg: float, turn_rate_deg_s: float = 90.0) -> None:
         if turn_rate_deg_s <= 0:
             raise ValueError("turn rate must be positive (use a negative angle to turn left)")
+        super().__init__()
         self.angle_deg = angle_deg
         self.turn_rate_deg_s = turn_rate_deg_s
         self._origin = (0.0, 0.0)
         self._imu_last: float | None = None
         self._imu_turned = 0.0
-        self._stall = Stall()
         self._settle = Settle(self.TOLERANCE_DEG, self.DWELL_S)
         self._settling = False
 
@@ -173,7 +164,7 @@ class Rotate(Action):
             return self._imu_turned
         base = ctx.drive_base
         left, right = base.wheel_distances_mm()
-        return _angle_deg((left - self._origin[0], right - self._origin[1]), base.track_mm)
+        return turned_deg(left - self._origin[0], right - self._origin[1], base.track_mm)
 
     def _set_rate(self, base: cap.DriveBase, rate_deg_s: float) -> None:
         base.set_wheel_speeds(*wheel_speeds(0.0, rate_deg_s, base.track_mm))
@@ -184,7 +175,7 @@ class Rotate(Action):
         self._imu_last = imu_heading_deg(ctx)
         self._imu_turned = 0.0
         self._settling = False
-        self._stall.reset(ctx.now_s, 0.0)
+        self.watch_stall(ctx, 0.0)
 
     def update(self, ctx: ActionContext) -> Result | None:
         base = ctx.drive_base
@@ -212,13 +203,7 @@ class Rotate(Action):
         slow_zone = max(6.0, cruise * 0.12)
         self._set_rate(base, (crawl if remaining < slow_zone else cruise) * direction)
         arc_mm = math.radians(turned) * base.track_mm / 2.0
-        if not base.odometry_is_estimated and self._stall.update(ctx.now_s, arc_mm):
-            base.stop()
-            return Result.failed("stalled")
-        return None
-
-    def stop(self, ctx: ActionContext) -> None:
-        ctx.drive_base.stop()
+        return self.stalled(ctx, arc_mm)
 
 
 class Stop(Action):

@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import math
-
 from roboscript import capabilities as cap
 from roboscript.actions.base import ActionContext
+from roboscript.angles import turned_deg
 
 __all__ = ["heading_deg", "imu_heading_deg", "odometry_heading_deg"]
 
@@ -13,7 +12,7 @@ __all__ = ["heading_deg", "imu_heading_deg", "odometry_heading_deg"]
 def odometry_heading_deg(base: cap.DriveBase) -> float:
     """Turn since connection from wheel travel, degrees clockwise (not wrapped)."""
     left, right = base.wheel_distances_mm()
-    return math.degrees((left - right) / base.track_mm)
+    return turned_deg(left, right, base.track_mm)
 
 
 def imu_heading_deg(ctx: ActionContext) -> float | None:

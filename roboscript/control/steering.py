@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 
+from roboscript.angles import wrap_deg
 from roboscript.control.pid import make_pid
 
 __all__ = ["HeadingHold", "LineFollower", "WallFollower", "angle_error_deg", "wheel_speeds"]
@@ -15,7 +16,7 @@ __all__ = ["HeadingHold", "LineFollower", "WallFollower", "angle_error_deg", "wh
 
 def angle_error_deg(target_deg: float, measured_deg: float) -> float:
     """``target - measured`` wrapped to [-180, 180): the short way round."""
-    return (target_deg - measured_deg + 180.0) % 360.0 - 180.0
+    return wrap_deg(target_deg - measured_deg)
 
 
 def wheel_speeds(speed_mm_s: float, turn_rate_deg_s: float, track_mm: float) -> tuple[float, float]:

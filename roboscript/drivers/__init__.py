@@ -1,27 +1,109 @@
 """Protocol drivers, one folder per protocol (``asip``, ``spike``, ``stackmod``, ``plen``).
 
 Each folder holds ``codec.py`` (sans-IO, both roles, standard library only), ``driver.py`` (the
-host side) and ``device.py`` (the simulated robot's side). Drivers are imported lazily, by
-protocol name, so importing a codec never pulls in pyserial.
+host side) and ``device.py`` (the simulated robot's side), and its ``__init__.py`` exports one
+:class:`~roboscript.drivers.unit.ProtocolUnit`, ``PROTOCOL``, that names them. :data:`UNITS`
+lists the units; the driver registry here, the simulator's device table and the driver
+contract tests are derived from it. Nothing of a protocol is imported until it is asked for,
+so importing a codec never pulls in pyserial and the simulator never imports a host driver.
 """
 
 from __future__ import annotations
 
-import importlib
+from collections.abc import Iterator, Mapping
 from typing import TYPE_CHECKING
+
+from roboscript.drivers.asip import PROTOCOL as ASIP
+from roboscript.drivers.plen import PROTOCOL as PLEN
+from roboscript.drivers.spike import PROTOCOL as SPIKE
+from roboscript.drivers.stackmod import PROTOCOL as STACKMOD
+from roboscript.drivers.unit import ContractCases, ProtocolUnit
 
 if TYPE_CHECKING:
     from roboscript.drivers.base import Driver
 
-__all__ = ["DRIVERS", "driver_class"]
+__all__ = [
+    "DRIVERS",
+    "UNITS",
+    "contract_cases",
+    "driver_class",
+    "protocol_unit",
+    "register_unit",
+    "units",
+    "unregister_unit",
+]
 
-DRIVERS: dict[str, tuple[str, str]] = {
-    "asip": ("roboscript.drivers.asip.driver", "AsipDriver"),
-    "stackmod": ("roboscript.drivers.stackmod.driver", "StackModDriver"),
-    "spike": ("roboscript.drivers.spike.driver", "SpikeDriver"),
-    "plen": ("roboscript.drivers.plen.driver", "PlenDriver"),
-}
-"""Protocol name -> (module, class) of its host driver."""
+UNITS: tuple[ProtocolUnit, ...] = (ASIP, STACKMOD, SPIKE, PLEN)
+"""The built-in protocols. Adding a protocol: its folder, and its unit here."""
+
+_REGISTERED: dict[str, ProtocolUnit] = {unit.name: unit for unit in UNITS}
+
+
+def units() -> tuple[ProtocolUnit, ...]:
+    """Every protocol unit known in this process, built-in ones first."""
+    return tuple(_REGISTERED.values())
+
+
+def protocol_unit(protocol: str) -> ProtocolUnit:
+    """The unit of ``protocol``.
+
+    Raises:
+        NotImplementedError: roboscript has no such protocol.
+    """
+    try:
+        return _REGISTERED[protocol]
+    except KeyError:
+        raise NotImplementedError(f"roboscript has no driver for {protocol} yet") from None
+
+
+def register_unit(unit: ProtocolUnit) -> None:
+    """Make a protocol known in this process (a plug-in, or a test's fake protocol).
+
+    Raises:
+        ValueError: Another unit already has that name.
+    """
+    known = _REGISTERED.get(unit.name)
+    if known is not None and known != unit:
+        raise ValueError(f"a protocol called {unit.name} is registered already")
+    _REGISTERED[unit.name] = unit
+
+
+def unregister_unit(name: str) -> None:
+    """Forget a protocol registered with :func:`register_unit` (built-in ones stay).
+
+    Raises:
+        ValueError: ``name`` is a built-in protocol.
+    """
+    if any(unit.name == name for unit in UNITS):
+        raise ValueError(f"{name} is a built-in protocol")
+    _REGISTERED.pop(name, None)
+
+
+def contract_cases() -> ContractCases:
+    """The profiles the driver contract tests run, from every unit, in unit order."""
+    known = units()
+    return ContractCases(
+        wheeled=tuple(profile for unit in known for profile in unit.contract.wheeled),
+        walking=tuple(profile for unit in known for profile in unit.contract.walking),
+    )
+
+
+class _DriverTable(Mapping[str, tuple[str, str]]):
+    """Protocol name -> (module, class) of its host driver, read from the units."""
+
+    def __getitem__(self, protocol: str) -> tuple[str, str]:
+        module_name, _, class_name = _REGISTERED[protocol].driver.partition(":")
+        return module_name, class_name
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(list(_REGISTERED))
+
+    def __len__(self) -> int:
+        return len(_REGISTERED)
+
+
+DRIVERS: Mapping[str, tuple[str, str]] = _DriverTable()
+"""Protocol name -> (module, class) of its host driver (derived from the units)."""
 
 
 def driver_class(protocol: str) -> type[Driver]:
@@ -30,9 +112,5 @@ def driver_class(protocol: str) -> type[Driver]:
     Raises:
         NotImplementedError: roboscript has no driver for that protocol yet.
     """
-    try:
-        module_name, class_name = DRIVERS[protocol]
-    except KeyError:
-        raise NotImplementedError(f"roboscript has no driver for {protocol} yet") from None
-    cls: type[Driver] = getattr(importlib.import_module(module_name), class_name)
+    cls: type[Driver] = protocol_unit(protocol).driver_class()
     return cls

@@ -1,4 +1,4 @@
-"""The host-side driver contract: what every protocol driver provides.
+"""The host-side driver contract: what every protocol driver provides, and what they share.
 
 A driver owns a :class:`~roboscript.transport.Link` and turns it into capabilities. It is
 ticked twice per scheduler tick: :meth:`Driver.tick` in the *sense* phase (read the link,
@@ -7,24 +7,222 @@ in the *act* phase (send setpoints that changed). It never blocks and never slee
 
 Safety: :meth:`Driver.stop_all` must stop every actuator with the fewest bytes that work on
 the real firmware, must be callable at any time (even before the handshake finished), and
-must never raise: it is called on every exit path, including after the link has failed.
+must never raise: it is called on every exit path, including after the link has failed. The
+base class keeps that promise once for every driver (the *stop guard*): a driver says what to
+send in :meth:`Driver.send_stop`, and a link that fails on the way is logged, not raised.
+
+Shared here, so that each driver has one copy of them:
+
+* the capability table (:meth:`Driver.capabilities`, filled by :meth:`Driver.offer`);
+* the stop guard (:meth:`Driver.stop_all`);
+* the host codec, from the protocol's unit (:meth:`Driver.make_codec`);
+* :class:`PendingRequest`: one request in flight, its reply matched, a timeout on the
+  scheduler clock and bounded retries;
+* :class:`WheelDriveBase`: the ``drive_base`` of a driver that takes wheel speeds.
 """
 
 from __future__ import annotations
 
 import abc
 import logging
-from collections.abc import Callable
-from typing import Any, ClassVar, Protocol
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar, Generic, Protocol, TypeVar
 
 from roboscript.clock import Clock
-from roboscript.drivers.codec import Codec
+from roboscript.codec import Codec, Role
+from roboscript.drivers import protocol_unit
+from roboscript.errors import LinkError, LinkTimeoutError, LocalProtocolError
 from roboscript.profiles import RobotProfile
 from roboscript.transport.link import Link
 
-__all__ = ["Driver", "WheelDriveBase"]
+__all__ = ["Driver", "PendingRequest", "WheelDriveBase"]
 
 logger = logging.getLogger("roboscript.drivers")
+
+RequestT = TypeVar("RequestT")
+
+_EPSILON_S = 1e-9
+"""Slack in timeout comparisons, so float noise in clock sums never delays one by a tick."""
+
+
+@dataclass
+class _Try(Generic[RequestT]):
+    request: RequestT
+    sent_s: float
+    tries: int
+
+
+class PendingRequest(Generic[RequestT]):
+    """One request in flight, waiting for its reply, with a timeout and bounded retries.
+
+    Sans-IO: the driver sends the bytes and passes the scheduler's time in; this never sleeps
+    and never reads a clock. The driver tells it when a request went out (:meth:`sent`),
+    passes it each message it receives (:meth:`answered`), and asks every tick whether the
+    request must go out again (:meth:`resend_due`), or, to decide for itself what a late
+    reply means, takes the overdue request out of flight (:meth:`expired`).
+
+    One request at a time: a reply then always belongs to the request in flight (the
+    protocols concerned have no request ids). A reply that comes after its request was
+    given up, or answers nothing in flight, is ignored (and counted).
+
+    Args:
+        timeout_s: How long each try waits for its reply, seconds (scheduler clock).
+        retries: How many times a request is sent again before giving up; ``None`` sends it
+            again until it is answered.
+        matches: ``matches(request, message)`` is true when ``message`` answers ``request``.
+        give_up: Builds the error raised when the last try went unanswered:
+            ``give_up(request, tries)``. Default: a
+            :class:`~roboscript.errors.LinkTimeoutError` naming the request.
+
+    Attributes:
+        retried: Requests sent again because an answer was late or lost.
+        late_replies: Messages passed to :meth:`answered` that answered nothing in flight.
+
+    Raises:
+        ValueError: A timeout that is not positive, or negative retries.
+    """
+
+    def __init__(
+        self,
+        *,
+        timeout_s: float,
+        retries: int | None = 0,
+        matches: Callable[[RequestT, object], bool],
+        give_up: Callable[[RequestT, int], Exception] | None = None,
+    ) -> None:
+        if timeout_s <= 0:
+            raise ValueError("a reply timeout must be positive")
+        if retries is not None and retries < 0:
+            raise ValueError("retries cannot be negative")
+        self.timeout_s = timeout_s
+        self.retries = retries
+        self._matches = matches
+        self._give_up = give_up or self._no_answer
+        self._in_flight: _Try[RequestT] | None = None
+        self._expired: _Try[RequestT] | None = None
+        self.retried = 0
+        self.late_replies = 0
+
+    def _no_answer(self, request: RequestT, tries: int) -> Exception:
+        return LinkTimeoutError(
+            f"no answer to {request!r} ({tries} tries, {self.timeout_s:g} s each)"
+        )
+
+    @property
+    def in_flight(self) -> RequestT | None:
+        """The request waiting for its reply, or ``None``."""
+        return None if self._in_flight is None else self._in_flight.request
+
+    @property
+    def tries(self) -> int:
+        """How many times the request in flight (or the one that just expired) was sent."""
+        current = self._in_flight or self._expired
+        return 0 if current is None else current.tries
+
+    @property
+    def may_retry(self) -> bool:
+        """True if the request that just expired may be sent again."""
+        last = self._expired
+        return last is not None and (self.retries is None or last.tries <= self.retries)
+
+    def sent(self, request: RequestT, now_s: float) -> None:
+        """Record that ``request`` went out at ``now_s``.
+
+        Sending the request that just expired (:meth:`expired`) again counts as a retry.
+
+        Raises:
+            RuntimeError: Another request is still in flight.
+        """
+        if self._in_flight is not None:
+            raise RuntimeError("a request is already in flight")
+        last = self._expired
+        self._expired = None
+        if last is not None and last.request is request:
+            self.retried += 1
+            self._in_flight = _Try(request, now_s, last.tries + 1)
+        else:
+            self._in_flight = _Try(request, now_s, 1)
+
+    def answered(self, message: object) -> RequestT | None:
+        """If ``message`` answers the request in flight, end it and return that request.
+
+        Returns:
+            The answered request, or ``None`` (the message answered nothing in flight: a
+            late reply, or not a reply at all; counted in :attr:`late_replies`).
+        """
+        pending = self._in_flight
+        if pending is not None and self._matches(pending.request, message):
+            self._in_flight = None
+            return pending.request
+        self.late_replies += 1
+        return None
+
+    def overdue(self, now_s: float, *, heard_s: float | None = None) -> bool:
+        """True if the request in flight has waited ``timeout_s`` for its reply.
+
+        Args:
+            now_s: Scheduler time, seconds.
+            heard_s: When bytes last arrived, if a slow reply restarts the wait (a long reply
+                with no terminator); ``None`` times from the sending only.
+        """
+        pending = self._in_flight
+        if pending is None:
+            return False
+        start = pending.sent_s if heard_s is None else max(pending.sent_s, heard_s)
+        return now_s - start >= self.timeout_s - _EPSILON_S
+
+    def expired(self, now_s: float, *, heard_s: float | None = None) -> RequestT | None:
+        """Take the request in flight out of flight if its reply is overdue, and return it.
+
+        The caller then sends it again (:meth:`sent` counts a retry; :attr:`may_retry` says
+        whether retries are left) or gives up (:meth:`give_up_error`).
+
+        Args:
+            now_s: Scheduler time, seconds.
+            heard_s: As for :meth:`overdue`.
+        """
+        if not self.overdue(now_s, heard_s=heard_s):
+            return None
+        assert self._in_flight is not None
+        self._expired, self._in_flight = self._in_flight, None
+        return self._expired.request
+
+    def give_up_error(self) -> Exception:
+        """The error for the request that just expired with no retries left."""
+        last = self._expired
+        if last is None:
+            raise RuntimeError("no request has expired")
+        self._expired = None
+        return self._give_up(last.request, last.tries)
+
+    def resend_due(self, now_s: float, *, heard_s: float | None = None) -> RequestT | None:
+        """Return the request to send again now, if its reply is overdue.
+
+        Args:
+            now_s: Scheduler time, seconds.
+            heard_s: As for :meth:`overdue`.
+
+        Returns:
+            The request to send again (the caller sends it; it is in flight again from
+            ``now_s``), or ``None``.
+
+        Raises:
+            Exception: The request went unanswered ``1 + retries`` times: the ``give_up``
+                error (by default :class:`~roboscript.errors.LinkTimeoutError`).
+        """
+        request = self.expired(now_s, heard_s=heard_s)
+        if request is None:
+            return None
+        if not self.may_retry:
+            raise self.give_up_error()
+        self.sent(request, now_s)
+        return request
+
+    def cancel(self) -> None:
+        """Forget the request in flight (its reply, if it comes, is ignored)."""
+        self._in_flight = None
+        self._expired = None
 
 
 class Driver(abc.ABC):
@@ -47,11 +245,17 @@ class Driver(abc.ABC):
         """One-line messages for the user (for example a switch to host-side control)."""
         self.device_errors: list[str] = []
         """Errors the robot reported (refused requests), oldest first, not yet taken."""
+        self._capabilities: dict[str, object] = {}
 
     @classmethod
-    @abc.abstractmethod
     def make_codec(cls, profile: RobotProfile) -> Codec[Any]:
-        """The host-role codec for this protocol."""
+        """The host-role codec for this protocol, from its unit's codec factory.
+
+        Raises:
+            ProfileError: The profile's options are invalid.
+        """
+        codec: Codec[Any] = protocol_unit(cls.protocol).make_codec(Role.HOST, profile)
+        return codec
 
     @abc.abstractmethod
     def start(self) -> None:
@@ -69,13 +273,45 @@ class Driver(abc.ABC):
     def flush(self, now_s: float, dt_s: float) -> None:
         """Act phase: send setpoints that changed since the last tick."""
 
-    @abc.abstractmethod
     def capabilities(self) -> dict[str, object]:
-        """The capability objects, by capability name (after the handshake)."""
+        """The capability objects, by capability name (empty until the handshake ends)."""
+        return dict(self._capabilities)
+
+    def offer(self, capabilities: Mapping[str, object]) -> None:
+        """End the handshake: offer ``capabilities`` and become ready."""
+        self._capabilities = dict(capabilities)
+        self.ready = True
+
+    def wanted(self, makers: Mapping[str, Callable[[], object]]) -> dict[str, object]:
+        """Build the capabilities the profile lists, each with its maker, in ``makers`` order."""
+        wanted = self.profile.capabilities
+        return {name: make() for name, make in makers.items() if name in wanted}
+
+    def stop_all(self) -> None:
+        """Stop every actuator now. Never raises.
+
+        Sends :meth:`send_stop`; a link that fails on the way (or a stop the codec refuses)
+        is logged, not raised. Then :meth:`after_stop` runs, whether the stop went out or not.
+        Drivers override those two, not this.
+        """
+        try:
+            self.send_stop()
+        except (LinkError, LocalProtocolError) as exc:
+            logger.debug("stop not sent: %s", exc)
+        self.after_stop()
 
     @abc.abstractmethod
-    def stop_all(self) -> None:
-        """Stop every actuator now. Never raises."""
+    def send_stop(self) -> None:
+        """Forget every setpoint and send what stops every actuator, with the fewest bytes
+        that work on the real firmware.
+
+        Raises:
+            LinkError: The link failed (:meth:`stop_all` logs it).
+        """
+
+    def after_stop(self) -> None:
+        """State to change once the stop was sent or failed (nothing by default)."""
+        return
 
     def describe(self) -> str:
         """What is on the other end, in a few words (after the handshake)."""

@@ -26,12 +26,12 @@ from itertools import pairwise
 from pathlib import Path
 from typing import Any
 
+from roboscript.angles import wrap_deg
 from roboscript.errors import did_you_mean
-from roboscript.grading.reader import SpecReader
 from roboscript.grading.record import RunRecord, Verdict
 from roboscript.grading.regions import dense_path, nearest_wall_gap_mm, signed_distance_mm
-from roboscript.mission.source import Mark, YamlList, YamlMap
-from roboscript.mission.spec import Location
+from roboscript.inputs.fields import FieldReader
+from roboscript.inputs.source import Location, Mark, YamlList, YamlMap
 from roboscript.sim.geometry import Segment, closest_point, heading_vector, ray_cast
 from roboscript.sim.world import World
 
@@ -208,7 +208,7 @@ class RunTargets:
 
 def _start_mismatch(start: tuple[float, float, float], x: float, y: float, h: float) -> float:
     """How unlike two start poses are: millimetres, with 10 mm per degree of heading."""
-    turn = abs((start[2] - h + 180.0) % 360.0 - 180.0)
+    turn = abs(wrap_deg(start[2] - h))
     return math.hypot(start[0] - x, start[1] - y) + 10.0 * turn
 
 
@@ -286,10 +286,10 @@ class SpecContext:
     worlds: tuple[World, ...]
 
 
-Parser = Callable[[SpecReader, Any, Mark, SpecContext], Any]
+Parser = Callable[[FieldReader, Any, Mark, SpecContext], Any]
 
 
-def _parse_outcome(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -> str:
+def _parse_outcome(reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext) -> str:
     if value not in ("success", "failure"):
         hint = did_you_mean(str(value), ("success", "failure"))
         raise reader.fail(f"outcome must be success or failure (got {value!r})", mark, hint)
@@ -297,13 +297,13 @@ def _parse_outcome(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext)
 
 
 def _parse_final_state(
-    reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext
+    reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext
 ) -> tuple[str, ...]:
     holder = YamlMap.at(mark, {"final_state": value})
     return tuple(name for name, _ in reader.names(holder, "final_state"))
 
 
-def _parse_final_pose(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -> FinalPose:
+def _parse_final_pose(reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext) -> FinalPose:
     data = reader.mapping(value, "final_pose_within", mark)
     reader.allowed(
         data,
@@ -337,7 +337,7 @@ def _parse_final_pose(reader: SpecReader, value: Any, mark: Mark, ctx: SpecConte
 
 
 def _region_names(
-    reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext, key: str
+    reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext, key: str
 ) -> tuple[str, ...]:
     holder = YamlMap.at(mark, {key: value})
     names = reader.names(holder, key)
@@ -354,18 +354,18 @@ def _region_names(
 
 
 def _parse_regions_in_order(
-    reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext
+    reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext
 ) -> tuple[str, ...]:
     return _region_names(reader, value, mark, ctx, "regions_in_order")
 
 
 def _parse_never_enter(
-    reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext
+    reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext
 ) -> tuple[str, ...]:
     return _region_names(reader, value, mark, ctx, "never_enter")
 
 
-def _parse_no_collisions(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -> bool:
+def _parse_no_collisions(reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext) -> bool:
     if value is not True:
         raise reader.fail(
             f"write 'no_collisions: true' (got {value!r}); leave it out to allow collisions",
@@ -374,7 +374,7 @@ def _parse_no_collisions(reader: SpecReader, value: Any, mark: Mark, ctx: SpecCo
     return True
 
 
-def _parse_tones(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -> Tones:
+def _parse_tones(reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext) -> Tones:
     data = reader.mapping(value, "tones", mark)
     keys = ("count", "min_count", "max_count", "frequencies", "frequency", "tolerance")
     reader.allowed(data, keys, "tones")
@@ -419,18 +419,18 @@ def _parse_tones(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -
     )
 
 
-def _frequency(reader: SpecReader, value: Any, mark: Mark) -> float:
+def _frequency(reader: FieldReader, value: Any, mark: Mark) -> float:
     holder = YamlMap.at(mark, {"frequency": value})
     return reader.positive(holder, "frequency", "frequency", "Hz")
 
 
-def _parse_max_duration(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -> float:
+def _parse_max_duration(reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext) -> float:
     holder = YamlMap.at(mark, {"max_duration": value})
     return reader.positive(holder, "max_duration", "time", "s")
 
 
 def _parse_wall_distance(
-    reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext
+    reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext
 ) -> WallDistance:
     data = reader.mapping(value, "wall_distance", mark)
     reader.allowed(
@@ -456,7 +456,7 @@ def _parse_wall_distance(
     )
 
 
-def _parse_check(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -> CheckFunction:
+def _parse_check(reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext) -> CheckFunction:
     if not isinstance(value, str) or ":" not in value:
         raise reader.fail(
             "check is written 'file.py:function' (a Python file beside the spec)", mark
@@ -482,7 +482,7 @@ def _parse_check(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -
 _WAYPOINT_KEYS = ("forward", "back", "right", "left")
 
 
-def _parse_path_visits(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -> PathVisits:
+def _parse_path_visits(reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext) -> PathVisits:
     if isinstance(value, YamlMap):
         data = value
         reader.allowed(
@@ -503,7 +503,7 @@ def _parse_path_visits(reader: SpecReader, value: Any, mark: Mark, ctx: SpecCont
     )
 
 
-def _waypoint_items(reader: SpecReader, value: Any, mark: Mark) -> list[tuple[Any, Mark]]:
+def _waypoint_items(reader: FieldReader, value: Any, mark: Mark) -> list[tuple[Any, Mark]]:
     example = "such as [{forward: 50 cm}, {forward: 50 cm, right: 50 cm}]"
     if not isinstance(value, YamlList):
         raise reader.fail(f"path_visits lists waypoints, {example}", mark)
@@ -513,7 +513,7 @@ def _waypoint_items(reader: SpecReader, value: Any, mark: Mark) -> list[tuple[An
     return items
 
 
-def _waypoint(reader: SpecReader, value: Any, mark: Mark) -> Waypoint:
+def _waypoint(reader: FieldReader, value: Any, mark: Mark) -> Waypoint:
     """``{forward: 50 cm, right: 20 cm}`` (``back``/``left`` for the other way), or ``start``."""
     if value == "start":
         return Waypoint(0.0, 0.0)
@@ -540,7 +540,7 @@ def _waypoint(reader: SpecReader, value: Any, mark: Mark) -> Waypoint:
     )
 
 
-def _true_or_false(reader: SpecReader, data: YamlMap, key: str, *, default: bool) -> bool:
+def _true_or_false(reader: FieldReader, data: YamlMap, key: str, *, default: bool) -> bool:
     if key not in data:
         return default
     value = data[key]
@@ -549,7 +549,7 @@ def _true_or_false(reader: SpecReader, data: YamlMap, key: str, *, default: bool
     return value
 
 
-def _parse_turns(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -> Turns:
+def _parse_turns(reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext) -> Turns:
     data = reader.mapping(value, "turns", mark)
     keys = ("direction", "count", "angle", "total", "tolerance")
     reader.allowed(data, keys, "turns")
@@ -583,7 +583,7 @@ def _parse_turns(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -
     )
 
 
-def _parse_wall_ahead(reader: SpecReader, value: Any, mark: Mark, ctx: SpecContext) -> WallAhead:
+def _parse_wall_ahead(reader: FieldReader, value: Any, mark: Mark, ctx: SpecContext) -> WallAhead:
     data = reader.mapping(value, "wall_ahead_at_end", mark)
     reader.allowed(data, ("distance", "tolerance"), "wall_ahead_at_end", required=("distance",))
     distance = reader.quantity(data, "distance", "distance", "mm")
@@ -623,7 +623,7 @@ EXPECTATION_KINDS: dict[str, Parser] = {
 """Every expectation a spec may use, with its reader."""
 
 
-def parse_expectation(reader: SpecReader, item: Any, mark: Mark, ctx: SpecContext) -> Expectation:
+def parse_expectation(reader: FieldReader, item: Any, mark: Mark, ctx: SpecContext) -> Expectation:
     """Read one item of ``expect`` (``{KIND: VALUE}``, optionally with ``weight``).
 
     Raises:
@@ -671,7 +671,7 @@ class RunOverride:
 
 
 def apply_run_targets(
-    reader: SpecReader,
+    reader: FieldReader,
     expectations: tuple[Expectation, ...],
     written: Sequence[tuple[Any, Mark]],
     runs: Sequence[RunOverride],
@@ -764,7 +764,7 @@ def _merged(base: Any, change: Any, change_mark: Mark) -> Any:
 
 
 def _refuse_lookalike_runs(
-    reader: SpecReader,
+    reader: FieldReader,
     targets: tuple[tuple[RunKey, Any], ...],
     runs: Sequence[RunOverride],
     kind: str,
@@ -844,7 +844,7 @@ def _final_pose(target: FinalPose, record: RunRecord) -> Verdict:
     text, value, unit = _by(margin_mm, _cm(margin_mm)), margin_mm, "mm"
     passed = margin_mm >= 0
     if target.heading_deg is not None:
-        error = (heading - target.heading_deg + 180.0) % 360.0 - 180.0
+        error = wrap_deg(heading - target.heading_deg)
         margin_deg = target.heading_tolerance_deg - abs(error)
         detail += (
             f"; heading {heading:.0f}°, {_deg(error)} off"
@@ -1232,12 +1232,8 @@ def _unwrapped_headings(path: Sequence[tuple[float, float, float, float]]) -> li
     """The path's headings, followed through north: 350° then 10° is 350° then 370°."""
     headings: list[float] = []
     for _, _, _, h in path:
-        headings.append(h if not headings else headings[-1] + _wrap(h - headings[-1]))
+        headings.append(h if not headings else headings[-1] + wrap_deg(h - headings[-1]))
     return headings
-
-
-def _wrap(angle: float) -> float:
-    return (angle + 180.0) % 360.0 - 180.0
 
 
 def find_turns(path: Sequence[tuple[float, float, float, float]]) -> list[Turn]:

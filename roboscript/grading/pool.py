@@ -29,49 +29,20 @@ from __future__ import annotations
 import multiprocessing
 import os
 import time
-import traceback
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from multiprocessing.connection import Connection, wait
 from multiprocessing.process import BaseProcess
-from pathlib import Path
 from typing import Any
 
-from roboscript.grading.record import RunResult
-from roboscript.grading.spec import TestSpec, Variant
-from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S
+from roboscript.grading.record import RunResult, RunStatus
+from roboscript.grading.task import RunTask, crash_result
 
 __all__ = ["RunTask", "crash_result", "default_jobs", "run_tasks"]
 
 _KILL_GRACE_S = 2.0
 _BACKSTOP_S = 15.0
 """A worker enforces its run's limits itself; the parent ends one this far past them."""
-
-
-@dataclass(frozen=True)
-class RunTask:
-    """One run to do: a student's mission on one variant of a test.
-
-    Attributes:
-        spec: The test.
-        mission: The mission file.
-        variant: The run variant.
-        student: The student (never passed to the mission).
-        visible: What the mission may read (default: the file and the files it names).
-        hang_after_s: Wall seconds without simulated progress that end the run as ``hung``.
-    """
-
-    spec: TestSpec
-    mission: str
-    variant: Variant
-    student: str
-    visible: tuple[Path, ...] | None = None
-    hang_after_s: float = DEFAULT_HANG_AFTER_S
-
-    @property
-    def load_key(self) -> tuple[str, str]:
-        """Runs with the same key load the same mission on the same robot."""
-        return self.mission, self.spec.robot
 
 
 def default_jobs() -> int:
@@ -244,7 +215,7 @@ def _collect(run: _Running, ready: set[Any]) -> RunResult | None:
     return None
 
 
-def _failed(run: _Running, status: str, message: str, debug: str, wall: float) -> RunResult:
+def _failed(run: _Running, status: RunStatus, message: str, debug: str, wall: float) -> RunResult:
     task = run.task
     return task.spec.result(
         task.variant,
@@ -265,23 +236,3 @@ def _stop(process: BaseProcess) -> None:
     if process.is_alive():
         process.kill()
     process.join(_KILL_GRACE_S)
-
-
-def crash_result(task: RunTask, exc: BaseException) -> dict[str, Any]:
-    """The result dictionary of a run whose grading raised ``exc`` (in the worker)."""
-    where = ""
-    frames = traceback.extract_tb(exc.__traceback__)
-    if frames:
-        where = f" ({os.path.basename(frames[-1].filename)}:{frames[-1].lineno})"
-    text = str(exc).splitlines()[0][:300] if str(exc) else ""
-    return task.spec.result(
-        task.variant,
-        student=task.student,
-        mission=task.mission,
-        status="crashed",
-        message=(
-            f"the grader failed on this run: {type(exc).__name__}{': ' + text if text else ''}"
-            f"{where}; this is a roboscript problem, not the student's: please report it"
-        ),
-        debug="".join(traceback.format_exception(exc)),
-    ).to_dict()

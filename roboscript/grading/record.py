@@ -11,7 +11,7 @@ from __future__ import annotations
 import bisect
 import math
 from dataclasses import asdict, dataclass, field
-from typing import Any
+from typing import Any, Literal, get_args
 
 from roboscript.sim.world import World
 
@@ -21,11 +21,15 @@ __all__ = [
     "Collision",
     "RunRecord",
     "RunResult",
+    "RunStatus",
     "Tone",
     "Verdict",
 ]
 
-RUN_STATUSES = ("passed", "failed", "timeout", "hung", "crashed", "invalid", "missing")
+RunStatus = Literal["passed", "failed", "timeout", "hung", "crashed", "invalid", "missing"]
+"""How a run can end for the grader (the values of :data:`RUN_STATUSES`)."""
+
+RUN_STATUSES: tuple[RunStatus, ...] = get_args(RunStatus)
 """How a run can end for the grader: ``passed`` (every expectation held), ``failed`` (one did
 not), ``timeout`` (the wall-clock limit ended it while simulated time still advanced),
 ``hung`` (simulated time stopped advancing: the mission's code did not return), ``crashed``
@@ -140,7 +144,6 @@ class RunRecord:
         data["states"] = [list(s) for s in self.states]
         data["path"] = [list(p) for p in self.path]
         data["final_pose"] = list(self.final_pose)
-        data["reported_by_mission"] = list(MISSION_REPORTED)
         return data
 
     @classmethod
@@ -244,7 +247,7 @@ class RunResult:
     label: str
     seed: int
     mission: str
-    status: str
+    status: RunStatus
     message: str = ""
     score: float = 0.0
     verdicts: tuple[Verdict, ...] = ()

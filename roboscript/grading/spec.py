@@ -38,10 +38,9 @@ from roboscript.grading.expectations import (
     apply_run_targets,
     parse_expectation,
 )
-from roboscript.grading.reader import SpecReader
-from roboscript.grading.record import RunResult
-from roboscript.mission.source import Mark, YamlList, YamlMap, load_yaml
-from roboscript.mission.spec import Location
+from roboscript.grading.record import RunResult, RunStatus
+from roboscript.inputs.fields import FieldReader
+from roboscript.inputs.source import Location, Mark, YamlList, YamlMap, load_yaml
 from roboscript.sim.world import World, builtin_worlds, load_world
 
 __all__ = [
@@ -153,7 +152,7 @@ class TestSpec:
         return self.points if self.points is not None else float(len(self.variants))
 
     def result(
-        self, variant: Variant, *, student: str, mission: str, status: str, **fields: Any
+        self, variant: Variant, *, student: str, mission: str, status: RunStatus, **fields: Any
     ) -> RunResult:
         """A result of one of this test's runs, named after the run; ``fields`` fill the rest.
 
@@ -218,7 +217,7 @@ def load_test_spec(path: str | Path) -> TestSpec:
         WorldError: A world it names is invalid.
     """
     shown = str(path)
-    reader = SpecReader(shown)
+    reader = FieldReader(shown, SpecError)
     top = reader.mapping(load_yaml(path, error=SpecError), "a test spec", (1, 1))
     reader.allowed(top, _TOP_KEYS, "a test spec", required=("test", "expect"))
     folder = Path(path).resolve().parent
@@ -260,7 +259,7 @@ def load_test_spec(path: str | Path) -> TestSpec:
     )
 
 
-def _points(reader: SpecReader, top: YamlMap) -> float | None:
+def _points(reader: FieldReader, top: YamlMap) -> float | None:
     """``points:``, a number of at least 0 (0: the test counts for nothing), or ``None``."""
     if "points" not in top:
         return None
@@ -273,7 +272,7 @@ def _points(reader: SpecReader, top: YamlMap) -> float | None:
     return float(value)
 
 
-def _robot(reader: SpecReader, top: YamlMap) -> str:
+def _robot(reader: FieldReader, top: YamlMap) -> str:
     from roboscript.errors import ProfileError
     from roboscript.profiles import BUILTIN_PROFILES, get_profile
 
@@ -292,7 +291,7 @@ def _robot(reader: SpecReader, top: YamlMap) -> str:
 
 
 def _resolve_world(
-    reader: SpecReader, written: str, folder: Path, mark: Mark, worlds: dict[str, World]
+    reader: FieldReader, written: str, folder: Path, mark: Mark, worlds: dict[str, World]
 ) -> str:
     """The world's name (built-in) or absolute path, loaded once into ``worlds``."""
     key = written
@@ -312,7 +311,7 @@ def _resolve_world(
 
 
 def _variants(
-    reader: SpecReader,
+    reader: FieldReader,
     top: YamlMap,
     folder: Path,
     default_world: str,
@@ -353,7 +352,7 @@ def _variants(
     return tuple(variants)
 
 
-def _flag(reader: SpecReader, data: YamlMap, key: str) -> bool:
+def _flag(reader: FieldReader, data: YamlMap, key: str) -> bool:
     """``data[key]`` as ``true``/``false`` (``False`` when absent)."""
     if key not in data:
         return False

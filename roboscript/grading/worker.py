@@ -12,14 +12,11 @@ from __future__ import annotations
 import importlib
 import logging
 from multiprocessing.connection import Connection
-from typing import TYPE_CHECKING
 
 from roboscript.grading.run import grade_run
 from roboscript.grading.sandbox import detect_isolation
+from roboscript.grading.task import RunTask, crash_result
 from roboscript.grading.text import cap_result
-
-if TYPE_CHECKING:
-    from roboscript.grading.pool import RunTask
 
 __all__ = ["work"]
 
@@ -40,8 +37,6 @@ detect_isolation()
 
 def work(connection: Connection, task: RunTask) -> None:
     """Grade one run and send its result dictionary to the parent."""
-    from roboscript.grading.pool import crash_result
-
     logging.disable(logging.WARNING)
     try:
         graded = grade_run(

@@ -35,11 +35,12 @@ import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
-from roboscript.grading.record import Collision, RunRecord, Tone
+from roboscript.grading.record import Collision, RunRecord, RunStatus, Tone
 from roboscript.grading.sandbox import Jail, Limits
 from roboscript.grading.spec import TestSpec, Variant
+from roboscript.mission.runner import MISSION_OUTCOMES
 from roboscript.profiles import get_profile
 from roboscript.sim.simulation import Simulation
 from roboscript.sim.world import Pose
@@ -66,7 +67,6 @@ advances simulated time many times a millisecond; only code stuck in a loop stop
 _LOAD_ALLOWANCE = 2.0
 """Loading (interpreter start, imports, the mission file) may take this many hang limits."""
 
-MISSION_OUTCOMES = ("success", "failure", "error")
 _NAME_CHARS = 100
 _REASON_CHARS = 500
 _MAX_STATES = 20_000
@@ -96,7 +96,7 @@ class WorldRun:
             test's simulated time and its own code did not raise.
     """
 
-    status: str = ""
+    status: RunStatus | Literal[""] = ""
     message: str = ""
     debug: str = ""
     loaded: bool = False
@@ -441,7 +441,7 @@ class _WorldSession:
             loaded=self.loaded,
         )
 
-    def _stopped(self, status: str, message: str) -> WorldRun:
+    def _stopped(self, status: RunStatus, message: str) -> WorldRun:
         self.jail.drain()
         self.jail.kill()
         return WorldRun(status=status, message=message, debug=self._output(), loaded=self.loaded)

@@ -1,19 +1,26 @@
 """Missions: loading, checking and running state machines.
 
-This package is the only user of ``yaml`` and ``transitions``.
+This package is the only user of ``transitions``; YAML is read by :mod:`roboscript.inputs`.
+Both syntaxes build missions through :mod:`roboscript.mission.builder`.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from roboscript.errors import InputError, MissionError
+
+if TYPE_CHECKING:
+    from roboscript.mission.spec import MissionSpec
+    from roboscript.profiles import RobotProfile
 
 __all__ = ["load_mission", "mission_for_robot"]
 
 
-def load_mission(path: str | Path, profile: Any = None) -> tuple[Any, list[InputError]]:
+def load_mission(
+    path: str | Path, profile: RobotProfile | None = None
+) -> tuple[MissionSpec, list[InputError]]:
     """Load and check a mission file.
 
     Args:
@@ -55,8 +62,8 @@ def mission_for_robot(
         MissionError: The mission is invalid or needs what the robot lacks.
         ProfileError: The robot is unknown.
     """
+    from roboscript.mission.builder import MissionProblemsError
     from roboscript.mission.checks import check_capabilities
-    from roboscript.mission.yaml_loader import MissionProblemsError
     from roboscript.profiles import get_profile
 
     spec, warnings = load_mission(path)

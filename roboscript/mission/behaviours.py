@@ -26,9 +26,9 @@ from typing import Any
 from roboscript import capabilities as cap
 from roboscript.actions import ACTIONS, Action, Param
 from roboscript.errors import InputError, MissionError, did_you_mean
+from roboscript.inputs.quantities import DIMENSIONS
+from roboscript.inputs.source import Location
 from roboscript.mission.python_source import PythonSource
-from roboscript.mission.quantities import DIMENSIONS
-from roboscript.mission.spec import Location
 from roboscript.mission.student_code import import_student_file
 
 __all__ = ["behaviours_from_yaml", "load_behaviour_file"]

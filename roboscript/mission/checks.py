@@ -9,7 +9,8 @@ from __future__ import annotations
 
 from roboscript import capabilities as cap
 from roboscript.errors import InputError, MissionError
-from roboscript.mission.spec import Location, MissionSpec, StateSpec
+from roboscript.inputs.source import Location
+from roboscript.mission.spec import MissionSpec, StateSpec
 
 __all__ = ["check_capabilities", "check_mission"]
 

@@ -40,7 +40,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from roboscript import capabilities as cap
-from roboscript.mission.quantities import DIMENSIONS, QuantityError, parse_quantity
+from roboscript.inputs.quantities import DIMENSIONS, QuantityError, parse_quantity
 
 __all__ = ["Guard", "GuardEnv", "GuardError", "compile_guard"]
 

@@ -4,8 +4,10 @@ The result is the same data the YAML loader makes, checked by the same rules
 (:mod:`roboscript.mission.checks`), so ``run``, ``check`` and ``graph`` treat both syntaxes
 alike. Every problem is located where it was written (the positions come from the file's
 syntax tree, :mod:`roboscript.mission.python_source`), all problems are collected, and the
-first is raised as a :class:`~roboscript.mission.yaml_loader.MissionProblemsError` carrying
-the rest, exactly as for YAML.
+first is raised as a :class:`~roboscript.mission.builder.MissionProblemsError` carrying
+the rest, exactly as for YAML. This module is a front end: it reads values and where they
+were written from the class, and :class:`~roboscript.mission.builder.MissionBuilder` applies
+the rules both syntaxes share.
 
 Guard methods are compiled to :class:`MethodGuard` objects. What they read cannot be known
 for certain without running them, so the compiler reads their code: every ``self.range``,
@@ -19,7 +21,6 @@ from __future__ import annotations
 import ast
 import contextlib
 import copy
-import functools
 import inspect
 import keyword as pykeyword
 import re
@@ -31,17 +32,13 @@ from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.actions.base import Action
-from roboscript.errors import InputError, LinkError, MissionError, did_you_mean
-from roboscript.mission.guards import GuardEnv, GuardError, compile_guard, guard_names
+from roboscript.errors import InputError, LinkError, did_you_mean
+from roboscript.inputs.source import Location
+from roboscript.mission.builder import MissionBuilder
+from roboscript.mission.guards import GuardEnv, guard_names
 from roboscript.mission.python_api import Mission, StateDef
 from roboscript.mission.python_source import PythonSource, item, keyword
-from roboscript.mission.spec import (
-    ActionSpec,
-    Location,
-    MissionSpec,
-    StateSpec,
-    TransitionSpec,
-)
+from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec, TransitionSpec
 from roboscript.mission.student_code import StudentCodeError, shown_path
 
 __all__ = ["MethodGuard", "compile_mission", "mission_states"]
@@ -172,9 +169,9 @@ class _Compiler:
         nested: dict[type[Mission], MissionSpec | None] | None = None,
     ) -> None:
         self.cls = cls
-        self.problems: list[InputError] = []
         self.file = _file_of(cls)
         self.shown = path or shown_path(self.file)
+        self.build = MissionBuilder(self.shown)
         # Shared with nested compilers: each file is parsed once, and a Mission class nested
         # in several states is compiled, checked and warned about once (None: it had errors).
         self._sources: dict[str, PythonSource] = {} if sources is None else sources
@@ -199,19 +196,14 @@ class _Compiler:
             )
         return self._sources[filename]
 
+    @property
+    def problems(self) -> list[InputError]:
+        return self.build.problems
+
     def problem(
         self, message: str, where: Location, hint: str | None = None, severity: str = "error"
     ) -> None:
-        self.problems.append(
-            MissionError(
-                message,
-                path=where.path,
-                line=where.line,
-                col=where.col,
-                hint=hint,
-                severity=severity,
-            )
-        )
+        self.build.problem(message, where, hint, severity)
 
     @property
     def class_loc(self) -> Location:
@@ -241,25 +233,20 @@ class _Compiler:
         initial = self.initial()
         hints: dict[str, str | None] = {}
         for key in ("robot", "world"):
-            value: Any = getattr(cls, key, None)
-            if value is not None and not isinstance(value, str):
-                example = "mirto" if key == "robot" else "square-room"
-                self.problem(
-                    f"'{key}' names a {key}, e.g. {key} = \"{example}\"", self.attribute_loc(key)
-                )
-                value = None
-            hints[key] = value
+            example = "mirto" if key == "robot" else "square-room"
+            hints[key] = self.build.names_a(
+                key, getattr(cls, key, None), self.attribute_loc(key), f'{key} = "{example}"'
+            )
         name: Any = getattr(cls, "name", None)
         if name is not None and not isinstance(name, str):
             self.problem("'name' is the mission's name, as text", self.attribute_loc("name"))
             name = None
-        return MissionSpec(
+        return self.build.mission(
             name=name or _kebab(cls.__name__),
             initial=initial or next(iter(self.states)),
             states=states,
             description=_description(cls),
-            path=self.shown,
-            location=self.class_loc,
+            where=self.class_loc,
             robot=hints["robot"],
             world=hints["world"],
         )
@@ -360,35 +347,18 @@ class _Compiler:
         when: tuple[TransitionSpec, ...] = ()
         if definition.when is not None:
             when = self.choices(name, definition.when, keyword(call, "when"), need_condition=True)
-        timeout_s = definition.timeout_s
-        if timeout_s is not None and (
-            isinstance(timeout_s, bool) or not isinstance(timeout_s, int | float) or timeout_s <= 0
-        ):
-            self.problem(
-                f"state '{name}': timeout_s is a positive number of seconds, got {timeout_s!r}",
-                self.keyword_loc(name, "timeout_s"),
-            )
-            timeout_s = None
-        final = None
-        if definition.final is True or definition.final == "success":
-            final = "success"
-        elif definition.final == "failure":
-            final = "failure"
-        elif definition.final not in (None, False):
-            self.problem(
-                f"state '{name}': final is 'success' or 'failure', got {definition.final!r}",
-                self.keyword_loc(name, "final"),
-            )
-        return StateSpec(
-            name=name,
+        return self.build.state(
+            name,
             action=action,
             during=tuple(during),
             on=on,
             when=when,
-            timeout_s=float(timeout_s) if timeout_s is not None else None,
-            final=final,
-            description=str(definition.description or ""),
-            location=where,
+            timeout_s=self.build.timeout(
+                name, "timeout_s", definition.timeout_s, self.keyword_loc(name, "timeout_s")
+            ),
+            final=self.build.final(name, definition.final, self.keyword_loc(name, "final")),
+            description=definition.description,
+            where=where,
         )
 
     @staticmethod
@@ -432,32 +402,23 @@ class _Compiler:
                 f"state '{name}': {action_name} cannot be copied for each visit ({exc})", where
             )
             return None
-        kwargs = {
-            p.kwarg: getattr(template, p.kwarg) for p in kind.params if hasattr(template, p.kwarg)
+        # The values the object holds, by their mission names; the builder converts them
+        # (quantities to float, omitted parameters to their defaults) as it does YAML's.
+        values = {
+            p.name: getattr(template, p.kwarg) for p in kind.params if hasattr(template, p.kwarg)
         }
-        guard_caps: set[str] = set()
-        for value in kwargs.values():
-            guard_caps |= set(getattr(value, "capabilities", ()))
-        return ActionSpec(
-            name=action_name,
-            kwargs=kwargs,
+        return self.build.action(
+            kind,
+            values,
+            where,
+            self.names,
             # Each entry runs a fresh copy, so nothing carries over from an earlier visit.
-            factory=functools.partial(copy.deepcopy, template),
-            requires=frozenset(kind.requires)
-            | frozenset(getattr(template, "child_requires", frozenset()))
-            | guard_caps,
-            location=where,
-            bounded=not kind.bounded_by
-            or any(
-                kwargs.get(p.kwarg) is not None for p in kind.params if p.name in kind.bounded_by
-            ),
+            instance=template,
+            name=action_name,
         )
 
     def nested(self, name: str, cls: type[Mission], where: Location) -> ActionSpec | None:
         """A state whose action is another Mission class: its machine runs nested."""
-        from roboscript.mission.checks import check_mission
-        from roboscript.mission.nested import SubMission
-
         if cls is self.cls:
             self.problem(
                 f"state '{name}' nests its own mission", where, "nest another Mission class"
@@ -465,24 +426,11 @@ class _Compiler:
             return None
         if cls not in self._nested:
             inner = _Compiler(cls, None, sources=self._sources, nested=self._nested)
-            spec = inner.compile()
-            self.problems.extend(inner.problems)
-            if spec is not None and any(p.severity == "error" for p in inner.problems):
-                spec = None
-            if spec is not None:
-                self.problems.extend(check_mission(spec))
-            self._nested[cls] = spec
+            self._nested[cls] = self.build.check_inner(inner.compile(), inner.build)
         spec = self._nested[cls]
         if spec is None:
             return None
-        return ActionSpec(
-            name="states",
-            kwargs={"mission": spec.name, "states": tuple(spec.states)},
-            factory=functools.partial(SubMission, spec, name),
-            requires=spec.requires(),
-            location=where,
-            inner=spec,
-        )
+        return self.build.machine(spec, name, where)
 
     def conditions_in(self, action: Action, node: ast.expr | None, where: Location) -> Any:
         """The action with its condition parameters (``until=``, ...) compiled, or ``None``.
@@ -534,7 +482,7 @@ class _Compiler:
             guard = self.condition(condition, item(node, 0, 2), where)
             if guard is None or target is None:
                 return None
-            return TransitionSpec(target, guard, guard.source, where)
+            return self.build.transition(target, guard, guard.source, where)
         if need_condition:
             self.problem(
                 f"state '{name}': each 'when' entry is (condition, state)",
@@ -543,7 +491,7 @@ class _Compiler:
             )
             return None
         target = self.target(entry, node, where)
-        return TransitionSpec(target, location=where) if target is not None else None
+        return self.build.transition(target, where=where) if target is not None else None
 
     def target(self, value: object, node: ast.expr | None, fallback: Location) -> str | None:
         where = self.source.loc(node) if node is not None else fallback
@@ -553,13 +501,7 @@ class _Compiler:
                     return name
             self.problem(f"{value!r} is not a state of {self.cls.__name__}", where)
             return None
-        if not isinstance(value, str):
-            self.problem(f"expected a state name, got {value!r}", where)
-            return None
-        if value not in self.names:
-            self.problem(f"there is no state '{value}'", where, did_you_mean(value, self.names))
-            return None
-        return value
+        return self.build.target(value, self.names, where)
 
     # ---------------------------------------------------------------------- conditions
 
@@ -580,11 +522,9 @@ class _Compiler:
         text = raw.strip()
         if text.isidentifier() and not pykeyword.iskeyword(text) and text not in ("true", "false"):
             return self.method_guard(text, where)
-        try:
-            return compile_guard(text, self.names)
-        except GuardError as exc:
-            self.problem(str(exc), _shift(where, node, raw, exc.offset), exc.hint)
-            return None
+        return self.build.expression(
+            text, self.names, lambda offset: _shift(where, node, raw, offset)
+        )
 
     def method_guard(self, name: str, where: Location) -> MethodGuard | None:
         if name in self.method_guards:
@@ -763,16 +703,5 @@ def compile_mission(
     Raises:
         MissionProblemsError: The first error, with every problem in ``problems``.
     """
-    from roboscript.mission.checks import check_mission
-
     compiler = _Compiler(cls, str(path) if path is not None else None)
-    spec = compiler.compile()
-    problems = compiler.problems
-    if spec is not None and not any(p.severity == "error" for p in problems):
-        problems.extend(check_mission(spec, profile))
-    if spec is None or any(p.severity == "error" for p in problems):
-        from roboscript.mission.yaml_loader import MissionProblemsError
-
-        problems.sort(key=lambda p: (p.path != compiler.shown, p.line or 0, p.col or 0))
-        raise MissionProblemsError(problems)
-    return spec, [p for p in problems if p.severity != "error"]
+    return compiler.build.finish(compiler.compile(), profile, own_file_first=True)

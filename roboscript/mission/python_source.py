@@ -13,7 +13,7 @@ import ast
 import linecache
 from pathlib import Path
 
-from roboscript.mission.spec import Location
+from roboscript.inputs.source import Location
 
 __all__ = ["PythonSource", "item", "keyword"]
 

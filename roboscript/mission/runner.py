@@ -25,17 +25,18 @@ import math
 from collections import Counter
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal, get_args
 
 from transitions import Machine, State
 
 from roboscript import capabilities as cap
 from roboscript.actions.base import ActionContext, Outcome, Result
+from roboscript.angles import turned_deg, wrap_deg
 from roboscript.mission.guards import GuardEnv
 from roboscript.mission.spec import MissionSpec, TransitionSpec
 from roboscript.mission.student_code import student_fault
 
-__all__ = ["MissionResult", "MissionRunner"]
+__all__ = ["MISSION_OUTCOMES", "MissionOutcome", "MissionResult", "MissionRunner"]
 
 logger = logging.getLogger(__name__)
 
@@ -48,6 +49,13 @@ class _QuietModelOverride(logging.Filter):
 
 
 logging.getLogger("transitions.core").addFilter(_QuietModelOverride())
+
+
+MissionOutcome = Literal["success", "failure", "error"]
+"""How a mission ended: ``success`` or ``failure`` (a final state of that kind, or a failure
+nothing routed), ``error`` (the run itself broke: Ctrl-C, a lost link, a crash)."""
+
+MISSION_OUTCOMES: tuple[MissionOutcome, ...] = get_args(MissionOutcome)
 
 
 @dataclass
@@ -66,7 +74,7 @@ class MissionResult:
     """
 
     mission: str
-    outcome: str = "running"
+    outcome: MissionOutcome | Literal["running"] = "running"
     final_state: str | None = None
     reason: str | None = None
     duration_s: float = 0.0
@@ -245,7 +253,7 @@ class MissionRunner(GuardEnv):
         """A final state without an action ends the mission as soon as it is entered."""
         state = self.spec.states[self.state]
         if state.final and self.action is None:
-            outcome = "success" if state.final == "success" else "failure"
+            outcome: MissionOutcome = "success" if state.final == "success" else "failure"
             self.finish(outcome, self._final_reason(outcome, state.name))
 
     # -------------------------------------------------------------------------------- tick
@@ -298,7 +306,7 @@ class MissionRunner(GuardEnv):
                 if self._route(name, result):
                     return
         if state.final and self.action_result is not None:
-            outcome = "success" if state.final == "success" else "failure"
+            outcome: MissionOutcome = "success" if state.final == "success" else "failure"
             self.finish(outcome, self._final_reason(outcome, name))
             return
         if state.timeout_s is not None and self.ctx.has_passed(
@@ -325,13 +333,13 @@ class MissionRunner(GuardEnv):
         self.finish("failure", cause)
         return True
 
-    def _final_reason(self, outcome: str, state: str) -> str | None:
+    def _final_reason(self, outcome: MissionOutcome, state: str) -> str | None:
         if outcome == "success":
             return None
         text = f"ended in the failure state '{state}'"
         return f"{text} after {self._cause}" if self._cause else text
 
-    def finish(self, outcome: str, reason: str | None = None) -> None:
+    def finish(self, outcome: MissionOutcome, reason: str | None = None) -> None:
         """End the mission now with ``outcome`` (``success``, ``failure`` or ``error``)."""
         if self.finished:
             return
@@ -395,9 +403,8 @@ class MissionRunner(GuardEnv):
     def _heading_deg(self) -> float:
         if cap.HEADING in self.capabilities:
             heading = self.ctx.get(cap.HEADING).heading_deg()
-            return 0.0 if heading is None else ((heading + 180.0) % 360.0) - 180.0
+            return 0.0 if heading is None else wrap_deg(heading)
         base = self.ctx.drive_base
         left, right = base.wheel_distances_mm()
         origin = self._odometry_origin or (0.0, 0.0)
-        turned = math.degrees(((left - origin[0]) - (right - origin[1])) / base.track_mm)
-        return ((turned + 180.0) % 360.0) - 180.0
+        return wrap_deg(turned_deg(left - origin[0], right - origin[1], base.track_mm))

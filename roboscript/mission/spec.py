@@ -10,10 +10,11 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from roboscript.inputs.source import Location
+
 __all__ = [
     "OUTCOMES",
     "ActionSpec",
-    "Location",
     "MissionSpec",
     "StateSpec",
     "TransitionSpec",
@@ -21,23 +22,6 @@ __all__ = [
 
 OUTCOMES = ("done", "failed", "timeout")
 """Outcomes a state's ``on`` can route."""
-
-
-@dataclass(frozen=True)
-class Location:
-    """Where something was written: file, 1-based line and column."""
-
-    path: str
-    line: int | None = None
-    col: int | None = None
-
-    def __str__(self) -> str:
-        text = self.path
-        if self.line is not None:
-            text += f":{self.line}"
-            if self.col is not None:
-                text += f":{self.col}"
-        return text
 
 
 @dataclass(frozen=True)

@@ -29,6 +29,7 @@ import math
 import random
 from dataclasses import dataclass, field
 
+from roboscript.angles import wrap_deg
 from roboscript.sim.geometry import (
     NearbySegments,
     circle_hits_segment,
@@ -308,7 +309,7 @@ class Body:
             if circle_hits_segment(x_mm, y_mm, radius, seg):
                 qx, qy = closest_point(x_mm, y_mm, seg)
                 bearing = math.degrees(math.atan2(qx - x_mm, qy - y_mm)) - self.heading_deg
-                bearing = (bearing + 180.0) % 360.0 - 180.0
+                bearing = wrap_deg(bearing)
                 return "left" if bearing < 0 else "right"
         return None
 

@@ -145,53 +145,25 @@ def body_spec_for(profile: RobotProfile) -> BodySpec:
     )
 
 
-def _mirto_board(firmware_pid: bool) -> Callable[[Body], SimDevice]:
-    def build(body: Body) -> SimDevice:
-        from roboscript.drivers.asip.device import BoardConfig, MirtoBoard
-
-        return MirtoBoard(body, BoardConfig(firmware_pid=firmware_pid))
-
-    return build
-
-
-def _stackmod_modules(profile: RobotProfile) -> Callable[[Body], SimDevice]:
-    from roboscript.drivers.stackmod.device import StackModRover
-    from roboscript.drivers.stackmod.options import StackModOptions
-
-    # Checked here, before any body exists, so a bad option fails like a bad profile.
-    options = StackModOptions.from_mapping(profile.options, profile=profile.name)
-    return lambda body: StackModRover(body, options)
-
-
-def _spike_hub(profile: RobotProfile) -> Callable[[Body], SimDevice]:
-    from roboscript.drivers.spike.device import HubConfig, SpikeHub
-    from roboscript.drivers.spike.options import SpikeOptions
-
-    # Checked here, before any body exists, so a bad option fails like a bad profile.
-    config = HubConfig(SpikeOptions.from_mapping(profile.options, profile=profile.name))
-    return lambda body: SpikeHub(body, config)
-
-
-def _plen2_board(profile: RobotProfile) -> Callable[[Body], SimDevice]:
-    from roboscript.drivers.plen.device import Plen2Board
-
-    return Plen2Board
-
-
-_DEVICES: dict[str, Callable[[RobotProfile], Callable[[Body], SimDevice]]] = {
-    "asip": lambda profile: _mirto_board(profile.firmware_pid),
-    "stackmod": _stackmod_modules,
-    "spike": _spike_hub,
-    "plen": _plen2_board,
-}
-
-
 def build_device(profile: RobotProfile, body: Body) -> SimDevice:
-    """The simulated controller for ``profile``'s protocol, on ``body``."""
+    """The simulated controller for ``profile``'s protocol, on ``body``.
+
+    The device factory comes from the protocol's unit
+    (:class:`~roboscript.drivers.unit.ProtocolUnit`), which imports the protocol's device
+    module only, never its host driver.
+
+    Raises:
+        NotImplementedError: No protocol unit has that name.
+        ProfileError: The profile's options are invalid.
+    """
+    # Imported here: the units' registry is only needed once a device is built.
+    from roboscript.drivers import protocol_unit
+
     try:
-        factory = _DEVICES[profile.protocol]
-    except KeyError:
+        unit = protocol_unit(profile.protocol)
+    except NotImplementedError:
         raise NotImplementedError(f"the simulator has no {profile.protocol} device yet") from None
+    factory: Callable[[RobotProfile], Callable[[Body], SimDevice]] = unit.device_factory()
     return factory(profile)(body)
 
 

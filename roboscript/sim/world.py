@@ -20,7 +20,6 @@ Built-in worlds ship as package data in ``roboscript/sim/worlds/``.
 
 from __future__ import annotations
 
-import difflib
 import itertools
 import math
 from dataclasses import dataclass, field
@@ -29,8 +28,8 @@ from pathlib import Path
 from typing import Any
 
 from roboscript.errors import WorldError
-from roboscript.mission.quantities import QuantityError, parse_quantity
-from roboscript.mission.source import Mark, YamlList, YamlMap, load_yaml, load_yaml_text
+from roboscript.inputs.fields import FieldReader
+from roboscript.inputs.source import Mark, YamlList, YamlMap, load_yaml, load_yaml_text
 from roboscript.sim.geometry import Segment, point_in_polygon
 
 __all__ = ["Pose", "Region", "TapeLine", "World", "builtin_worlds", "load_world"]
@@ -106,31 +105,12 @@ def load_world(name_or_path: str) -> World:
     return _WorldReader(str(path)).read(load_yaml(path, error=WorldError))
 
 
-class _WorldReader:
+class _WorldReader(FieldReader):
     def __init__(self, path: str) -> None:
-        self.path = path
-
-    def fail(self, message: str, mark: Mark | None, hint: str | None = None) -> WorldError:
-        line, col = mark if mark else (None, None)
-        return WorldError(message, path=self.path, line=line, col=col, hint=hint)
-
-    def mapping(self, value: Any, what: str, mark: Mark | None) -> YamlMap:
-        if not isinstance(value, YamlMap):
-            raise self.fail(f"{what} must be a mapping", mark)
-        return value
-
-    def allowed(self, data: YamlMap, keys: set[str], what: str) -> None:
-        for key in data:
-            if key not in keys:
-                close = difflib.get_close_matches(key, sorted(keys), n=1)
-                hint = f"did you mean '{close[0]}'?" if close else None
-                raise self.fail(f"unknown key '{key}' in {what}", data.key_mark(key), hint)
+        super().__init__(path, WorldError)
 
     def length(self, value: Any, mark: Mark) -> float:
-        try:
-            return parse_quantity(value, "distance")
-        except QuantityError as exc:
-            raise self.fail(str(exc), mark) from None
+        return self.value_quantity(value, "distance", mark)
 
     def point(self, value: Any, mark: Mark) -> tuple[float, float]:
         if not isinstance(value, list) or len(value) != 2:
@@ -144,7 +124,7 @@ class _WorldReader:
 
     def box(self, value: Any, mark: Mark) -> list[tuple[float, float]]:
         box = self.mapping(value, "a box", mark)
-        self.allowed(box, {"x", "y", "width", "height"}, "a box")
+        self.allowed(box, ("x", "y", "width", "height"), "a box")
         for key in ("x", "y", "width", "height"):
             if key not in box:
                 raise self.fail(f"a box needs '{key}'", box.mark)
@@ -159,7 +139,7 @@ class _WorldReader:
     def shape(self, item: Any, mark: Mark, what: str, extra: set[str]) -> list[tuple[float, float]]:
         data = self.mapping(item, what, mark)
         kinds = [k for k in ("segment", "polyline", "box") if k in data]
-        self.allowed(data, {"segment", "polyline", "box", *extra}, what)
+        self.allowed(data, ("segment", "polyline", "box", *extra), what)
         if len(kinds) != 1:
             raise self.fail(f"{what} needs exactly one of segment, polyline or box", data.mark)
         kind = kinds[0]
@@ -172,13 +152,13 @@ class _WorldReader:
 
     def read(self, data: Any) -> World:
         top = self.mapping(data, "a world file", (1, 1))
-        self.allowed(top, {"world", "description", "start", "walls", "lines", "regions"}, "world")
+        self.allowed(top, ("world", "description", "start", "walls", "lines", "regions"), "world")
         walls: list[Segment] = []
-        for item, mark in self.items(top, "walls"):
+        for item, mark in self.listed(top, "walls"):
             pts = self.shape(item, mark, "a wall", set())
             walls.extend(Segment(*a, *b) for a, b in itertools.pairwise(pts))
         lines: list[TapeLine] = []
-        for item, mark in self.items(top, "lines"):
+        for item, mark in self.listed(top, "lines"):
             pts = self.shape(item, mark, "a line", {"width"})
             width = 20.0
             if isinstance(item, YamlMap) and "width" in item:
@@ -198,7 +178,7 @@ class _WorldReader:
             name, str(top.get("description", "")), tuple(walls), tuple(lines), regions, start
         )
 
-    def items(self, top: YamlMap, key: str) -> list[tuple[Any, Mark]]:
+    def listed(self, top: YamlMap, key: str) -> list[tuple[Any, Mark]]:
         if key not in top:
             return []
         value = top[key]
@@ -209,13 +189,13 @@ class _WorldReader:
     def region(self, name: str, spec: Any, mark: Mark) -> Region:
         data = self.mapping(spec, f"region '{name}'", mark)
         if "radius" in data:
-            self.allowed(data, {"x", "y", "radius"}, f"region '{name}'")
+            self.allowed(data, ("x", "y", "radius"), f"region '{name}'")
             x = self.length(data.get("x", 0), data.value_mark("x"))
             y = self.length(data.get("y", 0), data.value_mark("y"))
             radius = self.length(data["radius"], data.value_mark("radius"))
             return Region(name, (x, y), radius_mm=radius)
         if "box" in data or "polygon" in data:
-            self.allowed(data, {"box", "polygon"}, f"region '{name}'")
+            self.allowed(data, ("box", "polygon"), f"region '{name}'")
             if "box" in data:
                 pts = self.box(data["box"], data.value_mark("box"))[:-1]
             else:
@@ -227,11 +207,8 @@ class _WorldReader:
 
     def pose(self, value: Any, mark: Mark) -> Pose:
         data = self.mapping(value, "start", mark)
-        self.allowed(data, {"x", "y", "heading"}, "start")
+        self.allowed(data, ("x", "y", "heading"), "start")
         x = self.length(data.get("x", 0), data.value_mark("x"))
         y = self.length(data.get("y", 0), data.value_mark("y"))
-        try:
-            heading = parse_quantity(data.get("heading", 0), "angle")
-        except QuantityError as exc:
-            raise self.fail(str(exc), data.value_mark("heading")) from None
+        heading = self.value_quantity(data.get("heading", 0), "angle", data.value_mark("heading"))
         return Pose(x, y, heading)

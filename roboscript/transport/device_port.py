@@ -11,12 +11,14 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Protocol
 
-from serial.serialutil import PortNotOpenError, SerialBase
+from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 
 if TYPE_CHECKING:
     from _typeshed import ReadableBuffer
 
-__all__ = ["DeviceEnd", "DevicePort"]
+__all__ = ["DeviceEnd", "DevicePort", "SerialException"]
+# SerialException is what a handler's open() raises for a URL it cannot serve; it is exported
+# so handlers outside transport (the simulator's sim://) need not import pyserial themselves.
 
 
 class DeviceEnd(Protocol):

@@ -15,7 +15,7 @@ from typing import Any, Protocol
 import serial
 
 from roboscript.clock import Clock
-from roboscript.drivers.codec import Codec
+from roboscript.codec import Codec
 from roboscript.errors import LinkClosedError, RemoteProtocolError
 from roboscript.transport.wirelog import WireLog
 

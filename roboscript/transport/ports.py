@@ -2,17 +2,23 @@
 
 from __future__ import annotations
 
+import errno
+
 import serial
 
 from roboscript.errors import InputError, LinkError
 from roboscript.transport.link import PortLike
 from roboscript.transport.socketport import SocketPort, parse_socket_url
 
-__all__ = ["open_port"]
+__all__ = ["HANDLER_PACKAGES", "open_port"]
 
-_HANDLERS = "roboscript.transport.urlhandler"
-if _HANDLERS not in serial.protocol_handler_packages:
-    serial.protocol_handler_packages.append(_HANDLERS)
+HANDLER_PACKAGES = ("roboscript.transport.urlhandler", "roboscript.sim.urlhandler")
+"""Where pyserial looks for ``protocol_<scheme>`` modules: transport's own (``lockstep://``,
+``ble://``) and the simulator's ``sim://``, named rather than imported because the simulator
+sits above transport."""
+for _package in HANDLER_PACKAGES:
+    if _package not in serial.protocol_handler_packages:
+        serial.protocol_handler_packages.append(_package)
 
 
 def open_port(url: str, *, baudrate: int = 115200) -> PortLike:
@@ -49,11 +55,20 @@ def open_port(url: str, *, baudrate: int = 115200) -> PortLike:
 
 
 def _reason(exc: Exception) -> str:
-    text = str(exc)
-    if "No such file" in text or ("could not open port" in text and "2]" in text):
-        return "there is no such port (is the robot plugged in? try 'roboscript ports')"
-    if "Connection refused" in text or "111" in text:
-        return "nothing is listening there (is 'roboscript sim' running?)"
-    if "Permission denied" in text:
-        return "permission denied (on Linux, add yourself to the 'dialout' group)"
-    return text
+    """Why a port did not open, decided by the error's type and errno, never by its text.
+
+    pyserial keeps the errno on a device it could not open (``SerialException(errno, msg)``)
+    and chains the socket's own ``OSError`` for ``socket://`` URLs it opens itself.
+    """
+    cause: BaseException | None = exc
+    while cause is not None:
+        if isinstance(cause, OSError):
+            code = cause.errno
+            if isinstance(cause, FileNotFoundError) or code == errno.ENOENT:
+                return "there is no such port (is the robot plugged in? try 'roboscript ports')"
+            if isinstance(cause, ConnectionRefusedError) or code == errno.ECONNREFUSED:
+                return "nothing is listening there (is 'roboscript sim' running?)"
+            if isinstance(cause, PermissionError) or code in (errno.EACCES, errno.EPERM):
+                return "permission denied (on Linux, add yourself to the 'dialout' group)"
+        cause = cause.__cause__ or cause.__context__
+    return str(exc)

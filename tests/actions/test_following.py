@@ -111,3 +111,26 @@ def test_follow_line_off_the_line_fails_lost_line() -> None:
     assert runner.result.reason == (
         "ended in the failure state 'lost' after follow_line failed in state 'follow': lost line"
     )
+
+
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_follow_line_into_a_wall_fails_stalled(robot: str, tmp_path: Path) -> None:
+    world = tmp_path / "dead-end.yaml"
+    world.write_text(
+        "world: dead-end\n"
+        "start: {x: 0 mm, y: 0 mm, heading: 0 deg}\n"
+        "lines:\n  - {polyline: [[0 mm, -300 mm], [0 mm, 2 m]], width: 20 mm}\n"
+        "walls:\n  - segment: [[-500 mm, 400 mm], [500 mm, 400 mm]]\n",
+        encoding="utf-8",
+    )
+    ends: list[float] = []
+
+    def sample(bot: Robot, runner: MissionRunner, now: float) -> None:
+        if runner.finished and not ends:
+            ends.append(now)
+
+    runner = run(robot, str(world), LINE, 1, sample)
+    assert runner.result.reason == (
+        "ended in the failure state 'lost' after follow_line failed in state 'follow': stalled"
+    )
+    assert ends and ends[0] < 10.0  # about a second after meeting the wall, not the 45 s bound

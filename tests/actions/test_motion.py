@@ -10,7 +10,8 @@ import math
 import pytest
 from helpers import run_action
 
-from roboscript.actions import Drive, Outcome, Rotate
+from roboscript import capabilities as cap
+from roboscript.actions import ActionContext, Drive, Outcome, Result, Rotate
 from roboscript.robot import Robot
 
 ROBOTS = ["mirto", "asip-basic"]
@@ -63,3 +64,52 @@ def test_drive_for_a_time() -> None:
         assert result.outcome is Outcome.DONE
         assert bot.clock.now() - start == pytest.approx(2.5, abs=0.05)  # + 0.5 s coasting
         assert 150 < bot.simulation.body.y_mm < 230
+
+
+class _JammedWheels:
+    """A drive base whose wheels do not turn whatever power they get (a jammed gearbox)."""
+
+    track_mm = 150.0
+    max_speed_mm_s = 300.0
+
+    def __init__(self, *, odometry_is_estimated: bool = False) -> None:
+        self.odometry_is_estimated = odometry_is_estimated
+        self.speeds = (0.0, 0.0)
+        self.stops = 0
+
+    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
+        self.speeds = (left_mm_s, right_mm_s)
+
+    def stop(self) -> None:
+        self.speeds = (0.0, 0.0)
+        self.stops += 1
+
+    def wheel_distances_mm(self) -> tuple[float, float]:
+        return (12.0, 34.0)
+
+
+def _run_on(base: _JammedWheels, action: Rotate, limit_s: float = 5.0) -> tuple[object, float]:
+    ctx = ActionContext({cap.DRIVE_BASE: base})
+    ctx.dt_s = 0.02
+    action.start(ctx)
+    for tick in range(1, round(limit_s / ctx.dt_s) + 1):
+        ctx.now_s = tick * ctx.dt_s
+        result = action.update(ctx)
+        if result is not None:
+            return result, ctx.now_s
+    return None, ctx.now_s
+
+
+def test_rotate_with_jammed_wheels_fails_stalled_after_a_second_and_stops_them() -> None:
+    base = _JammedWheels()
+    result, ended_s = _run_on(base, Rotate(angle_deg=90.0))
+    assert result == Result.failed("stalled")
+    assert ended_s == pytest.approx(1.0, abs=0.03)
+    assert base.speeds == (0.0, 0.0)
+    assert base.stops >= 1
+
+
+def test_rotate_cannot_see_a_stall_without_encoders() -> None:
+    # estimated odometry never stalls: it would fail every turn of a robot without encoders
+    result, _ = _run_on(_JammedWheels(odometry_is_estimated=True), Rotate(angle_deg=90.0))
+    assert result is None

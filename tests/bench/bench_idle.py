@@ -19,8 +19,8 @@ import devices
 from benchlib import Row, at_most, info, run_alone
 
 from roboscript.clock import MonotonicClock
+from roboscript.codec import Role
 from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.codec import Role
 from roboscript.robot import DEFAULT_PERIOD_S
 from roboscript.scheduler import Scheduler
 from roboscript.transport import Link, open_port

@@ -39,9 +39,9 @@ from benchlib import (
 )
 
 from roboscript.clock import MonotonicClock
+from roboscript.codec import Codec, Role, drain
 from roboscript.drivers.asip import messages as asip
 from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.codec import Codec, Role, drain
 from roboscript.drivers.spike import messages as spike
 from roboscript.drivers.spike.codec import SpikeCodec
 from roboscript.transport import Link, open_port

@@ -37,9 +37,9 @@ import devices
 from benchlib import Row, at_most, info, percentile, pinned_to_one_core, run_alone, wire_time_s
 
 from roboscript.clock import MonotonicClock
+from roboscript.codec import Role, drain
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.codec import Role, drain
 from roboscript.transport import Link, open_port
 
 __all__ = ["FIXTURE", "GOAL_RATIO", "VERSION", "Exchange", "measure", "round_trips"]

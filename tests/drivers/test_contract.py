@@ -1,6 +1,7 @@
 """One contract every driver meets, run against its simulated robot over real protocol bytes.
 
-Add a profile to ``WHEELED`` (or ``WALKING``) when its driver and simulated device land.
+The profiles come from the protocol units (``PROTOCOL.contract`` in each
+``roboscript/drivers/<protocol>/__init__.py``): a protocol lists its profiles there, not here.
 """
 
 from __future__ import annotations
@@ -11,11 +12,12 @@ from pathlib import Path
 import pytest
 from helpers import run_cli
 
+from roboscript.drivers import contract_cases
 from roboscript.robot import Robot
 from roboscript.transport.wirelog import read_wire_log
 
-WHEELED = ["mirto", "asip-basic", "stackmod-rover", "spike-prime"]
-WALKING = ["plen2"]
+WHEELED = list(contract_cases().wheeled)
+WALKING = list(contract_cases().walking)
 
 
 @pytest.mark.parametrize("robot", WHEELED)

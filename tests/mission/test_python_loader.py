@@ -5,7 +5,6 @@ from __future__ import annotations
 import json
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 
 import pytest
 from helpers import MISSIONS, run_cli
@@ -13,7 +12,6 @@ from helpers import MISSIONS, run_cli
 from roboscript.errors import MissionError
 from roboscript.mission import load_mission
 from roboscript.mission.python_loader import is_python_mission
-from roboscript.mission.spec import MissionSpec
 
 TWINS = sorted(p for p in MISSIONS.glob("*.py") if p.with_suffix(".yaml").exists())
 
@@ -153,60 +151,11 @@ def test_check_finds_python_missions_in_a_folder_but_not_behaviours(tmp_path: Pa
 # ------------------------------------------------------------------------------- the twins
 
 
-def _shape(spec: MissionSpec) -> dict[str, Any]:
-    """What a mission does, leaving out its description and how its conditions are spelt
-    (methods or expressions)."""
-
-    def transitions(items: Any) -> list[tuple[str, bool, frozenset[str]]]:
-        return [
-            (t.target, t.guard is not None, frozenset(getattr(t.guard, "capabilities", ())))
-            for t in items
-        ]
-
-    states = {}
-    for name, state in spec.states.items():
-        action = None
-        if state.action is not None:
-            defaults = {
-                p.kwarg: p.default
-                for p in type(state.action.factory()).params
-                if p.default is not None and not p.required
-            }
-            action = (
-                state.action.name,
-                {
-                    **defaults,
-                    **{k: float(v) for k, v in state.action.kwargs.items() if v is not None},
-                },
-                state.action.requires,
-            )
-        states[name] = {
-            "action": action,
-            "on": {outcome: transitions(items) for outcome, items in state.on.items()},
-            "when": transitions(state.when),
-            "timeout_s": state.timeout_s,
-            "final": state.final,
-        }
-    return {
-        "name": spec.name,
-        "initial": spec.initial,
-        "robot": spec.robot,
-        "world": spec.world,
-        "requires": spec.requires(),
-        "states": states,
-    }
-
-
 def test_there_are_twins() -> None:
     assert {p.stem for p in TWINS} >= {"square", "bump_and_turn"}
 
 
-@pytest.mark.parametrize("twin", TWINS, ids=lambda p: p.name)
-def test_a_python_twin_compiles_to_the_same_mission_as_its_yaml(twin: Path) -> None:
-    python_spec, python_warnings = load_mission(twin)
-    yaml_spec, yaml_warnings = load_mission(twin.with_suffix(".yaml"))
-    assert _shape(python_spec) == _shape(yaml_spec)
-    assert [w.message for w in python_warnings] == [w.message for w in yaml_warnings]
+# That each twin builds the same spec is tests/mission/test_builder.py's.
 
 
 @pytest.mark.parametrize("twin", TWINS, ids=lambda p: p.name)

@@ -33,7 +33,8 @@ def problems(path: Path, profile: RobotProfile | None = None) -> list[str]:
 def test_valid_mission_loads_with_units_converted(write_mission: Callable[..., Path]) -> None:
     spec, warnings = load_mission(write_mission(GOOD))
     assert spec.name == "ok" and spec.initial == "go"
-    assert dict(spec.states["go"].action.kwargs) == {"distance_mm": 300.0}
+    go = spec.states["go"].action
+    assert dict(go.kwargs) == {"distance_mm": 300.0, "speed_mm_s": 150.0, "duration_s": None}
     assert spec.states["end"].final == "success"
     assert warnings == []
 

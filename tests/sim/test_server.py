@@ -15,9 +15,9 @@ import pytest
 import serial
 from helpers import ROOT
 
+from roboscript.codec import Role, drain
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.codec import Role, drain
 
 
 def _start(*args: str) -> tuple[subprocess.Popen[str], str]:

@@ -8,9 +8,9 @@ import socket
 import pytest
 
 from roboscript.clock import SimClock
+from roboscript.codec import Role
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.codec import Role
 from roboscript.errors import LinkClosedError
 from roboscript.transport import Link, open_port
 from roboscript.transport.wirelog import WireLog, read_wire_log
@@ -95,17 +95,3 @@ def test_opening_a_missing_port_names_it() -> None:
 
     with pytest.raises(LinkError, match="cannot open /dev/nope-1"):
         open_port("/dev/nope-1")
-
-
-def test_sim_url_carries_world_seed_and_start() -> None:
-    from roboscript.sim.world import Pose
-    from roboscript.transport.urlhandler.protocol_sim import parse_sim_url
-
-    assert parse_sim_url("sim://mirto?world=corridor&seed=4&x=10&y=-5&heading=90") == (
-        "mirto",
-        "corridor",
-        4,
-        Pose(10.0, -5.0, 90.0),
-    )
-    with pytest.raises(ValueError, match="bad number"):
-        parse_sim_url("sim://mirto?seed=four")

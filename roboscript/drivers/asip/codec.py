@@ -24,11 +24,11 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Callable, Iterable
 
+from roboscript.codec import CodecStats, ProfileLike, Role
 from roboscript.drivers.asip import messages as m
-from roboscript.drivers.codec import CodecStats, Role
 from roboscript.errors import FAULT_SAMPLE_BYTES, LocalProtocolError, RemoteProtocolError
 
-__all__ = ["DEFAULT_SERVICES", "AsipCodec"]
+__all__ = ["DEFAULT_SERVICES", "AsipCodec", "codec_for"]
 
 DEFAULT_SERVICES = "IMEBRDSTLPAGH"
 """Service ids a device-role codec accepts unless told otherwise."""
@@ -895,3 +895,9 @@ _ROLE_ENCODERS: dict[Role, dict[type, Callable[..., str]]] = {
     role: {cls: encode for cls, (sender, encode) in _ENCODERS.items() if sender is role}
     for role in Role
 }
+
+
+def codec_for(role: Role, profile: ProfileLike) -> AsipCodec:
+    """The ASIP codec in ``role`` (the protocol unit's codec factory; no profile options)."""
+    del profile
+    return AsipCodec(role)

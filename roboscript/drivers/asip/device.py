@@ -20,14 +20,19 @@ driver), written from the firmware's behaviour:
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
+from roboscript.codec import Role, readable
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.codec import Role, readable
-from roboscript.sim.body import Body
 
-__all__ = ["BoardConfig", "MirtoBoard"]
+if TYPE_CHECKING:
+    from roboscript.profiles import RobotProfile
+    from roboscript.sim.body import Body
+
+__all__ = ["BoardConfig", "MirtoBoard", "simulated_device"]
 
 _MOTOR_FRAME_S = 0.033  # 1000 / PID_FRAME_HZ in integer milliseconds
 _AUTO_STOP_S = 2.0
@@ -519,3 +524,10 @@ class MirtoBoard:
                     if pin_port == port and state.pin_modes[pin] == m.PinMode.INPUT_PULLUP:
                         mask |= bit
                 self._send(m.DigitalPortEvent(port, mask))
+
+
+def simulated_device(profile: RobotProfile) -> Callable[[Body], MirtoBoard]:
+    """The ASIP unit's simulated device factory: a MIRTO board, with firmware PID or without
+    as the profile says."""
+    config = BoardConfig(firmware_pid=profile.firmware_pid)
+    return lambda body: MirtoBoard(body, config)

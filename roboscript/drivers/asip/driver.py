@@ -29,22 +29,23 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import Literal
 
 from roboscript import capabilities as cap
 from roboscript.clock import Clock
 from roboscript.control import WheelSpeedLoop
 from roboscript.drivers.asip import messages as m
-from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.base import Driver, WheelDriveBase
-from roboscript.drivers.codec import Codec, Role
-from roboscript.errors import LinkError, LinkTimeoutError
+from roboscript.drivers.base import Driver, PendingRequest, WheelDriveBase
+from roboscript.errors import LinkTimeoutError
 from roboscript.profiles import RobotProfile
 from roboscript.transport.link import Link
 
 __all__ = ["AsipDriver"]
 
 logger = logging.getLogger(__name__)
+
+_Phase = Literal["probe", "discover", "pixels", "ready"]
+"""The handshake: version probe, service discovery, pixel strip length, done."""
 
 _PROBE_INTERVAL_S = 0.25
 _ENCODER_FRAME_S = 0.033
@@ -70,15 +71,21 @@ _STEERING_GAP_S = 0.3  # two setpoint changes closer than this mean "steering"
 _STEADY_S = 0.5  # steady this long and the firmware PID takes the wheels back
 
 
+def _answers(request: object, message: object) -> bool:
+    """True if ``message`` answers the handshake request ``request``."""
+    if isinstance(request, m.VersionRequest):
+        return isinstance(message, m.VersionReply | m.StartupLine)
+    if isinstance(request, m.ServiceNamesRequest):
+        return isinstance(message, m.ServiceNamesReply)
+    if isinstance(request, m.PixelsInfoRequest):
+        return isinstance(message, m.PixelsInfoReply) and message.strip == request.strip
+    return False
+
+
 class AsipDriver(Driver):
     """Host side of ASIP (see the module docstring)."""
 
     protocol = "asip"
-
-    @classmethod
-    def make_codec(cls, profile: RobotProfile) -> Codec[Any]:
-        """An ASIP codec in the host role."""
-        return AsipCodec(Role.HOST)
 
     def __init__(self, link: Link, profile: RobotProfile, clock: Clock) -> None:
         super().__init__(link, profile, clock)
@@ -86,8 +93,14 @@ class AsipDriver(Driver):
         self.version: m.VersionReply | None = None
         self.startup: m.StartupLine | None = None
         self.services: dict[str, str] = {}
-        self._phase = "probe"
-        self._next_probe_s = 0.0
+        self._phase: _Phase = "probe"
+        # Probes go out every 250 ms until answered; the strip length is waited for briefly.
+        self._probe_reply: PendingRequest[object] = PendingRequest(
+            timeout_s=_PROBE_INTERVAL_S, retries=None, matches=_answers
+        )
+        self._pixels_reply: PendingRequest[object] = PendingRequest(
+            timeout_s=_PIXEL_INFO_WAIT_S, retries=0, matches=_answers
+        )
         # Sensor cache.
         self.encoder_totals = [0, 0]
         self.wheel_speeds_mm_s = [0.0, 0.0]
@@ -109,7 +122,6 @@ class AsipDriver(Driver):
         )
         self._mm_per_tick = math.pi * profile.wheel_diameter_mm / profile.ticks_per_rev
         self._tones: list[tuple[int, int]] = []
-        self._caps: dict[str, object] = {}
 
     # ----------------------------------------------------------------------------- handshake
 
@@ -118,8 +130,10 @@ class AsipDriver(Driver):
         self._probe(self.clock.now())
 
     def _probe(self, now_s: float) -> None:
-        self.link.send(m.VersionRequest() if self._phase == "probe" else m.ServiceNamesRequest())
-        self._next_probe_s = now_s + _PROBE_INTERVAL_S
+        request = m.VersionRequest() if self._phase == "probe" else m.ServiceNamesRequest()
+        self._probe_reply.cancel()
+        self.link.send(request)
+        self._probe_reply.sent(request, now_s)
 
     def _configure(self) -> None:
         caps = self.profile.capabilities
@@ -135,16 +149,18 @@ class AsipDriver(Driver):
         self.stop_all()
         if cap.LEDS in caps and "P" in self.services:
             # The strip's length decides the leds capability: wait for it (briefly).
-            self.link.send(m.PixelsInfoRequest(0))
+            request = m.PixelsInfoRequest(0)
+            self.link.send(request)
             self._phase = "pixels"
-            self._next_probe_s = self.clock.now() + _PIXEL_INFO_WAIT_S
+            self._pixels_reply.sent(request, self.clock.now())
         else:
             self._finish_handshake()
 
     def _finish_handshake(self) -> None:
-        self._caps = self._build_capabilities()
+        self._probe_reply.cancel()
+        self._pixels_reply.cancel()
         self._phase = "ready"
-        self.ready = True
+        self.offer(self._build_capabilities())
 
     def _build_capabilities(self) -> dict[str, object]:
         wanted = self.profile.capabilities
@@ -210,6 +226,9 @@ class AsipDriver(Driver):
     def tick(self, now_s: float, dt_s: float) -> None:
         """Read events, advance the handshake, watch for silence."""
         for message in self.link.poll():
+            if self._phase != "ready":
+                self._probe_reply.answered(message)
+                self._pixels_reply.answered(message)
             self._handle(message)
         if self._phase == "probe" and (self.version or self.startup):
             self._phase = "discover"
@@ -217,10 +236,13 @@ class AsipDriver(Driver):
         elif self._phase == "discover" and self.services:
             self._configure()
         elif self._phase == "pixels":
-            if self.pixel_count or now_s >= self._next_probe_s:
+            pixels = self._pixels_reply
+            if self.pixel_count or pixels.in_flight is None or pixels.overdue(now_s):
                 self._finish_handshake()
-        elif self._phase != "ready" and now_s >= self._next_probe_s:
-            self._probe(now_s)
+        elif self._phase != "ready":
+            again = self._probe_reply.resend_due(now_s)
+            if again is not None:
+                self.link.send(again)
         if self.ready and "M" in self.services:
             last = self.link.last_receive_s
             if last is not None and now_s - last > _SILENCE_LIMIT_S:
@@ -331,20 +353,13 @@ class AsipDriver(Driver):
         self.device_errors.append(f"the board refused '{error.service},{error.tag}': {text}")
         logger.warning("the board refused %s,%s: %s", error.service, error.tag, error.text)
 
-    def capabilities(self) -> dict[str, object]:
-        """Capability objects by name (after the handshake)."""
-        return dict(self._caps)
-
-    def stop_all(self) -> None:
-        """Stop both motors; never raises."""
+    def send_stop(self) -> None:
+        """Stop both motors: ``M,S,0`` and ``M,M,0,0``."""
         self._target_mm_s = (0.0, 0.0)
         self._sent_rpm = (0, 0)
         self._sent_power = (0, 0)
-        try:
-            self.link.send(m.StopMotors())
-            self.link.send(m.SetMotorsPower(0, 0))
-        except LinkError as exc:
-            logger.debug("stop not sent: %s", exc)
+        self.link.send(m.StopMotors())
+        self.link.send(m.SetMotorsPower(0, 0))
 
     # ------------------------------------------------------------------ capability plumbing
 

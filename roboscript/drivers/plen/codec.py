@@ -1,4 +1,10 @@
-"""Sans-IO codec of the PLEN2 serial protocol, firmware 1.4.2, for both roles.
+"""Sans-IO codec of the PLEN2 serial protocol, firmware 1.4.2, for both roles: the framing.
+
+Split the way h11 splits readers and writers: :mod:`~roboscript.drivers.plen.commands` writes
+commands (host) and says how the firmware reads each one (device);
+:mod:`~roboscript.drivers.plen.replies` writes replies (device) and reads them (host); this
+module frames both byte streams and counts what it drops. Motion files, which never cross the
+wire, are :mod:`~roboscript.drivers.plen.motionfile`'s.
 
 Requests (host -> device) are fixed-length ASCII commands with no separator and no line ending:
 a header character from ``$#><``, a two-letter command, then a fixed number of argument
@@ -51,58 +57,28 @@ from __future__ import annotations
 
 import json
 import re
-from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass
 from typing import NoReturn
 
-from roboscript.drivers.codec import CodecStats, Role
-from roboscript.drivers.plen.messages import (
-    ANGLE_MAX_DDEG,
-    ANGLE_MIN_DDEG,
-    DIFF_LIMIT_DDEG,
-    JOINT_COUNT,
-    JOINT_NAMES,
-    NAME_LENGTH,
-    Command,
-    GetJointSettings,
-    GetMotion,
-    GetVersion,
-    HomePosition,
-    JointSetting,
-    JointSettingsReply,
-    JumpCode,
-    LoopCode,
-    MotionFrame,
-    MotionHeader,
-    MotionReply,
-    MotionReplyFrame,
-    PlayMotion,
-    PlenMessage,
-    PopMotion,
-    PushMotion,
-    Reply,
-    ResetInterpreter,
-    ResetJointSettings,
-    SetAngle,
-    SetAngleDiff,
-    SetHome,
-    SetMax,
-    SetMin,
-    StopMotion,
-    VersionReply,
-    joint_id,
+from roboscript.codec import CodecStats, ProfileLike, Role
+from roboscript.drivers.plen.commands import (
+    COMMANDS,
+    BadArgumentError,
+    CommandSpec,
+    encode_command,
+    is_hex,
 )
+from roboscript.drivers.plen.messages import (
+    Command,
+    JointSettingsReply,
+    MotionReply,
+    PlenMessage,
+    Reply,
+    VersionReply,
+)
+from roboscript.drivers.plen.replies import encode_reply, reply_from_json
 from roboscript.errors import FAULT_SAMPLE_BYTES, LocalProtocolError, RemoteProtocolError
 
-__all__ = [
-    "DEFAULT_MAX_REPLY_BYTES",
-    "PlenCodec",
-    "encode_command",
-    "encode_reply",
-    "motion_from_json",
-    "motion_to_json",
-    "reply_from_json",
-]
+__all__ = ["DEFAULT_MAX_REPLY_BYTES", "PlenCodec", "codec_for"]
 
 DEFAULT_MAX_REPLY_BYTES = 65536
 """Default limit of one reply; a full 20-frame ``<MO`` dump is about 25 kB."""
@@ -110,587 +86,10 @@ DEFAULT_MAX_REPLY_BYTES = 65536
 _MAX_DEPTH = 16
 """Deepest bracket nesting accepted in a reply (a ``<MO`` dump nests 5 deep)."""
 
-"""Most bytes kept in :attr:`RemoteProtocolError.data`."""
-
-_EOL = "\r\n"
 
 # --------------------------------------------------------------------------------------------
-# Number formats
+# Framing
 # --------------------------------------------------------------------------------------------
-
-
-def _hex12(value: int) -> str:
-    """Three hex digits, 12-bit two's complement."""
-    return f"{value & 0xFFF:03x}"
-
-
-def _hex16(value: int) -> str:
-    """Four hex digits, 16-bit two's complement."""
-    return f"{value & 0xFFFF:04x}"
-
-
-def _unsigned(data: bytes) -> int:
-    return int(data, 16)
-
-
-def _signed12(data: bytes) -> int:
-    value = int(data, 16)
-    return value - 0x1000 if value >= 0x800 else value
-
-
-def _signed16(data: bytes) -> int:
-    value = int(data, 16)
-    return value - 0x10000 if value >= 0x8000 else value
-
-
-_HEX_DIGITS = b"0123456789abcdefABCDEF"
-
-
-def _is_hex(data: bytes) -> bool:
-    return not data.translate(None, _HEX_DIGITS)
-
-
-def _clamp(value: int, low: int, high: int) -> int:
-    return max(low, min(high, value))
-
-
-# --------------------------------------------------------------------------------------------
-# Encoding commands
-# --------------------------------------------------------------------------------------------
-
-
-def encode_command(command: object) -> bytes:
-    """Encode one command for the wire (no separator, no line ending).
-
-    Args:
-        command: One of the command messages of :mod:`roboscript.drivers.plen.messages`.
-
-    Returns:
-        The ASCII bytes, e.g. ``b"$AN0a384"`` for ``SetAngle(10, 900)``.
-
-    Raises:
-        LocalProtocolError: ``command`` is not a PLEN2 command.
-    """
-    text: str
-    if isinstance(command, SetAngle):
-        text = f"$AN{command.joint:02x}{_hex12(command.angle_ddeg)}"
-    elif isinstance(command, SetAngleDiff):
-        text = f"$AD{command.joint:02x}{_hex12(command.diff_ddeg)}"
-    elif isinstance(command, PlayMotion):
-        text = f"$PM{command.slot:02x}"
-    elif isinstance(command, StopMotion):
-        text = "$SM"
-    elif isinstance(command, HomePosition):
-        text = "$HP"
-    elif isinstance(command, PushMotion):
-        text = f"#PU{command.slot:02x}{command.play_count:02x}"
-    elif isinstance(command, PopMotion):
-        text = "#PO"
-    elif isinstance(command, ResetInterpreter):
-        text = "#RI"
-    elif isinstance(command, SetHome):
-        text = f">HO{command.joint:02x}{_hex12(command.angle_ddeg)}"
-    elif isinstance(command, SetMax):
-        text = f">MA{command.joint:02x}{_hex12(command.angle_ddeg)}"
-    elif isinstance(command, SetMin):
-        text = f">MI{command.joint:02x}{_hex12(command.angle_ddeg)}"
-    elif isinstance(command, ResetJointSettings):
-        text = ">JS"
-    elif isinstance(command, MotionHeader):
-        text = (
-            f">MH{command.slot:02x}{command.name.ljust(NAME_LENGTH)}"
-            f"{int(command.use_loop)}{command.loop_begin:02x}{command.loop_end:02x}"
-            f"{command.loop_count:02x}{int(command.use_jump)}{command.jump_slot:02x}"
-            f"{int(command.use_extra)}{command.frame_length:02x}"
-        )
-    elif isinstance(command, MotionFrame):
-        values = "".join(_hex16(value) for value in command.offsets_ddeg)
-        text = f">MF{command.slot:02x}{command.index:02x}{command.transition_time_ms:04x}{values}"
-    elif isinstance(command, GetJointSettings):
-        text = "<JS"
-    elif isinstance(command, GetMotion):
-        text = f"<MO{command.slot:02x}"
-    elif isinstance(command, GetVersion):
-        text = "<VI"
-    else:
-        raise LocalProtocolError(f"not a PLEN2 command: {command!r}")
-    return text.encode("ascii")
-
-
-# --------------------------------------------------------------------------------------------
-# Encoding replies (device side), formatted like the firmware's println() dumps
-# --------------------------------------------------------------------------------------------
-
-
-def _json_str(value: str) -> str:
-    return json.dumps(value)
-
-
-def _lines_to_bytes(lines: Iterable[str]) -> bytes:
-    return "".join(line + _EOL for line in lines).encode("ascii")
-
-
-def _object_lines(indent: int, items: Sequence[tuple[str, str]], last: bool) -> list[str]:
-    """Lines of a JSON object whose values are already encoded, one key per line."""
-    tabs = "\t" * indent
-    lines = [tabs + "{"]
-    for position, (key, value) in enumerate(items):
-        comma = "," if position < len(items) - 1 else ""
-        lines.append(f'{tabs}\t"{key}": {value}{comma}')
-    lines.append(tabs + ("}" if last else "},"))
-    return lines
-
-
-def _joint_settings_lines(reply: JointSettingsReply) -> list[str]:
-    lines = ["["]
-    for entry in reply.joints:
-        items = [
-            ("@device", str(entry.joint)),
-            ("max", str(entry.max_ddeg)),
-            ("min", str(entry.min_ddeg)),
-            ("home", str(entry.home_ddeg)),
-        ]
-        lines += _object_lines(1, items, last=entry.joint == JOINT_COUNT - 1)
-    lines.append("]")
-    return lines
-
-
-def _motion_lines(reply: MotionReply) -> list[str]:
-    lines = [
-        "{",
-        f'\t"slot": {reply.slot},',
-        f'\t"name": {_json_str(reply.name.ljust(NAME_LENGTH))},',
-        f'\t"@frame_length": {reply.frame_length},',
-        '\t"codes": [',
-    ]
-    codes: list[list[tuple[str, str]]] = []
-    if reply.loop is not None:
-        loop = reply.loop
-        arguments = f"[{loop.begin}, {loop.end}, {loop.count}]"
-        codes.append([("method", '"loop"'), ("arguments", arguments)])
-    if reply.jump is not None:
-        codes.append([("method", '"jump"'), ("arguments", f"[{reply.jump.slot}]")])
-    for position, code in enumerate(codes):
-        lines += _object_lines(2, code, last=position == len(codes) - 1)
-    lines += ["\t],", '\t"frames": [']
-    for frame in reply.frames:
-        lines += [
-            "\t\t{",
-            f'\t\t\t"@index": {frame.index},',
-            f'\t\t\t"transition_time_ms": {frame.transition_time_ms},',
-            '\t\t\t"outputs": [',
-        ]
-        for joint, value in enumerate(frame.offsets_ddeg):
-            items = [("device", str(joint)), ("value", str(value))]
-            lines += _object_lines(4, items, last=joint == JOINT_COUNT - 1)
-        lines.append("\t\t\t]")
-        lines.append("\t\t}" if frame.index == reply.frame_length - 1 else "\t\t},")
-    lines += ["\t]", "}"]
-    return lines
-
-
-def _version_lines(reply: VersionReply) -> list[str]:
-    return [
-        "{",
-        f'\t"device": {_json_str(reply.device)},',
-        f'\t"codename": {_json_str(reply.codename)},',
-        f'\t"version": {_json_str(reply.version)}',
-        "}",
-    ]
-
-
-def encode_reply(reply: object) -> bytes:
-    """Encode one getter reply the way firmware 1.4.2 prints it.
-
-    Lines end in CRLF and are indented with tabs, keys and values separated by ``": "``, one
-    key per line (``<MO`` prints each of the 24 outputs of a frame as its own object). The
-    ``<MO`` name is printed padded to 20 characters as the firmware stores it. Strings are JSON
-    escaped, where the firmware would print ``"`` raw; our messages never hold one.
-
-    Args:
-        reply: A :class:`JointSettingsReply`, :class:`MotionReply` or :class:`VersionReply`.
-
-    Returns:
-        The reply bytes, ending with the CRLF of the last ``println``.
-
-    Raises:
-        LocalProtocolError: ``reply`` is not a PLEN2 reply.
-    """
-    if isinstance(reply, JointSettingsReply):
-        return _lines_to_bytes(_joint_settings_lines(reply))
-    if isinstance(reply, MotionReply):
-        return _lines_to_bytes(_motion_lines(reply))
-    if isinstance(reply, VersionReply):
-        return _lines_to_bytes(_version_lines(reply))
-    raise LocalProtocolError(f"not a PLEN2 reply: {reply!r}")
-
-
-# --------------------------------------------------------------------------------------------
-# Decoding replies from JSON values (host side), and the motion file format
-# --------------------------------------------------------------------------------------------
-
-
-def _lowered(obj: Mapping[str, object]) -> dict[str, object]:
-    return {key.lower(): value for key, value in obj.items()}
-
-
-def _as_mapping(value: object, where: str) -> Mapping[str, object]:
-    if not isinstance(value, Mapping):
-        raise LocalProtocolError(f"{where} must be a JSON object, not {value!r}")
-    return value
-
-
-def _as_list(value: object, where: str) -> list[object]:
-    if not isinstance(value, list):
-        raise LocalProtocolError(f"{where} must be a JSON array, not {value!r}")
-    return value
-
-
-def _as_int(value: object, where: str) -> int:
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise LocalProtocolError(f"{where} must be an integer, not {value!r}")
-    return value
-
-
-def _as_str(value: object, where: str) -> str:
-    if not isinstance(value, str):
-        raise LocalProtocolError(f"{where} must be a string, not {value!r}")
-    return value
-
-
-def _require(obj: Mapping[str, object], key: str, where: str) -> object:
-    if key not in obj:
-        raise LocalProtocolError(f"{where} lacks {key!r}")
-    return obj[key]
-
-
-def _first(obj: Mapping[str, object], keys: Sequence[str], where: str) -> object:
-    for key in keys:
-        if key in obj:
-            return obj[key]
-    raise LocalProtocolError(f"{where} lacks {keys[0]!r}")
-
-
-def _apply_outputs(outputs: object, previous: Sequence[int], where: str) -> tuple[int, ...]:
-    """Apply a frame's ``outputs`` to the previous frame's values (joints left out carry over).
-
-    A ``device`` may be a joint name (motion file) or an integer id (``<MO`` dump).
-    """
-    values = list(previous)
-    for position, output in enumerate(_as_list(outputs, f"{where} outputs")):
-        entry = _as_mapping(output, f"{where} outputs[{position}]")
-        device = _require(entry, "device", f"{where} outputs[{position}]")
-        if isinstance(device, str):
-            joint = joint_id(device)
-        else:
-            joint = _as_int(device, f"{where} outputs[{position}] device")
-            if not 0 <= joint < JOINT_COUNT:
-                raise LocalProtocolError(f"{where} outputs[{position}]: no joint id {joint}")
-        values[joint] = _as_int(
-            _require(entry, "value", f"{where} outputs[{position}]"),
-            f"{where} outputs[{position}] value",
-        )
-    return tuple(values)
-
-
-def _codes(codes: object, where: str) -> tuple[LoopCode | None, JumpCode | None]:
-    """Read ``codes``: ``{"method"|"func": "loop"|"jump", "arguments"|"args": [...]}``."""
-    loop: LoopCode | None = None
-    jump: JumpCode | None = None
-    for position, code in enumerate(_as_list(codes, f"{where} codes")):
-        entry = _lowered(_as_mapping(code, f"{where} codes[{position}]"))
-        method = _first(entry, ("method", "func"), f"{where} codes[{position}]")
-        arguments = _as_list(
-            _first(entry, ("arguments", "args"), f"{where} codes[{position}]"),
-            f"{where} codes[{position}] arguments",
-        )
-        numbers = [_as_int(value, f"{where} codes[{position}] arguments") for value in arguments]
-        if method == "loop":
-            if len(numbers) < 3:
-                raise LocalProtocolError(f"{where} loop needs [begin, end, count]")
-            loop = LoopCode(numbers[0], numbers[1], numbers[2])
-        elif method == "jump":
-            if not numbers:
-                raise LocalProtocolError(f"{where} jump needs [slot]")
-            jump = JumpCode(numbers[0])
-        else:
-            raise LocalProtocolError(f"{where} codes[{position}]: unknown method {method!r}")
-    return loop, jump
-
-
-def _joint_settings_from_json(items: list[object]) -> JointSettingsReply:
-    by_joint: dict[int, JointSetting] = {}
-    for position, item in enumerate(items):
-        where = f"<JS entry {position}"
-        entry = _lowered(_as_mapping(item, where))
-        # 1.4.2 names the joint "@device"; the seed's form has no key and relies on order.
-        joint = entry.get("@device", entry.get("device", entry.get("joint", position)))
-        setting = JointSetting(
-            joint=_as_int(joint, f"{where} @device"),
-            min_ddeg=_as_int(_require(entry, "min", where), f"{where} min"),
-            max_ddeg=_as_int(_require(entry, "max", where), f"{where} max"),
-            home_ddeg=_as_int(_require(entry, "home", where), f"{where} home"),
-        )
-        if setting.joint in by_joint:
-            raise LocalProtocolError(f"<JS lists joint {setting.joint} twice")
-        by_joint[setting.joint] = setting
-    if len(by_joint) != JOINT_COUNT:
-        raise LocalProtocolError(f"<JS lists {len(by_joint)} joints, not {JOINT_COUNT}")
-    return JointSettingsReply(tuple(by_joint[joint] for joint in range(JOINT_COUNT)))
-
-
-def _motion_reply_from_json(obj: Mapping[str, object]) -> MotionReply:
-    entry = _lowered(obj)
-    slot = _as_int(_require(entry, "slot", "<MO"), "<MO slot")
-    name = _as_str(entry.get("name", ""), "<MO name").rstrip(" ")
-    loop, jump = _codes(entry.get("codes", []), "<MO")
-    frames: list[MotionReplyFrame] = []
-    values: tuple[int, ...] = (0,) * JOINT_COUNT
-    for position, item in enumerate(_as_list(_require(entry, "frames", "<MO"), "<MO frames")):
-        where = f"<MO frame {position}"
-        frame = _lowered(_as_mapping(item, where))
-        values = _apply_outputs(frame.get("outputs", []), values, where)
-        frames.append(
-            MotionReplyFrame(
-                index=_as_int(frame.get("@index", position), f"{where} @index"),
-                transition_time_ms=_as_int(
-                    _require(frame, "transition_time_ms", where), f"{where} transition_time_ms"
-                ),
-                offsets_ddeg=values,
-            )
-        )
-    declared = entry.get("@frame_length")
-    if declared is not None and _as_int(declared, "<MO @frame_length") != len(frames):
-        raise LocalProtocolError(f"<MO @frame_length is {declared} but {len(frames)} frames follow")
-    return MotionReply(slot=slot, name=name, frames=tuple(frames), loop=loop, jump=jump)
-
-
-def _version_reply_from_json(obj: Mapping[str, object]) -> VersionReply:
-    entry = _lowered(obj)
-    return VersionReply(
-        device=_as_str(_require(entry, "device", "<VI"), "<VI device"),
-        codename=_as_str(_require(entry, "codename", "<VI"), "<VI codename"),
-        version=_as_str(_require(entry, "version", "<VI"), "<VI version"),
-    )
-
-
-def reply_from_json(value: object) -> Reply:
-    """Turn a parsed JSON reply into its message, inferring the type from the shape.
-
-    An array is the ``<JS`` reply (entries with or without ``@device``); an object with
-    ``slot`` or ``frames`` is ``<MO``; an object with ``version`` is ``<VI``. Keys are matched
-    case-insensitively, and the older ``func``/``args`` code keys are accepted too.
-
-    Raises:
-        LocalProtocolError: ``value`` is not a valid reply.
-    """
-    if isinstance(value, list):
-        return _joint_settings_from_json(value)
-    if isinstance(value, Mapping):
-        keys = _lowered(value)
-        if "slot" in keys or "frames" in keys:
-            return _motion_reply_from_json(value)
-        if "version" in keys:
-            return _version_reply_from_json(value)
-    raise LocalProtocolError(f"not a PLEN2 reply: {value!r:.80}")
-
-
-def motion_from_json(obj: Mapping[str, object]) -> tuple[MotionHeader, list[MotionFrame]]:
-    """Convert a motion file (plen-ControlServer's motion JSON) to ``>MH`` + ``>MF`` commands.
-
-    The file: ``{"slot", "name", "codes": [{"method": "loop"|"jump", "arguments": [...]}],
-    "frames": [{"transition_time_ms", "outputs": [{"device": <joint name>, "value": <offset,
-    tenths of a degree>}]}]}``. As in plen-ControlServer, a joint a frame leaves out keeps the
-    previous frame's value (0 before the first frame), and the frame count is taken from
-    ``frames`` (``@frame_length``, ``@index``, ``@metadata``, ``stop_flag`` and
-    ``auto_balance`` are ignored). Integer device ids are accepted as well as names, and
-    trailing spaces of the name are dropped (they are padding on the wire).
-
-    Args:
-        obj: The parsed JSON object.
-
-    Returns:
-        The header and the frames, in index order.
-
-    Raises:
-        LocalProtocolError: The motion is malformed or out of range.
-    """
-    entry = _as_mapping(obj, "motion")
-    slot = _as_int(_require(entry, "slot", "motion"), "motion slot")
-    name = _as_str(entry.get("name", ""), "motion name").rstrip(" ")
-    loop, jump = _codes(entry.get("codes", []), "motion")
-    frame_items = _as_list(_require(entry, "frames", "motion"), "motion frames")
-    header = MotionHeader(
-        slot=slot,
-        name=name,
-        frame_length=len(frame_items),
-        use_loop=loop is not None,
-        loop_begin=loop.begin if loop else 0,
-        loop_end=loop.end if loop else 0,
-        loop_count=loop.count if loop else 0,
-        use_jump=jump is not None,
-        jump_slot=jump.slot if jump else 0,
-    )
-    frames: list[MotionFrame] = []
-    values: tuple[int, ...] = (0,) * JOINT_COUNT
-    for index, item in enumerate(frame_items):
-        where = f"motion frame {index}"
-        frame = _as_mapping(item, where)
-        values = _apply_outputs(frame.get("outputs", []), values, where)
-        time_ms = _as_int(
-            _require(frame, "transition_time_ms", where), f"{where} transition_time_ms"
-        )
-        frames.append(MotionFrame(slot, index, time_ms, values))
-    return header, frames
-
-
-def motion_to_json(header: MotionHeader, frames: Sequence[MotionFrame]) -> dict[str, object]:
-    """Convert ``>MH`` + ``>MF`` commands to the motion file format.
-
-    Every frame lists all 18 joints by name. An unused joint id (9–11, 21–23), which the file
-    format cannot name, is listed by its integer id in the frames where its value changes
-    (values carry over, starting at 0).
-
-    Args:
-        header: The motion header.
-        frames: Its frames, in index order.
-
-    Returns:
-        A JSON-ready dict that :func:`motion_from_json` turns back into the same commands.
-
-    Raises:
-        LocalProtocolError: The frames do not match the header.
-    """
-    if len(frames) != header.frame_length:
-        raise LocalProtocolError(f"header says {header.frame_length} frames, got {len(frames)}")
-    codes: list[dict[str, object]] = []
-    if header.use_loop:
-        arguments = [header.loop_begin, header.loop_end, header.loop_count]
-        codes.append({"method": "loop", "arguments": arguments})
-    if header.use_jump:
-        codes.append({"method": "jump", "arguments": [header.jump_slot]})
-    frame_objs: list[dict[str, object]] = []
-    previous: tuple[int, ...] = (0,) * JOINT_COUNT
-    for index, frame in enumerate(frames):
-        if frame.slot != header.slot or frame.index != index:
-            raise LocalProtocolError(
-                f"frame {index} must have slot {header.slot} and index {index}"
-            )
-        outputs: list[dict[str, object]] = []
-        for joint, value in enumerate(frame.offsets_ddeg):
-            if joint in JOINT_NAMES:
-                outputs.append({"device": JOINT_NAMES[joint], "value": value})
-            elif value != previous[joint]:
-                outputs.append({"device": joint, "value": value})
-        previous = frame.offsets_ddeg
-        frame_objs.append(
-            {"@index": index, "transition_time_ms": frame.transition_time_ms, "outputs": outputs}
-        )
-    return {
-        "slot": header.slot,
-        "name": header.name,
-        "@frame_length": header.frame_length,
-        "codes": codes,
-        "frames": frame_objs,
-    }
-
-
-# --------------------------------------------------------------------------------------------
-# Decoding commands (device side)
-# --------------------------------------------------------------------------------------------
-
-
-class _BadArgumentError(Exception):
-    """An argument field the firmware would not read as intended."""
-
-
-def _parse_set_angle(args: bytes) -> Command:
-    angle = _clamp(_signed12(args[2:5]), ANGLE_MIN_DDEG, ANGLE_MAX_DDEG)
-    return SetAngle(_unsigned(args[0:2]), angle)
-
-
-def _parse_set_angle_diff(args: bytes) -> Command:
-    diff = _clamp(_signed12(args[2:5]), -DIFF_LIMIT_DDEG, DIFF_LIMIT_DDEG)
-    return SetAngleDiff(_unsigned(args[0:2]), diff)
-
-
-def _parse_motion_header(args: bytes) -> Command:
-    def number(start: int) -> int:
-        field = args[start : start + 2]
-        if not _is_hex(field):
-            raise _BadArgumentError(f"non-hex characters {field!r} in >MH")
-        return _unsigned(field)
-
-    def flag(position: int) -> bool:
-        return args[position] != ord("0")  # the firmware reads anything but '0' as set
-
-    raw_name = args[2:22]
-    if any(not 0x20 <= byte <= 0x7E or byte in b'"\\' for byte in raw_name):
-        raise _BadArgumentError(f"motion name {raw_name!r} holds characters a name cannot hold")
-    return MotionHeader(
-        slot=number(0),
-        name=raw_name.decode("ascii").rstrip(" "),
-        use_loop=flag(22),
-        loop_begin=number(23),
-        loop_end=number(25),
-        loop_count=number(27),
-        use_jump=flag(29),
-        jump_slot=number(30),
-        use_extra=flag(32),
-        frame_length=number(33),
-    )
-
-
-def _parse_motion_frame(args: bytes) -> Command:
-    values = tuple(_signed16(args[start : start + 4]) for start in range(8, 104, 4))
-    return MotionFrame(_unsigned(args[0:2]), _unsigned(args[2:4]), _unsigned(args[4:8]), values)
-
-
-@dataclass(frozen=True, slots=True)
-class _CommandSpec:
-    name: str
-    argc: int
-    parse: Callable[[bytes], Command]
-    free_text: bool = False
-
-
-def _joint_value(factory: Callable[[int, int], Command]) -> Callable[[bytes], Command]:
-    return lambda args: factory(_unsigned(args[0:2]), _signed12(args[2:5]))
-
-
-def _slot(factory: Callable[[int], Command]) -> Callable[[bytes], Command]:
-    return lambda args: factory(_unsigned(args[0:2]))
-
-
-def _bare(factory: Callable[[], Command]) -> Callable[[bytes], Command]:
-    return lambda args: factory()
-
-
-_COMMANDS: dict[tuple[int, bytes], _CommandSpec] = {
-    (ord(header), name.encode("ascii")): _CommandSpec(header + name, argc, parse, free)
-    for header, name, argc, parse, free in (
-        ("$", "AD", 5, _parse_set_angle_diff, False),
-        ("$", "AN", 5, _parse_set_angle, False),
-        ("$", "HP", 0, _bare(HomePosition), False),
-        ("$", "MP", 2, _slot(PlayMotion), False),
-        ("$", "MS", 0, _bare(StopMotion), False),
-        ("$", "PM", 2, _slot(PlayMotion), False),
-        ("$", "SM", 0, _bare(StopMotion), False),
-        ("#", "PO", 0, _bare(PopMotion), False),
-        ("#", "PU", 4, lambda a: PushMotion(_unsigned(a[0:2]), _unsigned(a[2:4])), False),
-        ("#", "RI", 0, _bare(ResetInterpreter), False),
-        (">", "HO", 5, _joint_value(SetHome), False),
-        (">", "JS", 0, _bare(ResetJointSettings), False),
-        (">", "MA", 5, _joint_value(SetMax), False),
-        (">", "MF", 104, _parse_motion_frame, False),
-        (">", "MH", 35, _parse_motion_header, True),
-        (">", "MI", 5, _joint_value(SetMin), False),
-        ("<", "JS", 0, _bare(GetJointSettings), False),
-        ("<", "MO", 2, _slot(GetMotion), False),
-        ("<", "VI", 0, _bare(GetVersion), False),
-    )
-}
-"""(header byte, upper-case command) -> how many argument characters and how to read them."""
 
 _DEVICE_START = re.compile(rb"[$#<>\r\n]")
 _CRLF = b"\r\n"
@@ -750,7 +149,7 @@ class PlenCodec:
         self._junk_sample = bytearray()
         # Device: the command being read (header, command, arguments so far).
         self._attempt = bytearray()
-        self._spec: _CommandSpec | None = None
+        self._spec: CommandSpec | None = None
         # Host: where the reply at the start of the buffer has been scanned to.
         self._in_reply = False
         self._skipping = False
@@ -882,7 +281,7 @@ class PlenCodec:
                 del buffer[:take]
                 if len(attempt) < 3:
                     return None
-                spec = _COMMANDS.get((attempt[0], bytes(attempt[1:3]).upper()))
+                spec = COMMANDS.get((attempt[0], bytes(attempt[1:3]).upper()))
                 if spec is None:
                     self._fail("bad_command", f"unknown command {bytes(attempt)!r}")
                 self._spec = spec
@@ -903,13 +302,13 @@ class PlenCodec:
         self._spec = None
         self._fault(kind, message, data, len(data))
 
-    def _finish(self, spec: _CommandSpec) -> Command:
+    def _finish(self, spec: CommandSpec) -> Command:
         args = bytes(self._attempt[3:])
-        if not spec.free_text and not _is_hex(args):
+        if not spec.free_text and not is_hex(args):
             self._fail("bad_argument", f"{spec.name} arguments {args!r} are not hex digits")
         try:
             command = spec.parse(args)
-        except _BadArgumentError as exc:
+        except BadArgumentError as exc:
             self._fail("bad_argument", f"{spec.name}: {exc}")
         except LocalProtocolError as exc:
             self._fail("out_of_range", f"{spec.name}: {exc}")
@@ -1043,3 +442,9 @@ class PlenCodec:
             self._fault("bad_reply", f"JSON is not a PLEN2 reply: {exc}", text, len(text))
         self.stats.messages += 1
         return reply
+
+
+def codec_for(role: Role, profile: ProfileLike) -> PlenCodec:
+    """The PLEN2 codec in ``role`` (the protocol unit's codec factory; no profile options)."""
+    del profile
+    return PlenCodec(role)

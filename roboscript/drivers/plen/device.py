@@ -42,15 +42,19 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass, replace
-from typing import cast
+from typing import TYPE_CHECKING, cast
 
-from roboscript.drivers.codec import Role, readable
+from roboscript.codec import Role, readable
 from roboscript.drivers.plen import messages as m
 from roboscript.drivers.plen.codec import PlenCodec
-from roboscript.sim.body import Body
 
-__all__ = ["HIP_WIDTH_MM", "LEG_SEGMENT_MM", "UPDATE_INTERVAL_S", "Plen2Board"]
+if TYPE_CHECKING:
+    from roboscript.profiles import RobotProfile
+    from roboscript.sim.body import Body
+
+__all__ = ["HIP_WIDTH_MM", "LEG_SEGMENT_MM", "UPDATE_INTERVAL_S", "Plen2Board", "simulated_device"]
 
 UPDATE_INTERVAL_S = 0.032
 """The motion controller's update period, seconds (``UPDATE_INTERVAL_MS``)."""
@@ -394,3 +398,9 @@ class Plen2Board:
         turn_deg = -sum(after[i].yaw_cw_deg - before[i].yaw_cw_deg for i in planted)
         if forward_mm or turn_deg:
             self.body.displace(forward_mm / len(planted), turn_deg / len(planted))
+
+
+def simulated_device(profile: RobotProfile) -> Callable[[Body], Plen2Board]:
+    """The PLEN2 unit's simulated device factory: a PLEN2 control board (no options)."""
+    del profile
+    return Plen2Board

@@ -36,17 +36,15 @@ import math
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.clock import Clock
-from roboscript.drivers.base import Driver
-from roboscript.drivers.codec import Codec, Role
+from roboscript.drivers.base import Driver, PendingRequest
 from roboscript.drivers.plen import messages as m
 from roboscript.drivers.plen.codec import PlenCodec
 from roboscript.drivers.plen.gaits import Gait, load_gaits
 from roboscript.drivers.plen.playback import UPDATE_INTERVAL_MS, Schedule
-from roboscript.errors import DeviceError, LinkError, LinkTimeoutError
+from roboscript.errors import DeviceError, LinkTimeoutError
 from roboscript.profiles import RobotProfile
 from roboscript.transport.link import Link
 
@@ -100,7 +98,6 @@ class _Ask:
     on_reply: Callable[[m.Reply], None]
     on_garbled: Callable[[], None] | None = None
     motion: bool = False
-    attempts: int = 0
 
 
 @dataclass
@@ -142,6 +139,10 @@ class _Playing:
     end_s: float = field(default=math.inf)
 
 
+def _answers(op: _Ask, reply: object) -> bool:
+    return _reply_for(op.request, reply)
+
+
 def _reply_for(request: object, reply: object) -> bool:
     if isinstance(request, m.GetVersion):
         return isinstance(reply, m.VersionReply)
@@ -166,11 +167,6 @@ class PlenDriver(Driver):
 
     protocol = "plen"
 
-    @classmethod
-    def make_codec(cls, profile: RobotProfile) -> Codec[Any]:
-        """A PLEN2 codec in the host role."""
-        return PlenCodec(Role.HOST)
-
     def __init__(self, link: Link, profile: RobotProfile, clock: Clock) -> None:
         super().__init__(link, profile, clock)
         self.version: m.VersionReply | None = None
@@ -178,14 +174,18 @@ class PlenDriver(Driver):
         self.installed: list[str] = []
         self._ops: deque[_Op] = deque()
         self._hold_until_s = -math.inf
-        self._asking: _Ask | None = None
-        self._ask_sent_s = 0.0
+        # The wait for a reply restarts whenever bytes arrive: a long dump is never cut short.
+        self._asking: PendingRequest[_Ask] = PendingRequest(
+            timeout_s=REPLY_SILENCE_S,
+            retries=REPLY_ATTEMPTS - 1,
+            matches=_answers,
+            give_up=self._silent,
+        )
         self._ask_received = 0
         self._playing: _Playing | None = None
         self._motion_generation = 0
         self._now_s = clock.now()
         self._offsets_deg: dict[str, float] = {}
-        self._caps: dict[str, object] = {}
 
     # ---------------------------------------------------------------------------- handshake
 
@@ -254,8 +254,7 @@ class PlenDriver(Driver):
         self._ops.extendleft(reversed(writes))
 
     def _become_ready(self) -> None:
-        self._caps = {cap.WALKER: _Walker(self), cap.JOINTS: _Joints(self)}
-        self.ready = True
+        self.offer({cap.WALKER: _Walker(self), cap.JOINTS: _Joints(self)})
 
     def describe(self) -> str:
         """Device, code name and firmware version, as the robot reported them."""
@@ -270,14 +269,12 @@ class PlenDriver(Driver):
         """Read replies and hand them on; give up on a late one."""
         self._now_s = now_s
         for message in self.link.poll():
-            asking = self._asking
-            if asking is not None and _reply_for(asking.request, message):
-                self._asking = None
-                asking.on_reply(message)
+            asked = self._asking.answered(message)
+            if asked is not None:
+                asked.on_reply(message)
             else:
                 logger.debug("PLEN2 reply nobody asked for: %r", message)
-        if self._asking is not None:
-            self._check_reply_timeout(self._asking, now_s)
+        self._check_reply_timeout(now_s)
 
     def flush(self, now_s: float, dt_s: float) -> None:
         """Send the queued commands whose time has come."""
@@ -285,7 +282,7 @@ class PlenDriver(Driver):
         self._advance(now_s)
 
     def _advance(self, now_s: float) -> None:
-        while self._ops and self._asking is None and now_s >= self._hold_until_s:
+        while self._ops and self._asking.in_flight is None and now_s >= self._hold_until_s:
             op = self._ops[0]
             if isinstance(op, _WaitIdle):
                 if now_s < self._play_end_s():
@@ -304,32 +301,32 @@ class PlenDriver(Driver):
                 op.action()
 
     def _send_ask(self, op: _Ask, now_s: float) -> None:
-        op.attempts += 1
-        self._asking = op
-        self._ask_sent_s = now_s
+        self._asking.sent(op, now_s)  # the op that just timed out, sent again, is a retry
         self._ask_received = self.link.bytes_received
         self.link.send(op.request)
 
-    def _check_reply_timeout(self, op: _Ask, now_s: float) -> None:
-        last_byte_s = self.link.last_receive_s
-        quiet_since = max(self._ask_sent_s, last_byte_s if last_byte_s is not None else -math.inf)
-        if now_s - quiet_since < REPLY_SILENCE_S:
+    def _check_reply_timeout(self, now_s: float) -> None:
+        op = self._asking.expired(now_s, heard_s=self.link.last_receive_s)
+        if op is None:
             return
         codec = self.link.codec
         if isinstance(codec, PlenCodec) and (codec.in_progress or codec.pending_bytes()):
             codec.reset()
         garbled = self.link.bytes_received > self._ask_received
-        self._asking = None
         if garbled and op.on_garbled is not None:
+            self._asking.cancel()
             op.on_garbled()
-        elif op.attempts < REPLY_ATTEMPTS:
-            self._ops.appendleft(op)
+        elif self._asking.may_retry:
+            self._ops.appendleft(op)  # sent again in its turn, after any quiet time
         else:
-            raise LinkTimeoutError(
-                f"the PLEN2 did not answer {self.link.codec.send(op.request).decode()} "
-                f"({op.attempts} tries): is it switched on, and is the port the robot's "
-                f"USB serial at {self.profile.baudrate} baud?"
-            )
+            raise self._asking.give_up_error()
+
+    def _silent(self, op: _Ask, tries: int) -> LinkTimeoutError:
+        return LinkTimeoutError(
+            f"the PLEN2 did not answer {self.link.codec.send(op.request).decode()} "
+            f"({tries} tries): is it switched on, and is the port the robot's "
+            f"USB serial at {self.profile.baudrate} baud?"
+        )
 
     # ---------------------------------------------------------------------------- playback
 
@@ -350,7 +347,8 @@ class PlenDriver(Driver):
 
     def motion_busy(self) -> bool:
         """True while a motion plays or is waiting to be started."""
-        asking = self._asking is not None and self._asking.motion
+        in_flight = self._asking.in_flight
+        asking = in_flight is not None and in_flight.motion
         return asking or self._now_s < self._play_end_s() or any(op.motion for op in self._ops)
 
     def queue_gait(self, key: str, steps: int) -> None:
@@ -423,18 +421,14 @@ class PlenDriver(Driver):
 
     # ------------------------------------------------------------------------------ safety
 
-    def capabilities(self) -> dict[str, object]:
-        """``walker`` and ``joints`` (after the handshake)."""
-        return dict(self._caps)
-
-    def stop_all(self) -> None:
-        """Drop queued motions and send ``$SM``; never raises (see the module docstring)."""
+    def send_stop(self) -> None:
+        """Drop queued motions and send ``$SM`` (see the module docstring)."""
         self._motion_generation += 1
         self._ops = deque(op for op in self._ops if not op.motion)
-        try:
-            self.link.send(m.StopMotion())
-        except LinkError as exc:
-            logger.debug("stop not sent: %s", exc)
+        self.link.send(m.StopMotion())
+
+    def after_stop(self) -> None:
+        """Predict the end of the playing motion again, whether ``$SM`` went out or not."""
         self._shorten_playback()
 
     def _shorten_playback(self) -> None:

@@ -1,7 +1,7 @@
 """The gait motions roboscript installs on a PLEN2, read from the package's ``motions/`` folder.
 
 Each file is a motion in plen-ControlServer's JSON format (see
-:func:`~roboscript.drivers.plen.codec.motion_from_json`), designed for roboscript: one pass of
+:func:`~roboscript.drivers.plen.motionfile.motion_from_json`), designed for roboscript: one pass of
 its loop is one step that starts and ends in the home stance, so walking N steps is the motion
 played N times, and a stop after any pass leaves the robot on both feet. The loop code counts
 255 ("until stopped"), so a PLEN app that plays the slot walks until it sends ``$SM``.
@@ -14,8 +14,9 @@ import json
 from dataclasses import dataclass
 from importlib import resources
 
-from roboscript.drivers.plen.codec import encode_command, motion_from_json
+from roboscript.drivers.plen.commands import encode_command
 from roboscript.drivers.plen.messages import MotionFrame, MotionHeader, MotionReply
+from roboscript.drivers.plen.motionfile import motion_from_json
 from roboscript.drivers.plen.playback import Schedule
 
 __all__ = ["GAIT_KEYS", "Gait", "load_gait", "load_gaits"]

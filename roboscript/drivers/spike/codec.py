@@ -1,6 +1,6 @@
 """Sans-IO codec of the LEGO SPIKE Prime hub protocol, for both roles.
 
-:class:`SpikeCodec` follows the contract in :mod:`roboscript.drivers.codec`: ``send`` turns a
+:class:`SpikeCodec` follows the contract in :mod:`roboscript.codec`: ``send`` turns a
 message into one complete frame, ``receive_data`` buffers bytes, and ``next_message`` returns
 the next message or raises :class:`~roboscript.errors.RemoteProtocolError` for a bad frame it
 has already consumed.
@@ -35,12 +35,12 @@ from __future__ import annotations
 import re
 from typing import Final, NoReturn
 
-from roboscript.drivers.codec import CodecStats, Role
+from roboscript.codec import CodecStats, ProfileLike, Role
 from roboscript.drivers.spike import cobs
 from roboscript.drivers.spike.messages import MESSAGE_TYPES, Message, MessageKind
 from roboscript.errors import FAULT_SAMPLE_BYTES, LocalProtocolError, RemoteProtocolError
 
-__all__ = ["MIN_FRAME_BYTES", "SpikeCodec"]
+__all__ = ["MIN_FRAME_BYTES", "SpikeCodec", "codec_for"]
 
 MIN_FRAME_BYTES: Final = 3
 """The smallest ``max_frame_bytes`` a codec accepts (an InfoRequest frame is 3 bytes)."""
@@ -253,3 +253,9 @@ class SpikeCodec:
     def _fault(self, kind: str, dropped: int, data: bytes, text: str) -> NoReturn:
         self.stats.fault(kind, dropped)
         raise RemoteProtocolError(text, kind=kind, data=data)
+
+
+def codec_for(role: Role, profile: ProfileLike) -> SpikeCodec:
+    """The SPIKE hub codec in ``role`` (the protocol unit's codec factory; no profile options)."""
+    del profile
+    return SpikeCodec(role)

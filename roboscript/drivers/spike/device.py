@@ -29,18 +29,23 @@ behaves as the firmware does as far as roboscript relies on it:
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
-from roboscript.drivers.codec import Role, readable
+from roboscript.codec import Role, readable
 from roboscript.drivers.spike import messages as m
 from roboscript.drivers.spike import tunnel as t
 from roboscript.drivers.spike.codec import SpikeCodec
 from roboscript.drivers.spike.crc import crc32
 from roboscript.drivers.spike.options import SpikeOptions
 from roboscript.errors import RemoteProtocolError
-from roboscript.sim.body import Body
 
-__all__ = ["HubConfig", "SpikeHub"]
+if TYPE_CHECKING:
+    from roboscript.profiles import RobotProfile
+    from roboscript.sim.body import Body
+
+__all__ = ["HubConfig", "SpikeHub", "simulated_device"]
 
 _ACK = m.ResponseStatus.ACKNOWLEDGED
 _NACK = m.ResponseStatus.NOT_ACKNOWLEDGED
@@ -504,3 +509,13 @@ class SpikeHub:
         return m.DeviceColor(
             m.HubPort(port), m.Color.BLACK if dark else m.Color.WHITE, level, level, level
         )
+
+
+def simulated_device(profile: RobotProfile) -> Callable[[Body], SpikeHub]:
+    """The SPIKE unit's simulated device factory: a hub wired as the profile's options say.
+
+    Raises:
+        ProfileError: The profile's options are invalid (checked here, before any body).
+    """
+    config = HubConfig(SpikeOptions.from_mapping(profile.options, profile=profile.name))
+    return lambda body: SpikeHub(body, config)

@@ -42,30 +42,27 @@ import math
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 from roboscript import capabilities as cap
+from roboscript.angles import wrap_deg
 from roboscript.clock import Clock
-from roboscript.drivers.base import Driver, WheelDriveBase
-from roboscript.drivers.codec import Codec, Role
+from roboscript.codec import Role
+from roboscript.drivers.base import Driver, PendingRequest, WheelDriveBase
 from roboscript.drivers.spike import messages as m
 from roboscript.drivers.spike import tunnel as t
-from roboscript.drivers.spike.codec import SpikeCodec
 from roboscript.drivers.spike.crc import crc32
 from roboscript.drivers.spike.options import SpikeOptions, port_name
-from roboscript.errors import (
-    DeviceError,
-    LinkClosedError,
-    LinkError,
-    LinkTimeoutError,
-    LocalProtocolError,
-)
+from roboscript.errors import DeviceError, LinkClosedError, LinkTimeoutError
 from roboscript.profiles import RobotProfile
 from roboscript.transport.link import Link
 
 __all__ = ["AGENT_FILE_NAME", "SpikeDriver", "agent_source"]
 
 logger = logging.getLogger(__name__)
+
+_Phase = Literal["info", "start", "version", "upload", "configure", "ready", "stopped"]
+"""Where the hub's handshake is (see the module docstring); ``stopped`` after a stop."""
 
 AGENT_FILE_NAME = "roboscript_agent.py"
 """The name the agent is stored under on the hub."""
@@ -88,22 +85,28 @@ def agent_source() -> bytes:
 
 
 @dataclass
-class _Pending:
+class _Request:
+    message: m.Message
     reply_type: type[m.Message]
     on_reply: Callable[[Any], None]
-    deadline_s: float
-    name: str
+
+
+def _answers(request: _Request, message: object) -> bool:
+    return isinstance(message, request.reply_type)
+
+
+def _no_answer(request: _Request, tries: int) -> LinkTimeoutError:
+    del tries  # one try: the hub answers every request, or is gone
+    return LinkTimeoutError(
+        f"the SPIKE hub did not answer {type(request.message).__name__} "
+        f"within {_REPLY_TIMEOUT_S:g} s"
+    )
 
 
 class SpikeDriver(Driver):
     """Host side of the SPIKE Prime hub and its agent (see the module docstring)."""
 
     protocol = "spike"
-
-    @classmethod
-    def make_codec(cls, profile: RobotProfile) -> Codec[Any]:
-        """A SPIKE hub codec in the host role."""
-        return SpikeCodec(Role.HOST)
 
     def __init__(self, link: Link, profile: RobotProfile, clock: Clock) -> None:
         super().__init__(link, profile, clock)
@@ -118,9 +121,11 @@ class SpikeDriver(Driver):
         self.uploaded = False
         self.console: deque[str] = deque(maxlen=_CONSOLE_LINES)
         self.move_results: dict[int, t.MoveStatus] = {}
-        self._phase = "info"
+        self._phase: _Phase = "info"
         self._now_s = 0.0
-        self._pending: _Pending | None = None
+        self._pending: PendingRequest[_Request] = PendingRequest(
+            timeout_s=_REPLY_TIMEOUT_S, retries=0, matches=_answers, give_up=_no_answer
+        )
         self._next_probe_s = 0.0
         self._version_deadline_s = 0.0
         self._chunks: list[bytes] = []
@@ -144,7 +149,6 @@ class SpikeDriver(Driver):
         self._queue: list[t.Record] = []
         self._move_seq = 0
         self._mm_per_deg = math.pi * profile.wheel_diameter_mm / profile.ticks_per_rev
-        self._caps: dict[str, object] = {}
 
     # ----------------------------------------------------------------------------- handshake
 
@@ -160,9 +164,8 @@ class SpikeDriver(Driver):
     def _request(
         self, message: m.Message, reply_type: type[m.Message], on_reply: Callable[[Any], None]
     ) -> None:
-        self._pending = _Pending(
-            reply_type, on_reply, self._now_s + _REPLY_TIMEOUT_S, type(message).__name__
-        )
+        self._pending.cancel()  # one request at a time: a new one replaces any other
+        self._pending.sent(_Request(message, reply_type, on_reply), self._now_s)
         self.link.send(message)
 
     def _on_info(self, info: m.InfoResponse) -> None:
@@ -288,8 +291,7 @@ class SpikeDriver(Driver):
             self._positions[self.options.right_motor],
         )
         self._yaw_origin = self._yaw or 0
-        self._caps = self._build_capabilities()
-        self.ready = True
+        self.offer(self._build_capabilities())
 
     def _build_capabilities(self) -> dict[str, object]:
         makers: dict[str, Callable[[], object]] = {
@@ -302,7 +304,7 @@ class SpikeDriver(Driver):
             cap.FORCE: lambda: _ForceSensor(self),
             cap.COLOR: lambda: _ColorSensor(self),
         }
-        return {name: make() for name, make in makers.items() if name in self.profile.capabilities}
+        return self.wanted(makers)
 
     def describe(self) -> str:
         """The hub's name, firmware and agent version."""
@@ -320,14 +322,10 @@ class SpikeDriver(Driver):
         self._now_s = now_s
         for message in self.link.poll():
             self._handle(message)
-        pending = self._pending
-        if pending is not None and now_s >= pending.deadline_s:
-            raise LinkTimeoutError(
-                f"the SPIKE hub did not answer {pending.name} within {_REPLY_TIMEOUT_S:g} s"
-            )
+        self._pending.resend_due(now_s)  # one try: raises once the reply is overdue
         if self._phase == "info" and now_s >= self._next_probe_s:
             self._probe_info()
-        elif self._phase == "version" and self._pending is None:
+        elif self._phase == "version" and self._pending.in_flight is None:
             if now_s >= self._version_deadline_s:
                 self._upload_or_fail("the program in the slot does not answer")
             elif now_s >= self._next_probe_s:
@@ -346,7 +344,7 @@ class SpikeDriver(Driver):
         if not self.ready:
             return
         restart = self._wants_motion() or self._queue
-        if self._phase == "stopped" and restart and self._pending is None:
+        if self._phase == "stopped" and restart and self._pending.in_flight is None:
             self._stopping = False
             self._start_agent()
         if self._phase != "ready":
@@ -382,10 +380,9 @@ class SpikeDriver(Driver):
         self.link.send(m.TunnelMessage(record.encode()))
 
     def _handle(self, message: object) -> None:
-        pending = self._pending
-        if pending is not None and isinstance(message, pending.reply_type):
-            self._pending = None
-            pending.on_reply(message)
+        request = self._pending.answered(message)
+        if request is not None:
+            request.on_reply(message)
         elif isinstance(message, m.DeviceNotification):
             self._read_devices(message)
         elif isinstance(message, m.TunnelMessage):
@@ -463,30 +460,26 @@ class SpikeDriver(Driver):
                 )
             self._become_ready()
 
-    def capabilities(self) -> dict[str, object]:
-        """Capability objects by name (after the handshake)."""
-        return dict(self._caps)
-
-    def stop_all(self) -> None:
-        """Brake the wheels and stop the agent's program; never raises."""
+    def send_stop(self) -> None:
+        """Brake the wheels (``Stop`` over the tunnel) and stop the agent's program."""
         self._target_mm_s = (0.0, 0.0)
         self._power = None
         self._sent_deg_s = (0, 0)
         self._queue.clear()
-        self._pending = None
-        try:
-            if self._agent_running:
-                self._tunnel(t.Stop())
-            if self.info is not None:
-                # Waited for like a request, so that a restart cannot take this answer for
-                # its own and send tunnel messages while no program runs.
-                self._request(
-                    m.ProgramFlowRequest(m.ProgramAction.STOP, self.options.agent_slot),
-                    m.ProgramFlowResponse,
-                    lambda _: None,
-                )
-        except (LinkError, LocalProtocolError) as exc:
-            logger.debug("stop not sent: %s", exc)
+        self._pending.cancel()
+        if self._agent_running:
+            self._tunnel(t.Stop())
+        if self.info is not None:
+            # Waited for like a request, so that a restart cannot take this answer for
+            # its own and send tunnel messages while no program runs.
+            self._request(
+                m.ProgramFlowRequest(m.ProgramAction.STOP, self.options.agent_slot),
+                m.ProgramFlowResponse,
+                lambda _: None,
+            )
+
+    def after_stop(self) -> None:
+        """The agent counts as stopped; a later motion command starts it again."""
         self._agent_running = False
         self._stopping = True
         if self.ready:
@@ -540,7 +533,7 @@ class SpikeDriver(Driver):
         """Yaw since connection, degrees clockwise, -180..180; ``None`` before any reading."""
         if self._yaw is None:
             return None
-        return float((-(self._yaw - self._yaw_origin) + 180) % 360 - 180)
+        return wrap_deg(-(self._yaw - self._yaw_origin))
 
 
 class _RangeSensor:

@@ -64,7 +64,7 @@ from collections.abc import Iterator
 from dataclasses import astuple, dataclass
 from typing import ClassVar, Final
 
-from roboscript.drivers.codec import Role
+from roboscript.codec import Role
 from roboscript.errors import LocalProtocolError, RemoteProtocolError
 
 __all__ = [

@@ -57,7 +57,7 @@ Buffering
 Once :meth:`StackModCodec.next_message` has returned ``None`` the buffer holds less than
 ``max_packet_bytes`` bytes (only the start of one candidate packet). Call it until it returns
 ``None`` after each :meth:`StackModCodec.receive_data`, as
-:func:`~roboscript.drivers.codec.drain` does, and memory stays bounded whatever arrives.
+:func:`~roboscript.codec.drain` does, and memory stays bounded whatever arrives.
 
 The reference code's two-address form
 -------------------------------------
@@ -87,7 +87,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Literal, NoReturn, TypeAlias
 
-from roboscript.drivers.codec import CodecStats, Role
+from roboscript.codec import CodecStats, Role
 from roboscript.drivers.stackmod.messages import (
     ADDRESS_MAX,
     ADDRESS_MIN,
@@ -231,7 +231,7 @@ class StackModCodec:
         stats: Counts of messages, faults by kind, and dropped bytes.
 
     Raises:
-        TypeError: ``role`` is not a :class:`~roboscript.drivers.codec.Role`.
+        TypeError: ``role`` is not a :class:`~roboscript.codec.Role`.
         ValueError: ``checksum`` is unknown, or ``max_packet_bytes`` is smaller than the
             longest valid packet (:data:`LONGEST_PACKET_BYTES`).
     """

@@ -26,15 +26,20 @@ the packet is dropped as a real module would, and the host's GET times out.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
-from roboscript.drivers.codec import Role, readable
+from roboscript.codec import Role, readable
 from roboscript.drivers.stackmod.codec import StackModCodec
 from roboscript.drivers.stackmod.messages import ULT_NO_ECHO, Command, Get, Set
 from roboscript.drivers.stackmod.options import StackModOptions
-from roboscript.sim.body import Body
 
-__all__ = ["BATTERY_ADC", "SERVO_HOME_DEG", "StackModRover"]
+if TYPE_CHECKING:
+    from roboscript.profiles import RobotProfile
+    from roboscript.sim.body import Body
+
+__all__ = ["BATTERY_ADC", "SERVO_HOME_DEG", "StackModRover", "simulated_device"]
 
 BATTERY_ADC = 757
 """ANL channel 0 of every module: a 7.4 V battery through a 1:2 divider, 5 V reference."""
@@ -208,3 +213,13 @@ class StackModRover:
             return ULT_NO_ECHO
         cm = round(reading / 10.0)
         return cm if cm <= _MAX_RANGE_CM else ULT_NO_ECHO
+
+
+def simulated_device(profile: RobotProfile) -> Callable[[Body], StackModRover]:
+    """The StackMod unit's simulated device factory: the modules the profile's options list.
+
+    Raises:
+        ProfileError: The profile's options are invalid (checked here, before any body).
+    """
+    options = StackModOptions.from_mapping(profile.options, profile=profile.name)
+    return lambda body: StackModRover(body, options)

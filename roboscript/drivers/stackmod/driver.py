@@ -6,10 +6,9 @@ asked, so the driver is the line's master:
 
 * **Handshake** (never a fixed sleep): ``{a$ARM01}`` arms every module, then ``{a?ARM0}`` asks
   each one in turn whether it is armed. The robot is ready when every module has answered 1.
-* **GETs**, one in flight at a time (:class:`~roboscript.drivers.stackmod.poller.GetPoller`):
-  each is sent again if its answer has not come within ``get_timeout_s`` on the scheduler
-  clock, up to ``get_retries`` times, then :class:`~roboscript.errors.LinkTimeoutError` names
-  the silent module.
+* **GETs**, one in flight at a time (:func:`get_poller`): each is sent again if its answer
+  has not come within ``get_timeout_s`` on the scheduler clock, up to ``get_retries`` times,
+  then :class:`~roboscript.errors.LinkTimeoutError` names the silent module.
 * **Sensors are polled while they are read.** At 9600 baud one GET and its answer take about
   22 ms of line time, so polling every sensor all the time would give each only a few readings
   a second. A reading of a range, line or bump sensor asks for that sensor to be polled for
@@ -29,21 +28,17 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable, Iterable
-from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.clock import Clock
-from roboscript.drivers.base import Driver, WheelDriveBase
-from roboscript.drivers.codec import Codec, Role
-from roboscript.drivers.stackmod.codec import StackModCodec
+from roboscript.drivers.base import Driver, PendingRequest, WheelDriveBase
 from roboscript.drivers.stackmod.messages import ULT_NO_ECHO, Command, Get, GetReply, Set
 from roboscript.drivers.stackmod.options import StackModOptions
-from roboscript.drivers.stackmod.poller import GetPoller
-from roboscript.errors import DeviceError, LinkError
+from roboscript.errors import DeviceError, LinkTimeoutError
 from roboscript.profiles import RobotProfile
 from roboscript.transport.link import Link
 
-__all__ = ["StackModDriver"]
+__all__ = ["StackModDriver", "get_poller"]
 
 logger = logging.getLogger(__name__)
 
@@ -62,6 +57,46 @@ def _options(profile: RobotProfile) -> StackModOptions:
     return StackModOptions.from_mapping(profile.options, profile=profile.name)
 
 
+def _answers(request: Get, reply: object) -> bool:
+    return isinstance(reply, GetReply) and (reply.address, reply.command, reply.selector) == (
+        request.address,
+        request.command,
+        request.selector,
+    )
+
+
+def get_poller(
+    *, timeout_s: float, retries: int, describe: Callable[[int], str]
+) -> PendingRequest[Get]:
+    """One StackMod GET in flight at a time, with a reply timeout and bounded retries.
+
+    StackMod modules share one line and answer only when asked, so the host asks one question
+    at a time: a reply then always belongs to the one request in flight, and two modules never
+    talk at once. A request that gets no answer within ``timeout_s`` (on the scheduler's
+    clock) is sent again, up to ``retries`` times; after that the module is declared silent
+    with a :class:`~roboscript.errors.LinkTimeoutError` naming it.
+
+    Args:
+        timeout_s: How long to wait for each answer, seconds.
+        retries: How many times a request is sent again before giving up.
+        describe: Names the module at an address, for the error message
+            (``the motor module at 'M' (0x4D)``).
+
+    Raises:
+        ValueError: A timeout that is not positive, or negative retries.
+    """
+
+    def silent(request: Get, tries: int) -> LinkTimeoutError:
+        return LinkTimeoutError(
+            f"{describe(request.address)} did not answer "
+            f"GET {request.command.value}{request.selector} "
+            f"({tries} tries, {timeout_s:g} s each): "
+            "is it powered, wired to the line, and set to that address?"
+        )
+
+    return PendingRequest(timeout_s=timeout_s, retries=retries, matches=_answers, give_up=silent)
+
+
 class StackModDriver(Driver):
     """Host side of a StackMod rover (see the module docstring).
 
@@ -71,15 +106,10 @@ class StackModDriver(Driver):
 
     protocol = "stackmod"
 
-    @classmethod
-    def make_codec(cls, profile: RobotProfile) -> Codec[Any]:
-        """A StackMod codec in the host role, with the profile's checksum rule."""
-        return StackModCodec(Role.HOST, checksum=_options(profile).checksum)
-
     def __init__(self, link: Link, profile: RobotProfile, clock: Clock) -> None:
         super().__init__(link, profile, clock)
         self.options = opts = _options(profile)
-        self.poller = GetPoller(
+        self.poller = get_poller(
             timeout_s=opts.get_timeout_s, retries=opts.get_retries, describe=opts.describe_module
         )
         self.lost_sets = 0
@@ -107,7 +137,6 @@ class StackModDriver(Driver):
         self._buzzer_on = False
         self._buzzer_for_s: float | None = None
         self._buzzer_off_at_s: float | None = None
-        self._caps: dict[str, object] = {}
 
     # ----------------------------------------------------------------------------- handshake
 
@@ -136,7 +165,6 @@ class StackModDriver(Driver):
     def _become_ready(self) -> None:
         opts = self.options
         self.stop_all()
-        wanted = self.profile.capabilities
         makers: dict[str, Callable[[], object]] = {
             cap.DRIVE_BASE: lambda: WheelDriveBase(
                 self,
@@ -150,13 +178,13 @@ class StackModDriver(Driver):
             cap.SPEAKER: lambda: _Buzzer(self),
             cap.SERVOS: lambda: _Servos(self),
         }
-        self._caps = {name: make() for name, make in makers.items() if name in wanted}
+        capabilities = self.wanted(makers)
         self._sensor_keys = [
             *((opts.ultrasonic_address, Command.ULT, i) for i in (0, 1)),
             *((opts.ir_address, Command.IRS, i) for i in range(3)),
             *((opts.io_address, Command.DGT, pin) for pin in opts.bumper_pins),
         ]
-        self.ready = True
+        self.offer(capabilities)
         self.notice(
             f"{self.profile.name} has no wheel encoders: distances and angles are estimated "
             f"from time ({opts.wheel_speed_mm_s_per_pct:g} mm/s per % of motor power), so "
@@ -286,25 +314,18 @@ class StackModDriver(Driver):
                 (self._sent_pct[wheel] or 0) * per_pct * (now_s - last)
             )
 
-    def capabilities(self) -> dict[str, object]:
-        """Capability objects by name (after the handshake)."""
-        return dict(self._caps)
-
-    def stop_all(self) -> None:
-        """Send MTR +000 to both motors and silence the buzzer; never raises."""
+    def send_stop(self) -> None:
+        """Send MTR +000 to both motors and silence the buzzer."""
         self._integrate(self.clock.now())
         self._target_pct = [0, 0]
         opts = self.options
-        try:
-            for wheel in (0, 1):
-                self._sent_pct[wheel] = 0
-                self.link.send(Set(opts.motor_address, Command.MTR, self._motors[wheel], 0))
-            self._buzzer_for_s = self._buzzer_off_at_s = None
-            if self._buzzer_on:
-                self._buzzer_on = False
-                self.link.send(Set(opts.io_address, Command.DGT, opts.buzzer_pin, 0))
-        except LinkError as exc:
-            logger.debug("stop not sent: %s", exc)
+        for wheel in (0, 1):
+            self._sent_pct[wheel] = 0
+            self.link.send(Set(opts.motor_address, Command.MTR, self._motors[wheel], 0))
+        self._buzzer_for_s = self._buzzer_off_at_s = None
+        if self._buzzer_on:
+            self._buzzer_on = False
+            self.link.send(Set(opts.io_address, Command.DGT, opts.buzzer_pin, 0))
 
     # ------------------------------------------------------------------ capability plumbing
 

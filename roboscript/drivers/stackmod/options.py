@@ -25,12 +25,13 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, cast
 
+from roboscript.codec import ProfileLike, Role
 from roboscript.drivers.options import read_options
-from roboscript.drivers.stackmod.codec import CHECKSUM_RULES, ChecksumRule
+from roboscript.drivers.stackmod.codec import CHECKSUM_RULES, ChecksumRule, StackModCodec
 from roboscript.drivers.stackmod.messages import ADDRESS_MAX, ADDRESS_MIN
 from roboscript.errors import ProfileError
 
-__all__ = ["StackModOptions", "address_name"]
+__all__ = ["StackModOptions", "address_name", "codec_for"]
 
 
 def address_name(address: int) -> str:
@@ -191,3 +192,14 @@ def _read(name: str, value: object, profile: str) -> Any:
     if isinstance(value, bool) or not isinstance(value, int | float) or value <= 0:
         raise _fail(profile, name, "a positive number", value)
     return float(value)
+
+
+def codec_for(role: Role, profile: ProfileLike) -> StackModCodec:
+    """The StackMod codec in ``role`` with the profile's checksum rule (the protocol unit's
+    codec factory).
+
+    Raises:
+        ProfileError: The profile's options are invalid.
+    """
+    options = StackModOptions.from_mapping(profile.options, profile=profile.name)
+    return StackModCodec(role, checksum=options.checksum)

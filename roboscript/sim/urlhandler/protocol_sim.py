@@ -1,21 +1,20 @@
 """``sim://ROBOT?world=W&seed=N&x=MM&y=MM&heading=DEG``: an in-process simulated robot.
 
-pyserial finds this module by name (``protocol_sim``) once ``open_port`` has registered the
-package. The port's :attr:`Serial.simulation` is a Tickable: the caller adds it to the
-scheduler, so the device runs in lockstep with the mission and a run is deterministic. Writes
-reach the device at once; reads return what the device has sent so far and never block.
+pyserial finds this module by name (``protocol_sim``) in one of the packages ``open_port``
+registers (:data:`roboscript.transport.ports.HANDLER_PACKAGES`). The port's
+:attr:`Serial.simulation` is a Tickable: the caller adds it to the scheduler, so the device runs
+in lockstep with the mission and a run is deterministic. Writes reach the device at once; reads
+return what the device has sent so far and never block.
 """
 
 from __future__ import annotations
 
 import urllib.parse
 
-from serial.serialutil import SerialException
-
 from roboscript.errors import InputError
 from roboscript.sim.simulation import Simulation, make_simulation
 from roboscript.sim.world import Pose
-from roboscript.transport.device_port import DevicePort
+from roboscript.transport.device_port import DevicePort, SerialException
 
 __all__ = ["Serial", "parse_sim_url"]
 

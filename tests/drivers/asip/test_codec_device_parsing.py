@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import pytest
 
+from roboscript.codec import Role, drain
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.codec import Role, drain
 from roboscript.errors import RemoteProtocolError
 
 Decoded = list[m.AsipMessage | RemoteProtocolError]

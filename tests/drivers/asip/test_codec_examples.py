@@ -15,9 +15,9 @@ import typing
 
 import pytest
 
+from roboscript.codec import Role, drain
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.codec import Role, drain
 from roboscript.errors import LocalProtocolError, RemoteProtocolError
 
 Decoded = list[m.AsipMessage | RemoteProtocolError]

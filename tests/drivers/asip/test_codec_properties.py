@@ -9,9 +9,9 @@ import typing
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from roboscript.codec import Role, drain
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.codec import Role, drain
 from roboscript.errors import RemoteProtocolError
 
 EXAMPLES = 250

@@ -6,15 +6,9 @@ import json
 
 import pytest
 
-from roboscript.drivers.codec import Role, drain
-from roboscript.drivers.plen.codec import (
-    PlenCodec,
-    encode_command,
-    encode_reply,
-    motion_from_json,
-    motion_to_json,
-    reply_from_json,
-)
+from roboscript.codec import Role, drain
+from roboscript.drivers.plen.codec import PlenCodec
+from roboscript.drivers.plen.commands import encode_command
 from roboscript.drivers.plen.messages import (
     JOINT_COUNT,
     Command,
@@ -44,6 +38,8 @@ from roboscript.drivers.plen.messages import (
     VersionReply,
     factory_joint_settings,
 )
+from roboscript.drivers.plen.motionfile import motion_from_json, motion_to_json
+from roboscript.drivers.plen.replies import encode_reply, reply_from_json
 from roboscript.errors import FAULT_SAMPLE_BYTES, LocalProtocolError, RemoteProtocolError
 
 ZEROS = (0,) * JOINT_COUNT

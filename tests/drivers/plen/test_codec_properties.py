@@ -5,8 +5,8 @@ from __future__ import annotations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from roboscript.drivers.codec import Role
-from roboscript.drivers.plen.codec import PlenCodec, motion_from_json, motion_to_json
+from roboscript.codec import Role
+from roboscript.drivers.plen.codec import PlenCodec
 from roboscript.drivers.plen.messages import (
     ANGLE_MAX_DDEG,
     ANGLE_MIN_DDEG,
@@ -45,6 +45,7 @@ from roboscript.drivers.plen.messages import (
     StopMotion,
     VersionReply,
 )
+from roboscript.drivers.plen.motionfile import motion_from_json, motion_to_json
 from roboscript.errors import RemoteProtocolError
 
 EXAMPLES = 200

@@ -12,7 +12,7 @@ import sys
 import pytest
 from helpers import ROOT
 
-from roboscript.drivers.codec import Role
+from roboscript.codec import Role
 from roboscript.drivers.plen.codec import PlenCodec
 from roboscript.drivers.plen.device import UPDATE_INTERVAL_S, Plen2Board
 from roboscript.drivers.plen.gaits import load_gait

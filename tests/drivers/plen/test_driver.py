@@ -10,7 +10,7 @@ import pytest
 
 from roboscript import capabilities as cap
 from roboscript.clock import SimClock
-from roboscript.drivers.codec import Role
+from roboscript.codec import Role
 from roboscript.drivers.plen.codec import PlenCodec
 from roboscript.drivers.plen.driver import CHUNK_BYTES, CHUNK_GAP_S, PlenDriver
 from roboscript.drivers.plen.gaits import GAIT_KEYS, load_gait

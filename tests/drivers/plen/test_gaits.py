@@ -7,8 +7,9 @@ from importlib import resources
 
 import pytest
 
-from roboscript.drivers.codec import Role
-from roboscript.drivers.plen.codec import PlenCodec, encode_command
+from roboscript.codec import Role
+from roboscript.drivers.plen.codec import PlenCodec
+from roboscript.drivers.plen.commands import encode_command
 from roboscript.drivers.plen.gaits import GAIT_KEYS, load_gait, load_gaits
 from roboscript.drivers.plen.messages import JOINT_NAMES, MotionHeader
 

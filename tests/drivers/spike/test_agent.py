@@ -19,7 +19,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from roboscript.drivers.codec import Role
+from roboscript.codec import Role
 from roboscript.drivers.spike import tunnel as t
 from roboscript.drivers.spike.driver import agent_source
 from roboscript.errors import RemoteProtocolError

@@ -16,7 +16,7 @@ import pytest
 from serial import SerialException
 
 from roboscript.clock import SimClock
-from roboscript.drivers.codec import Role, drain
+from roboscript.codec import Role, drain
 from roboscript.drivers.spike import messages as m
 from roboscript.drivers.spike.codec import SpikeCodec
 from roboscript.errors import LinkClosedError, LinkError

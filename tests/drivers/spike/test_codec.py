@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from roboscript.drivers.codec import Codec, Role, drain
+from roboscript.codec import Codec, Role, drain
 from roboscript.drivers.spike import cobs
 from roboscript.drivers.spike.codec import SpikeCodec
 from roboscript.drivers.spike.messages import (

@@ -6,7 +6,7 @@ from dataclasses import replace
 
 import pytest
 
-from roboscript.drivers.codec import Role, drain
+from roboscript.codec import Role, drain
 from roboscript.drivers.spike import messages as m
 from roboscript.drivers.spike import tunnel as t
 from roboscript.drivers.spike.codec import SpikeCodec

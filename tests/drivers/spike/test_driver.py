@@ -12,7 +12,7 @@ import pytest
 
 from roboscript import capabilities as cap
 from roboscript.clock import SimClock
-from roboscript.drivers.codec import Role, drain
+from roboscript.codec import Role, drain
 from roboscript.drivers.spike import driver as spike_driver
 from roboscript.drivers.spike import messages as m
 from roboscript.drivers.spike import tunnel as t

@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 from helpers import ROOT, run_cli
 
-from roboscript.drivers.codec import Role, drain
+from roboscript.codec import Role, drain
 from roboscript.drivers.spike import messages as m
 from roboscript.drivers.spike import tunnel as t
 from roboscript.drivers.spike.codec import SpikeCodec

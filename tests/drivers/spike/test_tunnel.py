@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from roboscript.drivers.codec import Role
+from roboscript.codec import Role
 from roboscript.drivers.spike import tunnel as t
 from roboscript.errors import LocalProtocolError, RemoteProtocolError
 

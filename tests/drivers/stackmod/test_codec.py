@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from roboscript.drivers.codec import Codec, Role, drain
+from roboscript.codec import Codec, Role, drain
 from roboscript.drivers.stackmod.codec import (
     LONGEST_PACKET_BYTES,
     ChecksumRule,

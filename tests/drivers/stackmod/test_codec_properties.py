@@ -8,7 +8,7 @@ from collections import Counter
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from roboscript.drivers.codec import Codec, Role, drain
+from roboscript.codec import Codec, Role, drain
 from roboscript.drivers.stackmod.codec import ChecksumRule, StackModCodec
 from roboscript.drivers.stackmod.messages import (
     ADDRESS_MAX,

@@ -15,7 +15,7 @@ from serial.urlhandler import protocol_socket
 
 from roboscript import capabilities as cap
 from roboscript.clock import SimClock
-from roboscript.drivers.codec import Role, drain
+from roboscript.codec import Role, drain
 from roboscript.drivers.stackmod.codec import StackModCodec, seed_checksum
 from roboscript.drivers.stackmod.driver import StackModDriver
 from roboscript.drivers.stackmod.messages import Command, Get, Set

@@ -1,19 +1,24 @@
-"""One GET in flight: answers, timeouts on the caller's clock, bounded retries."""
+"""One GET in flight: answers, timeouts on the caller's clock, bounded retries.
+
+The StackMod poller is the drivers' shared :class:`~roboscript.drivers.base.PendingRequest`
+set up for GETs (tests/drivers/test_base.py tests the helper itself).
+"""
 
 from __future__ import annotations
 
 import pytest
 
+from roboscript.drivers.base import PendingRequest
+from roboscript.drivers.stackmod.driver import get_poller
 from roboscript.drivers.stackmod.messages import Command, Get, GetReply
-from roboscript.drivers.stackmod.poller import GetPoller
 from roboscript.errors import LinkTimeoutError
 
 U = ord("U")
 ASK = Get(U, Command.ULT, 0)
 
 
-def poller(retries: int = 2) -> GetPoller:
-    return GetPoller(timeout_s=0.2, retries=retries, describe=lambda a: f"module {chr(a)}")
+def poller(retries: int = 2) -> PendingRequest[Get]:
+    return get_poller(timeout_s=0.2, retries=retries, describe=lambda a: f"module {chr(a)}")
 
 
 def test_an_answer_ends_the_request() -> None:
@@ -63,6 +68,6 @@ def test_one_request_at_a_time() -> None:
 
 def test_bad_settings_are_refused() -> None:
     with pytest.raises(ValueError):
-        GetPoller(timeout_s=0.0, retries=1, describe=chr)
+        get_poller(timeout_s=0.0, retries=1, describe=chr)
     with pytest.raises(ValueError):
-        GetPoller(timeout_s=0.1, retries=-1, describe=chr)
+        get_poller(timeout_s=0.1, retries=-1, describe=chr)

@@ -1,5 +1,9 @@
 """The contract every protocol codec follows (sans-IO, standard library only).
 
+It sits below both :mod:`roboscript.transport` (a :class:`~roboscript.transport.link.Link`
+joins a port and a codec) and :mod:`roboscript.drivers` (each protocol's ``codec.py``
+implements it), so neither of them imports the other for it.
+
 A codec turns bytes into messages and messages into bytes, and knows nothing of ports, threads
 or time. Each protocol has one codec class used in both roles: the host driver builds it with
 ``Role.HOST`` (it encodes requests and decodes replies), the simulated device with
@@ -20,12 +24,12 @@ from __future__ import annotations
 
 import enum
 from collections import Counter
-from collections.abc import Iterator
-from typing import Protocol, TypeVar
+from collections.abc import Iterator, Mapping
+from typing import Any, Protocol, TypeVar
 
 from roboscript.errors import RemoteProtocolError
 
-__all__ = ["Codec", "CodecStats", "Role", "drain", "readable"]
+__all__ = ["Codec", "CodecStats", "ProfileLike", "Role", "drain", "readable"]
 
 M_co = TypeVar("M_co", covariant=True)
 
@@ -75,6 +79,25 @@ class Codec(Protocol[M_co]):
 
     def next_message(self) -> M_co | None:
         """Return the next decoded message, or ``None`` if more bytes are needed."""
+        ...
+
+
+class ProfileLike(Protocol):
+    """What a codec factory reads of a robot profile (a :class:`~roboscript.profiles.RobotProfile`).
+
+    Each protocol's codec factory, ``(role, profile) -> codec``, named by its
+    :class:`~roboscript.drivers.unit.ProtocolUnit`, sets its codec up from the profile's
+    protocol options.
+    """
+
+    @property
+    def name(self) -> str:
+        """The profile's name, for messages."""
+        ...
+
+    @property
+    def options(self) -> Mapping[str, Any]:
+        """The profile's protocol options."""
         ...
 
 

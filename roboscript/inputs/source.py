@@ -2,13 +2,18 @@
 
 Missions, robot profiles, worlds and test specs are all read through :func:`load_yaml`, so
 every error about them can name ``file:line:col``. Only the YAML safe subset is accepted:
-tags such as ``!!python/object`` are refused, as are duplicate keys.
+tags such as ``!!python/object`` are refused, as are duplicate keys. This module is the
+package's only user of ``yaml``.
+
+A :data:`Mark` is a place in the file being read; a :class:`Location` is a place in any file
+(a mark with its file), the one location type missions, worlds, profiles and test specs use.
 """
 
 from __future__ import annotations
 
 import re
 from collections.abc import Hashable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -16,10 +21,32 @@ import yaml
 
 from roboscript.errors import InputError
 
-__all__ = ["Mark", "YamlList", "YamlMap", "load_yaml", "load_yaml_text"]
+__all__ = ["Location", "Mark", "YamlList", "YamlMap", "load_yaml", "load_yaml_text"]
 
 Mark = tuple[int, int]
 """A 1-based (line, column)."""
+
+
+@dataclass(frozen=True)
+class Location:
+    """Where something was written: file, 1-based line and column."""
+
+    path: str
+    line: int | None = None
+    col: int | None = None
+
+    @classmethod
+    def at(cls, path: str, mark: Mark | None) -> Location:
+        """The place ``mark`` in ``path`` (the whole file when ``mark`` is ``None``)."""
+        return cls(path, *(mark or (None, None)))
+
+    def __str__(self) -> str:
+        text = self.path
+        if self.line is not None:
+            text += f":{self.line}"
+            if self.col is not None:
+                text += f":{self.col}"
+        return text
 
 
 class YamlMap(dict[str, Any]):

@@ -1,0 +1,495 @@
+"""One mission builder: every rule the YAML and the Python syntaxes share.
+
+The two loaders are front ends. The YAML one (:mod:`roboscript.mission.yaml_loader`) reads
+values and where they were written from a YAML file; the Python one
+(:mod:`roboscript.mission.python_compiler`) reads them from a ``Mission`` class and its
+syntax tree. Both hand them to a :class:`MissionBuilder`, which turns them into a
+:class:`~roboscript.mission.spec.MissionSpec`: it converts action parameters (every parameter,
+with its documented default when omitted, quantities in their base unit as ``float``), works
+out what each action needs and whether it ends by itself, checks state names, conditions,
+timeouts and final outcomes, and collects every problem, located where it was written. So a
+YAML mission and its Python twin build the same spec (``tests/mission/test_builder.py``).
+"""
+
+from __future__ import annotations
+
+import copy
+import functools
+from collections.abc import Callable, Mapping
+from typing import Any
+
+from roboscript.actions.base import Action, Param
+from roboscript.errors import InputError, MissionError, did_you_mean
+from roboscript.inputs.quantities import DIMENSIONS, QuantityError, parse_quantity
+from roboscript.inputs.source import Location
+from roboscript.mission.guards import GuardError, compile_guard
+from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec, TransitionSpec
+
+__all__ = ["MissionBuilder", "MissionProblemsError", "ParamProblem", "action_params"]
+
+ParamProblem = tuple[str, str, str | None, int | None]
+"""A parameter problem: ``(param name, message, hint, offset)``; ``offset`` is the character of
+a condition where the problem is, else ``None``; the name is ``""`` for a missing parameter."""
+
+
+class MissionProblemsError(MissionError):
+    """The first error in a mission, carrying every problem found (errors and warnings).
+
+    Attributes:
+        problems: All problems, in file order.
+    """
+
+    def __init__(self, problems: list[InputError]) -> None:
+        self.problems = problems
+        first = next(p for p in problems if p.severity == "error")
+        super().__init__(
+            first.message,
+            path=first.path,
+            line=first.line,
+            col=first.col,
+            hint=first.hint,
+        )
+
+
+# ------------------------------------------------------------------------------ parameters
+
+
+def action_params(
+    cls: type[Action],
+    values: Mapping[str, Any],
+    state_names: frozenset[str] | None = None,
+    *,
+    written: bool = True,
+) -> tuple[dict[str, Any], list[ParamProblem]]:
+    """Convert an action's parameters to its keyword arguments, every parameter included.
+
+    Args:
+        cls: The action class.
+        values: Parameter values by mission name (``distance``); a quantity may carry a unit,
+            a bare number is in the parameter's base unit (mm, mm/s, s, deg, deg/s, Hz).
+        state_names: The mission's states, for conditions that read ``visits.STATE``.
+        written: True when ``values`` are what the student wrote (a missing required
+            parameter is a problem); False when they were read from an action object, which
+            its constructor checked.
+
+    Returns:
+        The keyword arguments in the order the action declares its parameters (an omitted
+        parameter takes its documented default), and the problems.
+    """
+    problems: list[ParamProblem] = []
+    params = {p.name: p for p in cls.params}
+    for name in values:
+        if name not in params:
+            hint = did_you_mean(name, params) or (
+                f"'{cls.name}' takes {', '.join(params)}" if params else None
+            )
+            problems.append((name, f"'{cls.name}' has no parameter '{name}'", hint, None))
+    kwargs: dict[str, Any] = {}
+    for param in cls.params:
+        if param.name not in values:
+            if not param.required:
+                kwargs[param.kwarg] = param.default
+            elif written:
+                problems.append(
+                    ("", f"'{cls.name}' needs '{param.name}' ({param.doc})", None, None)
+                )
+            continue
+        try:
+            kwargs[param.kwarg] = _convert(param, values[param.name], state_names)
+        except GuardError as exc:
+            problems.append((param.name, f"{cls.name} {param.name}: {exc}", exc.hint, exc.offset))
+        except ValueError as exc:
+            problems.append((param.name, f"{cls.name} {param.name}: {exc}", None, None))
+    return kwargs, problems
+
+
+def _convert(param: Param, value: Any, state_names: frozenset[str] | None = None) -> Any:
+    if value is None and not param.required:
+        return param.default
+    if param.kind == "count":
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ValueError(f"expected a whole number, got {value!r}")
+        return value
+    if param.kind in DIMENSIONS:
+        try:
+            return parse_quantity(value, param.kind)
+        except QuantityError as exc:
+            raise ValueError(str(exc)) from None
+    if param.kind == "choice":
+        if value not in param.choices:
+            raise ValueError(f"expected one of {', '.join(param.choices)}, got {value!r}")
+        return value
+    if param.kind == "guard":
+        if callable(value):
+            return value  # compiled already (a Python mission's method or expression)
+        if isinstance(value, bool):
+            value = "true" if value else "false"
+        if not isinstance(value, str):
+            raise ValueError(
+                f'expected a condition such as "range.distance_cm < 20", got {value!r}'
+            )
+        return compile_guard(value, state_names)
+    if param.kind == "color":
+        from roboscript.actions.output import parse_color
+
+        return parse_color(value)
+    if param.kind == "text":
+        if not isinstance(value, str | int | float):
+            raise ValueError(f"expected text, got {value!r}")
+        return str(value)
+    return value
+
+
+def _holding(instance: Action, cls: type[Action], kwargs: Mapping[str, Any]) -> Action:
+    """``instance``, or a copy of it holding each quantity as the float the spec has (a
+    Python mission writes ``Drive(distance_mm=500)``, YAML ``distance: 50 cm``: both run
+    500.0)."""
+    changed = {
+        p.kwarg: kwargs[p.kwarg]
+        for p in cls.params
+        if p.kind in DIMENSIONS
+        and p.kwarg in kwargs
+        and type(getattr(instance, p.kwarg, None)) is int
+        and getattr(instance, p.kwarg) == kwargs[p.kwarg]
+    }
+    if not changed:
+        return instance
+    template = copy.copy(instance)
+    try:
+        for kwarg, value in changed.items():
+            setattr(template, kwarg, value)
+    except (AttributeError, TypeError):  # a behaviour's read-only attribute: keep it
+        return instance
+    return template
+
+
+def _guard_capabilities(kwargs: Mapping[str, Any]) -> frozenset[str]:
+    found: set[str] = set()
+    for value in kwargs.values():
+        found |= set(getattr(value, "capabilities", ()))
+    return frozenset(found)
+
+
+# --------------------------------------------------------------------------------- builder
+
+
+class MissionBuilder:
+    """Builds one mission's spec from values and where they were written, collecting problems.
+
+    Args:
+        path: The mission file, as messages name it.
+    """
+
+    def __init__(self, path: str) -> None:
+        self.path = path
+        self.problems: list[InputError] = []
+
+    def problem(
+        self, message: str, where: Location | None, hint: str | None = None, severity: str = "error"
+    ) -> None:
+        """Record a problem at ``where`` (the mission file when ``None``)."""
+        where = where or Location(self.path)
+        self.problems.append(
+            MissionError(
+                message,
+                path=where.path,
+                line=where.line,
+                col=where.col,
+                hint=hint,
+                severity=severity,
+            )
+        )
+
+    @property
+    def failed(self) -> bool:
+        """True once an error (not a warning) was recorded."""
+        return any(p.severity == "error" for p in self.problems)
+
+    # ----------------------------------------------------------------------------- actions
+
+    def action(
+        self,
+        cls: type[Action],
+        values: Mapping[str, Any],
+        where: Location,
+        state_names: frozenset[str],
+        *,
+        param_where: Callable[[str, str, int | None], Location] | None = None,
+        instance: Action | None = None,
+        make: Callable[[], Any] | None = None,
+        name: str | None = None,
+    ) -> ActionSpec | None:
+        """An action's spec from its parameters.
+
+        Args:
+            cls: The action class.
+            values: Parameter values by mission name, as written (YAML) or as read from
+                ``instance`` (Python).
+            where: Where the action was written.
+            state_names: The mission's states.
+            param_where: ``(param name, message, offset) -> Location`` of a parameter's
+                problem (default: ``where``).
+            instance: The action object, when the mission made one (Python): a template,
+                of which each state entry runs a fresh copy, holding the converted values.
+                Without one the builder makes one from the converted parameters to check them.
+            make: Builds a fresh action for each state entry (default: ``cls(**kwargs)``,
+                or a copy of ``instance``).
+            name: The action's name in messages (default: ``cls.name``).
+        """
+        label = name or cls.name
+        kwargs, problems = action_params(cls, values, state_names, written=instance is None)
+        for param_name, message, hint, offset in problems:
+            at = param_where(param_name, message, offset) if param_where else where
+            self.problem(message, at, hint)
+        if problems:
+            return None
+        if instance is not None:
+            template = _holding(instance, cls, kwargs)
+            make = make or functools.partial(copy.deepcopy, template)
+        else:
+            try:
+                instance = cls(**kwargs)
+            except ValueError as exc:
+                self.problem(f"{label}: {exc}", where)
+                return None
+            except Exception as exc:  # noqa: BLE001 - a student's behaviour may raise anything
+                from roboscript.mission.student_code import StudentCodeError
+
+                self.problem(StudentCodeError(f"behaviour '{label}'", exc).reason(None), where)
+                return None
+        frozen = dict(kwargs)
+        return ActionSpec(
+            name=label,
+            kwargs=frozen,
+            factory=make or (lambda: cls(**frozen)),
+            requires=frozenset(cls.requires)
+            | frozenset(getattr(instance, "child_requires", frozenset()))
+            | _guard_capabilities(frozen),
+            location=where,
+            bounded=not cls.bounded_by
+            or any(frozen.get(p.kwarg) is not None for p in cls.params if p.name in cls.bounded_by),
+        )
+
+    def parallel(self, mode: str, children: list[ActionSpec], where: Location) -> ActionSpec:
+        """``parallel``: run ``children`` together, ``all`` or ``any`` of them to finish."""
+        from roboscript.actions.composite import Parallel
+
+        factories = [child.factory for child in children]
+        return ActionSpec(
+            name="parallel",
+            kwargs={"mode": mode, "actions": tuple(c.name for c in children)},
+            factory=lambda: Parallel(factories, mode),
+            requires=frozenset().union(*(c.requires for c in children)),
+            location=where,
+            bounded=all(c.bounded for c in children)
+            if mode == "all"
+            else any(c.bounded for c in children),
+        )
+
+    def repeat(self, times: Any, child: ActionSpec, where: Location) -> ActionSpec | None:
+        """``repeat``: run ``child`` ``times`` times in a row."""
+        from roboscript.actions.composite import Repeat
+
+        if isinstance(times, bool) or not isinstance(times, int) or times < 1:
+            self.problem("repeat times must be a whole number of at least 1", where)
+            return None
+        make = child.factory
+        return ActionSpec(
+            name="repeat",
+            kwargs={"times": times, "action": child.name},
+            factory=lambda: Repeat(make, times),
+            requires=child.requires,
+            location=where,
+            bounded=child.bounded,
+        )
+
+    def machine(self, spec: MissionSpec, label: str, where: Location) -> ActionSpec:
+        """A state whose action is a whole inner machine (nested states, another mission)."""
+        from roboscript.mission.nested import SubMission
+
+        return ActionSpec(
+            name="states",
+            kwargs={"mission": spec.name, "states": tuple(spec.states)},
+            factory=lambda: SubMission(spec, label),
+            requires=spec.requires(),
+            location=where,
+            inner=spec,
+        )
+
+    # ------------------------------------------------------------------------- transitions
+
+    def target(self, value: Any, names: frozenset[str], where: Location) -> str | None:
+        """``value`` as the name of one of the mission's states."""
+        if not isinstance(value, str):
+            self.problem(f"expected a state name, got {value!r}", where)
+            return None
+        if value not in names:
+            self.problem(f"there is no state '{value}'", where, did_you_mean(value, names))
+            return None
+        return value
+
+    def expression(self, text: Any, names: frozenset[str], at: Callable[[int], Location]) -> Any:
+        """A condition written as an expression, compiled; ``at(offset)`` locates a mistake."""
+        if isinstance(text, bool):
+            text = "true" if text else "false"
+        if not isinstance(text, str):
+            self.problem('a condition is text, e.g. if: "range.distance_cm < 20"', at(0))
+            return None
+        try:
+            return compile_guard(text, names)
+        except GuardError as exc:
+            self.problem(str(exc), at(exc.offset), exc.hint)
+            return None
+
+    @staticmethod
+    def transition(
+        target: str, guard: Any = None, guard_text: str | None = None, where: Location | None = None
+    ) -> TransitionSpec:
+        """A way out of a state (unconditional when ``guard`` is ``None``)."""
+        return TransitionSpec(target, guard, guard_text, where)
+
+    # ------------------------------------------------------------------------------ states
+
+    def timeout(
+        self, state: str, field: str, seconds: Any, where: Location, written: Any = None
+    ) -> float | None:
+        """A state's time bound: a positive number of seconds.
+
+        Args:
+            state: The state's name.
+            field: The bound's name in the syntax (``timeout``, ``timeout_s``).
+            seconds: The bound in seconds (``None``: no bound).
+            where: Where it was written.
+            written: As written, for the message (default: ``seconds``).
+        """
+        if seconds is None:
+            return None
+        if isinstance(seconds, bool) or not isinstance(seconds, int | float) or seconds <= 0:
+            shown = seconds if written is None else written
+            self.problem(
+                f"state '{state}': {field} is a positive number of seconds, got {shown!r}",
+                where,
+            )
+            return None
+        return float(seconds)
+
+    def final(self, state: str, value: Any, where: Location) -> str | None:
+        """A final state's outcome: ``success`` (or ``True``) or ``failure``; else ``None``."""
+        if value is True or value == "success":
+            return "success"
+        if value == "failure":
+            return "failure"
+        if value not in (None, False):
+            self.problem(f"state '{state}': final is 'success' or 'failure', got {value!r}", where)
+        return None
+
+    def state(
+        self,
+        name: str,
+        *,
+        action: ActionSpec | None = None,
+        during: tuple[ActionSpec, ...] = (),
+        on: Mapping[str, tuple[TransitionSpec, ...]] | None = None,
+        when: tuple[TransitionSpec, ...] = (),
+        timeout_s: float | None = None,
+        final: str | None = None,
+        description: Any = None,
+        where: Location | None = None,
+    ) -> StateSpec:
+        """One state (its parts built and checked by the methods above)."""
+        return StateSpec(
+            name=name,
+            action=action,
+            during=during,
+            on=dict(on or {}),
+            when=when,
+            timeout_s=timeout_s,
+            final=final,
+            description=_text(description),
+            location=where,
+        )
+
+    # ----------------------------------------------------------------------------- mission
+
+    def names_a(self, key: str, value: Any, where: Location, example: str) -> str | None:
+        """``robot`` or ``world``: the name of one, or ``None`` (the default)."""
+        if value is not None and not isinstance(value, str):
+            self.problem(f"'{key}' names a {key}, e.g. {example}", where)
+            return None
+        return value
+
+    def initial(self, value: Any, names: frozenset[str], where: Location) -> str | None:
+        """The first state: one of the states."""
+        if not isinstance(value, str) or value not in names:
+            self.problem(
+                f"the initial state '{value}' is not one of the states",
+                where,
+                did_you_mean(str(value), names),
+            )
+            return None
+        return value
+
+    def mission(
+        self,
+        *,
+        name: Any,
+        initial: str,
+        states: Mapping[str, StateSpec],
+        description: Any = None,
+        where: Location | None = None,
+        robot: str | None = None,
+        world: str | None = None,
+    ) -> MissionSpec:
+        """The whole mission."""
+        return MissionSpec(
+            name=str(name),
+            initial=initial,
+            states=dict(states),
+            description=_text(description),
+            path=self.path,
+            location=where,
+            robot=robot,
+            world=world,
+        )
+
+    def finish(
+        self, spec: MissionSpec | None, profile: Any = None, *, own_file_first: bool = False
+    ) -> tuple[MissionSpec, list[InputError]]:
+        """Check the built mission (:func:`~roboscript.mission.checks.check_mission`) and
+        return it with its warnings.
+
+        Args:
+            spec: The built mission, or ``None`` if it could not be built.
+            profile: A robot profile to check capabilities against, or ``None``.
+            own_file_first: List problems in the mission's own file before those in other
+                files (a Python mission's imported classes); else all in line order (a YAML
+                mission's behaviour and included files, as ``roboscript check`` has shown them).
+
+        Raises:
+            MissionProblemsError: The first error, with every problem in ``problems``.
+        """
+        from roboscript.mission.checks import check_mission
+
+        if spec is not None and not self.failed:
+            self.problems.extend(check_mission(spec, profile))
+        if spec is None or self.failed:
+            self.problems.sort(
+                key=lambda p: (own_file_first and p.path != self.path, p.line or 0, p.col or 0)
+            )
+            raise MissionProblemsError(self.problems)
+        return spec, [p for p in self.problems if p.severity != "error"]
+
+    def check_inner(self, spec: MissionSpec | None, inner: MissionBuilder) -> MissionSpec | None:
+        """Take an inner machine's problems (checking it if it built), and the spec if sound."""
+        from roboscript.mission.checks import check_mission
+
+        if spec is not None and not inner.failed:
+            inner.problems.extend(check_mission(spec))
+        self.problems.extend(inner.problems)
+        return None if spec is None or inner.failed else spec
+
+
+def _text(value: Any) -> str:
+    """Free text (a description) as both syntaxes give it: surrounding blank space removed
+    (YAML's folded ``>`` ends it with a newline, a docstring does not)."""
+    return "" if value is None else str(value).strip()
