@@ -11,8 +11,10 @@ only with ``--debug``.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import logging
+import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -32,6 +34,7 @@ __all__ = ["main"]
 EXIT_OK = 0
 EXIT_FAILED = 1
 EXIT_INPUT = 2
+EXIT_CLOSED_PIPE = 141  # 128 + SIGPIPE, what the shell reports for a tool whose reader left
 
 
 def _err(text: str) -> None:
@@ -57,6 +60,23 @@ def _load_mission(path: str, robot: str | None) -> tuple[Any, Any]:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
+    if args.quiet:
+        # "print only the result": driver notices (warnings logged during the run) too
+        logging.getLogger("roboscript").setLevel(logging.ERROR)
+    if not args.json:
+        return _run(args)
+    # stdout carries one JSON document: whatever the mission prints goes to stderr instead
+    with contextlib.redirect_stdout(sys.stderr):
+        code, summary = _run_collect(args)
+    print(json.dumps(summary, indent=2))
+    return code
+
+
+def _run(args: argparse.Namespace) -> int:
+    return _run_collect(args)[0]
+
+
+def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
     from roboscript.session import run_session, session_summary
 
     spec, profile = _load_mission(args.mission, args.robot)
@@ -101,9 +121,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     sim = session.simulation
     interrupted = session.interrupted
     summary = session_summary(session)
-    if args.json:
-        print(json.dumps(summary, indent=2))
-    else:
+    if not args.json:
         if result.outcome == "success":
             _err(
                 f"success: {spec.name} ended in '{result.final_state}'"
@@ -113,8 +131,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
             _err(f"{result.outcome}: {result.reason}")
     plotted = _write_plot(args.plot, result, sim) if args.plot else True
     if interrupted:
-        return interrupted
-    return EXIT_OK if result.outcome == "success" and plotted else EXIT_FAILED
+        return interrupted, summary
+    ok = result.outcome == "success" and plotted
+    return (EXIT_OK if ok else EXIT_FAILED), summary
 
 
 def _write_plot(path: str, result: Any, sim: Any) -> bool:
@@ -506,6 +525,12 @@ def _parser() -> argparse.ArgumentParser:
 
     robots = sub.add_parser("robots", help="list the built-in robot profiles")
     robots.set_defaults(func=_cmd_robots)
+    for command in sub.choices.values():
+        # Global options are accepted after the command too (`roboscript run m.yaml --debug`);
+        # SUPPRESS keeps a command not given --debug from resetting the global one.
+        command.add_argument(
+            "--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS
+        )
     return parser
 
 
@@ -540,4 +565,19 @@ def main(argv: Sequence[str] | None = None) -> NoReturn:
     except KeyboardInterrupt as exc:
         _err(reason_for(exc))
         code = exit_status_for(exc)
+    except BrokenPipeError:
+        code = _closed_pipe()
+    try:
+        sys.stdout.flush()  # a closed pipe shows here when the output was still buffered
+    except BrokenPipeError:
+        code = _closed_pipe()
     sys.exit(code)
+
+
+def _closed_pipe() -> int:
+    """The reader of our output went away (``| head``): end quietly, as a C tool would."""
+    # Python flushes stdout again at exit and would report the closed pipe a second time
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+    os.close(devnull)
+    return EXIT_CLOSED_PIPE

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any, cast
 from roboscript import capabilities as cap
 from roboscript.clock import Clock, MonotonicClock, SimClock
 from roboscript.errors import CapabilityError, LinkError, LinkTimeoutError
+from roboscript.interrupts import deferred
 from roboscript.profiles import RobotProfile, get_profile, register_profile
 from roboscript.scheduler import Scheduler
 
@@ -210,8 +211,13 @@ class Robot:
     # ------------------------------------------------------------------------------ safety
 
     def stop(self) -> None:
-        """Stop every actuator now (sends the stop command; never raises)."""
-        self.driver.stop_all()
+        """Stop every actuator now (sends the stop command).
+
+        A Ctrl-C, SIGTERM or SIGHUP arriving meanwhile waits until the stop has gone out
+        (:func:`roboscript.interrupts.deferred`); nothing else is raised.
+        """
+        with deferred():
+            self.driver.stop_all()
 
     def close(self) -> None:
         """Stop the robot, then close the port. Safe to call more than once."""

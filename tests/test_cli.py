@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import json
+import os
 import socket
+import subprocess
+import sys
 import threading
 import time
 from pathlib import Path
 
-from helpers import run_cli
+from helpers import ROOT, run_cli
 
 
 def test_square_succeeds_with_four_tones_and_returns_home() -> None:
@@ -164,3 +167,70 @@ def test_a_time_limit_must_be_positive() -> None:
     result = run_cli("run", "missions/square.yaml", "--max-time", "-5")
     assert result.returncode == 2
     assert "a time limit must be more than 0 s (got -5)" in result.stderr
+
+
+def test_debug_is_accepted_after_the_command_too(tmp_path: Path) -> None:
+    missing = str(tmp_path / "nope.yaml")
+    plain = run_cli("run", missing)
+    assert plain.returncode == 2
+    assert "Traceback" not in plain.stderr
+    for args in (("--debug", "run", missing), ("run", missing, "--debug")):
+        shown = run_cli(*args)
+        assert "Traceback" in shown.stderr, args  # --debug shows where it came from
+        assert "cannot read the file" in shown.stderr
+
+
+PRINTING_MISSION = '''\
+"""A mission whose condition prints, as students' debugging code does."""
+
+from roboscript import Mission, Wait, state
+
+
+class Chatty(Mission):
+    """Print while waiting."""
+
+    waiting = state(Wait(duration_s=0.1), initial=True, on_done="done", when=[("chat", "done")])
+    done = state(final="success")
+
+    def chat(self) -> bool:
+        """Print, and never fire."""
+        print("hello from the student")
+        return False
+'''
+
+
+def test_with_json_what_the_mission_prints_goes_to_stderr(tmp_path: Path) -> None:
+    mission = tmp_path / "chatty.py"
+    mission.write_text(PRINTING_MISSION, encoding="utf-8")
+    result = run_cli("run", str(mission), "--json")
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["outcome"] == "success"  # stdout is one JSON document
+    assert "hello from the student" in result.stderr
+
+
+def test_quiet_prints_only_the_result() -> None:
+    # a one-pitch buzzer and no encoders: the StackMod driver has notices to give
+    loud = run_cli("run", "missions/square.yaml", "--robot", "stackmod-rover")
+    assert "no wheel encoders" in loud.stderr
+    quiet = run_cli("run", "missions/square.yaml", "--robot", "stackmod-rover", "--quiet")
+    assert quiet.returncode == 0
+    lines = quiet.stderr.strip().splitlines()
+    assert len(lines) == 1, lines
+    assert lines[0].startswith("success: square ended in 'finished' after ")
+
+
+def test_a_closed_pipe_ends_quietly() -> None:
+    # `roboscript robots | head -c 1` with the reader already gone
+    read_end, write_end = os.pipe()
+    os.close(read_end)
+    done = subprocess.run(
+        [sys.executable, "-m", "roboscript", "run", "missions/square.yaml", "--json"],
+        cwd=ROOT,
+        stdout=write_end,
+        stderr=subprocess.PIPE,
+        text=True,
+        check=False,
+    )
+    os.close(write_end)
+    assert done.returncode == 141  # 128 + SIGPIPE, as the shell reports for a C tool
+    assert done.stderr == ""

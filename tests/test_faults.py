@@ -91,7 +91,7 @@ def test_silent_robot_is_stopped_and_the_mission_fails(mission: Path) -> None:
 def test_garbage_is_skipped_counted_and_reported_once_per_kind(mission: Path) -> None:
     board = FakeAsipBoard(garbage=True)
     try:
-        result = run_cli("run", str(mission), "--port", board.url, "--quiet")
+        result = run_cli("run", str(mission), "--port", board.url)
     finally:
         board.close()
     assert result.returncode == 0, result.stderr

@@ -13,12 +13,20 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 from helpers import ROOT
 
-from roboscript.interrupts import Interrupted, exit_status_for, reason_for
+from roboscript.interrupts import (
+    HANDLED_SIGNALS,
+    Interrupted,
+    deferred,
+    exit_status_for,
+    install,
+    reason_for,
+)
 from roboscript.sim.simulation import make_simulation
 from roboscript.transport.wirelog import read_wire_log
 
@@ -87,3 +95,45 @@ def test_a_signal_mid_mission_stops_the_robot_then_exits_with_its_status(
     most, end = _replayed_power(robot, log)
     assert most > 0.1, "the robot never drove: the test proves nothing"
     assert all(abs(p) < 1e-6 for p in end), f"{robot} left driving at {end} after {name}"
+
+
+@pytest.fixture
+def handlers() -> Iterator[None]:
+    saved = {signum: signal.getsignal(signum) for signum in HANDLED_SIGNALS}
+    install()
+    try:
+        yield
+    finally:
+        for signum, handler in saved.items():
+            signal.signal(signum, handler)
+
+
+@pytest.mark.usefixtures("handlers")
+def test_a_signal_while_the_stop_goes_out_waits_for_it() -> None:
+    sent: list[str] = []
+    with pytest.raises(Interrupted) as raised, deferred():
+        os.kill(os.getpid(), signal.SIGTERM)
+        sent.append("stop")  # reached: the signal did not cut the stop short
+    assert sent == ["stop"]
+    assert raised.value.signum == signal.SIGTERM
+
+
+@pytest.mark.usefixtures("handlers")
+def test_a_second_signal_while_stopping_ends_at_once() -> None:
+    sent: list[str] = []
+    # nested: closing the robot stops it inside a stop path
+    with pytest.raises(Interrupted) as raised, deferred(), deferred():
+        os.kill(os.getpid(), signal.SIGINT)
+        os.kill(os.getpid(), signal.SIGHUP)
+        sent.append("never")
+    assert sent == []
+    assert raised.value.signum == signal.SIGINT  # the first signal is why the run ended
+    with deferred():  # nothing is left pending for the next stop
+        pass
+
+
+@pytest.mark.usefixtures("handlers")
+def test_outside_a_stop_a_signal_raises_where_the_program_is() -> None:
+    with pytest.raises(Interrupted) as raised:
+        os.kill(os.getpid(), signal.SIGINT)
+    assert raised.value.exit_status == 130
