@@ -28,6 +28,7 @@ from roboscript.errors import (
 )
 from roboscript.interrupts import exit_status_for, reason_for
 from roboscript.interrupts import install as install_interrupts
+from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
 
 __all__ = ["main"]
 
@@ -50,10 +51,19 @@ def _print_problems(error: InputError) -> None:
 # ------------------------------------------------------------------------------------- run
 
 
-def _load_mission(path: str, robot: str | None) -> tuple[Any, Any]:
+def _load_mission(path: str, robot: str | None, strict: bool = False) -> tuple[Any, Any]:
     from roboscript.mission import mission_for_robot
+    from roboscript.mission.student_code import stuck_at
 
-    spec, profile, warnings = mission_for_robot(path, robot)
+    # a Python mission or behaviour file runs when imported: a loop there would hang `check`
+    with Watchdog(DEFAULT_LIMIT_S, stuck_at):
+        spec, profile, warnings = mission_for_robot(path, robot)
+    if strict and warnings:  # check --strict: each warning is an error
+        from roboscript.mission.builder import MissionProblemsError
+
+        raise MissionProblemsError(
+            [type(w)(w.message, path=w.path, line=w.line, col=w.col, hint=w.hint) for w in warnings]
+        )
     for warning in warnings:
         _err(warning.format())
     return spec, profile
@@ -179,7 +189,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
             if path.suffix.lower() in (".yaml", ".yml") and is_test_spec(path):
                 load_test_spec(path)  # a teacher's test spec, not a mission
             else:
-                _load_mission(str(path), args.robot)
+                _load_mission(str(path), args.robot, args.strict)
         except InputError as exc:
             _print_problems(exc)
             bad += 1
@@ -353,7 +363,11 @@ def _cmd_sim(args: argparse.Namespace) -> int:
     def announce(line: str) -> None:
         print(line, flush=True)
 
-    server = SimServer(simulation, announce)
+    try:
+        server = SimServer(simulation, announce, handshake_wait_s=args.handshake_wait)
+    except ValueError as exc:
+        _err(f"error: --handshake-wait: {exc}")
+        return EXIT_INPUT
     try:
         if address is None:
             server.serve_pty(max_runtime_s=args.max_runtime)
@@ -454,6 +468,9 @@ def _parser() -> argparse.ArgumentParser:
     check = sub.add_parser("check", help="check mission files without a robot")
     check.add_argument("paths", nargs="+", metavar="PATH", help="files or folders")
     check.add_argument("--robot", help="also check against this robot's capabilities")
+    check.add_argument(
+        "--strict", action="store_true", help="treat each warning (a bare number...) as an error"
+    )
     check.set_defaults(func=_cmd_check)
 
     grade = sub.add_parser(
@@ -517,6 +534,13 @@ def _parser() -> argparse.ArgumentParser:
         "--tcp", metavar="HOST:PORT", help="listen on this TCP address (port 0: any)"
     )
     where.add_argument("--pty", action="store_true", help="open a pseudo-terminal; print its path")
+    sim.add_argument(
+        "--handshake-wait",
+        type=float,
+        default=5.0,
+        metavar="SECONDS",
+        help="drop a TCP client that sends nothing this long after connecting (default: 5)",
+    )
     sim.add_argument("--max-runtime", type=float, metavar="SECONDS", help=argparse.SUPPRESS)
     sim.set_defaults(func=_cmd_sim)
 
@@ -565,6 +589,11 @@ def main(argv: Sequence[str] | None = None) -> NoReturn:
     except KeyboardInterrupt as exc:
         _err(reason_for(exc))
         code = exit_status_for(exc)
+    except RunawayCode as exc:  # a mission file stuck while loading (a run handles its own)
+        if args.debug:
+            raise
+        _err(f"error: {exc.reason}")
+        code = EXIT_FAILED
     except BrokenPipeError:
         code = _closed_pipe()
     try:

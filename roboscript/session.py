@@ -7,6 +7,7 @@ robot, world and seed. :func:`session_summary` builds the ``run --json`` object.
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -15,8 +16,10 @@ from roboscript.errors import LinkError
 from roboscript.interrupts import exit_status_for, reason_for
 from roboscript.mission.runner import MissionResult, MissionRunner
 from roboscript.mission.spec import MissionSpec
+from roboscript.mission.student_code import stuck_at
 from roboscript.profiles import RobotProfile
 from roboscript.robot import Robot
+from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
 
 __all__ = ["Session", "run_session", "session_summary"]
 
@@ -79,6 +82,7 @@ def run_session(
     on_state: Callable[[float, str], None] | None = None,
     on_connected: Callable[[Robot], None] | None = None,
     on_tick: Callable[[MissionRunner, Robot], None] | None = None,
+    runaway_after_s: float | None = DEFAULT_LIMIT_S,
 ) -> Session:
     """Connect the robot, run ``spec`` on it until it ends or ``max_time_s`` passes, stop it.
 
@@ -95,11 +99,14 @@ def run_session(
         on_state: Called with ``(mission time s, state)`` whenever a state is entered.
         on_connected: Called with the robot once the handshake is done, before the mission.
         on_tick: Called after every scheduler tick with the runner and the robot (progress).
+        runaway_after_s: Wall seconds one tick's code (a behaviour, a condition) may run
+            before the mission ends in error at the line where it is stuck
+            (:mod:`roboscript.watchdog`); ``None`` turns the watchdog off.
 
     Returns:
         The finished run. A lost link ends the mission with outcome ``error``; so do Ctrl-C,
         SIGTERM and SIGHUP (see :mod:`roboscript.interrupts`), which also set
-        ``interrupted``; the robot is always told to stop first.
+        ``interrupted``, and code stuck in a loop; the robot is always told to stop first.
 
     Raises:
         LinkError: The robot could not be reached.
@@ -128,11 +135,18 @@ def run_session(
             on_tick(runner, robot)
 
         robot.scheduler.add(after_tick, "after")
+    watchdog = Watchdog(runaway_after_s, stuck_at) if runaway_after_s is not None else None
+    if watchdog is not None:
+        robot.scheduler.add(lambda now_s, dt_s: watchdog.pet(), "after")
     interrupted = 0
     try:
         with robot:
             try:
-                robot.scheduler.run(until=lambda: runner.finished, max_duration_s=max_time_s)
+                with watchdog or contextlib.nullcontext():
+                    robot.scheduler.run(until=lambda: runner.finished, max_duration_s=max_time_s)
+            except RunawayCode as exc:
+                robot.stop()
+                runner.finish("error", exc.reason)
             except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM, SIGHUP (roboscript.interrupts)
                 robot.stop()
                 interrupted = exit_status_for(exc)
@@ -167,11 +181,13 @@ def session_summary(session: Session) -> dict[str, Any]:
             "world": sim.world.name,
             "final_pose": {"x_mm": x_mm, "y_mm": y_mm, "heading_deg": heading_deg},
             "distance_travelled_mm": round(sim.log.distance_travelled_mm, 1),
-            "collisions": len(sim.log.contacts),
+            "collisions": sim.log.contacts.total,
             "tones": [
                 {"t_s": t, "frequency_hz": f, "duration_s": d}
                 for t, f, d in session.mission_tones()
             ],
             "path": [list(sample) for sample in session.mission_path()],
         }
+        if sim.log.tones.more:  # a run of hours: the first tones are listed, the rest counted
+            summary["sim"]["tones_not_listed"] = sim.log.tones.more
     return summary

@@ -300,6 +300,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
         "roboscript.status",
         "roboscript.codec",
         "roboscript.interrupts",
+        "roboscript.watchdog",
     ),
     ("roboscript.inputs",),
     ("roboscript.profiles", "roboscript.scheduler"),

@@ -39,12 +39,21 @@ TESTS_FOR: dict[str, tuple[str, ...]] = {
     "roboscript/mission": ("tests/mission",),
     "roboscript/grading/expectations.py": (
         "tests/grading/test_expectations.py",
+        "tests/grading/test_expectations_thresholds.py",
+        "tests/grading/test_expectations_parsing.py",
         "tests/grading/test_documented_defaults.py",
         "tests/grading/test_spec.py",
     ),
 }
 """The tests that exercise each package in scope: mutmut runs only these (and, per mutant,
 only those of them that reach the mutated function)."""
+
+DESELECTED: tuple[str, ...] = (
+    # grades a mission in a worker process, which imports the mutated copy without mutmut's
+    # trampoline state and crashes: mutmut's first, unmutated run then fails
+    "tests/grading/test_expectations.py::test_wall_ahead_and_run_targets_through_the_grader",
+)
+"""Tests left out of every mutation run (each with the reason it cannot run under mutmut)."""
 
 
 def _scope() -> list[str]:
@@ -105,7 +114,11 @@ def _prepare(paths: list[str], tests: list[str]) -> None:
         f"only_mutate = {json.dumps(_patterns(paths))}",
         'also_copy = ["docs/", "missions/", "drivers/", "README.md"]',
         f"pytest_add_cli_args_test_selection = {json.dumps(tests)}",
-        'pytest_add_cli_args = ["-p", "no:cacheprovider", "-q", "-x"]',
+        "pytest_add_cli_args = "
+        + json.dumps(
+            ["-p", "no:cacheprovider", "-q", "-x"]
+            + [arg for test in DESELECTED for arg in ("--deselect", test)]
+        ),
     ]
     (SCRATCH / "pyproject.toml").write_text(head + "\n".join(narrowed) + "\n", encoding="utf-8")
 

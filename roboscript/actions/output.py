@@ -76,7 +76,7 @@ class SetLed(Action):
 
     Args:
         index: Which LED, from 0.
-        color: ``(r, g, b)``, each 0-255.
+        color: A colour name, ``"#RRGGBB"`` or ``(r, g, b)``, each 0-255.
 
     Outcomes: ``done`` at once; ``failed`` ("not supported") if the robot has fewer LEDs.
     """
@@ -89,7 +89,7 @@ class SetLed(Action):
     )
     requires = frozenset({cap.LEDS})
 
-    def __init__(self, color: tuple[int, int, int], index: int = 0) -> None:
+    def __init__(self, color: str | tuple[int, int, int] | list[int], index: int = 0) -> None:
         if index < 0:
             raise ValueError("LED index must not be negative")
         self.index = int(index)

@@ -20,10 +20,11 @@ class Settle:
 
     def update(self, error: float, dt_s: float) -> bool:
         """Feed the current error; return True when settled."""
-        if abs(error) <= self.tolerance:
-            self._inside_s += dt_s
-        else:
+        if abs(error) > self.tolerance:
+            # Outside is never settled, even with no dwell at all.
             self._inside_s = 0.0
+            return False
+        self._inside_s += dt_s
         return self._inside_s >= self.dwell_s - 1e-9
 
 

@@ -18,12 +18,22 @@ Shared here, so that each driver has one copy of them:
 * the host codec, from the protocol's unit (:meth:`Driver.make_codec`);
 * :class:`PendingRequest`: one request in flight, its reply matched, a timeout on the
   scheduler clock and bounded retries;
-* :class:`WheelDriveBase`: the ``drive_base`` of a driver that takes wheel speeds.
+* :class:`WheelDriveBase`: the ``drive_base`` of a driver that takes wheel speeds;
+* the *liveness rule*, the same for every protocol: once the robot is ready, a driver whose
+  robot talks steadily sets :attr:`Driver.silence_limit_s`, and nothing heard for that long
+  fails the run; any :class:`~roboscript.errors.LinkTimeoutError` out of :meth:`Driver.tick`
+  or :meth:`Driver.flush` after the handshake reads "the robot stopped responding 12.3 s
+  after connecting: ..."; a lost port reads "the connection to X was lost 12.3 s after
+  connecting". Every subclass's ``tick`` and ``flush`` are wrapped once, when the class is
+  defined, so a driver cannot forget the rule;
+* :meth:`Driver.skip_reading`: a device value no real robot can report is counted with the
+  link's garbage (``Link.faults``) and skipped.
 """
 
 from __future__ import annotations
 
 import abc
+import functools
 import logging
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -32,11 +42,11 @@ from typing import Any, ClassVar, Generic, Protocol, TypeVar
 from roboscript.clock import Clock
 from roboscript.codec import Codec, Role
 from roboscript.drivers import protocol_unit
-from roboscript.errors import LinkError, LinkTimeoutError, LocalProtocolError
+from roboscript.errors import LinkClosedError, LinkError, LinkTimeoutError, LocalProtocolError
 from roboscript.profiles import RobotProfile
 from roboscript.transport.link import Link
 
-__all__ = ["Driver", "PendingRequest", "WheelDriveBase"]
+__all__ = ["OUT_OF_RANGE", "STOPPED_RESPONDING", "Driver", "PendingRequest", "WheelDriveBase"]
 
 logger = logging.getLogger("roboscript.drivers")
 
@@ -44,6 +54,43 @@ RequestT = TypeVar("RequestT")
 
 _EPSILON_S = 1e-9
 """Slack in timeout comparisons, so float noise in clock sums never delays one by a tick."""
+
+STOPPED_RESPONDING = "the robot stopped responding"
+"""How every silence failure after the handshake begins, whatever the protocol."""
+
+OUT_OF_RANGE = "out_of_range"
+"""The garbage kind (``Link.faults``) of a device value no real robot can report."""
+
+_Tick = Callable[[Any, float, float], None]
+
+
+def _guarded(method: _Tick, *, watch: bool) -> _Tick:
+    """Wrap a driver's ``tick`` or ``flush`` with the liveness rule (see the module docstring).
+
+    ``watch`` adds the silence check after the method (``tick`` only: it has read the link).
+    """
+
+    @functools.wraps(method)
+    def guarded(self: Driver, now_s: float, dt_s: float) -> None:
+        try:
+            method(self, now_s, dt_s)
+            if watch:
+                self.watch_silence(now_s)
+        except LinkClosedError as exc:
+            failure = self._failed(exc, now_s)
+            if failure is exc:
+                raise
+            raise failure from exc
+        except LinkTimeoutError as exc:
+            if not self.ready:
+                raise  # the handshake's own sentence says what did not answer
+            failure = self._failed(exc, now_s)
+            if failure is exc:
+                raise
+            raise failure from exc
+
+    guarded.liveness_guarded = True  # type: ignore[attr-defined]
+    return guarded
 
 
 @dataclass
@@ -236,11 +283,28 @@ class Driver(abc.ABC):
 
     protocol: ClassVar[str]
 
+    silence_limit_s: float | None = None
+    """Once ready, nothing heard from the robot for this long fails the run, seconds; ``None``
+    for a robot that only speaks when asked (its driver's unanswered requests say it)."""
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        for name, watch in (("tick", True), ("flush", False)):
+            method = cls.__dict__.get(name)
+            if method is not None and not getattr(method, "liveness_guarded", False):
+                setattr(cls, name, _guarded(method, watch=watch))
+
     def __init__(self, link: Link, profile: RobotProfile, clock: Clock) -> None:
         self.link = link
         self.profile = profile
         self.clock = clock
         self.ready = False
+        self.connected_s = clock.now()
+        """Scheduler time at which the port was opened, seconds."""
+        self.ready_s: float | None = None
+        """Scheduler time at which the handshake ended, seconds (``None`` before)."""
+        self.failure: LinkError | None = None
+        """The silence or loss that ended the run, as the user reads it, or ``None``."""
         self.notices: list[str] = []
         """One-line messages for the user (for example a switch to host-side control)."""
         self.device_errors: list[str] = []
@@ -281,6 +345,68 @@ class Driver(abc.ABC):
         """End the handshake: offer ``capabilities`` and become ready."""
         self._capabilities = dict(capabilities)
         self.ready = True
+        self.ready_s = self.clock.now()
+
+    # ------------------------------------------------------------------------------ liveness
+
+    def silent_for_s(self, now_s: float) -> float:
+        """How long nothing has been heard from the robot at ``now_s``, seconds.
+
+        Timed from the last byte received, or from the end of the handshake if that is later
+        (or from connecting, before it).
+        """
+        heard = [t for t in (self.link.last_receive_s, self.ready_s) if t is not None]
+        return now_s - max(heard, default=self.connected_s)
+
+    def watch_silence(self, now_s: float) -> None:
+        """Apply :attr:`silence_limit_s` (called after every :meth:`tick`).
+
+        Raises:
+            LinkTimeoutError: The robot is ready and nothing was heard for the limit.
+        """
+        limit = self.silence_limit_s
+        if limit is None or not self.ready:
+            return
+        if self.silent_for_s(now_s) >= limit - _EPSILON_S:
+            raise LinkTimeoutError(STOPPED_RESPONDING)
+
+    def _failed(self, exc: LinkError, now_s: float) -> LinkError:
+        """The error the user reads for a silence or loss at ``now_s`` (kept in ``failure``)."""
+        if exc is self.failure:
+            return exc  # a subclass's tick already turned it into the user's sentence
+        after = f"{now_s - self.connected_s:.1f} s after connecting"
+        failure: LinkError
+        if isinstance(exc, LinkClosedError):
+            if self.link.closed:
+                text = f"the connection to {self.link.name} was lost {after}"
+            else:  # the robot closed something of its own (a program on the hub stopped)
+                text = f"{exc} ({after})"
+            failure = LinkClosedError(text)
+        else:
+            detail = str(exc)
+            if STOPPED_RESPONDING in detail:  # a driver's own silence check: say it once
+                detail = f"nothing heard from it for {self.silent_for_s(now_s):.1f} s"
+            failure = LinkTimeoutError(f"{STOPPED_RESPONDING} {after}: {detail}")
+        self.failure = failure
+        return failure
+
+    def skip_reading(self, what: str) -> None:
+        """Count a device value no real robot can report with the link's garbage, and skip it.
+
+        Counted under :data:`OUT_OF_RANGE` in ``link.faults``; logged once, like other
+        garbage, so a broken sensor cannot flood the log.
+
+        Args:
+            what: The value and why it is impossible, for the log.
+        """
+        faults = self.link.faults
+        if not faults[OUT_OF_RANGE]:
+            logger.warning(
+                "%s sent a value no real robot can report (%s); skipping such values",
+                self.link.name,
+                what,
+            )
+        faults[OUT_OF_RANGE] += 1
 
     def wanted(self, makers: Mapping[str, Callable[[], object]]) -> dict[str, object]:
         """Build the capabilities the profile lists, each with its maker, in ``makers`` order."""

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from roboscript.errors import SpecError, did_you_mean
+from roboscript.errors import InputError, SpecError, did_you_mean
 from roboscript.grading.expectations import (
     Expectation,
     RunOverride,
@@ -40,7 +40,14 @@ from roboscript.grading.expectations import (
 )
 from roboscript.grading.record import RunResult, RunStatus
 from roboscript.inputs.fields import FieldReader
-from roboscript.inputs.source import Location, Mark, YamlList, YamlMap, load_yaml
+from roboscript.inputs.source import (
+    Location,
+    Mark,
+    YamlList,
+    YamlMap,
+    load_yaml,
+    read_source,
+)
 from roboscript.sim.world import World, builtin_worlds, load_world
 
 __all__ = [
@@ -198,8 +205,8 @@ class TestSpec:
 def is_test_spec(path: str | Path) -> bool:
     """Whether a YAML file is a test spec (its first key is ``test:``), judged from its text."""
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
+        text = read_source(path)  # not a device or a pipe: load_mission says what is wrong
+    except InputError:
         return False
     for line in text.splitlines():
         stripped = line.strip()

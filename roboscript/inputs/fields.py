@@ -14,11 +14,12 @@ that collect every problem (missions) keep what :meth:`FieldReader.unknown_keys`
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Sequence
 from typing import Any
 
 from roboscript.errors import InputError, did_you_mean
-from roboscript.inputs.quantities import QuantityError, parse_quantity
+from roboscript.inputs.quantities import DIMENSIONS, QuantityError, parse_quantity
 from roboscript.inputs.source import Location, Mark, YamlList, YamlMap
 
 __all__ = ["FieldReader", "did_you_mean", "unknown_key_hint"]
@@ -28,6 +29,17 @@ def unknown_key_hint(key: str, keys: Iterable[str]) -> str:
     """The hint for an unknown key: the near miss, else the keys that exist."""
     keys = list(keys)
     return did_you_mean(key, keys) or f"expected one of: {', '.join(keys)}"
+
+
+def _shown(value: object) -> str:
+    """A value in a message: the text as written, a number beyond any float by its size."""
+    if isinstance(value, str):
+        return f"'{value.strip()}'"
+    if isinstance(value, float):
+        return "nan" if math.isnan(value) else f"{'-' if value < 0 else ''}infinity"
+    if isinstance(value, int):  # str() of it could pass Python's 4300-digit limit
+        return f"a {int(value.bit_length() * math.log10(2)) + 1}-digit number"
+    return repr(value)
 
 
 class FieldReader:
@@ -108,11 +120,24 @@ class FieldReader:
     def value_quantity(
         self, value: Any, dimension: str, mark: Mark | None, default_unit: str | None = None
     ) -> float:
-        """``value`` converted to the base unit of ``dimension`` (mm, mm/s, s, deg, Hz)."""
+        """``value`` converted to the base unit of ``dimension`` (mm, mm/s, s, deg, Hz).
+
+        Raises:
+            InputError: ``value`` is not a quantity of ``dimension``, or not a finite one
+                (``1e400 mm``, ``.inf``, ``.nan``).
+        """
         try:
-            return parse_quantity(value, dimension, default_unit)
+            found = parse_quantity(value, dimension, default_unit)
         except QuantityError as exc:
-            raise self.fail(str(exc), mark) from None
+            raise self.fail(exc.message, mark, exc.hint) from None
+        except OverflowError:  # a whole number beyond any float, given from code
+            found = math.inf
+        if not math.isfinite(found):
+            name = DIMENSIONS[dimension].name
+            raise self.fail(
+                f"{_shown(value)} is not a {name} a robot can use", mark, f"write a finite {name}"
+            )
+        return found
 
     def quantity(
         self, data: YamlMap, key: str, dimension: str, default_unit: str | None = None

@@ -3,15 +3,31 @@
 Each field of a mission, world or test spec has a *dimension*; a bare number takes that
 field's documented unit, and a number with a unit is converted to the base unit of the
 dimension (millimetres, seconds, degrees, hertz). A unit of the wrong dimension
-(``speed: 50 deg``) is an error that says which units would fit.
+(``speed: 50 deg``) is an error that says which units would fit, and a decimal comma
+(``0,2 m/s``) an error that shows the decimal point.
+
+Where the unit matters (a distance, a speed, a time, an angle, a turn rate, a frequency), a
+bare number is a likely mistake (``distance: 50`` is 50 mm, not 50 cm):
+:func:`bare_number_warning` says how it was taken and how to write it, for the mission
+checks to report as a warning.
 """
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 
-__all__ = ["DIMENSIONS", "Dimension", "QuantityError", "parse_quantity"]
+from roboscript.inputs.limits import MAX_QUANTITY_CHARS
+
+__all__ = [
+    "DIMENSIONS",
+    "UNIT_MATTERS",
+    "Dimension",
+    "QuantityError",
+    "bare_number_warning",
+    "parse_quantity",
+]
 
 
 @dataclass(frozen=True)
@@ -48,11 +64,27 @@ DIMENSIONS: dict[str, Dimension] = {
     "count": Dimension("count", "", {}),
 }
 
-_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([^\s\d].*?)?\s*$")
+UNIT_MATTERS = frozenset({"distance", "speed", "time", "angle", "turn_rate", "frequency"})
+"""Dimensions whose bare numbers draw a :func:`bare_number_warning` (not percent or count)."""
+
+# The number at the start of a quantity. One run of digits on each side of the point, so
+# matching is linear in the text's length (``\d+\.?\d*`` backtracks quadratically).
+_NUMBER = re.compile(r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?")
+_DECIMAL_COMMA = re.compile(r"[-+]?\d+,\d+")
 
 
 class QuantityError(ValueError):
-    """A value could not be read as a quantity of the wanted dimension."""
+    """A value could not be read as a quantity of the wanted dimension.
+
+    Attributes:
+        message: What is wrong.
+        hint: How to write it instead, or ``None``; ``str()`` of the error shows both.
+    """
+
+    def __init__(self, message: str, hint: str | None = None) -> None:
+        self.message = message
+        self.hint = hint
+        super().__init__(f"{message} ({hint})" if hint else message)
 
 
 def _unit_for(dimension: Dimension, unit: str) -> float | None:
@@ -70,7 +102,9 @@ def parse_quantity(value: object, dimension: str, default_unit: str | None = Non
         default_unit: The unit a bare number is in (default: the base unit).
 
     Returns:
-        The value in the dimension's base unit (mm, mm/s, s, deg, deg/s, Hz).
+        The value in the dimension's base unit (mm, mm/s, s, deg, deg/s, Hz). A number too
+        large for a float (``1e400 mm``) comes back infinite: callers that need a finite value
+        check for it where they can say where it was written.
 
     Raises:
         QuantityError: With a sentence saying what was expected.
@@ -89,11 +123,23 @@ def parse_quantity(value: object, dimension: str, default_unit: str | None = Non
         return float(value) * factor
     if not isinstance(value, str):
         raise QuantityError(f"expected {_a(dim.name)} such as {_example(dim)}, got {value!r}")
-    match = _QUANTITY.match(value)
-    if not match:
+    if len(value) > MAX_QUANTITY_CHARS:
+        raise QuantityError(
+            f"expected {_a(dim.name)} such as {_example(dim)}, got {len(value)} characters"
+            f" (a quantity is at most {MAX_QUANTITY_CHARS})"
+        )
+    text = value.strip()
+    comma = _DECIMAL_COMMA.match(text)
+    if comma:
+        raise QuantityError(
+            f"'{text}' has a decimal comma",
+            f"use a decimal point: {comma.group().replace(',', '.')}{text[comma.end() :]}",
+        )
+    number_match = _NUMBER.match(text)
+    unit = text[number_match.end() :].strip() if number_match else ""
+    if not number_match or unit[:1].isdigit():
         raise QuantityError(f"expected {_a(dim.name)} such as {_example(dim)}, got {value!r}")
-    number = float(match.group(1))
-    unit = (match.group(2) or "").strip()
+    number = float(number_match.group())
     if not unit:
         factor = 1.0 if default_unit is None else dim.units.get(default_unit, 1.0)
         return number * factor
@@ -110,6 +156,61 @@ def parse_quantity(value: object, dimension: str, default_unit: str | None = Non
             )
         raise QuantityError(f"unknown unit '{unit}' for {_a(dim.name)} (use {fits})")
     return number * unit_factor
+
+
+def bare_number_warning(
+    value: object, dimension: str, default_unit: str | None = None
+) -> tuple[str, str | None] | None:
+    """The warning for a number written without a unit where the unit matters.
+
+    Args:
+        value: The value as written (a number, or text such as ``"50"``).
+        dimension: A key of :data:`DIMENSIONS`.
+        default_unit: The unit a bare number is in (default: the base unit).
+
+    Returns:
+        ``(message, hint)``, such as ``("50 taken as 50 mm; write `50 mm`", "or did you mean
+        50 cm?")``, the hint ``None`` when no other unit is likely; ``None`` when ``value``
+        has a unit, is zero (the same in every unit), is not a finite number, or its
+        dimension has no unit that matters (:data:`UNIT_MATTERS`).
+
+    Example:
+        >>> bare_number_warning(90, "angle")
+        ('90 taken as 90 deg; write `90 deg`', None)
+    """
+    if dimension not in UNIT_MATTERS or isinstance(value, bool):
+        return None
+    if isinstance(value, int | float):
+        written = str(value)
+    elif isinstance(value, str) and len(value) <= MAX_QUANTITY_CHARS:
+        written = value.strip()
+        if not _NUMBER.fullmatch(written):
+            return None
+    else:
+        return None
+    try:
+        number = float(written)
+    except (ValueError, OverflowError):
+        return None
+    if number == 0 or not math.isfinite(number):
+        return None
+    unit = default_unit or DIMENSIONS[dimension].base_unit
+    likely = _likely_unit(dimension, number)
+    hint = f"or did you mean {written} {likely}?" if likely and likely != unit else None
+    return f"{written} taken as {written} {unit}; write `{written} {unit}`", hint
+
+
+def _likely_unit(dimension: str, number: float) -> str | None:
+    """The unit a beginner more likely meant: centimetres for a length or a speed (the unit
+    the examples and most rulers use), milliseconds for a time of 50 or more (a beep of
+    200, not a wait of over three minutes)."""
+    if dimension == "distance":
+        return "cm"
+    if dimension == "speed":
+        return "cm/s"
+    if dimension == "time" and abs(number) >= 50:
+        return "ms"
+    return None
 
 
 def _a(noun: str) -> str:

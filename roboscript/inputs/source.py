@@ -2,8 +2,12 @@
 
 Missions, robot profiles, worlds and test specs are all read through :func:`load_yaml`, so
 every error about them can name ``file:line:col``. Only the YAML safe subset is accepted:
-tags such as ``!!python/object`` are refused, as are duplicate keys. This module is the
-package's only user of ``yaml``.
+tags such as ``!!python/object`` are refused, as are duplicate keys. Dates, times and the
+other YAML 1.1 implicit types stay text. A hostile file (an alias bomb, deep nesting, a device
+or a pipe, a huge file or number) is refused before any expensive work, at the limits of
+:mod:`roboscript.inputs.limits`; a YAML syntax mistake is explained in a beginner's terms (a
+tab, a bracket or quote never closed, a line indented wrongly). This module is the package's
+only user of ``yaml``.
 
 A :data:`Mark` is a place in the file being read; a :class:`Location` is a place in any file
 (a mark with its file), the one location type missions, worlds, profiles and test specs use.
@@ -11,7 +15,9 @@ A :data:`Mark` is a place in the file being read; a :class:`Location` is a place
 
 from __future__ import annotations
 
+import os
 import re
+import stat
 from collections.abc import Hashable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,8 +26,23 @@ from typing import Any
 import yaml
 
 from roboscript.errors import InputError
+from roboscript.inputs.limits import (
+    MAX_DEPTH,
+    MAX_FILE_BYTES,
+    MAX_INTEGER_DIGITS,
+    MAX_NAME_CHARS,
+    MAX_VALUES,
+)
 
-__all__ = ["Location", "Mark", "YamlList", "YamlMap", "load_yaml", "load_yaml_text"]
+__all__ = [
+    "Location",
+    "Mark",
+    "YamlList",
+    "YamlMap",
+    "load_yaml",
+    "load_yaml_text",
+    "read_source",
+]
 
 Mark = tuple[int, int]
 """A 1-based (line, column)."""
@@ -97,11 +118,126 @@ def _mark(node: yaml.Node) -> Mark:
     return node.start_mark.line + 1, node.start_mark.column + 1
 
 
-class _Loader(yaml.SafeLoader):
-    """SafeLoader that keeps positions and refuses duplicate keys."""
+def _at(mark: Any) -> Mark:
+    return mark.line + 1, mark.column + 1
 
-    source_path: str = "<input>"
-    error: type[InputError] = InputError
+
+_NAME_LIKE = re.compile(r"[^\W\d][\w.\-]*")
+"""One word, as state, action, robot and world names are written."""
+
+_WHOLE_NUMBER = re.compile(r"[-+]?\d+")
+
+_SHORT_TAG = "tag:yaml.org,2002:"
+
+
+class _RefusedError(Exception):
+    """A limit or rule of this module broken while PyYAML is mid-parse: a message and a mark.
+
+    Raised instead of the file's :class:`InputError`, which is a ``ValueError``: the loader
+    turns PyYAML's own ``ValueError`` into a located error, and must not catch this one.
+    """
+
+    def __init__(self, message: str, mark: Mark | None, hint: str | None = None) -> None:
+        super().__init__(message)
+        self.message, self.mark, self.hint = message, mark, hint
+
+
+class _Loader(yaml.SafeLoader):
+    """SafeLoader that keeps positions, refuses duplicate keys and keeps to the limits."""
+
+    def __init__(self, text: str) -> None:
+        super().__init__(text)
+        self.text = text
+        self.depth = 0  # mappings and lists open, the one being composed included
+        self.values = 0  # values composed so far, each alias counted as what it names
+        self.aliases = 0
+        # Values under each finished node, aliases expanded, by id(node): the tree keeps every
+        # node alive while loading, so an id is not reused.
+        self.sizes: dict[int, int] = {}
+
+    # --------------------------------------------------------------------------- composing
+
+    def compose_node(self, parent: yaml.Node | None, index: Any) -> Any:
+        event: Any = self.peek_event()  # type: ignore[no-untyped-call]
+        node: Any
+        if isinstance(event, yaml.AliasEvent):
+            node = super().compose_node(parent, index)
+            size = self.sizes.get(id(node))
+            if size is None:  # the anchor is still open: the value would contain itself
+                raise _RefusedError(
+                    f"the alias *{event.anchor} is used inside the value it names,"
+                    " so that value would never end",
+                    _at(event.start_mark),
+                )
+            self.aliases += 1
+            self._count(size, event.start_mark)
+            return node
+        opens = isinstance(event, yaml.CollectionStartEvent)
+        self.depth += opens
+        if self.depth > MAX_DEPTH:
+            raise _RefusedError(
+                f"the values here are nested more than {MAX_DEPTH} deep",
+                _at(event.start_mark),
+                f"a roboscript file nests at most {MAX_DEPTH} levels",
+            )
+        self._count(1, event.start_mark)
+        try:
+            node = super().compose_node(parent, index)
+        finally:
+            self.depth -= opens
+        children: list[yaml.Node] = []
+        if isinstance(node, yaml.SequenceNode):
+            children = node.value
+        elif isinstance(node, yaml.MappingNode):
+            children = [part for pair in node.value for part in pair]
+        self.sizes[id(node)] = 1 + sum(self.sizes[id(child)] for child in children)
+        return node
+
+    def _count(self, values: int, where: Any) -> None:
+        self.values += values
+        if self.values <= MAX_VALUES:
+            return
+        if self.aliases:
+            raise _RefusedError(
+                f"the aliases (*name) here expand to more than {MAX_VALUES} values",
+                _at(where),
+                f"a roboscript file holds at most {MAX_VALUES} values, aliases expanded",
+            )
+        raise _RefusedError(
+            f"the file holds more than {MAX_VALUES} values",
+            _at(where),
+            f"a roboscript file holds at most {MAX_VALUES} values",
+        )
+
+    # ------------------------------------------------------------------------ constructing
+
+    def construct_object(self, node: yaml.Node, deep: bool = False) -> Any:
+        try:
+            return super().construct_object(node, deep=deep)
+        except (_RefusedError, yaml.YAMLError):
+            raise
+        except (ValueError, OverflowError, TypeError) as exc:
+            # A scalar with an explicit tag it does not fit (``!!float abc``): PyYAML's
+            # constructors raise plain ValueErrors, which carry no position.
+            tag = str(node.tag).replace(_SHORT_TAG, "!!")
+            shown = node.value if isinstance(node, yaml.ScalarNode) else "this value"
+            raise _RefusedError(f"cannot read {shown!r} as {tag} ({exc})", _mark(node)) from None
+
+    def construct_yaml_int(self, node: yaml.ScalarNode) -> int:
+        digits = len(str(node.value).replace("_", "").lstrip("+-"))
+        if digits > MAX_INTEGER_DIGITS:
+            raise _RefusedError(
+                f"this number has {digits} digits; roboscript reads at most {MAX_INTEGER_DIGITS}",
+                _mark(node),
+            )
+        value: int = super().construct_yaml_int(node)
+        return value
+
+    def construct_yaml_str(self, node: yaml.ScalarNode) -> str:
+        value: str = super().construct_yaml_str(node)
+        if len(value) > MAX_NAME_CHARS and _NAME_LIKE.fullmatch(value):
+            raise _RefusedError(_too_long(value), _mark(node))
+        return value
 
     def construct_yaml_map_with_marks(self, node: yaml.MappingNode) -> Iterator[YamlMap]:
         result = YamlMap()
@@ -111,28 +247,49 @@ class _Loader(yaml.SafeLoader):
         result.quoted = set()
         yield result
         self.flatten_mapping(node)
+        before: yaml.Node | None = None
         for key_node, value_node in node.value:
+            if node.flow_style:
+                self._refuse_decimal_comma(before, key_node, value_node)
+            before = value_node
             key = self.construct_object(key_node, deep=True)
             if not isinstance(key, Hashable):
-                line, col = _mark(key_node)
-                raise self.error(
-                    "a key must be a plain word", path=self.source_path, line=line, col=col
-                )
+                raise _RefusedError("a key must be a plain word", _mark(key_node))
             key = str(key)
+            if len(key) > MAX_NAME_CHARS:
+                raise _RefusedError(_too_long(key), _mark(key_node))
             if key in result:
-                line, col = _mark(key_node)
                 first = result.key_marks[key][0]
-                raise self.error(
-                    f"'{key}' is given twice (first on line {first})",
-                    path=self.source_path,
-                    line=line,
-                    col=col,
+                raise _RefusedError(
+                    f"'{key}' is given twice (first on line {first})", _mark(key_node)
                 )
             result[key] = self.construct_object(value_node, deep=True)
             result.key_marks[key] = _mark(key_node)
             result.value_marks[key] = _mark(value_node)
             if isinstance(value_node, yaml.ScalarNode) and value_node.style in ("'", '"'):
                 result.quoted.add(key)
+
+    def _refuse_decimal_comma(
+        self, before: yaml.Node | None, key_node: yaml.Node, value_node: yaml.Node
+    ) -> None:
+        """``{speed: 0,2 m/s}``: YAML reads ``speed: 0`` and a key ``2 m/s`` with no value."""
+        if (
+            isinstance(before, yaml.ScalarNode)
+            and before.style is None
+            and _WHOLE_NUMBER.fullmatch(before.value)
+            and isinstance(key_node, yaml.ScalarNode)
+            and key_node.style is None
+            and key_node.value[:1].isdigit()
+            and isinstance(value_node, yaml.ScalarNode)
+            and value_node.tag == f"{_SHORT_TAG}null"
+            and self.text[before.end_mark.index : key_node.start_mark.index] == ","
+        ):
+            written = f"{before.value},{key_node.value}"
+            raise _RefusedError(
+                f"'{written}' has a decimal comma, which YAML reads as two items",
+                _mark(before),
+                f"use a decimal point: {before.value}.{key_node.value}",
+            )
 
     def construct_yaml_seq_with_marks(self, node: yaml.SequenceNode) -> Iterator[YamlList]:
         result = YamlList()
@@ -142,10 +299,20 @@ class _Loader(yaml.SafeLoader):
         result.extend(self.construct_object(item, deep=True) for item in node.value)
 
 
+def _too_long(name: str) -> str:
+    return (
+        f"this name is {len(name)} characters long; names are at most {MAX_NAME_CHARS}"
+        f" ('{name[:20]}...')"
+    )
+
+
 # YAML 1.1 reads on/off/yes/no as booleans, which would turn a state's "on:" into True.
-# Booleans are only true/false, as in YAML 1.2.
+# Booleans are only true/false, as in YAML 1.2. Dates and times (2024-13-45 would fail to
+# construct, 2024-01-05 would become a date no field expects), "=" and the other YAML 1.1
+# implicit types stay text: only null, true/false, numbers and the merge key "<<" are read.
+_IMPLICIT = {f"{_SHORT_TAG}{name}" for name in ("null", "int", "float", "merge")}
 _Loader.yaml_implicit_resolvers = {
-    first: [(tag, regexp) for tag, regexp in resolvers if tag != "tag:yaml.org,2002:bool"]
+    first: [(tag, regexp) for tag, regexp in resolvers if tag in _IMPLICIT]
     for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()
 }
 _Loader.add_implicit_resolver(
@@ -155,12 +322,89 @@ _Loader.add_implicit_resolver(
 )
 _Loader.add_constructor("tag:yaml.org,2002:map", _Loader.construct_yaml_map_with_marks)
 _Loader.add_constructor("tag:yaml.org,2002:seq", _Loader.construct_yaml_seq_with_marks)
+_Loader.add_constructor("tag:yaml.org,2002:int", _Loader.construct_yaml_int)
+_Loader.add_constructor("tag:yaml.org,2002:str", _Loader.construct_yaml_str)
+# Explicit tags for values no reader expects (!!set, !!timestamp...) are refused like
+# !!python/object: no roboscript file needs them.
+for _tag in ("binary", "timestamp", "omap", "pairs", "set"):
+    del _Loader.yaml_constructors[f"{_SHORT_TAG}{_tag}"]
+
+
+# ------------------------------------------------------------------------- syntax mistakes
+
+_INDENT_HINT = (
+    "YAML nests by indentation: line it up, with spaces, with the key or '- ' item it belongs with"
+)
+_COLON_HINT = (
+    "is this line indented further than the one above it? Text holding ': ' goes in quotes"
+)
+
+
+def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, str | None]:
+    """A PyYAML syntax error in a beginner's terms: ``(message, where, hint)``."""
+    problem = str(exc.problem or "invalid YAML")
+    context = str(exc.context or "")
+    at = _at(exc.problem_mark) if exc.problem_mark else None
+    opened = exc.context_mark
+    opener = text[opened.index] if opened and opened.index < len(text) else ""
+    if "'\\t'" in problem or "tab character" in problem:
+        if at is None:
+            return "a tab: YAML indents with spaces", None, None
+        line, col = at
+        index = exc.problem_mark.index if exc.problem_mark else 0
+        before = text[text.rfind("\n", 0, index) + 1 : index]
+        if before.strip(" \t") == "":
+            return f"a tab at {line}:{col}: YAML indents with spaces", at, None
+        return f"a tab at {line}:{col}: YAML needs spaces here, not tabs", at, None
+    if opened and context.startswith("while parsing a flow") and opener in ("{", "["):
+        closer = "}" if opener == "{" else "]"
+        got = problem.rpartition("but got ")[2].strip("'")
+        if got in ("<stream end>", "}", "]") or (at and at[0] != opened.line + 1):
+            hint = f"close it with `{closer}`"
+            if got != "<stream end>" and at:
+                hint += f" before {at[0]}:{at[1]}"
+            return f"this `{opener}` is never closed", _at(opened), hint
+        return (
+            f"expected `,` or `{closer}` here",
+            at,
+            f"inside the `{opener}` at {opened.line + 1}:{opened.column + 1}",
+        )
+    if opened and context == "while scanning a quoted scalar" and "end of stream" in problem:
+        return f"this `{opener}` is never closed", _at(opened), f"close the text with `{opener}`"
+    if problem.startswith("expected <block end>"):
+        return (
+            "this line is indented differently from the lines above it",
+            at,
+            _INDENT_HINT,
+        )
+    if problem == "mapping values are not allowed here":
+        return (
+            "a ':' is not allowed here",
+            at,
+            _COLON_HINT,
+        )
+    if opened and problem == "could not find expected ':'":
+        return (
+            "this line needs a ':' after its key",
+            _at(opened),
+            "write 'key: value', or indent it as part of the line above",
+        )
+    if problem.startswith("found undefined alias"):
+        name = problem.rpartition(" ")[2].strip("'")
+        return f"the alias *{name} names no anchor &{name} written before it", at, None
+    if "could not determine a constructor" in str(exc):
+        tag = problem.split()[-1].strip("'").replace(_SHORT_TAG, "!!")
+        return f"tag {tag} is not allowed in roboscript files", at, None
+    return problem, at or (_at(opened) if opened else None), None
+
+
+# -------------------------------------------------------------------------------- loading
 
 
 def load_yaml_text(
     text: str, path: str = "<input>", *, error: type[InputError] = InputError
 ) -> Any:
-    """Parse YAML text safely, keeping positions.
+    """Parse YAML text safely, keeping positions, within :mod:`~roboscript.inputs.limits`.
 
     Args:
         text: The YAML document.
@@ -168,52 +412,116 @@ def load_yaml_text(
         error: The :class:`InputError` subclass to raise (``MissionError``, ``WorldError``...).
 
     Raises:
-        InputError: The text is not valid YAML, uses a tag outside the safe subset, or repeats
-            a key.
+        InputError: The text is not valid YAML, uses a tag outside the safe subset, repeats a
+            key, or breaks a limit (nesting, values with aliases expanded, a name's length,
+            a number's digits). Always located at ``path:line:col`` when the place is known.
     """
+
+    def located(message: str, mark: Mark | None, hint: str | None = None) -> InputError:
+        line, col = mark or (None, None)
+        return error(message, path=path, line=line, col=col, hint=hint)
+
+    if len(text) > MAX_FILE_BYTES:  # text handed in directly, not read by load_yaml
+        raise located(_too_big(len(text), "characters"), None)
     try:
         loader = _Loader(text)
     except yaml.reader.ReaderError as exc:
         # PyYAML checks for unprintable characters before it parses anything.
         offset = max(0, exc.position)
-        bad_line = text.count("\n", 0, offset) + 1
-        bad_col = offset - (text.rfind("\n", 0, offset) + 1) + 1
         code = f"U+{exc.character:04X}" if isinstance(exc.character, int) else repr(exc.character)
-        raise error(
+        raise located(
             f"the file contains a character YAML does not allow ({code})",
-            path=path,
-            line=bad_line,
-            col=bad_col,
+            _offset_mark(text, offset),
         ) from None
-    loader.source_path = path
-    loader.error = error
     try:
         return loader.get_single_data()
+    except _RefusedError as exc:
+        raise located(exc.message, exc.mark, exc.hint) from None
     except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        line = mark.line + 1 if mark else None
-        col = mark.column + 1 if mark else None
-        problem = exc.problem or "invalid YAML"
-        if "could not determine a constructor" in str(exc):
-            problem = f"tag {str(exc.problem).split()[-1]} is not allowed in roboscript files"
-            problem = problem.replace("'", "")
-        raise error(problem, path=path, line=line, col=col) from None
+        raise located(*_explain(exc, text)) from None
     except yaml.YAMLError as exc:
-        raise error(f"invalid YAML: {exc}", path=path) from None
+        raise located(f"invalid YAML: {exc}", None) from None
     finally:
         loader.dispose()
 
 
-def load_yaml(path: str | Path, *, error: type[InputError] = InputError) -> Any:
-    """Read and parse a YAML file safely (see :func:`load_yaml_text`).
+def _offset_mark(text: str, offset: int) -> Mark:
+    line = text.count("\n", 0, offset) + 1
+    return line, offset - (text.rfind("\n", 0, offset) + 1) + 1
+
+
+def _too_big(size: int, unit: str) -> str:
+    return (
+        f"the file is {size} {unit}; roboscript reads files of at most"
+        f" {MAX_FILE_BYTES // 1024 // 1024} MiB ({MAX_FILE_BYTES} bytes)"
+    )
+
+
+_NOT_A_FILE = {
+    stat.S_IFCHR: "a character device",
+    stat.S_IFBLK: "a block device",
+    stat.S_IFIFO: "a named pipe",
+    stat.S_IFSOCK: "a socket",
+}
+
+
+def _refuse_unless_regular(mode: int, shown: str, error: type[InputError]) -> None:
+    if stat.S_ISDIR(mode):
+        raise error("this is a folder, not a file", path=shown, hint="give the path of a file")
+    if not stat.S_ISREG(mode):
+        kind = _NOT_A_FILE.get(stat.S_IFMT(mode), "not an ordinary file")
+        raise error(
+            f"this is {kind}, not an ordinary file", path=shown, hint="give the path of a file"
+        )
+
+
+def read_source(path: str | Path, *, error: type[InputError] = InputError) -> str:
+    """The text of a file a user wrote, at most :data:`~.limits.MAX_FILE_BYTES` long.
+
+    The path is checked with :func:`os.stat` before it is opened: a folder, a device
+    (``/dev/zero``), a named pipe or a socket is refused unread, as is a file over the size
+    limit; the open file is checked again, in case the path changed in between.
 
     Raises:
-        InputError: The file cannot be read or is not valid YAML.
+        InputError: The file cannot be read, is not an ordinary file, is too large, or is not
+            UTF-8 (located at the first bad byte).
     """
+    shown = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        found = os.stat(path)
+        _refuse_unless_regular(found.st_mode, shown, error)
+        if found.st_size > MAX_FILE_BYTES:
+            raise error(_too_big(found.st_size, "bytes"), path=shown)
+        # Non-blocking, so a path swapped for a pipe since the stat cannot hang the open.
+        flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
+        fd = os.open(path, flags | getattr(os, "O_CLOEXEC", 0))
+        with os.fdopen(fd, "rb") as file:
+            _refuse_unless_regular(os.fstat(fd).st_mode, shown, error)
+            data = file.read(MAX_FILE_BYTES + 1)
     except OSError as exc:
-        raise error(f"cannot read the file: {exc.strerror}", path=str(path)) from None
-    except UnicodeDecodeError:
-        raise error("the file is not UTF-8 text", path=str(path)) from None
-    return load_yaml_text(text, str(path), error=error)
+        raise error(f"cannot read the file: {exc.strerror or exc}", path=shown) from None
+    if len(data) > MAX_FILE_BYTES:
+        raise error(_too_big(len(data), "bytes or more"), path=shown)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        start = data.rfind(b"\n", 0, exc.start) + 1
+        col = len(data[start : exc.start].decode("utf-8", errors="replace")) + 1
+        raise error(
+            f"byte 0x{data[exc.start]:02X} is not UTF-8 text",
+            path=shown,
+            line=line,
+            col=col,
+            hint="save the file as UTF-8",
+        ) from None
+
+
+def load_yaml(path: str | Path, *, error: type[InputError] = InputError) -> Any:
+    """Read and parse a YAML file safely (see :func:`read_source` and
+    :func:`load_yaml_text`).
+
+    Raises:
+        InputError: The file cannot be read, breaks a limit, or is not valid YAML.
+    """
+    return load_yaml_text(read_source(path, error=error), str(path), error=error)

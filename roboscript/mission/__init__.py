@@ -53,22 +53,36 @@ def mission_for_robot(
 ) -> tuple[Any, Any, list[InputError]]:
     """Load a mission and the robot to run it on, and check that they fit.
 
-    The robot is ``robot`` if given, else the one the mission names, else ``mirto``.
+    The robot is ``robot`` if given, else the one the mission names (a built-in robot, or a
+    profile file beside the mission), else ``mirto``. The world the mission names is checked
+    too, and the speeds it asks for against the robot's (warnings).
 
     Returns:
-        ``(spec, profile, warnings)``.
+        ``(spec, profile, warnings)``; a world file the mission names is in ``spec.world``
+        as a resolved path.
 
     Raises:
-        MissionError: The mission is invalid or needs what the robot lacks.
-        ProfileError: The robot is unknown.
+        MissionError: The mission is invalid, names an unknown robot or world, or needs
+            what the robot lacks (every problem is in ``problems``).
+        ProfileError: ``robot`` is unknown, or a profile file is invalid.
     """
     from roboscript.mission.builder import MissionProblemsError
     from roboscript.mission.checks import check_capabilities
-    from roboscript.profiles import get_profile
+    from roboscript.mission.limits import profile_problems
+    from roboscript.mission.references import mission_robot, with_world_checked
 
     spec, warnings = load_mission(path)
-    profile = get_profile(robot or spec.robot or "mirto")
-    problems = check_capabilities(spec, profile)
-    if problems:
-        raise MissionProblemsError(problems)
-    return spec, profile, warnings
+    spec, problems = with_world_checked(spec)
+
+    def in_order(found: list[InputError]) -> list[InputError]:
+        return sorted(found, key=lambda p: (p.path != spec.path, p.line or 0, p.col or 0))
+
+    try:
+        profile = mission_robot(spec, robot)
+    except MissionError as exc:
+        raise MissionProblemsError(in_order([*problems, exc, *warnings])) from None
+    problems += check_capabilities(spec, profile)
+    problems += profile_problems(spec, profile)
+    if any(p.severity == "error" for p in problems):
+        raise MissionProblemsError(in_order([*problems, *warnings]))
+    return spec, profile, in_order([*warnings, *problems])

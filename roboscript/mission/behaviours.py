@@ -28,6 +28,7 @@ from roboscript.actions import ACTIONS, Action, Param
 from roboscript.errors import InputError, MissionError, did_you_mean
 from roboscript.inputs.quantities import DIMENSIONS
 from roboscript.inputs.source import Location
+from roboscript.mission.files import FileReferenceError, beside_mission
 from roboscript.mission.python_source import PythonSource
 from roboscript.mission.student_code import import_student_file
 
@@ -248,19 +249,14 @@ def behaviours_from_yaml(
                 )
             )
             continue
-        path = Path(mission_path).parent / entry
-        if not path.is_file():
-            folder = Path(mission_path).parent
-            nearby = [p.relative_to(folder).as_posix() for p in folder.glob("*.py")]
-            nearby += [p.relative_to(folder).as_posix() for p in folder.glob("*/*.py")]
-            problems.append(
-                _error(
-                    f"there is no behaviour file '{entry}' beside the mission",
-                    here,
-                    did_you_mean(entry, nearby) if nearby else f"looked for {path}",
-                )
-            )
+        try:
+            # Checked before the import: a path out of the mission's folder could import
+            # anything on the machine (the standard library's this.py prints on import).
+            beside_mission(mission_path, entry, "behaviour file", (".py",))
+        except FileReferenceError as exc:
+            problems.append(_error(str(exc), here, exc.hint))
             continue
+        path = Path(mission_path).parent / entry  # as the student wrote it, for messages
         loaded, file_problems = load_behaviour_file(path, origin)
         problems.extend(file_problems)
         for name, cls in loaded.items():

@@ -15,14 +15,21 @@ from __future__ import annotations
 
 import copy
 import functools
+import re
 from collections.abc import Callable, Mapping
 from typing import Any
 
 from roboscript.actions.base import Action, Param
 from roboscript.errors import InputError, MissionError, did_you_mean
-from roboscript.inputs.quantities import DIMENSIONS, QuantityError, parse_quantity
+from roboscript.inputs.quantities import (
+    DIMENSIONS,
+    QuantityError,
+    bare_number_warning,
+    parse_quantity,
+)
 from roboscript.inputs.source import Location
 from roboscript.mission.guards import GuardError, compile_guard
+from roboscript.mission.limits import a_noun, example, param_problems, shown, time_problem
 from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec, TransitionSpec
 
 __all__ = ["MissionBuilder", "MissionProblemsError", "ParamProblem", "action_params"]
@@ -103,6 +110,9 @@ def action_params(
     return kwargs, problems
 
 
+_NOT_FINITE = re.compile(r"^\s*[-+]?(inf|infinity|nan)\b", re.IGNORECASE)
+
+
 def _convert(param: Param, value: Any, state_names: frozenset[str] | None = None) -> Any:
     if value is None and not param.required:
         return param.default
@@ -114,7 +124,16 @@ def _convert(param: Param, value: Any, state_names: frozenset[str] | None = None
         try:
             return parse_quantity(value, param.kind)
         except QuantityError as exc:
+            if isinstance(value, str) and _NOT_FINITE.match(value):
+                noun = a_noun(DIMENSIONS[param.kind].name)
+                raise ValueError(
+                    f"{value.strip()!r} is not a number the robot can use; write {noun} "
+                    f"such as {example(param.kind)}"
+                ) from None
             raise ValueError(str(exc)) from None
+        except OverflowError:  # an int beyond any float (a 5000-digit number)
+            noun = a_noun(DIMENSIONS[param.kind].name)
+            raise ValueError(f"{shown(value)} is far too large for {noun}") from None
     if param.kind == "choice":
         if value not in param.choices:
             raise ValueError(f"expected one of {', '.join(param.choices)}, got {value!r}")
@@ -238,11 +257,29 @@ class MissionBuilder:
         """
         label = name or cls.name
         kwargs, problems = action_params(cls, values, state_names, written=instance is None)
+        if not problems:
+            from roboscript.actions import ACTIONS
+
+            for param_name, message, range_hint in param_problems(
+                label, cls.params, kwargs, built_in=ACTIONS.get(cls.name) is cls
+            ):
+                problems.append((param_name, message, range_hint, None))
         for param_name, message, hint, offset in problems:
             at = param_where(param_name, message, offset) if param_where else where
             self.problem(message, at, hint)
+        if instance is None:  # written in a file: a bare number's unit may not be the one meant
+            for param in cls.params:
+                note = bare_number_warning(values.get(param.name), param.kind)
+                if note is not None:
+                    at = param_where(param.name, "", None) if param_where else where
+                    self.problem(f"{label} {param.name}: {note[0]}", at, note[1], "warning")
         if problems:
             return None
+        param_locations = {
+            p.name: param_where(p.name, "", None) if param_where else where
+            for p in cls.params
+            if p.name in values
+        }
         if instance is not None:
             template = _holding(instance, cls, kwargs)
             make = make or functools.partial(copy.deepcopy, template)
@@ -268,6 +305,7 @@ class MissionBuilder:
             location=where,
             bounded=not cls.bounded_by
             or any(frozen.get(p.kwarg) is not None for p in cls.params if p.name in cls.bounded_by),
+            param_locations=param_locations,
         )
 
     def parallel(self, mode: str, children: list[ActionSpec], where: Location) -> ActionSpec:
@@ -284,6 +322,7 @@ class MissionBuilder:
             bounded=all(c.bounded for c in children)
             if mode == "all"
             else any(c.bounded for c in children),
+            children=tuple(children),
         )
 
     def repeat(self, times: Any, child: ActionSpec, where: Location) -> ActionSpec | None:
@@ -301,6 +340,7 @@ class MissionBuilder:
             requires=child.requires,
             location=where,
             bounded=child.bounded,
+            children=(child,),
         )
 
     def machine(self, spec: MissionSpec, label: str, where: Location) -> ActionSpec:
@@ -365,11 +405,19 @@ class MissionBuilder:
         if seconds is None:
             return None
         if isinstance(seconds, bool) or not isinstance(seconds, int | float) or seconds <= 0:
-            shown = seconds if written is None else written
+            as_written = seconds if written is None else written
             self.problem(
-                f"state '{state}': {field} is a positive number of seconds, got {shown!r}",
+                f"state '{state}': {field} is a positive number of seconds, got {as_written!r}",
                 where,
             )
+            return None
+        found: tuple[str, str | None] | None
+        try:
+            found = time_problem(f"state '{state}': {field}", float(seconds))
+        except OverflowError:  # an int beyond any float
+            found = (f"state '{state}': {field}: {shown(seconds)} is too large", None)
+        if found is not None:
+            self.problem(found[0], where, found[1])
             return None
         return float(seconds)
 
@@ -439,8 +487,10 @@ class MissionBuilder:
         where: Location | None = None,
         robot: str | None = None,
         world: str | None = None,
+        robot_where: Location | None = None,
+        world_where: Location | None = None,
     ) -> MissionSpec:
-        """The whole mission."""
+        """The whole mission (``robot_where``, ``world_where``: where those were written)."""
         return MissionSpec(
             name=str(name),
             initial=initial,
@@ -450,6 +500,8 @@ class MissionBuilder:
             location=where,
             robot=robot,
             world=world,
+            robot_location=robot_where if robot is not None else None,
+            world_location=world_where if world is not None else None,
         )
 
     def finish(

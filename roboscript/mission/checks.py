@@ -1,8 +1,10 @@
 """Load-time checks on a mission, shared by the YAML and Python loaders.
 
-Errors: unreachable states, states with no way out, actions or sensors the chosen robot lacks
-(naming the robot, the capability and what to use instead). Warnings: outcomes that would end
-the mission without a route (a ``failed`` or a ``timeout`` nobody handles).
+Errors: unreachable states, states with no way out, a mission that can reach no final state,
+actions or sensors the chosen robot lacks (naming the robot, the capability and what to use
+instead). Warnings: states from which no final state can be reached, states that wait on a
+condition with no timeout, and outcomes that would end the mission without a route (a
+``failed`` or a ``timeout`` nobody handles).
 """
 
 from __future__ import annotations
@@ -10,11 +12,20 @@ from __future__ import annotations
 from roboscript import capabilities as cap
 from roboscript.errors import InputError, MissionError
 from roboscript.inputs.source import Location
-from roboscript.mission.spec import MissionSpec, StateSpec
+from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec
 
 __all__ = ["check_capabilities", "check_mission"]
 
-_CAN_FAIL = {"drive": "stalled", "rotate": "stalled"}
+_CAN_FAIL = {
+    "drive": "stalled",
+    "rotate": "stalled",
+    "follow_wall": "lost wall or stalled",
+    "follow_line": "lost line or stalled",
+}
+"""Built-in actions that can end ``failed`` on any robot that has what they need, and why."""
+
+_CAN_TIME_OUT = frozenset({"wait_until"})
+"""Built-in actions that can end ``timeout``."""
 
 _INSTEAD = {
     cap.DRIVE_BASE: "use walk/turn on a walking robot",
@@ -71,6 +82,48 @@ def _has_way_out(state: StateSpec) -> bool:
     return bool(state.final or state.when or any(state.on.values()))
 
 
+def _can_finish(spec: MissionSpec) -> set[str]:
+    """States from which some final state can be reached (the final states included)."""
+    leads_to: dict[str, set[str]] = {name: set() for name in spec.states}
+    for name, state in spec.states.items():
+        for transition in state.targets():
+            leads_to.setdefault(transition.target, set()).add(name)
+    found = {name for name, state in spec.states.items() if state.final}
+    todo = list(found)
+    while todo:
+        for source in leads_to.get(todo.pop(), ()):
+            if source not in found:
+                found.add(source)
+                todo.append(source)
+    return found
+
+
+def _failure(action: ActionSpec) -> str | None:
+    """Why ``action`` may end ``failed`` whatever the robot, or ``None`` if it cannot."""
+    if action.name in _CAN_FAIL and not action.children and action.inner is None:
+        return _CAN_FAIL[action.name]
+    if action.inner is not None:
+        inner = action.inner
+        reachable = _reachable(inner)
+        if any(inner.states[n].final == "failure" for n in reachable if n in inner.states):
+            return "its inner states reach a failure"
+        return None
+    reasons = [r for r in (_failure(child) for child in action.children) if r]
+    return reasons[0] if reasons else None
+
+
+def _times_out(action: ActionSpec) -> bool:
+    return action.name in _CAN_TIME_OUT or any(_times_out(c) for c in action.children)
+
+
+def _waits_on(state: StateSpec) -> bool:
+    """True if the state can only be left by a ``when`` condition (or its timeout)."""
+    action = state.action
+    if not state.when or state.timeout_s is not None:
+        return False
+    return action is None or not action.bounded or not state.on.get("done")
+
+
 def check_mission(spec: MissionSpec, profile: object | None = None) -> list[InputError]:
     """Check a mission's structure (and its fit to a robot, when ``profile`` is given).
 
@@ -83,6 +136,19 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
     """
     problems: list[InputError] = []
     reachable = _reachable(spec)
+    can_finish = _can_finish(spec)
+    stuck = any(not _has_way_out(spec.states[n]) for n in reachable if n in spec.states)
+    if spec.initial not in can_finish and not stuck:  # a dead end says why already
+        first = spec.states.get(spec.initial)
+        problems.append(
+            _problem(
+                f"mission '{spec.name}' can never finish: no final state can be reached "
+                f"from '{spec.initial}'",
+                first.location if first is not None else spec.location,
+                "add a state with 'final: success' and a transition to it, "
+                "e.g. on: {done: finished}",
+            )
+        )
     for name, state in spec.states.items():
         if name not in reachable:
             problems.append(
@@ -110,6 +176,33 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
             )
         if state.final:
             continue
+        if (
+            name in reachable
+            and name not in can_finish
+            and spec.initial in can_finish
+            and _has_way_out(state)
+        ):
+            problems.append(
+                _problem(
+                    f"once in state '{name}' the mission can never finish: no final state "
+                    "can be reached from it",
+                    state.location,
+                    "add a transition from it to a final state, e.g. 'timeout: 30 s' and "
+                    "'on: {timeout: FINAL_STATE}'",
+                    "warning",
+                )
+            )
+        if _waits_on(state):
+            waited = "' or '".join(t.guard_text or "?" for t in state.when)
+            problems.append(
+                _problem(
+                    f"state '{name}' waits for '{waited}' with no timeout: if that never "
+                    "holds, the mission runs until its time limit",
+                    state.location,
+                    "add 'timeout: 10 s' and 'on: {timeout: STATE}' to the state",
+                    "warning",
+                )
+            )
         action = state.action
         if action is not None and not action.bounded and state.timeout_s is None and not state.when:
             problems.append(
@@ -128,13 +221,32 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                     "warning",
                 )
             )
-        if action is not None and action.name in _CAN_FAIL and not state.on.get("failed"):
+        why = _failure(action) if action is not None else None
+        if action is not None and why is not None and not state.on.get("failed"):
+            what = (
+                f"the inner states of '{name}' end in failure"
+                if action.inner is not None
+                else f"'{action.name}' fails ({why}) in state '{name}'"
+            )
             problems.append(
                 _problem(
-                    f"if '{action.name}' fails ({_CAN_FAIL[action.name]}) in state '{name}', "
-                    "the mission ends in failure",
+                    f"if {what}, the mission ends in failure",
                     action.location,
                     "add 'on: {failed: STATE}' to handle it",
+                    "warning",
+                )
+            )
+        if (
+            action is not None
+            and _times_out(action)
+            and state.timeout_s is None
+            and not state.on.get("timeout")
+        ):
+            problems.append(
+                _problem(
+                    f"if '{action.name}' times out in state '{name}', the mission ends in failure",
+                    action.location,
+                    "add 'on: {timeout: STATE}' to handle it",
                     "warning",
                 )
             )

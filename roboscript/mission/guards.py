@@ -41,6 +41,7 @@ from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.inputs.quantities import DIMENSIONS, QuantityError, parse_quantity
+from roboscript.mission.limits import GUARD_NUMBER_LIMIT, shown
 
 __all__ = ["Guard", "GuardEnv", "GuardError", "compile_guard"]
 
@@ -95,6 +96,8 @@ _UNIT_FACTOR = {"mm": 1.0, "cm": 10.0, "deg": 1.0, "s": 1.0}
 _NUMBER_WITH_UNIT = re.compile(
     r"(?<![\w.])(\d+(?:\.\d*)?|\.\d+)\s*(mm|cm|m|ms|s|sec|min|deg|rad|°)(?![\w/])"
 )
+
+_LONG_NUMBER = re.compile(rf"(?<![\w.])\d{{{len(str(int(GUARD_NUMBER_LIMIT))) + 1},}}")
 
 _COMPARE: dict[type[ast.cmpop], Callable[[Any, Any], bool]] = {
     ast.Lt: operator.lt,
@@ -180,6 +183,14 @@ class _Compiler:
         return _NUMBER_WITH_UNIT.sub(replace, self.source)
 
     def compile(self) -> Guard:
+        long = _LONG_NUMBER.search(self.source)
+        if long is not None:  # Python would refuse a 5000-digit literal with a SyntaxError
+            raise GuardError(
+                f"a number of {len(long.group(0))} digits is too large for a condition "
+                f"(at most {GUARD_NUMBER_LIMIT:g})",
+                long.start(),
+                "compare with a number a sensor can read, e.g. range.distance_cm < 20",
+            )
         text = self.rewrite()
         text = re.sub(r"\btrue\b", "True", re.sub(r"\bfalse\b", "False", text))
         try:
@@ -211,6 +222,12 @@ class _Compiler:
             return self.compare(node)
         if isinstance(node, ast.BinOp):
             op = _ARITH.get(type(node.op))
+            if isinstance(node.op, ast.Pow):  # 10**400 would be a number beyond any sensor
+                raise self.fail(
+                    "a condition cannot raise to a power ('**'); only + - * / are allowed",
+                    node,
+                    f"write the number itself, at most {GUARD_NUMBER_LIMIT:g}",
+                )
             if op is None:
                 raise self.fail("only + - * / are allowed in a condition", node)
             left, right = self.node(node.left), self.node(node.right)
@@ -218,6 +235,8 @@ class _Compiler:
         if isinstance(node, ast.Constant):
             value = node.value
             if isinstance(value, bool | int | float):
+                if not isinstance(value, bool):
+                    self.check_number(value, node)
                 return lambda env: value
             raise self.fail("a condition compares numbers, not text", node)
         if isinstance(node, ast.Name | ast.Attribute):
@@ -226,6 +245,16 @@ class _Compiler:
         if isinstance(node, ast.Call):
             raise self.fail("a condition cannot call functions", node)
         raise self.fail("this is not allowed in a condition", node)
+
+    def check_number(self, value: float, node: ast.AST | None) -> None:
+        """Refuse a number no sensor, time or count comes near (``1e400`` is infinity)."""
+        if not (math.isfinite(value) and abs(value) <= GUARD_NUMBER_LIMIT):
+            raise self.fail(
+                f"the number {shown(value)} is too large for a condition "
+                f"(at most {GUARD_NUMBER_LIMIT:g})",
+                node,
+                "compare with a number a sensor can read, e.g. range.distance_cm < 20",
+            )
 
     def unit_of(self, node: ast.expr) -> str | None:
         if isinstance(node, ast.Name | ast.Attribute) and not self.is_quantity(node):
@@ -252,6 +281,7 @@ class _Compiler:
             except QuantityError as exc:
                 raise self.fail(str(exc), node) from None
             value = base / _UNIT_FACTOR[target or "mm"]
+            self.check_number(quantity.value, node)
             return lambda env: value
         return self.node(node)
 

@@ -249,6 +249,8 @@ class _Compiler:
             where=self.class_loc,
             robot=hints["robot"],
             world=hints["world"],
+            robot_where=self.attribute_loc("robot"),
+            world_where=self.attribute_loc("world"),
         )
 
     def requires(self) -> frozenset[str]:
@@ -407,11 +409,19 @@ class _Compiler:
         values = {
             p.name: getattr(template, p.kwarg) for p in kind.params if hasattr(template, p.kwarg)
         }
+        kwargs_of = {p.name: p.kwarg for p in kind.params}
+
+        def param_where(param: str, message: str, offset: int | None) -> Location:
+            # A value out of range is shown at its keyword (Drive(distance_mm=1e400)).
+            found = keyword(node, kwargs_of.get(param, param)) if param else None
+            return self.source.loc(found) if found is not None else where
+
         return self.build.action(
             kind,
             values,
             where,
             self.names,
+            param_where=param_where,
             # Each entry runs a fresh copy, so nothing carries over from an earlier visit.
             instance=template,
             name=action_name,

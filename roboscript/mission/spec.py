@@ -37,6 +37,9 @@ class ActionSpec:
         bounded: False for an action that would run forever as written (``follow_wall``
             without ``until`` or ``duration``): its state then needs a timeout or a condition.
         inner: For nested states, the inner machine.
+        children: For ``parallel`` and ``repeat``, the actions they run.
+        param_locations: Where each parameter was written, by its mission name (a parameter
+            not found here was not written, or not located: use ``location``).
     """
 
     name: str
@@ -46,6 +49,8 @@ class ActionSpec:
     location: Location | None = None
     bounded: bool = True
     inner: MissionSpec | None = field(default=None, compare=False, repr=False)
+    children: tuple[ActionSpec, ...] = field(default=(), compare=False, repr=False)
+    param_locations: Mapping[str, Location] = field(default_factory=dict, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -117,6 +122,8 @@ class MissionSpec:
         location: Where the mission's top level starts.
         robot: The robot the mission is written for (``--robot`` overrides it), or ``None``.
         world: The simulator world it is written for (``--world`` overrides it), or ``None``.
+        robot_location: Where ``robot`` was written, or ``None``.
+        world_location: Where ``world`` was written, or ``None``.
     """
 
     name: str
@@ -127,6 +134,8 @@ class MissionSpec:
     location: Location | None = None
     robot: str | None = None
     world: str | None = None
+    robot_location: Location | None = field(default=None, compare=False, repr=False)
+    world_location: Location | None = field(default=None, compare=False, repr=False)
 
     def requires(self) -> frozenset[str]:
         """Every capability the mission's actions and guards need."""

@@ -27,7 +27,7 @@ import sys
 import sysconfig
 import traceback
 from pathlib import Path
-from types import ModuleType, TracebackType
+from types import FrameType, ModuleType, TracebackType
 from typing import Any
 
 from roboscript.errors import LinkError, MissionError, RoboscriptError, did_you_mean
@@ -37,6 +37,7 @@ __all__ = [
     "import_student_file",
     "is_student_class",
     "shown_path",
+    "stuck_at",
     "student_fault",
 ]
 
@@ -84,6 +85,23 @@ def _student_frame(tb: TracebackType | None) -> traceback.FrameSummary | None:
         if not _is_library_file(frame.filename):
             found = frame
     return found
+
+
+def stuck_at(frame: FrameType | None) -> str:
+    """Where running code is, in the student's terms: ``spin.py:14 in update``.
+
+    Args:
+        frame: The innermost running frame (a signal handler's ``frame``).
+
+    Returns:
+        The innermost frame that runs a student's file, or ``""`` when none does.
+    """
+    while frame is not None:
+        code = frame.f_code
+        if not _is_library_file(code.co_filename):
+            return f"{shown_path(code.co_filename)}:{frame.f_lineno} in {code.co_name}"
+        frame = frame.f_back
+    return ""
 
 
 def _where(frame: traceback.FrameSummary | None) -> str | None:

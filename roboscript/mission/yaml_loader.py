@@ -14,9 +14,10 @@ from typing import Any
 from roboscript.actions import ACTIONS, Action
 from roboscript.errors import InputError, MissionError, did_you_mean
 from roboscript.inputs.fields import FieldReader
-from roboscript.inputs.quantities import QuantityError, parse_quantity
+from roboscript.inputs.quantities import QuantityError, bare_number_warning, parse_quantity
 from roboscript.inputs.source import Location, Mark, YamlList, YamlMap, load_yaml, load_yaml_text
 from roboscript.mission.builder import MissionBuilder
+from roboscript.mission.files import FileReferenceError, beside_mission
 from roboscript.mission.spec import (
     OUTCOMES,
     ActionSpec,
@@ -112,6 +113,8 @@ class _Reader:
             where=self.loc(data.mark),
             robot=hints["robot"],
             world=hints["world"],
+            robot_where=self.loc(data.value_mark("robot")),
+            world_where=self.loc(data.value_mark("world")),
         )
 
     # ---------------------------------------------------------------------------- states
@@ -155,6 +158,12 @@ class _Reader:
                 self.build.problem(f"state '{name}': timeout: {exc}", where)
             else:
                 timeout_s = self.build.timeout(name, "timeout", seconds, where, raw["timeout"])
+                note = bare_number_warning(raw["timeout"], "time")
+                if note is not None:
+                    message, hint = note
+                    self.build.problem(
+                        f"state '{name}': timeout: {message}", where, hint, "warning"
+                    )
         return self.build.state(
             name,
             action=action,
@@ -268,7 +277,11 @@ class _Reader:
         if not isinstance(value, str):
             self.problem("mission: names a mission file, e.g. mission: patrol.yaml", mark)
             return None
-        path = (Path(self.path).parent / value).resolve()
+        try:
+            path = beside_mission(self.path, value, "mission file", (".yaml", ".yml"))
+        except FileReferenceError as exc:
+            self.problem(str(exc), mark, exc.hint)
+            return None
         if str(path) in _LOADING:
             self.problem(f"'{value}' includes itself (directly or through another file)", mark)
             return None

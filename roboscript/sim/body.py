@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 import random
 from dataclasses import dataclass, field
+from typing import TypeVar
 
 from roboscript.angles import wrap_deg
 from roboscript.sim.geometry import (
@@ -128,20 +129,62 @@ class Contact:
         return (now_s if self.end_s is None else self.end_s) - self.start_s
 
 
+MAX_TONES = 1000
+"""Most tones a run's log keeps (the first ones); later ones are only counted."""
+MAX_CONTACTS = 1000
+"""Most collisions a run's log keeps (the first ones); later ones are only counted."""
+
+_T = TypeVar("_T")
+
+
+class FirstOf(list[_T]):
+    """A list that keeps its first ``cap`` items and counts the ones after in :attr:`more`.
+
+    A run that goes on for hours (a mission that never ends, stopped by ``--max-time``) then
+    keeps a log of bounded size; reports say "… N more".
+
+    Args:
+        cap: How many items to keep.
+
+    Attributes:
+        more: Items appended after the list was full (not kept).
+    """
+
+    def __init__(self, cap: int) -> None:
+        super().__init__()
+        self.cap = cap
+        self.more = 0
+
+    def append(self, item: _T, /) -> None:
+        """Keep ``item`` if there is room, else count it."""
+        if len(self) < self.cap:
+            super().append(item)
+        else:
+            self.more += 1
+
+    @property
+    def total(self) -> int:
+        """Every item appended, kept or not."""
+        return len(self) + self.more
+
+
 @dataclass
 class SimLog:
     """What happened during a simulated run, for reports and grading.
 
     Attributes:
-        tones: (time s, frequency Hz, duration s) of each tone started.
-        contacts: Each collision with where it began and how long it lasted.
-        path: (time s, x mm, y mm, heading deg) samples.
+        tones: (time s, frequency Hz, duration s) of each tone started: the first
+            :data:`MAX_TONES`; ``tones.more`` counts the rest.
+        contacts: Each collision with where it began and how long it lasted: the first
+            :data:`MAX_CONTACTS`; ``contacts.more`` counts the rest.
+        path: (time s, x mm, y mm, heading deg) samples (bounded by the simulation, see
+            :data:`~roboscript.sim.simulation.MAX_PATH_SAMPLES`).
         distance_travelled_mm: Path length of the body centre.
         display: The text on the display now.
     """
 
-    tones: list[tuple[float, float, float]] = field(default_factory=list)
-    contacts: list[Contact] = field(default_factory=list)
+    tones: FirstOf[tuple[float, float, float]] = field(default_factory=lambda: FirstOf(MAX_TONES))
+    contacts: FirstOf[Contact] = field(default_factory=lambda: FirstOf(MAX_CONTACTS))
     path: list[tuple[float, float, float, float]] = field(default_factory=list)
     distance_travelled_mm: float = 0.0
     display: str = ""
@@ -182,6 +225,7 @@ class Body:
         self.contact_side: str | None = None
         self._imu_bias_deg = 0.0
         self.log = SimLog()
+        self._contact: Contact | None = None
         # Only walls near the body can stop it; refreshed every 100 mm of travel.
         self._near_walls = NearbySegments(
             world.walls, spec.body_radius_mm + spec.contact_release_mm, 100.0
@@ -283,14 +327,17 @@ class Body:
             if self.in_contact and self._clear_of_walls():
                 self.in_contact = False
                 self.contact_side = None
-                self.log.contacts[-1].end_s = self.time_s
+                if self._contact is not None:
+                    self._contact.end_s = self.time_s
             return True
         # A body held against a wall re-touches it step after step (it stops up to one step
         # short); only a contact after a quarter second clear of walls is a new collision.
         if not self.in_contact and self.time_s - self._last_contact_s > _NEW_CONTACT_S:
-            self.log.contacts.append(Contact(self.time_s, self.x_mm, self.y_mm, hit))
-        elif self.log.contacts:
-            self.log.contacts[-1].end_s = None  # the same contact goes on
+            # Held here, not as contacts[-1]: once the log is full it keeps older contacts.
+            self._contact = Contact(self.time_s, self.x_mm, self.y_mm, hit)
+            self.log.contacts.append(self._contact)
+        elif self._contact is not None:
+            self._contact.end_s = None  # the same contact goes on
         self._last_contact_s = self.time_s
         self.in_contact = True
         self.contact_side = hit

@@ -9,6 +9,19 @@ One thread: a ``select`` loop waits for bytes or for the next physics step and t
 simulation on the wall clock. When a client connects, the device greets it as the real one
 does after a reset; when it disconnects the motors are stopped, so a crashed client never
 leaves the simulated robot driving.
+
+Fair to every client of a classroom (TCP):
+
+* **One client at a time.** A client that connects while another has the robot is told so in
+  one line of text (:data:`BUSY_LINE`), then closed; the server prints
+  ``client X refused: busy with Y``.
+* **A client that says nothing is dropped.** One that sends no byte within
+  ``handshake_wait_s`` of connecting (:data:`DEFAULT_HANDSHAKE_WAIT_S`) is closed and the
+  motors stopped, so a stray connection cannot keep the robot from the next client.
+* **No client can flood the robot.** The device takes bytes no faster than the robot's line
+  carries them (``baudrate / 10`` bytes a second, at least :data:`MIN_LINE_BYTES_S`, with
+  :data:`LINE_BURST_S` of burst); what a client sends beyond that is dropped and counted, as
+  a real receive buffer that is full drops it, and the server says so once per client.
 """
 
 from __future__ import annotations
@@ -22,14 +35,51 @@ import socket
 import time
 import tty
 from collections.abc import Callable
+from dataclasses import dataclass
 
 from roboscript.sim.simulation import Simulation
 
-__all__ = ["SimServer", "parse_host_port"]
+__all__ = [
+    "BUSY_LINE",
+    "DEFAULT_HANDSHAKE_WAIT_S",
+    "LINE_BURST_S",
+    "MIN_LINE_BYTES_S",
+    "SimServer",
+    "parse_host_port",
+]
 
 logger = logging.getLogger(__name__)
 
 _READ_CHUNK = 65536
+_CATCH_UP_READS = 256
+"""Most reads of the current client before deciding a newcomer must be refused."""
+
+DEFAULT_HANDSHAKE_WAIT_S = 5.0
+"""A TCP client that sends nothing this long after connecting is dropped, seconds."""
+LINE_BURST_S = 0.25
+"""Line time a client may send at once before bytes are dropped, seconds (at the baudrate)."""
+MIN_LINE_BYTES_S = 65536
+"""The slowest line a client is held to, bytes a second. Robots on USB (a SPIKE hub, a PLEN2)
+take bytes faster than their nominal baud rate, and an agent upload must never lose a byte;
+a flood is still bounded to what the simulated device handles in a small part of its time."""
+BUSY_LINE = (
+    "roboscript sim: busy: another client ({other}) has the simulated robot;"
+    " try again when it disconnects\r\n"
+)
+"""What a client that connects while another has the robot reads before it is closed."""
+
+
+@dataclass
+class _Client:
+    """The client that has the robot, and what the server knows of it."""
+
+    sock: socket.socket
+    name: str
+    connected_s: float
+    budget_bytes: float
+    budget_at_s: float
+    heard: bool = False
+    dropped_bytes: int = 0
 
 
 def parse_host_port(text: str) -> tuple[str, int]:
@@ -54,19 +104,45 @@ class SimServer:
         simulation: The simulated robot to serve.
         announce: Called with each line the server has to say (where it listens, who
             connected); defaults to logging.
+        handshake_wait_s: A TCP client that sends nothing this long after connecting is
+            dropped, seconds.
+        clock: Wall-clock seconds (``time.monotonic``; tests inject their own).
+
+    Attributes:
+        dropped_bytes: Bytes clients sent faster than the robot's line carries, dropped.
+        refused: Clients refused because another had the robot.
+        idle_drops: Clients dropped for sending nothing within ``handshake_wait_s``.
+
+    Raises:
+        ValueError: A wait that is not positive.
     """
 
     def __init__(
-        self, simulation: Simulation, announce: Callable[[str], None] | None = None
+        self,
+        simulation: Simulation,
+        announce: Callable[[str], None] | None = None,
+        *,
+        handshake_wait_s: float = DEFAULT_HANDSHAKE_WAIT_S,
+        clock: Callable[[], float] = time.monotonic,
     ) -> None:
+        if handshake_wait_s <= 0:
+            raise ValueError("the handshake wait must be positive")
         self.simulation = simulation
         self.announce = announce or logger.info
-        self._origin = time.monotonic()
+        self.handshake_wait_s = handshake_wait_s
+        self._clock = clock
+        self._origin = clock()
         self._stop = False
+        # The device's serial line: baudrate / 10 bytes a second (8N1).
+        self.line_bytes_s = max(MIN_LINE_BYTES_S, simulation.profile.baudrate / 10.0)
+        self.burst_bytes = self.line_bytes_s * LINE_BURST_S
+        self.dropped_bytes = 0
+        self.refused = 0
+        self.idle_drops = 0
 
     def now(self) -> float:
         """Seconds since the server started (the simulation's clock)."""
-        return time.monotonic() - self._origin
+        return self._clock() - self._origin
 
     def stop(self) -> None:
         """Ask the loop to end at its next wake-up."""
@@ -90,55 +166,140 @@ class SimServer:
             f"listening on tcp://{bound_host}:{bound_port}"
             f" (use --port socket://{bound_host}:{bound_port})"
         )
-        client: socket.socket | None = None
+        client: _Client | None = None
         try:
             while not self._stop and not self._expired(max_runtime_s):
                 wait = self._advance()
                 if client is not None:
-                    self._send_output(client)
-                readable = [listener] if client is None else [client]
+                    self._send_output(client.sock)
+                    if not client.heard:
+                        left = client.connected_s + self.handshake_wait_s - self.now()
+                        wait = max(0.0, min(wait, left))
+                readable = [listener] if client is None else [client.sock, listener]
                 ready, _, _ = select.select(readable, [], [], wait)
-                if listener in ready:
-                    client = self._accept(listener)
-                elif client is not None and client in ready:
+                # The client first: one that has just hung up frees the robot for the next.
+                if client is not None and client.sock in ready:
                     client = self._receive(client)
+                if client is not None and self._idle(client):
+                    client = None
+                if listener in ready:
+                    if client is not None:
+                        client = self._catch_up(client)
+                    if client is None:
+                        client = self._accept(listener)
+                    else:
+                        self._refuse(listener, client)
         finally:
             if client is not None:
-                client.close()
+                client.sock.close()
             listener.close()
             self.simulation.stop_all()
 
     def _expired(self, max_runtime_s: float | None) -> bool:
         return max_runtime_s is not None and self.now() >= max_runtime_s
 
-    def _accept(self, listener: socket.socket) -> socket.socket | None:
+    def _accept(self, listener: socket.socket) -> _Client | None:
         try:
-            client, address = listener.accept()
+            sock, address = listener.accept()
         except BlockingIOError:
             return None
-        client.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-        client.setblocking(False)
-        self.announce(f"client connected from {address[0]}:{address[1]}")
+        sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        sock.setblocking(False)
+        name = f"{address[0]}:{address[1]}"
+        self.announce(f"client connected from {name}")
         self.simulation.read(self.simulation.in_waiting)  # nobody heard it: a serial line drops it
         self.simulation.connect()
-        self._send_output(client)
+        now = self.now()
+        client = _Client(sock, name, now, self.burst_bytes, now)
+        self._send_output(sock)
         return client
 
-    def _receive(self, client: socket.socket) -> socket.socket | None:
+    def _catch_up(self, client: _Client) -> _Client | None:
+        """Read all ``client`` has sent so far, to learn whether it has hung up already.
+
+        A client that closed right after sending (or flooding) may still have bytes waiting
+        here; the one that connects after it must not be refused for them. Bounded: the
+        kernel's receive buffer holds a few megabytes at most.
+        """
+        current: _Client | None = client
+        for _ in range(_CATCH_UP_READS):  # a client still flooding does not hold the loop
+            if current is None:
+                break
+            ready, _, _ = select.select([current.sock], [], [], 0)
+            if not ready:
+                break
+            current = self._receive(current)
+        return current
+
+    def _refuse(self, listener: socket.socket, client: _Client) -> None:
+        """Tell a client that arrived while another has the robot that it is busy; close it."""
         try:
-            data = client.recv(_READ_CHUNK)
+            sock, address = listener.accept()
+        except BlockingIOError:
+            return
+        name = f"{address[0]}:{address[1]}"
+        try:
+            sock.setblocking(False)
+            sock.send(BUSY_LINE.format(other=client.name).encode("ascii"))
+        except OSError as exc:
+            logger.debug("could not tell %s it is refused: %s", name, exc)
+        finally:
+            sock.close()
+        self.refused += 1
+        self.announce(f"client {name} refused: busy with {client.name}")
+
+    def _idle(self, client: _Client) -> bool:
+        """Drop ``client`` if it has said nothing within the handshake wait; True if dropped."""
+        if client.heard or self.now() - client.connected_s < self.handshake_wait_s:
+            return False
+        self.idle_drops += 1
+        self._hang_up(
+            client,
+            f"client {client.name} dropped: it sent nothing for "
+            f"{self.handshake_wait_s:g} s after connecting; motors stopped",
+        )
+        return True
+
+    def _hang_up(self, client: _Client, line: str) -> None:
+        self.simulation.stop_all()
+        client.sock.close()
+        if client.dropped_bytes:
+            line += f" ({client.dropped_bytes} bytes sent faster than the line were dropped)"
+        self.announce(line)
+
+    def _receive(self, client: _Client) -> _Client | None:
+        try:
+            data = client.sock.recv(_READ_CHUNK)
         except (BlockingIOError, InterruptedError):
             return client
         except OSError:
             data = b""
         if not data:
-            self.announce("client disconnected; motors stopped")
-            self.simulation.stop_all()
-            client.close()
+            self._hang_up(client, "client disconnected; motors stopped")
             return None
-        self.simulation.write(data)
-        self._send_output(client)
+        client.heard = True
+        self.simulation.write(self._within_line_rate(client, data))
+        self._send_output(client.sock)
         return client
+
+    def _within_line_rate(self, client: _Client, data: bytes) -> bytes:
+        """The part of ``data`` the robot's serial line carries now; the rest is counted."""
+        now = self.now()
+        refill = (now - client.budget_at_s) * self.line_bytes_s
+        client.budget_bytes = min(self.burst_bytes, client.budget_bytes + refill)
+        client.budget_at_s = now
+        taken = min(len(data), int(client.budget_bytes))
+        client.budget_bytes -= taken
+        excess = len(data) - taken
+        if excess:
+            if not client.dropped_bytes:
+                self.announce(
+                    f"client {client.name} sends faster than the robot's line "
+                    f"({self.line_bytes_s:.0f} bytes/s): dropping what does not fit"
+                )
+            client.dropped_bytes += excess
+            self.dropped_bytes += excess
+        return data[:taken]
 
     def _send_output(self, client: socket.socket) -> None:
         data = self.simulation.read(self.simulation.in_waiting)

@@ -20,6 +20,14 @@ __all__ = ["Simulation", "body_spec_for", "build_device", "make_simulation"]
 
 PHYSICS_DT_S = 0.005
 PATH_INTERVAL_S = 0.1
+"""Time between path samples while the path has room, seconds."""
+MAX_PATH_SAMPLES = 8192
+"""Most path samples a run keeps. At ``PATH_INTERVAL_S`` that is 13.6 simulated minutes at
+full resolution, longer than any graded run or test, so their paths (and every expectation
+read from them) are exactly as sampled. A longer run (a mission that never ends, stopped by
+``--max-time``) drops every other sample when the path is full and samples half as often from
+then on, so memory and ``run --json`` stay flat however long it goes; the samples taken with
+:meth:`Simulation.sample_path` (the mission's start) are always kept."""
 
 
 class Simulation:
@@ -53,6 +61,9 @@ class Simulation:
         self._steps = 0
         self._to_host = bytearray()
         self._next_path_s = 0.0
+        self.path_interval_s = PATH_INTERVAL_S
+        """Time between path samples now, seconds (doubles each time the path is thinned)."""
+        self._pinned: set[float] = set()
         self._record_path()
 
     @property
@@ -119,12 +130,17 @@ class Simulation:
         return round(body.x_mm, 1), round(body.y_mm, 1), round(body.heading_deg, 1)
 
     def sample_path(self) -> None:
-        """Record a path sample now (the grader and ``--json`` start the path here)."""
+        """Record a path sample now (the grader and ``--json`` start the path here).
+
+        The sample is kept however long the run goes (see :data:`MAX_PATH_SAMPLES`).
+        """
         self._record_path()
+        self._pinned.add(self.log.path[-1][0])
 
     def _record_path(self) -> None:
         body = self.body
-        self.log.path.append(
+        path = self.log.path
+        path.append(
             (
                 round(self.time_s, 3),
                 round(body.x_mm, 1),
@@ -132,7 +148,21 @@ class Simulation:
                 round(body.heading_deg, 2),
             )
         )
-        self._next_path_s = self.time_s + PATH_INTERVAL_S
+        if len(path) > MAX_PATH_SAMPLES:
+            self._thin_path()
+        self._next_path_s = self.time_s + self.path_interval_s
+
+    def _thin_path(self) -> None:
+        """Drop every other sample (keeping the first, the last and the pinned ones) and
+        sample half as often from now on."""
+        path = self.log.path
+        last = len(path) - 1
+        path[:] = [
+            sample
+            for index, sample in enumerate(path)
+            if index % 2 == 0 or index == last or sample[0] in self._pinned
+        ]
+        self.path_interval_s *= 2
 
 
 def body_spec_for(profile: RobotProfile) -> BodySpec:

@@ -58,3 +58,17 @@ def test_reset_starts_watching_from_the_new_mark() -> None:
 def test_defaults_are_two_millimetres_in_one_second() -> None:
     stall = Stall()
     assert (stall.min_progress, stall.window_s) == (2.0, 1.0)
+
+
+def test_an_error_outside_the_tolerance_is_never_settled_even_without_a_dwell() -> None:
+    # a rotate with no dwell must still not end while it is 5 degrees off
+    settle = Settle(tolerance=1.0, dwell_s=0.0)
+    assert not settle.update(5.0, 0.02)
+    assert settle.update(0.5, 0.02)
+    assert not settle.update(-5.0, 0.02)
+
+
+def test_a_stall_watch_never_reset_starts_from_nought_at_time_nought() -> None:
+    stall = Stall(min_progress=2.0, window_s=1.0)
+    assert not stall.update(0.5, -1.5)
+    assert stall.update(1.0, -1.5)

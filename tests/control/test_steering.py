@@ -138,3 +138,92 @@ def test_line_follower_turns_towards_the_line() -> None:
     assert loop.update(0.5, 0.0, 0.02) == pytest.approx(50.0)
     assert loop.update(1.0, -0.35, 0.02) == pytest.approx(135.0)  # follow the right edge
     assert loop.update(1.0, -1.0, 0.02) == 150.0  # limited
+
+
+def test_heading_hold_integrates_over_the_scheduler_dt() -> None:
+    # ki 1 deg/s per degree-second: 10 degrees off for 0.5 s twice is 5 then 10 deg/s
+    hold = HeadingHold((0.0, 1.0, 0.0), max_rate_deg_s=100.0)
+    assert hold.update(10.0, 0.0, 0.5) == pytest.approx(5.0)
+    assert hold.update(10.0, 0.0, 0.5) == pytest.approx(10.0)
+
+
+def test_wall_follower_integrates_both_loops_over_the_scheduler_dt() -> None:
+    # outer ki: 100 mm too far for 0.5 s is 0.1 * 100 * 0.5 = 5 degrees of approach;
+    # inner ki: 5 degrees off for 0.5 s is 2.5 deg/s
+    loop = WallFollower(
+        (0.0, 0.1, 0.0), 200.0, "right", heading_gains=(0.0, 1.0, 0.0), max_rate_deg_s=100.0
+    )
+    assert loop.update(300.0, 0.0, 0.5) == pytest.approx(2.5)
+
+
+def test_wall_follower_without_an_echo_on_the_wall_direction_goes_straight() -> None:
+    loop = WallFollower((0.5, 0.0, 0.0), 200.0, "left")
+    loop.update(200.0, 30.0, 0.02)
+    assert loop.update(None, 30.0, 0.02) == 0.0
+
+
+def test_wall_follower_defaults_limit_the_approach_to_25_degrees_and_the_turn_to_60() -> None:
+    steep = WallFollower((10.0, 0.0, 0.0), 200.0, "right", heading_gains=(1.0, 0.0, 0.0))
+    assert steep.update(2000.0, 0.0, 0.02) == pytest.approx(25.0)
+    fast = WallFollower((10.0, 0.0, 0.0), 200.0, "right", max_approach_deg=90.0)
+    assert fast.update(2000.0, 0.0, 0.02) == pytest.approx(60.0)
+
+
+def test_a_left_wall_follower_turns_left_towards_a_far_wall_by_the_same_angle() -> None:
+    loop = WallFollower(
+        (10.0, 0.0, 0.0),
+        200.0,
+        "left",
+        max_approach_deg=20.0,
+        heading_gains=(1.0, 0.0, 0.0),
+        max_rate_deg_s=1000.0,
+    )
+    assert loop.update(2000.0, 0.0, 0.02) == pytest.approx(-20.0)
+
+
+def test_a_left_wall_follower_corrects_an_angled_reading_by_the_cosine() -> None:
+    loop = WallFollower(
+        (1.0, 0.0, 0.0),
+        200.0,
+        "left",
+        heading_gains=(1.0, 0.0, 0.0),
+        max_approach_deg=90.0,
+        max_rate_deg_s=1000.0,
+    )
+    loop.update(200.0, 0.0, 0.02)
+    # turned 60 degrees right, away from a wall on the left: 400 mm read is 200 mm of gap
+    assert loop.update(400.0, 60.0, 0.02) == pytest.approx(-60.0, abs=1e-6)
+
+
+def test_a_line_exactly_at_the_threshold_is_seen() -> None:
+    assert LineFollower.position((0.0, 500.0, 0.0), 500.0) == pytest.approx(0.0)
+
+
+def test_floor_noise_just_under_a_quarter_threshold_does_not_pull_the_position() -> None:
+    assert LineFollower.position((120.0, 900.0, 0.0), 500.0) == pytest.approx(0.0)
+
+
+def test_line_position_works_for_sensors_reading_fractions() -> None:
+    # reflected-light sensors that report 0..1 instead of raw counts
+    assert LineFollower.position((0.0, 0.6, 0.0), 0.5) == pytest.approx(0.0)
+    assert LineFollower.position((0.6, 0.0, 0.0), 0.5) == pytest.approx(-1.0)
+
+
+def test_a_zero_threshold_on_a_blank_floor_is_no_line() -> None:
+    assert LineFollower.position((0.0, 0.0, 0.0), 0.0) is None
+
+
+def test_line_follower_on_target_goes_straight() -> None:
+    loop = LineFollower((100.0, 0.0, 0.0))
+    assert loop.update(0.0, 0.0, 0.02) == 0.0
+
+
+def test_line_follower_default_limit_is_120_deg_s() -> None:
+    loop = LineFollower((1000.0, 0.0, 0.0))
+    assert loop.update(-1.0, 0.0, 0.02) == -120.0
+
+
+def test_line_follower_integrates_over_the_scheduler_dt() -> None:
+    loop = LineFollower((0.0, 10.0, 0.0))
+    assert loop.update(-1.0, 0.0, 0.5) == pytest.approx(-5.0)
+    assert loop.update(-1.0, 0.0, 0.5) == pytest.approx(-10.0)

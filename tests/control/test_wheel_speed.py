@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from roboscript.control import WheelSpeedLoop
@@ -74,3 +76,31 @@ def test_stopping_and_starting_again_starts_from_zero_integral() -> None:
     assert loop.update((0.0, 0.0), 0.1) == (0.0, 0.0)
     loop.set_targets(150.0, 150.0)
     assert loop.update((150.0, 150.0), 0.1) == pytest.approx((0.5, 0.5))
+
+
+def test_a_new_loop_gives_no_power_before_any_target() -> None:
+    loop = WheelSpeedLoop((0.01, 0.0, 0.0), max_speed_mm_s=300.0)
+    assert loop.targets_mm_s == (0.0, 0.0)
+    assert loop.update((50.0, -50.0), 0.02) == (0.0, 0.0)
+
+
+@pytest.mark.parametrize("target", [150.0, -150.0])
+def test_the_correction_is_limited_to_one_full_power_step(target: float) -> None:
+    # a wheel spinning far too fast in either direction: kp alone would say -2.5 (or +2.5),
+    # limited to -1 (+1) it still leaves the feed-forward half of the power
+    loop = WheelSpeedLoop((0.01, 0.0, 0.0), max_speed_mm_s=300.0)
+    loop.set_targets(target, target)
+    power = target / 300.0 - math.copysign(1.0, target)
+    assert loop.update((target + math.copysign(250.0, target),) * 2, 0.02) == pytest.approx(
+        (power, power)
+    )
+
+
+def test_stopping_after_reversing_then_reversing_again_starts_from_zero_integral() -> None:
+    loop = WheelSpeedLoop((0.0, 0.01, 0.0), max_speed_mm_s=300.0)
+    loop.set_targets(-150.0, -150.0)
+    for _ in range(10):
+        loop.update((0.0, 0.0), 0.1)  # held back: the integral winds up
+    loop.set_targets(0.0, 0.0)
+    loop.set_targets(-150.0, -150.0)
+    assert loop.update((-150.0, -150.0), 0.1) == pytest.approx((-0.5, -0.5))

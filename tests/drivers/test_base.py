@@ -216,3 +216,138 @@ def test_the_host_codec_comes_from_the_protocol_unit() -> None:
     codec = _Probe.make_codec(BUILTIN_PROFILES["mirto"])
     assert isinstance(codec, AsipCodec)
     assert codec.role is Role.HOST
+
+
+# ------------------------------------------------------------------------------- liveness
+
+
+class _QuietPort:
+    """A port that has bytes to give only when told to, and can be lost."""
+
+    def __init__(self) -> None:
+        self.incoming = b""
+        self.lost = False
+
+    def read(self, size: int = 1) -> bytes:
+        if self.lost:
+            raise OSError("device disconnected")
+        data, self.incoming = self.incoming, b""
+        return data
+
+    def write(self, data: bytes, /) -> int:
+        return len(data)
+
+    def close(self) -> None:
+        pass
+
+
+class _Listener(Driver):
+    """Reads its link every tick; raises what a test puts in ``raise_next``."""
+
+    protocol = "asip"
+
+    def __init__(self, clock: SimClock, limit_s: float | None) -> None:
+        self.port = _QuietPort()
+        link = Link(self.port, AsipCodec(Role.HOST), clock=clock, name="socket://robot:1")
+        super().__init__(link, BUILTIN_PROFILES["mirto"], clock)
+        self.silence_limit_s = limit_s
+        self.raise_next: Exception | None = None
+
+    def start(self) -> None:
+        pass
+
+    def tick(self, now_s: float, dt_s: float) -> None:
+        self.link.poll()
+        if self.raise_next is not None:
+            raise self.raise_next
+
+    def flush(self, now_s: float, dt_s: float) -> None:
+        pass
+
+    def send_stop(self) -> None:
+        pass
+
+
+class _Subclassed(_Listener):
+    """A driver built on another: the rule must not be applied twice."""
+
+    def tick(self, now_s: float, dt_s: float) -> None:
+        super().tick(now_s, dt_s)
+
+
+def _ready_listener(limit_s: float | None = 1.0) -> tuple[_Listener, SimClock]:
+    clock = SimClock()
+    clock.advance(2.0)
+    driver = _Listener(clock, limit_s)  # connected at 2.0 s
+    clock.advance(0.5)
+    driver.offer({})  # ready at 2.5 s
+    return driver, clock
+
+
+def test_silence_after_the_handshake_fails_with_one_sentence() -> None:
+    driver, clock = _ready_listener(1.0)
+    driver.port.incoming = b"@E,I,1\n"
+    clock.advance(0.5)
+    driver.tick(clock.now(), 0.02)  # heard at 3.0 s
+    clock.advance(0.98)
+    driver.tick(clock.now(), 0.02)  # quiet for 0.98 s: still alive
+    clock.advance(0.02)
+    with pytest.raises(LinkTimeoutError) as caught:
+        driver.tick(clock.now(), 0.02)
+    assert str(caught.value) == (
+        "the robot stopped responding 2.0 s after connecting: nothing heard from it for 1.0 s"
+    )
+    assert driver.failure is caught.value
+
+
+def test_without_a_limit_a_quiet_robot_is_fine() -> None:
+    driver, clock = _ready_listener(None)
+    clock.advance(60.0)
+    driver.tick(clock.now(), 0.02)
+
+
+def test_a_drivers_own_timeout_keeps_its_detail_once_ready() -> None:
+    driver, clock = _ready_listener(None)
+    driver.raise_next = LinkTimeoutError("the motor module did not answer")
+    clock.advance(1.25)
+    with pytest.raises(
+        LinkTimeoutError,
+        match=r"^the robot stopped responding 1\.8 s after "
+        r"connecting: the motor module did not answer$",
+    ):
+        driver.tick(clock.now(), 0.02)
+
+
+def test_a_timeout_during_the_handshake_keeps_the_handshake_sentence() -> None:
+    clock = SimClock()
+    driver = _Listener(clock, 1.0)
+    driver.raise_next = LinkTimeoutError("no startup line")
+    clock.advance(5.0)
+    with pytest.raises(LinkTimeoutError, match=r"^no startup line$"):
+        driver.tick(clock.now(), 0.02)
+
+
+def test_a_lost_port_says_which_and_when() -> None:
+    driver, clock = _ready_listener()
+    driver.port.lost = True
+    clock.advance(0.3)
+    with pytest.raises(LinkClosedError) as caught:
+        driver.tick(clock.now(), 0.02)
+    assert str(caught.value) == "the connection to socket://robot:1 was lost 0.8 s after connecting"
+
+
+def test_a_driver_built_on_another_says_it_once() -> None:
+    clock = SimClock()
+    driver = _Subclassed(clock, 1.0)
+    driver.offer({})
+    clock.advance(1.0)
+    with pytest.raises(LinkTimeoutError) as caught:
+        driver.tick(clock.now(), 0.02)
+    assert str(caught.value).count("stopped responding") == 1
+
+
+def test_skipped_readings_are_counted_with_the_garbage() -> None:
+    driver, _ = _ready_listener()
+    driver.skip_reading("distance 30000 mm")
+    driver.skip_reading("distance 30000 mm")
+    assert driver.link.faults == {"out_of_range": 2}

@@ -7,13 +7,18 @@ The profiles come from the protocol units (``PROTOCOL.contract`` in each
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
+from typing import Any
 
 import pytest
-from helpers import run_cli
+from helpers import ROOT, run_cli
 
 from roboscript.drivers import contract_cases
+from roboscript.mission import load_mission
+from roboscript.profiles import get_profile
 from roboscript.robot import Robot
+from roboscript.session import Session, run_session
 from roboscript.transport.wirelog import read_wire_log
 
 WHEELED = list(contract_cases().wheeled)
@@ -114,3 +119,107 @@ def test_square_mission_succeeds(robot: str) -> None:
     assert len(summary["sim"]["tones"]) == 4
     pose = summary["sim"]["final_pose"]
     assert (pose["x_mm"] ** 2 + pose["y_mm"] ** 2) ** 0.5 < 80.0
+
+
+# ------------------------------------------------------------------------- silence and loss
+
+
+class _FailingPort:
+    """The simulated robot's port, made to fall silent or be lost at a scheduler time.
+
+    Silent: the robot still hears the host but says nothing. Lost: every read and write fails
+    the way a pulled USB cable does (``OSError``), so the real :class:`Link` sees it.
+    """
+
+    def __init__(self, port: Any, clock: Any, *, silent_from_s: float, lost: bool) -> None:
+        self.port = port
+        self.clock = clock
+        self.from_s = silent_from_s
+        self.lost = lost
+        self.written_after = bytearray()
+
+    def _failed(self) -> bool:
+        return bool(self.clock.now() >= self.from_s)
+
+    def read(self, size: int = 1) -> bytes:
+        data: bytes = self.port.read(size)
+        if not self._failed():
+            return data
+        if self.lost:
+            raise OSError("device disconnected")
+        return b""
+
+    def write(self, data: bytes, /) -> int | None:
+        if self._failed():
+            if self.lost:
+                raise OSError("device disconnected")
+            self.written_after += data
+        written: int | None = self.port.write(data)
+        return written
+
+    def close(self) -> None:
+        self.port.close()
+
+
+def _mission_for(robot: str) -> Path:
+    return ROOT / "missions" / ("plen_walk.yaml" if robot in WALKING else "square.yaml")
+
+
+def _run_failing(robot: str, *, after_s: float, lost: bool) -> tuple[Session, _FailingPort]:
+    profile = get_profile(robot)
+    spec, _ = load_mission(_mission_for(robot), profile)
+    ports: list[_FailingPort] = []
+
+    def fail_later(bot: Robot) -> None:
+        link = bot.driver.link
+        port = _FailingPort(
+            link.port, link.clock, silent_from_s=link.clock.now() + after_s, lost=lost
+        )
+        link.port = port
+        ports.append(port)
+
+    session = run_session(spec, profile, max_time_s=120.0, on_connected=fail_later)
+    return session, ports[0]
+
+
+def _seconds_after_connecting(reason: str) -> float:
+    match = re.search(r" ([0-9.]+) s after connecting", reason)
+    assert match, reason
+    return float(match.group(1))
+
+
+@pytest.mark.parametrize("robot", WHEELED + WALKING)
+def test_a_robot_silent_right_after_the_handshake_fails_the_mission(robot: str) -> None:
+    session, port = _run_failing(robot, after_s=0.0, lost=False)
+    result = session.result
+    assert result.outcome == "error", (result.outcome, result.reason)
+    reason = result.reason or ""
+    assert reason.startswith("the robot stopped responding "), reason
+    assert "None" not in reason
+    connected = session.robot.driver.ready_s - session.robot.driver.connected_s
+    # Noticed within a few seconds of the silence, not at the mission's time limit.
+    assert connected <= _seconds_after_connecting(reason) <= connected + 3.0, reason
+    assert port.written_after  # the host kept talking (and sent its stop) into the silence
+
+
+@pytest.mark.parametrize("robot", WHEELED + WALKING)
+def test_a_robot_silent_mid_mission_stops_and_fails(robot: str) -> None:
+    session, _ = _run_failing(robot, after_s=2.0, lost=False)
+    result = session.result
+    assert result.outcome == "error", (result.outcome, result.reason)
+    assert (result.reason or "").startswith("the robot stopped responding "), result.reason
+    sim = session.simulation
+    assert all(abs(power) < 1e-9 for power in getattr(sim.body, "power", (0.0,)))
+
+
+@pytest.mark.parametrize("robot", WHEELED + WALKING)
+def test_a_link_lost_mid_mission_says_what_and_when(robot: str) -> None:
+    session, _ = _run_failing(robot, after_s=1.5, lost=True)
+    result = session.result
+    assert result.outcome == "error", (result.outcome, result.reason)
+    reason = result.reason or ""
+    url = session.robot.url
+    assert reason.startswith(f"the connection to {url} was lost "), reason
+    driver = session.robot.driver
+    lost_at = driver.ready_s - driver.connected_s + 1.5
+    assert lost_at - 0.05 <= _seconds_after_connecting(reason) <= lost_at + 0.1, reason

@@ -62,7 +62,7 @@ def test_each_unit_names_its_driver_device_and_codec(unit: ProtocolUnit) -> None
         assert codec.role is role
         assert isinstance(codec.stats, CodecStats)
     host = cls.make_codec(profile)
-    assert type(host) is type(unit.make_codec(Role.DEVICE, profile))
+    assert type(host) is type(unit.make_codec(Role.HOST, profile))  # the unit's own factory
     assert host.role is Role.HOST
     assert callable(unit.device_factory()(profile))
 

@@ -49,7 +49,7 @@ def test_only_true_and_false_are_booleans() -> None:
     [
         ("a: 1\na: 2\n", "f.yaml:2:1: error: 'a' is given twice (first on line 1)"),
         ("a: !!python/object:os.system x\n", "f.yaml:1:4: error: tag"),
-        ("a: [1, 2\n", "f.yaml:2:1: error:"),
+        ("a: [1, 2\n", "f.yaml:1:4: error: this `[` is never closed"),
         ("a: 1\x07\n", "f.yaml:1:5: error: the file contains a character YAML does not allow"),
     ],
 )

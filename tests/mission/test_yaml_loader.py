@@ -148,7 +148,7 @@ def test_valid_mission_loads_with_units_converted(write_mission: Callable[..., P
         ),
         (
             "states:\n  a: {final: success\n",
-            "M:3:1: error: expected ',' or '}', but got '<stream end>'",
+            "M:2:6: error: this `{` is never closed (close it with `}`)",
         ),
     ],
 )

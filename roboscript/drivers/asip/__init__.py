@@ -1,8 +1,10 @@
 """The asip protocol: ASIP 1.1 (MIRTO and other ASIP boards).
 
-``codec.py`` is the sans-IO codec (both roles), ``driver.py`` the host side, ``device.py`` the
-simulated robot's side. :data:`PROTOCOL` names them for the registries; importing this package
-imports none of them.
+``codec.py`` is the sans-IO codec (both roles), composed of ``framing.py`` (bytes into lines),
+``host_side.py`` (requests written, the board's lines read), ``device_side.py`` (requests read
+the firmware's way, replies written) and ``value_ranges.py`` (what each number can be);
+``driver.py`` is the host side, ``device.py`` the simulated robot's side. :data:`PROTOCOL`
+names them for the registries; importing this package imports none of them.
 """
 
 from __future__ import annotations

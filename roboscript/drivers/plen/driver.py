@@ -22,6 +22,12 @@ predicted from the frames with :class:`~roboscript.drivers.plen.playback.Schedul
 by 3 % plus 0.1 s: the 32 ms update runs a little long on a real board, and a ``$PM`` or
 ``#PO`` sent while a motion still plays is ignored by the firmware.
 
+Liveness: every command but the getters is silent, so once the robot is ready the driver asks
+``<VI`` whenever the line has been quiet for ``HEARTBEAT_S`` and no getter is in flight (also
+while a motion plays: the firmware answers getters between its 32 ms updates). A robot that
+leaves it unanswered three times fails the run with the drivers' common "the robot stopped
+responding" sentence (:mod:`roboscript.drivers.base`), instead of a walk predicted to succeed.
+
 Stopping: ``$SM`` clears the motion's loop and jump flags, so the firmware finishes the step it
 is in and stops in the home stance, both feet down; :meth:`~PlenDriver.stop_all` sends exactly
 that. It sends neither ``#RI`` (which freezes every servo at once, possibly on one foot) nor
@@ -44,7 +50,7 @@ from roboscript.drivers.plen import messages as m
 from roboscript.drivers.plen.codec import PlenCodec
 from roboscript.drivers.plen.gaits import Gait, load_gaits
 from roboscript.drivers.plen.playback import UPDATE_INTERVAL_MS, Schedule
-from roboscript.errors import DeviceError, LinkTimeoutError
+from roboscript.errors import DeviceError, LinkError, LinkTimeoutError
 from roboscript.profiles import RobotProfile
 from roboscript.transport.link import Link
 
@@ -70,6 +76,8 @@ MAX_PLAYS_PER_PUSH = 255
 """Most passes one ``#PU`` can ask for."""
 JOINT_LIMIT_DEG = 90.0
 """Largest joint offset the joints capability sends, degrees."""
+HEARTBEAT_S = 1.0
+"""Once ready, ``<VI`` is asked after this long without a byte from the robot, seconds."""
 
 _PERIOD_S = UPDATE_INTERVAL_MS / 1000.0 * PLAYBACK_STRETCH
 
@@ -286,7 +294,7 @@ class PlenDriver(Driver):
             op = self._ops[0]
             if isinstance(op, _WaitIdle):
                 if now_s < self._play_end_s():
-                    return
+                    break
                 self._ops.popleft()
                 continue
             self._ops.popleft()
@@ -299,6 +307,20 @@ class PlenDriver(Driver):
                 self._start_play(op, now_s)
             else:
                 op.action()
+        self._heartbeat(now_s)
+
+    def _heartbeat(self, now_s: float) -> None:
+        """Ask ``<VI`` if the ready robot has been quiet for ``HEARTBEAT_S`` (liveness)."""
+        if not self.ready or self._asking.in_flight is not None or now_s < self._hold_until_s:
+            return
+        if self._ops and not isinstance(self._ops[0], _WaitIdle):
+            return  # the queue is moving: its own getters and quiet times come first
+        if self.silent_for_s(now_s) < HEARTBEAT_S - 1e-9:
+            return
+        self._send_ask(_Ask(m.GetVersion(), self._on_heartbeat), now_s)
+
+    def _on_heartbeat(self, reply: m.Reply) -> None:
+        del reply  # any version reply proves the robot is alive
 
     def _send_ask(self, op: _Ask, now_s: float) -> None:
         self._asking.sent(op, now_s)  # the op that just timed out, sent again, is a retry
@@ -322,6 +344,11 @@ class PlenDriver(Driver):
             raise self._asking.give_up_error()
 
     def _silent(self, op: _Ask, tries: int) -> LinkTimeoutError:
+        if self.ready:
+            return LinkTimeoutError(
+                f"the PLEN2 did not answer {self.link.codec.send(op.request).decode()} "
+                f"({tries} tries)"
+            )
         return LinkTimeoutError(
             f"the PLEN2 did not answer {self.link.codec.send(op.request).decode()} "
             f"({tries} tries): is it switched on, and is the port the robot's "
@@ -396,7 +423,10 @@ class PlenDriver(Driver):
         playing = self._playing
         if playing is None or self._now_s >= playing.end_s:
             return
-        self.link.send(m.StopMotion())
+        try:
+            self.link.send(m.StopMotion())
+        except LinkError as exc:  # a stop on the way out of a lost link must not hide it
+            logger.debug("$SM not sent: %s", exc)
         self._shorten_playback()
 
     # ------------------------------------------------------------------------------ joints

@@ -28,7 +28,10 @@ motor degrees per second when the rounded speeds change, and again every 0.5 s w
 watchdog, so a host that dies leaves the wheels running for at most 1.5 s. Zero speeds send
 ``Stop`` (brake). Wheel distances come from the motors' positions (the left motor is mounted
 mirrored, so its position is negated); the heading from the IMU yaw, which the hub counts
-counter-clockwise (negated: roboscript's turns are clockwise positive).
+counter-clockwise (negated: roboscript's turns are clockwise positive). A device value outside
+its documented range (a distance over 2000 mm, a force over 100 %, a motor that moved faster
+than any SPIKE motor turns) is counted with the garbage (``out_of_range``) and skipped: the
+last good reading stands.
 
 :meth:`SpikeDriver.stop_all` sends ``Stop`` over the tunnel (if the agent runs) and
 ``ProgramFlowRequest(stop)``; a later motion command starts the agent again.
@@ -76,6 +79,42 @@ _WATCHDOG_MS = 1500
 _ACCELERATION_DEG_S2 = 4000
 _BEEP_VOLUME_PERCENT = 100
 _CONSOLE_LINES = 5
+_MAX_MOTOR_DEG_S = 2000.0
+"""Faster than any SPIKE motor turns (the large motor's top speed is about 1050 deg/s): a
+position that moved faster between two readings is not a real reading."""
+_MOTOR_JUMP_SLACK_DEG = 90.0
+"""Position change allowed on top of ``_MAX_MOTOR_DEG_S`` (a late first reading)."""
+
+
+def _impossible(device: m.DeviceMessage) -> str | None:
+    """Why ``device`` holds a value no SPIKE hub reports (documented ranges), or ``None``."""
+    checks: list[tuple[str, int, int, int]] = []
+    if isinstance(device, m.DeviceMotor):
+        checks = [
+            ("absolute position", device.absolute_position_deg, -180, 179),
+            ("speed", device.speed_percent, -100, 100),
+        ]
+    elif isinstance(device, m.DeviceImu):
+        checks = [
+            ("yaw", device.yaw, -180, 180),
+            ("pitch", device.pitch, -180, 180),
+            ("roll", device.roll, -180, 180),
+        ]
+    elif isinstance(device, m.DeviceDistance):
+        checks = [("distance", device.distance_mm, -1, 2000)]
+    elif isinstance(device, m.DeviceForce):
+        checks = [("force", device.force_percent, 0, 100)]
+    elif isinstance(device, m.DeviceColor):
+        checks = [
+            (name, value, 0, 1023)
+            for name, value in zip(
+                ("red", "green", "blue"), (device.red, device.green, device.blue), strict=True
+            )
+        ]
+    for name, value, low, high in checks:
+        if not low <= value <= high:
+            return f"{type(device).__name__} {name} {value} is outside {low}..{high}"
+    return None
 
 
 def agent_source() -> bytes:
@@ -111,6 +150,9 @@ class SpikeDriver(Driver):
     def __init__(self, link: Link, profile: RobotProfile, clock: Clock) -> None:
         super().__init__(link, profile, clock)
         self.options = SpikeOptions.from_mapping(profile.options, profile=profile.name)
+        # The hub streams DeviceNotifications every telemetry_ms once ready: ten missed in a
+        # row (at least a second) is a hub that is gone (the drivers' common rule, base.py).
+        self.silence_limit_s = max(1.0, 10 * self.options.telemetry_ms / 1000.0)
         self.agent = agent_source()
         version = t.agent_version_of(self.agent)
         assert version is not None, "the packaged agent has no AGENT_VERSION"
@@ -134,6 +176,7 @@ class SpikeDriver(Driver):
         self._stopping = False
         # Sensor cache (raw hub values; None until the first reading).
         self._positions: dict[int, int] = {}
+        self._position_at_s: dict[int, float] = {}
         self._origins: tuple[int, int] | None = None
         self._yaw: int | None = None
         self._yaw_origin = 0
@@ -330,13 +373,6 @@ class SpikeDriver(Driver):
                 self._upload_or_fail("the program in the slot does not answer")
             elif now_s >= self._next_probe_s:
                 self._query_version()
-        if self.ready:
-            last = self.link.last_receive_s
-            limit = max(1.0, 10 * self.options.telemetry_ms / 1000.0)
-            if last is not None and now_s - last > limit:
-                raise LinkTimeoutError(
-                    f"the SPIKE hub stopped responding (nothing for {now_s - last:.1f} s)"
-                )
 
     def flush(self, now_s: float, dt_s: float) -> None:
         """Send wheel set points, tones and text to the agent."""
@@ -435,8 +471,13 @@ class SpikeDriver(Driver):
     def _read_devices(self, notification: m.DeviceNotification) -> None:
         options = self.options
         for device in notification.devices:
+            impossible = _impossible(device) or self._jumped(device)
+            if impossible is not None:
+                self.skip_reading(impossible)
+                continue
             if isinstance(device, m.DeviceMotor):
                 self._positions[device.port] = device.position_deg
+                self._position_at_s[device.port] = self._now_s
             elif isinstance(device, m.DeviceImu):
                 self._yaw = device.yaw
             elif isinstance(device, m.DeviceDistance) and device.port == options.distance:
@@ -459,6 +500,16 @@ class SpikeDriver(Driver):
                     f" found on: {found}); set left_motor and right_motor in the profile options"
                 )
             self._become_ready()
+
+    def _jumped(self, device: m.DeviceMessage) -> str | None:
+        """Why a motor's position moved further than a motor can turn since its last reading."""
+        if not isinstance(device, m.DeviceMotor) or device.port not in self._positions:
+            return None
+        moved = abs(device.position_deg - self._positions[device.port])
+        elapsed = self._now_s - self._position_at_s[device.port]
+        if moved <= _MAX_MOTOR_DEG_S * elapsed + _MOTOR_JUMP_SLACK_DEG:
+            return None
+        return f"the motor on port {port_name(device.port)} moved {moved} deg in {elapsed:.2f} s"
 
     def send_stop(self) -> None:
         """Brake the wheels (``Stop`` over the tunnel) and stop the agent's program."""

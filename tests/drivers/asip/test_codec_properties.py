@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 
 from roboscript.codec import Role, drain
 from roboscript.drivers.asip import messages as m
+from roboscript.drivers.asip import value_ranges as ranges
 from roboscript.drivers.asip.codec import AsipCodec
 from roboscript.errors import RemoteProtocolError
 
@@ -108,7 +109,14 @@ words = st.lists(token, min_size=1, max_size=3).map(" ".join)
 int16 = st.integers(-32768, 32767)
 int32 = st.integers(-INT32 - 1, INT32)
 bytes_ = st.integers(0, 255)
-hundredths = st.integers(-10_000_000, 10_000_000).map(lambda n: n / 100)
+
+
+def hundredths(bounds: tuple[float, float]) -> st.SearchStrategy[float]:
+    """Floats with two decimals within ``bounds``, as the board prints them."""
+    low, high = (round(bound * 100) for bound in bounds)
+    return st.integers(low, high).map(lambda n: n / 100)
+
+
 service_ids = st.sampled_from(string.ascii_uppercase)
 printable = st.characters(min_codepoint=0x21, max_codepoint=0x7E, exclude_characters=",")
 
@@ -140,11 +148,16 @@ REPLY_STRATEGIES: dict[type, st.SearchStrategy[object]] = {
     m.LegacyEncoderEvent: st.builds(m.LegacyEncoderEvent, pairs(int32, int32)),
     m.BumpEvent: st.builds(m.BumpEvent, ints(st.integers(0, 1))),
     m.IrEvent: st.builds(m.IrEvent, ints(st.integers(0, 1023))),
-    m.DistanceEvent: st.builds(m.DistanceEvent, ints(st.integers(-1, 500))),
+    m.DistanceEvent: st.builds(m.DistanceEvent, ints(st.integers(*ranges.DISTANCE_CM))),
     m.AccelerometerEvent: st.builds(m.AccelerometerEvent, int16, int16, int16),
     m.GyroEvent: st.builds(m.GyroEvent, int16, int16, int16),
     m.HeadingEvent: st.builds(m.HeadingEvent, int16, int16, int16, st.integers(0, 359)),
-    m.PressureEvent: st.builds(m.PressureEvent, hundredths, hundredths, hundredths),
+    m.PressureEvent: st.builds(
+        m.PressureEvent,
+        hundredths(ranges.PRESSURE_MBAR),
+        hundredths(ranges.TEMPERATURE_C),
+        hundredths(ranges.ALTITUDE_M),
+    ),
     m.PixelsInfoReply: st.builds(m.PixelsInfoReply, bytes_, st.integers(0, 65535)),
     m.GenericEvent: st.builds(
         m.GenericEvent,

@@ -13,7 +13,9 @@ import pytest
 
 from roboscript import capabilities as cap
 from roboscript.clock import SimClock
+from roboscript.codec import Role, readable
 from roboscript.drivers.asip import messages as m
+from roboscript.drivers.asip.codec import AsipCodec
 from roboscript.drivers.asip.driver import AsipDriver
 from roboscript.errors import LinkError, LinkTimeoutError
 from roboscript.profiles import get_profile
@@ -263,6 +265,20 @@ def test_encoder_totals_are_wheel_travel_in_millimetres() -> None:
     assert right == pytest.approx(-100 * per_tick)
     base: Any = board.driver.capabilities()[cap.DRIVE_BASE]
     assert base.wheel_distances_mm() == (left, right)
+
+
+def test_a_400_digit_encoder_count_never_reaches_the_wheel_distances() -> None:
+    # It used to: the count times mm per tick raised OverflowError out of the sense phase.
+    board = Board()
+    board.connect()
+    host = AsipCodec(Role.HOST)
+    huge = "9" * 400
+    host.receive_data(f"@M,e,2,{{1:{huge},1:5}}\n@M,e,2,{{2:100,2:-100}}\n".encode())
+    board.tick(*readable(host))
+    left, right = board.driver.wheel_distances_mm()
+    per_tick = math.pi * board.profile.wheel_diameter_mm / board.profile.ticks_per_rev
+    assert (left, right) == pytest.approx((100 * per_tick, -100 * per_tick))
+    assert host.stats.faults == {"out_of_range": 1}
 
 
 def test_sensor_events_reach_the_capabilities() -> None:

@@ -352,3 +352,62 @@ def test_stop_all_sends_stop_motion_and_never_raises() -> None:
     assert rig.port.sent().endswith(b"$SM")
     rig.link.close()
     rig.driver.stop_all()
+
+
+# ------------------------------------------------------------------------------- liveness
+
+
+def test_a_quiet_line_is_checked_with_a_version_request_every_second() -> None:
+    rig = Rig(preinstalled(*GAIT_KEYS))
+    rig.connect()
+    mark = len(rig.port.writes)
+    rig.run(3.05)
+    beats = [t for t, data in rig.port.writes[mark:] if data == b"<VI"]
+    assert len(beats) == 3
+    # A second after the last reply, which is read one 20 ms tick after its request.
+    assert [round(b - a, 2) for a, b in itertools.pairwise(beats)] == [1.02, 1.02]
+
+
+def test_the_version_request_also_goes_out_while_a_walk_plays() -> None:
+    rig = Rig(preinstalled(*GAIT_KEYS))
+    rig.connect()
+    rig.walker.walk(6)
+    rig.walker.walk(2)  # queued behind the first walk: the queue waits, the check does not
+    mark = len(rig.port.writes)
+    rig.run(2.5)
+    assert rig.board.playing
+    assert [data for _, data in rig.port.writes[mark:] if data == b"<VI"]
+
+
+def test_a_robot_silent_after_the_handshake_fails_the_walk() -> None:
+    rig = Rig(preinstalled(*GAIT_KEYS))
+    rig.connect()
+    ready_s = rig.clock.now()
+    rig.port.answer = lambda request, reply: b""
+    rig.walker.walk(20)
+    with pytest.raises(LinkTimeoutError) as caught:
+        rig.run(10.0)
+    message = str(caught.value)
+    assert message.startswith("the robot stopped responding ")
+    assert message.endswith(": the PLEN2 did not answer <VI (3 tries)")
+    assert rig.clock.now() - ready_s == pytest.approx(1.0 + 3 * 0.5, abs=0.05)
+
+
+def test_a_reply_with_impossible_values_is_counted_skipped_and_asked_again() -> None:
+    rig = Rig(preinstalled(*GAIT_KEYS))
+    rig.connect()
+    impossible = b'{"slot": 999, "name": "x", "codes": [], "frames": []}'
+    spoiled: list[bytes] = []
+
+    def once(request: bytes, reply: bytes) -> bytes | None:
+        if request == b"<VI" and not spoiled:
+            spoiled.append(reply)
+            return impossible
+        return None
+
+    rig.port.answer = once
+    mark = len(rig.port.writes)
+    rig.run(2.0)
+    assert rig.link.faults == {"bad_reply": 1}
+    beats = [data for _, data in rig.port.writes[mark:] if data == b"<VI"]
+    assert len(beats) >= 2  # asked again after the garbage, and answered

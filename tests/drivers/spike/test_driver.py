@@ -386,3 +386,57 @@ def test_a_command_the_agent_refuses_fails_the_running_action_with_its_reason() 
     assert session.driver.take_device_error() == (
         "the agent on the hub refused Tank: not configured"
     )
+
+
+# ------------------------------------------------------------------- impossible readings
+
+
+def _hub_says(session: Session, *devices: m.DeviceMessage) -> None:
+    """Make the hub's next bytes a DeviceNotification of ``devices`` (real hub framing)."""
+    data = SpikeCodec(Role.DEVICE).send(m.DeviceNotification(tuple(devices)))
+    read = session.port.read
+
+    def read_once(size: int = 1) -> bytes:
+        session.port.read = read  # type: ignore[method-assign]
+        return read(size) + data
+
+    session.port.read = read_once  # type: ignore[method-assign]
+
+
+def test_readings_no_hub_can_report_are_counted_and_skipped() -> None:
+    session = Session(world="square-room", start="&x=0&y=500&heading=0")
+    options = session.driver.options
+    before = session.capability(cap.RANGE).distance_mm()
+    _hub_says(
+        session,
+        m.DeviceDistance(m.HubPort(options.distance), 30000),
+        m.DeviceForce(m.HubPort(options.force), 250, True),
+        m.DeviceColor(m.HubPort(options.color), m.Color.RED, 60000, 0, 0),
+    )
+    session.run(0.02)
+    assert session.link.faults["out_of_range"] == 3
+    assert session.capability(cap.RANGE).distance_mm() == before
+    assert session.capability(cap.BUMPER).pressed() == frozenset()
+    assert session.capability(cap.COLOR).color_name() == "white"
+    session.run(0.2)  # the real readings that follow are used as before
+    assert session.link.faults["out_of_range"] == 3
+
+
+def test_a_motor_position_jump_no_motor_can_turn_is_skipped() -> None:
+    session = Session()
+    base = session.capability(cap.DRIVE_BASE)
+    before = base.wheel_distances_mm()
+    right = m.HubPort(session.driver.options.right_motor)
+    _hub_says(session, m.DeviceMotor(right, 48, 0, 0, 0, 2_000_000_000))
+    session.run(0.02)
+    assert session.link.faults["out_of_range"] == 1
+    assert base.wheel_distances_mm() == pytest.approx(before, abs=1.0)
+
+
+def test_a_plausible_reading_is_not_counted() -> None:
+    session = Session(world="square-room", start="&x=0&y=500&heading=0")
+    options = session.driver.options
+    _hub_says(session, m.DeviceDistance(m.HubPort(options.distance), 1999))
+    session.run(0.02)
+    assert session.link.faults["out_of_range"] == 0
+    assert session.capability(cap.RANGE).distance_mm() == 1999.0

@@ -446,3 +446,20 @@ def test_the_packets_are_the_documented_bytes(make_rig: Callable[..., Rig]) -> N
         *(b"{M$MTR1+025}", b"{M$MTR2-025}"),
     ]
     assert bytes(rig.modules.raw) == b"".join(pk(frame) for frame in frames)
+
+
+def test_readings_no_module_can_report_are_counted_and_skipped(
+    make_rig: Callable[..., Rig],
+) -> None:
+    rig = make_rig()
+    rig.connect()
+    sensor = rig.cap(cap.RANGE)
+    sensor.distance_mm()
+    rig.run(0.1)
+    assert sensor.distance_mm() == 1230.0
+    # 777 cm is past any ultrasonic module's reach; 5000 is past a 10-bit IR reading.
+    rig.modules.before_next_answer = pk(b"{U?ULT0777}") + pk(b"{I?IRS05000}")
+    rig.run(0.1)
+    assert rig.link.faults == {"out_of_range": 2}
+    assert sensor.distance_mm() == 1230.0  # the last good reading stands
+    assert rig.driver.poller.retried == 0

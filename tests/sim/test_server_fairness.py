@@ -1,0 +1,180 @@
+"""``roboscript sim --tcp`` is fair to a classroom: idle, second and flooding clients.
+
+The server runs in a thread on loopback TCP with real sockets; its clock is the test's, so
+"five seconds of silence" is a step of that clock, not a wait. Socket timeouts below only keep
+a broken server from hanging the test run; no assertion depends on them.
+"""
+
+from __future__ import annotations
+
+import queue
+import socket
+import threading
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import pytest
+
+from roboscript.codec import Role, drain
+from roboscript.drivers.stackmod.codec import StackModCodec
+from roboscript.drivers.stackmod.messages import Command, Get, GetReply
+from roboscript.sim.server import BUSY_LINE, DEFAULT_HANDSHAKE_WAIT_S, SimServer
+from roboscript.sim.simulation import make_simulation
+
+_SAFETY_S = 20.0
+"""How long a test waits for the server before calling it hung (never reached when it works)."""
+
+
+class TestClock:
+    """Wall time that moves only when the test says so."""
+
+    __test__ = False
+
+    def __init__(self) -> None:
+        self.now_s = 1000.0
+
+    def __call__(self) -> float:
+        return self.now_s
+
+
+@dataclass
+class Served:
+    server: SimServer
+    clock: TestClock
+    port: int
+    lines: queue.Queue[str]
+
+    def said(self, start: str) -> str:
+        """The next line the server says that starts with ``start`` (earlier ones skipped)."""
+        while True:
+            line = self.lines.get(timeout=_SAFETY_S)
+            if line.startswith(start):
+                return line
+
+    def connect(self) -> socket.socket:
+        sock = socket.create_connection(("127.0.0.1", self.port), timeout=_SAFETY_S)
+        return sock
+
+
+@pytest.fixture
+def served() -> Iterator[Served]:
+    lines: queue.Queue[str] = queue.Queue()
+    clock = TestClock()
+    server = SimServer(make_simulation("stackmod-rover"), lines.put, clock=clock)
+    thread = threading.Thread(target=server.serve_tcp, args=("127.0.0.1", 0), daemon=True)
+    thread.start()
+    first = lines.get(timeout=_SAFETY_S)
+    port = int(first.split("socket://127.0.0.1:")[1].rstrip(")"))
+    try:
+        yield Served(server, clock, port, lines)
+    finally:
+        server.stop()
+        thread.join(timeout=_SAFETY_S)
+
+
+def _ask_arm(sock: socket.socket) -> GetReply:
+    """Ask the motor module whether it is armed; return its answer (a working robot)."""
+    host = StackModCodec(Role.HOST)
+    sock.sendall(host.send(Get(ord("M"), Command.ARM, 0)))
+    while True:
+        data = sock.recv(4096)
+        assert data, "the simulator closed the connection"
+        host.receive_data(data)
+        for message in drain(host):
+            if isinstance(message, GetReply):
+                return message
+
+
+def _read_to_end(sock: socket.socket) -> bytes:
+    received = bytearray()
+    while data := sock.recv(4096):
+        received += data
+    return bytes(received)
+
+
+def test_a_client_that_says_nothing_is_dropped_and_the_next_one_gets_the_robot(
+    served: Served,
+) -> None:
+    idle = served.connect()
+    first = served.said("client connected from ")
+    served.clock.now_s += DEFAULT_HANDSHAKE_WAIT_S - 0.5
+    other = served.connect()  # while the idle client still has the robot: refused
+    assert served.said("client ").endswith(f"refused: busy with {first.split()[-1]}")
+    assert _read_to_end(other).startswith(b"roboscript sim: busy:")
+    served.clock.now_s += 0.5
+    dropped = served.said("client ")
+    assert dropped == (
+        f"client {first.split()[-1]} dropped: it sent nothing for 5 s after connecting;"
+        " motors stopped"
+    )
+    assert _read_to_end(idle) == b""
+    assert served.server.idle_drops == 1
+    with served.connect() as nxt:
+        served.said("client connected from ")
+        assert _ask_arm(nxt).address == ord("M")
+
+
+def test_a_client_that_talks_keeps_the_robot_past_the_handshake_wait(served: Served) -> None:
+    with served.connect() as talker:
+        served.said("client connected from ")
+        _ask_arm(talker)
+        served.clock.now_s += 10 * DEFAULT_HANDSHAKE_WAIT_S
+        assert _ask_arm(talker).address == ord("M")
+    assert served.server.idle_drops == 0
+
+
+def test_a_second_client_is_told_plainly_that_the_robot_is_busy(served: Served) -> None:
+    with served.connect() as owner:
+        connected = served.said("client connected from ").split()[-1]
+        _ask_arm(owner)
+        with served.connect() as second:
+            told = _read_to_end(second)
+        assert told == BUSY_LINE.format(other=connected).encode("ascii")
+        refused = served.said("client ")
+        assert refused.startswith("client 127.0.0.1:")
+        assert refused.endswith(f" refused: busy with {connected}")
+        assert _ask_arm(owner).address == ord("M")  # the owner never noticed
+    assert served.server.refused == 1
+
+
+def test_a_flooding_client_cannot_keep_the_robot_busy(served: Served) -> None:
+    flood = 10 * 1024 * 1024
+    with served.connect() as flooder:
+        served.said("client connected from ")
+        sender = threading.Thread(target=flooder.sendall, args=(b"{" * flood,), daemon=True)
+        sender.start()
+        warned = served.said("client ")
+        assert "sends faster than the robot's line (65536 bytes/s)" in warned
+        sender.join(timeout=_SAFETY_S)
+    gone = served.said("client disconnected")
+    # The clock stood still: the line carried one burst and not a byte more.
+    burst = int(served.server.burst_bytes)
+    assert served.server.dropped_bytes == flood - burst
+    assert gone.endswith(f"({flood - burst} bytes sent faster than the line were dropped)")
+    with served.connect() as nxt:
+        served.said("client connected from ")
+        assert _ask_arm(nxt).address == ord("M")
+
+
+def test_the_line_refills_at_the_baudrate(served: Served) -> None:
+    ask = StackModCodec(Role.HOST).send(Get(ord("M"), Command.ARM, 0))
+    with served.connect() as client:
+        served.said("client connected from ")
+        burst = int(served.server.burst_bytes)
+        client.sendall(b"\n" * (burst - len(ask)))  # with the question: one full burst
+        assert _ask_arm(client).address == ord("M")
+        served.clock.now_s += 0.1  # a tenth of a second of line time
+        client.sendall(b"\n" * (int(served.server.line_bytes_s * 0.1) - len(ask)))
+        assert _ask_arm(client).address == ord("M")
+    served.said("client disconnected")
+    assert served.server.dropped_bytes == 0
+
+
+def test_a_client_connecting_right_after_a_flood_ends_gets_the_robot(served: Served) -> None:
+    with served.connect() as flooder:
+        served.said("client connected from ")
+        flooder.sendall(b"{" * (4 * 1024 * 1024))
+    # At once: the server may still hold the flood's bytes when this client knocks.
+    with served.connect() as nxt:
+        assert _ask_arm(nxt).address == ord("M")
+    assert served.server.refused == 0
