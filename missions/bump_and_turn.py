@@ -39,3 +39,7 @@ class BumpAndTurn(Mission):
     def turned_three_times(self) -> bool:
         """The robot has turned three times."""
         return self.visits("turn") >= 3
+
+
+if __name__ == "__main__":
+    BumpAndTurn.main()

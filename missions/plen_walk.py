@@ -18,3 +18,7 @@ class PlenWalk(Mission):
     turn_back = state(Turn(steps=-6), timeout_s=15, on_done="rest", on_timeout="stuck")
     rest = state(Wait(duration_s=0.5), final="success")
     stuck = state(final="failure")
+
+
+if __name__ == "__main__":
+    PlenWalk.main()

@@ -30,3 +30,7 @@ class Square(Mission):
     def bumper_hit(self) -> bool:
         """True while a bump switch is pressed."""
         return self.bumper.any
+
+
+if __name__ == "__main__":
+    Square.main()

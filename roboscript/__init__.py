@@ -22,6 +22,7 @@ if TYPE_CHECKING:
         Drive,
         FollowLine,
         FollowWall,
+        Motor,
         Outcome,
         Parallel,
         Param,
@@ -37,6 +38,7 @@ if TYPE_CHECKING:
         WaitUntil,
         Walk,
     )
+    from roboscript.api import RunResult, run
     from roboscript.mission.python_api import Mission, state
 
 __version__ = "0.1.0"
@@ -49,6 +51,7 @@ __all__ = [
     "FollowLine",
     "FollowWall",
     "Mission",
+    "Motor",
     "Outcome",
     "Parallel",
     "Param",
@@ -56,6 +59,7 @@ __all__ = [
     "Repeat",
     "Result",
     "Rotate",
+    "RunResult",
     "Servo",
     "SetLed",
     "Stop",
@@ -64,6 +68,7 @@ __all__ = [
     "WaitUntil",
     "Walk",
     "__version__",
+    "run",
     "state",
 ]
 
@@ -71,7 +76,13 @@ logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 # The names a Python mission or behaviour imports (`from roboscript import Mission, Drive`),
 # loaded on first use so that `import roboscript` stays cheap.
-_LAZY = {"Mission": "roboscript.mission.python_api", "state": "roboscript.mission.python_api"}
+# `roboscript.run(...)` and its result load the whole run machinery, also only when used.
+_LAZY = {
+    "Mission": "roboscript.mission.python_api",
+    "state": "roboscript.mission.python_api",
+    "run": "roboscript.api",
+    "RunResult": "roboscript.api",
+}
 
 
 def __getattr__(name: str) -> Any:

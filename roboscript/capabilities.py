@@ -22,6 +22,7 @@ from typing import Protocol, runtime_checkable
 
 __all__ = [
     "BUMPER",
+    "BUTTONS",
     "CAPABILITY_NAMES",
     "COLOR",
     "DISPLAY",
@@ -31,6 +32,7 @@ __all__ = [
     "JOINTS",
     "LEDS",
     "LINE",
+    "MOTORS",
     "RANGE",
     "SERVOS",
     "SIDE_RANGE",
@@ -42,9 +44,11 @@ __all__ = [
     "DriveBase",
     "ForceSensor",
     "HeadingSensor",
+    "HubButtons",
     "Joints",
     "Leds",
     "LineSensors",
+    "Motors",
     "RangeSensor",
     "Servos",
     "SideRangeSensor",
@@ -66,6 +70,8 @@ WALKER = "walker"
 JOINTS = "joints"
 FORCE = "force"
 COLOR = "color"
+BUTTONS = "buttons"
+MOTORS = "motors"
 
 CAPABILITY_NAMES: dict[str, str] = {
     DRIVE_BASE: "two driven wheels with encoders or timing",
@@ -81,7 +87,9 @@ CAPABILITY_NAMES: dict[str, str] = {
     WALKER: "legs that walk by gait motions",
     JOINTS: "servo joints moved by name (humanoid limbs)",
     FORCE: "a force (push) sensor",
-    COLOR: "a colour sensor",
+    COLOR: "a colour sensor (reflection, colour, RGB)",
+    BUTTONS: "buttons on the robot (a hub's left and right buttons)",
+    MOTORS: "motors on numbered or lettered ports, besides the wheels (an arm, a claw)",
 }
 """Every capability name with a phrase for error messages."""
 
@@ -298,10 +306,55 @@ class ForceSensor(Protocol):
 class ColorSensor(Protocol):
     """A colour sensor, usually looking down at the floor."""
 
+    def reflection_percent(self) -> float | None:
+        """Light reflected by the surface, 0 (black) to 100 (white), or ``None`` for none."""
+        ...
+
     def color_name(self) -> str | None:
         """The colour seen (``"black"``, ``"red"``, ``"white"``, ...), or ``None`` for none."""
         ...
 
     def rgb(self) -> tuple[int, int, int] | None:
         """Raw red, green and blue, each 0-1023, or ``None`` before the first reading."""
+        ...
+
+
+@runtime_checkable
+class HubButtons(Protocol):
+    """Buttons on the robot a program can read (a SPIKE hub's left and right buttons)."""
+
+    names: tuple[str, ...]
+    """Button names, e.g. ``("left", "right")``."""
+
+    def pressed(self) -> frozenset[str]:
+        """The names of the buttons held down now."""
+        ...
+
+
+@runtime_checkable
+class Motors(Protocol):
+    """Motors on ports besides the wheels (an arm on port C), each with an encoder.
+
+    Angles and speeds are the motor's own: positive turns it clockwise seen from its face.
+    """
+
+    ports: tuple[str, ...]
+    """The ports that have such a motor, e.g. ``("C", "F")``."""
+
+    def run(self, port: str, speed_deg_s: float) -> None:
+        """Turn the motor at ``speed_deg_s`` until :meth:`stop` (0 stops it)."""
+        ...
+
+    def run_for_degrees(self, port: str, angle_deg: float, speed_deg_s: float) -> int:
+        """Start turning the motor by ``angle_deg`` (negative: the other way) at
+        ``speed_deg_s`` (positive); returns a handle for :meth:`move_result`."""
+        ...
+
+    def move_result(self, handle: int) -> str | None:
+        """``None`` while the move runs, then ``"done"``, ``"stalled"``, ``"cancelled"`` or
+        ``"failed"``."""
+        ...
+
+    def stop(self, port: str) -> None:
+        """Brake the motor now (and end its move ``cancelled``)."""
         ...

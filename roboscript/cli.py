@@ -52,9 +52,13 @@ def _print_problems(error: InputError) -> None:
 
 
 def _load_mission(path: str, robot: str | None, strict: bool = False) -> tuple[Any, Any]:
+    from roboscript.inputs.kinds import file_kind, not_a_mission
     from roboscript.mission import mission_for_robot
     from roboscript.mission.student_code import stuck_at
 
+    kind = file_kind(path)  # a world given as the mission is named, not read as a mission
+    if kind != "mission":
+        raise not_a_mission(path, kind)
     # a Python mission or behaviour file runs when imported: a loop there would hang `check`
     with Watchdog(DEFAULT_LIMIT_S, stuck_at):
         spec, profile, warnings = mission_for_robot(path, robot)
@@ -67,6 +71,16 @@ def _load_mission(path: str, robot: str | None, strict: bool = False) -> tuple[A
     for warning in warnings:
         _err(warning.format())
     return spec, profile
+
+
+def _check_regions(spec: Any, world: str | None) -> None:
+    """Refuse ``in_region.NAME`` the world has no region for, before the robot moves."""
+    from roboscript.mission.builder import MissionProblemsError
+    from roboscript.mission.checks import check_world_regions
+
+    problems = check_world_regions(spec, world)
+    if problems:
+        raise MissionProblemsError(problems)
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
@@ -91,6 +105,7 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
 
     spec, profile = _load_mission(args.mission, args.robot)
     world = args.world or spec.world or "empty"
+    _check_regions(spec, world if args.port is None or args.port.startswith("sim:") else None)
     quiet = args.json or args.quiet
     if args.plot:
         from roboscript.sim.plot import require_matplotlib
@@ -113,18 +128,31 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
         if not quiet:
             _err(f"{spec.name} on {robot.describe()} ({robot.url})")
 
+    recording = live = None
+    if args.record or args.view:
+        from roboscript.replay.session_tap import RunRecording
+
+        recording = RunRecording()
+    if args.view:  # the page is served from its own thread; the ticks only hand it frames
+        from roboscript.replay.live import LiveView
+
+        live = LiveView(spec.name, port=args.view_port)
+        _err(f"live view: {live.start()} (open it in a web browser)")
+        recording.listeners.append(live.publish)  # type: ignore[union-attr]
+
     session = run_session(
         spec,
         profile,
         port=args.port,
         world=world,
         seed=args.seed,
-        realtime=args.realtime,
+        realtime=args.realtime or args.view,  # a live view shows the run at its real pace
         wire_log=args.wire_log,
         max_time_s=args.max_time,
         on_state=on_state,
         on_connected=on_connected,
         on_tick=show if status.live else None,
+        recording=recording,
     )
     status.close()
     result = session.result
@@ -140,6 +168,15 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
         else:
             _err(f"{result.outcome}: {result.reason}")
     plotted = _write_plot(args.plot, result, sim) if args.plot else True
+    if recording is not None and args.record:
+        from roboscript.replay.session_tap import save_recording
+
+        problem = save_recording(recording, args.record)
+        if problem:
+            _err(problem)
+        plotted = plotted and not problem
+    if live is not None:
+        live.serve_the_end(_err, interrupted=bool(interrupted))
     if interrupted:
         return interrupted, summary
     ok = result.outcome == "success" and plotted
@@ -181,15 +218,25 @@ def _cmd_check(args: argparse.Namespace) -> int:
     if not files:
         _err("nothing to check: no mission files found")
         return EXIT_INPUT
-    from roboscript.grading.spec import is_test_spec, load_test_spec
+    from roboscript.grading.spec import load_test_spec
+    from roboscript.inputs.kinds import file_kind
+    from roboscript.profiles import get_profile
+    from roboscript.sim.world import load_world
 
     bad = 0
     for path in files:
         try:
-            if path.suffix.lower() in (".yaml", ".yml") and is_test_spec(path):
-                load_test_spec(path)  # a teacher's test spec, not a mission
+            kind = file_kind(path)  # each kind of file is checked by its own reader
+            if kind == "test spec":
+                load_test_spec(path)
+            elif kind == "world":
+                load_world(str(path))
+            elif kind == "profile":
+                get_profile(str(path))
             else:
-                _load_mission(str(path), args.robot, args.strict)
+                spec, _ = _load_mission(str(path), args.robot, args.strict)
+                if spec.world:  # region names are known only when the mission names its world
+                    _check_regions(spec, spec.world)
         except InputError as exc:
             _print_problems(exc)
             bad += 1
@@ -335,12 +382,65 @@ def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
 # ----------------------------------------------------------------------------------- graph
 
 
+_GRAPH_SUFFIXES = {".svg": "svg", ".png": "png", ".dot": "dot", ".gv": "dot"}
+
+
 def _cmd_graph(args: argparse.Namespace) -> int:
     from roboscript.mission import load_mission
     from roboscript.mission.graph import to_dot, to_mermaid
+    from roboscript.mission.graph_picture import RunMarks, require_matplotlib, to_svg, write_png
 
+    suffix = Path(args.output).suffix.lower() if args.output else ""
+    fmt = args.format or _GRAPH_SUFFIXES.get(suffix, "mermaid")
+    if fmt == "png" and not args.output:
+        _err("error: a PNG is written to a file: add -o FILE.png")
+        return EXIT_INPUT
+    if args.run and fmt not in ("svg", "png"):
+        _err("error: --run highlights a run in a picture: add --format svg or --format png")
+        return EXIT_INPUT
+    if fmt == "png":
+        require_matplotlib()  # say so before loading anything
     spec, _ = load_mission(args.mission)
-    print(to_dot(spec) if args.format == "dot" else to_mermaid(spec), end="")
+    marks = None
+    if args.run:
+        from roboscript.replay.recording import load_recording
+
+        recording = load_recording(args.run)
+        recorded = (recording.header.get("mission") or {}).get("name")
+        if recorded != spec.name:
+            _err(f"warning: {args.run} is a run of '{recorded}', not of '{spec.name}'")
+        marks = RunMarks.from_frames(recording.frames, recording.result)
+    if fmt == "png":
+        try:
+            write_png(spec, args.output, marks)
+        except OSError as exc:
+            _err(f"error: cannot write {args.output}: {exc.strerror or exc}")
+            return EXIT_FAILED
+        return EXIT_OK
+    writers = {"svg": lambda: to_svg(spec, marks), "dot": lambda: to_dot(spec)}
+    text = writers.get(fmt, lambda: to_mermaid(spec))()
+    if not args.output:
+        print(text, end="")
+        return EXIT_OK
+    try:
+        Path(args.output).write_text(text, encoding="utf-8")
+    except OSError as exc:
+        _err(f"error: cannot write {args.output}: {exc.strerror or exc}")
+        return EXIT_FAILED
+    return EXIT_OK
+
+
+# ------------------------------------------------------------------------------------ view
+
+
+def _cmd_view(args: argparse.Namespace) -> int:
+    from roboscript.replay.viewer import view_recording
+
+    page, problem = view_recording(args.recording, args.output, open_page=args.open)
+    if problem:
+        _err(problem)
+        return EXIT_FAILED
+    _err(f"replay: {page}")
     return EXIT_OK
 
 
@@ -462,8 +562,23 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--plot", metavar="FILE", help="draw the simulated run as a PNG (needs matplotlib)"
     )
+    run.add_argument(
+        "--record", metavar="FILE", help="record the run tick by tick (JSON Lines; see `view`)"
+    )
+    run.add_argument(
+        "--view", action="store_true", help="watch the run live in a web browser (this computer)"
+    )
+    run.add_argument(
+        "--view-port", type=int, default=0, metavar="N", help="the live view's port (default: any)"
+    )
     run.add_argument("--quiet", action="store_true", help="print only the result")
     run.set_defaults(func=_cmd_run)
+
+    view = sub.add_parser("view", help="write a recorded run's replay as one HTML page")
+    view.add_argument("recording", help="a file written by `run --record`")
+    view.add_argument("-o", "--output", metavar="FILE", help="the page (default: beside it)")
+    view.add_argument("--open", action="store_true", help="open the page in a web browser")
+    view.set_defaults(func=_cmd_view)
 
     check = sub.add_parser("check", help="check mission files without a robot")
     check.add_argument("paths", nargs="+", metavar="PATH", help="files or folders")
@@ -518,9 +633,19 @@ def _parser() -> argparse.ArgumentParser:
     grade.add_argument("--quiet", action="store_true", help="print only the table")
     grade.set_defaults(func=_cmd_grade)
 
-    graph = sub.add_parser("graph", help="print a mission's state diagram (mermaid or dot)")
+    graph = sub.add_parser(
+        "graph", help="draw a mission's state diagram (mermaid, dot, or an SVG or PNG picture)"
+    )
     graph.add_argument("mission", help="mission file")
-    graph.add_argument("--format", choices=("mermaid", "dot"), default="mermaid")
+    graph.add_argument(
+        "--format",
+        choices=("mermaid", "dot", "svg", "png"),
+        help="default: from -o's suffix (.svg, .png, .dot), else mermaid",
+    )
+    graph.add_argument("-o", "--output", metavar="FILE", help="write to FILE, not stdout")
+    graph.add_argument(
+        "--run", metavar="RUN.jsonl", help="highlight the states a recorded run visited"
+    )
     graph.set_defaults(func=_cmd_graph)
 
     sim = sub.add_parser(
@@ -587,7 +712,7 @@ def main(argv: Sequence[str] | None = None) -> NoReturn:
         _err(f"error: {exc}")
         code = EXIT_FAILED
     except KeyboardInterrupt as exc:
-        _err(reason_for(exc))
+        _err(f"error: {reason_for(exc)}")  # as a run in progress says it
         code = exit_status_for(exc)
     except RunawayCode as exc:  # a mission file stuck while loading (a run handles its own)
         if args.debug:

@@ -98,6 +98,8 @@ BUILTIN_PROFILES: dict[str, RobotProfile] = {
         baudrate=57600,
         capabilities=_ASIP_CAPS,
         firmware_pid=True,
+        # The V1.1 mirtle2017 sketch: one servo, nine pixels; the LCD keeps 20 characters.
+        options={"servo_count": 1, "pixel_count": 9, "lcd_columns": 20},
     ),
     "asip-basic": RobotProfile(
         name="asip-basic",
@@ -131,6 +133,26 @@ BUILTIN_PROFILES: dict[str, RobotProfile] = {
         body_radius_mm=90.0,
         handshake_timeout_s=2.0,
     ),
+    # The StackMod author's own firmware (74ls04/StackMod): motor SETs over I2C, nothing else.
+    "stackmod-reference": RobotProfile(
+        name="stackmod-reference",
+        protocol="stackmod",
+        description="StackMod author's motor firmware (I2C, PWM): drive only, timed moves",
+        encoders=False,
+        baudrate=100_000,  # I2C standard mode, Arduino Wire's default clock
+        capabilities=frozenset({cap.DRIVE_BASE}),
+        firmware_pid=False,
+        wheel_diameter_mm=65.0,
+        track_mm=140.0,
+        body_radius_mm=90.0,
+        handshake_timeout_s=2.0,
+        options={
+            "firmware": "reference",
+            "checksum": "braces_excluded",
+            "framing": "i2c",
+            "motor_address": "E",
+        },
+    ),
     "spike-prime": RobotProfile(
         name="spike-prime",
         protocol="spike",
@@ -146,16 +168,26 @@ BUILTIN_PROFILES: dict[str, RobotProfile] = {
                 cap.HEADING,
                 cap.FORCE,
                 cap.COLOR,
+                cap.LINE,  # the colour sensor, read as one line sensor
+                cap.BUTTONS,
+                cap.MOTORS,
             }
         ),
         firmware_pid=True,
+        # Ports (options, roboscript/drivers/spike/options.py): drive motors A and B, force
+        # sensor C, distance sensor D, colour sensor E (looking down), one more motor on F.
+        # follow_line on the one colour sensor follows the tape's edge: the reading swings
+        # from -1 to 1 across the edge's few millimetres, so it needs a softer steer than
+        # three IR sensors (150): on the simulated line-track, kp 30-40 follows the whole run
+        # and 50 loses the line at the start.
+        gains={"line": (40.0, 0.0, 3.0)},
         # LEGO's driving base: 56 mm wheels, 112 mm apart; motor degrees are the encoder ticks.
         wheel_diameter_mm=56.0,
         track_mm=112.0,
         ticks_per_rev=360,
         body_radius_mm=90.0,
         max_speed_mm_s=350.0,
-        # Room for a first upload of the agent over BLE (about 9 kB in 20-byte packets).
+        # Room for a first upload of the agent over BLE (about 14 kB in 20-byte packets).
         handshake_timeout_s=20.0,
     ),
     "plen2": RobotProfile(

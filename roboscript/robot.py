@@ -105,6 +105,7 @@ class Robot:
             LinkTimeoutError: The robot did not answer within the profile's handshake time.
         """
         from roboscript.drivers import driver_class
+        from roboscript.drivers.recognise import handshake_failure, wrong_robot_hint
         from roboscript.transport import Link, open_port
         from roboscript.transport.wirelog import WireLog
 
@@ -125,20 +126,34 @@ class Robot:
             scheduler.add(simulation, "sense")
         scheduler.add(driver.tick, "sense")
         scheduler.add(driver.flush, "act")
+        other = _OtherProtocol(profile.protocol)  # a SPIKE hub need not be waited 20 s for
         try:
             driver.start()
             answered = scheduler.run(
-                until=lambda: bool(driver.ready), max_duration_s=profile.handshake_timeout_s
+                until=lambda: bool(driver.ready) or other.heard(link.heard),
+                max_duration_s=profile.handshake_timeout_s,
             )
+        except LinkError as exc:  # a driver that gave up: was it another robot?
+            driver.stop_all()
+            link.close()
+            if wrong_robot_hint(bytes(link.heard), profile.protocol) is None:
+                raise
+            raise LinkTimeoutError(
+                handshake_failure(
+                    profile.name, profile.protocol, url, bytes(link.heard), link.bytes_sent, ""
+                )
+            ) from exc
         except BaseException:
             driver.stop_all()
             link.close()
             raise
-        if not answered:
+        if not (answered and driver.ready):  # not ready: another protocol was heard
             link.close()
+            waited = f"within {profile.handshake_timeout_s:g} s"
             raise LinkTimeoutError(
-                f"{profile.name} did not answer on {url} within "
-                f"{profile.handshake_timeout_s:g} s: is it switched on and running its firmware?"
+                handshake_failure(
+                    profile.name, profile.protocol, url, bytes(link.heard), link.bytes_sent, waited
+                )
             )
         return cls(profile, driver, scheduler, url=url, simulation=simulation)
 
@@ -242,6 +257,22 @@ class Robot:
             self.close()
         except LinkError as error:
             logger.debug("closing after %s: %s", exc_type, error)
+
+
+class _OtherProtocol:
+    """Whether the bytes heard so far are another protocol's (checked as they grow)."""
+
+    def __init__(self, protocol: str) -> None:
+        self.protocol = protocol
+        self._checked = 0
+
+    def heard(self, data: bytearray) -> bool:
+        if len(data) == self._checked:
+            return False
+        self._checked = len(data)
+        from roboscript.drivers.recognise import wrong_robot_hint
+
+        return wrong_robot_hint(bytes(data), self.protocol) is not None
 
 
 def _sim_url(robot: str, world: str, seed: int, start: tuple[float, float, float] | None) -> str:

@@ -8,9 +8,10 @@ robot, world and seed. :func:`session_summary` builds the ``run --json`` object.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable
+import json
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from roboscript.errors import LinkError
 from roboscript.interrupts import exit_status_for, reason_for
@@ -19,9 +20,56 @@ from roboscript.mission.spec import MissionSpec
 from roboscript.mission.student_code import stuck_at
 from roboscript.profiles import RobotProfile
 from roboscript.robot import Robot
+from roboscript.sim.world import Region
 from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
 
-__all__ = ["Session", "run_session", "session_summary"]
+if TYPE_CHECKING:
+    from roboscript.replay.session_tap import RunRecording
+
+__all__ = ["Session", "WorldMap", "run_session", "session_summary"]
+
+
+@dataclass(frozen=True)
+class WorldMap:
+    """What a mission may know of its world: the named regions and where it starts.
+
+    Attributes:
+        regions: The world's regions by name (each has ``contains(x_mm, y_mm)``).
+        start: The start pose ``(x_mm, y_mm, heading_deg)``, heading clockwise from north.
+    """
+
+    regions: Mapping[str, Region]
+    start: tuple[float, float, float]
+
+    @classmethod
+    def of(cls, simulation: Any) -> WorldMap:
+        """The map of an in-process simulation, read before the mission moves the robot."""
+        body = simulation.body
+        return cls(dict(simulation.world.regions), (body.x_mm, body.y_mm, body.heading_deg))
+
+    def to_json(self) -> str:
+        """The map as JSON (a graded run hands it to the mission's process)."""
+        regions = {
+            name: {"center": list(r.center), "radius_mm": r.radius_mm, "points": r.points}
+            for name, r in self.regions.items()
+        }
+        return json.dumps({"regions": regions, "start": list(self.start)})
+
+    @classmethod
+    def from_json(cls, text: str) -> WorldMap:
+        """Read :meth:`to_json`'s output."""
+        data = json.loads(text)
+        regions = {
+            str(name): Region(
+                str(name),
+                (float(r["center"][0]), float(r["center"][1])),
+                None if r["radius_mm"] is None else float(r["radius_mm"]),
+                tuple((float(x), float(y)) for x, y in r["points"]),
+            )
+            for name, r in data["regions"].items()
+        }
+        x_mm, y_mm, heading_deg = (float(v) for v in data["start"])
+        return cls(regions, (x_mm, y_mm, heading_deg))
 
 
 @dataclass
@@ -83,6 +131,8 @@ def run_session(
     on_connected: Callable[[Robot], None] | None = None,
     on_tick: Callable[[MissionRunner, Robot], None] | None = None,
     runaway_after_s: float | None = DEFAULT_LIMIT_S,
+    recording: RunRecording | None = None,
+    world_map: WorldMap | None = None,
 ) -> Session:
     """Connect the robot, run ``spec`` on it until it ends or ``max_time_s`` passes, stop it.
 
@@ -102,6 +152,11 @@ def run_session(
         runaway_after_s: Wall seconds one tick's code (a behaviour, a condition) may run
             before the mission ends in error at the line where it is stuck
             (:mod:`roboscript.watchdog`); ``None`` turns the watchdog off.
+        recording: Records the run tick by tick (``run --record``, the live view); it is
+            closed with the result once the robot is stopped.
+        world_map: The world's regions and the start pose, for ``in_region`` when the world
+            is not in this process (a graded run's mission); by default the in-process
+            simulator's.
 
     Returns:
         The finished run. A lost link ends the mission with outcome ``error``; so do Ctrl-C,
@@ -115,18 +170,27 @@ def run_session(
     robot = Robot.connect(
         profile, port, world=world, seed=seed, start=start, realtime=realtime, wire_log=wire_log
     )
+    if world_map is None and robot.simulation is not None:
+        world_map = WorldMap.of(robot.simulation)
     if on_connected is not None:
         on_connected(robot)
     sim = robot.simulation
+    capabilities = robot.capabilities
+    if recording is not None:  # the mission's commands are seen on their way to the driver
+        capabilities = recording.attach(robot, spec, profile)
     runner = MissionRunner(
         spec,
-        robot.capabilities,
+        capabilities,
         robot_name=profile.name,
         gains=profile.gains,
         device_errors=robot.driver.take_device_error,
         on_state=on_state,
         # The path (for --json and grading) starts where the mission starts.
         on_start=(lambda now_s: sim.sample_path()) if sim is not None else None,
+        # in_region places the robot's odometry at the start in the world's map: the same
+        # answer in-process and in a graded run, whose world is in the grader's process
+        regions=world_map.regions if world_map is not None else None,
+        origin=world_map.start if world_map is not None else None,
     )
     robot.scheduler.add(runner, "think")
     if on_tick is not None:
@@ -135,6 +199,12 @@ def run_session(
             on_tick(runner, robot)
 
         robot.scheduler.add(after_tick, "after")
+    if recording is not None:
+
+        def record_tick(now_s: float, dt_s: float) -> None:
+            recording.tick(runner)
+
+        robot.scheduler.add(record_tick, "after")
     watchdog = Watchdog(runaway_after_s, stuck_at) if runaway_after_s is not None else None
     if watchdog is not None:
         robot.scheduler.add(lambda now_s, dt_s: watchdog.pet(), "after")
@@ -158,6 +228,8 @@ def run_session(
                 runner.finish("failure", f"the mission did not finish within {max_time_s:g} s")
     except LinkError as exc:
         runner.finish("error", str(exc))
+    if recording is not None:
+        recording.finish(runner.result)
     return Session(runner.result, robot, profile, runner.start_time_s, interrupted)
 
 
@@ -173,6 +245,8 @@ def session_summary(session: Session) -> dict[str, Any]:
         "duration_s": round(result.duration_s, 3),
         "states": [[round(t, 3), name] for t, name in result.states],
     }
+    if result.states_dropped:  # a long loop: only the first and last states are listed
+        summary["states_dropped"] = result.states_dropped
     sim = session.simulation
     if sim is not None:
         x_mm, y_mm, heading_deg = session.final_pose()

@@ -70,8 +70,8 @@ def describe_robot(robot: Any) -> str:
     """Pose from the simulator, else the distance ahead, for the status line."""
     sim = getattr(robot, "simulation", None)
     if sim is not None:
-        body = sim.body
-        return f"x {body.x_mm:6.0f} y {body.y_mm:6.0f} mm  heading {body.heading_deg:5.1f}°"
+        x_mm, y_mm, heading_deg = sim.final_pose()  # heading in [-180, 180), as in --json
+        return f"x {x_mm:6.0f} y {y_mm:6.0f} mm  heading {heading_deg:6.1f}°"
     capabilities = getattr(robot, "capabilities", {})
     sensor = capabilities.get("range")
     if sensor is not None:

@@ -1,8 +1,10 @@
 """A scriptable fake ASIP board on a loopback TCP port, for fault tests.
 
-It greets like the firmware, answers the handshake, streams encoder events every 33 ms once
-asked, and can be told to misbehave: close the connection, fall silent, mix garbage into its
-output, or refuse tones.
+It greets like the firmware, reads requests the way the firmware does (the device-role codec:
+no newline needed, ``parseInt`` waits ended after a second, unknown services answered
+``~X,?,1{INVALID_SERVICE}`` at once), answers the handshake, streams encoder events every
+33 ms once asked, and can be told to misbehave: close the connection, fall silent, mix garbage
+into its output, or refuse tones.
 """
 
 from __future__ import annotations
@@ -12,6 +14,12 @@ import random
 import socket
 import threading
 import time
+
+from roboscript.codec import Role, readable
+from roboscript.drivers.asip import messages as m
+from roboscript.drivers.asip.codec import AsipCodec
+
+_SERVICES = "IMBRDTL"
 
 
 class FakeAsipBoard:
@@ -74,7 +82,8 @@ class FakeAsipBoard:
         conn.settimeout(0.01)
         encoders = False
         next_event = start
-        handled = 0
+        requests = AsipCodec(Role.DEVICE, services=_SERVICES)
+        last_byte = start
         with conn:
             self._send(conn, b"!fake running on ATmega328P with Services: I M B R D T L \n")
             while not self._stop.is_set():
@@ -86,27 +95,33 @@ class FakeAsipBoard:
                     if not data:
                         return
                     self.received += data
+                    requests.receive_data(data)
+                    last_byte = time.monotonic()
                 except TimeoutError:
                     pass
                 except OSError:
                     return
                 if self.silent_after_s is not None and now >= self.silent_after_s:
                     continue
-                text = self.received.decode("latin-1")
-                for request in text[handled:].split("\n")[:-1]:
-                    handled += len(request) + 1
-                    if request.startswith("#,?"):
+                if requests.waiting and time.monotonic() - last_byte >= 1.0:
+                    requests.parse_timeout()  # the firmware's parseInt gives up
+                    last_byte = time.monotonic()
+                for request in readable(requests):
+                    if isinstance(request, m.VersionRequest):
                         self._send(conn, b"@#,?,1,1,ATmega328P,20,fake\n")
-                    elif request.startswith("#,N"):
+                    elif isinstance(request, m.ServiceNamesRequest):
                         self._send(
                             conn,
                             b"@#,N,7,{I:ASIP core IO,M:Motors,B:Bump Sensors,R:IR Sensors,"
                             b"D:Distance,T:Tone,L:LCD}\n",
                         )
-                    elif request.startswith("M,A,1"):
-                        encoders = True
-                    elif request.startswith("T,P") and self.refuse_tones:
+                    elif isinstance(request, m.EnableEncoderEvents):
+                        encoders = request.enabled
+                    elif isinstance(request, m.PlayTone) and self.refuse_tones:
                         self._send(conn, b"~T,P,2{UNKNOWN_REQUEST}\n")
+                    elif isinstance(request, m.InvalidServiceRequest):
+                        error = f"~{request.service},?,1{{INVALID_SERVICE}}\n"
+                        self._send(conn, error.encode("latin-1"))
                 if encoders and time.monotonic() >= next_event:
                     next_event += 0.033
                     self._send(conn, b"@M,e,2,{0:0,0:0}\n")

@@ -311,16 +311,18 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("roboscript.actions",),
     ("roboscript.mission",),
     ("roboscript.robot",),
+    ("roboscript.replay",),
     ("roboscript.session",),
     ("roboscript.grading",),
-    ("roboscript.cli", "roboscript.__main__"),
+    ("roboscript.cli", "roboscript.__main__", "roboscript.api"),
 )
 """The one-way flow, lowest first: a module imports only from its own layer or below.
 
 The root package and the stdlib-only basics at the bottom (the root package's attributes load
 lazily); the inputs (YAML and quantities) and robot profiles; host control loops; transport;
-drivers (and the device side of each protocol); the simulator; actions; missions; the robot
-and one mission run; grading; the command line (docs/development/architecture.md)."""
+drivers (and the device side of each protocol); the simulator; actions; missions; the robot;
+recording a run (the replay format, its taps and its viewer); one mission run; grading; the
+command line (docs/development/architecture.md)."""
 
 KNOWN_LAYER_VIOLATIONS = set(KNOWN_PACKAGE_CYCLE_EDGES)
 """Upward imports that exist today: those of :data:`KNOWN_PACKAGE_CYCLE_EDGES`."""

@@ -6,6 +6,7 @@ import json
 import re
 from pathlib import Path
 
+import pytest
 from helpers import ROOT, run_cli
 
 FIRST_MISSION = ROOT / "docs" / "tutorial" / "first-mission.md"
@@ -54,7 +55,7 @@ def test_the_tutorials_mistakes_are_reported_as_it_shows(tmp_path: Path) -> None
         hello.group(1)
         .replace("speed: 15 cm/s", "speed: 15 deg")
         .replace("{rotate:", "{rotat:")
-        .replace("{done: beep}", "{done: beeep}")
+        .replace("{done: beep,", "{done: beeep,")
     )
     (tmp_path / "hello.yaml").write_text(broken, encoding="utf-8")
     result = run_cli("check", "hello.yaml", cwd=tmp_path)
@@ -80,3 +81,79 @@ def test_the_readme_command_summary_is_the_cli_references() -> None:
         return found.group(1)
 
     assert summary(ROOT / "README.md") == summary(ROOT / "docs" / "reference" / "cli.md")
+
+
+COMMON_MISTAKES = ROOT / "docs" / "tutorial" / "common-mistakes.md"
+
+
+def _mistakes() -> list[tuple[str, dict[str, str], str, str]]:
+    """Each section of common-mistakes.md that runs: (title, files, command, output)."""
+    found = []
+    for section in _text(COMMON_MISTAKES).split("\n## ")[1:]:
+        title = section.splitlines()[0]
+        files = dict(
+            re.findall(r"`([\w.-]+)`:\n\n```(?:yaml|python)\n(.*?)```", section, re.DOTALL)
+        )
+        shown = re.search(r"```text\n\$ roboscript (.*?)\n(.*?)```", section, re.DOTALL)
+        if files and shown is not None:
+            found.append((title, files, shown.group(1), shown.group(2)))
+    return found
+
+
+def test_the_common_mistakes_page_shows_each_mistake_of_issue_14() -> None:
+    titles = {title for title, *_ in _mistakes()}
+    assert len(titles) >= 16
+    for must in ("A number without its unit", "A tab in the indentation", "No final state"):
+        assert must in titles
+
+
+@pytest.mark.parametrize(
+    ("title", "files", "command", "output"), _mistakes(), ids=[m[0] for m in _mistakes()]
+)
+def test_each_common_mistake_prints_what_the_page_shows(
+    tmp_path: Path, title: str, files: dict[str, str], command: str, output: str
+) -> None:
+    for name, text in files.items():
+        (tmp_path / name).write_text(text, encoding="utf-8")
+    result = run_cli(*command.split(), cwd=tmp_path)
+    assert result.stderr + result.stdout == output
+    assert "Traceback" not in result.stderr
+    assert (result.returncode != 0) == ("error:" in output), result.returncode
+
+
+def _hello() -> str:
+    tutorial = _text(FIRST_MISSION)
+    start = tutorial.index("Create `hello.yaml`")
+    hello = re.search(r"```yaml\n(.*?)```", tutorial[start:], re.DOTALL)
+    assert hello is not None
+    return hello.group(1)
+
+
+def test_the_tutorials_mission_runs_without_a_warning(tmp_path: Path) -> None:
+    (tmp_path / "hello.yaml").write_text(_hello(), encoding="utf-8")
+    result = run_cli("run", "hello.yaml", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "warning" not in result.stderr
+    assert result.stderr.splitlines()[-1] in _text(FIRST_MISSION)
+
+
+def test_the_tutorials_step_4_fits_the_mission_it_changes(tmp_path: Path) -> None:
+    snippet = re.search(
+        r"Replace `out` in `hello.yaml` with:\n\n```yaml\n(.*?)```", _text(FIRST_MISSION), re.DOTALL
+    )
+    assert snippet is not None
+    hello = _hello()
+    out = re.search(r"  out:\n(?:    .*\n)+", hello)
+    assert out is not None
+    (tmp_path / "hello.yaml").write_text(hello.replace(out.group(0), snippet.group(1)))
+    result = run_cli("check", "--strict", "hello.yaml", cwd=tmp_path)
+    assert result.stderr == "checked 1 file: 0 with errors\n"
+    assert run_cli("run", "hello.yaml", cwd=tmp_path).returncode == 0
+
+
+def test_docs_for_users_never_send_them_to_source_files() -> None:
+    for path in sorted((ROOT / "docs").rglob("*.md")):
+        if "development" in path.parts:
+            continue  # the developers' guide is about the source
+        for line in _text(path).splitlines():
+            assert not re.search(r"(?<![\w/])roboscript/\w+[/.]", line), f"{path.name}: {line}"

@@ -10,6 +10,7 @@ from roboscript.actions.composite import Parallel, Repeat
 from roboscript.actions.following import FollowLine, FollowWall
 from roboscript.actions.gait import Turn, Walk
 from roboscript.actions.motion import Drive, Rotate, Stop
+from roboscript.actions.motors import Motor
 from roboscript.actions.output import Display, Servo, SetLed
 from roboscript.actions.timing import PlayTone, Wait, WaitUntil
 
@@ -22,6 +23,7 @@ __all__ = [
     "Drive",
     "FollowLine",
     "FollowWall",
+    "Motor",
     "Outcome",
     "Parallel",
     "Param",
@@ -54,6 +56,7 @@ ACTIONS: dict[str, type[Action]] = {
         Servo,
         Walk,
         Turn,
+        Motor,
     )
 }
 """Built-in actions by name."""

@@ -124,8 +124,12 @@ class FollowLine(WheelAction):
         until: A condition that ends the action ``done`` when it holds.
         duration_s: End ``done`` after this long instead.
 
+    With one sensor (a SPIKE colour sensor looking down) there is no middle to keep: the
+    robot follows an edge of the line by reflection, steering so the sensor sees half line,
+    half floor (``edge: right`` follows the right edge; ``center`` and ``left`` the left one).
+
     Outcomes: ``done`` (until / duration); ``failed`` ("lost line") after half a second with
-    no sensor over the line; ``failed`` ("stalled").
+    no sensor over the line (one sensor: seeing bare floor only); ``failed`` ("stalled").
     """
 
     name = "follow_line"
@@ -181,9 +185,16 @@ class FollowLine(WheelAction):
             base.stop()
             return Result.done()
         readings = sensors.values()
-        position = (
-            None if readings is None else LineFollower.position(readings, sensors.dark_threshold)
-        )
+        target = self._EDGE_TARGET[self.edge]
+        if readings is not None and len(readings) == 1:
+            position = _edge_position(readings[0], sensors.dark_threshold, self.edge)
+            target = 0.0
+        else:
+            position = (
+                None
+                if readings is None
+                else LineFollower.position(readings, sensors.dark_threshold)
+            )
         assert self._loop is not None
         if position is None:
             if ctx.now_s - self._last_seen_s >= _LOST_LINE_S:
@@ -195,8 +206,22 @@ class FollowLine(WheelAction):
         else:
             self._last_seen_s = ctx.now_s
             self._last_position = position
-            turn = self._loop.update(position, self._EDGE_TARGET[self.edge], ctx.dt_s)
+            turn = self._loop.update(position, target, ctx.dt_s)
             speed = self.speed_mm_s * (1.0 - 0.6 * min(1.0, abs(position)))
             self.feedback = f"line at {position:+.2f}"
         base.set_wheel_speeds(*wheel_speeds(speed, turn, base.track_mm))
         return self.stalled(ctx, _travelled(base))
+
+
+def _edge_position(reading: float, threshold: float, edge: str) -> float | None:
+    """Where one sensor is across a line's edge, -1 to 1 (0: on the edge), or ``None`` when it
+    sees bare floor only.
+
+    The sign is the one :meth:`LineFollower.position` gives the line: following the left edge,
+    a darker reading means the sensor has moved onto the line, so the line lies to the left of
+    where it should be (negative) and the robot turns left.
+    """
+    if threshold <= 0 or reading < threshold / 4.0:
+        return None
+    offset = max(-1.0, min(1.0, (threshold - reading) / threshold))
+    return -offset if edge == "right" else offset

@@ -85,6 +85,7 @@ def contract_cases() -> ContractCases:
     return ContractCases(
         wheeled=tuple(profile for unit in known for profile in unit.contract.wheeled),
         walking=tuple(profile for unit in known for profile in unit.contract.walking),
+        open_loop=tuple(profile for unit in known for profile in unit.contract.open_loop),
     )
 
 

@@ -44,10 +44,14 @@ class ContractCases:
         wheeled: Profiles with a ``drive_base``: hold a speed and stop, turn clockwise, beep,
             stop on exit, drive the square mission.
         walking: Profiles with a ``walker``: walk and turn by steps, stop on exit.
+        open_loop: Profiles with a ``drive_base`` whose robot answers nothing (the StackMod
+            author's firmware): hold a speed and stop, turn clockwise. Nothing can notice
+            such a robot falling silent, so the silence and loss contracts do not apply.
     """
 
     wheeled: tuple[str, ...] = ()
     walking: tuple[str, ...] = ()
+    open_loop: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -87,7 +91,9 @@ class ProtocolUnit:
                     f"not {reference!r}"
                 )
         listed = set(self.profiles)
-        stray = [p for p in (*self.contract.wheeled, *self.contract.walking) if p not in listed]
+        contract = self.contract
+        cases = (*contract.wheeled, *contract.walking, *contract.open_loop)
+        stray = [p for p in cases if p not in listed]
         if stray:
             raise ValueError(
                 f"protocol {self.name}: contract profiles {stray} are not among its profiles"

@@ -32,6 +32,7 @@ from roboscript.grading.record import RunResult, Verdict
 from roboscript.grading.spec import TestSpec, Variant, is_test_spec, load_test_spec
 from roboscript.grading.text import cap_result, public_reason
 from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S, submission_files
+from roboscript.inputs.kinds import file_kind, not_a_mission
 from roboscript.sim.world import World
 
 __all__ = [
@@ -72,7 +73,7 @@ def _is_mission_file(path: Path) -> bool:
         return False
     if path.suffix.lower() == ".py":
         return is_python_mission(path)  # read as text, never imported here
-    return not is_test_spec(path)
+    return file_kind(path) == "mission"  # never a world, profile or test spec beside it
 
 
 def _missions_in(folder: Path) -> list[Path]:
@@ -103,6 +104,9 @@ def find_submissions(patterns: Sequence[str]) -> list[Submission]:
         elif path.is_file():
             if path.suffix.lower() not in _MISSION_SUFFIXES:
                 raise InputError(f"{pattern} is not a mission file (.yaml or .py)")
+            kind = file_kind(path)
+            if kind != "mission":
+                raise not_a_mission(path, kind)
             singles.append(path)
         else:
             matches = sorted(Path(m) for m in glob.glob(pattern, recursive=True))
@@ -160,6 +164,15 @@ def find_specs(paths: Sequence[str]) -> list[TestSpec]:
                 raise InputError(f"no test specs (YAML files starting 'test:') in {raw}")
             files += found
         else:
+            kind = file_kind(path)
+            if kind in ("world", "profile"):  # a mission may still be a misnamed test spec
+                raise InputError(
+                    f"this is a {kind} file, not a test spec",
+                    path=str(path),
+                    line=1,
+                    col=1,
+                    hint="a test spec starts with 'test:' (see roboscript grade --help)",
+                )
             files.append(path)
     specs = [load_test_spec(p) for p in dict.fromkeys(files)]
     seen: dict[str, str] = {}

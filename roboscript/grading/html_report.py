@@ -6,7 +6,9 @@ For the teacher only (every student's name and score, every run in full):
   passed, the score, the points, the worst margin (or why it stopped), a link to each run and
   to the student's own page;
 * ``DIR/runs/*.html``: one page per run: what went wrong in one sentence, the trajectory over
-  the world, the state timeline, and every expectation with its margin and first violation.
+  the world, the state timeline, the replay viewer (:mod:`roboscript.replay.viewer`, opening
+  at the first violated expectation), and every expectation with its margin and first
+  violation.
 
 For the students, to hand out one each:
 
@@ -14,7 +16,9 @@ For the students, to hand out one each:
   page; nothing of a classmate, no spec path, and a hidden variant only as "hidden run N" with
   pass or fail and the reason (:func:`~roboscript.grading.text.public_reason`).
 
-Self-contained files: styles are inline, pictures are inline SVG, nothing is fetched. Every
+Self-contained files: styles are inline, pictures are inline SVG, the replay's script and its
+data (recorded in the world's process, ten frames a second) are inline, once per page;
+nothing is fetched. Every
 pass or fail is a word and a symbol as well as a colour; pictures carry a text alternative.
 """
 
@@ -41,6 +45,8 @@ from roboscript.grading.svg import (
     trajectory_svg,
 )
 from roboscript.grading.text import advice, format_points, public_reason
+from roboscript.replay.recording import Recording, fill_frames
+from roboscript.replay.viewer import viewer_block, viewer_script, viewer_style
 
 __all__ = ["run_page_name", "student_page_names", "write_html"]
 
@@ -88,16 +94,47 @@ pre { background: #f6f8fa; padding: 0.6rem; overflow-x: auto; font-size: 0.85rem
 
 
 def _page(title: str, body: str) -> str:
+    # The replay viewer's script and styles once per page, however many runs it shows.
+    replays = 'class="rs-viewer"' in body
     return (
         "<!DOCTYPE html>\n"
         '<html lang="en">\n<head>\n<meta charset="utf-8">\n'
         '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
-        f"<title>{escape(title)}</title>\n<style>{_CSS}</style>\n</head>\n<body>\n"
+        f"<title>{escape(title)}</title>\n<style>{_CSS}</style>\n"
+        + (viewer_style() if replays else "")
+        + "</head>\n<body>\n"
         f"{body}\n"
         f'<p class="muted">Made by roboscript {escape(__version__)} <code>grade</code>.'
         " Times are on the mission clock (0 s = the mission started).</p>\n"
-        "</body>\n</html>\n"
+        + (viewer_script() if replays else "")
+        + "</body>\n</html>\n"
     )
+
+
+def _replay(result: RunResult, heading: str) -> list[str]:
+    """The run's replay viewer, opening where an expectation first failed (if one did)."""
+    data = result.replay
+    if not data or not data.get("frames"):
+        return []
+    failed = [(v.first_violation_s, v.name) for v in result.verdicts if not v.passed]
+    marks = [{"t": t, "label": name} for t, name in failed if t is not None]
+    open_at = min((t for t, _ in failed if t is not None), default=None)
+    recording = Recording(data["header"], fill_frames(data["frames"]), data.get("result"))
+    where = (
+        f" It opens at {open_at:.2f} s, where an expectation first failed (the red dashed line"
+        " on the plots)."
+        if open_at is not None
+        else ""
+    )
+    return [
+        heading,
+        viewer_block(recording, open_at_s=open_at, marks=marks, label="replay of the run"),
+        (
+            '<p class="muted">Play, pause, step one tick (◀ ▶), pick a speed, drag the time'
+            " bar, or click a state to jump to it; the plots show the sensors and the motor"
+            f" power ten times a second.{where}</p>"
+        ),
+    ]
 
 
 def _mark(passed: bool) -> str:
@@ -330,6 +367,7 @@ def _run_sections(
             " collisions, a red ! where an expectation first failed.</figcaption></figure>"
             f'<ul class="legend" aria-label="State colours">{keys}</ul>'
         )
+        parts += _replay(result, "<h3>Replay</h3>" if suffix else "<h2>Replay</h2>")
     if result.verdicts:
         parts.append("<h3>Expectations</h3>" if suffix else "<h2>Expectations</h2>")
         parts.append(_verdict_table(result.verdicts))

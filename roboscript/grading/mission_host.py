@@ -2,7 +2,9 @@
 
 The grader starts it sandboxed (:mod:`roboscript.grading.sandbox`) as::
 
-    python -I -m roboscript.grading.mission_host FD MISSION ROBOT MAX_TIME_S HANG_AFTER_S
+    python -I -m roboscript.grading.mission_host FD MISSION ROBOT MAX_TIME_S HANG_AFTER_S [MAP]
+
+(``MAP``: the world's regions and start pose as JSON, :class:`roboscript.session.WorldMap`.)
 
 It loads the mission, connects to the robot through ``lockstep://FD`` (the world lives in the
 grader's process, :mod:`roboscript.grading.world_host`), runs the mission exactly as
@@ -39,19 +41,26 @@ def main(argv: Sequence[str] | None = None) -> int:
         float(args[3]),
         float(args[4]),
     )
+    world_map = args[5] if len(args) > 5 else None
     logging.disable(logging.WARNING)
     channel = WorldChannel.for_fd(fd)
     watchdog_s = max(0.2, hang_after_s * 0.6)
     faulthandler.dump_traceback_later(watchdog_s, repeat=True, file=sys.stderr)
     try:
-        return _run(channel, mission_path, robot, max_time_s)
+        return _run(channel, mission_path, robot, max_time_s, world_map)
     except WorldStoppedError:
         return 3
     finally:
         faulthandler.cancel_dump_traceback_later()
 
 
-def _run(channel: WorldChannel, mission_path: str, robot: str, max_time_s: float) -> int:
+def _run(
+    channel: WorldChannel,
+    mission_path: str,
+    robot: str,
+    max_time_s: float,
+    world_map: str | None = None,
+) -> int:
     from roboscript.errors import CapabilityError, InputError
     from roboscript.mission import mission_for_robot
 
@@ -63,7 +72,7 @@ def _run(channel: WorldChannel, mission_path: str, robot: str, max_time_s: float
         return 2
     channel.send_json(Kind.LOADED, {"mission": mission.name})
 
-    from roboscript.session import run_session
+    from roboscript.session import WorldMap, run_session
 
     def on_state(_t_s: float, name: str) -> None:
         channel.send(Kind.STATE, name.encode("utf-8", "replace")[:256])
@@ -75,6 +84,7 @@ def _run(channel: WorldChannel, mission_path: str, robot: str, max_time_s: float
             port=f"lockstep://{channel_fd(channel)}",
             max_time_s=max_time_s,
             on_state=on_state,
+            world_map=None if world_map is None else WorldMap.from_json(world_map),
         )
     except CapabilityError as exc:
         channel.send_json(Kind.LOAD_ERROR, {"message": f"it does not fit the robot: {exc}"})

@@ -239,6 +239,9 @@ class RunResult:
         debug: A traceback or other detail for the teacher; never shown to students.
         during_load: True when the run ended before the mission had loaded (so every run of
             this mission on this robot ends the same way, and the grader runs it once).
+        replay: The run recorded for the HTML report's viewer (``{"header", "frames",
+            "result"}``, :mod:`roboscript.replay.world_tap`), or ``None``; crosses from the
+            worker as ``to_dict(replay=True)`` and is left out of the JSON reports.
     """
 
     student: str
@@ -255,15 +258,16 @@ class RunResult:
     wall_time_s: float = 0.0
     debug: str = ""
     during_load: bool = False
+    replay: dict[str, Any] | None = field(default=None, compare=False, repr=False)
 
     @property
     def passed(self) -> bool:
         """True if every expectation held."""
         return self.status == "passed"
 
-    def to_dict(self) -> dict[str, Any]:
-        """A JSON-ready dictionary."""
-        return {
+    def to_dict(self, *, replay: bool = False) -> dict[str, Any]:
+        """A JSON-ready dictionary (with the replay only when ``replay`` is true)."""
+        data = {
             "student": self.student,
             "test": self.test,
             "variant": self.variant,
@@ -280,6 +284,9 @@ class RunResult:
             "debug": self.debug,
             "during_load": self.during_load,
         }
+        if replay:
+            data["replay"] = self.replay
+        return data
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], world: World | None = None) -> RunResult:
@@ -300,6 +307,7 @@ class RunResult:
             wall_time_s=data["wall_time_s"],
             debug=data["debug"],
             during_load=bool(data.get("during_load", False)),
+            replay=data.get("replay"),
         )
 
     def worst_verdict(self) -> Verdict | None:

@@ -88,6 +88,7 @@ def grade_run(
         verdicts=verdicts,
         record=record,
         debug=world.debug,
+        replay=world.replay,
     )
 
 

@@ -48,7 +48,7 @@ def work(connection: Connection, task: RunTask) -> None:
             hang_after_s=task.hang_after_s,
         )
         # Capped here, so a student's flood never crosses the pipe or reaches --results.
-        result = cap_result(graded).to_dict()
+        result = cap_result(graded).to_dict(replay=True)
     except Exception as exc:  # noqa: BLE001 - a bug of ours: report it for this run only
         result = crash_result(task, exc)
     try:

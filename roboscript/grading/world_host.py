@@ -42,6 +42,8 @@ from roboscript.grading.sandbox import Jail, Limits
 from roboscript.grading.spec import TestSpec, Variant
 from roboscript.mission.runner import MISSION_OUTCOMES
 from roboscript.profiles import get_profile
+from roboscript.replay.world_tap import WorldReplay
+from roboscript.session import WorldMap
 from roboscript.sim.simulation import Simulation
 from roboscript.sim.world import Pose
 from roboscript.transport.lockstep import (
@@ -94,6 +96,8 @@ class WorldRun:
         record: What happened, when the run can be judged.
         ended_normally: True when the mission reached a final state by itself within the
             test's simulated time and its own code did not raise.
+        replay: The run recorded from this world's simulation for the report's viewer
+            (``{"header", "frames", "result"}``, see :mod:`roboscript.replay.world_tap`).
     """
 
     status: RunStatus | Literal[""] = ""
@@ -102,6 +106,7 @@ class WorldRun:
     loaded: bool = False
     record: RunRecord | None = None
     ended_normally: bool = False
+    replay: dict[str, Any] | None = None
 
 
 @dataclass
@@ -167,6 +172,8 @@ def run_world(
                 robot_arg,
                 repr(spec.max_time_s),
                 repr(hang_after_s),
+                # the regions and the start, so in_region reads as it does in-process
+                WorldMap.of(sim).to_json(),
             ],
             visible=tuple(dict.fromkeys(readable)),
             workdir=mission.parent,
@@ -209,6 +216,8 @@ class _WorldSession:
         self.loaded = False
         self.host_bytes = 0
         self.start_pose = (sim.body.x_mm, sim.body.y_mm)
+        # Frames come from this process's simulation only, never from the mission's process.
+        self.replay = WorldReplay(sim, sim.profile)
 
     # ------------------------------------------------------------------------------- loop
 
@@ -307,6 +316,7 @@ class _WorldSession:
             self.claims.started_s = self.now_s
             self.limit_s = self.now_s + self.spec.max_time_s + _TIME_SLACK_S
             sim.sample_path()
+            self.replay.start(self.now_s)
         elif kind == Kind.STATE:
             self._state(payload)
         elif kind == Kind.FINISH:
@@ -333,6 +343,7 @@ class _WorldSession:
             return
         self.sim.tick(now_s, 0.0)
         self.now_s = now_s
+        self.replay.tick(now_s, self.claims.states[-1][1] if self.claims.states else None)
         self._answer()
 
     def _check_still(self) -> None:
@@ -387,8 +398,21 @@ class _WorldSession:
         return self._judged_record(self._record("failure", last, reason), ended_normally=False)
 
     def _judged_record(self, record: RunRecord, ended_normally: bool) -> WorldRun:
+        replay = self.replay.finish(
+            mission=record.mission,
+            outcome=record.outcome,
+            final_state=record.final_state,
+            reason=record.reason,
+            duration_s=record.duration_s,
+            states=record.states,
+            now_s=self.now_s,
+        )
         return WorldRun(
-            loaded=True, record=record, ended_normally=ended_normally, debug=self._output()
+            loaded=True,
+            record=record,
+            ended_normally=ended_normally,
+            debug=self._output(),
+            replay=replay,
         )
 
     def _record(self, outcome: str, final_state: str | None, reason: str | None) -> RunRecord:

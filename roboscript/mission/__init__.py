@@ -15,7 +15,7 @@ if TYPE_CHECKING:
     from roboscript.mission.spec import MissionSpec
     from roboscript.profiles import RobotProfile
 
-__all__ = ["load_mission", "mission_for_robot"]
+__all__ = ["fit_to_robot", "load_mission", "mission_for_robot"]
 
 
 def load_mission(
@@ -66,12 +66,20 @@ def mission_for_robot(
             what the robot lacks (every problem is in ``problems``).
         ProfileError: ``robot`` is unknown, or a profile file is invalid.
     """
+    spec, warnings = load_mission(path)
+    return fit_to_robot(spec, warnings, robot)
+
+
+def fit_to_robot(
+    spec: MissionSpec, warnings: list[InputError], robot: str | None = None
+) -> tuple[Any, Any, list[InputError]]:
+    """The second half of :func:`mission_for_robot`, for a mission already loaded (a Python
+    mission class run from Python): choose the robot and check that the two fit."""
     from roboscript.mission.builder import MissionProblemsError
     from roboscript.mission.checks import check_capabilities
     from roboscript.mission.limits import profile_problems
     from roboscript.mission.references import mission_robot, with_world_checked
 
-    spec, warnings = load_mission(path)
     spec, problems = with_world_checked(spec)
 
     def in_order(found: list[InputError]) -> list[InputError]:

@@ -9,12 +9,21 @@ condition with no timeout, and outcomes that would end the mission without a rou
 
 from __future__ import annotations
 
+import difflib
+from collections.abc import Collection
+
 from roboscript import capabilities as cap
 from roboscript.errors import InputError, MissionError
 from roboscript.inputs.source import Location
-from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec
+from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec, TransitionSpec
 
-__all__ = ["check_capabilities", "check_mission"]
+__all__ = [
+    "check_capabilities",
+    "check_mission",
+    "check_regions",
+    "check_world_regions",
+    "regions_read",
+]
 
 _CAN_FAIL = {
     "drive": "stalled",
@@ -284,3 +293,76 @@ def check_capabilities(spec: MissionSpec, profile: object) -> list[InputError]:
                     )
                 )
     return problems
+
+
+def regions_read(spec: MissionSpec) -> list[tuple[str, TransitionSpec]]:
+    """Every ``in_region.NAME`` a condition of the mission reads (inner states too)."""
+    found: list[tuple[str, TransitionSpec]] = []
+    for state in spec.states.values():
+        for transition in state.targets():
+            for region in sorted(getattr(transition.guard, "regions", ())):
+                found.append((region, transition))
+        for action in state.actions():
+            found.extend(_inner_regions(action))
+    return found
+
+
+def _inner_regions(action: ActionSpec) -> list[tuple[str, TransitionSpec]]:
+    found = regions_read(action.inner) if action.inner is not None else []
+    for child in action.children:
+        found.extend(_inner_regions(child))
+    return found
+
+
+def check_regions(
+    spec: MissionSpec, regions: Collection[str] | None, world: str = "the world"
+) -> list[InputError]:
+    """Errors for every ``in_region.NAME`` the world cannot answer.
+
+    Args:
+        spec: The mission.
+        regions: The region names of the mission's world, or ``None`` when the mission runs
+            on a robot reached on a port (which has no world map to place itself in).
+        world: The world's name, for messages.
+    """
+    problems: list[InputError] = []
+    for region, transition in regions_read(spec):
+        where = transition.location
+        if regions is None:
+            problems.append(
+                _problem(
+                    f"the condition '{transition.guard_text}' reads in_region.{region}, but a "
+                    "robot on a port has no world map to place itself in",
+                    where,
+                    "run it on the simulator, or use pose.x_mm and pose.y_mm, which odometry gives",
+                )
+            )
+        elif region not in regions:
+            close = difflib.get_close_matches(region, sorted(regions), n=1)
+            listed = ", ".join(sorted(regions)) or "none"
+            problems.append(
+                _problem(
+                    f"the world '{world}' has no region '{region}' (its regions: {listed})",
+                    where,
+                    f"did you mean 'in_region.{close[0]}'?" if close else None,
+                )
+            )
+    return problems
+
+
+def check_world_regions(spec: MissionSpec, world: str | None) -> list[InputError]:
+    """:func:`check_regions` against a simulator world by name or file (``None``: on a port).
+
+    The world is read only if a condition reads ``in_region``.
+
+    Raises:
+        InputError: The world file itself is not valid.
+    """
+    if not regions_read(spec):
+        return []
+    if world is None:
+        return check_regions(spec, None)
+    from roboscript.sim.world import load_world
+
+    loaded = load_world(world)
+    return check_regions(spec, set(loaded.regions), loaded.name)

@@ -17,7 +17,19 @@ name                   value                                               needs
 ``bumper.left``        left bump switch pressed (also ``right``, ``any``)  ``bumper``
 ``line.left``          line sensor reading 0-1023 (``center``, ``right``)  ``line``
 ``line.any``           any line sensor over a dark line                    ``line``
-``heading_deg``        turn since the start, degrees clockwise             ``drive_base``
+``color.reflection``   light the colour sensor gets back, 0-100 % (none:   ``color``
+                       compares false)
+``color.black``        the colour sensor sees black (also ``white``,       ``color``
+                       ``red``, ``green``, ``blue``, ``yellow``, ...)
+``color.rgb_red``      raw red 0-1023 (also ``rgb_green``, ``rgb_blue``)   ``color``
+``buttons.left``       the hub's left button is held (``right``, ``any``)  ``buttons``
+``heading_deg``        turn since the start, degrees clockwise, -180-180  ``drive_base``
+``driven.total_mm``    distance driven since the start (also ``_cm``)      ``drive_base``
+``driven.state_mm``    distance driven in this state (also ``_cm``)        ``drive_base``
+``pose.x_mm``          odometry: mm to the right of the start point        ``drive_base``
+``pose.y_mm``          odometry: mm ahead of the start point               ``drive_base``
+``pose.heading_deg``   odometry heading, the same as ``heading_deg``       ``drive_base``
+``in_region.NAME``     the robot is inside the world's region NAME         ``drive_base``
 ``visits.STATE``       how many times STATE has been entered               --
 ``elapsed``            seconds since the mission started                   --
 ``state_time``         seconds since the current state was entered         --
@@ -43,7 +55,29 @@ from roboscript import capabilities as cap
 from roboscript.inputs.quantities import DIMENSIONS, QuantityError, parse_quantity
 from roboscript.mission.limits import GUARD_NUMBER_LIMIT, shown
 
-__all__ = ["Guard", "GuardEnv", "GuardError", "compile_guard"]
+__all__ = ["COLOR_NAMES", "RGB_NAMES", "Guard", "GuardEnv", "GuardError", "compile_guard"]
+
+COLOR_NAMES = (
+    "black",
+    "magenta",
+    "purple",
+    "blue",
+    "azure",
+    "turquoise",
+    "green",
+    "yellow",
+    "orange",
+    "red",
+    "white",
+)
+"""The colours a colour sensor names (LEGO's set), each a yes/no guard name: ``color.red``."""
+RGB_NAMES = ("rgb_red", "rgb_green", "rgb_blue")
+"""The colour sensor's raw channels as guard names (``color.rgb_red``), 0-1023."""
+
+_UNREADABLE = {
+    "buttons.center": "the hub's centre button stops the program, so a mission never sees"
+    " it pressed; use buttons.left or buttons.right",
+}
 
 
 class GuardError(ValueError):
@@ -71,6 +105,10 @@ class GuardEnv:
         """How many times ``state`` has been entered."""
         raise NotImplementedError
 
+    def in_region(self, name: str) -> bool:
+        """True while the robot is inside the world's region ``name`` (simulator only)."""
+        raise NotImplementedError
+
 
 # name -> (unit dimension or None, capability needed or None)
 _ATTRS: dict[str, dict[str, tuple[str | None, str]]] = {
@@ -84,6 +122,20 @@ _ATTRS: dict[str, dict[str, tuple[str | None, str]]] = {
     },
     "bumper": dict.fromkeys(("left", "right", "any"), ("", cap.BUMPER)),
     "line": dict.fromkeys(("left", "center", "right", "any"), ("", cap.LINE)),
+    # A condition has no strings: a colour is a yes/no name (color.black), not color == 'black'.
+    "color": dict.fromkeys(("reflection", *COLOR_NAMES, *RGB_NAMES), ("", cap.COLOR)),
+    "buttons": dict.fromkeys(("left", "right", "any"), ("", cap.BUTTONS)),
+    "driven": {
+        "total_mm": ("mm", cap.DRIVE_BASE),
+        "total_cm": ("cm", cap.DRIVE_BASE),
+        "state_mm": ("mm", cap.DRIVE_BASE),
+        "state_cm": ("cm", cap.DRIVE_BASE),
+    },
+    "pose": {
+        "x_mm": ("mm", cap.DRIVE_BASE),
+        "y_mm": ("mm", cap.DRIVE_BASE),
+        "heading_deg": ("deg", cap.DRIVE_BASE),
+    },
 }
 _PLAIN: dict[str, tuple[str | None, str | None]] = {
     "heading_deg": ("deg", cap.DRIVE_BASE),
@@ -96,6 +148,26 @@ _UNIT_FACTOR = {"mm": 1.0, "cm": 10.0, "deg": 1.0, "s": 1.0}
 _NUMBER_WITH_UNIT = re.compile(
     r"(?<![\w.])(\d+(?:\.\d*)?|\.\d+)\s*(mm|cm|m|ms|s|sec|min|deg|rad|°)(?![\w/])"
 )
+
+_REGION = re.compile(r"(?<![\w.])in_region\.([A-Za-z_]\w*(?:-\w+)+)")
+
+GUARD_MAX_CHARS = 1000
+"""Longest condition, characters (the longest in ``missions/`` is under 60)."""
+GUARD_MAX_DEPTH = 32
+"""Deepest nesting of a condition's expression (brackets, ``not``, operators): deeper ones
+would exhaust Python's recursion limit when compiled or evaluated."""
+
+
+def _depth(node: ast.AST) -> int:
+    """How deep ``node``'s tree goes, counted without recursion."""
+    deepest = 0
+    todo = [(node, 1)]
+    while todo:
+        current, depth = todo.pop()
+        deepest = max(deepest, depth)
+        todo.extend((child, depth + 1) for child in ast.iter_child_nodes(current))
+    return deepest
+
 
 _LONG_NUMBER = re.compile(rf"(?<![\w.])\d{{{len(str(int(GUARD_NUMBER_LIMIT))) + 1},}}")
 
@@ -134,12 +206,14 @@ class Guard:
         source: The expression as written.
         capabilities: Capability names the guard reads.
         states: State names it reads through ``visits.STATE``.
+        regions: World region names it reads through ``in_region.NAME``.
     """
 
     source: str
     _evaluate: _Eval = field(repr=False, compare=False)
     capabilities: frozenset[str] = frozenset()
     states: frozenset[str] = frozenset()
+    regions: frozenset[str] = frozenset()
 
     def __call__(self, env: GuardEnv) -> bool:
         """Evaluate the guard now."""
@@ -159,6 +233,8 @@ class _Compiler:
         self.state_names = state_names
         self.capabilities: set[str] = set()
         self.states: set[str] = set()
+        self.regions: set[str] = set()
+        self.region_names: dict[str, str] = {}  # identifier -> region name with its dashes
         self.quantities: dict[str, _Quantity] = {}
 
     def fail(
@@ -180,7 +256,13 @@ class _Compiler:
             self.quantities[name] = _Quantity(float(match.group(1)), match.group(2), match.start())
             return name
 
-        return _NUMBER_WITH_UNIT.sub(replace, self.source)
+        def region(match: re.Match[str]) -> str:
+            # a world's region may be named 'north-wall': a '-' would read as a minus
+            name = match.group(1)
+            self.region_names[name.replace("-", "_")] = name
+            return f"in_region.{name.replace('-', '_')}"
+
+        return _NUMBER_WITH_UNIT.sub(replace, _REGION.sub(region, self.source))
 
     def compile(self) -> Guard:
         long = _LONG_NUMBER.search(self.source)
@@ -191,17 +273,50 @@ class _Compiler:
                 long.start(),
                 "compare with a number a sensor can read, e.g. range.distance_cm < 20",
             )
+        self._refuse_unreadable()
         text = self.rewrite()
         text = re.sub(r"\btrue\b", "True", re.sub(r"\bfalse\b", "False", text))
         try:
             tree = ast.parse(text.strip(), mode="eval")
         except SyntaxError as exc:
             offset = (exc.offset or 1) - 1
-            raise GuardError(
+            raise _syntax_mistake(self.source) or GuardError(
                 f"cannot read the condition '{self.source}'", self._source_offset(offset)
             ) from None
+        except (RecursionError, MemoryError):  # the parser's own depth limit
+            raise self._too_deep() from None
+        if _depth(tree.body) > GUARD_MAX_DEPTH:
+            raise self._too_deep()
         evaluate = self.node(tree.body)
-        return Guard(self.source, evaluate, frozenset(self.capabilities), frozenset(self.states))
+        return Guard(
+            self.source,
+            evaluate,
+            frozenset(self.capabilities),
+            frozenset(self.states),
+            frozenset(self.regions),
+        )
+
+    def _refuse_unreadable(self) -> None:
+        """Refuse conditions no one writes by hand before Python's parser sees them."""
+        if len(self.source) > GUARD_MAX_CHARS:
+            raise GuardError(
+                f"a condition of {len(self.source)} characters is too long"
+                f" (at most {GUARD_MAX_CHARS})",
+                GUARD_MAX_CHARS,
+                "split it: a Python mission's condition method can hold longer logic",
+            )
+        for offset, char in enumerate(self.source):
+            if "\ud800" <= char <= "\udfff":  # a lone surrogate: not text, Python cannot parse it
+                raise GuardError(
+                    f"the condition holds U+{ord(char):04X}, which is not a character", offset
+                )
+
+    def _too_deep(self) -> GuardError:
+        return GuardError(
+            f"the condition is nested more than {GUARD_MAX_DEPTH} deep",
+            0,
+            "write it flatter: 'a and b and c' rather than brackets inside brackets",
+        )
 
     # ------------------------------------------------------------------------------ nodes
 
@@ -244,6 +359,8 @@ class _Compiler:
             return reader
         if isinstance(node, ast.Call):
             raise self.fail("a condition cannot call functions", node)
+        if isinstance(node, ast.Tuple):  # 'range.distance_cm < 0,5' reads as a pair
+            raise _syntax_mistake(self.source) or self.fail("a condition has no ','", node)
         raise self.fail("this is not allowed in a condition", node)
 
     def check_number(self, value: float, node: ast.AST | None) -> None:
@@ -287,6 +404,9 @@ class _Compiler:
 
     def compare(self, node: ast.Compare) -> _Eval:
         items = [node.left, *node.comparators]
+        if any(self.is_quantity(item) for item in items):
+            # 'range.distance < 20 cm': the unit written on the number says which is meant
+            items = [_with_unit_suffix(item) for item in items]
         units = [self.unit_of(item) for item in items]
         unit = next((u for u in units if u), None)
         parts = [self.operand(item, unit) for item in items]
@@ -318,7 +438,7 @@ class _Compiler:
                     self.capabilities.add(needs)
                 ident = node.id
                 return (lambda env: env.sensor(ident, None)), unit
-            if node.id in _ATTRS or node.id == "visits":
+            if node.id in _ATTRS or node.id in ("visits", "in_region"):
                 raise self.fail(f"'{node.id}' needs a '.' and a name after it", node)
             raise self.unknown(node.id, node)
         value = node.value
@@ -335,15 +455,29 @@ class _Compiler:
                 )
             self.states.add(attr)
             return (lambda env: env.visits(attr)), None
+        if root == "in_region":
+            region = self.region_names.get(attr, attr)
+            self.regions.add(region)
+            self.capabilities.add(cap.DRIVE_BASE)  # odometry tells where in the world it is
+            return (lambda env: env.in_region(region)), None
         if root not in _ATTRS:
             raise self.unknown(root, value)
         attrs = _ATTRS[root]
+        if attr not in attrs and f"{attr}_mm" in attrs:
+            named = [a for a in sorted(attrs) if a.startswith(f"{attr}_")]
+            raise self.fail(
+                f"'{root}.{attr}' needs its unit in the name: "
+                + " or ".join(f"'{root}.{a}'" for a in named),
+                node,
+                f"e.g. {root}.{named[0]} < 20, or give the number a unit: {root}.{attr} < 2 cm",
+            )
         if attr not in attrs:
             close = difflib.get_close_matches(attr, sorted(attrs), n=1)
             raise self.fail(
                 f"'{root}' has no '{attr}' (it has {', '.join(sorted(attrs))})",
                 node,
-                f"did you mean '{root}.{close[0]}'?" if close else None,
+                _UNREADABLE.get(f"{root}.{attr}")
+                or (f"did you mean '{root}.{close[0]}'?" if close else None),
             )
         unit, needs = attrs[attr]
         self.capabilities.add(needs)
@@ -351,12 +485,76 @@ class _Compiler:
 
     def unknown(self, name: str, node: ast.AST) -> GuardError:
         known = [*_PLAIN, *(f"{r}.{a}" for r, attrs in _ATTRS.items() for a in attrs), "visits"]
-        close = difflib.get_close_matches(name, [*_PLAIN, *_ATTRS, "visits"], n=1)
+        roots = [*_PLAIN, *_ATTRS, "visits", "in_region"]
+        close = difflib.get_close_matches(name, roots, n=1)
         return self.fail(
             f"unknown name '{name}' in a condition",
             node,
             f"did you mean '{close[0]}'?" if close else f"names: {', '.join(known[:8])}, ...",
         )
+
+
+def _with_unit_suffix(node: ast.expr) -> ast.expr:
+    """``range.distance`` -> ``range.distance_mm``, when a number with a unit sits beside it."""
+    if (
+        isinstance(node, ast.Attribute)
+        and isinstance(node.value, ast.Name)
+        and node.attr not in _ATTRS.get(node.value.id, {})
+        and f"{node.attr}_mm" in _ATTRS.get(node.value.id, {})
+    ):
+        return ast.copy_location(ast.Attribute(node.value, f"{node.attr}_mm", node.ctx), node)
+    return node
+
+
+_MISTAKES: tuple[tuple[re.Pattern[str], str, str], ...] = (
+    (re.compile(r"&&"), "'&&' is not a condition word", "write 'and': {fixed}"),
+    (re.compile(r"\|\|"), "'||' is not a condition word", "write 'or': {fixed}"),
+    (re.compile(r"!(?!=)"), "'!' is not a condition word", "write 'not': {fixed}"),
+    (
+        re.compile(r"=<|=>"),
+        "'{found}' is not a comparison",
+        "write it the other way round: {fixed}",
+    ),
+    (
+        re.compile(r"(?<![<>=!])=(?!=)"),
+        "'=' sets a value; a condition compares",
+        "write '==' to compare: {fixed}",
+    ),
+    (
+        re.compile(r"\d,\d"),
+        "a decimal comma in a condition",
+        "write decimals with a point: {fixed}",
+    ),
+    (
+        re.compile(
+            r"(?<=\d)\s*(?!(?:and|or|not|true|false|if|else|is|in"
+            r"|mm|cm|m|ms|s|sec|min|deg|rad)\b)([A-Za-z]+)\b"
+        ),
+        "'{found}' is not a unit a condition knows",
+        "use mm, cm, m, s, ms, min, deg or rad, e.g. range.distance < 20 cm",
+    ),
+)
+_FIXES = {"&&": " and ", "||": " or ", "!": "not ", "=<": "<=", "=>": ">=", "=": "=="}
+
+
+def _syntax_mistake(source: str) -> GuardError | None:
+    """A located message with a hint for a common mistake in a condition that did not parse."""
+    for pattern, message, hint in _MISTAKES:
+        match = pattern.search(source)
+        if match is None:
+            continue
+        found = match.group(match.lastindex or 0).strip()
+        if found in _FIXES:
+            fixed = re.sub(r"\s+", " ", pattern.sub(_FIXES[found], source)).strip()
+        else:
+            fixed = source.replace(match.group(0), match.group(0).replace(",", "."))
+        offset = match.start(match.lastindex or 0)
+        return GuardError(
+            f"cannot read the condition '{source}': {message.format(found=found)}",
+            offset,
+            hint.format(fixed=fixed),
+        )
+    return None
 
 
 def _default_unit(unit: str) -> str | None:
@@ -391,4 +589,5 @@ def guard_names() -> Mapping[str, str | None]:
         for attr, (_, needs) in attrs.items():
             names[f"{root}.{attr}"] = needs
     names["visits.STATE"] = None
+    names["in_region.NAME"] = cap.DRIVE_BASE
     return names

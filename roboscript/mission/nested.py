@@ -47,6 +47,7 @@ class SubMission(Action):
             robot_name=ctx.robot_name,
             gains=ctx.gains,
             on_state=record,
+            outer=outer,  # pose, distance and regions are the whole mission's
         )
 
     def update(self, ctx: ActionContext) -> Result | None:

@@ -32,9 +32,12 @@ file (``roboscript run square.py``) holds one such class.
 
 from __future__ import annotations
 
+import atexit
+import importlib
 import sys
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any, ClassVar, TypeAlias
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, ClassVar, NoReturn, TypeAlias
 
 from roboscript.actions.base import Action
 
@@ -43,13 +46,18 @@ if TYPE_CHECKING:
 
 __all__ = [
     "BumperReading",
+    "ButtonsReading",
     "Choice",
+    "ColorReading",
     "Condition",
+    "DrivenReading",
     "LineReading",
     "Mission",
+    "PoseReading",
     "RangeReading",
     "Route",
     "StateDef",
+    "note_mission_run",
     "state",
 ]
 
@@ -227,6 +235,109 @@ class LineReading:
         return bool(self._env.sensor("line", "any"))
 
 
+class DrivenReading:
+    """How far the robot has driven, forwards or back, as its wheels measure it (needs
+    ``drive_base``). Turning on the spot drives 0 mm."""
+
+    def __init__(self, env: GuardEnv) -> None:
+        self._env = env
+
+    @property
+    def total_mm(self) -> float:
+        """Distance driven since the mission started, mm."""
+        return float(self._env.sensor("driven", "total_mm"))
+
+    @property
+    def total_cm(self) -> float:
+        """The same in cm."""
+        return float(self._env.sensor("driven", "total_cm"))
+
+    @property
+    def state_mm(self) -> float:
+        """Distance driven since the current state was entered, mm."""
+        return float(self._env.sensor("driven", "state_mm"))
+
+    @property
+    def state_cm(self) -> float:
+        """The same in cm."""
+        return float(self._env.sensor("driven", "state_cm"))
+
+
+class PoseReading:
+    """Where the robot is, from its own odometry, measured from where the mission started
+    (needs ``drive_base``): ``x_mm`` to the right of the start point, ``y_mm`` ahead of it."""
+
+    def __init__(self, env: GuardEnv) -> None:
+        self._env = env
+
+    @property
+    def x_mm(self) -> float:
+        """mm to the right of the start point (left is negative)."""
+        return float(self._env.sensor("pose", "x_mm"))
+
+    @property
+    def y_mm(self) -> float:
+        """mm ahead of the start point (behind is negative)."""
+        return float(self._env.sensor("pose", "y_mm"))
+
+    @property
+    def heading_deg(self) -> float:
+        """Turn since the start, degrees clockwise, -180 to 180 (as ``heading_deg``)."""
+        return float(self._env.sensor("pose", "heading_deg"))
+
+
+class ColorReading:
+    """The colour sensor, as a guard method reads it (needs ``color``)."""
+
+    def __init__(self, env: GuardEnv) -> None:
+        self._env = env
+
+    @property
+    def reflection(self) -> float:
+        """Light reflected by the floor, 0 (black) to 100 (white) percent; not-a-number
+        before the first reading (every comparison with it is False)."""
+        return float(self._env.sensor("color", "reflection"))
+
+    @property
+    def name(self) -> str | None:
+        """The colour seen (``"black"``, ``"white"``, ``"red"``, ...), or ``None``."""
+        # Imported here: the guards module pulls in YAML, which `import roboscript` avoids.
+        from roboscript.mission.guards import COLOR_NAMES
+
+        return next((c for c in COLOR_NAMES if self._env.sensor("color", c)), None)
+
+    @property
+    def rgb(self) -> tuple[int, int, int]:
+        """Raw red, green and blue, each 0-1023 (zeros before the first reading)."""
+        from roboscript.mission.guards import RGB_NAMES
+
+        red, green, blue = (int(self._env.sensor("color", channel)) for channel in RGB_NAMES)
+        return (red, green, blue)
+
+
+class ButtonsReading:
+    """The robot's own buttons (a SPIKE hub's left and right), as a guard method reads them
+    (needs ``buttons``)."""
+
+    def __init__(self, env: GuardEnv) -> None:
+        self._env = env
+
+    @property
+    def left(self) -> bool:
+        """The left button is held down."""
+        return bool(self._env.sensor("buttons", "left"))
+
+    @property
+    def right(self) -> bool:
+        """The right button is held down."""
+        return bool(self._env.sensor("buttons", "right"))
+
+    @property
+    def any(self) -> bool:
+        """Either button is held down."""
+        return bool(self._env.sensor("buttons", "any"))
+
+
 # ----------------------------------------------------------------------------- the mission
 
 
@@ -252,6 +363,28 @@ class Mission:
     robot: ClassVar[str | None] = None
     world: ClassVar[str | None] = None
     requires: ClassVar[tuple[str, ...]] = ()
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        _remind_to_run(cls)
+
+    @classmethod
+    def main(cls, argv: Sequence[str] | None = None) -> NoReturn:
+        """Run this mission as ``roboscript run`` runs its file, then exit with its status.
+
+        End a mission file with it, and ``python my_mission.py`` runs the mission::
+
+            if __name__ == "__main__":
+                Square.main()
+
+        Args:
+            argv: ``roboscript run``'s options (``--robot``, ``--world``, ``--seed``,
+                ``--port``, ``--view``, ...); default: the command line's.
+        """
+        # The command line sits above missions: it is loaded by name, only when a mission
+        # file asks to run itself (as the root package loads its attributes).
+        importlib.import_module("roboscript.api").main(cls, argv)
+        raise SystemExit(0)  # not reached: main() exits
 
     def __init__(self) -> None:
         self._env: GuardEnv | None = None
@@ -296,6 +429,25 @@ class Mission:
         return float(self._values().sensor("heading_deg", None))
 
     @property
+    def driven(self) -> DrivenReading:
+        """Distance driven: ``self.driven.total_mm``, ``self.driven.state_mm`` (also ``_cm``)."""
+        return DrivenReading(self._values())
+
+    @property
+    def pose(self) -> PoseReading:
+        """Odometry from the start point: ``self.pose.x_mm``, ``.y_mm``, ``.heading_deg``."""
+        return PoseReading(self._values())
+
+    def in_region(self, name: str) -> bool:
+        """True while the robot is inside the world's region ``name`` (simulator only).
+
+        Raises:
+            KeyError: The world has no region of that name.
+            LookupError: The robot is not the simulator (a robot on a port cannot see the world).
+        """
+        return self._values().in_region(name)
+
+    @property
     def range(self) -> RangeReading:
         """The distance sensor: ``self.range.distance_cm``, ``self.range.distance_mm``."""
         return RangeReading(self._values())
@@ -314,3 +466,62 @@ class Mission:
     def line(self) -> LineReading:
         """The line sensors: ``self.line.left``, ``.center``, ``.right``, ``.any``."""
         return LineReading(self._values())
+
+    @property
+    def color(self) -> ColorReading:
+        """The colour sensor: ``self.color.reflection``, ``.name``, ``.rgb``."""
+        return ColorReading(self._values())
+
+    @property
+    def buttons(self) -> ButtonsReading:
+        """The robot's buttons: ``self.buttons.left``, ``.right``, ``.any``."""
+        return ButtonsReading(self._values())
+
+
+# ------------------------------------------------------------ python my_mission.py, unrun
+
+
+class _Script:
+    """The mission classes the script being run (``python my_mission.py``) defines, and
+    whether the program ran a mission."""
+
+    missions: ClassVar[list[type[Mission]]] = []
+    ran: ClassVar[bool] = False
+
+
+def note_mission_run() -> None:
+    """Say that this program runs a mission, so no reminder is printed at exit."""
+    _Script.ran = True
+
+
+def _remind_to_run(cls: type[Mission]) -> None:
+    """Remember a mission the script itself defines, to remind its author how to run it.
+
+    ``python my_mission.py`` on a file without ``Mission.main()`` would otherwise end
+    silently, as if the mission had done nothing.
+    """
+    script = getattr(sys.modules.get("__main__"), "__file__", None)
+    if cls.__module__ != "__main__" or script is None:  # imported, a notebook, the REPL
+        return
+    if not _Script.missions:
+        atexit.register(_remind, script)
+    _Script.missions.append(cls)
+
+
+def _remind(script: str) -> None:
+    if _Script.ran or not _Script.missions:
+        return
+    nested = {
+        id(definition.action)
+        for cls in _Script.missions
+        for definition in vars(cls).values()
+        if isinstance(definition, StateDef)
+    }
+    leaves = [cls for cls in _Script.missions if id(cls) not in nested]
+    name = (leaves or _Script.missions)[-1].__name__
+    file = Path(script).name
+    sys.stderr.write(
+        f"{file} defines the mission {name} but does not run it. To run it, end the file with\n"
+        f'    if __name__ == "__main__":\n        {name}.main()\n'
+        f"or run: roboscript run {file}\n"
+    )

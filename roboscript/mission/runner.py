@@ -32,11 +32,20 @@ from transitions import Machine, State
 from roboscript import capabilities as cap
 from roboscript.actions.base import ActionContext, Outcome, Result
 from roboscript.angles import turned_deg, wrap_deg
+from roboscript.errors import CapabilityError
+from roboscript.mission.checks import check_regions
 from roboscript.mission.guards import GuardEnv
+from roboscript.mission.sensor_readings import color_or_buttons
 from roboscript.mission.spec import MissionSpec, TransitionSpec
 from roboscript.mission.student_code import student_fault
 
-__all__ = ["MISSION_OUTCOMES", "MissionOutcome", "MissionResult", "MissionRunner"]
+__all__ = [
+    "MISSION_OUTCOMES",
+    "STATES_KEPT_AT_EACH_END",
+    "MissionOutcome",
+    "MissionResult",
+    "MissionRunner",
+]
 
 logger = logging.getLogger(__name__)
 
@@ -57,6 +66,12 @@ nothing routed), ``error`` (the run itself broke: Ctrl-C, a lost link, a crash).
 
 MISSION_OUTCOMES: tuple[MissionOutcome, ...] = get_args(MissionOutcome)
 
+STATES_KEPT_AT_EACH_END = 4096
+"""A mission's record keeps the first and the last this many states it entered. A mission
+that loops between states for hours (stopped by ``--max-time``) would otherwise grow its
+record, and ``run --json``, without bound; the states left out between are counted in
+:attr:`MissionResult.states_dropped`, and visit counts (``visits.NAME``) stay exact."""
+
 
 @dataclass
 class MissionResult:
@@ -68,7 +83,11 @@ class MissionResult:
         final_state: The state the mission ended in.
         reason: Why, when the outcome is not success.
         duration_s: Mission time on the scheduler clock, seconds.
-        states: Every state entered, as ``[time_s, name]``.
+        states: Every state entered, as ``[time_s, name]``; past
+            ``2 * STATES_KEPT_AT_EACH_END`` entries only the first and the last
+            :data:`STATES_KEPT_AT_EACH_END` of them.
+        states_dropped: How many entered states were left out of ``states`` (0 when it
+            holds them all); they were entered between its two halves.
         code_error: True when an exception from the student's own code (a behaviour, a
             condition method) ended the mission: the grader scores such a run as crashed.
     """
@@ -79,7 +98,15 @@ class MissionResult:
     reason: str | None = None
     duration_s: float = 0.0
     states: list[tuple[float, str]] = field(default_factory=list)
+    states_dropped: int = 0
     code_error: bool = False
+
+    def record_state(self, time_s: float, name: str) -> None:
+        """Add an entered state, keeping only the first and last ones past the cap."""
+        self.states.append((time_s, name))
+        if len(self.states) > 2 * STATES_KEPT_AT_EACH_END:
+            del self.states[STATES_KEPT_AT_EACH_END]  # the oldest of the last ones
+            self.states_dropped += 1
 
 
 class _Model:
@@ -103,6 +130,18 @@ class MissionRunner(GuardEnv):
         gains: Host PID gains from the robot profile, for the actions' control loops.
         device_errors: Returns the next error the robot reported, or ``None``; such an error
             fails the running action with the robot's reason.
+        regions: The world's regions by name, each with ``contains(x_mm, y_mm)``: what
+            ``in_region.NAME`` reads. ``None`` when no world is known (a robot on a port).
+        origin: Where the mission starts in that world, ``(x_mm, y_mm, heading_deg)``. The
+            robot's own odometry (``pose``) is placed there to tell which region it is in, so
+            a mission reads the same regions in-process, in a graded run (whose world lives in
+            another process) and anywhere else its start is known.
+        outer: For an inner state machine, the mission it runs in: ``pose``,
+            ``driven.total_*`` and ``in_region`` are the whole mission's.
+
+    Raises:
+        CapabilityError: A condition reads ``in_region`` and ``regions`` is ``None``, or it
+            names a region the world does not have.
     """
 
     def __init__(
@@ -115,12 +154,16 @@ class MissionRunner(GuardEnv):
         on_start: Callable[[float], None] | None = None,
         gains: Mapping[str, tuple[float, float, float]] | None = None,
         device_errors: Callable[[], str | None] | None = None,
+        regions: Mapping[str, Any] | None = None,
+        origin: tuple[float, float, float] | None = None,
+        outer: MissionRunner | None = None,
     ) -> None:
         self.spec = spec
         self.capabilities = capabilities
         self.ctx = ActionContext(capabilities, robot_name, gains=gains, env=self)
         self.result = MissionResult(spec.name)
         self.finished = False
+        self._stopping = False  # finish() has begun stopping (it may have been cut short)
         self.action: Any = None
         self.during: list[Any] = []
         self.action_result: Result | None = None
@@ -132,6 +175,16 @@ class MissionRunner(GuardEnv):
         self._on_start = on_start
         self._device_errors = device_errors
         self._odometry_origin: tuple[float, float] | None = None
+        self._wheels_last_mm: tuple[float, float] | None = None
+        self._driven_mm = 0.0  # path length of the robot's centre, forwards or back
+        self._driven_at_state_mm = 0.0
+        self._pose = [0.0, 0.0, 0.0]  # x right, y ahead of the start point (mm), heading
+        self._outer = outer
+        self._regions: Mapping[str, Any] | None = regions if outer is None else outer._regions
+        self._origin: tuple[float, float, float] | None = origin if outer is None else outer._origin
+        problems = check_regions(spec, None if self._regions is None else set(self._regions))
+        if problems:
+            raise CapabilityError(problems[0].message)
         self._model = _Model()
         self._machine = self._build_machine()
 
@@ -207,7 +260,8 @@ class MissionRunner(GuardEnv):
         start = self._start_s if self._start_s is not None else now
         self._visits[name] += 1
         self._state_start_s = now
-        self.result.states.append((round(now - start, 3), name))
+        self._driven_at_state_mm = self._driven_mm
+        self.result.record_state(round(now - start, 3), name)
         if self._on_state is not None:
             self._on_state(now - start, name)
         spec = self.spec.states[name]
@@ -230,7 +284,7 @@ class MissionRunner(GuardEnv):
     def record_inner_state(self, name: str) -> None:
         """Add a nested machine's state to this mission's timeline."""
         start = self._start_s if self._start_s is not None else self.ctx.now_s
-        self.result.states.append((round(self.ctx.now_s - start, 3), name))
+        self.result.record_state(round(self.ctx.now_s - start, 3), name)
         if self._on_state is not None:
             self._on_state(self.ctx.now_s - start, name)
 
@@ -288,10 +342,14 @@ class MissionRunner(GuardEnv):
             if cap.DRIVE_BASE in self.capabilities:
                 base = self.capabilities[cap.DRIVE_BASE]
                 self._odometry_origin = base.wheel_distances_mm()  # type: ignore[attr-defined]
+                self._wheels_last_mm = self._odometry_origin
+                self._pose[2] = self._heading_deg()
             self._enter(self.state)
             self._end_if_final()
             if self.finished:
                 return
+        if self._wheels_last_mm is not None:
+            self._track_odometry()
         name = self.state
         state = self.spec.states[name]
         if state.when and not state.final and self._fire("check"):
@@ -340,10 +398,33 @@ class MissionRunner(GuardEnv):
         return f"{text} after {self._cause}" if self._cause else text
 
     def finish(self, outcome: MissionOutcome, reason: str | None = None) -> None:
-        """End the mission now with ``outcome`` (``success``, ``failure`` or ``error``)."""
+        """End the mission now with ``outcome`` (``success``, ``failure`` or ``error``).
+
+        The action and the wheels are stopped first; only then is the mission marked
+        finished. If stopping raises (a lost link, a signal), the mission is left unfinished
+        and the exception propagates, so the caller's own ``finish("error", why)`` records
+        why; that second call tries the stops again but lets a failing one pass.
+        """
         if self.finished:
             return
+        again = self._stopping
+        self._stopping = True
+        try:
+            outcome, reason = self._stop_all(outcome, reason)
+        except Exception:
+            if not again:
+                raise
+            logger.debug("stopping again while finishing failed", exc_info=True)
         self.finished = True
+        self.result.outcome = outcome
+        self.result.final_state = self.state
+        self.result.reason = reason
+        self.result.duration_s = self.elapsed()
+
+    def _stop_all(
+        self, outcome: MissionOutcome, reason: str | None
+    ) -> tuple[MissionOutcome, str | None]:
+        """Stop the action, the ``during`` actions and the wheels; the outcome to record."""
         try:
             self._exit()
         except Exception as exc:
@@ -357,10 +438,7 @@ class MissionRunner(GuardEnv):
         base = self.capabilities.get(cap.DRIVE_BASE)
         if base is not None:
             base.stop()  # type: ignore[attr-defined]
-        self.result.outcome = outcome
-        self.result.final_state = self.state
-        self.result.reason = reason
-        self.result.duration_s = self.elapsed()
+        return outcome, reason
 
     @property
     def start_time_s(self) -> float:
@@ -377,8 +455,63 @@ class MissionRunner(GuardEnv):
         """How many times ``state`` has been entered."""
         return self._visits[state]
 
+    def in_region(self, name: str) -> bool:
+        """True while the robot, by its own odometry, is inside the world's region ``name``."""
+        # A YAML condition's regions were checked when the runner was made; a Python
+        # mission's self.in_region("name") is checked here, when it asks.
+        if self._regions is None or self._origin is None:
+            raise LookupError(
+                f"in_region('{name}') needs a world map, which a robot on a port does not have"
+            )
+        if name not in self._regions:
+            listed = ", ".join(sorted(self._regions)) or "none"
+            raise KeyError(f"the world has no region '{name}' (its regions: {listed})")
+        x_mm, y_mm = self._world_position(self._origin)
+        return bool(self._regions[name].contains(x_mm, y_mm))
+
+    def _world_position(self, origin: tuple[float, float, float]) -> tuple[float, float]:
+        """Where odometry puts the robot in the world: ``pose`` turned and moved to ``origin``."""
+        if self._outer is not None:
+            return self._outer._world_position(origin)
+        x0_mm, y0_mm, heading_deg = origin
+        # pose is x to the right, y ahead of the start; the world's heading is clockwise
+        # from north (+y), so "ahead" is (sin h, cos h) and "right" is (cos h, -sin h)
+        h = math.radians(heading_deg)
+        right_mm, ahead_mm = self._pose[0], self._pose[1]
+        return (
+            x0_mm + right_mm * math.cos(h) + ahead_mm * math.sin(h),
+            y0_mm - right_mm * math.sin(h) + ahead_mm * math.cos(h),
+        )
+
+    def _track_odometry(self) -> None:
+        """Integrate the wheels' travel since the last tick into the pose and the distance."""
+        left, right = self.ctx.drive_base.wheel_distances_mm()
+        last = self._wheels_last_mm or (left, right)
+        self._wheels_last_mm = (left, right)
+        forward_mm = ((left - last[0]) + (right - last[1])) / 2.0
+        heading = self._heading_deg()
+        previous = self._pose[2]
+        # along the mean of the two headings: the chord of the arc driven this tick
+        middle = math.radians(previous + wrap_deg(heading - previous) / 2.0)
+        self._pose[0] += forward_mm * math.sin(middle)
+        self._pose[1] += forward_mm * math.cos(middle)
+        self._pose[2] = heading
+        self._driven_mm += abs(forward_mm)
+
     def sensor(self, root: str, attr: str | None) -> float | bool:
         """The value a guard name reads (see :mod:`roboscript.mission.guards`)."""
+        whole_mission = root == "pose" or (root == "driven" and attr in ("total_mm", "total_cm"))
+        if whole_mission and self._outer is not None:
+            return self._outer.sensor(root, attr)
+        if root == "driven":
+            driven = self._driven_mm
+            if attr in ("state_mm", "state_cm"):
+                driven -= self._driven_at_state_mm
+            return driven / 10.0 if attr is not None and attr.endswith("_cm") else driven
+        if root == "pose":
+            if attr == "heading_deg":
+                return self._heading_deg()
+            return self._pose[0] if attr == "x_mm" else self._pose[1]
         if root == "elapsed":
             return self.elapsed()
         if root == "state_time":
@@ -397,10 +530,15 @@ class MissionRunner(GuardEnv):
             values = sensors.values() or tuple(0.0 for _ in sensors.names)
             if attr == "any":
                 return any(value > sensors.dark_threshold for value in values)
+            if attr not in sensors.names:  # one sensor (a SPIKE colour sensor): reads white
+                return 0.0
             return float(values[sensors.names.index(attr)])
+        if root in ("color", "buttons"):
+            return color_or_buttons(self.ctx, root, attr)
         raise KeyError(root)
 
     def _heading_deg(self) -> float:
+        """Turn since the start, degrees clockwise, in [-180, 180) (the one convention)."""
         if cap.HEADING in self.capabilities:
             heading = self.ctx.get(cap.HEADING).heading_deg()
             return 0.0 if heading is None else wrap_deg(heading)

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from typing import TypeVar
 
 from roboscript.angles import wrap_deg
+from roboscript.sim.floor import FloorReader, FloorReading
 from roboscript.sim.geometry import (
     NearbySegments,
     circle_hits_segment,
@@ -239,6 +240,7 @@ class Body:
         )
         self._line_rng = _split(rng)
         self._tape = TapeReader(world.lines, spec.line_spot_mm)
+        self._floor: FloorReader | None = None  # built when a colour sensor first looks
 
     def _sonar_spec(self, forward_mm: float, right_mm: float, bearing_deg: float) -> SonarSpec:
         spec = self.spec
@@ -377,6 +379,13 @@ class Body:
         """
         return self._side_sonar.read(self.x_mm, self.y_mm, self.heading_deg, self.time_s)
 
+    def last_ranges_mm(self) -> tuple[float | None, float | None]:
+        """The front and side range sensors' last measurements, without measuring again.
+
+        For recording a run: a new measurement would draw from the sensors' random streams.
+        """
+        return self._front_sonar.last_mm, self._side_sonar.last_mm
+
     def bumpers_pressed(self) -> tuple[bool, ...]:
         """Each bump switch (in :attr:`BodySpec.bumper_names` order): pressed or not."""
         return tuple(
@@ -399,9 +408,37 @@ class Body:
             readings.append(int(max(0.0, min(1023.0, value + self._line_rng.gauss(0.0, 12.0)))))
         return tuple(readings)
 
+    def line_levels(self) -> tuple[int, ...]:
+        """The line sensors' readings without their noise (no random draw), left to right.
+
+        For recording a run: :meth:`line_readings` draws noise, and an extra draw would change
+        what the mission reads next.
+        """
+        fx, fy = heading_vector(self.heading_deg)
+        rx, ry = fy, -fx
+        return tuple(
+            int(
+                90.0
+                + 760.0
+                * self._tape.coverage(self.x_mm + fx * f + rx * r, self.y_mm + fy * f + ry * r)
+            )
+            for f, r in self.spec.line_sensor_offsets_mm
+        )
+
     def imu_heading_deg(self) -> float:
         """IMU yaw: the true heading plus slow drift, degrees clockwise."""
         return (self.heading_deg + self._imu_bias_deg) % 360.0
+
+    def floor_reading(self, forward_mm: float, right_mm: float = 0.0) -> FloorReading:
+        """What a colour sensor looking down at ``(forward_mm, right_mm)`` from the body's
+        centre sees (:mod:`roboscript.sim.floor`; no noise, so no random draw)."""
+        if self._floor is None:
+            self._floor = FloorReader(self.world, self.spec.line_spot_mm)
+        fx, fy = heading_vector(self.heading_deg)
+        rx, ry = fy, -fx  # unit vector to the robot's right
+        x = self.x_mm + fx * forward_mm + rx * right_mm
+        y = self.y_mm + fy * forward_mm + ry * right_mm
+        return self._floor.read(x, y)
 
 
 def _split(rng: random.Random) -> random.Random:

@@ -93,6 +93,11 @@ class Sonar:
         self._last_s = -math.inf
         self._last_mm: float | None = None
 
+    @property
+    def last_mm(self) -> float | None:
+        """The last measurement (``None``: no echo, or none yet), without measuring again."""
+        return self._last_mm
+
     def read(self, x_mm: float, y_mm: float, heading_deg: float, now_s: float) -> float | None:
         """The range, millimetres from the sensor, or ``None`` for no echo.
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import random
 from collections.abc import Callable
 
+from roboscript.angles import wrap_deg
 from roboscript.profiles import RobotProfile, get_profile
 from roboscript.sim.body import Body, BodySpec, SimLog
 from roboscript.sim.device import SimDevice
@@ -125,9 +126,9 @@ class Simulation:
         return [(round(t - start_s, 3), f, round(d, 3)) for t, f, d in self.log.tones]
 
     def final_pose(self) -> tuple[float, float, float]:
-        """The body's pose now: ``(x mm, y mm, heading deg)``, rounded."""
+        """The body's pose now: ``(x mm, y mm, heading deg)``, rounded; heading in [-180, 180)."""
         body = self.body
-        return round(body.x_mm, 1), round(body.y_mm, 1), round(body.heading_deg, 1)
+        return round(body.x_mm, 1), round(body.y_mm, 1), round(wrap_deg(body.heading_deg), 1)
 
     def sample_path(self) -> None:
         """Record a path sample now (the grader and ``--json`` start the path here).
@@ -145,7 +146,7 @@ class Simulation:
                 round(self.time_s, 3),
                 round(body.x_mm, 1),
                 round(body.y_mm, 1),
-                round(body.heading_deg, 2),
+                round(wrap_deg(body.heading_deg), 2),  # the one convention: [-180, 180)
             )
         )
         if len(path) > MAX_PATH_SAMPLES:

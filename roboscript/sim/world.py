@@ -14,6 +14,11 @@ A world file (millimetres unless a unit is given)::
     regions:                                          # named areas for grading
       goal: {x: 0 mm, y: 800 mm, radius: 100 mm}
       home: {box: {x: -100, y: -100, width: 200, height: 200}}
+    floor:                                            # coloured floor (default white)
+      - {color: red, box: {x: 200, y: 600, width: 200, height: 200}}
+      - {color: green, polygon: [[0, 0], [300, 0], [0, 300]]}
+    button_presses:                                   # a hub button pressed during the run
+      - {at: 2 s, button: left, for: 300 ms}          # (robots with hub buttons: SPIKE)
 
 Built-in worlds ship as package data in ``roboscript/sim/worlds/``.
 """
@@ -32,7 +37,32 @@ from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.source import Mark, YamlList, YamlMap, load_yaml, load_yaml_text
 from roboscript.sim.geometry import Segment, point_in_polygon
 
-__all__ = ["Pose", "Region", "TapeLine", "World", "builtin_worlds", "load_world"]
+__all__ = [
+    "FLOOR_COLOR_NAMES",
+    "FloorPatch",
+    "Pose",
+    "Region",
+    "TapeLine",
+    "World",
+    "builtin_worlds",
+    "load_world",
+]
+
+FLOOR_COLOR_NAMES = (
+    "white",
+    "black",
+    "red",
+    "green",
+    "blue",
+    "yellow",
+    "azure",
+    "magenta",
+    "orange",
+    "purple",
+    "turquoise",
+)
+"""The colours a floor patch may have (LEGO's colour sensor names; ``sim/floor.py`` has
+what each reflects)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -69,6 +99,14 @@ class Region:
 
 
 @dataclass(frozen=True)
+class FloorPatch:
+    """A part of the floor with a colour (what a colour sensor sees; see ``sim/floor.py``)."""
+
+    color: str
+    region: Region
+
+
+@dataclass(frozen=True)
 class World:
     """Everything static in a simulated world."""
 
@@ -78,6 +116,9 @@ class World:
     lines: tuple[TapeLine, ...] = ()
     regions: dict[str, Region] = field(default_factory=dict)
     start: Pose = Pose()
+    floor: tuple[FloorPatch, ...] = ()
+    button_presses: tuple[tuple[float, str, float], ...] = ()
+    """Scripted button presses: (time s, button name, how long s), in time order."""
 
 
 def builtin_worlds() -> list[str]:
@@ -103,6 +144,18 @@ def load_world(name_or_path: str) -> World:
             f"no world called '{name_or_path}' (built-in worlds: {known}; or give a file path)"
         )
     return _WorldReader(str(path)).read(load_yaml(path, error=WorldError))
+
+
+_TOP_KEYS = (
+    "world",
+    "description",
+    "start",
+    "walls",
+    "lines",
+    "regions",
+    "floor",
+    "button_presses",
+)
 
 
 class _WorldReader(FieldReader):
@@ -152,7 +205,11 @@ class _WorldReader(FieldReader):
 
     def read(self, data: Any) -> World:
         top = self.mapping(data, "a world file", (1, 1))
-        self.allowed(top, ("world", "description", "start", "walls", "lines", "regions"), "world")
+        self.allowed(
+            top,
+            _TOP_KEYS,
+            "world",
+        )
         walls: list[Segment] = []
         for item, mark in self.listed(top, "walls"):
             pts = self.shape(item, mark, "a wall", set())
@@ -174,9 +231,53 @@ class _WorldReader(FieldReader):
         if "start" in top:
             start = self.pose(top["start"], top.value_mark("start"))
         name = str(top.get("world", Path(self.path).stem))
-        return World(
-            name, str(top.get("description", "")), tuple(walls), tuple(lines), regions, start
+        floor = tuple(self.floor_patch(item, mark) for item, mark in self.listed(top, "floor"))
+        presses = sorted(
+            self.button_press(item, mark) for item, mark in self.listed(top, "button_presses")
         )
+        return World(
+            name,
+            str(top.get("description", "")),
+            tuple(walls),
+            tuple(lines),
+            regions,
+            start,
+            floor,
+            tuple(presses),
+        )
+
+    def button_press(self, item: Any, mark: Mark) -> tuple[float, str, float]:
+        data = self.mapping(item, "a button press", mark)
+        self.allowed(data, ("at", "button", "for"), "a button press")
+        if data.get("button") not in ("left", "right"):
+            where = data.value_mark("button") if "button" in data else data.mark
+            raise self.fail("a button press needs 'button: left' or 'button: right'", where)
+        if "at" not in data:
+            raise self.fail("a button press needs 'at' (when, e.g. 2 s)", data.mark)
+        at_s = self.value_quantity(data["at"], "time", data.value_mark("at"))
+        duration_s = 0.2
+        if "for" in data:
+            duration_s = self.value_quantity(data["for"], "time", data.value_mark("for"))
+        if at_s < 0 or duration_s <= 0:
+            raise self.fail("a button press needs 'at' >= 0 s and a positive 'for'", data.mark)
+        return (at_s, str(data["button"]), duration_s)
+
+    def floor_patch(self, item: Any, mark: Mark) -> FloorPatch:
+        data = self.mapping(item, "a floor patch", mark)
+        self.allowed(data, ("color", "box", "polygon"), "a floor patch")
+        color = data.get("color")
+        if color not in FLOOR_COLOR_NAMES:
+            raise self.fail(
+                f"a floor patch needs a color, one of {', '.join(FLOOR_COLOR_NAMES)}",
+                data.value_mark("color") if "color" in data else data.mark,
+            )
+        if ("box" in data) == ("polygon" in data):
+            raise self.fail("a floor patch needs exactly one of box or polygon", data.mark)
+        if "box" in data:
+            points = self.box(data["box"], data.value_mark("box"))[:-1]
+        else:
+            points = self.points(data["polygon"], data.value_mark("polygon"), 3)
+        return FloorPatch(str(color), Region(str(color), points=tuple(points)))
 
     def listed(self, top: YamlMap, key: str) -> list[tuple[Any, Mark]]:
         if key not in top:

@@ -25,6 +25,9 @@ logger = logging.getLogger(__name__)
 
 _READ_CHUNK = 65536
 
+HEARD_BYTES = 4096
+"""How many of the first bytes a port sends a link keeps (:attr:`Link.heard`)."""
+
 
 class PortLike(Protocol):
     """The part of pyserial's port API a link uses."""
@@ -66,6 +69,9 @@ class Link:
         self.bytes_received = 0
         self.bytes_sent = 0
         self.closed = False
+        self.heard = bytearray()
+        """The first :data:`HEARD_BYTES` bytes received: a failed handshake names the
+        protocol they are in (:mod:`roboscript.drivers.recognise`)."""
 
     def poll(self) -> list[Any]:
         """Read what has arrived and return the complete messages in order.
@@ -85,6 +91,8 @@ class Link:
         now = self.clock.now()
         self.last_receive_s = now
         self.bytes_received += len(data)
+        if len(self.heard) < HEARD_BYTES:
+            self.heard += data[: HEARD_BYTES - len(self.heard)]
         if self.wire_log is not None:
             self.wire_log.record(now, "<", data)
         self.codec.receive_data(data)

@@ -16,31 +16,41 @@ def test_display_writes_the_lcd() -> None:
     with Robot.connect("mirto") as bot:
         result = run_action(bot, Display(text="Hello, class 3B! Ready to roll?"))
         assert result.outcome is Outcome.DONE
-        assert bot.simulation.log.display == "Hello, class 3B! Read\ny to roll?"
+        # The MIRTO LCD keeps 20 characters a row.
+        assert bot.simulation.log.display == "Hello, class 3B! Rea\ndy to roll?"
 
 
 def test_set_led_and_servo_reach_the_board() -> None:
     with Robot.connect("mirto") as bot:
-        assert bot.has("leds") and bot.capabilities["leds"].count == 8
+        assert bot.has("leds") and bot.capabilities["leds"].count == 9
         assert run_action(bot, SetLed(color=(0, 128, 255), index=2)).outcome is Outcome.DONE
-        assert run_action(bot, Servo(angle_deg=30, index=1)).outcome is Outcome.DONE
+        assert run_action(bot, Servo(angle_deg=30, index=0)).outcome is Outcome.DONE
         state = bot.simulation.device.state
         assert state.pixels[2] == (0, 128, 255)
-        assert state.servos_deg == [90, 30]
+        assert state.servos_deg == [30]
 
 
 def test_a_servo_the_board_lacks_fails_with_the_boards_reason(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    import roboscript.drivers.asip.device as board
+    import dataclasses
 
-    monkeypatch.setattr(board, "_SERVO_COUNT", 1)  # a sketch with one servo
+    import roboscript.drivers.asip.device as board
+    from roboscript.profiles import get_profile
+
+    # A profile that promises two servos, on a sketch with one.
+    mirto = get_profile("mirto")
+    two = dataclasses.replace(mirto, options={**mirto.options, "servo_count": 2})
+    one = board.BoardConfig(servo_count=1)
+    monkeypatch.setattr(
+        board, "simulated_device", lambda profile: lambda body: board.MirtoBoard(body, one)
+    )
     spec, _ = parse_yaml_mission(
         "states:\n  arm:\n    do: {servo: {index: 1, angle: 30 deg}}\n"
         "    on: {done: ok, failed: refused}\n  ok: {final: success}\n"
         "  refused: {final: failure}\n"
     )
-    with Robot.connect("mirto") as bot:
+    with Robot.connect(two) as bot:
         runner = MissionRunner(spec, bot.capabilities, device_errors=bot.driver.take_device_error)
         bot.scheduler.add(runner)
         bot.scheduler.run(until=lambda: runner.finished, max_duration_s=5)
@@ -53,9 +63,9 @@ def test_a_servo_the_board_lacks_fails_with_the_boards_reason(
 
 def test_an_led_past_the_end_of_the_strip_is_not_supported() -> None:
     with Robot.connect("mirto") as bot:
-        too_far = run_action(bot, SetLed(color="red", index=8))
+        too_far = run_action(bot, SetLed(color="red", index=9))
     assert too_far.outcome is Outcome.FAILED
-    assert too_far.reason == "not supported: the robot has 8 LEDs"
+    assert too_far.reason == "not supported: the robot has 9 LEDs"
 
 
 @pytest.mark.parametrize(

@@ -18,7 +18,11 @@ The rows, numbered as in the README's "Performance" section:
 4. idle CPU with a connected, silent device;
 5. the scheduler at 100 and 500 Hz against its targets and a plain ``sleep`` loop;
 6. the simulator's real-time factor (from ``bench_sim.py``);
-7. grading throughput: a class of 30 missions x 3 seeds of one minute, graded in parallel.
+7. grading throughput: a class of 30 missions x 3 seeds of one minute, graded in parallel;
+8. recorded runs: what ``run --record`` costs the simulator, a 60 s recording's size, and the
+   replay page's open time in headless Chromium (``bench_replay.py``);
+9. the live view (``run --view``): the p99 lateness it adds to the 100 Hz scheduler while a
+   browser streams the run (``bench_live.py``).
 """
 
 from __future__ import annotations
@@ -58,6 +62,20 @@ def _sim_rows(quick: bool) -> list[Row]:
     return [dataclasses.replace(row, key="6") for row in bench_sim.measure(quick)]
 
 
+def _replay_rows(quick: bool) -> list[Row]:
+    """Row 8, from the recorded-run benchmark."""
+    import bench_replay
+
+    return bench_replay.measure(quick)
+
+
+def _live_rows(quick: bool) -> list[Row]:
+    """Row 9, from the live-view benchmark."""
+    import bench_live
+
+    return bench_live.measure(quick)
+
+
 def _grading_rows(quick: bool) -> list[Row]:
     """Row 7, from the grading benchmark: a class of 30 missions x 3 one-minute seeds."""
     import bench_grading
@@ -72,6 +90,8 @@ BENCHMARKS: tuple[tuple[str, Callable[[bool], list[Row]]], ...] = (
     ("scheduler", bench_scheduler.measure),
     ("simulator", _sim_rows),
     ("grading", _grading_rows),
+    ("recorded runs", _replay_rows),
+    ("live view", _live_rows),
 )
 
 

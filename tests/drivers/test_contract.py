@@ -23,9 +23,10 @@ from roboscript.transport.wirelog import read_wire_log
 
 WHEELED = list(contract_cases().wheeled)
 WALKING = list(contract_cases().walking)
+OPEN_LOOP = list(contract_cases().open_loop)
 
 
-@pytest.mark.parametrize("robot", WHEELED)
+@pytest.mark.parametrize("robot", WHEELED + OPEN_LOOP)
 def test_wheels_hold_a_speed_and_stop(robot: str) -> None:
     with Robot.connect(robot, seed=3) as bot:
         base = bot.drive_base
@@ -42,7 +43,7 @@ def test_wheels_hold_a_speed_and_stop(robot: str) -> None:
         assert base.wheel_distances_mm() == pytest.approx(settled, abs=1.0)
 
 
-@pytest.mark.parametrize("robot", WHEELED)
+@pytest.mark.parametrize("robot", WHEELED + OPEN_LOOP)
 def test_positive_turn_is_clockwise(robot: str) -> None:
     with Robot.connect(robot, seed=3) as bot:
         bot.drive_base.set_wheel_speeds(80.0, -80.0)

@@ -46,7 +46,7 @@ def test_every_builtin_profile_has_exactly_one_unit_that_lists_it() -> None:
 
 def test_every_builtin_profile_runs_a_driver_contract() -> None:
     cases = contract_cases()
-    assert sorted(cases.wheeled + cases.walking) == sorted(BUILTIN_PROFILES)
+    assert sorted(cases.wheeled + cases.walking + cases.open_loop) == sorted(BUILTIN_PROFILES)
 
 
 @pytest.mark.parametrize("unit", UNITS, ids=lambda u: u.name)

@@ -66,7 +66,10 @@ def test_pages_are_self_contained_and_accessible(report: Path) -> None:
         assert '<html lang="en">' in text
         # Nothing is fetched: the only URL is the SVG namespace, which is a name, not a fetch.
         assert not re.search(r'(src|href)="(https?:)?//', text), page.name
-        assert "<link" not in text and "<script" not in text
+        assert "<link" not in text and "<script src" not in text
+        # The only scripts are inline: the replay viewer's code and each run's data.
+        scripts = set(re.findall(r"<script[^>]*>", text))
+        assert scripts <= {"<script>", '<script type="application/json" class="rs-data">'}
         for svg in re.findall(r"<svg [^>]*>", text):
             assert 'aria-hidden="true"' in svg or ('role="img"' in svg and "aria-labelledby" in svg)
     run_page = (report / "runs" / "bo--line-track-lap--1.html").read_text(encoding="utf-8")

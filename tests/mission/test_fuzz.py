@@ -4,6 +4,7 @@ traceback; nothing in a mission file can run code."""
 from __future__ import annotations
 
 import contextlib
+import tracemalloc
 from pathlib import Path
 
 from hypothesis import HealthCheck, given, settings
@@ -192,3 +193,125 @@ def test_nothing_in_a_mission_file_runs_code(tmp_path: Path) -> None:
         else:
             raise AssertionError(f"accepted: {text!r}")
     assert not marker.exists()
+
+
+# ----------------------------------------------------------------- generated hostile shapes
+# The shapes of issue 17, generated rather than mutated: the campaign
+# (tools/fuzz_campaign.py, docs/development/fuzzing.md) runs 10,000 of them; these run a few
+# dozen on every test run.
+
+HUGE = st.sampled_from(
+    [
+        "1e400",
+        "-1e400",
+        ".nan",
+        ".inf",
+        "9" * 5000,
+        "-9.2e18",
+        "-1e9",
+        "2001-13-45",
+        "0x" + "f" * 300,
+    ]
+)
+WEIRD_TEXT = st.sampled_from(["x" * 5000, "\\ud800", "\\U0001F916", "\\t", "é", "\\x00"])
+
+
+@st.composite
+def hostile_missions(draw: st.DrawFn) -> str:
+    shape = draw(
+        st.sampled_from(["number", "nesting", "aliases", "type", "text", "tab", "state", "action"])
+    )
+    if shape == "number":
+        key = draw(st.sampled_from(["distance", "speed", "duration", "frequency", "angle"]))
+        action = {"distance": "drive", "speed": "drive", "duration": "wait"}.get(key, "rotate")
+        action = "play_tone" if key == "frequency" else action
+        do = f"{{{action}: {{{key}: {draw(HUGE)}}}}}"
+        return f"states:\n  a:\n    do: {do}\n  b: {{final: success}}\n"
+    if shape == "nesting":
+        depth = draw(st.sampled_from([50, 500, 5000]))
+        body = draw(
+            st.sampled_from(["[" * depth + "]" * depth, "{a: " * depth + "1" + "}" * depth])
+        )
+        return f"states:\n  a: {{final: success}}\nx: {body}\n"
+    if shape == "aliases":
+        levels = draw(st.integers(3, 9))
+        lines = ["a0: &a0 [x, x, x, x, x, x, x, x, x]"]
+        lines += [f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 9) + "]" for i in range(1, levels)]
+        return "\n".join([*lines, "states: {a: {final: success}}"]) + "\n"
+    if shape == "type":
+        value = draw(st.sampled_from(["[1, 2]", "{a: 1}", "~", "true", "'ten'", "5"]))
+        where = draw(st.sampled_from(["states", "initial", "do", "on", "when", "timeout"]))
+        if where == "states":
+            return f"states: {value}\n"
+        return f"states:\n  a:\n    {where}: {value}\n  b: {{final: success}}\n"
+    if shape == "text":
+        return (
+            f'mission: "{draw(WEIRD_TEXT)}"\nstates:\n  "{draw(WEIRD_TEXT)}": {{final: success}}\n'
+        )
+    if shape == "tab":
+        return "states:\n\ta: {final: success}\n"
+    if shape == "state":
+        target = draw(st.sampled_from(["nowhere", "A", "'a '", '"\\ud800"']))
+        return f"states:\n  a:\n    do: {{wait: {{duration: 1 s}}}}\n    on: {{done: {target}}}\n"
+    name = draw(st.sampled_from(["fly", "drive_fast", "mission", "parallel", "repeat", "walk"]))
+    do = f"{{{name}: {{x: 1}}}}"
+    return f"states:\n  a:\n    do: {do}\n    on: {{done: b}}\n  b: {{final: success}}\n"
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(hostile_missions())
+def test_generated_hostile_missions_give_located_errors_within_bounded_memory(text: str) -> None:
+    tracemalloc.start()
+    try:
+        parse_yaml_mission(text, "fuzz.yaml")
+    except InputError as exc:
+        for line in exc.format().splitlines():
+            assert line.startswith("fuzz.yaml:"), line
+            assert "Traceback" not in line
+    finally:
+        _, peak = tracemalloc.get_traced_memory()
+        tracemalloc.stop()
+    assert peak < 256 * 1024 * 1024
+
+
+def _conditions() -> st.SearchStrategy[str]:
+    leaves = st.sampled_from(
+        [
+            "elapsed",
+            "range.distance_cm",
+            "bumper.any",
+            "visits.a",
+            "20",
+            "1e400",
+            "10**400",
+            "1" + "0" * 400,
+            "\ud800",
+            "inf",
+            "nan",
+            "3 s",
+            "true",
+        ]
+    )
+    return st.recursive(
+        leaves,
+        lambda inner: st.one_of(
+            st.tuples(inner, st.sampled_from(["<", "and", "or", "+", "/", "=="]), inner).map(
+                " ".join
+            ),
+            inner.map(lambda c: f"({c})"),
+            inner.map(lambda c: f"not {c}"),
+        ),
+        max_leaves=60,
+    )
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.one_of(_conditions(), st.integers(30, 3000).map(lambda n: "(" * n + "elapsed" + ")" * n)))
+def test_generated_conditions_compile_or_explain_and_never_raise_when_run(source: str) -> None:
+    try:
+        guard = compile_guard(source, frozenset({"a"}))
+    except GuardError as exc:
+        assert 0 <= exc.offset <= len(source)
+        assert "\n" not in str(exc)
+        return
+    assert isinstance(guard(_Env()), bool)

@@ -202,8 +202,11 @@ def test_capabilities_read_by_guard_methods_are_checked_against_the_robot() -> N
     spec, _ = compile_mission(LineCounter)
     problems = [p.message for p in check_capabilities(spec, get_profile("mirto"))]
     assert problems == ["the condition 'dark' reads heading, which mirto does not have"]
-    problems = [p.message for p in check_capabilities(spec, get_profile("spike-prime"))]
-    assert problems == ["the condition 'dark' reads line, which spike-prime does not have"]
+    problems = [p.message for p in check_capabilities(spec, get_profile("stackmod-reference"))]
+    assert problems == [
+        "the condition 'dark' reads heading, which stackmod-reference does not have",
+        "the condition 'dark' reads line, which stackmod-reference does not have",
+    ]
 
 
 def test_a_condition_that_is_not_a_plain_name_is_an_expression() -> None:

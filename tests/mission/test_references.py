@@ -104,7 +104,7 @@ def test_an_unknown_robot_is_reported_where_the_mission_names_it(tmp_path: Path)
     assert report(write(tmp_path, "robot: mirot")) == [
         (
             "M:2:8: error: there is no robot called 'mirot' (built-in robots: mirto, asip-basic,"
-            " stackmod-rover, spike-prime, plen2) (did you mean 'mirto'?)"
+            " stackmod-rover, stackmod-reference, spike-prime, plen2) (did you mean 'mirto'?)"
         )
     ]
 

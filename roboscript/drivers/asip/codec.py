@@ -6,9 +6,10 @@ The codec is a composition, split the way h11 splits readers and writers:
   accepted, lines over ``max_line_bytes`` and lines that are not text counted and dropped);
 * :mod:`~roboscript.drivers.asip.host_side`: requests written, the board's lines read (events,
   replies, errors, info and debug lines);
-* :mod:`~roboscript.drivers.asip.device_side`: requests read with the firmware's ``parseInt``
-  semantics (no newline needed; :meth:`AsipCodec.parse_timeout` stands for its 1 s wait),
-  replies written in the firmware's exact forms;
+* :mod:`~roboscript.drivers.asip.device_side`: requests read with the firmware's ``Stream``
+  semantics (no newline needed; :attr:`AsipCodec.waiting` while a timed read waits, and
+  :meth:`AsipCodec.parse_timeout` ends that wait as its 1 s timeout does), replies written in
+  the firmware's exact forms;
 * :mod:`~roboscript.drivers.asip.value_ranges`: what every number the board prints can be.
 
 Faults are counted in :attr:`AsipCodec.stats` by kind and raised as
@@ -52,6 +53,8 @@ class AsipCodec:
             service decodes as :class:`~roboscript.drivers.asip.messages.InvalidServiceRequest`.
         max_line_bytes: Host role: longer lines are dropped as ``"overlong"``.
         max_buffer_bytes: Device role: bound on buffered request bytes.
+        servo_count: Device role: the servos the sketch declares, so ``S,W`` is refused
+            while it is read, as the firmware does; None reads every ``S,W`` in full.
 
     Example:
         >>> host = AsipCodec(Role.HOST)
@@ -76,9 +79,9 @@ class AsipCodec:
     pending_bytes: Callable[[], int]
     """Number of buffered bytes not yet decoded or dropped."""
     parse_timeout: Callable[[], None]
-    """Tell a device-role codec that the line was quiet for the board's 1 s read timeout: the
-    next :meth:`next_message` completes a request cut short, as ``parseInt`` does. A host-role
-    codec has nothing to complete."""
+    """Tell a device-role codec that the timed read its board waits in ran out (1 s with no
+    byte): the next :meth:`next_message` goes on as ``parseInt`` does after its timeout. A
+    host-role codec has nothing to complete."""
 
     # Not Self: AsipCodec(role) is an instance of the role's subclass.
     def __new__(cls, role: Role, **options: object) -> AsipCodec:  # noqa: PYI034
@@ -94,12 +97,20 @@ class AsipCodec:
         services: str = DEFAULT_SERVICES,
         max_line_bytes: int = 512,
         max_buffer_bytes: int = 4096,
+        servo_count: int | None = None,
     ) -> None:
         self.role = role
         self.stats = CodecStats()
         self.services = services
+        self.servo_count = servo_count
         self._encoders = _ENCODERS[role]
         self._start_reader(max_line_bytes, max_buffer_bytes)
+
+    @property
+    def waiting(self) -> bool:
+        """Device role: True while the board waits inside a request for a byte (it runs
+        nothing else meanwhile). Always False for a host-role codec."""
+        return False
 
     def _start_reader(self, max_line_bytes: int, max_buffer_bytes: int) -> None:
         raise NotImplementedError  # each role's class starts its own reader
@@ -139,8 +150,12 @@ class _HostAsipCodec(AsipCodec, LineFramer):
 class _DeviceAsipCodec(AsipCodec, RequestReader):
     """The device role: reply encoders, requests read with the firmware's semantics."""
 
+    waiting = RequestReader.waiting  # AsipCodec's comes first in the lookup order
+
     def _start_reader(self, max_line_bytes: int, max_buffer_bytes: int) -> None:
-        RequestReader.__init__(self, self.stats, self.services, max_buffer_bytes)
+        RequestReader.__init__(
+            self, self.stats, self.services, max_buffer_bytes, servo_count=self.servo_count
+        )
 
 
 def codec_for(role: Role, profile: ProfileLike) -> AsipCodec:

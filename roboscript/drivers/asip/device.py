@@ -6,8 +6,12 @@ driver), written from the firmware's behaviour:
 * On connection it sends the startup line ``!<sketch> running on <chip> with Services: ...``,
   then, as the ``mirtle2017`` sketch does, its pin modes and port map and one unprefixed
   ``<name> is service <id>`` line per service (CRLF-terminated).
-* Requests are parsed with the firmware's ``parseInt`` semantics (see the codec), with the
-  1000 ms stream timeout counted on the simulation clock.
+* Requests are parsed with the firmware's ``Stream`` semantics (see
+  :mod:`~roboscript.drivers.asip.device_side`), each timed read's 1000 ms timeout counted on
+  the simulation clock. While a timed read waits (``T,P,440,250`` with no newline waits a
+  second for the byte after ``250``), the board runs nothing else: no events, no PID frames.
+* Like the sketch, the board has :class:`~roboscript.drivers.asip.options.AsipOptions`'
+  servos (1) and pixels (9); its LCD keeps 20 characters a row.
 * The motor service runs every 33 ms (30 Hz): it services the firmware PID of ``M,r``,
   ``M,R``, ``M,c`` and ``M,a`` (integer gains Kp 20, Ki 0, Kd 12, divisor Ko 20, acceleration
   limit per frame, stop when the duration has passed or after 2000 ms without an encoder
@@ -15,6 +19,13 @@ driver), written from the firmware's behaviour:
 * Without firmware PID (``asip-basic``) the PID tags answer ``~M,<tag>,2{UNKNOWN_REQUEST}``.
 * The IO service streams free analog pins every 50 ms from power-on (``@I,a``); bump, IR and
   distance events follow their ``A`` intervals; errors carry the firmware's numbers and texts.
+  A pin set to INPUT or INPUT_PULLUP joins its port's report mask (even when the pin belongs
+  to another service and the request is refused) and every port with a non-zero mask is
+  reported at once (``@I,d,port,HEX``), then whenever its level changes.
+
+Where the firmware's behaviour is undefined (a pixel strip other than 0, an LCD line below 0)
+the simulated board refuses the request instead (``~P,<tag>,7{INVALID_DEVICE_NUMBER}``, or
+silently for the LCD).
 """
 
 from __future__ import annotations
@@ -27,6 +38,7 @@ from typing import TYPE_CHECKING
 from roboscript.codec import Role, readable
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
+from roboscript.drivers.asip.options import AsipOptions
 
 if TYPE_CHECKING:
     from roboscript.profiles import RobotProfile
@@ -45,6 +57,7 @@ _PORT_MAP = tuple([(4, 1 << i) for i in range(8)] + [(2, 1 << i) for i in range(
 )
 _ANALOG_PINS = {14 + i: i for i in range(6)}
 _PWM_PINS = {3, 5, 6, 9, 10, 11}
+_BUMP_PINS = (11, 12)  # left, right: INPUT_PULLUP, so 0 while pressed
 _SERVICE_NAMES = {
     "I": "ASIP core IO",
     "M": "Motors",
@@ -57,8 +70,7 @@ _SERVICE_NAMES = {
     "P": "Pixels",
 }
 # Like the LCD (on I2C), servos and the pixel strip sit on pins the 20-pin map does not show.
-_SERVO_COUNT = 2
-_PIXEL_COUNT = 8
+_LCD_ROW_BYTES = m.LCD_COLUMNS + 1  # asipLCD keeps each row in 21 bytes, NUL-terminated
 
 
 def _cdiv(a: int, b: int) -> int:
@@ -82,6 +94,8 @@ class BoardConfig:
         max_pwm: PWM limit.
         max_pwm_delta: Largest PWM change per PID frame.
         encoder_events_on: Whether ``@M,e`` events are on at power-on (V1.1: off).
+        servo_count: Servos the sketch declares (``mirtle2017``: 1).
+        pixel_count: Pixels on strip 0 (``mirtle2017``: 9).
     """
 
     firmware_pid: bool = True
@@ -94,6 +108,8 @@ class BoardConfig:
     max_pwm: int = 255
     max_pwm_delta: int = 30
     encoder_events_on: bool = False
+    servo_count: int = 1
+    pixel_count: int = 9
 
 
 @dataclass
@@ -126,10 +142,20 @@ class _State:
     next_motor_frame_s: float = 0.0
     auto: dict[str, _AutoEvent] = field(default_factory=dict)
     pin_modes: list[int] = field(default_factory=list)
-    lcd: list[str] = field(default_factory=lambda: [""] * m.LCD_LINES)
-    servos_deg: list[int] = field(default_factory=lambda: [90] * _SERVO_COUNT)
-    pixels: list[tuple[int, int, int]] = field(default_factory=lambda: [(0, 0, 0)] * _PIXEL_COUNT)
+    analog_channels: set[int] = field(default_factory=set)  # analogInputsToReport
+    report_masks: dict[int, int] = field(default_factory=dict)  # port -> reportPinMasks
+    port_levels: dict[int, int] = field(default_factory=dict)  # port -> previousPINs
+    lcd: list[bytearray] = field(
+        default_factory=lambda: [bytearray(_LCD_ROW_BYTES) for _ in range(m.LCD_LINES)]
+    )
+    servos_deg: list[int] = field(default_factory=list)
+    pixels: list[tuple[int, int, int]] = field(default_factory=list)
     brightness: int = 64
+
+    @property
+    def lcd_rows(self) -> list[str]:
+        """The LCD's rows as shown: each up to its first NUL."""
+        return [bytes(row).split(b"\0", 1)[0].decode("latin-1") for row in self.lcd]
 
 
 class MirtoBoard:
@@ -143,13 +169,19 @@ class MirtoBoard:
     def __init__(self, body: Body, config: BoardConfig | None = None) -> None:
         self.body = body
         self.config = config or BoardConfig()
-        self.codec = AsipCodec(Role.DEVICE, services="".join(_SERVICE_NAMES))
+        self.codec = self._new_codec()
         self._out = bytearray()
-        self._last_rx_s = 0.0
+        self._wait_since_s = 0.0
         self.state = self._power_on_state()
+
+    def _new_codec(self) -> AsipCodec:
+        services = "".join(_SERVICE_NAMES)
+        return AsipCodec(Role.DEVICE, services=services, servo_count=self.config.servo_count)
 
     def _power_on_state(self) -> _State:
         state = _State(encoder_events=self.config.encoder_events_on)
+        state.servos_deg = [90] * self.config.servo_count
+        state.pixels = [(0, 0, 0)] * self.config.pixel_count
         for service in "IBRD":
             state.auto[service] = _AutoEvent()
         modes = []
@@ -164,6 +196,9 @@ class MirtoBoard:
             else:
                 modes.append(int(m.PinMode.OTHER_SERVICE))
         state.pin_modes = modes
+        state.analog_channels = {
+            chan for pin, chan in _ANALOG_PINS.items() if modes[pin] == m.PinMode.ANALOG
+        }
         state.auto["I"].interval_s = 0.050
         return state
 
@@ -171,7 +206,7 @@ class MirtoBoard:
 
     def connect(self, now_s: float) -> None:
         """Greet a new host the way the sketch's ``setup()`` does."""
-        self.codec = AsipCodec(Role.DEVICE, services="".join(_SERVICE_NAMES))
+        self.codec = self._new_codec()
         services = tuple(_SERVICE_NAMES)
         self._send(m.StartupLine(self.config.sketch, self.config.chip, services))
         self._send(m.PinModesReply(tuple(self.state.pin_modes)))
@@ -186,15 +221,22 @@ class MirtoBoard:
     def receive(self, data: bytes, now_s: float) -> None:
         """Parse and act on request bytes."""
         if data:
-            self._last_rx_s = now_s
+            self._wait_since_s = now_s  # a byte ends the wait; the next one starts now
             self.codec.receive_data(data)
             self._process(now_s)
 
     def step(self, now_s: float) -> None:
-        """Run timers: parse timeout, PID frames, auto-events."""
-        if self.codec.pending_bytes() and now_s - self._last_rx_s >= _PARSE_TIMEOUT_S:
-            self.codec.parse_timeout()
-            self._process(now_s)
+        """Run timers: parse timeout, PID frames, auto-events, digital port changes."""
+        codec = self.codec
+        if codec.waiting:
+            # Stream's timed reads give up after a second without a byte; each has its own.
+            if now_s - self._wait_since_s >= _PARSE_TIMEOUT_S - 1e-9:
+                self._wait_since_s = now_s
+                codec.parse_timeout()
+                self._process(now_s)
+            if codec.waiting:
+                return  # the firmware is inside parseInt: nothing else runs
+        self._send_port_changes(force=False)
         state = self.state
         # The epsilon keeps float sums of intervals (20 x 0.05 s) from slipping a tick.
         if state.motor_frames and now_s >= state.next_motor_frame_s - 1e-9:
@@ -302,7 +344,7 @@ class MirtoBoard:
             values = tuple(
                 (chan, 512 + (pin * 37) % 200)
                 for pin, chan in _ANALOG_PINS.items()
-                if self.state.pin_modes[pin] == m.PinMode.ANALOG
+                if chan in self.state.analog_channels
             )
             if values:
                 self._send(m.AnalogEvent(values))
@@ -326,6 +368,8 @@ class MirtoBoard:
         state = self.state
         if isinstance(msg, m.InvalidServiceRequest):
             self._error(msg.service, "?", m.ErrorCode.INVALID_SERVICE)
+        elif isinstance(msg, m.RefusedRequest):
+            self._error(msg.service, msg.tag, m.ErrorCode(msg.errno))
         elif isinstance(msg, m.VersionRequest):
             self._send(
                 m.VersionReply(1, 1, self.config.chip, len(_PIN_SERVICES), self.config.sketch)
@@ -336,6 +380,11 @@ class MirtoBoard:
             self._send(m.PinServicesReply(tuple(_PIN_SERVICES)))
         elif isinstance(msg, m.RestartRequest):
             self.stop_all()
+            # asipIO.reset() frees every pin it may: reserved and service pins stay.
+            state.pin_modes = [
+                mode if mode >= m.PinMode.RESERVED else int(m.PinMode.UNALLOCATED)
+                for mode in state.pin_modes
+            ]
             for event in state.auto.values():
                 event.interval_s = 0.0
             state.motor_frames = False  # reset() zeroes every auto-report, the PID's too
@@ -373,9 +422,8 @@ class MirtoBoard:
         elif isinstance(msg, m.LcdWrite | m.LcdWriteAt | m.LcdClear | m.LcdBarGraph):
             self._lcd(msg)
         elif isinstance(msg, m.ServoWrite):
-            if msg.servo >= _SERVO_COUNT:
-                self._error("S", "W", m.ErrorCode.INVALID_DEVICE_NUMBER)
-            else:
+            # The codec refused ids past the last servo while reading them.
+            if msg.servo < len(state.servos_deg):
                 state.servos_deg[msg.servo] = msg.angle_deg
         elif isinstance(
             msg,
@@ -449,24 +497,26 @@ class MirtoBoard:
         elif isinstance(msg, m.PixelsBrightness):
             state.brightness = msg.level
         elif isinstance(msg, m.PixelsInfoRequest):
-            self._send(m.PixelsInfoReply(0, _PIXEL_COUNT))
+            self._send(m.PixelsInfoReply(0, len(state.pixels)))
         else:
-            state.pixels = [(0, 0, 0)] * _PIXEL_COUNT
+            state.pixels = [(0, 0, 0)] * len(state.pixels)
         for pixel, rgb in updates:
-            if 0 <= pixel < _PIXEL_COUNT:  # the library ignores pixels past the strip's end
+            if 0 <= pixel < len(state.pixels):  # the library ignores pixels past the end
                 state.pixels[pixel] = rgb
 
     def _lcd(self, msg: object) -> None:
-        lines = self.state.lcd
-        if isinstance(msg, m.LcdWrite):
-            lines[msg.line] = msg.text[: m.LCD_COLUMNS]
-        elif isinstance(msg, m.LcdWriteAt):
-            current = lines[msg.line].ljust(msg.column)
-            text = current[: msg.column] + msg.text
-            lines[msg.line] = text[: m.LCD_COLUMNS]
+        rows = self.state.lcd
+        if isinstance(msg, m.LcdWrite | m.LcdWriteAt):
+            # strlcpy into the row from the column: at most 20 - column characters, then NUL
+            # (a row shows up to its first NUL, so a gap before the column hides the text).
+            column = msg.column if isinstance(msg, m.LcdWriteAt) else 0
+            text = msg.text.encode("ascii")[: _LCD_ROW_BYTES - 1 - column]
+            row = rows[msg.line]
+            row[column : column + len(text) + 1] = text + b"\0"
         elif isinstance(msg, m.LcdClear):
-            lines[:] = [""] * m.LCD_LINES
-        self.body.log.display = "\n".join(line for line in lines if line)
+            for row in rows:
+                row[:] = bytes(_LCD_ROW_BYTES)
+        self.body.log.display = "\n".join(row for row in self.state.lcd_rows if row)
 
     def _io_or_unknown(self, msg: object) -> None:
         state = self.state
@@ -483,51 +533,101 @@ class MirtoBoard:
             )
             self._send(m.CapabilitiesReply(caps))
         elif isinstance(msg, m.SetPinMode):
-            self._set_pin_mode(msg)
+            self._set_pin_mode(msg.pin, int(msg.mode))
+        elif isinstance(msg, m.UnknownRequest) and msg.service == "I" and msg.tag == "P":
+            self._set_pin_mode(msg.args[0], msg.args[1])  # a mode number the firmware lacks
         elif isinstance(msg, m.DigitalWrite):
             modes = (m.PinMode.OUTPUT, m.PinMode.INPUT, m.PinMode.INPUT_PULLUP)
-            if msg.pin >= len(_PIN_SERVICES) or state.pin_modes[msg.pin] not in modes:
+            if msg.pin >= len(_PIN_SERVICES):
+                self._error("I", "d", m.ErrorCode.INVALID_PIN)
+            elif state.pin_modes[msg.pin] not in modes:
                 self._error("I", "d", m.ErrorCode.WRONG_MODE)
         elif isinstance(msg, m.AnalogWrite):
-            if msg.pin not in _PWM_PINS or _PIN_SERVICES[msg.pin] != "I":
+            # AnalogWrite: a pin that cannot do PWM is invalid; a PWM pin reserved or owned
+            # by another service is in the wrong mode.
+            if msg.pin not in _PWM_PINS:
                 self._error("I", "a", m.ErrorCode.INVALID_PIN)
-        elif isinstance(msg, m.UnknownRequest) and msg.service not in "TL":
-            # (tone and LCD ignore unknown tags silently)
+            elif state.pin_modes[msg.pin] >= m.PinMode.RESERVED:
+                self._error("I", "a", m.ErrorCode.WRONG_MODE)
+        elif isinstance(msg, m.UnknownRequest) and msg.service not in "TLS":
+            # (tone and LCD ignore unknown tags silently; the servo service answers its own)
             self._error(msg.service, msg.tag, m.ErrorCode.UNKNOWN_REQUEST)
+        elif isinstance(msg, m.UnknownRequest) and msg.service == "S" and msg.tag != "W":
+            self._error("S", msg.tag, m.ErrorCode.UNKNOWN_REQUEST)
 
-    def _set_pin_mode(self, msg: m.SetPinMode) -> None:
+    def _set_pin_mode(self, pin: int, mode: int) -> None:
+        """asipIO's ``PinMode``, then the ports report and the error, in the firmware's order."""
         state = self.state
-        if msg.pin >= len(_PIN_SERVICES) or _PIN_SERVICES[msg.pin] != "I":
-            self._error("I", "P", m.ErrorCode.MODE_UNAVAILABLE)
+        pin_count = len(_PIN_SERVICES)
+        current = state.pin_modes[pin] if pin < pin_count else int(m.PinMode.INVALID)
+        error: m.ErrorCode | None = m.ErrorCode.INVALID_MODE
+        is_input = mode in (m.PinMode.INPUT, m.PinMode.INPUT_PULLUP)
+        if current == m.PinMode.RESERVED:
+            error = m.ErrorCode.MODE_UNAVAILABLE
+        elif pin < pin_count:
+            # The reporting flags change before the pin is registered, so a refused request
+            # still changes what is reported.
+            if pin in _ANALOG_PINS:
+                state.analog_channels.discard(_ANALOG_PINS[pin])
+                if mode == m.PinMode.ANALOG:
+                    state.analog_channels.add(_ANALOG_PINS[pin])
+            port, bit = _PORT_MAP[pin]
+            mask = state.report_masks.get(port, 0) & ~bit
+            state.report_masks[port] = mask | (bit if is_input else 0)
+            allowed = (
+                m.PinMode.UNALLOCATED,
+                m.PinMode.INPUT,
+                m.PinMode.INPUT_PULLUP,
+                m.PinMode.OUTPUT,
+            )
+            if (
+                mode in allowed
+                or (mode == m.PinMode.ANALOG and pin in _ANALOG_PINS)
+                or (mode == m.PinMode.PWM and pin in _PWM_PINS)
+            ):
+                if current < m.PinMode.RESERVED:
+                    state.pin_modes[pin] = mode
+                    error = None
+                else:
+                    error = m.ErrorCode.MODE_UNAVAILABLE
+        if is_input:
+            self._send_port_changes(force=True)
+        if error is not None:
+            self._error("I", "P", error)
+
+    def _pin_level(self, pin: int) -> int:
+        if pin in _BUMP_PINS:
+            pressed = self.body.bumpers_pressed()
+            index = _BUMP_PINS.index(pin)
+            return 0 if index < len(pressed) and pressed[index] else 1
+        return 1 if self.state.pin_modes[pin] == m.PinMode.INPUT_PULLUP else 0
+
+    def _send_port_changes(self, *, force: bool) -> None:
+        """``sendDigitalPortChanges``: each port with a non-zero report mask, in the order the
+        firmware assigned them, when its masked level changed (or always, when forced)."""
+        state = self.state
+        if not any(state.report_masks.values()):
             return
-        if msg.mode not in (
-            m.PinMode.INPUT,
-            m.PinMode.INPUT_PULLUP,
-            m.PinMode.OUTPUT,
-            m.PinMode.ANALOG,
-            m.PinMode.PWM,
-        ):
-            self._error("I", "P", m.ErrorCode.INVALID_MODE)
-            return
-        if msg.mode is m.PinMode.ANALOG and msg.pin not in _ANALOG_PINS:
-            self._error("I", "P", m.ErrorCode.INVALID_MODE)
-            return
-        if msg.mode is m.PinMode.PWM and msg.pin not in _PWM_PINS:
-            self._error("I", "P", m.ErrorCode.INVALID_MODE)
-            return
-        state.pin_modes[msg.pin] = int(msg.mode)
-        if msg.mode in (m.PinMode.INPUT, m.PinMode.INPUT_PULLUP):
-            ports = sorted({port for port, _ in _PORT_MAP})
-            for port in ports:
-                mask = 0
-                for pin, (pin_port, bit) in enumerate(_PORT_MAP):
-                    if pin_port == port and state.pin_modes[pin] == m.PinMode.INPUT_PULLUP:
-                        mask |= bit
-                self._send(m.DigitalPortEvent(port, mask))
+        for port in dict.fromkeys(port for port, _ in _PORT_MAP):
+            mask = state.report_masks.get(port, 0)
+            if not mask:
+                continue
+            data = 0
+            for pin, (pin_port, bit) in enumerate(_PORT_MAP):
+                if pin_port == port and mask & bit and self._pin_level(pin):
+                    data |= bit
+            if force or data != state.port_levels.get(port, 0):
+                self._send(m.DigitalPortEvent(port, data))
+                state.port_levels[port] = data
 
 
 def simulated_device(profile: RobotProfile) -> Callable[[Body], MirtoBoard]:
     """The ASIP unit's simulated device factory: a MIRTO board, with firmware PID or without
     as the profile says."""
-    config = BoardConfig(firmware_pid=profile.firmware_pid)
+    options = AsipOptions.from_mapping(profile.options, profile=profile.name)
+    config = BoardConfig(
+        firmware_pid=profile.firmware_pid,
+        servo_count=options.servo_count,
+        pixel_count=options.pixel_count,
+    )
     return lambda body: MirtoBoard(body, config)

@@ -1,16 +1,31 @@
 """The board's side of ASIP: requests read the way the firmware reads them, replies written.
 
 Requests
-    :class:`RequestReader` parses requests the way the V1.1 firmware does: nothing starts
-    before four bytes are buffered, bytes up to ``' '`` between requests are skipped, the
-    service letter must be followed by ``,``, and numbers are read with Arduino ``parseInt``
-    semantics (skip anything that is not a digit or ``-``), so requests need no newline
-    (``M,A,1M,A,1R,A,25`` is three requests) and a short request swallows the next number
-    (``M,S\\nM,A,1`` loses the ``1``). ``parseInt`` waits up to a second for a digit: the device
-    calls :meth:`RequestReader.parse_timeout` when its clock says the line went quiet, and the
-    pending request completes with the digits it has (0 if none), as on the board. A number
-    beyond the ``long`` that ``parseInt`` returns, or a value no message can hold, is an
-    ``"out_of_range"`` fault; the request is dropped.
+    :class:`RequestReader` reads requests the way the V1.1 firmware (``asip.cpp``
+    ``asipClass::service`` and each service's ``processRequestMsg``) does, on Arduino
+    ``Stream`` semantics as the Teensy 3 core implements them:
+
+    * nothing starts before four bytes are buffered; bytes up to ``' '`` between requests are
+      skipped; a known service letter must be followed by ``,``, otherwise (and for an
+      unknown letter) the board answers ``~<letter>,?,1{INVALID_SERVICE}`` at once and skips
+      only the bytes *already received* up to a newline, never waiting for one;
+    * numbers are read with ``parseInt``: skip anything that is not a digit or ``-``, read
+      digits, then wait for the byte after the number. Requests need no newline
+      (``M,A,1M,A,1R,A,25`` is three requests) and a short request swallows the next number
+      (``M,S\\nM,A,1`` loses the ``1``);
+    * every *timed* read (``parseInt``, ``find``, ``readBytesUntil``) waits up to 1 s for a
+      byte; a plain ``read()`` returns -1 at once. While a timed read waits,
+      :attr:`RequestReader.waiting` is true: the firmware is stuck inside the request and
+      runs nothing else. The device calls :meth:`RequestReader.parse_timeout` when its clock
+      says a wait ran out; each call ends one wait, as each ``timedPeek`` has its own second
+      (``M,m,1`` takes two).
+
+    Some requests are answered while they are read: the servo service refuses an id it does
+    not have before reading the angle (``S,W,5`` then ``,45`` is left for the next request,
+    which the board answers ``~,,?,1{INVALID_SERVICE}``). Such a request decodes as
+    :class:`~roboscript.drivers.asip.messages.RefusedRequest` with the error the board sends.
+    A number beyond the ``long`` that ``parseInt`` returns, or a value no message can hold,
+    is an ``"out_of_range"`` fault; the request is dropped.
 
 Replies
     :data:`DEVICE_ENCODERS` writes events, replies, errors and info lines in the firmware's
@@ -55,66 +70,80 @@ _MIN_MSG_LEN = 4
 _MAX_COUNT = 256  # bound on element counts read from a request (pixels, bars)
 _PARSE_LOW, _PARSE_HIGH = PARSE_INT
 _PARSE_CAP = _PARSE_HIGH + 2  # past the bound whatever the sign
+_LCD_ROW_BYTES = m.LCD_COLUMNS + 1  # asipLCD's row buffer: 20 characters and the NUL
+_NEWLINE = 0x0A
 
 
 class _NeedMoreError(Exception):
-    """Internal: the buffer ends inside a request."""
+    """Internal: a timed read found the buffer empty; the board waits inside the request."""
 
 
 class _Cursor:
-    """Reads one request from a buffer with the firmware's ``Stream`` semantics."""
+    """Reads one request from a buffer with the firmware's ``Stream`` semantics.
 
-    __slots__ = ("buf", "final", "pos")
+    The reader parses a request again from its start whenever bytes arrive; timed reads are
+    counted, and the ones that already ran out of time (``timed_out``, by their count) give
+    -1 again, so a request read in pieces takes the same path as on the board.
+    """
 
-    def __init__(self, buf: bytearray, final: bool) -> None:
+    __slots__ = ("buf", "pos", "timed_ops", "timed_out")
+
+    def __init__(self, buf: bytearray, timed_out: frozenset[int]) -> None:
         self.buf = buf
         self.pos = 0
-        self.final = final
+        self.timed_ops = 0
+        self.timed_out = timed_out
 
     def read(self) -> int:
+        """``Stream::read``: the next byte, or -1 at once when none has arrived."""
         if self.pos >= len(self.buf):
-            raise _NeedMoreError
+            return -1
         byte = self.buf[self.pos]
         self.pos += 1
         return byte
 
-    def peek(self) -> int | None:
-        return self.buf[self.pos] if self.pos < len(self.buf) else None
+    def timed_peek(self) -> int:
+        """``Stream::timedPeek``: the next byte, unread, or -1 once its wait ran out."""
+        index = self.timed_ops
+        self.timed_ops += 1
+        if index in self.timed_out:
+            return -1
+        if self.pos >= len(self.buf):
+            raise _NeedMoreError
+        return self.buf[self.pos]
+
+    def timed_read(self) -> int:
+        """``Stream::timedRead``: the next byte, or -1 once its wait ran out."""
+        byte = self.timed_peek()
+        if byte >= 0:
+            self.pos += 1
+        return byte
 
     def parse_int(self) -> int:
-        """Arduino ``Stream::parseInt``: skip to a digit or ``-``, then read digits.
+        """``Stream::parseInt``: skip to a digit or ``-``, read digits, peek past them.
 
         Raises:
             OutOfRangeError: The number does not fit the ``long`` that ``parseInt`` returns.
         """
-        while True:
-            byte = self.peek()
-            if byte is None:
-                if self.final:
-                    return 0
-                raise _NeedMoreError
+        while True:  # peekNextDigit
+            byte = self.timed_peek()
+            if byte < 0:
+                return 0
             if byte == 0x2D or 0x30 <= byte <= 0x39:
                 break
             self.pos += 1
         negative = False
         value = 0
         while True:
-            byte = self.peek()
-            if byte == 0x2D and not negative and value == 0:
+            if byte == 0x2D:
                 negative = True
-            elif byte is not None and 0x30 <= byte <= 0x39:
+            else:
                 # Past the bound the value stays just past it: a run of digits as long as
                 # the buffer costs no big-number arithmetic.
                 value = min(value * 10 + byte - 0x30, _PARSE_CAP)
-            else:
-                break
             self.pos += 1
-            following = self.peek()
-            if following is None:
-                if self.final:
-                    break
-                raise _NeedMoreError
-            if not 0x30 <= following <= 0x39:
+            byte = self.timed_peek()
+            if not 0x30 <= byte <= 0x39:
                 break
         if negative:
             value = -value
@@ -122,30 +151,46 @@ class _Cursor:
             raise OutOfRangeError(f"a number outside {_PARSE_LOW}..{_PARSE_HIGH}")
         return value
 
-    def rest_of_line(self, *, skip_comma: bool = True) -> str:
-        """Text up to the newline (consumed, not returned); a comma right here may be skipped."""
-        if skip_comma and self.peek() == 0x2C:
-            self.pos += 1
-        end = self.buf.find(b"\n", self.pos)
-        if end < 0:
-            if not self.final:
-                raise _NeedMoreError
-            end = len(self.buf)
-        text = bytes(self.buf[self.pos : end]).decode("ascii", "replace").rstrip("\r")
-        self.pos = min(end + 1, len(self.buf))
-        return text
-
-    def discard_line(self) -> None:
-        end = self.buf.find(b"\n", self.pos)
-        if end < 0:
-            if not self.final:
-                raise _NeedMoreError
-            self.pos = len(self.buf)
-        else:
-            self.pos = end + 1
-
     def ints(self, count: int) -> tuple[int, ...]:
         return tuple(self.parse_int() for _ in range(count))
+
+    def find(self, target: bytes) -> bool:
+        """``Stream::find``: read until ``target`` has been read; False on a timeout or NUL.
+
+        Like the core, a mismatch restarts the match without looking at the byte again.
+        """
+        index = 0
+        while (byte := self.timed_read()) > 0:
+            if byte == target[index]:
+                index += 1
+                if index == len(target):
+                    return True
+            else:
+                index = 0
+        return False
+
+    def read_bytes_until(self, terminator: int, length: int) -> str:
+        """``Stream::readBytesUntil`` of the Teensy 3 core: at most ``length - 1`` bytes, up
+        to ``terminator`` (consumed, not kept) or a timeout."""
+        text = bytearray()
+        while len(text) < length - 1:
+            byte = self.timed_read()
+            if byte == terminator or byte < 0:
+                break
+            text.append(byte)
+        return text.decode("ascii", "replace")
+
+    def skip_received_line(self) -> None:
+        """``while (available() && read() != '\\n')``: never waits for the newline."""
+        while (byte := self.read()) >= 0 and byte != _NEWLINE:
+            pass
+
+    def line_or_timeout(self) -> str:
+        """Bytes up to a newline (consumed, not returned) or a timeout; a CR before it goes."""
+        text = bytearray()
+        while (byte := self.timed_read()) >= 0 and byte != _NEWLINE:
+            text.append(byte)
+        return text.decode("ascii", "replace").rstrip("\r")
 
 
 class RequestReader:
@@ -156,15 +201,32 @@ class RequestReader:
         services: The service ids the board runs; a request for any other service decodes as
             :class:`~roboscript.drivers.asip.messages.InvalidServiceRequest`.
         max_buffer_bytes: Bound on buffered request bytes; the oldest go first.
+        servo_count: How many servos the sketch declares, or None to read every ``S,W`` in
+            full; with a count, ``S,W`` is refused the way the firmware refuses it (error 8
+            with no servos before reading the id, error 7 for an id past the last before
+            reading the angle).
     """
 
-    def __init__(self, stats: CodecStats, services: str, max_buffer_bytes: int) -> None:
+    def __init__(
+        self,
+        stats: CodecStats,
+        services: str,
+        max_buffer_bytes: int,
+        servo_count: int | None = None,
+    ) -> None:
         self.stats = stats
         self.services = services
+        self.servo_count = servo_count
         self._max_buffer = max_buffer_bytes
         self._buf = bytearray()  # request bytes not yet parsed
-        self._timed_out = False
+        self._timed_out: set[int] = set()  # the timed reads of this request that ran out
+        self._waiting_op: int | None = None  # the timed read the board is waiting in
         self._overflowed = 0  # bytes dropped by receive_data(), not yet reported
+
+    @property
+    def waiting(self) -> bool:
+        """True while a timed read waits inside a request: the board runs nothing else."""
+        return self._waiting_op is not None
 
     def receive_data(self, data: bytes) -> None:
         """Add bytes read from the wire."""
@@ -174,20 +236,23 @@ class RequestReader:
             excess = len(self._buf) - self._max_buffer
             del self._buf[:excess]
             self._overflowed += excess  # counted and raised by the next next_message()
+            self._timed_out.clear()
+            self._waiting_op = None
 
     def parse_timeout(self) -> None:
-        """The line was quiet for the board's 1 s read timeout: complete a request cut short."""
-        self._timed_out = True
+        """The timed read the board waits in ran out of time (1 s with no byte): it gives -1."""
+        if self._waiting_op is not None:
+            self._timed_out.add(self._waiting_op)
 
     def pending_bytes(self) -> int:
         """Bytes received and not yet parsed or dropped."""
         return len(self._buf)
 
     def next_message(self) -> m.AsipMessage | None:
-        """The next complete request, or ``None`` when more bytes (or the timeout) are needed.
+        """The next complete request, or ``None`` when the board waits for more bytes.
 
         Raises:
-            RemoteProtocolError: Bytes over the buffer bound (``"overlong"``), a service id
+            RemoteProtocolError: Bytes over the buffer bound (``"overlong"``), a system request
                 without its ``,`` (``"malformed"``) or a value out of range
                 (``"out_of_range"``), already consumed and counted.
         """
@@ -203,53 +268,69 @@ class RequestReader:
         if skip:
             del buf[:skip]
         if len(buf) < _MIN_MSG_LEN:
-            self._timed_out = False
             return None
-        # After the timeout every buffered byte is final until the buffer runs dry.
-        cursor = _Cursor(buf, self._timed_out)
+        cursor = _Cursor(buf, frozenset(self._timed_out))
         try:
             message = self._parse_request(cursor)
         except _NeedMoreError:
-            self._timed_out = False
+            self._waiting_op = cursor.timed_ops - 1
             return None
         except RemoteProtocolError:
-            del buf[: max(cursor.pos, 1)]
+            self._request_done(max(cursor.pos, 1))
             raise
         except (LocalProtocolError, OutOfRangeError) as exc:
             # e.g. a 400-digit number, a tone over 2**31 ms, non-ASCII LCD text
             dropped = max(cursor.pos, 1)
-            del buf[:dropped]
+            self._request_done(dropped)
             self.stats.fault("out_of_range", dropped)
             raise RemoteProtocolError(f"request out of range: {exc}", kind="out_of_range") from None
-        del buf[: cursor.pos]
+        self._request_done(cursor.pos)
         self.stats.messages += 1
         return message
+
+    def _request_done(self, consumed: int) -> None:
+        del self._buf[:consumed]
+        self._timed_out.clear()
+        self._waiting_op = None
 
     def _parse_request(self, cur: _Cursor) -> m.AsipMessage:
         service = chr(cur.read())
         if service == "!":
-            return m.DebugEchoRequest(cur.rest_of_line(skip_comma=False))
+            # An ASIP_DEBUG build echoes the line to its debug stream.
+            return m.DebugEchoRequest(cur.line_or_timeout())
         if service == "$":
             return _parse_config(cur)
-        if service != "#" and service not in self.services:
-            cur.discard_line()  # the firmware looks the id up before it reads the separator
+        if service == "#":
+            if cur.read() != 0x2C:
+                self.stats.fault("malformed", 2)
+                raise RemoteProtocolError("system request not followed by ','", kind="malformed")
+            return _parse_system(cur, _read_tag(cur))
+        parser = _REQUEST_PARSERS.get(service) if service in self.services else None
+        # The firmware reads the separator only for a service it runs; either way a
+        # letter it cannot serve is answered at once and the received rest of its line goes.
+        if parser is None or cur.read() != 0x2C:
+            cur.skip_received_line()
             return m.InvalidServiceRequest(service)
-        separator = cur.read()
-        if separator != 0x2C:
-            self.stats.fault("malformed", 2)
-            raise RemoteProtocolError(f"request {service!r} not followed by ','", kind="malformed")
-        tag = chr(cur.read())
-        while tag == " ":  # the seed writes "M, M, 30, -30"
-            tag = chr(cur.read())
-        parser = _REQUEST_PARSERS.get(service)
-        if parser is None:
-            cur.discard_line()
-            return m.InvalidServiceRequest(service)
+        tag = _read_tag(cur)
+        if service == "S" and self.servo_count is not None:
+            return _parse_servo_counted(cur, tag, self.servo_count)
         return parser(cur, tag)
 
 
+def _read_tag(cur: _Cursor) -> str:
+    """The request's tag byte (``char`` -1 when none has arrived, as on the board).
+
+    Unlike the board, spaces before it are skipped: the seed's examples write
+    ``M, M, 30, -30``, and the simulated board takes them.
+    """
+    byte = cur.read()
+    while byte == 0x20:
+        byte = cur.timed_read()
+    return chr(byte & 0xFF)
+
+
 def _parse_config(cur: _Cursor) -> m.AsipMessage:
-    text = cur.rest_of_line().lstrip("$").lstrip(",")
+    text = cur.line_or_timeout().lstrip("$").lstrip(",")
     ssid, _, password = text.partition(",")
     try:
         return m.WifiConfig(ssid, password)
@@ -275,17 +356,17 @@ def _parse_system(cur: _Cursor, tag: str) -> m.AsipMessage:
 
 
 def _parse_io(cur: _Cursor, tag: str) -> m.AsipMessage:
-    if tag == "P":
-        pin, mode = cur.ints(2)
-        if not 0 <= pin <= 255 or not 0 <= mode <= 8:
-            return m.UnknownRequest("I", tag, (pin, mode))
-        return m.SetPinMode(pin, m.PinMode(mode))
-    if tag in "da":
-        pin, value = cur.ints(2)
-        try:
-            return m.DigitalWrite(pin, value) if tag == "d" else m.AnalogWrite(pin, value)
-        except LocalProtocolError:
-            return m.UnknownRequest("I", tag, (pin, value))
+    if tag in "Pda":
+        # asipIO reads both numbers first; the pin is a byte, a digital value any non-zero.
+        number, value = cur.ints(2)
+        pin = number & 0xFF
+        if tag == "P":
+            if not 0 <= value <= 8:
+                return m.UnknownRequest("I", tag, (pin, value))  # an INVALID_MODE on the board
+            return m.SetPinMode(pin, m.PinMode(value))
+        if tag == "d":
+            return m.DigitalWrite(pin, 1 if value & 0xFF else 0)
+        return m.AnalogWrite(pin, max(0, min(value, 255)))
     if tag == "A":
         return _auto_event(cur, "I")
     simple: dict[str, m.AsipMessage] = {
@@ -353,13 +434,33 @@ def _parse_measuring(service: str) -> _RequestParser:
     return parse
 
 
+def _servo_angle(value: int) -> int:
+    # write(byte servoId, byte angle): the angle is cut to a byte, then limited to 180.
+    return min(value & 0xFF, 180)
+
+
 def _parse_servo(cur: _Cursor, tag: str) -> m.AsipMessage:
     if tag == "W":
         servo, angle = cur.ints(2)
         if servo < 0:
             return m.UnknownRequest("S", tag, (servo, angle))
-        return m.ServoWrite(min(servo, 255), max(0, min(angle, 180)))  # the board clamps
+        return m.ServoWrite(min(servo, 255), _servo_angle(angle))
     return m.UnknownRequest("S", tag)
+
+
+def _parse_servo_counted(cur: _Cursor, tag: str, count: int) -> m.AsipMessage:
+    """``S,W`` as asipServos reads it on a sketch with ``count`` servos."""
+    if tag != "W":
+        return m.UnknownRequest("S", tag)
+    if count == 0:
+        return m.RefusedRequest("S", tag, int(m.ErrorCode.DEVICE_NOT_AVAILABLE))
+    servo = cur.parse_int()
+    if servo > count - 1:
+        return m.RefusedRequest("S", tag, int(m.ErrorCode.INVALID_DEVICE_NUMBER))
+    angle = cur.parse_int()
+    if servo < 0:  # write() takes a byte: the id becomes 255 and no servo moves
+        return m.UnknownRequest("S", tag, (servo, angle))
+    return m.ServoWrite(servo, _servo_angle(angle))
 
 
 def _parse_tone(cur: _Cursor, tag: str) -> m.AsipMessage:
@@ -372,20 +473,29 @@ def _parse_tone(cur: _Cursor, tag: str) -> m.AsipMessage:
 
 
 def _parse_lcd(cur: _Cursor, tag: str) -> m.AsipMessage:
+    """asipLCD: a line past the fifth reads nothing more (its text is left for the next
+    request); the text ends at a newline, a timeout or the row buffer's 20 characters."""
     if tag == "W":
         line = cur.parse_int()
-        text = cur.rest_of_line()
-        if 0 <= line < m.LCD_LINES:
-            return m.LcdWrite(line, text)
-        return m.UnknownRequest("L", tag, (line,))
+        if not 0 <= line < m.LCD_LINES:
+            return m.UnknownRequest("L", tag, (line,))
+        if not cur.find(b","):
+            return m.UnknownRequest("L", tag, (line,))
+        # The CR of a CRLF lands in the row too, where the font shows nothing: drop it.
+        return m.LcdWrite(line, cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES).rstrip("\r"))
     if tag == "w":
-        line, column = cur.ints(2)
-        text = cur.rest_of_line()
-        if 0 <= line < m.LCD_LINES and 0 <= column < m.LCD_COLUMNS:
-            return m.LcdWriteAt(line, column, text)
-        return m.UnknownRequest("L", tag, (line, column))
+        line = cur.parse_int()
+        if not 0 <= line < m.LCD_LINES or not cur.find(b","):
+            return m.UnknownRequest("L", tag, (line,))
+        column = cur.parse_int()
+        if not 0 <= column < _LCD_ROW_BYTES or cur.read() != 0x2C:
+            return m.UnknownRequest("L", tag, (line, column))
+        text = cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES - column)
+        return m.LcdWriteAt(line, column, text.rstrip("\r"))
     if tag == "G":
-        count = min(max(cur.parse_int(), 0), _MAX_COUNT)
+        count = min(cur.parse_int(), _MAX_COUNT)
+        if not cur.find(b",{"):
+            return m.UnknownRequest("L", tag)
         bars = tuple((line, max(0, min(value, 100))) for line, value in _pairs(cur, count))
         if all(0 <= line < m.LCD_LINES for line, _ in bars):
             return m.LcdBarGraph(bars)
@@ -400,8 +510,14 @@ def _pairs(cur: _Cursor, count: int) -> tuple[tuple[int, int], ...]:
 
 
 def _rgb(cur: _Cursor) -> tuple[int, int, int]:
-    r, g, b = (max(0, min(value, 255)) for value in cur.ints(3))
+    # parseRGB keeps each channel in a uint8_t.
+    r, g, b = (value & 0xFF for value in cur.ints(3))
     return r, g, b
+
+
+def _open_brace(cur: _Cursor) -> bool:
+    """``read() == ',' && read() == '{'``: plain reads, so a late brace is a missing one."""
+    return cur.read() == 0x2C and cur.read() == 0x7B
 
 
 def _parse_pixels_or_pressure(cur: _Cursor, tag: str) -> m.AsipMessage:
@@ -409,45 +525,39 @@ def _parse_pixels_or_pressure(cur: _Cursor, tag: str) -> m.AsipMessage:
         return m.MeasureRequest("P")
     if tag == "A":
         return _auto_event(cur, "P")
-    message: m.AsipMessage
-    if tag in "PpSsBIC":
-        strip = cur.parse_int()
-        if tag == "P":
-            count = min(max(cur.parse_int(), 0), _MAX_COUNT)
-            pairs = tuple(
-                (max(0, min(pixel, 0xFFFF)), max(0, min(color, 0xFFFFFF)))
-                for pixel, color in _pairs(cur, count)
-            )
-            message = m.PixelsSet(strip, pairs)
-        elif tag == "p":
-            count = min(max(cur.parse_int(), 0), _MAX_COUNT)
-            message = m.PixelsSetRgb(
-                strip,
-                tuple((max(0, min(cur.parse_int(), 0xFFFF)), _rgb(cur)) for _ in range(count)),
-            )
-        elif tag == "S":
-            count = min(max(cur.parse_int(), 0), _MAX_COUNT)
-            first = cur.parse_int()
-            colors = tuple(max(0, min(cur.parse_int(), 0xFFFFFF)) for _ in range(count))
-            message = m.PixelsSequence(strip, first, colors)
-        elif tag == "s":
-            count = min(max(cur.parse_int(), 0), _MAX_COUNT)
-            first = cur.parse_int()
-            message = m.PixelsSequenceRgb(strip, first, tuple(_rgb(cur) for _ in range(count)))
-        elif tag == "B":
-            message = m.PixelsBrightness(strip, max(0, min(cur.parse_int(), 255)))
-        elif tag == "I":
-            message = m.PixelsInfoRequest(strip)
-        else:
-            message = m.PixelsClear(strip)
-    else:
-        message = m.UnknownRequest("P", tag)
-    cur.discard_line()  # the pixels service drops the rest of the line
+    message = _parse_pixels(cur, tag)
+    cur.skip_received_line()  # the pixels service drops what it has of the line
     return message
 
 
+def _parse_pixels(cur: _Cursor, tag: str) -> m.AsipMessage:
+    if tag not in "PpSsBIC":
+        return m.UnknownRequest("P", tag)
+    strip = cur.parse_int()
+    if tag in "PpSs":
+        # A negative count would loop for ever on the board; a huge one waits a second a pixel.
+        count = max(0, min(cur.parse_int(), _MAX_COUNT))
+        first = cur.parse_int() if tag in "Ss" else 0
+        if not _open_brace(cur):
+            count = 0  # nothing is set
+        if tag == "P":
+            pairs = tuple((pixel & 0xFFFF, color & 0xFFFFFF) for pixel, color in _pairs(cur, count))
+            return m.PixelsSet(strip, pairs)
+        if tag == "p":
+            rgb_pairs = tuple((cur.parse_int() & 0xFFFF, _rgb(cur)) for _ in range(count))
+            return m.PixelsSetRgb(strip, rgb_pairs)
+        if tag == "S":
+            colors = tuple(cur.parse_int() & 0xFFFFFF for _ in range(count))
+            return m.PixelsSequence(strip, first, colors)
+        return m.PixelsSequenceRgb(strip, first, tuple(_rgb(cur) for _ in range(count)))
+    if tag == "B":
+        return m.PixelsBrightness(strip, cur.parse_int() & 0xFF)
+    if tag == "I":
+        return m.PixelsInfoRequest(strip)
+    return m.PixelsClear(strip)
+
+
 _REQUEST_PARSERS: dict[str, _RequestParser] = {
-    "#": _parse_system,
     "I": _parse_io,
     "M": _parse_motor,
     "E": _parse_auto_only("E"),

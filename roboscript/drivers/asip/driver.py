@@ -22,6 +22,11 @@ Without firmware PID (``asip-basic``, or a board that answers ``M,R`` with
 ``~M,R,2{UNKNOWN_REQUEST}``), the host holds wheel speeds that way all the time.
 
 Stopping sends ``M,S,0`` and ``M,M,0,0`` (``M,S`` needs the dummy argument, see the codec).
+
+What ASIP cannot report comes from the profile's options
+(:class:`~roboscript.drivers.asip.options.AsipOptions`): the servo count and the LCD's width.
+A display row is cut to that width before it is sent, because the board reads the characters
+past its 20th as new requests.
 """
 
 from __future__ import annotations
@@ -35,6 +40,7 @@ from roboscript import capabilities as cap
 from roboscript.clock import Clock
 from roboscript.control import WheelSpeedLoop
 from roboscript.drivers.asip import messages as m
+from roboscript.drivers.asip.options import AsipOptions
 from roboscript.drivers.base import Driver, PendingRequest, WheelDriveBase
 from roboscript.errors import LinkTimeoutError
 from roboscript.profiles import RobotProfile
@@ -90,6 +96,7 @@ class AsipDriver(Driver):
     def __init__(self, link: Link, profile: RobotProfile, clock: Clock) -> None:
         super().__init__(link, profile, clock)
         self.firmware_pid = profile.firmware_pid
+        self.options = AsipOptions.from_mapping(profile.options, profile=profile.name)
         self.version: m.VersionReply | None = None
         self.startup: m.StartupLine | None = None
         self.services: dict[str, str] = {}
@@ -349,6 +356,14 @@ class AsipDriver(Driver):
                     "speeds itself"
                 )
             return
+        if error.errno == m.ErrorCode.INVALID_SERVICE and not error.service.isalpha():
+            # "~,,?,1": the board read what was left of a request as a new one.
+            self.device_errors.append(
+                "the board read the end of a request as a new one: a request carried more "
+                "values than the board takes"
+            )
+            logger.warning("the board found no service %r", error.service)
+            return
         text = _ERROR_MEANINGS.get(error.errno, error.text or f"error {error.errno}")
         self.device_errors.append(f"the board refused '{error.service},{error.tag}': {text}")
         logger.warning("the board refused %s,%s: %s", error.service, error.tag, error.text)
@@ -419,14 +434,14 @@ class _SideRangeSensor:
 class _Servos:
     """Servos of the servo service, by the order the sketch declares them (0, 1, ...).
 
-    ASIP cannot say how many there are; a board answers an id it does not have with
-    ``~S,W,7{INVALID_DEVICE_NUMBER}``, which fails the running action.
+    ASIP cannot say how many there are: the profile's ``servo_count`` does. A board answers
+    an id it does not have with ``~S,W,7{INVALID_DEVICE_NUMBER}`` (and then reads the angle
+    as a request of its own), which fails the running action.
     """
-
-    count = 2
 
     def __init__(self, driver: AsipDriver) -> None:
         self._driver = driver
+        self.count = driver.options.servo_count
 
     def set_angle(self, index: int, angle_deg: float) -> None:
         self._driver.link.send(m.ServoWrite(index, round(max(0.0, min(180.0, angle_deg)))))
@@ -486,7 +501,8 @@ class _Display:
         link = self._driver.link
         link.send(m.LcdClear())
         clean = "".join(ch if ch.isascii() and ch.isprintable() else "?" for ch in text)
-        rows = [clean[i : i + m.LCD_COLUMNS] for i in range(0, len(clean), m.LCD_COLUMNS)]
+        width = self._driver.options.lcd_columns
+        rows = [clean[i : i + width] for i in range(0, len(clean), width)]
         for line, row in enumerate(rows[: m.LCD_LINES]):
             link.send(m.LcdWrite(line, row))
 

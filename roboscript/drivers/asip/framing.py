@@ -2,7 +2,9 @@
 
 The board ends every line with ``\\n`` (sketch ``println`` output with ``\\r\\n``). A line is
 ASCII text, printable characters and tab, with one exception: an error line
-``~S,T,N{TEXT}`` echoes the service and tag bytes the board received, whatever they were.
+``~S,T,N{TEXT}`` echoes the service and tag bytes the board received, whatever they were,
+a newline among them (``I,`` then a newline is answered ``~I,\\n,2{UNKNOWN_REQUEST}``, which
+arrives as ``~I,`` and ``,2{UNKNOWN_REQUEST}``: the framer joins the two).
 :class:`LineFramer` cuts reads into lines with ``bytes.split`` (in C), keeps at most
 ``max_line_bytes`` of an unfinished line, drops an overlong line whole (its end included when
 it arrives) and refuses lines that are not text; each drop is counted in the codec's stats and
@@ -31,6 +33,7 @@ its range."""
 
 _TEXT_BYTES = b"\t" + bytes(range(0x20, 0x80))  # printable ASCII and tab: what a line may hold
 _COMMA = 0x2C
+_TILDE = 0x7E
 
 
 def line_fault(stats: CodecStats, line: bytes, why: str, kind: str) -> RemoteProtocolError:
@@ -132,6 +135,15 @@ class LineFramer:
             if len(line) > self._max_line:  # a whole line that came in one read
                 why = f"line longer than {self._max_line} bytes"
                 raise line_fault(stats, line, why, "overlong")
+            if len(line) == 3 and line[0] == _TILDE and line[2] == _COMMA:
+                # "~S," and ",N{TEXT}": an error whose tag byte was a newline.
+                if not lines:
+                    lines.appendleft(line)  # its second half is still on its way
+                    return None
+                rest = lines[0]
+                if isinstance(rest, bytes) and rest[:1] == b"," and rest[1:2].isdigit():
+                    lines.popleft()
+                    line = line + b"\n" + rest
             if line.endswith(b"\r"):
                 line = line.rstrip(b"\r")
             if not line or line.isspace():

@@ -62,6 +62,7 @@ __all__ = [
     "PortMapReply",
     "PortMapRequest",
     "PressureEvent",
+    "RefusedRequest",
     "ResetEncoders",
     "RestartRequest",
     "RotateRobot",
@@ -400,12 +401,15 @@ class PlayTone:
 
 
 LCD_LINES = 5
-LCD_COLUMNS = 21
+"""Text rows of the ASIP LCD service (``asipLCD``), 0 at the top."""
+LCD_COLUMNS = 20
+"""Characters a row shows: ``asipLCD`` keeps a row in 21 bytes, the last one its NUL."""
 
 
 @dataclass(frozen=True, slots=True)
 class LcdWrite:
-    """``L,W,line,text``: write a line (0 = top, 5 lines of 21 characters)."""
+    """``L,W,line,text``: write a line (0 = top, 5 lines of 20 characters; the board keeps
+    the first 20 of the text and reads what follows them as the next request)."""
 
     line: int
     text: str
@@ -413,6 +417,8 @@ class LcdWrite:
     def __post_init__(self) -> None:
         _check_range("line", self.line, 0, LCD_LINES - 1)
         _check_text("text", self.text)
+        # Longer text would not be cut: the board reads what follows as new requests.
+        _check_range("text length", len(self.text), 0, LCD_COLUMNS)
 
 
 @dataclass(frozen=True, slots=True)
@@ -425,8 +431,9 @@ class LcdWriteAt:
 
     def __post_init__(self) -> None:
         _check_range("line", self.line, 0, LCD_LINES - 1)
-        _check_range("column", self.column, 0, LCD_COLUMNS - 1)
+        _check_range("column", self.column, 0, LCD_COLUMNS)  # the board takes column < 21
         _check_text("text", self.text)
+        _check_range("text length", len(self.text), 0, LCD_COLUMNS - self.column)
 
 
 @dataclass(frozen=True, slots=True)
@@ -533,6 +540,19 @@ class InvalidServiceRequest:
     """A request for a service the board does not run (decoded on the board side only)."""
 
     service: str
+
+
+@dataclass(frozen=True, slots=True)
+class RefusedRequest:
+    """A request the board refuses while reading it (decoded on the board side only).
+
+    The servo service answers ``S,W`` on an id past its last servo before it reads the
+    angle; the request ends there, and the board sends ``~service,tag,errno{TEXT}``.
+    """
+
+    service: str
+    tag: str
+    errno: int
 
 
 @dataclass(frozen=True, slots=True)
@@ -792,6 +812,7 @@ AsipMessage = (
     | PixelsInfoRequest
     | PixelsClear
     | InvalidServiceRequest
+    | RefusedRequest
     | UnknownRequest
     | VersionReply
     | ServiceNamesReply

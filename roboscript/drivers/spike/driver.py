@@ -17,11 +17,15 @@ one request at a time, each answered within ``_REPLY_TIMEOUT_S``):
    The same ``AGENT_VERSION`` as the agent source in this package -> 5. Another version, no
    answer within 3 s (some other program is in the slot), or the program ending -> 4.
 4. Upload: ``ProgramFlowRequest(stop)``, ``ClearSlotRequest`` (a NACK is fine),
-   ``StartFileUploadRequest`` with the file CRC, then ``TransferChunkRequest`` one at a time
-   with the running CRC, then 2 again. If the fresh agent does not answer either, connecting
-   fails with a sentence saying so.
-5. ``Configure`` (the drive motor ports) and ``DeviceNotificationRequest(telemetry_ms)``;
-   ready at the first DeviceNotification that holds both drive motors.
+   ``StartFileUploadRequest`` (the name as LEGO's example sends it: UTF-8, one NUL, slot, CRC)
+   with the file CRC, then ``TransferChunkRequest`` one at a time with the running CRC (each
+   chunk a multiple of 4 bytes but the last, so that the running CRC ends at the file CRC),
+   then 2 again. A refused chunk ends connecting with a sentence naming it; if the fresh agent
+   does not answer, connecting fails with a sentence saying so (and what the hub printed).
+5. ``Configure`` (the drive motor ports), ``Watch`` (the colour sensor's port: the agent
+   reports its reflection and the hub buttons every ``telemetry_ms``) and
+   ``DeviceNotificationRequest(telemetry_ms)``; ready at the first DeviceNotification that
+   holds both drive motors.
 
 Wheel speeds are held by the hub (``motor_pair.move_tank``): the driver sends ``Tank`` in
 motor degrees per second when the rounded speeds change, and again every 0.5 s with a 1.5 s
@@ -75,6 +79,14 @@ _REPLY_TIMEOUT_S = 2.0
 _VERSION_RETRY_S = 0.25
 _VERSION_TIMEOUT_S = 3.0
 _TANK_REFRESH_S = 0.5
+_MOVE_RESULTS = {
+    t.MoveStatus.DONE: "done",
+    t.MoveStatus.STALLED: "stalled",
+    t.MoveStatus.CANCELLED: "cancelled",
+    t.MoveStatus.FAILED: "failed",
+}
+_DARK_PERCENT = 50.0
+"""Reflection below which the colour sensor, read as a line sensor, is over a dark line."""
 _WATCHDOG_MS = 1500
 _ACCELERATION_DEG_S2 = 4000
 _BEEP_VOLUME_PERCENT = 100
@@ -184,6 +196,13 @@ class SpikeDriver(Driver):
         self.force_percent: int | None = None
         self.force_pressed = False
         self.color: m.DeviceColor | None = None
+        self.reflection_percent: int | None = None
+        self.buttons_pressed: frozenset[str] = frozenset()
+        self.motor_ports_found: set[int] = set()
+        # Extra motor port -> speed held (deg/s; 0 for a move or a stop): every port used.
+        self._motor_runs: dict[int, int] = {}
+        self._motor_sent_at_s = -math.inf
+        self._chunk_count = 0
         # Set points.
         self._target_mm_s = (0.0, 0.0)
         self._sent_deg_s: tuple[int, int] | None = None
@@ -250,12 +269,18 @@ class SpikeDriver(Driver):
             why = f"the hub has {version!r}, not {self.agent_version!r}"
             self._upload_or_fail(why, replaces=False)  # an update of roboscript's own agent
 
+    def _firmware(self) -> str:
+        info = self.info
+        if info is None:
+            return "unknown"
+        return f"{info.firmware_major}.{info.firmware_minor}.{info.firmware_build}"
+
     def _upload_or_fail(self, why: str, *, replaces: bool = True) -> None:
         if self.uploaded:
             last = f" (the hub printed: {self.console[-1]})" if self.console else ""
             raise DeviceError(
                 f"roboscript's agent did not start on the hub after the upload: {why}{last};"
-                " is the hub running SPIKE App 3 firmware?"
+                f" is the hub (firmware {self._firmware()}) running SPIKE App 3 firmware?"
             )
         slot = self.options.agent_slot
         logger.info("uploading roboscript's agent to slot %d: %s", slot, why)
@@ -281,6 +306,7 @@ class SpikeDriver(Driver):
         # 4 bytes (the CRC pads each piece to 4 bytes).
         size = max(4, min(self.info.max_chunk_size, self.info.max_message_size - 16) // 4 * 4)
         self._chunks = [data[i : i + size] for i in range(0, len(data), size)]
+        self._chunk_count = len(self._chunks)
         self._running_crc = 0
         self._request(
             m.StartFileUploadRequest(AGENT_FILE_NAME, self.options.agent_slot, crc32(data)),
@@ -310,13 +336,19 @@ class SpikeDriver(Driver):
 
     def _on_chunk(self, reply: m.TransferChunkResponse) -> None:
         if reply.status is not m.ResponseStatus.ACKNOWLEDGED:
-            raise DeviceError("the hub refused a piece of roboscript's agent (CRC check failed)")
+            number = self._chunk_count - len(self._chunks)
+            raise DeviceError(
+                f"the SPIKE hub refused piece {number} of {self._chunk_count} of roboscript's"
+                f" agent (running CRC 0x{self._running_crc:08x}), so the agent was not stored"
+            )
         self._send_chunk()
 
     def _configure(self) -> None:
         self._phase = "configure"
         self._tunnel(t.Configure(self.options.left_motor, self.options.right_motor))
+        self._tunnel(t.Watch(self.options.color, self.options.telemetry_ms))
         self._sent_deg_s = None
+        self._motor_sent_at_s = -math.inf
         self._power = None
         if self.ready:  # a restart after stop_all: telemetry is on already
             self._phase = "ready"
@@ -346,6 +378,9 @@ class SpikeDriver(Driver):
             cap.HEADING: lambda: _Heading(self),
             cap.FORCE: lambda: _ForceSensor(self),
             cap.COLOR: lambda: _ColorSensor(self),
+            cap.LINE: lambda: _ColorLine(self),
+            cap.BUTTONS: lambda: _Buttons(self),
+            cap.MOTORS: lambda: _Motors(self),
         }
         return self.wanted(makers)
 
@@ -386,12 +421,23 @@ class SpikeDriver(Driver):
         if self._phase != "ready":
             return
         self._flush_motion(now_s)
+        self._flush_motors(now_s)
         for record in self._queue:
             self._tunnel(record)
         self._queue.clear()
 
     def _wants_motion(self) -> bool:
-        return self._target_mm_s != (0.0, 0.0) or bool(self._power and any(self._power))
+        wheels = self._target_mm_s != (0.0, 0.0) or bool(self._power and any(self._power))
+        return wheels or any(self._motor_runs.values())
+
+    def _flush_motors(self, now_s: float) -> None:
+        """Refresh the extra motors' speeds within their watchdog."""
+        running = {port: speed for port, speed in self._motor_runs.items() if speed}
+        if not running or now_s - self._motor_sent_at_s < _TANK_REFRESH_S:
+            return
+        for port, speed in running.items():
+            self._tunnel(t.MotorRun(port, speed, _WATCHDOG_MS))
+        self._motor_sent_at_s = now_s
 
     def _flush_motion(self, now_s: float) -> None:
         if self._power is not None:
@@ -444,6 +490,10 @@ class SpikeDriver(Driver):
                 self._on_version(record.text)
         elif isinstance(record, t.MoveDone):
             self.move_results[record.seq] = record.status
+        elif isinstance(record, t.Report):
+            reflection = record.reflection_percent
+            self.reflection_percent = None if reflection == t.NO_REFLECTION else reflection
+            self.buttons_pressed = record.pressed()
         elif isinstance(record, t.Refused):
             name = t.COMMAND_TYPES.get(record.refused_op)
             what = name.__name__ if name else f"op 0x{record.refused_op:02x}"
@@ -476,6 +526,7 @@ class SpikeDriver(Driver):
                 self.skip_reading(impossible)
                 continue
             if isinstance(device, m.DeviceMotor):
+                self.motor_ports_found.add(device.port)
                 self._positions[device.port] = device.position_deg
                 self._position_at_s[device.port] = self._now_s
             elif isinstance(device, m.DeviceImu):
@@ -512,7 +563,8 @@ class SpikeDriver(Driver):
         return f"the motor on port {port_name(device.port)} moved {moved} deg in {elapsed:.2f} s"
 
     def send_stop(self) -> None:
-        """Brake the wheels (``Stop`` over the tunnel) and stop the agent's program."""
+        """Brake the wheels and every other motor used (``Stop``, ``MotorStop`` over the
+        tunnel) and stop the agent's program."""
         self._target_mm_s = (0.0, 0.0)
         self._power = None
         self._sent_deg_s = (0, 0)
@@ -520,6 +572,9 @@ class SpikeDriver(Driver):
         self._pending.cancel()
         if self._agent_running:
             self._tunnel(t.Stop())
+            for port in sorted(self._motor_runs):
+                self._tunnel(t.MotorStop(port))
+        self._motor_runs.clear()
         if self.info is not None:
             # Waited for like a request, so that a restart cannot take this answer for
             # its own and send tunnel messages while no program runs.
@@ -571,6 +626,43 @@ class SpikeDriver(Driver):
     def queue_record(self, record: t.Record) -> None:
         """Queue a tunnel command (sent in the act phase)."""
         self._queue.append(record)
+
+    def motor_port(self, letter: str) -> int:
+        """The port number of an extra motor, by its letter.
+
+        Raises:
+            DeviceError: No extra motor on that port (a sentence naming the profile's ports
+                and the ports where the hub found motors).
+        """
+        port = m.HubPort.__members__.get(letter.upper())
+        if port is None or int(port) not in self.options.motors:
+            listed = ", ".join(port_name(p) for p in self.options.motors) or "none"
+            raise DeviceError(
+                f"there is no motor on port {letter} in profile {self.profile.name}"
+                f" (its 'motors' option lists: {listed})"
+            )
+        if self.ready and int(port) not in self.motor_ports_found:
+            found = ", ".join(port_name(p) for p in sorted(self.motor_ports_found)) or "none"
+            raise DeviceError(
+                f"the SPIKE hub has no motor plugged into port {letter.upper()}"
+                f" (motors found on: {found})"
+            )
+        return int(port)
+
+    def run_motor(self, port: int, speed_deg_s: int) -> None:
+        """Hold an extra motor at ``speed_deg_s`` (0: brake it)."""
+        self._motor_runs[port] = speed_deg_s
+        self._queue.append(
+            t.MotorRun(port, speed_deg_s, _WATCHDOG_MS) if speed_deg_s else t.MotorStop(port)
+        )
+
+    def motor_for_degrees(self, port: int, degrees: int, speed_deg_s: int) -> int:
+        """Turn an extra motor by ``degrees``; returns the move's sequence number."""
+        self._motor_runs[port] = 0
+        self._move_seq = (self._move_seq + 1) % 256
+        self.move_results.pop(self._move_seq, None)
+        self._queue.append(t.MotorForDegrees(self._move_seq, port, degrees, speed_deg_s))
+        return self._move_seq
 
     def wheel_distances_mm(self) -> tuple[float, float]:
         """Distance each wheel has rolled since connection, mm; forward positive."""
@@ -626,6 +718,10 @@ class _ColorSensor:
     def __init__(self, driver: SpikeDriver) -> None:
         self._driver = driver
 
+    def reflection_percent(self) -> float | None:
+        reading = self._driver.reflection_percent
+        return None if reading is None else float(reading)
+
     def color_name(self) -> str | None:
         reading = self._driver.color
         if reading is None or reading.color == m.Color.NONE:
@@ -637,6 +733,59 @@ class _ColorSensor:
     def rgb(self) -> tuple[int, int, int] | None:
         reading = self._driver.color
         return None if reading is None else (reading.red, reading.green, reading.blue)
+
+
+class _ColorLine:
+    """The colour sensor read as one line sensor (``follow_line``, ``line.center``).
+
+    The reading is darkness 0-1023 (0 white, 1023 black) from the reflection, like the IR
+    line sensors of other robots: ``1023 * (100 - reflection) / 100``.
+    """
+
+    names = ("center",)
+    dark_threshold = 1023.0 * (100.0 - _DARK_PERCENT) / 100.0
+
+    def __init__(self, driver: SpikeDriver) -> None:
+        self._driver = driver
+
+    def values(self) -> tuple[float, ...] | None:
+        reflection = self._driver.reflection_percent
+        return None if reflection is None else (1023.0 * (100 - reflection) / 100.0,)
+
+
+class _Buttons:
+    names = tuple(t.BUTTON_BITS)
+
+    def __init__(self, driver: SpikeDriver) -> None:
+        self._driver = driver
+
+    def pressed(self) -> frozenset[str]:
+        return self._driver.buttons_pressed
+
+
+class _Motors:
+    def __init__(self, driver: SpikeDriver) -> None:
+        self._driver = driver
+        self.ports = tuple(port_name(port) for port in driver.options.motors)
+
+    def run(self, port: str, speed_deg_s: float) -> None:
+        self._driver.run_motor(self._driver.motor_port(port), _deg_s(speed_deg_s))
+
+    def run_for_degrees(self, port: str, angle_deg: float, speed_deg_s: float) -> int:
+        number = self._driver.motor_port(port)
+        speed = max(1, abs(_deg_s(speed_deg_s)))
+        return self._driver.motor_for_degrees(number, round(angle_deg), speed)
+
+    def move_result(self, handle: int) -> str | None:
+        status = self._driver.move_results.get(handle)
+        return None if status is None else _MOVE_RESULTS[status]
+
+    def stop(self, port: str) -> None:
+        self._driver.run_motor(self._driver.motor_port(port), 0)
+
+
+def _deg_s(speed_deg_s: float) -> int:
+    return max(-0x7FFF, min(0x7FFF, round(speed_deg_s)))
 
 
 class _Speaker:

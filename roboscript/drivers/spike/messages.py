@@ -17,11 +17,12 @@ Conventions:
 * Enum fields hold :class:`enum.IntEnum` members. Motor device type, colour and product group
   are *open*: a value without a member is kept as a plain ``int``.
 * Strings are UTF-8 and NUL-terminated; ``string[n]`` holds at most ``n - 1`` bytes of text.
-  They are sent fixed-width (padded with NULs to ``n`` bytes, as documented). When decoding,
-  the variable-length form the official example sends (text + one NUL) is accepted as well;
-  the text ends at the first NUL. Bytes that are not UTF-8 are kept as lone surrogates
-  (``errors="surrogateescape"``), so ``text.encode("utf-8", "surrogateescape")`` gives the
-  exact wire bytes back.
+  They are sent fixed-width (padded with NULs to ``n`` bytes), except the file name of
+  :class:`StartFileUploadRequest`, which is sent as LEGO's example client sends it: the text
+  and one NUL (``string[32]`` is its largest size). When decoding, both forms are accepted
+  for every string; the text ends at the first NUL. Bytes that are not UTF-8 are kept as lone
+  surrogates (``errors="surrogateescape"``), so ``text.encode("utf-8", "surrogateescape")``
+  gives the exact wire bytes back.
 """
 
 from __future__ import annotations
@@ -285,6 +286,7 @@ class _Spec:
     open_enum: bool = False
     low: int | None = None
     high: int | None = None
+    variable: bool = False  # STRING: sent as text + one NUL instead of NUL-padded
 
     @property
     def wire_size(self) -> int | None:
@@ -339,8 +341,8 @@ def _pixels(count: int) -> Mapping[str, _Spec]:
     return _meta(_Spec(_Kind.PIXELS, size=count))
 
 
-def _string(size: int) -> Mapping[str, _Spec]:
-    return _meta(_Spec(_Kind.STRING, size=size))
+def _string(size: int, *, variable: bool = False) -> Mapping[str, _Spec]:
+    return _meta(_Spec(_Kind.STRING, size=size, variable=variable))
 
 
 _Checker = Callable[[Any], Any]
@@ -514,7 +516,8 @@ def _remote(kind: str, message: str, data: bytes) -> RemoteProtocolError:
 
 
 def _string_to_wire(spec: _Spec, value: str) -> bytes:
-    return value.encode(_TEXT_ENCODING, _TEXT_ERRORS).ljust(spec.size, b"\x00")
+    text = value.encode(_TEXT_ENCODING, _TEXT_ERRORS)
+    return text + b"\x00" if spec.variable else text.ljust(spec.size, b"\x00")
 
 
 def _string_from_wire(owner: str, spec: _Spec, raw: bytes) -> str:
@@ -795,15 +798,20 @@ class StartFirmwareUploadResponse(Message):
 class StartFileUploadRequest(Message):
     """Start uploading a program file into a slot.
 
+    On the wire the name is its UTF-8 bytes and one NUL, then the slot and the CRC, as LEGO's
+    example client packs it (``string[32]`` is the largest size, not a fixed one): a hub that
+    reads the name up to its NUL would take a padded name's NULs for the slot and the CRC.
+    Both forms decode.
+
     Attributes:
-        file_name: Name stored on the hub (``string[32]``: at most 31 bytes of UTF-8).
+        file_name: Name stored on the hub (at most 31 bytes of UTF-8).
         slot: Program slot, 0..19.
         crc32: The whole file's CRC32 (see :func:`roboscript.drivers.spike.crc.crc32`).
     """
 
     message_id: ClassVar[MessageId] = MessageId.START_FILE_UPLOAD_REQUEST
     kind: ClassVar[MessageKind] = MessageKind.REQUEST
-    file_name: str = field(metadata=_string(32))
+    file_name: str = field(metadata=_string(32, variable=True))
     slot: int = field(metadata=_SLOT)
     crc32: int = field(metadata=_U32)
 

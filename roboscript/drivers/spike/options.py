@@ -11,14 +11,18 @@ A profile file changes only what differs::
       left_motor: E
       right_motor: F
       distance: A
+      color: D
+      motors: B           # an arm on B (``motor`` action)
 
 The defaults follow a LEGO driving base: drive motors on A (left, mounted mirrored, as
 ``motor_pair`` expects) and B (right), force sensor on C (used as a front bumper), distance
-sensor on D, colour sensor on E.
+sensor on D, colour sensor on E (looking down at the floor, for ``follow_line`` and ``color``),
+and one more motor on F for the ``motor`` action.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -48,7 +52,10 @@ class SpikeOptions:
         right_motor: Port of the right drive motor.
         force: Port of the force sensor read as the front bumper (and ``force``).
         distance: Port of the distance sensor (``range``).
-        color: Port of the colour sensor (``color``).
+        color: Port of the colour sensor (``color``, and ``line`` for ``follow_line``).
+        motors: Ports of the motors that are not drive motors (``motor`` action), written
+            as letters (``CF``) or a list; may be empty. Not given: every port no other
+            option uses (F with the default wiring).
         agent_slot: Program slot (0-19) the agent is uploaded to and run from. The default,
             the last slot, is the one students are least likely to use.
         telemetry_ms: Interval of the hub's DeviceNotification messages, milliseconds
@@ -60,6 +67,7 @@ class SpikeOptions:
     force: int = int(HubPort.C)
     distance: int = int(HubPort.D)
     color: int = int(HubPort.E)
+    motors: tuple[int, ...] = (int(HubPort.F),)
     agent_slot: int = SLOT_COUNT - 1
     telemetry_ms: int = 50
 
@@ -77,6 +85,16 @@ class SpikeOptions:
         result = read_options(cls, options, profile=profile, family="SPIKE", read=_read)
         if result.left_motor == result.right_motor:
             raise ProfileError(f"{profile}: left_motor and right_motor must be different ports")
+        taken = {port: name for name, port in result.ports.items()}
+        if "motors" not in options:
+            free = tuple(port for port in range(len(HubPort)) if port not in taken)
+            return dataclasses.replace(result, motors=free)
+        for port in result.motors:
+            if port in taken:
+                raise ProfileError(
+                    f"{profile}: option 'motors' lists port {port_name(port)},"
+                    f" which is the {taken[port].replace('_', ' ')}'s port"
+                )
         return result
 
     @property
@@ -85,12 +103,24 @@ class SpikeOptions:
         return {name: getattr(self, name) for name in _PORT_OPTIONS}
 
 
-def _read(name: str, value: object, profile: str) -> int:
+def _read(name: str, value: object, profile: str) -> int | tuple[int, ...]:
     """Check and convert one option value.
 
     Raises:
         ProfileError: The value does not fit the option.
     """
+    if name == "motors":
+        letters = list(value) if isinstance(value, str | list) else None
+        if letters is None or not all(
+            isinstance(letter, str) and letter.upper() in HubPort.__members__ for letter in letters
+        ):
+            raise ProfileError(
+                f"{profile}: option 'motors' must be port letters A-F (e.g. CF), got {value!r}"
+            )
+        ports = tuple(int(HubPort[letter.upper()]) for letter in letters)
+        if len(set(ports)) != len(ports):
+            raise ProfileError(f"{profile}: option 'motors' lists a port twice: {value!r}")
+        return ports
     if name in _PORT_OPTIONS:
         if isinstance(value, str) and value.upper() in HubPort.__members__:
             return int(HubPort[value.upper()])

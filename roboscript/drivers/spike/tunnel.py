@@ -33,6 +33,14 @@ op    record              arguments                            on the hub
 0x08  ClearDisplay        --                                   ``light_matrix.clear``
 0x09  Stop                --                                   brake both drive motors,
                                                                cancel a move
+0x0A  Watch               u8 colour sensor port (0..5, 0xFF    reply :class:`Report` every
+                          none), u16 interval (ms, 0 = off)    interval
+0x0B  MotorRun            u8 port, i16 speed (deg/s), u16      ``motor.run``; watchdog as
+                          watchdog (ms, 0 = none)              for Tank (a watchdog that
+                                                               fires stops every motor)
+0x0C  MotorForDegrees     u8 seq, u8 port, i32 degrees         ``motor.run_for_degrees``,
+                          (signed), u16 speed (deg/s)          then reply :class:`MoveDone`
+0x0D  MotorStop           u8 port                              ``motor.stop`` (brake)
 ====  ==================  ===================================  ==============================
 
 Hub -> host (replies, op >= 0x80):
@@ -40,6 +48,7 @@ Hub -> host (replies, op >= 0x80):
 ====  ==========  ============================================================
 0x81  Version     UTF-8 version text, 1..64 bytes (the agent's ``AGENT_VERSION``)
 0x82  MoveDone    u8 seq, u8 :class:`MoveStatus`
+0x83  Report      u8 reflection (0..100 %, 0xFF none), u8 buttons (bit 0 left, bit 1 right)
 0x8F  Refused     u8 op of the refused record, u8 :class:`RefuseReason`
 ====  ==========  ============================================================
 
@@ -68,20 +77,28 @@ from roboscript.codec import Role
 from roboscript.errors import LocalProtocolError, RemoteProtocolError
 
 __all__ = [
+    "BUTTON_BITS",
     "COMMAND_TYPES",
     "MAX_TEXT_BYTES",
     "MAX_VERSION_BYTES",
+    "MIN_WATCH_MS",
+    "NO_PORT",
+    "NO_REFLECTION",
     "PORT_COUNT",
     "REPLY_TYPES",
     "Beep",
     "ClearDisplay",
     "Configure",
+    "MotorForDegrees",
+    "MotorRun",
+    "MotorStop",
     "MoveDone",
     "MoveStatus",
     "Power",
     "Record",
     "RefuseReason",
     "Refused",
+    "Report",
     "ShowText",
     "Stop",
     "Tank",
@@ -89,6 +106,7 @@ __all__ = [
     "TunnelDecoder",
     "Version",
     "VersionQuery",
+    "Watch",
     "agent_version_of",
     "decode_records",
     "encode",
@@ -102,6 +120,15 @@ MAX_VERSION_BYTES: Final = 64
 """Longest :class:`Version` text, in bytes of UTF-8."""
 MAX_DUTY: Final = 10000
 """Full duty in :class:`Power` (the hub's ``set_duty_cycle`` range)."""
+NO_PORT: Final = 0xFF
+""":class:`Watch` colour port meaning "no colour sensor"."""
+NO_REFLECTION: Final = 0xFF
+""":class:`Report` reflection meaning "no reading" (no sensor on the port, or none asked)."""
+BUTTON_BITS: Final = {"left": 0x01, "right": 0x02}
+"""The hub buttons a :class:`Report` carries, by bit. The centre button is not among them: on
+App 3 firmware it stops the running program, so a program never sees it pressed."""
+MIN_WATCH_MS: Final = 10
+"""Shortest :class:`Watch` interval, ms."""
 
 _HEADER: Final = 2
 _AGENT_VERSION: Final = re.compile(rb'^AGENT_VERSION = "([^"\r\n]{1,64})"', re.MULTILINE)
@@ -363,6 +390,89 @@ class Stop(Record):
     _layout: ClassVar[struct.Struct | None] = struct.Struct("<")
 
 
+@dataclass(frozen=True, slots=True)
+class Watch(Record):
+    """Report the colour sensor's reflection and the hub buttons every ``interval_ms``.
+
+    Attributes:
+        color_port: Port of the colour sensor, 0..5, or :data:`NO_PORT` for none.
+        interval_ms: Time between two :class:`Report` replies, ms (10..65535), or 0 to stop.
+    """
+
+    op: ClassVar[int] = 0x0A
+    _layout: ClassVar[struct.Struct | None] = struct.Struct("<BH")
+    color_port: int
+    interval_ms: int
+
+    def _check(self, args: bytes) -> str | None:
+        if 0 < self.interval_ms < MIN_WATCH_MS:
+            return f"interval {self.interval_ms} ms is below {MIN_WATCH_MS} ms"
+        return None if self.color_port == NO_PORT else _port_problem(self.color_port)
+
+
+@dataclass(frozen=True, slots=True)
+class MotorRun(Record):
+    """Run one motor (not a drive motor) at a speed until told otherwise (``motor.run``).
+
+    Attributes:
+        port: The motor's port, 0..5.
+        speed_deg_s: Speed, degrees per second; positive turns the motor clockwise (seen
+            from its face, as the hub counts).
+        watchdog_ms: As for :class:`Tank`: every motor stops if no motion command follows
+            within this many milliseconds (0: never).
+    """
+
+    op: ClassVar[int] = 0x0B
+    _layout: ClassVar[struct.Struct | None] = struct.Struct("<BhH")
+    port: int
+    speed_deg_s: int
+    watchdog_ms: int
+
+    def _check(self, args: bytes) -> str | None:
+        return _port_problem(self.port)
+
+
+@dataclass(frozen=True, slots=True)
+class MotorForDegrees(Record):
+    """Turn one motor by an angle, then brake and report :class:`MoveDone`.
+
+    Attributes:
+        seq: Sequence number echoed in :class:`MoveDone`, 0..255 (shared with
+            :class:`TankForDegrees`).
+        port: The motor's port, 0..5.
+        degrees: Angle to turn, degrees; negative turns the other way.
+        speed_deg_s: Speed, degrees per second (positive).
+    """
+
+    op: ClassVar[int] = 0x0C
+    _layout: ClassVar[struct.Struct | None] = struct.Struct("<BBiH")
+    seq: int
+    port: int
+    degrees: int
+    speed_deg_s: int
+
+    def _check(self, args: bytes) -> str | None:
+        if self.speed_deg_s == 0:
+            return "speed must not be 0"
+        return _port_problem(self.port)
+
+
+@dataclass(frozen=True, slots=True)
+class MotorStop(Record):
+    """Brake one motor and cancel its :class:`MotorForDegrees` move.
+
+    Attributes:
+        port: The motor's port, 0..5.
+    """
+
+    op: ClassVar[int] = 0x0D
+    _layout: ClassVar[struct.Struct | None] = struct.Struct("<B")
+    port: int
+
+    def _check(self, args: bytes) -> str | None:
+        return _port_problem(self.port)
+
+
 # ---------------------------------------------------------------------------------- replies
 
 
@@ -402,6 +512,37 @@ class MoveDone(Record):
 
 
 @dataclass(frozen=True, slots=True)
+class Report(Record):
+    """What the agent reads itself: the colour sensor's reflection and the hub buttons.
+
+    The firmware's DeviceNotification carries the colour sensor's colour and RGB but not its
+    reflection, and no hub buttons, so the agent reads those (``color_sensor.reflection``,
+    ``button.pressed``) and sends them every :class:`Watch` interval.
+
+    Attributes:
+        reflection_percent: Light reflected by the floor, 0 (black) to 100 (white), or
+            :data:`NO_REFLECTION`.
+        buttons: Pressed buttons, a sum of :data:`BUTTON_BITS`.
+    """
+
+    op: ClassVar[int] = 0x83
+    _layout: ClassVar[struct.Struct | None] = struct.Struct("<BB")
+    reflection_percent: int
+    buttons: int
+
+    def _check(self, args: bytes) -> str | None:
+        if self.reflection_percent > 100 and self.reflection_percent != NO_REFLECTION:
+            return f"reflection {self.reflection_percent} is above 100 %"
+        if self.buttons & ~sum(BUTTON_BITS.values()):
+            return f"unknown button bits 0x{self.buttons:02x}"
+        return None
+
+    def pressed(self) -> frozenset[str]:
+        """The names of the buttons pressed."""
+        return frozenset(name for name, bit in BUTTON_BITS.items() if self.buttons & bit)
+
+
+@dataclass(frozen=True, slots=True)
 class Refused(Record):
     """The hub could not act on a record.
 
@@ -431,10 +572,16 @@ COMMAND_TYPES: Final[dict[int, type[Record]]] = {
         ShowText,
         ClearDisplay,
         Stop,
+        Watch,
+        MotorRun,
+        MotorForDegrees,
+        MotorStop,
     )
 }
 """Commands (host -> hub) by op."""
-REPLY_TYPES: Final[dict[int, type[Record]]] = {cls.op: cls for cls in (Version, MoveDone, Refused)}
+REPLY_TYPES: Final[dict[int, type[Record]]] = {
+    cls.op: cls for cls in (Version, MoveDone, Report, Refused)
+}
 """Replies (hub -> host) by op."""
 
 

@@ -1,8 +1,8 @@
-"""The stackmod protocol: StackMod modules on one serial line.
+"""The stackmod protocol: StackMod modules on one serial line, or the author's module on I2C.
 
 ``codec.py`` is the sans-IO codec (both roles), ``driver.py`` the host side, ``device.py`` the
-simulated robot's side. :data:`PROTOCOL` names them for the registries; importing this package
-imports none of them.
+simulated robot's side (``reference_device.py`` for the author's own firmware). :data:`PROTOCOL`
+names them for the registries; importing this package imports none of them.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ PROTOCOL = ProtocolUnit(
     codec="roboscript.drivers.stackmod.options:codec_for",
     driver="roboscript.drivers.stackmod.driver:StackModDriver",
     device="roboscript.drivers.stackmod.device:simulated_device",
-    profiles=("stackmod-rover",),
-    contract=ContractCases(wheeled=("stackmod-rover",)),
+    profiles=("stackmod-rover", "stackmod-reference"),
+    contract=ContractCases(wheeled=("stackmod-rover",), open_loop=("stackmod-reference",)),
 )
 """The stackmod protocol unit."""

@@ -77,7 +77,21 @@ unambiguous:
 A host codec sends the two-address form, module first as the Python host does, when a request
 has a ``source``; it never accepts it (the reference device sends nothing back). Note that the
 reference code uses the ``"braces_excluded"`` checksum and MTR values up to ±255, which this
-codec refuses as ``"out_of_range"`` (the seed's range is ±100).
+codec refuses as ``"out_of_range"`` in a :class:`~roboscript.drivers.stackmod.messages.Set`
+(the seed's range is ±100). A host codec sends the author's own packet as a
+:class:`~roboscript.drivers.stackmod.messages.MotorPwm` (±255), which nothing decodes here: the
+author's firmware is simulated by its own parser (:mod:`.reference_device`).
+
+I2C framing
+-----------
+
+With ``framing="serial"`` (the default) packets follow one another on a byte stream. The
+author's firmware listens on I2C only, so with ``framing="i2c"`` every packet :meth:`send`
+returns is one I2C write: the register byte ``0x32`` first (the author's client writes it; the
+firmware skips it because it is not ``{``), then the packet, at most 32 bytes in all (the
+firmware's and Arduino's receive buffers). The caller must write each returned chunk as one
+transaction: the firmware forgets a half packet when a transaction ends. A device codec with
+``framing="i2c"`` drops a register byte found right before a ``{`` without counting a fault.
 """
 
 from __future__ import annotations
@@ -98,14 +112,19 @@ from roboscript.drivers.stackmod.messages import (
     Get,
     GetReply,
     Message,
+    MotorPwm,
     Set,
 )
 from roboscript.errors import FAULT_SAMPLE_BYTES, LocalProtocolError, RemoteProtocolError
 
 __all__ = [
     "CHECKSUM_RULES",
+    "FRAMINGS",
+    "I2C_REGISTER",
+    "I2C_WRITE_MAX_BYTES",
     "LONGEST_PACKET_BYTES",
     "ChecksumRule",
+    "Framing",
     "StackModCodec",
     "braces_excluded_checksum",
     "checksum",
@@ -114,6 +133,14 @@ __all__ = [
 
 ChecksumRule: TypeAlias = Literal["seed", "braces_excluded"]
 """The two checksum rules: the seed's (braces included) and the reference code's."""
+Framing: TypeAlias = Literal["serial", "i2c"]
+"""How packets travel: back to back on a serial line, or one I2C write each."""
+FRAMINGS: tuple[Framing, ...] = ("serial", "i2c")
+"""Every :data:`Framing`."""
+I2C_REGISTER = 0x32
+"""The register byte the author's client writes before each packet (``'2'``)."""
+I2C_WRITE_MAX_BYTES = 32
+"""Longest I2C write the author's module receives, register byte included (Arduino's buffer)."""
 
 _OPEN = 0x7B  # "{"
 _CLOSE = 0x7D  # "}"
@@ -223,17 +250,20 @@ class StackModCodec:
             ``"braces_excluded"`` (as the author's Arduino and Python code).
         max_packet_bytes: Longest packet accepted, in bytes, braces and checksum included.
             32 matches the reference firmware's buffer.
+        framing: ``"serial"`` (packets back to back) or ``"i2c"`` (each sent packet is one
+            I2C write led by :data:`I2C_REGISTER`; see the module docstring).
 
     Attributes:
         role: The side this codec speaks for.
         checksum: The checksum rule in use.
         max_packet_bytes: Longest packet accepted, in bytes.
+        framing: How packets travel.
         stats: Counts of messages, faults by kind, and dropped bytes.
 
     Raises:
         TypeError: ``role`` is not a :class:`~roboscript.codec.Role`.
-        ValueError: ``checksum`` is unknown, or ``max_packet_bytes`` is smaller than the
-            longest valid packet (:data:`LONGEST_PACKET_BYTES`).
+        ValueError: ``checksum`` or ``framing`` is unknown, or ``max_packet_bytes`` is
+            smaller than the longest valid packet (:data:`LONGEST_PACKET_BYTES`).
     """
 
     def __init__(
@@ -242,11 +272,14 @@ class StackModCodec:
         *,
         checksum: ChecksumRule = "seed",
         max_packet_bytes: int = 32,
+        framing: Framing = "serial",
     ) -> None:
         if not isinstance(role, Role):
             raise TypeError(f"role must be a Role, got {role!r}")
         if checksum not in CHECKSUM_RULES:
             raise ValueError(f"unknown StackMod checksum rule {checksum!r}")
+        if framing not in FRAMINGS:
+            raise ValueError(f"unknown StackMod framing {framing!r}")
         if max_packet_bytes < LONGEST_PACKET_BYTES:
             raise ValueError(
                 f"max_packet_bytes must be at least {LONGEST_PACKET_BYTES}, got {max_packet_bytes}"
@@ -254,6 +287,7 @@ class StackModCodec:
         self.role = role
         self.checksum: ChecksumRule = checksum
         self.max_packet_bytes = max_packet_bytes
+        self.framing: Framing = framing
         self.stats = CodecStats()
         self._checksum_of = CHECKSUM_RULES[checksum]
         self._buffer = bytearray()
@@ -263,7 +297,7 @@ class StackModCodec:
     def __repr__(self) -> str:
         return (
             f"StackModCodec({self.role}, checksum={self.checksum!r}, "
-            f"max_packet_bytes={self.max_packet_bytes})"
+            f"max_packet_bytes={self.max_packet_bytes}, framing={self.framing!r})"
         )
 
     @property
@@ -277,19 +311,22 @@ class StackModCodec:
         """Encode one message for the wire.
 
         Args:
-            message: A :class:`Get` or :class:`Set` for a host codec, a :class:`GetReply` for a
-                device codec.
+            message: A :class:`Get`, :class:`Set` or :class:`MotorPwm` for a host codec, a
+                :class:`GetReply` for a device codec.
 
         Returns:
-            The whole packet, checksum included, e.g. ``b"{X?MTR2}X"``.
+            The whole packet, checksum included, e.g. ``b"{X?MTR2}X"``; with I2C framing, led
+            by the register byte: ``b"2{Ep$MTR1+139}t"``.
 
         Raises:
             LocalProtocolError: ``message`` is not a message this role sends.
         """
         if self.role is Role.HOST:
+            if isinstance(message, MotorPwm):
+                return self._frame(self._motor_pwm(message))
             if not isinstance(message, (Get, Set)):
                 raise LocalProtocolError(
-                    f"a StackMod host sends Get or Set, not {type(message).__name__}"
+                    f"a StackMod host sends Get, Set or MotorPwm, not {type(message).__name__}"
                 )
         elif not isinstance(message, GetReply):
             raise LocalProtocolError(
@@ -306,7 +343,22 @@ class StackModCodec:
             packet += fmt.format_value(message.value).encode("ascii")
         packet.append(_CLOSE)
         packet.append(self._checksum_of(bytes(packet)))
+        return self._frame(bytes(packet))
+
+    def _motor_pwm(self, message: MotorPwm) -> bytes:
+        sign = "-" if message.pwm < 0 else "+"
+        packet = bytearray((_OPEN, message.address, message.source, _SET))
+        packet += f"MTR{message.motor}{sign}{abs(message.pwm):03d}".encode("ascii")
+        packet.append(_CLOSE)
+        packet.append(self._checksum_of(bytes(packet)))
         return bytes(packet)
+
+    def _frame(self, packet: bytes) -> bytes:
+        """The bytes of one write: the packet, led by the register byte on I2C."""
+        if self.framing == "i2c":
+            # Packets are at most LONGEST_PACKET_BYTES (14), so one write always fits in 32.
+            return bytes((I2C_REGISTER,)) + packet
+        return packet
 
     # -- receiving --------------------------------------------------------------------------
 
@@ -330,7 +382,14 @@ class StackModCodec:
                 packet. They have been consumed and counted; call again to continue.
         """
         buffer = self._buffer
+        register = self.framing == "i2c" and self.role is Role.DEVICE
         while buffer:
+            if register and buffer[0] == I2C_REGISTER:
+                if len(buffer) < 2:
+                    return None  # a register byte or a stray one: the next byte decides
+                if buffer[1] == _OPEN:
+                    del buffer[0]
+                    continue
             if buffer[0] != _OPEN:
                 start = buffer.find(_OPEN)
                 stray = len(buffer) if start < 0 else start

@@ -18,14 +18,21 @@ module listens to the one line and acts only on packets carrying its own address
   On the IO module the bump-switch pins read 1 while pressed and the buzzer pin sounds the
   buzzer (logged as a tone of its one pitch when it stops).
 
-Modules power on **disarmed**. A disarmed module holds its outputs off (motors at 0, buzzer
-silent) and ignores SETs of them, so nothing moves until a host arms it. No module answers a
-SET, a packet with a bad checksum, a command it does not have, or a selector it does not have:
-the packet is dropped as a real module would, and the host's GET times out.
+Modules power on **armed**: ``ARM`` has no data format in the seed, so a module built on the
+seed alone cannot require it, and a plain seed ``{M$MTR1+050}`` moves the motor. ``ARM`` is
+roboscript's own extension: a host that disarms a module (``{M$ARM00}``) stops its outputs
+(motors at 0, buzzer silent), and the module then ignores SETs of them, saying so in one log
+line, until it is armed again. No module answers a SET, a packet with a bad checksum, a command
+it does not have, or a selector it does not have: the packet is dropped as a real module
+would, and the host's GET times out.
+
+A profile with ``firmware: reference`` gets the StackMod author's own module instead
+(:mod:`roboscript.drivers.stackmod.reference_device`).
 """
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -33,13 +40,16 @@ from typing import TYPE_CHECKING
 from roboscript.codec import Role, readable
 from roboscript.drivers.stackmod.codec import StackModCodec
 from roboscript.drivers.stackmod.messages import ULT_NO_ECHO, Command, Get, Set
-from roboscript.drivers.stackmod.options import StackModOptions
+from roboscript.drivers.stackmod.options import StackModOptions, address_name
+from roboscript.drivers.stackmod.reference_device import ReferenceModule
 
 if TYPE_CHECKING:
     from roboscript.profiles import RobotProfile
     from roboscript.sim.body import Body
 
 __all__ = ["BATTERY_ADC", "SERVO_HOME_DEG", "StackModRover", "simulated_device"]
+
+logger = logging.getLogger(__name__)
 
 BATTERY_ADC = 757
 """ANL channel 0 of every module: a 7.4 V battery through a 1:2 divider, 5 V reference."""
@@ -52,7 +62,9 @@ _MAX_RANGE_CM = 400
 class _Module:
     """The state one module board keeps."""
 
-    armed: bool = False
+    armed: bool = True
+    told_disarmed: bool = False
+    """Whether the log has said since the last disarm that this module ignores SETs."""
     outputs: dict[int, int] = field(default_factory=dict)
     """Digital pin -> level last SET (0 or 1)."""
 
@@ -74,7 +86,7 @@ class StackModRover:
     def __init__(self, body: Body, options: StackModOptions | None = None) -> None:
         self.body = body
         self.options = opts = options or StackModOptions()
-        self.codec = StackModCodec(Role.DEVICE, checksum=opts.checksum)
+        self.codec = self._codec()
         self.modules = {address: _Module() for address in opts.module_roles}
         self.motor_values = dict.fromkeys((opts.left_motor, opts.right_motor), 0)
         self.servo_deg = dict.fromkeys(range(1, opts.servo_count + 1), SERVO_HOME_DEG)
@@ -87,7 +99,11 @@ class StackModRover:
     def connect(self, now_s: float) -> None:
         """A host opened the line: the modules keep their state but drop a half packet."""
         self._now_s = now_s
-        self.codec = StackModCodec(Role.DEVICE, checksum=self.options.checksum)
+        self.codec = self._codec()
+
+    def _codec(self) -> StackModCodec:
+        opts = self.options
+        return StackModCodec(Role.DEVICE, checksum=opts.checksum, framing=opts.framing)
 
     def receive(self, data: bytes, now_s: float) -> None:
         """Act on request bytes and queue the answers to GETs."""
@@ -110,9 +126,10 @@ class StackModRover:
         return data
 
     def stop_all(self) -> None:
-        """Power loss: every module comes back disarmed, with its outputs off."""
-        for address in self.modules:
+        """Power loss: every module comes back as at power-on, outputs off and armed."""
+        for address, module in self.modules.items():
             self._disarm(address)
+            module.armed = True
 
     # --------------------------------------------------------------------------------- SET
 
@@ -130,6 +147,14 @@ class StackModRover:
             else:
                 self._disarm(message.address)
         elif not module.armed:
+            if not module.told_disarmed:
+                module.told_disarmed = True
+                logger.warning(
+                    "simulated StackMod module %s ignores %s SETs: a host disarmed it "
+                    "with ARM 0 (send ARM 1 to arm it again)",
+                    address_name(message.address),
+                    command.value,
+                )
             return
         elif command is Command.MTR and message.address == opts.motor_address:
             if message.selector in self.motor_values:
@@ -144,6 +169,7 @@ class StackModRover:
 
     def _disarm(self, address: int) -> None:
         self.modules[address].armed = False
+        self.modules[address].told_disarmed = False
         self.modules[address].outputs.clear()
         if address == self.options.motor_address:
             for motor in self.motor_values:
@@ -215,11 +241,16 @@ class StackModRover:
         return cm if cm <= _MAX_RANGE_CM else ULT_NO_ECHO
 
 
-def simulated_device(profile: RobotProfile) -> Callable[[Body], StackModRover]:
-    """The StackMod unit's simulated device factory: the modules the profile's options list.
+def simulated_device(
+    profile: RobotProfile,
+) -> Callable[[Body], StackModRover | ReferenceModule]:
+    """The StackMod unit's simulated device factory: the modules the profile's options list,
+    or the author's own module for ``firmware: reference``.
 
     Raises:
         ProfileError: The profile's options are invalid (checked here, before any body).
     """
     options = StackModOptions.from_mapping(profile.options, profile=profile.name)
+    if options.firmware == "reference":
+        return lambda body: ReferenceModule(body, options)
     return lambda body: StackModRover(body, options)

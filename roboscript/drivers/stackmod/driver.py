@@ -21,6 +21,14 @@ asked, so the driver is the line's master:
   profile's calibration (``wheel_speed_mm_s_per_pct``), so ``drive`` and ``rotate`` run on time
   and cannot notice a stall; the driver says so once.
 * **Stopping** sends MTR +000 to both motors (and silences the buzzer); it never raises.
+
+With ``firmware: reference`` (the ``stackmod-reference`` profile) the driver speaks the
+StackMod author's firmware instead: it only ever sends
+:class:`~roboscript.drivers.stackmod.messages.MotorPwm` packets (``{Ep$MTR1+139}``, ±255),
+one per write, led by the I2C register byte when the framing is I2C. That firmware answers
+nothing, so there is no handshake, no heartbeat and no sensor: the robot is ready at once, the
+only capability is the drive base, every move is timed open-loop from the calibration, and
+nothing can tell the driver that the module is missing or that a packet was lost.
 """
 
 from __future__ import annotations
@@ -32,9 +40,18 @@ from collections.abc import Callable, Iterable
 from roboscript import capabilities as cap
 from roboscript.clock import Clock
 from roboscript.drivers.base import Driver, PendingRequest, WheelDriveBase
-from roboscript.drivers.stackmod.messages import ULT_NO_ECHO, Command, Get, GetReply, Set
+from roboscript.drivers.stackmod.messages import (
+    HOST_SOURCE,
+    PWM_MAX,
+    ULT_NO_ECHO,
+    Command,
+    Get,
+    GetReply,
+    MotorPwm,
+    Set,
+)
 from roboscript.drivers.stackmod.options import StackModOptions
-from roboscript.errors import DeviceError, LinkTimeoutError
+from roboscript.errors import DeviceError, LinkTimeoutError, ProfileError
 from roboscript.profiles import RobotProfile
 from roboscript.transport.link import Link
 
@@ -109,6 +126,18 @@ class StackModDriver(Driver):
     def __init__(self, link: Link, profile: RobotProfile, clock: Clock) -> None:
         super().__init__(link, profile, clock)
         self.options = opts = _options(profile)
+        self.reference = opts.firmware == "reference"
+        """True when speaking the author's firmware (motor SETs only, nothing answered)."""
+        if self.reference:
+            unreadable = sorted(profile.capabilities - {cap.DRIVE_BASE})
+            if unreadable:
+                raise ProfileError(
+                    f"{profile.name}: the reference StackMod firmware drives motors only and "
+                    f"answers nothing, so it cannot offer {', '.join(unreadable)} "
+                    "(extend stackmod-reference instead)"
+                )
+        self.full_power = PWM_MAX if self.reference else 100
+        """The motor value of full power on the wire: PWM 255 (reference) or 100 %."""
         self.poller = get_poller(
             timeout_s=opts.get_timeout_s, retries=opts.get_retries, describe=opts.describe_module
         )
@@ -120,11 +149,11 @@ class StackModDriver(Driver):
         self._wanted_until: dict[_Key, float] = {}
         self._sensor_keys: list[_Key] = []
         self._next_sensor = 0
-        # Motors: percent of power per wheel (forward positive, before inversion).
+        # Motors: power per wheel in wire units (forward positive, before inversion).
         self._motors = (opts.left_motor, opts.right_motor)
         self._signs = (-1 if opts.invert_left else 1, -1 if opts.invert_right else 1)
-        self._target_pct = [0, 0]
-        self._sent_pct: list[int | None] = [None, None]
+        self._target_power = [0, 0]
+        self._sent_power: list[int | None] = [None, None]
         self._heartbeat_wheel = 0
         self._heartbeat_s = -math.inf
         self._heartbeat_expect: tuple[int, int] | None = None
@@ -141,7 +170,19 @@ class StackModDriver(Driver):
     # ----------------------------------------------------------------------------- handshake
 
     def start(self) -> None:
-        """Arm every module; the GETs that confirm it go out in the act phase."""
+        """Arm every module; the GETs that confirm it go out in the act phase.
+
+        The reference firmware has no ARM and answers nothing: the robot is ready at once.
+        """
+        if self.reference:
+            self._unconfirmed = []
+            self._become_ready()
+            self.notice(
+                f"{self.profile.name}: the reference StackMod firmware answers nothing, so "
+                "roboscript cannot tell whether the module is there or took a packet: "
+                "watch the wheels"
+            )
+            return
         for address in self._unconfirmed:
             self.link.send(Set(address, Command.ARM, 0, 1))
 
@@ -178,12 +219,15 @@ class StackModDriver(Driver):
             cap.SPEAKER: lambda: _Buzzer(self),
             cap.SERVOS: lambda: _Servos(self),
         }
+        if self.reference:
+            makers = {cap.DRIVE_BASE: makers[cap.DRIVE_BASE]}
         capabilities = self.wanted(makers)
-        self._sensor_keys = [
-            *((opts.ultrasonic_address, Command.ULT, i) for i in (0, 1)),
-            *((opts.ir_address, Command.IRS, i) for i in range(3)),
-            *((opts.io_address, Command.DGT, pin) for pin in opts.bumper_pins),
-        ]
+        if not self.reference:
+            self._sensor_keys = [
+                *((opts.ultrasonic_address, Command.ULT, i) for i in (0, 1)),
+                *((opts.ir_address, Command.IRS, i) for i in range(3)),
+                *((opts.io_address, Command.DGT, pin) for pin in opts.bumper_pins),
+            ]
         self.offer(capabilities)
         self.notice(
             f"{self.profile.name} has no wheel encoders: distances and angles are estimated "
@@ -193,6 +237,11 @@ class StackModDriver(Driver):
 
     def describe(self) -> str:
         """The modules and their addresses."""
+        if self.reference:
+            return (
+                f"StackMod author's firmware (motor module {chr(self.options.motor_address)}, "
+                f"{self.options.framing} framing, PWM ±{PWM_MAX}, answers nothing)"
+            )
         roles = self.options.module_roles
         modules = ", ".join(f"{'/'.join(r)} {chr(a)}" for a, r in roles.items())
         return f"StackMod modules ({modules}; {self.options.checksum} checksum)"
@@ -230,7 +279,7 @@ class StackModDriver(Driver):
                 # A newer SET may be on its way; only a power nobody changed since is lost.
                 if reply.value != expected and self._sent_wire(wheel) == expected:
                     self.lost_sets += 1
-                    self._sent_pct[wheel] = None
+                    self._sent_power[wheel] = None
 
     def flush(self, now_s: float, dt_s: float) -> None:
         """Send changed setpoints, then the next GET if none is in flight."""
@@ -238,6 +287,8 @@ class StackModDriver(Driver):
             self._flush_motors()
             self._flush_servos()
             self._flush_buzzer(now_s)
+        if self.reference:
+            return  # the firmware answers no GET: asking would only waste the bus
         if self.poller.in_flight is None:
             request = self._next_request(now_s)
             if request is not None:
@@ -246,16 +297,23 @@ class StackModDriver(Driver):
 
     def _sent_wire(self, wheel: int) -> int | None:
         """The MTR value last sent for ``wheel`` (sign as on the wire), or ``None``."""
-        sent = self._sent_pct[wheel]
+        sent = self._sent_power[wheel]
         return None if sent is None else sent * self._signs[wheel]
 
     def _flush_motors(self) -> None:
         for wheel in (0, 1):
-            if self._target_pct[wheel] != self._sent_pct[wheel]:
-                motor = self._motors[wheel]
-                value = self._target_pct[wheel] * self._signs[wheel]
-                self.link.send(Set(self.options.motor_address, Command.MTR, motor, value))
-                self._sent_pct[wheel] = self._target_pct[wheel]
+            if self._target_power[wheel] != self._sent_power[wheel]:
+                value = self._target_power[wheel] * self._signs[wheel]
+                self._send_motor(self._motors[wheel], value)
+                self._sent_power[wheel] = self._target_power[wheel]
+
+    def _send_motor(self, motor: int, value: int) -> None:
+        """Send one motor's power, in wire units, in the firmware's own packet."""
+        address = self.options.motor_address
+        if self.reference:
+            self.link.send(MotorPwm(address, motor, value, HOST_SOURCE))
+        else:
+            self.link.send(Set(address, Command.MTR, motor, value))
 
     def _flush_servos(self) -> None:
         for number, angle in self._servo_targets.items():
@@ -308,20 +366,20 @@ class StackModDriver(Driver):
         self._integrated_to_s = now_s
         if last is None or now_s <= last:
             return
-        per_pct = self.options.wheel_speed_mm_s_per_pct
+        per_unit = self.options.wheel_speed_mm_s_per_pct * 100.0 / self.full_power
         for wheel in (0, 1):
             self.wheel_distances_mm[wheel] += (
-                (self._sent_pct[wheel] or 0) * per_pct * (now_s - last)
+                (self._sent_power[wheel] or 0) * per_unit * (now_s - last)
             )
 
     def send_stop(self) -> None:
         """Send MTR +000 to both motors and silence the buzzer."""
         self._integrate(self.clock.now())
-        self._target_pct = [0, 0]
+        self._target_power = [0, 0]
         opts = self.options
         for wheel in (0, 1):
-            self._sent_pct[wheel] = 0
-            self.link.send(Set(opts.motor_address, Command.MTR, self._motors[wheel], 0))
+            self._sent_power[wheel] = 0
+            self._send_motor(self._motors[wheel], 0)
         self._buzzer_for_s = self._buzzer_off_at_s = None
         if self._buzzer_on:
             self._buzzer_on = False
@@ -331,15 +389,18 @@ class StackModDriver(Driver):
 
     def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
         """Store wheel speed targets as motor power (sent in the act phase)."""
-        self._target_pct = [self._power_pct(left_mm_s), self._power_pct(right_mm_s)]
+        self._target_power = [self._power(left_mm_s), self._power(right_mm_s)]
 
-    def _power_pct(self, speed_mm_s: float) -> int:
+    def _power(self, speed_mm_s: float) -> int:
+        """The motor value, in wire units, that turns a wheel at ``speed_mm_s`` (estimated)."""
         opts = self.options
-        pct = round(speed_mm_s / opts.wheel_speed_mm_s_per_pct)
-        pct = max(-100, min(100, pct))
-        if 0 < abs(pct) < opts.min_power_pct:
-            pct = opts.min_power_pct if pct > 0 else -opts.min_power_pct
-        return pct
+        full = self.full_power
+        power = round(speed_mm_s / opts.wheel_speed_mm_s_per_pct * full / 100.0)
+        power = max(-full, min(full, power))
+        least = math.ceil(opts.min_power_pct * full / 100.0)
+        if 0 < abs(power) < least:
+            power = least if power > 0 else -least
+        return power
 
     def reading(self, keys: Iterable[_Key]) -> list[int] | None:
         """The fresh readings of ``keys``, or ``None`` if any is missing or stale.

@@ -58,6 +58,10 @@ The reference code's two-address form
 The author's Python host sends ``{<module><0x70 'p'>$MTR...}`` (a second address byte naming the
 I2C master). :class:`Get` and :class:`Set` carry that byte as ``source`` (``None`` for the
 seed's one-address form); see :mod:`roboscript.drivers.stackmod.codec` for how it is detected.
+
+The author's firmware itself implements one packet only, a motor SET in PWM units, ±255, with
+exactly 11 characters between the braces (``{Ep$MTR1+139}``): :class:`MotorPwm`. It answers
+nothing, so there is no reply to it.
 """
 
 from __future__ import annotations
@@ -75,6 +79,7 @@ __all__ = [
     "ADDRESS_MIN",
     "FORMATS",
     "HOST_SOURCE",
+    "PWM_MAX",
     "SOURCE_MAX",
     "SOURCE_MIN",
     "ULT_NO_ECHO",
@@ -83,6 +88,7 @@ __all__ = [
     "Get",
     "GetReply",
     "Message",
+    "MotorPwm",
     "Request",
     "Set",
 ]
@@ -97,6 +103,8 @@ SOURCE_MAX = 0x7A
 """Highest source byte of the reference code's two-address form, ``z``."""
 HOST_SOURCE = 0x70
 """``p``: the reference code's ``I2C_MASTER_ADDRESS``, the usual source byte."""
+PWM_MAX = 255
+"""Full power in the author's firmware: its motor value is an 8-bit PWM duty, sign apart."""
 ULT_NO_ECHO = 999
 """The ULT distance (cm) that means "no echo" (roboscript's format)."""
 
@@ -370,6 +378,45 @@ class GetReply:
     def __post_init__(self) -> None:
         fmt = _check_head(self.address, self.command, self.selector)
         _check_value(self.command, fmt, self.value)
+
+
+@dataclass(frozen=True, slots=True)
+class MotorPwm:
+    """The author's firmware's one packet: set a motor's PWM, e.g. ``{Ep$MTR1+139}``.
+
+    Sent by the host, never answered. Between the braces it is always 11 characters: module
+    address, source, ``$``, ``MTR``, one motor digit, a sign and three digits.
+
+    Attributes:
+        address: Module address byte, 0x40..0x5F (the author's module is ``E``, 0x45; its
+            firmware does not check it).
+        motor: Motor number, 1..9 (the firmware counts from 1 and ignores motor 0).
+        pwm: PWM duty, -255..255; negative turns the motor backward, 0 stops it.
+        source: The second address byte, 0x60..0x7A (the author's client sends ``p``, 0x70).
+
+    Raises:
+        LocalProtocolError: A field is out of range.
+    """
+
+    address: int
+    motor: int
+    pwm: int
+    source: int = HOST_SOURCE
+
+    def __post_init__(self) -> None:
+        if not _is_int(self.address) or not ADDRESS_MIN <= self.address <= ADDRESS_MAX:
+            raise LocalProtocolError(
+                f"StackMod address must be an int 0x40..0x5F ('@'..'_'), got {self.address!r}"
+            )
+        if not _is_int(self.motor) or not 1 <= self.motor <= 9:
+            raise LocalProtocolError(f"MTR motor must be an int 1..9, got {self.motor!r}")
+        if not _is_int(self.pwm) or not -PWM_MAX <= self.pwm <= PWM_MAX:
+            raise LocalProtocolError(
+                f"MTR PWM must be an int -{PWM_MAX}..{PWM_MAX}, got {self.pwm!r}"
+            )
+        if self.source is None:
+            raise LocalProtocolError("the author's firmware needs a source byte, got None")
+        _check_source(self.source)
 
 
 Request: TypeAlias = Get | Set

@@ -16,22 +16,36 @@ A profile file changes only what differs::
       invert_right: true
       wheel_speed_mm_s_per_pct: 2.6
 
-Every option and its default is a field of :class:`StackModOptions`.
+Every option and its default is a field of :class:`StackModOptions`. The built-in
+``stackmod-reference`` profile sets ``firmware: reference``, ``checksum: braces_excluded``,
+``framing: i2c`` and ``motor_address: E``: the StackMod author's own firmware and client.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, cast
+from typing import Any, Literal, TypeAlias, cast
 
 from roboscript.codec import ProfileLike, Role
 from roboscript.drivers.options import read_options
-from roboscript.drivers.stackmod.codec import CHECKSUM_RULES, ChecksumRule, StackModCodec
+from roboscript.drivers.stackmod.codec import (
+    CHECKSUM_RULES,
+    FRAMINGS,
+    ChecksumRule,
+    Framing,
+    StackModCodec,
+)
 from roboscript.drivers.stackmod.messages import ADDRESS_MAX, ADDRESS_MIN
 from roboscript.errors import ProfileError
 
-__all__ = ["StackModOptions", "address_name", "codec_for"]
+__all__ = ["FIRMWARES", "Firmware", "StackModOptions", "address_name", "codec_for"]
+
+Firmware: TypeAlias = Literal["seed", "reference"]
+"""What the modules run: firmware built on the 0.9.1 document (answers GETs, ``ARM``, sensors)
+or the StackMod author's own (``74ls04/StackMod``: motor SETs only, answers nothing)."""
+FIRMWARES: tuple[Firmware, ...] = ("seed", "reference")
+"""Every :data:`Firmware`."""
 
 
 def address_name(address: int) -> str:
@@ -47,6 +61,12 @@ class StackModOptions:
     number. Several roles may share one address when one module board does several jobs.
 
     Attributes:
+        firmware: ``"seed"`` (modules built on the 0.9.1 document, with roboscript's formats
+            for the commands it leaves open) or ``"reference"`` (the author's firmware: one
+            motor module taking ``MTR`` SETs of ±255 PWM, with two address bytes, answering
+            nothing, so no sensors and moves timed open-loop).
+        framing: ``"serial"`` (packets back to back on the line) or ``"i2c"`` (each packet one
+            I2C write led by the register byte 0x32, as the author's client writes them).
         motor_address: The dual motor driver module (MTR).
         servo_address: The servo module (SRV).
         ultrasonic_address: The ultrasonic ranger module (ULT sensor 0 faces forward,
@@ -55,8 +75,10 @@ class StackModOptions:
         io_address: The module whose digital pins carry the bump switches and the buzzer
             (DGT). By default the IR board at the front of the rover.
         checksum: ``"seed"`` (the 0.9.1 document: braces included) or ``"braces_excluded"``
-            (the author's Arduino and Python code). Host and modules must agree.
-        left_motor: Motor number (0-9) of the left wheel on the motor module.
+            (the author's Arduino and Python code; required with ``firmware: reference``).
+            Host and modules must agree.
+        left_motor: Motor number (0-9) of the left wheel on the motor module (1-9 with the
+            reference firmware, which ignores motor 0).
         right_motor: Motor number (0-9) of the right wheel.
         invert_left: True if positive power turns the left wheel backward (motor mounted
             the other way round).
@@ -66,8 +88,10 @@ class StackModOptions:
             1 while pressed.
         buzzer_pin: Digital pin (0-99) of the active buzzer; 1 sounds it.
         buzzer_frequency_hz: The buzzer's one pitch, hertz (it cannot play others).
-        wheel_speed_mm_s_per_pct: Calibration: wheel speed, mm/s, per percent of motor
-            power. With no encoders, every distance and angle is estimated from it.
+        wheel_speed_mm_s_per_pct: Calibration: wheel speed, mm/s, per percent of full motor
+            power (full power is MTR 100 on the seed firmware, PWM 255 on the reference one,
+            so a speed S measured at PWM P gives S * 2.55 / P). With no encoders, every
+            distance and angle is estimated from it.
         min_power_pct: Smallest non-zero power sent, percent (1-100): below it the motors
             stall, so smaller commands are raised to it.
         get_timeout_s: How long to wait for the answer to a GET before sending it again,
@@ -76,6 +100,8 @@ class StackModOptions:
             silent (0-10).
     """
 
+    firmware: Firmware = "seed"
+    framing: Framing = "serial"
     motor_address: int = ord("M")
     servo_address: int = ord("S")
     ultrasonic_address: int = ord("U")
@@ -112,6 +138,17 @@ class StackModOptions:
         return result
 
     def _check(self, profile: str) -> None:
+        if self.firmware == "reference":
+            if self.checksum != "braces_excluded":
+                raise ProfileError(
+                    f"{profile}: the reference firmware sums its checksum without the braces: "
+                    "set checksum: braces_excluded"
+                )
+            if 0 in (self.left_motor, self.right_motor):
+                raise ProfileError(
+                    f"{profile}: the reference firmware numbers its motors from 1: "
+                    "left_motor and right_motor must be 1-9"
+                )
         if self.left_motor == self.right_motor:
             raise ProfileError(f"{profile}: left_motor and right_motor must differ")
         pins = (*self.bumper_pins, self.buzzer_pin)
@@ -119,8 +156,18 @@ class StackModOptions:
             raise ProfileError(f"{profile}: bumper_pins and buzzer_pin must be different pins")
 
     @property
+    def answers_get(self) -> bool:
+        """Whether the modules answer GETs (the reference firmware answers nothing)."""
+        return self.firmware == "seed"
+
+    @property
     def module_roles(self) -> dict[int, tuple[str, ...]]:
-        """Each module address -> the jobs it does (``("IR", "IO")``), in a stable order."""
+        """Each module address -> the jobs it does (``("IR", "IO")``), in a stable order.
+
+        The reference firmware is one motor module: it has no other role.
+        """
+        if self.firmware == "reference":
+            return {self.motor_address: ("motor",)}
         roles: dict[int, tuple[str, ...]] = {}
         for role, address in (
             ("motor", self.motor_address),
@@ -161,6 +208,14 @@ def _read(name: str, value: object, profile: str) -> Any:
         if address is None:
             raise _fail(profile, name, "one character from '@' to '_' (0x40-0x5F)", value)
         return address
+    if name == "firmware":
+        if value not in FIRMWARES:
+            raise _fail(profile, name, " or ".join(repr(f) for f in FIRMWARES), value)
+        return value
+    if name == "framing":
+        if value not in FRAMINGS:
+            raise _fail(profile, name, " or ".join(repr(f) for f in FRAMINGS), value)
+        return value
     if name == "checksum":
         if value not in CHECKSUM_RULES:
             raise _fail(profile, name, " or ".join(repr(r) for r in CHECKSUM_RULES), value)
@@ -195,11 +250,11 @@ def _read(name: str, value: object, profile: str) -> Any:
 
 
 def codec_for(role: Role, profile: ProfileLike) -> StackModCodec:
-    """The StackMod codec in ``role`` with the profile's checksum rule (the protocol unit's
-    codec factory).
+    """The StackMod codec in ``role`` with the profile's checksum rule and framing (the
+    protocol unit's codec factory).
 
     Raises:
         ProfileError: The profile's options are invalid.
     """
     options = StackModOptions.from_mapping(profile.options, profile=profile.name)
-    return StackModCodec(role, checksum=options.checksum)
+    return StackModCodec(role, checksum=options.checksum, framing=options.framing)

@@ -188,7 +188,6 @@ SEED_SPACED_REQUESTS = [
     pytest.param(b"M, c, -20, 2000", m.SetRobotSpeed(-20, 2000), id="robot-speed"),
     pytest.param(b"M, a, 180, 90", m.RotateRobot(180, 90), id="rotate-rate-first"),
     pytest.param(b"M, A, 1\n", m.EnableEncoderEvents(True), id="encoder-events"),
-    pytest.param(b"L, G, 2, {1:50, 3:75}\n", m.LcdBarGraph(((1, 50), (3, 75))), id="lcd-graph"),
     # The firmware skips to the comma and keeps what follows, the seed's space included.
     pytest.param(b"L, W, 0, Hello World\n", m.LcdWrite(0, " Hello World"), id="lcd-write"),
     pytest.param(b"L, w, 0, 6, again\n", m.LcdWriteAt(0, 6, " again"), id="lcd-write-at"),
@@ -557,7 +556,8 @@ def test_host_bad_line_is_a_counted_fault_and_the_next_line_decodes(wire: bytes,
 def test_tables_hold_every_message_type() -> None:
     requests = {type(param.values[0]) for param in REQUESTS}
     replies = {type(param.values[0]) for param in REPLIES}
-    decoded_only = {m.InvalidServiceRequest, m.UnknownRequest}  # the device never sends these
+    # the device never sends these
+    decoded_only = {m.InvalidServiceRequest, m.RefusedRequest, m.UnknownRequest}
     assert requests | replies | decoded_only == set(typing.get_args(m.AsipMessage))
 
 

@@ -108,8 +108,8 @@ def test_board_without_pid_refuses_the_pid_tags() -> None:
     [
         (b"X,?\n", "~X,?,1{INVALID_SERVICE}"),
         (b"X,W,0,90\n", "~X,?,1{INVALID_SERVICE}"),
-        (b"S,W,5,90\n", "~S,W,7{INVALID_DEVICE_NUMBER}"),
-        (b"P,I,0\n", "@P,I,0,8"),
+        (b"S,W,5\n", "~S,W,7{INVALID_DEVICE_NUMBER}"),  # mirtle2017 has servo 0 only
+        (b"P,I,0\n", "@P,I,0,9"),  # and nine pixels
         (b"P,B,3,10\n", "~P,B,7{INVALID_DEVICE_NUMBER}"),
         (b"M,z,1,2\n", "~M,z,2{UNKNOWN_REQUEST}"),
         (b"#,Q\n", "~#,Q,2{UNKNOWN_REQUEST}"),
@@ -117,6 +117,9 @@ def test_board_without_pid_refuses_the_pid_tags() -> None:
         (b"I,P,18,5\n", "~I,P,5{INVALID_MODE}"),
         (b"I,d,18,1\n", "~I,d,6{WRONG_MODE}"),
         (b"I,a,18,100\n", "~I,a,3{INVALID_PIN}"),
+        (b"I,a,3,100\n", "~I,a,6{WRONG_MODE}"),  # a PWM pin the motor service owns
+        (b"I,d,30,1\n", "~I,d,3{INVALID_PIN}"),
+        (b"I,P,30,1\n", "~I,P,5{INVALID_MODE}"),  # no such pin: no mode fits it
         (b"#,?\n", "@#,?,1,1,ATmega328P,20,mirto2017"),
         (
             b"#,N\n",
@@ -145,12 +148,29 @@ def test_tone_and_lcd_ignore_unknown_tags_silently() -> None:
     assert board.lines() == []
 
 
-def test_pullup_input_reports_every_port_at_once() -> None:
+def test_pullup_input_reports_its_port_at_once_then_on_changes_only() -> None:
     board = Board()
     board.send(b"I,A,0\n")
     board.lines()
     board.send(b"I,P,18,2\n")
-    assert board.lines() == ["@I,d,2,0", "@I,d,3,10", "@I,d,4,0"]
+    assert board.lines() == ["@I,d,3,10"]
+    board.run(0.5)
+    assert board.lines() == []
+    board.send(b"I,P,19,1\n")  # a second input on the port: the port again, with both pins
+    assert board.lines() == ["@I,d,3,10"]
+
+
+def test_a_refused_input_request_on_a_bump_pin_still_reports_the_bumper() -> None:
+    # PinMode sets the report mask before registering the pin, so the refusal comes after
+    # the port report, and the bumper's level changes are reported from then on.
+    board = Board()
+    board.send(b"I,A,0\n")
+    board.lines()
+    board.send(b"I,P,11,1\n")
+    assert board.lines() == ["@I,d,2,8", "~I,P,4{MODE_UNAVAILABLE}"]
+    board.sim.body.bumpers_pressed = lambda: (True, False)  # type: ignore[method-assign]
+    board.run(0.05)
+    assert board.lines() == ["@I,d,2,0"]  # once, on the change
 
 
 def test_request_without_newline_completes_after_the_parse_timeout() -> None:
@@ -186,10 +206,10 @@ def test_distance_is_reported_in_cm_towards_a_wall() -> None:
 
 def test_servo_and_pixel_requests_change_the_boards_state() -> None:
     board = Board()
-    board.send(b"S,W,1,45\nP,P,0,2,{0:16711680,7:255}\nP,p,0,1,{3:1:2:3}\nP,B,0,200\n")
+    board.send(b"S,W,0,45\nP,P,0,2,{0:16711680,7:255}\nP,p,0,1,{3:1:2:3}\nP,B,0,200\n")
     state = board.sim.device.state  # type: ignore[attr-defined]
-    assert state.servos_deg == [90, 45]
+    assert state.servos_deg == [45]
     assert state.pixels[0] == (255, 0, 0) and state.pixels[7] == (0, 0, 255)
     assert state.pixels[3] == (1, 2, 3) and state.brightness == 200
     board.send(b"P,C,0\n")
-    assert state.pixels == [(0, 0, 0)] * 8
+    assert state.pixels == [(0, 0, 0)] * 9

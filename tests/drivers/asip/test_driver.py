@@ -307,3 +307,46 @@ def test_stop_all_sends_both_stops_and_never_raises() -> None:
     assert board.link.take() == [m.StopMotors(), m.SetMotorsPower(0, 0)]
     board.link.broken = True
     board.driver.stop_all()  # a lost link must not hide the real error
+
+
+def test_an_error_with_no_service_letter_says_a_request_was_read_in_two() -> None:
+    # "~,,?,1{INVALID_SERVICE}": the board read the leftover of a request as a new one.
+    board = Board()
+    board.connect()
+    board.tick(m.ErrorReply(",", "?", m.ErrorCode.INVALID_SERVICE, "INVALID_SERVICE"))
+    assert board.driver.take_device_error() == (
+        "the board read the end of a request as a new one: a request carried more values "
+        "than the board takes"
+    )
+    board.tick(m.ErrorReply("X", "?", m.ErrorCode.INVALID_SERVICE, "INVALID_SERVICE"))
+    assert board.driver.take_device_error() == (
+        "the board refused 'X,?': the sketch has no such service"
+    )
+
+
+def test_the_mirto_profile_has_the_sketchs_one_servo() -> None:
+    board = Board()
+    board.connect()
+    assert board.driver.capabilities()[cap.SERVOS].count == 1  # type: ignore[attr-defined]
+
+
+def test_display_rows_are_cut_to_the_profiles_width_never_sent_long() -> None:
+    board = Board()
+    board.connect()
+    board.driver.capabilities()[cap.DISPLAY].show_text("x" * 45)  # type: ignore[attr-defined]
+    rows = [msg for msg in board.link.take() if isinstance(msg, m.LcdWrite)]
+    assert rows == [m.LcdWrite(0, "x" * 20), m.LcdWrite(1, "x" * 20), m.LcdWrite(2, "x" * 5)]
+
+
+def test_servo_count_and_lcd_width_come_from_the_profile_options() -> None:
+    import dataclasses
+
+    mirto = get_profile("mirto")
+    narrow = dataclasses.replace(mirto, options={"servo_count": 3, "lcd_columns": 16})
+    board = Board()
+    board.driver = AsipDriver(board.link, narrow, board.clock)  # type: ignore[arg-type]
+    board.connect()
+    assert board.driver.capabilities()[cap.SERVOS].count == 3  # type: ignore[attr-defined]
+    board.driver.capabilities()[cap.DISPLAY].show_text("y" * 20)  # type: ignore[attr-defined]
+    rows = [msg for msg in board.link.take() if isinstance(msg, m.LcdWrite)]
+    assert rows == [m.LcdWrite(0, "y" * 16), m.LcdWrite(1, "y" * 4)]

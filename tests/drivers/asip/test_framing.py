@@ -157,3 +157,16 @@ def test_a_long_line_never_buffers_more_than_the_limit(limit: int, length: int, 
         assert all(isinstance(item, RemoteProtocolError | m.DebugLine) for item in items)
         assert framing.pending_bytes() <= limit
     assert framing.stats.faults == ({"overlong": 1} if length > limit else {})
+
+
+def test_an_error_whose_tag_is_a_newline_is_one_line_even_split_across_reads() -> None:
+    # The board echoes the tag byte it read: "I," then a newline gives "~I,\n,2{...}".
+    framing = framer(max_line_bytes=64)
+    assert run(framing, b"~I,\n") == []  # its second half is still on its way
+    assert run(framing, b",2{UNKNOWN_REQUEST}\nok\n") == ["~I,\n,2{UNKNOWN_REQUEST}", "ok"]
+    assert framing.pending_bytes() == 0
+
+
+def test_a_short_tilde_line_without_an_error_number_after_it_stays_its_own_line() -> None:
+    framing = framer(max_line_bytes=64)
+    assert run(framing, b"~I,\n@M,e\n") == ["~I,", "@M,e"]

@@ -26,7 +26,17 @@ from roboscript.errors import RemoteProtocolError
 
 STANDINS = Path(__file__).parent / "hubapi_standins"
 AGENT = Path(__file__).parents[3] / "roboscript" / "drivers" / "spike" / "agent" / "hub_agent.py"
-HUB_MODULES = {"hub", "motor", "motor_pair", "runloop", "tunnel", "standin_log"}
+HUB_MODULES = {
+    "hub",
+    "motor",
+    "motor_pair",
+    "runloop",
+    "tunnel",
+    "standin_log",
+    "color_sensor",
+}
+CONFIG_FORM = "hub.config['module_tunnel']"
+IMPORT_FORM = "import tunnel"
 
 
 def _forget_standins() -> None:
@@ -95,8 +105,11 @@ def test_starting_the_agent_binds_the_tunnel_resets_yaw_and_runs_four_tasks(
     import runloop
     import tunnel
 
-    assert capsys.readouterr().out == f"{agent_module.AGENT_VERSION} ready\n"
-    assert hub.CALLS[0] == ("motion_sensor.reset_yaw", (0,), {})
+    assert capsys.readouterr().out == (
+        f"{agent_module.AGENT_VERSION} ready, tunnel from {CONFIG_FORM}\n"
+    )
+    assert hub.CALLS[0] == ("hub.config[]", ("module_tunnel",), {})
+    assert hub.CALLS[1] == ("motion_sensor.reset_yaw", (0,), {})
     assert len(tunnel.RECEIVER) == 1
     assert [c.__name__ for c in runloop.STARTED] == [
         "serve",
@@ -106,14 +119,56 @@ def test_starting_the_agent_binds_the_tunnel_resets_yaw_and_runs_four_tasks(
     ]
 
 
-def test_without_a_tunnel_the_agent_says_so_instead_of_ready(
+def test_with_hub_config_and_a_tunnel_module_the_agent_binds_hub_config_and_never_imports(
+    hub: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import hub as hub_api
+    import tunnel
+
+    imported = ModuleType("tunnel")  # what "import tunnel" would give, if it ran
+    monkeypatch.setitem(sys.modules, "tunnel", imported)
+    agent_module = start_agent()
+    tried: list[str] = []
+    assert agent_module.find_tunnel(tried) == (tunnel, CONFIG_FORM)
+    assert tried == [CONFIG_FORM]
+    assert hub_api.config["module_tunnel"] is tunnel
+    assert len(tunnel.RECEIVER) == 1  # main() bound the hub.config module, not the import
+
+
+def test_without_hub_config_the_agent_falls_back_to_import_tunnel(
+    hub: ModuleType, capsys: pytest.CaptureFixture[str]
+) -> None:
+    import hub as hub_api
+    import tunnel
+
+    del hub_api.config["module_tunnel"]
+    agent_module = start_agent()
+    assert capsys.readouterr().out == (
+        f"{agent_module.AGENT_VERSION} ready, tunnel from {IMPORT_FORM}\n"
+    )
+    assert len(tunnel.RECEIVER) == 1
+    tried: list[str] = []
+    assert agent_module.find_tunnel(tried) == (tunnel, IMPORT_FORM)
+    assert tried == [CONFIG_FORM, IMPORT_FORM]
+
+
+def test_without_a_tunnel_the_agent_names_the_firmware_and_both_forms_instead_of_ready(
     hub: ModuleType, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
+    import os
+
+    import hub as hub_api
+
+    del hub_api.config["module_tunnel"]
     monkeypatch.setitem(sys.modules, "tunnel", None)  # makes "import tunnel" fail
+    uname = os.uname_result(("LEGO", "hub", "3.4.0", "v3.4.0 on 2024-05-01", "SPIKE"))
+    monkeypatch.setattr(os, "uname", lambda: uname)
     start_agent()
     assert capsys.readouterr().out == (
-        "roboscript agent: this firmware has no tunnel module; nothing will answer\n"
+        "roboscript agent: no tunnel on this hub (firmware 3.4.0 (v3.4.0 on 2024-05-01)):"
+        f" tried {CONFIG_FORM} and {IMPORT_FORM}; update the hub with the SPIKE App 3\n"
     )
+    assert ("light_matrix.write", ("NO TUNNEL",), {}) in hub.CALLS
 
 
 def test_the_running_agent_answers_a_version_query_from_the_tunnel(
@@ -144,7 +199,17 @@ def test_the_agent_uses_only_what_the_hubs_micropython_has() -> None:
         assert not isinstance(node, ast.AnnAssign), f"line {node.lineno}: annotation"
         if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
             assert node.returns is None and all(a.annotation is None for a in node.args.args)
-    assert imported == {"struct", "time", "motor", "motor_pair", "runloop", "hub", "tunnel"}
+    assert imported == {
+        "struct",
+        "time",
+        "os",
+        "motor",
+        "motor_pair",
+        "runloop",
+        "hub",
+        "tunnel",
+        "color_sensor",
+    }
 
 
 # ------------------------------------------------------------------------------- commands
@@ -171,6 +236,13 @@ CALLS = [
         [("motor_pair.move_tank_for_degrees", (0, 720, 200, 100))],
         id="move",
     ),
+    pytest.param(t.MotorRun(2, -150, 0), [("motor.run", (2, -150))], id="motor-run"),
+    pytest.param(
+        t.MotorForDegrees(4, 5, -90, 300),
+        [("motor.run_for_degrees", (5, -90, 300))],
+        id="motor-for-degrees",
+    ),
+    pytest.param(t.MotorStop(3), [("motor.stop", (3,))], id="motor-stop"),
 ]
 
 
@@ -359,3 +431,83 @@ def test_arbitrary_tunnel_bytes_never_stop_the_agent_and_every_reply_is_readable
         agent.poll(now_ms)
     for item in replies(sent):
         assert isinstance(item, t.Record), item
+
+
+# ------------------------------------------------------------------ colour, buttons, motors
+
+
+def test_watch_reports_reflection_and_buttons_every_interval(
+    agent_module: ModuleType, hub: ModuleType
+) -> None:
+    import color_sensor
+    from hub import button
+
+    color_sensor.REFLECTION[4] = 37
+    button.HELD.add(button.RIGHT)
+    agent, sent = make_agent(agent_module)
+    command(agent, t.Watch(4, 50), now_ms=1000)
+    assert replies(sent) == [t.Report(37, t.BUTTON_BITS["right"])]
+    color_sensor.REFLECTION[4] = 80
+    button.HELD.clear()
+    agent.poll(1049)
+    assert len(sent) == 1  # not yet: 50 ms apart
+    agent.poll(1050)
+    assert replies(sent)[1:] == [t.Report(80, 0)]
+    command(agent, t.Watch(4, 0), now_ms=1100)
+    agent.poll(2000)
+    assert len(sent) == 2  # interval 0 stops the reports
+
+
+def test_a_port_without_a_colour_sensor_reports_no_reflection(
+    agent_module: ModuleType, hub: ModuleType
+) -> None:
+    agent, sent = make_agent(agent_module)
+    command(agent, t.Watch(2, 20))
+    command(agent, t.Watch(t.NO_PORT, 20))
+    assert replies(sent) == [t.Report(t.NO_REFLECTION, 0), t.Report(t.NO_REFLECTION, 0)]
+    assert hub.names().count("color_sensor.reflection") == 1
+
+
+def test_a_one_motor_command_on_a_drive_port_is_refused(
+    agent_module: ModuleType, hub: ModuleType
+) -> None:
+    agent, sent = make_agent(agent_module)
+    command(agent, t.Configure(0, 1), t.MotorRun(1, 100, 0), t.MotorForDegrees(1, 0, 90, 100))
+    assert replies(sent) == [
+        t.Refused(t.MotorRun.op, t.RefuseReason.BAD_VALUE),
+        t.Refused(t.MotorForDegrees.op, t.RefuseReason.BAD_VALUE),
+    ]
+    assert "motor.run" not in hub.names() and "motor.run_for_degrees" not in hub.names()
+
+
+def test_the_watchdog_brakes_the_other_motors_too_but_stop_brakes_only_the_wheels(
+    agent_module: ModuleType, hub: ModuleType
+) -> None:
+    agent, _ = make_agent(agent_module)
+    command(agent, t.Configure(0, 1), t.MotorRun(5, 200, 0), t.Stop(), now_ms=0)
+    assert ("motor.stop", (5,)) not in [(name, args) for name, args, _ in hub.CALLS]
+    command(agent, t.MotorRun(5, 200, 300), now_ms=0)
+    start = len(hub.CALLS)
+    agent.poll(299)
+    assert len(hub.CALLS) == start
+    agent.poll(300)  # the MotorRun's watchdog: the host went quiet
+    stopped = [args for name, args, _ in hub.CALLS[start:] if name == "motor.stop"]
+    assert stopped == [(0,), (1,), (5,)]
+
+
+def test_a_motor_move_reports_move_done_with_its_seq(
+    agent_module: ModuleType, hub: ModuleType
+) -> None:
+    import runloop
+    import standin_log
+    import tunnel
+
+    tunnel.deliver(t.encode(t.MotorForDegrees(9, 2, 180, 360)))
+    step(runloop.STARTED[0])
+    move = standin_log.PENDING[-1]
+    assert move.name == "motor.run_for_degrees"
+    step(runloop.STARTED[1])
+    assert replies(tunnel.SENT) == []
+    move.finish()
+    step(runloop.STARTED[1])
+    assert replies(tunnel.SENT) == [t.MoveDone(9, t.MoveStatus.DONE)]

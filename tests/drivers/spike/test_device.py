@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
 
 import pytest
 
@@ -196,7 +197,9 @@ def test_program_flow_answers_then_notifies_and_the_agent_prints_when_booted() -
         m.ProgramFlowNotification(m.ProgramAction.START),
     ]
     hub.run(0.3)
-    assert hub.answers() == [m.ConsoleNotification("test-agent 3 ready")]
+    assert hub.answers() == [
+        m.ConsoleNotification("test-agent 3 ready, tunnel from hub.config['module_tunnel']")
+    ]
     hub.send(m.ProgramFlowRequest(m.ProgramAction.STOP, SLOT))
     assert hub.answers() == [
         m.ProgramFlowResponse(ACK),
@@ -378,6 +381,7 @@ def test_a_notification_holds_the_hub_then_each_port_in_order() -> None:
         ("DeviceForce", m.HubPort.C),
         ("DeviceDistance", m.HubPort.D),
         ("DeviceColor", m.HubPort.E),
+        ("DeviceMotor", m.HubPort.F),  # the extra motor (option 'motors': the free port)
     ]
     assert notification.unparsed == b""
 
@@ -390,7 +394,8 @@ def test_devices_follow_the_profile_ports() -> None:
     ports = {type(d).__name__: getattr(d, "port", None) for d in notification.devices}
     assert ports["DeviceDistance"] is m.HubPort.A
     motors = [d.port for d in notification.devices if isinstance(d, m.DeviceMotor)]
-    assert motors == [m.HubPort.E, m.HubPort.F]
+    # E and F drive; B and D, which no option names, get the extra motors.
+    assert motors == [m.HubPort.B, m.HubPort.D, m.HubPort.E, m.HubPort.F]
 
 
 def test_yaw_counts_counter_clockwise() -> None:
@@ -439,3 +444,208 @@ def test_power_off_ends_the_program_and_stops_the_motors() -> None:
     hub.sim.stop_all()
     assert hub.device.running_slot is None
     assert hub.device.body.power == [0.0, 0.0]
+
+
+# -------------------------------------------------------- upload checks (LEGO's crc() rules)
+
+
+def test_a_chunk_after_one_that_is_not_a_multiple_of_4_bytes_is_refused_at_once() -> None:
+    hub = Hub()
+    answers = hub.upload(AGENT, chunk=510)  # each chunk padded: LEGO's crc(), per chunk
+    statuses = [a.status for a in answers if isinstance(a, m.TransferChunkResponse)]
+    assert statuses == [ACK] + [NACK] * (len(statuses) - 1) and len(statuses) > 2
+    assert hub.device.refused_chunks[0] == (
+        2,
+        "it follows a chunk whose size is not a multiple of 4 bytes",
+    )
+    assert SLOT not in hub.device.slots
+
+
+def test_a_wrong_running_crc_is_refused_at_that_chunk_and_says_why() -> None:
+    hub = Hub()
+    hub.send(m.StartFileUploadRequest("agent.py", SLOT, crc32(AGENT)))
+    first, second = AGENT[:512], AGENT[512:1024]
+    running = crc32(first)
+    hub.send(m.TransferChunkRequest(running, first), m.TransferChunkRequest(running, second))
+    statuses = [a.status for a in hub.answers() if isinstance(a, m.TransferChunkResponse)]
+    assert statuses == [ACK, NACK]
+    (refusal,) = hub.device.refused_chunks
+    assert refusal == (2, f"running CRC 0x{running:08x} is not 0x{crc32(second, running):08x}")
+
+
+# ------------------------------------------------------------------------ tunnel binding
+
+
+@pytest.mark.parametrize(
+    ("offered", "tried", "bound"),
+    [
+        (
+            ("hub.config['module_tunnel']", "import tunnel"),
+            ["hub.config['module_tunnel']"],
+            "hub.config['module_tunnel']",
+        ),
+        (("import tunnel",), ["hub.config['module_tunnel']", "import tunnel"], "import tunnel"),
+    ],
+    ids=["both-offered", "import-only"],
+)
+def test_the_agent_binds_the_first_form_the_firmware_offers(
+    offered: tuple[str, ...], tried: list[str], bound: str
+) -> None:
+    hub = Hub()
+    hub.device.config = replace(hub.device.config, tunnel_forms=offered)
+    hub.start_agent()
+    assert (hub.device.tunnel_tried, hub.device.tunnel_form) == (tried, bound)
+    hub.tunnel(t.VersionQuery())
+    assert hub.tunnel_replies() == [t.Version("test-agent 3")]
+
+
+def test_without_a_tunnel_the_agent_names_the_firmware_and_never_answers() -> None:
+    hub = Hub()
+    hub.device.config = replace(hub.device.config, tunnel_forms=(), firmware_version=(3, 4, 0))
+    hub.upload(AGENT)
+    hub.send(m.ProgramFlowRequest(m.ProgramAction.START, SLOT))
+    hub.run(0.5)
+    consoles = [a for a in hub.answers() if isinstance(a, m.ConsoleNotification)]
+    assert consoles == [
+        m.ConsoleNotification(
+            "roboscript agent: no tunnel on this hub (firmware 3.4.0): tried"
+            " hub.config['module_tunnel'] and import tunnel; update the hub with the SPIKE App 3"
+        )
+    ]
+    hub.tunnel(t.VersionQuery())
+    assert hub.tunnel_replies() == []
+
+
+def test_the_simulated_agent_tries_the_forms_in_the_real_agents_order() -> None:
+    import ast
+
+    from roboscript.drivers.spike.device import AGENT_TUNNEL_ORDER
+
+    agent = Path(__file__).parents[3] / "roboscript" / "drivers" / "spike" / "agent"
+    tree = ast.parse((agent / "hub_agent.py").read_text(encoding="utf-8"))
+    (forms,) = [
+        ast.literal_eval(node.value)
+        for node in tree.body
+        if isinstance(node, ast.Assign) and ast.unparse(node.targets[0]) == "TUNNEL_FORMS"
+    ]
+    assert forms == AGENT_TUNNEL_ORDER
+
+
+# ------------------------------------------------------------ colour sensor and buttons
+
+
+def colour_and_reports(hub: Hub) -> tuple[m.DeviceColor, list[t.Report]]:
+    """The colour sensor in the last notification, and the agent's Reports since last read."""
+    replies = hub.replies()
+    notification = [x for x in replies if isinstance(x, m.DeviceNotification)][-1]
+    (color,) = [d for d in notification.devices if isinstance(d, m.DeviceColor)]
+    reports = [
+        record
+        for x in replies
+        if isinstance(x, m.TunnelMessage)
+        for record in t.decode_records(x.data, Role.HOST)
+        if isinstance(record, t.Report)
+    ]
+    return color, reports
+
+
+def test_the_colour_sensor_sees_the_tape_under_it_black_and_dark() -> None:
+    hub = Hub("line-track")  # starts on the tape
+    hub.start_agent()
+    hub.tunnel(t.Watch(int(m.HubPort.E), 50))
+    hub.send(m.DeviceNotificationRequest(50))
+    hub.run(0.05)
+    color, reports = colour_and_reports(hub)
+    assert (color.color, color.red, color.green, color.blue) == (m.Color.BLACK, 60, 60, 70)
+    assert reports and {r.reflection_percent for r in reports} == {10}
+
+
+def test_a_coloured_floor_patch_is_named_and_reflects_its_own_share(tmp_path: Path) -> None:
+    world = tmp_path / "patch.yaml"
+    world.write_text(
+        "world: patch\nfloor:\n  - {color: red, box: {x: -50, y: 0, width: 100, height: 200}}\n"
+    )
+    hub = Hub(str(world))  # the sensor is 80 mm ahead of the centre: over the patch
+    hub.start_agent()
+    hub.tunnel(t.Watch(int(m.HubPort.E), 50))
+    hub.send(m.DeviceNotificationRequest(50))
+    hub.run(0.05)
+    color, reports = colour_and_reports(hub)
+    assert color.color is m.Color.RED and color.red > color.green
+    assert {r.reflection_percent for r in reports} == {55}
+
+
+def test_a_watch_on_a_port_without_the_colour_sensor_reports_no_reflection() -> None:
+    hub = Hub()
+    hub.start_agent()
+    hub.tunnel(t.Watch(int(m.HubPort.D), 50))
+    hub.run(0.02)
+    assert hub.tunnel_replies() == [t.Report(t.NO_REFLECTION, 0)]
+
+
+def test_buttons_pressed_by_a_test_or_the_world_script_are_reported(tmp_path: Path) -> None:
+    world = tmp_path / "buttons.yaml"
+    world.write_text("world: b\nbutton_presses:\n  - {at: 1 s, button: right, for: 200 ms}\n")
+    hub = Hub(str(world))
+    hub.start_agent()
+    hub.device.press_button("left", 0.1)
+    hub.tunnel(t.Watch(t.NO_PORT, 50))
+    hub.run(0.7)  # to t = 1.0 s
+    held = [r.pressed() for r in hub.tunnel_replies() if isinstance(r, t.Report)]
+    assert held[0] == {"left"} and held[-1] == {"right"} and frozenset() in held
+    hub.run(0.3)
+    assert [r.pressed() for r in hub.tunnel_replies() if isinstance(r, t.Report)][-1] == set()
+    with pytest.raises(ValueError, match=r"no 'center' button"):
+        hub.device.press_button("center")
+
+
+# ---------------------------------------------------------------------------- extra motors
+
+
+def test_an_extra_motor_turns_by_its_angle_and_reports_done() -> None:
+    hub = Hub()
+    hub.start_agent()
+    hub.send(m.DeviceNotificationRequest(50))
+    hub.tunnel(t.MotorForDegrees(7, int(m.HubPort.F), -90, 180))
+    hub.run(0.4)
+    assert hub.tunnel_replies() == []
+    hub.run(0.2)
+    assert hub.tunnel_replies() == [t.MoveDone(7, t.MoveStatus.DONE)]
+    hub.run(0.05)
+    assert hub.motors()[m.HubPort.F].position_deg == -90
+
+
+def test_an_extra_motor_runs_through_a_wheel_stop_until_its_own_stop() -> None:
+    hub = Hub()
+    hub.start_agent()
+    hub.send(m.DeviceNotificationRequest(50))
+    hub.tunnel(t.MotorRun(int(m.HubPort.F), 100, 0), t.Stop())  # Stop is for the wheels
+    hub.run(1.0)
+    assert hub.motors()[m.HubPort.F].position_deg == 100
+    hub.tunnel(t.MotorForDegrees(8, int(m.HubPort.F), 720, 100), t.MotorStop(int(m.HubPort.F)))
+    hub.run(0.5)
+    assert hub.tunnel_replies() == [t.MoveDone(8, t.MoveStatus.CANCELLED)]
+    hub.run(0.05)
+    assert hub.motors()[m.HubPort.F].position_deg == 100
+
+
+def test_the_watchdog_brakes_an_extra_motor_when_the_host_goes_quiet() -> None:
+    hub = Hub()
+    hub.start_agent()
+    hub.send(m.DeviceNotificationRequest(50))
+    hub.tunnel(t.MotorRun(int(m.HubPort.F), 100, 500))
+    hub.run(1.0)
+    stopped_at = hub.motors()[m.HubPort.F].position_deg
+    assert stopped_at == pytest.approx(50, abs=2)  # 0.5 s at 100 deg/s
+    hub.run(1.0)
+    assert hub.motors()[m.HubPort.F].position_deg == stopped_at
+
+
+def test_one_motor_commands_on_a_drive_port_or_an_empty_port_are_refused() -> None:
+    hub = Hub()
+    hub.start_agent()
+    hub.tunnel(t.MotorRun(int(m.HubPort.A), 100, 0), t.MotorStop(int(m.HubPort.C)))
+    assert hub.tunnel_replies() == [
+        t.Refused(t.MotorRun.op, t.RefuseReason.BAD_VALUE),
+        t.Refused(t.MotorStop.op, t.RefuseReason.BAD_VALUE),
+    ]

@@ -141,7 +141,7 @@ def test_a_first_connection_uploads_the_agent_then_starts_and_configures_it() ->
     assert records.index(t.VersionQuery()) < records.index(t.Configure(0, 1))
     assert m.DeviceNotificationRequest(50) in session.sent()
     assert session.driver.describe() == (
-        "SPIKE Prime hub 'Simulated SPIKE' (firmware 1.0.0, roboscript-agent 1)"
+        "SPIKE Prime hub 'Simulated SPIKE' (firmware 1.0.0, roboscript-agent 2)"
     )
 
 
@@ -193,8 +193,13 @@ def test_a_hub_refusing_a_chunk_fails_the_connection_in_one_sentence(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     monkeypatch.setattr(spike_driver, "crc32", lambda data, seed=0: 1234)
-    with pytest.raises(DeviceError, match="refused a piece of roboscript's agent"):
+    with pytest.raises(DeviceError) as caught:
         Session()
+    chunks = -(-len(agent_source()) // 512)
+    assert str(caught.value) == (
+        f"the SPIKE hub refused piece 1 of {chunks} of roboscript's agent"
+        " (running CRC 0x000004d2), so the agent was not stored"
+    )
 
 
 def test_an_agent_that_never_answers_fails_the_connection_in_one_sentence() -> None:
@@ -205,21 +210,22 @@ def test_an_agent_that_never_answers_fails_the_connection_in_one_sentence() -> N
         Session(prepare=never_boots)
     assert str(caught.value) == (
         "roboscript's agent did not start on the hub after the upload: the program in the slot"
-        " does not answer; is the hub running SPIKE App 3 firmware?"
+        " does not answer; is the hub (firmware 1.0.0) running SPIKE App 3 firmware?"
     )
 
 
 def test_a_drive_motor_missing_from_its_port_is_named() -> None:
-    profile = replace(get_profile("spike-prime"), options={"left_motor": "F"})
-    with pytest.raises(DeviceError, match=r"no drive motor on port F .*found on: A, B"):
+    profile = replace(get_profile("spike-prime"), options={"left_motor": "C"})
+    with pytest.raises(DeviceError, match=r"no drive motor on port C .*found on: A, B, F\)"):
         Session(profile=profile)
 
 
 def test_console_lines_become_log_lines(caplog: pytest.LogCaptureFixture) -> None:
     with caplog.at_level(logging.INFO, logger="roboscript.drivers.spike.driver"):
         session = Session()
-    assert "hub says: roboscript-agent 1 ready" in caplog.messages
-    assert list(session.driver.console) == ["roboscript-agent 1 ready"]
+    ready = "roboscript-agent 2 ready, tunnel from hub.config['module_tunnel']"
+    assert f"hub says: {ready}" in caplog.messages
+    assert list(session.driver.console) == [ready]
 
 
 # -------------------------------------------------------------------------------- driving
@@ -372,6 +378,9 @@ def test_the_robot_has_every_capability_of_its_profile() -> None:
             (cap.HEADING, cap.HeadingSensor),
             (cap.FORCE, cap.ForceSensor),
             (cap.COLOR, cap.ColorSensor),
+            (cap.LINE, cap.LineSensors),
+            (cap.BUTTONS, cap.HubButtons),
+            (cap.MOTORS, cap.Motors),
         ]:
             assert isinstance(robot.capabilities[name], protocol), name
 
@@ -440,3 +449,99 @@ def test_a_plausible_reading_is_not_counted() -> None:
     session.run(0.02)
     assert session.link.faults["out_of_range"] == 0
     assert session.capability(cap.RANGE).distance_mm() == 1999.0
+
+
+# ------------------------------------------------------------- colour, buttons, motors
+
+
+def test_the_colour_sensor_reads_reflection_colour_and_rgb_and_serves_as_a_line_sensor() -> None:
+    session = Session(world="line-track")  # starts with the sensor on the tape
+    session.run(0.2)
+    color = session.capability(cap.COLOR)
+    assert (color.reflection_percent(), color.color_name(), color.rgb()) == (
+        10.0,
+        "black",
+        (60, 60, 70),
+    )
+    line = session.capability(cap.LINE)
+    assert line.names == ("center",)
+    (darkness,) = line.values()
+    assert darkness == pytest.approx(1023 * 0.9) and darkness > line.dark_threshold
+    assert t.Watch(int(m.HubPort.E), 50) in session.sent_records()
+
+
+def test_the_hub_buttons_read_what_the_agent_reports() -> None:
+    session = Session()
+    buttons = session.capability(cap.BUTTONS)
+    assert buttons.names == ("left", "right") and buttons.pressed() == frozenset()
+    session.hub.press_button("left", 0.3)
+    session.run(0.1)
+    assert buttons.pressed() == frozenset({"left"})
+    session.run(0.4)
+    assert buttons.pressed() == frozenset()
+
+
+def test_an_extra_motor_turns_by_an_angle_and_reports_the_result() -> None:
+    session = Session()
+    motors = session.capability(cap.MOTORS)
+    assert motors.ports == ("F",)
+    handle = motors.run_for_degrees("F", -45, 90.0)
+    session.run(0.2)
+    assert motors.move_result(handle) is None
+    session.run(0.5)
+    assert motors.move_result(handle) == "done"
+    assert session.hub.extra_motors[int(m.HubPort.F)].position_deg == -45
+    assert t.MotorForDegrees(handle, int(m.HubPort.F), -45, 90) in session.sent_records()
+
+
+def test_an_extra_motor_runs_refreshed_within_its_watchdog_until_stopped() -> None:
+    session = Session()
+    motors = session.capability(cap.MOTORS)
+    motors.run("F", 120.0)
+    session.run(1.2)
+    runs = [r for r in session.sent_records() if isinstance(r, t.MotorRun)]
+    assert len(runs) >= 3 and runs[0] == t.MotorRun(int(m.HubPort.F), 120, 1500)
+    motors.stop("F")
+    session.run(0.1)
+    position = session.hub.extra_motors[int(m.HubPort.F)].position_deg
+    session.run(0.5)
+    assert session.hub.extra_motors[int(m.HubPort.F)].position_deg == position
+    assert position == pytest.approx(120 * 1.2, abs=15)
+
+
+def test_a_motor_on_a_port_the_profile_does_not_list_is_refused_in_one_sentence() -> None:
+    session = Session()
+    with pytest.raises(DeviceError) as caught:
+        session.capability(cap.MOTORS).run("C", 90.0)
+    assert str(caught.value) == (
+        "there is no motor on port C in profile spike-prime (its 'motors' option lists: F)"
+    )
+
+
+def test_a_hub_without_a_tunnel_fails_naming_the_firmware_and_the_forms_tried() -> None:
+    def no_tunnel(hub: SpikeHub) -> None:
+        hub.config = replace(hub.config, tunnel_forms=(), firmware_version=(3, 4, 0))
+
+    with pytest.raises(DeviceError) as caught:
+        Session(prepare=no_tunnel)
+    assert str(caught.value) == (
+        "roboscript's agent did not start on the hub after the upload: the program in the slot"
+        " does not answer (the hub printed: roboscript agent: no tunnel on this hub (firmware"
+        " 3.4.0): tried hub.config['module_tunnel'] and import tunnel; update the hub with the"
+        " SPIKE App 3); is the hub (firmware 3.4.0) running SPIKE App 3 firmware?"
+    )
+
+
+def test_stop_all_brakes_every_extra_motor_used_and_a_wheel_stop_does_not() -> None:
+    session = Session()
+    base, motors = session.capability(cap.DRIVE_BASE), session.capability(cap.MOTORS)
+    motors.run("F", 200.0)
+    base.set_wheel_speeds(100.0, 100.0)
+    session.run(0.3)
+    base.stop()
+    session.run(0.3)
+    assert t.MotorStop(int(m.HubPort.F)) not in session.sent_records()
+    assert session.hub.extra_motors[int(m.HubPort.F)].speed_deg_s == 200.0
+    session.driver.stop_all()
+    assert session.sent_records()[-2:] == [t.Stop(), t.MotorStop(int(m.HubPort.F))]
+    assert session.hub.extra_motors[int(m.HubPort.F)].speed_deg_s == 0.0

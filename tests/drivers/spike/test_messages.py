@@ -94,7 +94,7 @@ EXAMPLES: list[tuple[Message, str]] = [
     (StartFirmwareUploadResponse(ACK, 1000), "0b 00 e8030000"),
     (
         StartFileUploadRequest("program.py", 0, 0xDEADBEEF),
-        "0c" + b"program.py".hex() + "00" * 22 + "00 efbeadde",
+        "0c" + b"program.py".hex() + "00" + "00 efbeadde",
     ),
     (StartFileUploadResponse(NACK), "0d 01"),
     (TransferChunkRequest(0x01020304, b"abc"), "10 04030201 0300 616263"),
@@ -257,11 +257,11 @@ def test_messages_are_frozen() -> None:
 # ---------------------------------------------------------------------------- strings
 
 
-def test_file_name_variable_length_form() -> None:
-    fixed = StartFileUploadRequest("program.py", 0, 0xDEADBEEF)
-    variable = bytes.fromhex("0c" + b"program.py".hex() + "00" + "00 efbeadde")
-    assert decode_message(variable) == fixed
-    assert len(variable) == 1 + len("program.py") + 1 + 1 + 4
+def test_file_name_fixed_padded_form_still_decodes() -> None:
+    message = StartFileUploadRequest("program.py", 0, 0xDEADBEEF)
+    padded = bytes.fromhex("0c" + b"program.py".hex() + "00" * 22 + "00 efbeadde")
+    assert decode_message(padded) == message
+    assert len(message.encode()) == 1 + len("program.py") + 1 + 1 + 4
 
 
 def test_file_name_of_31_bytes() -> None:

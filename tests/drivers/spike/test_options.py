@@ -63,3 +63,31 @@ def test_a_profile_file_rewires_the_driver_and_the_simulated_hub(tmp_path: Path)
         robot.run_for(1.0)
         assert robot.drive_base.wheel_distances_mm()[0] > 50
         assert 3 in robot.simulation.device.slots
+
+
+def test_extra_motors_default_to_the_ports_no_other_option_names() -> None:
+    assert SpikeOptions.from_mapping({}, profile="p").motors == (5,)
+    rewired = SpikeOptions.from_mapping({"left_motor": "E", "right_motor": "F"}, profile="p")
+    assert rewired.motors == (0, 1)  # A and B are free once the wheels move to E and F
+
+
+@pytest.mark.parametrize(("value", "ports"), [("c", (2,)), (["C"], (2,)), ("", ())])
+def test_extra_motors_are_port_letters(value: object, ports: tuple[int, ...]) -> None:
+    # With the force sensor moved to F, C is the one port no device option names.
+    options = SpikeOptions.from_mapping({"force": "F", "motors": value}, profile="p")
+    assert options.motors == ports
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        ("G", "option 'motors' must be port letters A-F"),
+        (3, "option 'motors' must be port letters A-F"),
+        ("FF", "lists a port twice"),
+        ("D", "lists port D, which is the distance's port"),
+        ("A", "lists port A, which is the left motor's port"),
+    ],
+)
+def test_bad_extra_motor_ports_are_refused(value: object, message: str) -> None:
+    with pytest.raises(ProfileError, match=message):
+        SpikeOptions.from_mapping({"motors": value}, profile="p")

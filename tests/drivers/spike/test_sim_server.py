@@ -130,7 +130,7 @@ def test_a_raw_client_gets_correct_answers_to_every_request_type(server_port: in
     assert started == [
         m.ProgramFlowResponse(ACK),
         m.ProgramFlowNotification(m.ProgramAction.START),
-        m.ConsoleNotification("tcp-test 1 ready"),
+        m.ConsoleNotification("tcp-test 1 ready, tunnel from hub.config['module_tunnel']"),
     ]
     (reply,) = hub.ask(m.TunnelMessage(t.VersionQuery().encode()), m.TunnelMessage)
     assert isinstance(reply, m.TunnelMessage)
@@ -154,7 +154,7 @@ def test_a_raw_client_gets_correct_answers_to_every_request_type(server_port: in
     assert response == m.DeviceNotificationResponse(ACK)
     assert isinstance(notification, m.DeviceNotification)
     motors = [d.port for d in notification.devices if isinstance(d, m.DeviceMotor)]
-    assert motors == [m.HubPort.A, m.HubPort.B]
+    assert motors == [m.HubPort.A, m.HubPort.B, m.HubPort.F]  # drive A, B; the arm motor F
 
     # Firmware updates are refused by the simulator.
     assert hub.ask(m.StartFirmwareUploadRequest(bytes(20), 0), m.StartFirmwareUploadResponse) == [

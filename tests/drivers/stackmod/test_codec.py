@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import pytest
 
 from roboscript.codec import Codec, Role, drain
 from roboscript.drivers.stackmod.codec import (
+    I2C_WRITE_MAX_BYTES,
     LONGEST_PACKET_BYTES,
     ChecksumRule,
     StackModCodec,
@@ -21,6 +24,7 @@ from roboscript.drivers.stackmod.messages import (
     Get,
     GetReply,
     Message,
+    MotorPwm,
     Set,
 )
 from roboscript.errors import LocalProtocolError, RemoteProtocolError
@@ -426,3 +430,65 @@ def test_host_sends_two_address_form() -> None:
     host = StackModCodec(Role.HOST, checksum="braces_excluded")
     data = host.send(Set(0x45, Command.MTR, 1, -100, source=HOST_SOURCE))
     assert data == packet(b"{Ep$MTR1-100}", "braces_excluded")
+
+
+# -- the author's own packet and I2C framing ---------------------------------------------------
+
+
+def test_host_sends_the_authors_motor_packet_with_pwm_values() -> None:
+    host = StackModCodec(Role.HOST, checksum="braces_excluded")
+    assert host.send(MotorPwm(ord("M"), 1, 139)) == b"{Mp$MTR1+139}p"
+    assert host.send(MotorPwm(ord("E"), 2, -255)) == b"{Ep$MTR2-255}j"
+    assert host.send(MotorPwm(ord("E"), 1, 0)) == b"{Ep$MTR1+000}["
+
+
+def test_i2c_framing_leads_every_write_with_the_register_byte() -> None:
+    host = StackModCodec(Role.HOST, checksum="braces_excluded", framing="i2c")
+    assert host.send(MotorPwm(ord("E"), 1, 139)) == b"2{Ep$MTR1+139}h"
+    assert host.send(Get(X, Command.MTR, 2)) == b"2" + packet(b"{X?MTR2}", "braces_excluded")
+    longest = host.send(Set(X, Command.MTR, 1, -100, source=HOST_SOURCE))
+    assert len(longest) == LONGEST_PACKET_BYTES + 1 <= I2C_WRITE_MAX_BYTES
+
+
+def test_a_device_with_i2c_framing_skips_register_bytes_but_not_other_strays() -> None:
+    device = StackModCodec(Role.DEVICE, framing="i2c")
+    one, two = packet(b"{X$MTR1+010}"), packet(b"{X$MTR2+020}")
+    assert decode(device, b"2" + one + b"2" + two) == [
+        Set(X, Command.MTR, 1, 10),
+        Set(X, Command.MTR, 2, 20),
+    ]
+    assert not device.stats.faults
+    assert decode(device, b"22" + one) == ["garbage", Set(X, Command.MTR, 1, 10)]
+    serial = StackModCodec(Role.DEVICE)
+    assert decode(serial, b"2" + one) == ["garbage", Set(X, Command.MTR, 1, 10)]
+
+
+def test_a_register_byte_split_from_its_packet_is_still_skipped() -> None:
+    device = StackModCodec(Role.DEVICE, framing="i2c")
+    device.receive_data(b"2")
+    assert device.next_message() is None
+    device.receive_data(packet(b"{X$MTR1+010}"))
+    assert list(drain(device)) == [Set(X, Command.MTR, 1, 10)]
+
+
+@pytest.mark.parametrize(
+    ("make", "message"),
+    [
+        (lambda: MotorPwm(ord("E"), 0, 10), "motor must be an int 1..9"),
+        (lambda: MotorPwm(ord("E"), 10, 10), "motor must be an int 1..9"),
+        (lambda: MotorPwm(ord("E"), 1, 256), "PWM must be an int -255..255"),
+        (lambda: MotorPwm(ord("E"), 1, -256), "PWM must be an int -255..255"),
+        (lambda: MotorPwm(ord("p"), 1, 0), "address must be an int 0x40..0x5F"),
+        (lambda: MotorPwm(ord("E"), 1, 0, ord("E")), "source must be None or an int 0x60"),
+    ],
+)
+def test_the_authors_packet_refuses_values_it_cannot_carry(
+    make: Callable[[], object], message: str
+) -> None:
+    with pytest.raises(LocalProtocolError, match=message):
+        make()
+
+
+def test_an_unknown_framing_is_refused() -> None:
+    with pytest.raises(ValueError, match="unknown StackMod framing 'spi'"):
+        StackModCodec(Role.HOST, framing="spi")  # type: ignore[arg-type]

@@ -61,12 +61,31 @@ def test_the_seed_examples_are_answered_byte_for_byte() -> None:
     assert rover.send(b"{X$SRV1168}$", b"{X?SRV1}_") == pk(b"{X?SRV1168}")
 
 
-def test_modules_power_on_disarmed_and_ignore_outputs_until_armed() -> None:
+def test_a_plain_seed_mtr_set_moves_the_motor_without_any_arm() -> None:
+    """ARM has no data format in the seed: a module built on the seed alone moves its motor on
+    the document's own ``{X$MTR2+025}``, so roboscript's simulated modules do too."""
+    rover = Rover(motor_address="X")
+    assert rover.send(b"{X$MTR2+025} ") == b""  # the seed's example, checksum and all
+    assert rover.sim.body.power == [0.0, 0.25]
+    rover.send(pk(b"{X$MTR1-050}"))
+    assert rover.sim.body.power == [-0.5, 0.25]
+    assert rover.send(pk(b"{X?ARM0}")) == pk(b"{X?ARM01}")
+
+
+def test_a_disarmed_module_ignores_outputs_and_says_why_once(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
     rover = Rover()
-    assert rover.send(pk(b"{M?ARM0}"), pk(b"{I?ARM0}")) == pk(b"{M?ARM00}") + pk(b"{I?ARM00}")
-    rover.send(pk(b"{M$MTR1+050}"))
+    rover.send(pk(b"{M$ARM00}"))
+    with caplog.at_level("WARNING", logger="roboscript.drivers.stackmod.device"):
+        rover.send(pk(b"{M$MTR1+050}"), pk(b"{M$MTR2+050}"))
     assert rover.sim.body.power == [0.0, 0.0]
     assert rover.send(pk(b"{M?MTR1}")) == pk(b"{M?MTR1+000}")
+    said = (
+        "simulated StackMod module 'M' (0x4D) ignores MTR SETs: a host disarmed it with ARM 0 "
+        "(send ARM 1 to arm it again)"
+    )
+    assert [r.getMessage() for r in caplog.records] == [said]
     rover.send(pk(b"{M$ARM01}"), pk(b"{M$MTR1+050}"), pk(b"{M$MTR2-030}"))
     assert rover.sim.body.power == [0.5, -0.3]
     assert rover.send(pk(b"{M?ARM0}")) == pk(b"{M?ARM01}")
@@ -166,7 +185,7 @@ def test_bad_checksums_and_garbage_are_dropped_silently() -> None:
     rover = Rover()
     assert pk(b"{M?ARM0}")[-1:] != b"!"
     assert rover.send(b"\x00\xffnoise", b"{M?ARM0}!", b"{M?ARM") == b""
-    assert rover.send(b"0}" + pk(b"{M?ARM0}")[-1:]) == pk(b"{M?ARM00}")
+    assert rover.send(b"0}" + pk(b"{M?ARM0}")[-1:]) == pk(b"{M?ARM01}")
     faults = rover.device.codec.stats.faults
     assert faults["bad_checksum"] == 1
     assert faults["garbage"] == 1
@@ -192,17 +211,17 @@ def test_braces_excluded_checksum_rule_is_an_option() -> None:
 
     rover = Rover(checksum="braces_excluded")
     assert rover.send(pk(b"{M?ARM0}")) == b""
-    assert rover.send(excluded(b"{M?ARM0}")) == excluded(b"{M?ARM00}")
+    assert rover.send(excluded(b"{M?ARM0}")) == excluded(b"{M?ARM01}")
 
 
-def test_power_loss_stops_and_disarms_everything() -> None:
+def test_power_loss_stops_everything_and_modules_come_back_as_at_power_on() -> None:
     rover = Rover()
     rover.send(pk(b"{M$ARM01}"), pk(b"{M$MTR1+050}"), pk(b"{I$ARM01}"), pk(b"{I$DGT081}"))
     rover.run(0.1)
     rover.sim.stop_all()
     assert rover.sim.body.power == [0.0, 0.0]
     assert [round(d, 3) for _, _, d in rover.sim.log.tones] == [0.1]
-    assert rover.send(pk(b"{M?ARM0}")) == pk(b"{M?ARM00}")
+    assert rover.send(pk(b"{M?MTR1}"), pk(b"{M?ARM0}")) == pk(b"{M?MTR1+000}") + pk(b"{M?ARM01}")
 
 
 def test_the_built_in_robot_has_a_simulator() -> None:

@@ -44,6 +44,16 @@ def test_addresses_are_written_as_characters_or_numbers() -> None:
         ({"motor_address": "MM"}, "option 'motor_address' must be one character"),
         ({"ultrasonic_address": 0x60}, "option 'ultrasonic_address' must be one character"),
         ({"checksum": "crc"}, "option 'checksum' must be 'seed' or 'braces_excluded'"),
+        ({"firmware": "v2"}, "option 'firmware' must be 'seed' or 'reference'"),
+        ({"framing": "spi"}, "option 'framing' must be 'serial' or 'i2c'"),
+        (
+            {"firmware": "reference"},
+            "the reference firmware sums its checksum without the braces",
+        ),
+        (
+            {"firmware": "reference", "checksum": "braces_excluded", "left_motor": 0},
+            "the reference firmware numbers its motors from 1",
+        ),
         ({"invert_left": "yes"}, "option 'invert_left' must be true or false"),
         ({"left_motor": 10}, "option 'left_motor' must be a whole number 0-9"),
         ({"left_motor": 2}, "left_motor and right_motor must differ"),
@@ -96,5 +106,28 @@ def test_options_must_be_a_mapping_in_a_profile_file(tmp_path: Path) -> None:
         get_profile(str(path))
 
 
-def test_other_profiles_have_no_options() -> None:
-    assert get_profile("mirto").options == {}
+def test_the_reference_profile_speaks_the_authors_firmware() -> None:
+    profile = get_profile("stackmod-reference")
+    options = StackModOptions.from_mapping(profile.options, profile=profile.name)
+    assert (options.firmware, options.checksum, options.framing) == (
+        "reference",
+        "braces_excluded",
+        "i2c",
+    )
+    assert options.motor_address == ord("E")  # the author's module, I2C slave 0x45
+    assert (options.left_motor, options.right_motor) == (1, 2)
+    assert not options.answers_get
+    assert options.module_roles == {ord("E"): ("motor",)}
+    assert StackModOptions().answers_get
+
+
+def test_a_profile_file_can_extend_the_reference_profile(tmp_path: Path) -> None:
+    path = tmp_path / "modbot.yaml"
+    path.write_text(
+        "extends: stackmod-reference\noptions:\n  wheel_speed_mm_s_per_pct: 2.0\n",
+        encoding="utf-8",
+    )
+    profile = get_profile(str(path))
+    options = StackModOptions.from_mapping(profile.options, profile=profile.name)
+    assert options.firmware == "reference"
+    assert options.wheel_speed_mm_s_per_pct == 2.0

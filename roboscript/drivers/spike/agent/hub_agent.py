@@ -4,13 +4,14 @@ The App 3 hub protocol has no motor commands, so roboscript uploads this program
 starts it, and speaks to it over TunnelMessage in the tunnel format of
 ``roboscript/drivers/spike/tunnel.py`` (``op u8, size u8, arguments``, little-endian). The
 agent turns each command into a call of the hub's own API, so speeds are held by the hub's
-motor control (firmware PID). Sensor readings do not pass through the agent: the host asks the
-firmware for DeviceNotification messages directly.
+motor control (firmware PID). Most sensor readings do not pass through the agent: the host asks
+the firmware for DeviceNotification messages directly. The two things those messages lack, the
+colour sensor's reflection and the hub buttons, the agent reads and reports itself (``Watch``).
 
 This file is package data: the host reads it with ``importlib.resources`` and uploads it as
 is. It must run under the hub's MicroPython, so it uses no typing, no dataclasses and no
-standard-library module but ``struct``; roboscript's tests also run it under CPython, with
-stand-ins for the hub modules.
+standard-library module but ``struct`` (and ``os.uname`` for one message); roboscript's tests
+also run it under CPython, with stand-ins for the hub modules.
 
 Bump ``AGENT_VERSION`` whenever this file changes: the host uploads the agent only when the
 hub's copy answers the version query with a different version.
@@ -18,10 +19,12 @@ hub's copy answers the version query with a different version.
 
 import struct
 
+import color_sensor
+import hub
 import motor
 import motor_pair
 import runloop
-from hub import light_matrix, motion_sensor, sound
+from hub import button, light_matrix, motion_sensor, sound
 
 try:
     from time import ticks_diff, ticks_ms
@@ -35,7 +38,7 @@ except ImportError:  # CPython, where roboscript's tests run the agent
         return new - old
 
 
-AGENT_VERSION = "roboscript-agent 1"
+AGENT_VERSION = "roboscript-agent 2"
 
 PAIR = motor_pair.PAIR_1
 LOOP_MS = 5
@@ -50,9 +53,23 @@ BEEP = 0x06
 SHOW_TEXT = 0x07
 CLEAR_DISPLAY = 0x08
 STOP = 0x09
+WATCH = 0x0A
+MOTOR_RUN = 0x0B
+MOTOR_FOR_DEGREES = 0x0C
+MOTOR_STOP = 0x0D
 VERSION = 0x81
 MOVE_DONE = 0x82
+REPORT = 0x83
 REFUSED = 0x8F
+
+NO_PORT = 0xFF
+NO_REFLECTION = 0xFF
+LEFT_BUTTON_BIT = 0x01
+RIGHT_BUTTON_BIT = 0x02
+
+# How a program reaches the tunnel, tried in this order. The first is what the public programs
+# that drive a real hub's tunnel use; the second is the older guess, kept as a fallback.
+TUNNEL_FORMS = ("hub.config['module_tunnel']", "import tunnel")
 
 UNKNOWN_COMMAND = 1
 BAD_LENGTH = 2
@@ -73,9 +90,14 @@ FORMATS = {
     BEEP: "<HHB",
     CLEAR_DISPLAY: "<",
     STOP: "<",
+    WATCH: "<BH",
+    MOTOR_RUN: "<BhH",
+    MOTOR_FOR_DEGREES: "<BBiH",
+    MOTOR_STOP: "<B",
 }
 TEXT_COMMANDS = (SHOW_TEXT,)
 MOTION = (TANK, TANK_FOR_DEGREES, POWER)
+ONE_MOTOR = (MOTOR_RUN, MOTOR_FOR_DEGREES, MOTOR_STOP)
 MAX_TEXT_BYTES = 200
 
 
@@ -111,6 +133,10 @@ class Agent:
         self.moves = []
         self.sounds = []
         self.texts = []
+        self.other_motors = []  # ports of motors run by MotorRun / MotorForDegrees
+        self.color_port = NO_PORT
+        self.watch_ms = 0
+        self.next_report_ms = None
 
     def receive(self, data):
         """Buffer tunnel bytes from the host (records may arrive split or merged)."""
@@ -139,8 +165,14 @@ class Agent:
                 self.refuse(op, BAD_VALUE)
         deadline = self.watchdog_deadline
         if deadline is not None and ticks_diff(now_ms, deadline) >= 0:
-            self.watchdog_deadline = None
+            self.watchdog_deadline = None  # the host went quiet: stop everything it started
             self.stop_motors()
+            for port in self.other_motors:
+                motor.stop(port, stop=motor.BRAKE)
+        due = self.next_report_ms
+        if due is not None and ticks_diff(now_ms, due) >= 0:
+            self.next_report_ms = now_ms + self.watch_ms
+            self.report()
 
     def handle(self, op, args, now_ms):
         """Act on one record."""
@@ -160,6 +192,11 @@ class Agent:
         values = struct.unpack(layout, args)
         if op in MOTION and self.left_port is None:
             self.refuse(op, NOT_CONFIGURED)
+            return
+        if op in ONE_MOTOR and not self.may_drive_alone(
+            values[1 if op == MOTOR_FOR_DEGREES else 0]
+        ):
+            self.refuse(op, BAD_VALUE)
             return
         if op == VERSION_QUERY:
             self.reply(VERSION, AGENT_VERSION.encode("utf-8"))
@@ -188,6 +225,50 @@ class Agent:
         elif op == STOP:
             self.watchdog_deadline = None
             self.stop_motors()
+        elif op == WATCH:
+            self.watch(values[0], values[1], now_ms)
+        elif op == MOTOR_RUN:
+            port, speed_deg_s, watchdog_ms = values
+            self.remember_motor(port)
+            motor.run(port, speed_deg_s)
+            self.arm_watchdog(now_ms, watchdog_ms)
+        elif op == MOTOR_FOR_DEGREES:
+            seq, port, degrees, speed_deg_s = values
+            self.remember_motor(port)
+            self.moves.append((seq, motor.run_for_degrees(port, degrees, speed_deg_s)))
+        elif op == MOTOR_STOP:
+            motor.stop(values[0], stop=motor.BRAKE)
+
+    def may_drive_alone(self, port):
+        """A port other than the drive motors', 0..5."""
+        return 0 <= port <= 5 and port != self.left_port and port != self.right_port
+
+    def remember_motor(self, port):
+        if port not in self.other_motors:
+            self.other_motors.append(port)
+
+    def watch(self, color_port, interval_ms, now_ms):
+        if color_port != NO_PORT and color_port > 5:
+            self.refuse(WATCH, BAD_VALUE)
+            return
+        self.color_port = color_port
+        self.watch_ms = interval_ms
+        self.next_report_ms = now_ms if interval_ms else None
+
+    def report(self):
+        """Send the colour sensor's reflection and the pressed buttons (one Report)."""
+        reflection = NO_REFLECTION
+        if self.color_port != NO_PORT:
+            try:
+                reflection = max(0, min(100, int(color_sensor.reflection(self.color_port))))
+            except Exception:  # noqa: BLE001 - no sensor on the port (yet): report none
+                reflection = NO_REFLECTION
+        buttons = 0
+        if button.pressed(button.LEFT):
+            buttons |= LEFT_BUTTON_BIT
+        if button.pressed(button.RIGHT):
+            buttons |= RIGHT_BUTTON_BIT
+        self.reply(REPORT, struct.pack("<BB", reflection, buttons))
 
     def configure(self, left_port, right_port):
         if left_port > 5 or right_port > 5 or left_port == right_port:
@@ -203,6 +284,7 @@ class Agent:
         self.watchdog_deadline = None if watchdog_ms == 0 else now_ms + watchdog_ms
 
     def stop_motors(self):
+        """Brake the drive motors (Stop); the other motors keep what they were told."""
         if self.left_port is None:
             return
         motor_pair.stop(PAIR, stop=motor.BRAKE)
@@ -248,29 +330,69 @@ async def finish_jobs(jobs):
             await runloop.sleep_ms(LOOP_MS)
 
 
-def bind_tunnel(receive):
-    """Connect ``receive`` to the tunnel and return the function that sends on it.
+def firmware_version():
+    """The hub's firmware as this program can read it (MicroPython's ``uname``), for messages."""
+    try:
+        import os
 
-    The App 3 firmware does not document the program's side of TunnelMessage. The agent
-    expects a module ``tunnel`` with ``callback(function)`` (the function gets the payload of
-    each TunnelMessage from the host) and ``send(data)``. Everything that depends on that
-    assumption is here.
+        uname = os.uname()
+        return uname.release + " (" + uname.version + ")"
+    except Exception:  # noqa: BLE001 - any answer is better than none in a message
+        return "unknown"
+
+
+def find_tunnel(tried):
+    """The firmware's tunnel module and the form that found it, or ``(None, None)``.
+
+    Each form is added to ``tried`` before it is tried, so a message (and a test) can say
+    which forms were tried and in which order.
     """
+    tried.append(TUNNEL_FORMS[0])
+    try:
+        module = hub.config["module_tunnel"]
+    except Exception:  # noqa: BLE001 - no config, or no such key, on this firmware
+        module = None
+    if module is not None:
+        return module, TUNNEL_FORMS[0]
+    tried.append(TUNNEL_FORMS[1])
     try:
         import tunnel
     except ImportError:
-        print("roboscript agent: this firmware has no tunnel module; nothing will answer")
-        return None
-    tunnel.callback(receive)
-    return tunnel.send
+        return None, None
+    return tunnel, TUNNEL_FORMS[1]
+
+
+def bind_tunnel(receive):
+    """Connect ``receive`` to the tunnel; return the function that sends on it and the form.
+
+    LEGO does not document the program's side of TunnelMessage. The module found (see
+    :func:`find_tunnel`) is expected to have ``callback(function)`` (the function gets the
+    payload of each TunnelMessage from the host) and ``send(data)``. Without one, it says so
+    on the console (which the host shows), naming the firmware, and returns ``(None, None)``.
+    """
+    tried = []
+    module, form = find_tunnel(tried)
+    if module is None:
+        print(
+            "roboscript agent: no tunnel on this hub (firmware "
+            + firmware_version()
+            + "): tried "
+            + " and ".join(tried)
+            + "; update the hub with the SPIKE App 3"
+        )
+        return None, None
+    module.callback(receive)
+    return module.send, form
 
 
 def main():
     agent = Agent(None)
-    agent.send = bind_tunnel(agent.receive)
+    agent.send, form = bind_tunnel(agent.receive)
     motion_sensor.reset_yaw(0)
     if agent.send is not None:
-        print(AGENT_VERSION, "ready")
+        print(AGENT_VERSION, "ready, tunnel from", form)
+    else:
+        agent.show_text("NO TUNNEL")  # for whoever looks at the hub
     runloop.run(
         serve(agent), finish_moves(agent), finish_jobs(agent.sounds), finish_jobs(agent.texts)
     )

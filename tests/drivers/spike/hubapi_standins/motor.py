@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from standin_log import record
+from standin_log import Pending, pending, record
 
 READY = 10
 RUNNING = 11
@@ -22,3 +22,12 @@ def set_duty_cycle(port: int, pwm: int) -> None:
 
 def stop(port: int, *, stop: int = BRAKE) -> None:
     record("motor.stop", port, stop=stop)
+
+
+def run(port: int, velocity: int) -> None:
+    record("motor.run", port, velocity)
+
+
+def run_for_degrees(port: int, degrees: int, velocity: int, **kwargs: int) -> Pending:
+    record("motor.run_for_degrees", port, degrees, velocity)
+    return pending("motor.run_for_degrees", READY)

@@ -1,0 +1,325 @@
+"""Missions run from Python: ``roboscript.run(...)`` in a script, a REPL or a notebook.
+
+Example::
+
+    >>> import roboscript
+    >>> result = roboscript.run("missions/square.yaml", seed=3)  # doctest: +SKIP
+    >>> result.outcome, result.final_state  # doctest: +SKIP
+    ('success', 'finished')
+
+A run here is exactly a ``roboscript run``: the same loading and checks, the same session
+(:func:`roboscript.session.run_session`), so the same mission, robot, world and seed give the
+same result. The robot is stopped before :func:`run` returns or raises, whatever happens. In a
+Jupyter notebook the result displays as the replay viewer (:mod:`roboscript.replay.viewer`).
+
+``python my_mission.py`` runs the file's mission when the file ends with
+``if __name__ == "__main__": MyMission.main()``
+(:meth:`roboscript.mission.python_api.Mission.main`, which calls :func:`main` here).
+"""
+
+from __future__ import annotations
+
+import html
+import inspect
+import sys
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, NoReturn
+
+from roboscript.errors import InputError, RoboscriptError
+from roboscript.mission import fit_to_robot, mission_for_robot
+from roboscript.mission.python_api import Mission, note_mission_run
+from roboscript.mission.spec import MissionSpec
+from roboscript.mission.student_code import stuck_at
+from roboscript.replay.recording import Recording
+from roboscript.replay.session_tap import RunRecording
+from roboscript.session import Session, run_session, session_summary
+from roboscript.watchdog import DEFAULT_LIMIT_S, Watchdog
+
+__all__ = ["RunResult", "main", "run"]
+
+NOTEBOOK_FRAME_RATE_HZ = 25.0
+"""Frames a second a notebook's viewer embeds (every state change is kept): a 60 s run stays
+small enough for the notebook file."""
+NOTEBOOK_VIEWER_HEIGHT_PX = 900
+"""The viewer's height in a notebook cell."""
+
+Pose = tuple[float, float, float]
+"""``(x mm east, y mm north, heading deg clockwise from north)``."""
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """One finished mission run, as :func:`run` returns it.
+
+    Attributes:
+        mission: The mission's name.
+        robot: The robot profile's name.
+        outcome: ``success``, ``failure`` or ``error`` (the robot or link failed, the code got
+            stuck, or the run was interrupted).
+        final_state: The state the mission ended in, or ``None``.
+        reason: One sentence when the outcome is not ``success``, else ``None``.
+        duration_s: Mission time, seconds.
+        states: Every state entered, as ``(mission time s, name)``.
+        final_pose: Where the robot ended: the simulator's true pose, or on a real robot the
+            pose its wheels estimate (``None`` without wheels or without a recording).
+        path: The pose over time as ``(t s, x mm, y mm, heading deg)``: every 0.1 s from the
+            simulator, or each recorded tick's estimate on a real robot.
+        tones: Tones the simulator heard, as ``(t s, frequency Hz, duration s)``.
+        world: The simulator world's name, or ``None`` on a real robot.
+        seed: The simulator seed, or ``None`` on a real robot.
+        warnings: The mission's warnings, each as ``file:line:col: warning: ...``.
+        recording: The run tick by tick (:class:`~roboscript.replay.recording.Recording`), or
+            ``None`` when run with ``record=False``.
+        summary: The ``roboscript run --json`` object of this run.
+    """
+
+    mission: str
+    robot: str
+    outcome: str
+    final_state: str | None
+    reason: str | None
+    duration_s: float
+    states: tuple[tuple[float, str], ...]
+    final_pose: Pose | None
+    path: tuple[tuple[float, float, float, float], ...]
+    tones: tuple[tuple[float, float, float], ...]
+    world: str | None
+    seed: int | None
+    warnings: tuple[str, ...] = ()
+    recording: Recording | None = field(default=None, repr=False)
+    summary: dict[str, Any] = field(default_factory=dict, repr=False)
+
+    @property
+    def succeeded(self) -> bool:
+        """Whether the mission ended in a success state."""
+        return self.outcome == "success"
+
+    @property
+    def states_visited(self) -> list[str]:
+        """Each state entered at least once, in the order first entered."""
+        return list(dict.fromkeys(name for _, name in self.states))
+
+    def __repr__(self) -> str:
+        return f"<RunResult {self}>"
+
+    def __str__(self) -> str:
+        ended = f" in '{self.final_state}'" if self.final_state else ""
+        text = (
+            f"{self.mission} on {self.robot}: {self.outcome}{ended} after {self.duration_s:.2f} s"
+        )
+        if self.reason:
+            text += f" ({self.reason})"
+        return text
+
+    def _repr_html_(self) -> str:
+        """Jupyter's rich display: the replay viewer, in a frame of its own."""
+        if self.recording is None:
+            return f"<p>{html.escape(str(self))} (run with record=True to replay it)</p>"
+        from roboscript.replay.viewer import recording_title, viewer_block, viewer_page
+
+        page = viewer_page(
+            viewer_block(self.recording, rate_hz=NOTEBOOK_FRAME_RATE_HZ),
+            recording_title(self.recording),
+        )
+        # A frame keeps the page's script and styles away from the notebook's own; the
+        # sandbox lets the script draw and nothing else.
+        return (
+            f'<iframe srcdoc="{html.escape(page, quote=True)}" sandbox="allow-scripts"'
+            f' style="width: 100%; height: {NOTEBOOK_VIEWER_HEIGHT_PX}px; border: 0"'
+            f' title="{html.escape(str(self), quote=True)}"></iframe>'
+        )
+
+    def save(self, path: str | Path) -> Path:
+        """Write the recording as a ``roboscript-run`` file (``roboscript view`` opens it).
+
+        Raises:
+            ValueError: The run was not recorded (``record=False``).
+            OSError: The file cannot be written.
+        """
+        if self.recording is None:
+            raise ValueError("this run was not recorded: run it with record=True")
+        from roboscript.replay.recording import Recorder
+
+        recorder = Recorder(self.recording.header, max_frames=len(self.recording.frames) + 1)
+        for frame in self.recording.frames:
+            recorder.add(frame)
+        # the header already names the format: keep the file's result exactly as recorded
+        recorder.result = dict(self.recording.result or {})
+        target = Path(path)
+        recorder.write(target)
+        return target
+
+
+def _spec_and_robot(
+    mission: str | Path | type[Mission] | MissionSpec, robot: str | None
+) -> tuple[MissionSpec, Any, list[InputError]]:
+    if isinstance(mission, MissionSpec):
+        return fit_to_robot(mission, [], robot)
+    if isinstance(mission, type) and issubclass(mission, Mission):
+        from roboscript.mission.python_compiler import compile_mission
+
+        spec, warnings = compile_mission(mission)
+        return fit_to_robot(spec, warnings, robot)
+    if isinstance(mission, str | Path):
+        # a Python mission file runs when imported: a loop there must not hang the caller
+        with Watchdog(DEFAULT_LIMIT_S, stuck_at):
+            return mission_for_robot(mission, robot)
+    raise TypeError(
+        "roboscript.run() takes a mission file's path, a Mission class or a MissionSpec"
+        f" (got {type(mission).__name__})"
+    )
+
+
+def run(
+    mission: str | Path | type[Mission] | MissionSpec,
+    *,
+    robot: str | None = None,
+    world: str | None = None,
+    seed: int = 1,
+    port: str | None = None,
+    max_time_s: float = 300.0,
+    realtime: bool = False,
+    record: bool = True,
+) -> RunResult:
+    """Run a mission to its end, as ``roboscript run`` does, and return what happened.
+
+    Args:
+        mission: A mission file (``.yaml`` or ``.py``), a :class:`~roboscript.Mission`
+            subclass, or a :class:`~roboscript.mission.spec.MissionSpec`.
+        robot: A built-in robot profile or a profile file (default: the mission's robot,
+            else ``mirto``).
+        world: The simulator world, a name or a file (default: the mission's, else
+            ``empty``).
+        seed: The simulator seed; the same seed gives the same run.
+        port: A serial port or URL of a real robot (``/dev/ttyUSB0``,
+            ``socket://host:port``); ``None`` runs the built-in simulator.
+        max_time_s: Mission time limit, seconds (> 0); past it the mission fails.
+        realtime: Pace the simulator to the wall clock (a real robot always is).
+        record: Keep the run tick by tick in :attr:`RunResult.recording` (the replay).
+
+    Returns:
+        The finished run; the robot has been told to stop.
+
+    Raises:
+        InputError: The mission, robot profile or world is invalid (its message is
+            ``file:line:col: error: ...``; ``problems`` lists every problem).
+        LinkError: The robot could not be reached.
+        KeyboardInterrupt: Ctrl-C (or SIGTERM, SIGHUP) stopped the run; the robot was told
+            to stop first.
+        ValueError: ``max_time_s`` is not more than 0.
+    """
+    if not max_time_s > 0:
+        raise ValueError(f"max_time_s must be more than 0 (got {max_time_s})")
+    note_mission_run()
+    spec, profile, warnings = _spec_and_robot(mission, robot)
+    world_name = world or spec.world or "empty"
+    _check_world_regions(spec, world_name if port is None or port.startswith("sim:") else None)
+    recording = RunRecording() if record else None
+    session = run_session(
+        spec,
+        profile,
+        port=port,
+        world=world_name,
+        seed=seed,
+        realtime=realtime,
+        max_time_s=max_time_s,
+        recording=recording,
+    )
+    if session.interrupted:
+        from roboscript.interrupts import Interrupted
+
+        raise Interrupted(session.interrupted - 128)  # the robot is stopped by now
+    return _result(session, recording, warnings)
+
+
+def _check_world_regions(spec: MissionSpec, world: str | None) -> None:
+    from roboscript.mission.builder import MissionProblemsError
+    from roboscript.mission.checks import check_world_regions
+
+    problems = check_world_regions(spec, world)
+    if problems:
+        raise MissionProblemsError(problems)
+
+
+def _result(
+    session: Session, recording: RunRecording | None, warnings: Sequence[InputError]
+) -> RunResult:
+    summary = session_summary(session)
+    result = session.result
+    recorded = None
+    if recording is not None and recording.recorder is not None:
+        recorded = recording.recorder.recording()
+    sim = summary.get("sim")
+    if sim is not None:
+        pose = sim["final_pose"]
+        final_pose: Pose | None = (pose["x_mm"], pose["y_mm"], pose["heading_deg"])
+        path = tuple(
+            (float(t), float(x), float(y), float(h)) for t, x, y, h in session.mission_path()
+        )
+        tones = tuple(session.mission_tones())
+    else:  # a real robot: the pose its wheels estimate, if the run was recorded
+        poses = [
+            (float(f["t"]), *(float(v) for v in f["pose"]))
+            for f in (recorded.frames if recorded is not None else [])
+            if isinstance(f.get("pose"), list) and len(f["pose"]) == 3
+        ]
+        path = tuple((t, x, y, h) for t, x, y, h in poses)
+        final_pose = path[-1][1:] if path else None
+        tones = ()
+    return RunResult(
+        mission=result.mission,
+        robot=session.profile.name,
+        outcome=result.outcome,
+        final_state=result.final_state,
+        reason=result.reason,
+        duration_s=round(result.duration_s, 3),
+        states=tuple((round(t, 3), name) for t, name in result.states),
+        final_pose=final_pose,
+        path=path,
+        tones=tones,
+        world=sim["world"] if sim is not None else None,
+        seed=sim["seed"] if sim is not None else None,
+        warnings=tuple(w.format() for w in warnings),
+        recording=recorded,
+        summary=summary,
+    )
+
+
+def _mission_file(mission: type[Mission] | str | Path) -> str:
+    if isinstance(mission, str | Path):
+        return str(mission)
+    try:
+        source = inspect.getsourcefile(mission)
+    except (TypeError, OSError):  # a class typed into a REPL or a notebook has no file
+        source = None
+    if source is None or not Path(source).is_file():
+        raise RoboscriptError(
+            f"{mission.__name__}.main() runs a mission written in a .py file; here, use"
+            f" roboscript.run({mission.__name__})"
+        )
+    return source
+
+
+def main(mission: type[Mission] | str | Path, argv: Sequence[str] | None = None) -> NoReturn:
+    """``roboscript run FILE [OPTIONS]`` for the file that holds ``mission``; exits.
+
+    The options are those of ``roboscript run`` (``--robot``, ``--world``, ``--seed``,
+    ``--port``, ``--max-time``, ``--realtime``, ``--json``, ``--record``, ``--view``, ...);
+    the exit status too (0 success, 1 failure, 2 invalid input, 130 Ctrl-C).
+
+    Args:
+        mission: A :class:`~roboscript.Mission` subclass (its file is run) or a file.
+        argv: The options; default: the command line's (``sys.argv[1:]``).
+    """
+    note_mission_run()
+    try:
+        path = _mission_file(mission)
+    except RoboscriptError as exc:
+        sys.stderr.write(f"error: {exc}\n")
+        raise SystemExit(2) from None
+    from roboscript.cli import main as cli_main
+
+    options = list(sys.argv[1:] if argv is None else argv)
+    cli_main(["run", path, *options])

@@ -1,0 +1,62 @@
+"""What an ASIP robot's sketch carries: servos, pixels and the LCD's width (profile options).
+
+ASIP cannot say how many servos a sketch declares, and the LCD service never says how wide
+it is, so they are *profile options* (:attr:`RobotProfile.options
+<roboscript.profiles.RobotProfile.options>`), read here into an :class:`AsipOptions`. The host
+driver offers that many servos and cuts display rows to that width; the simulated board is
+built with the same servos and pixels. The defaults are the MIRTO sketch ``mirtle2017`` of the
+V1.1 firmware (``michaelmargolis/ASIP-V1.1``): one servo, nine pixels, 20 characters a row.
+
+A profile file changes only what differs::
+
+    extends: mirto
+    name: mirto-two-servos
+    options:
+      servo_count: 2
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from roboscript.drivers.asip.messages import LCD_COLUMNS
+from roboscript.drivers.options import read_options
+from roboscript.errors import ProfileError
+
+__all__ = ["AsipOptions"]
+
+_LIMITS = {"servo_count": (0, 16), "pixel_count": (0, 1024), "lcd_columns": (1, LCD_COLUMNS)}
+
+
+@dataclass(frozen=True)
+class AsipOptions:
+    """The options of an ASIP robot profile (defaults: the ``mirtle2017`` sketch).
+
+    Attributes:
+        servo_count: Servos the sketch declares (``NBR_SERVOS``), numbered from 0 on the wire.
+        pixel_count: Pixels on the sketch's strip 0 (``MAX_PIXELS``); the driver asks the
+            board (``P,I,0``), the simulated board answers this.
+        lcd_columns: Characters a display row holds (1-20; the firmware keeps at most 20).
+    """
+
+    servo_count: int = 1
+    pixel_count: int = 9
+    lcd_columns: int = LCD_COLUMNS
+
+    @classmethod
+    def from_mapping(cls, options: Mapping[str, Any], *, profile: str) -> AsipOptions:
+        """Read the options of a profile, checking every value.
+
+        Raises:
+            ProfileError: An unknown option or a bad value, naming both.
+        """
+        return read_options(cls, options, profile=profile, family="ASIP", read=_read)
+
+
+def _read(name: str, value: object, profile: str) -> int:
+    low, high = _LIMITS[name]
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise ProfileError(f"{profile}: ASIP option '{name}' must be a whole number {low}-{high}")
+    return value

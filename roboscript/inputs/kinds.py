@@ -1,0 +1,93 @@
+"""Which kind of file a YAML file is: a mission, a simulator world, a robot profile or a test spec.
+
+Each kind has top-level keys no other kind has (``states`` for a mission, ``walls`` for a
+world, ``extends`` for a profile, ``test`` for a test spec): the kind with the most of its own
+keys wins. A file with none of them, or one that does not parse, is taken as a mission, so
+the mission reader says what is wrong with it. ``check``, ``run`` and ``grade`` ask here
+first, so a world given where a mission is expected is named as a world, not read as a
+mission with five false errors.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Literal
+
+from roboscript.errors import InputError
+from roboscript.inputs.source import YamlMap, load_yaml
+
+__all__ = ["KINDS", "OWN_KEYS", "FileKind", "file_kind", "kind_of_keys", "not_a_mission"]
+
+FileKind = Literal["mission", "world", "profile", "test spec"]
+
+KINDS: tuple[FileKind, ...] = ("mission", "world", "profile", "test spec")
+
+OWN_KEYS: dict[FileKind, frozenset[str]] = {
+    "mission": frozenset({"mission", "behaviours", "initial", "states"}),
+    "world": frozenset({"start", "walls", "lines", "regions"}),
+    "profile": frozenset(
+        {
+            "extends",
+            "gains",
+            "ticks_per_rev",
+            "wheel_diameter_mm",
+            "track_mm",
+            "body_radius_mm",
+            "max_speed_mm_s",
+            "options",
+        }
+    ),
+    "test spec": frozenset({"test", "runs", "max_time", "wall_time_limit", "points", "expect"}),
+}
+"""Top-level keys only that kind of file has (the readers' other keys are shared:
+``description``, ``world``, ``robot``, ``name``). A test checks each reader against this."""
+
+_USE = {
+    "world": "a simulator world: run a mission in it with 'roboscript run MISSION --world {path}'",
+    "profile": "a robot profile: run a mission on it with 'roboscript run MISSION --robot {path}'",
+    "test spec": "a teacher's test spec: grade missions with 'roboscript grade {path} MISSIONS'",
+}
+
+
+def kind_of_keys(keys: set[str] | frozenset[str]) -> FileKind:
+    """The kind of file whose top level has ``keys`` (``mission`` when nothing tells)."""
+    counts = {kind: len(keys & own) for kind, own in OWN_KEYS.items()}
+    best = max(counts.values())
+    if best == 0:
+        # 'world: NAME' and a description, nothing else: a world that has no walls yet
+        return (
+            "world"
+            if "world" in keys and len(keys - {"world", "description"}) == 0
+            else ("mission")
+        )
+    leaders = [kind for kind, count in counts.items() if count == best]
+    return leaders[0] if len(leaders) == 1 else "mission"
+
+
+def file_kind(path: str | Path) -> FileKind:
+    """The kind of the file at ``path``: a Python file is a mission, a YAML file by its keys.
+
+    Never raises: a file that cannot be read or parsed is a ``mission``, so the mission reader
+    reports why.
+    """
+    if Path(path).suffix.lower() not in (".yaml", ".yml"):
+        return "mission"
+    try:
+        data = load_yaml(path)
+    except InputError:
+        return "mission"
+    if not isinstance(data, YamlMap):
+        return "mission"
+    return kind_of_keys({str(key) for key in data})
+
+
+def not_a_mission(path: str | Path, kind: FileKind) -> InputError:
+    """The error for a world, profile or test spec given where a mission is expected."""
+    article = "an" if kind[0] in "aeiou" else "a"
+    return InputError(
+        f"this is {article} {kind} file, not a mission",
+        path=str(path),
+        line=1,
+        col=1,
+        hint=f"it is {_USE[kind].format(path=path)}" if kind in _USE else None,
+    )

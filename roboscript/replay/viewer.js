@@ -1,0 +1,699 @@
+/* roboscript replay viewer: draws a recorded run (format roboscript-run, version 1).
+ *
+ * Every element with class "rs-viewer" becomes a viewer. Its data comes from
+ *   - a child <script type="application/json" class="rs-data"> holding
+ *     {"header": {...}, "frames": [...], "result": {...} | null, "open_at_s": s, "marks": [...]}
+ *     with frames as in the file (only what changed since the frame before), or
+ *   - a Server-Sent-Events URL in its data-live attribute: events "header" (the header),
+ *     "frame" (one frame) and "end" (the result), each carrying JSON.
+ * World frame: x mm east, y mm north, headings degrees clockwise from north.
+ * The page shows the time, state, action, pose and sensor values as text (data-role=...), so
+ * tests and screen readers can read what the picture shows.
+ */
+(function () {
+  "use strict";
+
+  var NESTED = { sensors: true, motors: true };
+  var EVENTS = { tone: true };
+  var SPEEDS = [0.25, 0.5, 1, 2, 4, 8, 16];
+  var MAX_PATH_POINTS = 4000;
+  var COLOURS = ["#1565c0", "#ef6c00", "#2e7d32", "#6a1b9a", "#c62828", "#00838f", "#5d4037",
+                 "#ad1457"];
+
+  function el(tag, attrs, text) {
+    var node = document.createElement(tag);
+    if (attrs) {
+      for (var key in attrs) {
+        if (Object.prototype.hasOwnProperty.call(attrs, key)) node.setAttribute(key, attrs[key]);
+      }
+    }
+    if (text !== undefined) node.textContent = text;
+    return node;
+  }
+
+  function fmt(value, digits) {
+    if (value === null || value === undefined) return "—";
+    if (typeof value === "number") return value.toFixed(digits === undefined ? 1 : digits);
+    if (Array.isArray(value)) {
+      if (value.length === 0) return "none";
+      return value.map(function (v) { return fmt(v, 0); }).join(", ");
+    }
+    return String(value);
+  }
+
+  /* Full snapshots from frames holding only changes. */
+  function Frames() {
+    this.list = [];
+    this.current = {};
+  }
+  Frames.prototype.push = function (delta) {
+    var cur = this.current, key, frame = {};
+    for (key in delta) {
+      if (!Object.prototype.hasOwnProperty.call(delta, key) || EVENTS[key]) continue;
+      if (NESTED[key] && delta[key] && typeof delta[key] === "object") {
+        var merged = {}, old = cur[key] || {}, k;
+        for (k in old) merged[k] = old[k];
+        for (k in delta[key]) merged[k] = delta[key][k];
+        cur[key] = merged;
+      } else {
+        cur[key] = delta[key];
+      }
+    }
+    for (key in cur) frame[key] = cur[key];
+    for (key in EVENTS) if (delta[key] !== undefined) frame[key] = delta[key];
+    this.list.push(frame);
+    return frame;
+  };
+
+  /* The numeric series to plot from a frame: sensors, then motors. */
+  function series(frame, group) {
+    var out = [], values = frame[group] || {}, key;
+    for (key in values) {
+      var v = values[key];
+      if (typeof v === "number" || v === null) out.push([key, v]);
+      else if (Array.isArray(v) && key === "line") {
+        for (var i = 0; i < v.length; i++) out.push([key + "[" + i + "]", v[i]]);
+      } else if (Array.isArray(v)) out.push([key, v.length]);
+    }
+    return out;
+  }
+
+  function Viewer(root) {
+    this.root = root;
+    this.frames = new Frames();
+    this.header = null;
+    this.result = null;
+    this.marks = [];
+    this.index = 0;
+    this.playing = false;
+    this.speed = 1;
+    this.playTime = 0;
+    this.follow = false;
+    this.dirty = true;
+    this.plotDirty = true;
+    this.build();
+  }
+
+  Viewer.prototype.q = function (role) {
+    return this.root.querySelector("[data-role='" + role + "']");
+  };
+
+  Viewer.prototype.build = function () {
+    var self = this, root = this.root;
+    var bar = el("div", { "class": "rs-bar" });
+    this.playButton = el("button", { type: "button", "data-action": "play" }, "▶ Play");
+    var back = el("button", { type: "button", "data-action": "step-back",
+                              title: "one tick back" }, "◀ tick");
+    var step = el("button", { type: "button", "data-action": "step", title: "one tick on" },
+                  "tick ▶");
+    var speed = el("select", { "data-role": "speed", "aria-label": "speed" });
+    SPEEDS.forEach(function (s) {
+      var o = el("option", { value: String(s) }, (s < 1 ? (s === 0.25 ? "¼" : "½") : s) + "×");
+      if (s === 1) o.selected = true;
+      speed.appendChild(o);
+    });
+    var scrub = el("input", { type: "range", min: "0", max: "0", value: "0", step: "1",
+                              "data-role": "scrubber", "aria-label": "time" });
+    var time = el("span", { "data-role": "time", "class": "rs-time" }, "0.00 s");
+    bar.appendChild(this.playButton);
+    bar.appendChild(back);
+    bar.appendChild(step);
+    bar.appendChild(speed);
+    bar.appendChild(scrub);
+    bar.appendChild(time);
+    var timeline = el("div", { "data-role": "timeline", "class": "rs-timeline" });
+    var main = el("div", { "class": "rs-main" });
+    this.canvas = el("canvas", { width: "560", height: "420", "class": "rs-world",
+                                 role: "img", "aria-label": "the robot in its world" });
+    var side = el("div", { "class": "rs-side" });
+    side.innerHTML =
+      "<dl class='rs-facts'>" +
+      "<dt>state</dt><dd data-role='state'>—</dd>" +
+      "<dt>action</dt><dd data-role='action'>—</dd>" +
+      "<dt>outcome</dt><dd data-role='outcome'>—</dd>" +
+      "<dt>pose</dt><dd data-role='pose'>—</dd>" +
+      "<dt>motors</dt><dd data-role='motors'>—</dd>" +
+      "<dt>display</dt><dd data-role='display'>—</dd>" +
+      "<dt>tone</dt><dd data-role='tone'>—</dd>" +
+      "<dt>tick</dt><dd data-role='frame'>—</dd>" +
+      "</dl><table class='rs-sensors'><caption>sensors</caption>" +
+      "<tbody data-role='sensors'></tbody></table>" +
+      "<p class='rs-result' data-role='result'></p>";
+    main.appendChild(this.canvas);
+    main.appendChild(side);
+    this.plotCanvas = el("canvas", { width: "860", height: "200", "class": "rs-plot",
+                                     role: "img", "aria-label": "sensors and motors over time" });
+    var legend = el("div", { "class": "rs-legend", "data-role": "legend" });
+    root.appendChild(bar);
+    root.appendChild(timeline);
+    root.appendChild(main);
+    root.appendChild(this.plotCanvas);
+    root.appendChild(legend);
+
+    this.playButton.addEventListener("click", function () { self.toggle(); });
+    back.addEventListener("click", function () { self.pause(); self.seek(self.index - 1); });
+    step.addEventListener("click", function () { self.pause(); self.seek(self.index + 1); });
+    speed.addEventListener("change", function () { self.speed = parseFloat(speed.value) || 1; });
+    scrub.addEventListener("input", function () { self.seek(parseInt(scrub.value, 10)); });
+    timeline.addEventListener("click", function (ev) {
+      var target = ev.target.closest ? ev.target.closest("[data-t]") : null;
+      if (target) { self.pause(); self.seekTime(parseFloat(target.getAttribute("data-t"))); }
+    });
+    this.plotCanvas.addEventListener("click", function (ev) {
+      var rect = self.plotCanvas.getBoundingClientRect();
+      var x = (ev.clientX - rect.left) * self.plotCanvas.width / rect.width;
+      var span = self.plotSpan();
+      self.pause();
+      self.seekTime(span[0] + (x - 40) / (self.plotCanvas.width - 50) * (span[1] - span[0]));
+    });
+    root.addEventListener("keydown", function (ev) {
+      if (ev.target && ev.target.tagName === "SELECT") return;
+      if (ev.key === " ") { ev.preventDefault(); self.toggle(); }
+      else if (ev.key === "ArrowRight") { self.pause(); self.seek(self.index + 1); }
+      else if (ev.key === "ArrowLeft") { self.pause(); self.seek(self.index - 1); }
+    });
+    this.scrub = scrub;
+    this.timeline = timeline;
+  };
+
+  /* ---------------------------------------------------------------------------- data */
+
+  Viewer.prototype.setHeader = function (header) {
+    this.header = header;
+    var robot = header.robot || {};
+    this.root.setAttribute("data-mission", (header.mission || {}).name || "");
+    this.sensorSpecs = robot.sensors || [];
+    this.dirty = true;
+    this.worldLayer = null;
+  };
+
+  Viewer.prototype.addFrame = function (delta) {
+    this.frames.push(delta);
+    var n = this.frames.list.length;
+    this.scrub.max = String(Math.max(0, n - 1));
+    this.timelineDirty = true;
+    this.plotDirty = true;
+    this.boundsDirty = true;
+    if (this.follow) this.index = n - 1;
+    this.dirty = true;
+  };
+
+  Viewer.prototype.setResult = function (result) {
+    this.result = result;
+    var text = "";
+    if (result) {
+      text = result.outcome + (result.final_state ? " in '" + result.final_state + "'" : "") +
+        " after " + fmt(result.duration_s, 2) + " s" + (result.reason ? ": " + result.reason : "");
+    }
+    this.q("result").textContent = text;
+    this.root.setAttribute("data-ended", result ? "1" : "0");
+    this.timelineDirty = true;
+    this.dirty = true;
+  };
+
+  Viewer.prototype.loadEmbedded = function (data) {
+    this.setHeader(data.header);
+    var list = data.frames || [];
+    for (var i = 0; i < list.length; i++) this.frames.push(list[i]);
+    this.scrub.max = String(Math.max(0, list.length - 1));
+    this.marks = data.marks || [];
+    this.timelineDirty = this.plotDirty = this.boundsDirty = true;
+    this.setResult(data.result || null);
+    if (typeof data.open_at_s === "number") this.seekTime(data.open_at_s);
+    else this.seek(0);
+  };
+
+  Viewer.prototype.connect = function (url) {
+    var self = this, source = new EventSource(url);
+    this.follow = true;
+    this.source = source;
+    source.addEventListener("header", function (ev) { self.setHeader(JSON.parse(ev.data)); });
+    source.addEventListener("frame", function (ev) { self.addFrame(JSON.parse(ev.data)); });
+    source.addEventListener("end", function (ev) {
+      self.setResult(JSON.parse(ev.data));
+      source.close();
+    });
+  };
+
+  /* ------------------------------------------------------------------------- control */
+
+  Viewer.prototype.toggle = function () { if (this.playing) this.pause(); else this.play(); };
+
+  Viewer.prototype.play = function () {
+    var n = this.frames.list.length;
+    if (n === 0) return;
+    if (this.index >= n - 1) this.index = 0;  // play again from the start
+    this.follow = false;
+    this.playing = true;
+    this.playTime = this.frames.list[this.index].t;
+    this.lastWall = null;
+    this.playButton.textContent = "❚❚ Pause";
+    this.root.setAttribute("data-playing", "1");
+  };
+
+  Viewer.prototype.pause = function () {
+    this.playing = false;
+    this.playButton.textContent = "▶ Play";
+    this.root.setAttribute("data-playing", "0");
+  };
+
+  Viewer.prototype.seek = function (index) {
+    var n = this.frames.list.length;
+    if (n === 0) return;
+    this.index = Math.max(0, Math.min(n - 1, index));
+    this.follow = this.source !== undefined && this.index === n - 1;
+    this.playTime = this.frames.list[this.index].t;
+    this.dirty = true;
+    this.render();
+  };
+
+  Viewer.prototype.indexAt = function (t) {
+    var list = this.frames.list, lo = 0, hi = list.length - 1;
+    if (hi < 0) return 0;
+    if (t <= list[0].t) return 0;
+    while (lo < hi) {  // the last frame at or before t
+      var mid = (lo + hi + 1) >> 1;
+      if (list[mid].t <= t + 1e-9) lo = mid; else hi = mid - 1;
+    }
+    return lo;
+  };
+
+  Viewer.prototype.seekTime = function (t) { this.seek(this.indexAt(t)); };
+
+  Viewer.prototype.advance = function (wallMs) {
+    if (!this.playing) { this.lastWall = null; return; }
+    if (this.lastWall !== null) {
+      this.playTime += (wallMs - this.lastWall) / 1000 * this.speed;
+      var list = this.frames.list;
+      var index = this.indexAt(this.playTime);
+      if (index !== this.index) { this.index = index; this.dirty = true; }
+      if (index >= list.length - 1 && this.playTime >= list[list.length - 1].t) this.pause();
+    }
+    this.lastWall = wallMs;
+  };
+
+  /* ------------------------------------------------------------------------- drawing */
+
+  Viewer.prototype.computeBounds = function () {
+    var h = this.header || {}, world = h.world, robot = h.robot || {};
+    var xs = [], ys = [], i;
+    function add(x, y) { xs.push(x); ys.push(y); }
+    if (world) {
+      (world.walls || []).forEach(function (s) { add(s[0], s[1]); add(s[2], s[3]); });
+      (world.lines || []).forEach(function (l) {
+        l.segments.forEach(function (s) { add(s[0], s[1]); add(s[2], s[3]); });
+      });
+      (world.regions || []).forEach(function (r) {
+        if (r.radius_mm) { add(r.center[0] - r.radius_mm, r.center[1] - r.radius_mm);
+                           add(r.center[0] + r.radius_mm, r.center[1] + r.radius_mm); }
+        else r.points.forEach(function (p) { add(p[0], p[1]); });
+      });
+    }
+    var list = this.frames.list, stride = Math.max(1, Math.floor(list.length / 2000));
+    for (i = 0; i < list.length; i += stride) if (list[i].pose) add(list[i].pose[0], list[i].pose[1]);
+    if (list.length && list[list.length - 1].pose) {
+      add(list[list.length - 1].pose[0], list[list.length - 1].pose[1]);
+    }
+    var r = (robot.body_radius_mm || 100) * 1.5;
+    if (!xs.length) add(0, 0);
+    var minX = Math.min.apply(null, xs) - r, maxX = Math.max.apply(null, xs) + r;
+    var minY = Math.min.apply(null, ys) - r, maxY = Math.max.apply(null, ys) + r;
+    if (maxX - minX < 600) { var cx = (maxX + minX) / 2; minX = cx - 300; maxX = cx + 300; }
+    if (maxY - minY < 600) { var cy = (maxY + minY) / 2; minY = cy - 300; maxY = cy + 300; }
+    var c = this.canvas, scale = Math.min(c.width / (maxX - minX), c.height / (maxY - minY));
+    this.view = { minX: minX, maxY: maxY, scale: scale,
+                  offX: (c.width - (maxX - minX) * scale) / 2,
+                  offY: (c.height - (maxY - minY) * scale) / 2 };
+    this.worldLayer = null;
+    this.pathIndex = null;
+    this.boundsDirty = false;
+  };
+
+  Viewer.prototype.px = function (x, y) {
+    var v = this.view;
+    return [v.offX + (x - v.minX) * v.scale, v.offY + (v.maxY - y) * v.scale];
+  };
+
+  Viewer.prototype.drawWorld = function () {
+    var c = document.createElement("canvas");
+    c.width = this.canvas.width;
+    c.height = this.canvas.height;
+    var g = c.getContext("2d"), self = this, world = (this.header || {}).world;
+    g.fillStyle = "#fafafa";
+    g.fillRect(0, 0, c.width, c.height);
+    if (world) {
+      (world.regions || []).forEach(function (r) {
+        g.beginPath();
+        if (r.radius_mm) {
+          var p = self.px(r.center[0], r.center[1]);
+          g.arc(p[0], p[1], r.radius_mm * self.view.scale, 0, 2 * Math.PI);
+        } else {
+          r.points.forEach(function (q, i) {
+            var p = self.px(q[0], q[1]);
+            if (i) g.lineTo(p[0], p[1]); else g.moveTo(p[0], p[1]);
+          });
+          g.closePath();
+        }
+        g.fillStyle = "rgba(46,125,50,0.12)";
+        g.fill();
+        g.strokeStyle = "#2e7d32";
+        g.setLineDash([4, 3]);
+        g.stroke();
+        g.setLineDash([]);
+        var at = self.px(r.center[0], r.center[1]);
+        g.fillStyle = "#1b5e20";
+        g.font = "12px sans-serif";
+        g.fillText(r.name, at[0] + 3, at[1] - 3);
+      });
+      g.lineCap = "round";
+      (world.lines || []).forEach(function (l) {
+        g.strokeStyle = "#333";
+        g.lineWidth = Math.max(1, l.width_mm * self.view.scale);
+        l.segments.forEach(function (s) {
+          var a = self.px(s[0], s[1]), b = self.px(s[2], s[3]);
+          g.beginPath(); g.moveTo(a[0], a[1]); g.lineTo(b[0], b[1]); g.stroke();
+        });
+      });
+      g.strokeStyle = "#5d4037";
+      g.lineWidth = 3;
+      (world.walls || []).forEach(function (s) {
+        var a = self.px(s[0], s[1]), b = self.px(s[2], s[3]);
+        g.beginPath(); g.moveTo(a[0], a[1]); g.lineTo(b[0], b[1]); g.stroke();
+      });
+    }
+    this.worldLayer = c;
+  };
+
+  /* Indices of the frames the path is drawn through: at most MAX_PATH_POINTS. */
+  Viewer.prototype.pathPoints = function () {
+    var list = this.frames.list, stride = Math.max(1, Math.ceil(list.length / MAX_PATH_POINTS));
+    var out = [];
+    for (var i = 0; i < list.length; i += stride) if (list[i].pose) out.push(i);
+    this.pathIndex = out;
+    this.pathLength = list.length;
+  };
+
+  Viewer.prototype.drawRobot = function (g, frame) {
+    var robot = (this.header || {}).robot || {}, pose = frame.pose;
+    if (!pose) return;
+    var scale = this.view.scale, h = pose[2] * Math.PI / 180;
+    var fx = Math.sin(h), fy = Math.cos(h), rx = fy, ry = -fx;  // forward and right, world
+    var self = this, sensors = frame.sensors || {};
+    function at(forward, right) {
+      return self.px(pose[0] + fx * forward + rx * right, pose[1] + fy * forward + ry * right);
+    }
+    this.sensorSpecs.forEach(function (s) {
+      if (s.kind === "range") {
+        var o = at(s.forward_mm, s.right_mm), b = h + s.bearing_deg * Math.PI / 180;
+        var reading = sensors[s.name], len = reading === null || reading === undefined ?
+          s.max_range_mm : reading, half = s.cone_deg / 2 * Math.PI / 180;
+        var dx = Math.sin(b), dy = Math.cos(b);
+        g.fillStyle = "rgba(21,101,192,0.10)";
+        g.beginPath();
+        g.moveTo(o[0], o[1]);
+        var a1 = b - half, a2 = b + half;
+        g.lineTo(o[0] + Math.sin(a1) * len * scale, o[1] - Math.cos(a1) * len * scale);
+        g.lineTo(o[0] + Math.sin(a2) * len * scale, o[1] - Math.cos(a2) * len * scale);
+        g.closePath();
+        g.fill();
+        g.strokeStyle = "#1565c0";
+        g.lineWidth = 1.5;
+        if (reading === null || reading === undefined) g.setLineDash([5, 4]);
+        g.beginPath();
+        g.moveTo(o[0], o[1]);
+        g.lineTo(o[0] + dx * len * scale, o[1] - dy * len * scale);
+        g.stroke();
+        g.setLineDash([]);
+      }
+    });
+    var c = this.px(pose[0], pose[1]), radius = (robot.body_radius_mm || 100) * scale;
+    g.beginPath();
+    g.arc(c[0], c[1], radius, 0, 2 * Math.PI);
+    g.fillStyle = "rgba(255,193,7,0.55)";
+    g.fill();
+    g.lineWidth = 2;
+    g.strokeStyle = frame.contact ? "#c62828" : "#6d4c00";
+    g.stroke();
+    var tip = at(robot.body_radius_mm || 100, 0);
+    g.beginPath();
+    g.moveTo(c[0], c[1]);
+    g.lineTo(tip[0], tip[1]);
+    g.strokeStyle = "#3e2723";
+    g.stroke();
+    this.sensorSpecs.forEach(function (s) {
+      if (s.kind === "line") {
+        var values = sensors[s.name] || [];
+        s.spots_mm.forEach(function (spot, i) {
+          var p = at(spot[0], spot[1]);
+          g.beginPath();
+          g.arc(p[0], p[1], Math.max(2.5, s.spot_diameter_mm * scale), 0, 2 * Math.PI);
+          g.fillStyle = (values[i] || 0) > 500 ? "#000" : "#fff";
+          g.fill();
+          g.strokeStyle = "#c62828";
+          g.lineWidth = 1;
+          g.stroke();
+        });
+      }
+    });
+  };
+
+  Viewer.prototype.draw = function () {
+    var g = this.canvas.getContext("2d"), list = this.frames.list;
+    if (!this.header) return;
+    if (this.boundsDirty || !this.view) this.computeBounds();
+    if (!this.worldLayer) this.drawWorld();
+    g.drawImage(this.worldLayer, 0, 0);
+    if (!list.length) return;
+    if (!this.pathIndex || this.pathLength !== list.length) this.pathPoints();
+    var idx = this.pathIndex, self = this;
+    g.strokeStyle = "#1565c0";
+    g.lineWidth = 2;
+    g.beginPath();
+    var started = false;
+    for (var i = 0; i < idx.length && idx[i] <= this.index; i++) {
+      var p = self.px(list[idx[i]].pose[0], list[idx[i]].pose[1]);
+      if (started) g.lineTo(p[0], p[1]); else { g.moveTo(p[0], p[1]); started = true; }
+    }
+    var frame = list[this.index];
+    if (frame.pose && started) {
+      var q = self.px(frame.pose[0], frame.pose[1]);
+      g.lineTo(q[0], q[1]);
+    }
+    g.stroke();
+    this.drawRobot(g, frame);
+  };
+
+  Viewer.prototype.plotSpan = function () {
+    var list = this.frames.list;
+    if (!list.length) return [0, 1];
+    return [list[0].t, Math.max(list[list.length - 1].t, list[0].t + 0.001)];
+  };
+
+  /* The plot image, without the cursor: one min/max column per pixel, so any length draws
+   * in the same time. */
+  Viewer.prototype.drawPlot = function () {
+    var c = document.createElement("canvas");
+    c.width = this.plotCanvas.width;
+    c.height = this.plotCanvas.height;
+    var g = c.getContext("2d"), list = this.frames.list, legend = this.q("legend");
+    g.fillStyle = "#fff";
+    g.fillRect(0, 0, c.width, c.height);
+    legend.textContent = "";
+    this.plotLayer = c;
+    if (!list.length) return;
+    var span = this.plotSpan(), left = 40, width = c.width - 50;
+    var panels = [["sensors", 0, c.height * 0.62], ["motors", c.height * 0.62, c.height]];
+    var colour = 0;
+    panels.forEach(function (panel) {
+      var group = panel[0], top = panel[1] + 6, bottom = panel[2] - 6;
+      var names = {}, order = [], lo = Infinity, hi = -Infinity, i, j;
+      var stride = Math.max(1, Math.floor(list.length / (width * 4)));
+      for (i = 0; i < list.length; i += stride) {
+        var s = series(list[i], group);
+        for (j = 0; j < s.length; j++) {
+          if (s[j][1] === null) continue;  // a sensor that never read is not plotted
+          if (!(s[j][0] in names)) { names[s[j][0]] = order.length; order.push(s[j][0]); }
+          lo = Math.min(lo, s[j][1]);
+          hi = Math.max(hi, s[j][1]);
+        }
+      }
+      if (!order.length) return;
+      if (lo === hi) { lo -= 1; hi += 1; }
+      g.strokeStyle = "#ddd";
+      g.strokeRect(left, top, width, bottom - top);
+      g.fillStyle = "#555";
+      g.font = "10px sans-serif";
+      g.fillText(String(Math.round(hi)), 2, top + 9);
+      g.fillText(String(Math.round(lo)), 2, bottom);
+      order.forEach(function (name) {
+        var col = COLOURS[colour++ % COLOURS.length];
+        var item = el("span", { "class": "rs-key" });
+        var swatch = el("i", { style: "background:" + col });
+        item.appendChild(swatch);
+        item.appendChild(document.createTextNode(group + " " + name));
+        legend.appendChild(item);
+        g.strokeStyle = col;
+        g.lineWidth = 1.3;
+        g.beginPath();
+        var pen = false;
+        for (i = 0; i < list.length; i += stride) {
+          var pairs = series(list[i], group), v = null;
+          for (j = 0; j < pairs.length; j++) if (pairs[j][0] === name) v = pairs[j][1];
+          if (v === null) { pen = false; continue; }
+          var x = left + (list[i].t - span[0]) / (span[1] - span[0]) * width;
+          var y = bottom - (v - lo) / (hi - lo) * (bottom - top);
+          if (pen) g.lineTo(x, y); else { g.moveTo(x, y); pen = true; }
+        }
+        g.stroke();
+      });
+    });
+    this.plotDirty = false;
+  };
+
+  Viewer.prototype.drawPlotCursor = function () {
+    var g = this.plotCanvas.getContext("2d"), list = this.frames.list;
+    if (this.plotDirty || !this.plotLayer) this.drawPlot();
+    g.drawImage(this.plotLayer, 0, 0);
+    if (!list.length) return;
+    var span = this.plotSpan(), left = 40, width = this.plotCanvas.width - 50;
+    var self = this;
+    this.marks.forEach(function (m) {
+      var mx = left + (m.t - span[0]) / (span[1] - span[0]) * width;
+      g.strokeStyle = "#c62828";
+      g.setLineDash([3, 3]);
+      g.beginPath(); g.moveTo(mx, 0); g.lineTo(mx, self.plotCanvas.height); g.stroke();
+      g.setLineDash([]);
+    });
+    var x = left + (list[this.index].t - span[0]) / (span[1] - span[0]) * width;
+    g.strokeStyle = "#000";
+    g.lineWidth = 1;
+    g.beginPath(); g.moveTo(x, 0); g.lineTo(x, this.plotCanvas.height); g.stroke();
+  };
+
+  Viewer.prototype.drawTimeline = function () {
+    var list = this.frames.list, box = this.timeline;
+    box.textContent = "";
+    this.timelineDirty = false;
+    if (!list.length) return;
+    var span = this.plotSpan(), start = 0, states = [];
+    for (var i = 1; i <= list.length; i++) {
+      if (i === list.length || list[i].state !== list[start].state) {
+        states.push([list[start].t, i < list.length ? list[i].t : span[1], list[start].state]);
+        start = i;
+      }
+    }
+    var names = (((this.header || {}).mission || {}).states || []).map(function (s) {
+      return s.name;
+    });
+    states.forEach(function (s) {
+      var part = el("button", { type: "button", "class": "rs-seg", "data-t": String(s[0]),
+                                "data-state": s[2], title: s[2] + " from " + fmt(s[0], 2) + " s" },
+                    s[2]);
+      var k = names.indexOf(s[2]);
+      part.style.background = COLOURS[(k < 0 ? 0 : k) % COLOURS.length];
+      part.style.flexGrow = String(Math.max(s[1] - s[0], 0.0001));
+      box.appendChild(part);
+    });
+  };
+
+  Viewer.prototype.showText = function () {
+    var list = this.frames.list, frame = list[this.index];
+    if (!frame) return;
+    this.q("time").textContent = fmt(frame.t, 2) + " s";
+    this.q("state").textContent = frame.state || "—";
+    this.q("action").textContent = frame.action || "—";
+    this.q("outcome").textContent = frame.outcome || "running";
+    this.q("pose").textContent = frame.pose ?
+      "x " + fmt(frame.pose[0]) + " mm, y " + fmt(frame.pose[1]) + " mm, heading " +
+      fmt(frame.pose[2]) + "°" : "—";
+    var m = frame.motors;
+    this.q("motors").textContent = m ? Object.keys(m).map(function (k) {
+      return k + " " + fmt(m[k]);
+    }).join(", ") : "—";
+    this.q("display").textContent = frame.display === undefined ? "—" : frame.display;
+    this.q("tone").textContent = frame.tone ? fmt(frame.tone[0], 0) + " Hz for " +
+      fmt(frame.tone[1], 2) + " s" : "—";
+    this.q("frame").textContent = (this.index + 1) + " / " + list.length;
+    var body = this.q("sensors"), values = frame.sensors || {};
+    var keys = Object.keys(values);
+    if (body.getAttribute("data-keys") !== keys.join(",")) {
+      body.textContent = "";
+      keys.forEach(function (k) {
+        var row = el("tr", { "data-sensor": k });
+        row.appendChild(el("th", { scope: "row" }, k));
+        row.appendChild(el("td", { "class": "rs-value" }, ""));
+        body.appendChild(row);
+      });
+      body.setAttribute("data-keys", keys.join(","));
+    }
+    keys.forEach(function (k) {
+      body.querySelector("[data-sensor='" + k + "'] td").textContent = fmt(values[k]);
+    });
+    this.scrub.value = String(this.index);
+    this.root.setAttribute("data-index", String(this.index));
+    this.root.setAttribute("data-t", String(frame.t));
+    var segs = this.timeline.children;
+    for (var i = 0; i < segs.length; i++) {
+      var t0 = parseFloat(segs[i].getAttribute("data-t"));
+      var t1 = i + 1 < segs.length ? parseFloat(segs[i + 1].getAttribute("data-t")) : Infinity;
+      segs[i].setAttribute("aria-current", frame.t >= t0 && frame.t < t1 ? "true" : "false");
+    }
+  };
+
+  Viewer.prototype.render = function () {
+    if (!this.dirty) return;
+    this.dirty = false;
+    if (this.timelineDirty) this.drawTimeline();
+    if (this.boundsDirty && this.source !== undefined) {
+      // live: refit the world at most twice a second, not on every frame
+      var now = Date.now();
+      if (!this.lastFit || now - this.lastFit > 500) { this.lastFit = now; this.computeBounds(); }
+    }
+    this.draw();
+    if (this.plotDirty && this.source !== undefined) {
+      var wall = Date.now();
+      if (this.lastPlot && wall - this.lastPlot < 250) this.plotDirty = false;
+      else this.lastPlot = wall;
+    }
+    this.drawPlotCursor();
+    this.showText();
+    if (!this.root.hasAttribute("data-ready-ms")) {
+      // milliseconds from the page's start to the first picture (tests/bench/bench_replay.py)
+      this.root.setAttribute("data-ready-ms", String(Math.round(performance.now())));
+    }
+    this.root.setAttribute("data-ready", "1");
+  };
+
+  var viewers = [];
+
+  function loop(wallMs) {
+    for (var i = 0; i < viewers.length; i++) {
+      viewers[i].advance(wallMs);
+      viewers[i].render();
+    }
+    window.requestAnimationFrame(loop);
+  }
+
+  function mount(root) {
+    if (root.rsViewer) return root.rsViewer;
+    var viewer = new Viewer(root);
+    root.rsViewer = viewer;
+    viewers.push(viewer);
+    var data = root.querySelector("script.rs-data");
+    var live = root.getAttribute("data-live");
+    if (data) viewer.loadEmbedded(JSON.parse(data.textContent));
+    else if (live) viewer.connect(live);
+    viewer.render();
+    return viewer;
+  }
+
+  function mountAll() {
+    var roots = document.querySelectorAll(".rs-viewer");
+    for (var i = 0; i < roots.length; i++) mount(roots[i]);
+    window.requestAnimationFrame(loop);
+  }
+
+  window.roboscriptViewer = { mount: mount, viewers: viewers };
+  if (document.readyState === "loading") document.addEventListener("DOMContentLoaded", mountAll);
+  else mountAll();
+})();

@@ -1,0 +1,199 @@
+"""The replay viewer: one self-contained HTML page (inline script and styles, nothing fetched).
+
+The page's script and styles are package data beside this module (``viewer.js``,
+``viewer.css``). A page holds one or more viewers (``<div class="rs-viewer">``) and the script
+once; each viewer reads its run from an embedded ``<script type="application/json">`` or, live,
+from a Server-Sent-Events URL (events ``header``, ``frame``, ``end``; see
+:mod:`roboscript.replay.recording`).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable, Mapping, Sequence
+from functools import cache
+from html import escape
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from roboscript.replay.recording import EVENT_KEYS, Recorder, Recording, load_recording
+
+__all__ = [
+    "decimate",
+    "live_viewer",
+    "view_recording",
+    "viewer_assets",
+    "viewer_block",
+    "viewer_page",
+    "viewer_script",
+    "viewer_style",
+    "write_viewer_page",
+]
+
+
+@cache
+def viewer_assets() -> tuple[str, str]:
+    """The viewer's ``(script, styles)`` text, from the package data."""
+    folder = resources.files("roboscript.replay")
+    script = (folder / "viewer.js").read_text(encoding="utf-8")
+    style = (folder / "viewer.css").read_text(encoding="utf-8")
+    return script, style
+
+
+def viewer_script() -> str:
+    """The ``<script>`` element that turns every viewer block of a page into a viewer."""
+    # A literal "</" would end the element early; the script has none, this keeps it so.
+    return "<script>\n" + viewer_assets()[0].replace("</", "<\\/") + "</script>\n"
+
+
+def viewer_style() -> str:
+    """The ``<style>`` element the viewer needs (its rules are scoped to ``.rs-viewer``)."""
+    return "<style>\n" + viewer_assets()[1] + "</style>\n"
+
+
+def decimate(frames: Sequence[Mapping[str, Any]], rate_hz: float) -> list[dict[str, Any]]:
+    """At most ``rate_hz`` full frames a second, plus every frame where the state changes.
+
+    A tone that started on a dropped frame moves to the next frame kept, and the last frame is
+    always kept, so the replay shows every state, every tone and where the run ended.
+    """
+    if rate_hz <= 0:
+        raise ValueError("the rate must be positive")
+    period = 1.0 / rate_hz
+    kept: list[dict[str, Any]] = []
+    next_t = -float("inf")
+    pending: dict[str, Any] = {}
+    last_state: Any = object()
+    for index, frame in enumerate(frames):
+        for key in EVENT_KEYS:
+            if key in frame:
+                pending[key] = frame[key]
+        is_last = index == len(frames) - 1
+        if frame["t"] >= next_t - 1e-9 or frame.get("state") != last_state or is_last:
+            item = {k: v for k, v in frame.items() if k not in EVENT_KEYS}
+            item.update(pending)
+            pending = {}
+            kept.append(item)
+            next_t = frame["t"] + period
+            last_state = frame.get("state")
+    return kept
+
+
+def _data(
+    recording: Recording,
+    *,
+    open_at_s: float | None,
+    marks: Iterable[Mapping[str, Any]],
+    rate_hz: float | None,
+) -> dict[str, Any]:
+    frames = recording.frames if rate_hz is None else decimate(recording.frames, rate_hz)
+    recorder = Recorder(recording.header, max_frames=len(frames) + 1)
+    for frame in frames:
+        recorder.add(frame)
+    data: dict[str, Any] = {
+        "header": recording.header,
+        "frames": recorder.frames,
+        "result": recording.result,
+        "marks": list(marks),
+    }
+    if open_at_s is not None:
+        data["open_at_s"] = open_at_s
+    return data
+
+
+def viewer_block(
+    recording: Recording,
+    *,
+    open_at_s: float | None = None,
+    marks: Iterable[Mapping[str, Any]] = (),
+    rate_hz: float | None = None,
+    label: str | None = None,
+) -> str:
+    """One viewer with its run embedded (needs :func:`viewer_script` once on the page).
+
+    Args:
+        recording: The run.
+        open_at_s: Open at this time on the mission clock (else at the start).
+        marks: Moments to mark on the plots: ``{"t": s, "label": text}``.
+        rate_hz: Embed at most this many frames a second (see :func:`decimate`); ``None``
+            embeds every frame.
+        label: The viewer's accessible name.
+    """
+    data = _data(recording, open_at_s=open_at_s, marks=marks, rate_hz=rate_hz)
+    text = json.dumps(data, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
+    # Inside <script>, only "</" can end the element early; \u003c is the same JSON string.
+    text = text.replace("<", "\\u003c")
+    name = label or f"replay of {recording.header.get('mission', {}).get('name', 'a run')}"
+    return (
+        f'<div class="rs-viewer" tabindex="0" role="region" aria-label="{escape(name)}">'
+        f'<script type="application/json" class="rs-data">{text}</script></div>\n'
+    )
+
+
+def live_viewer(url: str, *, label: str = "live view") -> str:
+    """One viewer fed live from the Server-Sent-Events stream at ``url``."""
+    return (
+        f'<div class="rs-viewer" tabindex="0" role="region" aria-label="{escape(label)}"'
+        f' data-live="{escape(url)}"></div>\n'
+    )
+
+
+def viewer_page(body: str, title: str) -> str:
+    """A whole page around viewer blocks: styles, the blocks, the script once."""
+    return (
+        '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
+        '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
+        f"<title>{escape(title)}</title>\n{viewer_style()}"
+        "<style>body { margin: 1rem auto; max-width: 900px; padding: 0 1rem;"
+        " font-family: system-ui, sans-serif; } h1 { font-size: 1.3rem; }</style>\n"
+        f"</head>\n<body>\n<h1>{escape(title)}</h1>\n{body}{viewer_script()}</body>\n</html>\n"
+    )
+
+
+def recording_title(recording: Recording) -> str:
+    """The page title for a run: mission, robot, world."""
+    header = recording.header
+    mission = header.get("mission", {}).get("name", "a run")
+    robot = header.get("robot", {}).get("name", "a robot")
+    world = header.get("world")
+    where = f" in {world['name']}" if isinstance(world, dict) and world.get("name") else ""
+    return f"{mission} on {robot}{where}"
+
+
+def write_viewer_page(recording_path: str | Path, out_path: str | Path) -> Path:
+    """Write the replay page of the recording at ``recording_path`` to ``out_path``.
+
+    Raises:
+        RecordingError: The recording cannot be read.
+        OSError: The page cannot be written.
+    """
+    recording = load_recording(recording_path)
+    page = viewer_page(viewer_block(recording), recording_title(recording))
+    out = Path(out_path)
+    out.write_text(page, encoding="utf-8")
+    return out
+
+
+def view_recording(
+    recording_path: str, out_path: str | None = None, *, open_page: bool = False
+) -> tuple[Path, str | None]:
+    """``roboscript view``: write the page (default: the recording's name with ``.html``).
+
+    Returns:
+        The page's path, and the one-line problem if it could not be written or opened.
+
+    Raises:
+        RecordingError: The recording cannot be read.
+    """
+    out = Path(out_path) if out_path else Path(recording_path).with_suffix(".html")
+    try:
+        write_viewer_page(recording_path, out)
+    except OSError as exc:
+        return out, f"error: cannot write the page {out}: {exc.strerror or exc}"
+    if open_page:
+        import webbrowser
+
+        if not webbrowser.open(out.resolve().as_uri()):
+            return out, f"error: no web browser to open {out}; open it by hand"
+    return out, None

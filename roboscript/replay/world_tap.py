@@ -1,0 +1,158 @@
+"""Recording a graded run in the world's process, from the grader's own simulation.
+
+In a graded run the student's mission runs in a sandbox and only sends bytes and reports; the
+world process owns the simulation. :class:`WorldReplay` records there, so nothing the student
+process writes becomes a frame except the state names the world has already checked. It reads
+the body without disturbing it (the range sensors' last measurements, never a new one), keeps
+at most ``rate_hz`` frames a second plus every state change, and its frames' ``motors`` are
+the simulated motor power the robot's firmware applied (``left_power``/``right_power``,
+-1 to 1, forward positive): the mission's own wheel commands never leave its sandbox.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from roboscript import capabilities as cap
+from roboscript.profiles import RobotProfile
+from roboscript.replay.header import run_header
+from roboscript.replay.recording import Recorder
+from roboscript.replay.session_tap import SHOWN, written_pose
+from roboscript.sim.simulation import Simulation
+
+__all__ = ["DEFAULT_RATE_HZ", "WorldReplay"]
+
+DEFAULT_RATE_HZ = 10.0
+"""Frames a second a graded run keeps: enough to replay, small enough for a class report."""
+
+
+class WorldReplay:
+    """Records one graded run from the world's simulation.
+
+    Args:
+        sim: The world's simulation.
+        profile: The robot simulated.
+        tick_s: The mission's scheduler period, seconds.
+        rate_hz: Most frames a second (state changes are always kept).
+    """
+
+    def __init__(
+        self,
+        sim: Simulation,
+        profile: RobotProfile,
+        *,
+        tick_s: float = 0.02,
+        rate_hz: float = DEFAULT_RATE_HZ,
+    ) -> None:
+        self.sim = sim
+        self.profile = profile
+        self.period_s = 1.0 / rate_hz
+        header = run_header(
+            {"name": "", "states": []},
+            profile,
+            world=sim.world,
+            seed=sim.seed,
+            pose_source="simulator",
+            tick_s=tick_s,
+            body=sim.body.spec,
+        )
+        header["port"] = "grader"
+        header["frame_rate_hz"] = rate_hz
+        self.recorder = Recorder(header)
+        self._start_s: float | None = None
+        self._next_s = 0.0
+        self._state: str | None = None
+        self._tones = 0
+        self._states: list[str] = []
+
+    def start(self, now_s: float) -> None:
+        """The mission started at simulated time ``now_s`` (its clock's zero)."""
+        self._start_s = now_s
+        self._tones = len(self.sim.log.tones)
+
+    def tick(self, now_s: float, state: str | None) -> None:
+        """The simulation reached ``now_s``; ``state`` is the state the mission last reported."""
+        if self._start_s is None or state is None:
+            return
+        if state not in self._states:
+            self._states.append(state)
+        t = now_s - self._start_s
+        if state == self._state and t < self._next_s - 1e-9:
+            return
+        self._state = state
+        self._next_s = t + self.period_s
+        self.recorder.add(self._sample(round(t, 3), state))
+
+    def _sample(self, t: float, state: str) -> dict[str, Any]:
+        body = self.sim.body
+        log = self.sim.log
+        frame: dict[str, Any] = {
+            "t": t,
+            "pose": written_pose(body.x_mm, body.y_mm, body.heading_deg),
+            "state": state,
+            "sensors": self._sensors(),
+            "motors": {
+                "left_power": round(body.power[0], 3),
+                "right_power": round(body.power[1], 3),
+            },
+            "contact": body.contact_side if body.in_contact else None,
+        }
+        if len(log.tones) > self._tones:  # the last tone heard since the frame before
+            _, frequency, duration = log.tones[-1]
+            frame["tone"] = [float(frequency), round(duration, 3)]
+            self._tones = len(log.tones)
+        if log.display:
+            frame["display"] = log.display
+        return frame
+
+    def _sensors(self) -> dict[str, Any]:
+        body = self.sim.body
+        has = self.profile.capabilities
+        front, side = body.last_ranges_mm()
+        values: dict[str, Any] = {}
+        if cap.RANGE in has:
+            values["range_mm"] = None if front is None else round(front, 1)
+        if cap.SIDE_RANGE in has:
+            values["side_range_mm"] = None if side is None else round(side, 1)
+        if cap.LINE in has:
+            values["line"] = list(body.line_levels())
+        if cap.BUMPER in has:
+            names = body.spec.bumper_names
+            values["bumper"] = [
+                n for n, down in zip(names, body.bumpers_pressed(), strict=True) if down
+            ]
+        if cap.HEADING in has:
+            values["heading_deg"] = SHOWN["heading_deg"](body.imu_heading_deg())
+        return values
+
+    def finish(
+        self,
+        *,
+        mission: str,
+        outcome: str,
+        final_state: str | None,
+        reason: str | None,
+        duration_s: float,
+        states: tuple[tuple[float, str], ...],
+        now_s: float,
+    ) -> dict[str, Any]:
+        """Close the recording; return it as ``{"header", "frames", "result"}``."""
+        if self._start_s is not None and final_state is not None:
+            self._next_s = 0.0  # the last moment is always kept
+            self.tick(now_s, final_state)
+        header = self.recorder.header()
+        header["mission"] = {
+            "name": mission,
+            "initial": states[0][1] if states else None,
+            "states": [{"name": name, "action": None, "final": None} for name in self._states],
+        }
+        result = self.recorder.finish(
+            {
+                "outcome": outcome,
+                "final_state": final_state,
+                "reason": reason,
+                "duration_s": round(duration_s, 3),
+                "states": [[t, name] for t, name in states],
+            }
+        )
+        return {"header": header, "frames": self.recorder.frames, "result": result}

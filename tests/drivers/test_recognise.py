@@ -1,0 +1,137 @@
+"""A port that speaks another robot's protocol is named (issue 14, item 7).
+
+The recogniser is fed the bytes a port sent; each protocol's signature is read by its own
+codec. The end-to-end tests connect to the real served simulators on loopback TCP.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from helpers import ROOT, run_cli
+
+from roboscript.drivers.recognise import handshake_failure, recognise_protocol, wrong_robot_hint
+from roboscript.robot import Robot
+
+
+@pytest.mark.parametrize(
+    ("robot", "protocol"),
+    [
+        ("mirto", "asip"),
+        ("spike-prime", "spike"),
+        ("stackmod-rover", "stackmod"),
+        ("plen2", "plen"),
+    ],
+)
+def test_what_each_simulated_robot_sends_is_recognised_as_its_protocol(
+    robot: str, protocol: str
+) -> None:
+    with Robot.connect(robot) as bot:
+        bot.scheduler.run(until=lambda: False, max_duration_s=1.0)
+        heard = bytes(bot.driver.link.heard)  # type: ignore[attr-defined]
+    assert heard
+    assert recognise_protocol(heard) == protocol
+    assert wrong_robot_hint(heard, protocol) is None  # its own robot: nothing to say
+
+
+@pytest.mark.parametrize("data", [b"", b"hello world\n", b"\xff\xfe\xfd" * 20, b"OK\r\n" * 5])
+def test_text_or_noise_is_no_protocol(data: bytes) -> None:
+    assert recognise_protocol(data) is None
+
+
+def test_an_asip_banner_names_the_robot_to_use() -> None:
+    banner = b"!mirto2017 running on ATmega328P\n@I,a,2,{4:578,5:615}\n"
+    assert wrong_robot_hint(banner, "spike") == (
+        "this port speaks the ASIP protocol (a MIRTO or another ASIP board): use --robot mirto"
+    )
+
+
+def test_silence_says_what_was_tried() -> None:
+    text = handshake_failure("mirto", "asip", "socket://h:1", b"", 48, "within 3 s")
+    assert text.startswith(
+        "mirto did not answer on socket://h:1 within 3 s: nothing came back to 48 bytes of the "
+        "ASIP handshake"
+    )
+
+
+@pytest.fixture
+def served_mirto() -> Iterator[int]:
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "roboscript", "sim", "--robot", "mirto", "--tcp", "127.0.0.1:0"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=ROOT,
+        env=dict(os.environ, PYTHONPATH=str(ROOT)),
+    )
+    try:
+        assert proc.stdout is not None
+        match = re.search(r"tcp://127\.0\.0\.1:(\d+)", proc.stdout.readline())
+        assert match
+        yield int(match.group(1))
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+
+
+def test_a_served_mirto_asked_for_as_a_spike_hub_is_named(served_mirto: int) -> None:
+    url = f"socket://127.0.0.1:{served_mirto}"
+    done = run_cli("run", "missions/square.yaml", "--robot", "spike-prime", "--port", url)
+    assert done.returncode == 1
+    assert done.stderr.strip().splitlines()[-1] == (
+        f"error: spike-prime did not answer on {url}: this port speaks the ASIP protocol "
+        "(a MIRTO or another ASIP board): use --robot mirto"
+    )
+    assert "Traceback" not in done.stderr
+
+
+def test_a_served_mirto_asked_for_as_a_plen2_is_named(served_mirto: int, tmp_path: Path) -> None:
+    mission = tmp_path / "walk.yaml"
+    mission.write_text(
+        "states:\n  go:\n    do: {walk: {steps: 2}}\n    on: {done: end, failed: end}\n"
+        "  end: {final: success}\n"
+    )
+    url = f"socket://127.0.0.1:{served_mirto}"
+    done = run_cli("run", str(mission), "--robot", "plen2", "--port", url)
+    assert done.returncode == 1
+    assert "this port speaks the ASIP protocol" in done.stderr
+    assert "use --robot mirto" in done.stderr
+
+
+@pytest.fixture
+def served_spike() -> Iterator[int]:
+    args = ["sim", "--robot", "spike-prime", "--tcp", "127.0.0.1:0"]
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "roboscript", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=ROOT,
+        env=dict(os.environ, PYTHONPATH=str(ROOT)),
+    )
+    try:
+        assert proc.stdout is not None
+        match = re.search(r"tcp://127\.0\.0\.1:(\d+)", proc.stdout.readline())
+        assert match
+        yield int(match.group(1))
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+
+
+def test_a_served_spike_hub_that_stays_silent_is_told_what_was_tried(served_spike: int) -> None:
+    url = f"socket://127.0.0.1:{served_spike}"
+    done = run_cli("run", "missions/square.yaml", "--robot", "mirto", "--port", url)
+    assert done.returncode == 1
+    [line] = done.stderr.strip().splitlines()
+    assert line.startswith(
+        f"error: mirto did not answer on {url} within 3 s: nothing came back to 48 bytes of "
+        "the ASIP handshake"
+    )
+    assert "A SPIKE hub or a StackMod bridge says nothing until asked" in line

@@ -1,0 +1,236 @@
+"""The live view (``run --view``): a browser watches the run while it goes, never holding it up."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import signal
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from browser import open_browser
+from helpers import ROOT
+
+from roboscript.replay.live import HOST, LiveView
+from roboscript.transport.wirelog import read_wire_log
+
+HEADER = {"format": "roboscript-run", "version": 1, "mission": {"name": "m", "states": []}}
+
+
+def _start_run(*options: str) -> tuple[subprocess.Popen[str], str]:
+    """``roboscript run MISSION --view OPTIONS`` in a child process, and its page's URL."""
+    process = subprocess.Popen(
+        [sys.executable, "-m", "roboscript", "run", *options, "--view"],
+        cwd=ROOT,
+        env=dict(os.environ, PYTHONPATH=str(ROOT)),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert process.stderr is not None
+    first = process.stderr.readline()
+    found = re.fullmatch(
+        r"live view: (http://127\.0\.0\.1:\d+/) \(open it in a web browser\)\n", first
+    )
+    if found is None:
+        process.kill()
+        pytest.fail(f"no live view URL, got {first!r}: {process.communicate()[1]}")
+    return process, found.group(1)
+
+
+@pytest.fixture
+def live() -> Iterator[LiveView]:
+    view = LiveView("m", history_frames=50)
+    view.start()
+    yield view
+    view.close()
+
+
+def _connect(view: LiveView, *, receive_buffer: int | None = None) -> socket.socket:
+    """A browser asking for the stream; it reads nothing until the test says so."""
+    client = socket.socket()
+    if receive_buffer is not None:
+        client.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, receive_buffer)
+    client.connect((HOST, view.port))
+    client.sendall(f"GET /events HTTP/1.1\r\nHost: {HOST}:{view.port}\r\n\r\n".encode())
+    return client
+
+
+def _read_events(client: socket.socket) -> list[tuple[str, Any]]:
+    """Read the stream to its ``end`` event; every event as (name, data)."""
+    client.settimeout(30)
+    data = b""
+    while b"event: end\n" not in data or not data.endswith(b"\n\n"):
+        chunk = client.recv(1 << 16)
+        if not chunk:
+            break
+        data += chunk
+    events = []
+    for block in data.split(b"\r\n\r\n", 1)[1].decode().split("\n\n"):
+        fields = dict(line.split(": ", 1) for line in block.splitlines() if ": " in line)
+        if "event" in fields:
+            events.append((fields["event"], json.loads(fields["data"])))
+    return events
+
+
+def _read_frames(stream: Any, count: int) -> None:
+    """Read a live stream until ``count`` frames have come."""
+    while count:
+        line = stream.readline()
+        assert line, "the stream ended"
+        count -= line.startswith(b"event: frame")
+
+
+def _wait_for_clients(view: LiveView, count: int) -> None:
+    for _ in range(1000):  # the server thread registers a browser as soon as it asks
+        if len(view.clients()) >= count:
+            return
+        time.sleep(0.01)
+    pytest.fail("the browser never reached the server")
+
+
+# ---------------------------------------------------------------------- a real browser
+
+
+def test_a_browser_watches_the_state_change_while_the_mission_runs(tmp_path: Path) -> None:
+    process, url = _start_run("missions/square.yaml", "--max-time", "6")
+    try:
+        with open_browser(tmp_path) as browser:
+            browser.open(url)
+            state = "document.querySelector('[data-role=state]').textContent"
+            browser.wait_for(f"{state} === 'side'")
+            assert process.poll() is None  # watched while the mission still runs
+            browser.wait_for(f"{state} === 'corner'")
+            browser.wait_for("document.querySelector('[data-role=result]').textContent !== ''")
+            result = browser.evaluate("document.querySelector('[data-role=result]').textContent")
+        _, stderr = process.communicate(timeout=30)
+    finally:
+        process.kill()
+    assert "did not finish within 6 s" in result
+    assert process.returncode == 1, stderr
+    assert stderr.splitlines()[-1] == "failure: the mission did not finish within 6 s"
+
+
+def test_closing_the_page_does_not_stop_the_run() -> None:
+    process, url = _start_run("missions/square.yaml", "--max-time", "2", "--json")
+    try:
+        with urllib.request.urlopen(url + "events", timeout=30) as stream:
+            assert stream.readline() == b"retry: 2000\n"
+            _read_frames(stream, 1)
+        # the page is gone a moment after the start; the mission runs on to its limit
+        stdout, stderr = process.communicate(timeout=60)
+    finally:
+        process.kill()
+    summary = json.loads(stdout)
+    assert summary["duration_s"] == pytest.approx(2.0, abs=0.05)
+    assert summary["reason"] == "the mission did not finish within 2 s"
+    assert process.returncode == 1, stderr
+
+
+def test_ctrl_c_stops_the_robot_first(tmp_path: Path) -> None:
+    log = tmp_path / "wire.log"
+    process, url = _start_run("missions/square.yaml", "--wire-log", str(log))
+    try:
+        with urllib.request.urlopen(url + "events", timeout=30) as stream:
+            _read_frames(stream, 50)  # a second of driving
+            process.send_signal(signal.SIGINT)
+            _, stderr = process.communicate(timeout=30)
+    finally:
+        process.kill()
+    assert process.returncode == 130, stderr
+    assert stderr.splitlines()[-1] == "error: interrupted by Ctrl-C"
+    sent = [data for _, direction, data in read_wire_log(log) if direction == ">"]
+    assert sent[-2:] == [b"M,S,0\n", b"M,M,0,0\n"]  # mirto's stop, the last bytes sent
+    with pytest.raises(OSError):  # and the page is no longer served
+        urllib.request.urlopen(url, timeout=5)
+
+
+# -------------------------------------------------------------------------- the server
+
+
+def test_the_server_answers_only_on_loopback(live: LiveView) -> None:
+    assert live.url == f"http://127.0.0.1:{live.port}/"
+    with urllib.request.urlopen(live.url, timeout=10) as page:
+        assert b'data-live="/events"' in page.read()
+    # bound to 127.0.0.1 itself, not to every address: another loopback address is refused
+    with pytest.raises(ConnectionRefusedError):
+        socket.create_connection(("127.0.0.2", live.port), timeout=5)
+    # a page elsewhere reaching it through a name it controls (DNS rebinding) is refused
+    request = urllib.request.Request(live.url, headers={"Host": f"evil.example:{live.port}"})
+    with pytest.raises(urllib.error.HTTPError) as refused:
+        urllib.request.urlopen(request, timeout=10)
+    assert refused.value.code == 403
+
+
+def test_a_stalled_browser_drops_frames_and_never_holds_up_the_ticks(live: LiveView) -> None:
+    stalled = _connect(live, receive_buffer=4096)
+    _wait_for_clients(live, 1)
+    live.publish("header", HEADER)
+    ticks = 5000
+    padding = "x" * 2000  # 10 MB in all: far more than the sockets can hold
+    for tick in range(ticks):
+        frame: dict[str, Any] = {"t": tick / 50, "pad": padding}
+        if tick == 0:
+            frame["state"] = "side"
+        if tick == 3000:
+            frame["state"] = "corner"
+        live.publish("frame", frame)
+    live.publish("end", {"outcome": "success"})
+    assert live.frames_published == ticks  # every tick went on, the browser reading nothing
+    events = _read_events(stalled)  # the browser reads again
+    frames = [data for name, data in events if name == "frame"]
+    [stats] = live.clients()
+    assert stats.frames_dropped > 0
+    assert stats.frames_sent == len(frames)
+    assert stats.frames_sent + stats.frames_dropped == ticks
+    times = [f["t"] for f in frames]
+    assert times == sorted(times) and times[-1] == (ticks - 1) / 50
+    # after the frames it missed, it gets a full snapshot: the state set long before is there
+    # (the gap is at the start when its thread first ran after the last tick)
+    gap = next((i for i in range(1, len(times)) if times[i] - times[i - 1] > 0.03), 0)
+    assert frames[gap]["state"] == ("corner" if times[gap] >= 3000 / 50 else "side")
+    assert all("state" not in frame for frame in frames[gap + 1 :] if frame["t"] != 60.0)
+    assert events[-1] == ("end", {"outcome": "success"})
+
+
+def test_a_browser_joining_late_gets_the_header_a_snapshot_and_recent_frames(
+    live: LiveView,
+) -> None:
+    live.publish("header", HEADER)
+    for tick in range(120):
+        live.publish("frame", {"t": tick / 50, **({"state": "side"} if tick == 0 else {})})
+    late = _connect(live)
+    _wait_for_clients(live, 1)
+    live.publish("frame", {"t": 120 / 50, "state": "corner"})
+    live.publish("end", {"outcome": "failure"})
+    events = _read_events(late)
+    assert events[0] == ("header", HEADER)
+    frames = [data for name, data in events if name == "frame"]
+    # the 50 kept when it joined (ticks 70-119), or those kept when its thread first ran
+    first = 70 if len(frames) == 51 else 71
+    assert [f["t"] for f in frames] == [tick / 50 for tick in range(first, 121)]
+    assert frames[0]["state"] == "side"  # the snapshot carries what changed long before
+    assert frames[-1]["state"] == "corner"
+    assert live.clients()[0].frames_dropped == 0  # it missed nothing it was ever due
+
+
+def test_after_the_run_the_server_waits_for_open_pages_then_closes(live: LiveView) -> None:
+    page = _connect(live)
+    _wait_for_clients(live, 1)
+    live.publish("header", HEADER)
+    live.publish("frame", {"t": 0.0, "state": "side"})
+    live.publish("end", {"outcome": "success"})
+    said: list[str] = []
+    live.serve_the_end(said.append)
+    assert said == []  # the open page had the end: nothing to wait for
+    assert _read_events(page)[-1] == ("end", {"outcome": "success"})
+    with pytest.raises(OSError):
+        socket.create_connection((HOST, live.port), timeout=5)

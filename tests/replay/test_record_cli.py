@@ -1,0 +1,116 @@
+"""``roboscript run --record`` and ``roboscript view`` as a user types them."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+from helpers import MISSIONS, ROOT, run_cli
+
+from roboscript.replay import load_recording
+
+SHORT = """\
+mission: out-and-turn
+initial: out
+states:
+  out:
+    do: {drive: {distance: 20 cm, speed: 15 cm/s}}
+    on: {done: turn, failed: stuck}
+  turn:
+    do: {rotate: {angle: 90 deg}}
+    on: {done: beep, failed: stuck}
+  beep:
+    do: {play_tone: {frequency: 660 Hz, duration: 200 ms}}
+    final: success
+  stuck:
+    final: failure
+"""
+
+
+def test_run_record_then_view_writes_a_self_contained_page(tmp_path: Path) -> None:
+    run = tmp_path / "run.jsonl"
+    done = run_cli("run", str(MISSIONS / "square.yaml"), "--record", str(run), "--quiet")
+    assert done.returncode == 0, done.stderr
+    recording = load_recording(run)
+    assert recording.result is not None and recording.result["outcome"] == "success"
+    assert recording.header["mission"]["name"] == "square"
+
+    view = run_cli("view", str(run))
+    assert view.returncode == 0, view.stderr
+    page = tmp_path / "run.html"
+    assert view.stderr.strip() == f"replay: {page}"
+    html = page.read_text(encoding="utf-8")
+    assert "<script src" not in html and "<link" not in html and "http" not in html
+    data = re.search(r'<script type="application/json" class="rs-data">(.*?)</script>', html)
+    assert data is not None
+    embedded = json.loads(data.group(1))
+    assert len(embedded["frames"]) == len(recording.frames)
+    assert embedded["header"]["format"] == "roboscript-run"
+
+    other = tmp_path / "other.html"
+    assert run_cli("view", str(run), "-o", str(other)).returncode == 0
+    assert other.read_text(encoding="utf-8") == html
+
+
+def test_a_recording_that_cannot_be_written_fails_after_the_run(tmp_path: Path) -> None:
+    done = run_cli("run", str(MISSIONS / "square.yaml"), "--record", str(tmp_path), "--json")
+    assert done.returncode == 1
+    summary = json.loads(done.stdout)
+    assert summary["outcome"] == "success"  # the run itself went on and ended
+    last = done.stderr.strip().splitlines()[-1]
+    assert last.startswith(f"error: cannot write the recording {tmp_path}: ")
+
+
+def test_view_names_a_bad_recording_in_one_line(tmp_path: Path) -> None:
+    bad = tmp_path / "bad.jsonl"
+    bad.write_text('{"format": "roboscript-run", "version": 9}\n', encoding="utf-8")
+    done = run_cli("view", str(bad))
+    assert done.returncode == 2
+    assert done.stderr.strip() == (
+        f"{bad}:1: error: this recording is version 9; this roboscript reads up to version 1"
+        " (upgrade roboscript)"
+    )
+    assert not (tmp_path / "bad.html").exists()
+
+
+def test_a_run_on_a_port_records_the_odometry_pose(
+    write_mission: Callable[..., Path], tmp_path: Path
+) -> None:
+    mission = write_mission(SHORT)
+    server = subprocess.Popen(
+        [sys.executable, "-m", "roboscript", "sim", "--robot", "mirto", "--tcp", "127.0.0.1:0"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=ROOT,
+        env=dict(os.environ, PYTHONPATH=str(ROOT)),
+    )
+    run = tmp_path / "run.jsonl"
+    try:
+        assert server.stdout is not None
+        match = re.search(r"tcp://127\.0\.0\.1:(\d+)", server.stdout.readline())
+        assert match
+        url = f"socket://127.0.0.1:{match.group(1)}"
+        done = run_cli("run", str(mission), "--port", url, "--record", str(run), "--quiet")
+    finally:
+        server.terminate()
+        server.wait(timeout=10)
+    assert done.returncode == 0, done.stderr
+    recording = load_recording(run)
+    assert recording.header["pose_source"] == "odometry"
+    assert recording.header["world"] is None and recording.header["seed"] is None
+    assert recording.header["port"] == url
+    x, y, heading = recording.frames[-1]["pose"]
+    # 20 cm north, then a quarter turn right on the spot
+    assert x == pytest.approx(0.0, abs=15.0)
+    assert y == pytest.approx(200.0, abs=15.0)
+    assert heading == pytest.approx(90.0, abs=6.0)
+    assert [f["tone"] for f in recording.frames if "tone" in f] == [[660.0, 0.2]]
+    ticks = [b["t"] - a["t"] for a, b in zip(recording.frames, recording.frames[1:], strict=False)]
+    assert sum(ticks) / len(ticks) == pytest.approx(0.02, abs=0.005)  # the tick loop's timing

@@ -1,0 +1,185 @@
+"""The recorded-run format: what a recording holds, and that it reads back as it was made."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from roboscript.replay import FORMAT, VERSION, Recorder, RecordingError, load_recording
+from roboscript.replay.recording import fill_frames, parse_recording
+
+SNAPSHOTS = [
+    {
+        "t": 0.0,
+        "pose": [0.0, 0.0, 0.0],
+        "state": "go",
+        "action": "drive",
+        "outcome": None,
+        "sensors": {"range_mm": 500.0, "bumper": []},
+        "motors": {"left_mm_s": 100.0, "right_mm_s": 100.0},
+    },
+    {
+        "t": 0.02,
+        "pose": [0.0, 2.0, 0.0],
+        "state": "go",
+        "action": "drive",
+        "outcome": None,
+        "sensors": {"range_mm": 498.0, "bumper": []},
+        "motors": {"left_mm_s": 100.0, "right_mm_s": 100.0},
+        "tone": [440.0, 0.2],
+    },
+    {
+        "t": 0.04,
+        "pose": [0.0, 4.0, 0.0],
+        "state": "beep",
+        "action": "play_tone",
+        "outcome": "done",
+        "sensors": {"range_mm": None, "bumper": ["left"]},
+        "motors": {"left_mm_s": 0.0, "right_mm_s": 100.0},
+        "display": "hi",
+    },
+]
+
+
+def _recorder() -> Recorder:
+    recorder = Recorder({"mission": {"name": "m"}, "world": None})
+    for snapshot in SNAPSHOTS:
+        recorder.add(snapshot)
+    recorder.finish({"outcome": "success", "final_state": "beep", "duration_s": 0.04})
+    return recorder
+
+
+def test_a_frame_keeps_only_what_changed() -> None:
+    frames = _recorder().frames
+    assert frames[1] == {
+        "t": 0.02,
+        "pose": [0.0, 2.0, 0.0],
+        "sensors": {"range_mm": 498.0},
+        "tone": [440.0, 0.2],
+    }
+    assert frames[2] == {
+        "t": 0.04,
+        "pose": [0.0, 4.0, 0.0],
+        "state": "beep",
+        "action": "play_tone",
+        "outcome": "done",
+        "sensors": {"range_mm": None, "bumper": ["left"]},
+        "motors": {"left_mm_s": 0.0},
+        "display": "hi",
+    }
+
+
+def test_a_recording_reads_back_as_it_was_recorded(tmp_path: Path) -> None:
+    path = tmp_path / "run.jsonl"
+    _recorder().write(path)
+    recording = load_recording(path)
+    assert recording.header["format"] == FORMAT
+    assert recording.header["version"] == VERSION
+    assert recording.header["mission"] == {"name": "m"}
+    assert recording.frames == SNAPSHOTS
+    assert recording.result == {
+        "outcome": "success",
+        "final_state": "beep",
+        "duration_s": 0.04,
+        "frames": 3,
+    }
+    assert recording.frame_at(0.03) == SNAPSHOTS[1]
+    assert recording.frame_at(-1.0) is None
+
+
+def test_a_tone_is_an_event_of_one_tick() -> None:
+    frames = fill_frames(_recorder().frames)
+    assert [frame.get("tone") for frame in frames] == [None, [440.0, 0.2], None]
+
+
+def test_the_file_is_one_json_object_a_line(tmp_path: Path) -> None:
+    path = tmp_path / "run.jsonl"
+    _recorder().write(path)
+    lines = path.read_text(encoding="utf-8").splitlines()
+    assert len(lines) == 1 + len(SNAPSHOTS) + 1
+    items = [json.loads(line) for line in lines]
+    assert items[0]["format"] == "roboscript-run"
+    assert all("t" in item for item in items[1:-1])
+    assert set(items[-1]) == {"result"}
+
+
+def test_listeners_see_each_frame_as_it_is_made_and_the_end() -> None:
+    seen: list[tuple[str, dict[str, object]]] = []
+    recorder = Recorder({"mission": {"name": "m"}})
+    recorder.subscribe(lambda event, data: seen.append((event, data)), with_header=True)
+    recorder.add(SNAPSHOTS[0])
+    recorder.add(SNAPSHOTS[1])
+    recorder.finish({"outcome": "failure"})
+    assert [event for event, _ in seen] == ["header", "frame", "frame", "end"]
+    assert seen[0][1]["format"] == FORMAT
+    assert seen[2][1] == recorder.frames[1]
+    assert seen[3][1]["outcome"] == "failure"
+
+
+def test_a_broken_listener_is_dropped_and_recording_goes_on() -> None:
+    recorder = Recorder({})
+
+    def broken(event: str, data: dict[str, object]) -> None:
+        raise RuntimeError("viewer gone")
+
+    recorder.subscribe(broken)
+    recorder.add(SNAPSHOTS[0])
+    recorder.add(SNAPSHOTS[1])
+    assert len(recorder.frames) == 2
+
+
+def test_a_full_recording_counts_the_ticks_it_did_not_keep() -> None:
+    recorder = Recorder({}, max_frames=2)
+    for snapshot in SNAPSHOTS:
+        recorder.add(snapshot)
+    result = recorder.finish({"outcome": "success"})
+    assert len(recorder.frames) == 2
+    assert result["frames_not_recorded"] == 1
+    assert recorder.add(SNAPSHOTS[0]) is None  # finished: nothing more is taken
+
+
+@pytest.mark.parametrize(
+    ("text", "problem"),
+    [
+        ("", "run.jsonl: error: the recording is empty"),
+        ('{"format": "other", "version": 1}\n', "run.jsonl:1: error: not a roboscript recording"),
+        (
+            '{"format": "roboscript-run", "version": 2}\n',
+            (
+                "run.jsonl:1: error: this recording is version 2; this roboscript reads up to"
+                " version 1"
+            ),
+        ),
+        ('{"format": "roboscript-run", "version": 1}\n{"t": 0}\n{oops\n', "run.jsonl:3: error:"),
+        (
+            '{"format": "roboscript-run", "version": 1}\n{"pose": [0, 0, 0]}\n',
+            "run.jsonl:2: error: a frame needs 't', its time in seconds",
+        ),
+        (
+            '{"format": "roboscript-run", "version": 1}\n{"result": {}}\n{"t": 1}\n',
+            "run.jsonl:3: error: nothing may follow the result line",
+        ),
+        ('{"format": "roboscript-run", "version": 1}\n[1, 2]\n', "run.jsonl:2: error:"),
+    ],
+)
+def test_a_bad_recording_is_named_by_file_and_line(text: str, problem: str) -> None:
+    with pytest.raises(RecordingError) as caught:
+        parse_recording(text, "run.jsonl")
+    assert str(caught.value).startswith(problem)
+    assert "\n" not in str(caught.value)
+
+
+def test_a_missing_file_is_one_sentence(tmp_path: Path) -> None:
+    with pytest.raises(RecordingError, match=r"cannot read the recording: No such file"):
+        load_recording(tmp_path / "none.jsonl")
+
+
+def test_unknown_keys_are_kept_for_newer_minor_additions() -> None:
+    recording = parse_recording(
+        '{"format": "roboscript-run", "version": 1, "extra": 5}\n{"t": 0, "new_key": [1]}\n'
+    )
+    assert recording.header["extra"] == 5
+    assert recording.frames == [{"t": 0, "new_key": [1]}]
+    assert recording.result is None

@@ -1,0 +1,242 @@
+"""The replay page in a real headless Chromium: play, step, scrub, jump to a state, go live.
+
+Each test reads what the page shows as text (time, state, pose, sensor values) and compares it
+with the recording the page was made from.
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+from collections.abc import Iterator
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
+from typing import Any
+
+import pytest
+from browser import Browser, open_browser
+from helpers import MISSIONS
+
+from roboscript.mission import mission_for_robot
+from roboscript.replay import Recording
+from roboscript.replay.session_tap import RunRecording
+from roboscript.replay.viewer import live_viewer, viewer_block, viewer_page
+from roboscript.session import run_session
+
+
+@pytest.fixture(scope="module")
+def recorded() -> tuple[Recording, RunRecording]:
+    spec, profile, _ = mission_for_robot(MISSIONS / "bump_and_turn.yaml")
+    recording = RunRecording()
+    run_session(spec, profile, world="square-room", recording=recording)
+    assert recording.recorder is not None
+    return recording.recorder.recording(), recording
+
+
+@pytest.fixture(scope="module")
+def page(
+    recorded: tuple[Recording, RunRecording], tmp_path_factory: pytest.TempPathFactory
+) -> Path:
+    path = tmp_path_factory.mktemp("view") / "run.html"
+    path.write_text(viewer_page(viewer_block(recorded[0]), "bump and turn"), encoding="utf-8")
+    return path
+
+
+@pytest.fixture
+def browser(page: Path, tmp_path: Path) -> Iterator[Browser]:
+    with open_browser(tmp_path) as opened:
+        opened.open(page.as_uri())
+        opened.wait_for("document.querySelector('.rs-viewer').dataset.ready === '1'")
+        yield opened
+        assert opened.errors == []  # the page's script never threw
+
+
+def _text(browser: Browser, role: str) -> str:
+    return str(browser.evaluate(f"document.querySelector('[data-role={role}]').textContent"))
+
+
+def _sensor(browser: Browser, name: str) -> str:
+    return str(browser.evaluate(f"document.querySelector('[data-sensor={name}] td').textContent"))
+
+
+def _index(browser: Browser) -> int:
+    return int(browser.evaluate("document.querySelector('.rs-viewer').dataset.index"))
+
+
+def _shows(browser: Browser, frame: dict[str, Any], total: int, index: int) -> None:
+    """The page's text is exactly this frame's."""
+    assert _text(browser, "time") == f"{frame['t']:.2f} s"
+    assert _text(browser, "state") == frame["state"]
+    assert _text(browser, "frame") == f"{index + 1} / {total}"
+    x, y, heading = frame["pose"]
+    assert _text(browser, "pose") == f"x {x:.1f} mm, y {y:.1f} mm, heading {heading:.1f}°"
+    reading = frame["sensors"]["range_mm"]
+    assert _sensor(browser, "range_mm") == ("—" if reading is None else f"{reading:.1f}")
+
+
+def test_the_page_opens_on_the_first_tick(
+    browser: Browser, recorded: tuple[Recording, RunRecording]
+) -> None:
+    frames = recorded[0].frames
+    _shows(browser, frames[0], len(frames), 0)
+    assert _text(browser, "result").startswith("success in 'home' after")
+    names = browser.evaluate(
+        "[...document.querySelectorAll('[data-role=timeline] [data-state]')]"
+        ".map(e => e.dataset.state)"
+    )
+    assert names == [name for _, name in recorded[0].result["states"]]  # type: ignore[index]
+
+
+def test_step_moves_one_tick_at_a_time(
+    browser: Browser, recorded: tuple[Recording, RunRecording]
+) -> None:
+    frames = recorded[0].frames
+    for _ in range(3):
+        browser.click("[data-action=step]")
+    _shows(browser, frames[3], len(frames), 3)
+    browser.click("[data-action=step-back]")
+    _shows(browser, frames[2], len(frames), 2)
+
+
+def test_play_runs_the_replay_and_pause_holds_it(
+    browser: Browser, recorded: tuple[Recording, RunRecording]
+) -> None:
+    frames = recorded[0].frames
+    browser.click("[data-action=play]")
+    browser.wait_for("+document.querySelector('.rs-viewer').dataset.index > 10")
+    browser.click("[data-action=play]")  # the same button pauses
+    held = _index(browser)
+    assert browser.evaluate("document.querySelector('.rs-viewer').dataset.playing") == "0"
+    _shows(browser, frames[held], len(frames), held)
+    browser.evaluate("new Promise(r => setTimeout(r, 200))")
+    assert _index(browser) == held
+
+
+def test_the_speed_setting_scales_playback(
+    browser: Browser, recorded: tuple[Recording, RunRecording]
+) -> None:
+    browser.evaluate(
+        "(() => { const s = document.querySelector('[data-role=speed]');"
+        " s.value = '16'; s.dispatchEvent(new Event('change')); })()"
+    )
+    browser.click("[data-action=play]")
+    # the page's own clocks: run seconds shown per wall second, measured over half a second
+    ratio = browser.evaluate(
+        "new Promise(resolve => { const v = document.querySelector('.rs-viewer');"
+        " const t0 = +v.dataset.t, w0 = performance.now();"
+        " setTimeout(() => resolve((+v.dataset.t - t0) / ((performance.now() - w0) / 1000)),"
+        " 500); })"
+    )
+    assert 8.0 < ratio < 20.0
+
+
+def test_scrubbing_shows_the_sensor_reading_at_that_time(
+    browser: Browser, recorded: tuple[Recording, RunRecording]
+) -> None:
+    recording = recorded[0]
+    browser.click("[data-role=scrubber]", x_fraction=0.5)
+    index = _index(browser)
+    assert 0.3 * len(recording.frames) < index < 0.7 * len(recording.frames)
+    _shows(browser, recording.frames[index], len(recording.frames), index)
+    # drag the scrubber to the tick at 5 s: the range reading is the recording's at 5 s
+    at_5s = recording.frame_at(5.0)
+    assert at_5s is not None
+    target = recording.frames.index(at_5s)
+    browser.evaluate(
+        "(() => { const s = document.querySelector('[data-role=scrubber]');"
+        f" s.value = '{target}'; s.dispatchEvent(new Event('input')); }})()"
+    )
+    assert _text(browser, "time") == "5.00 s"
+    assert _sensor(browser, "range_mm") == f"{at_5s['sensors']['range_mm']:.1f}"
+
+
+def test_clicking_a_state_jumps_to_where_it_began(
+    browser: Browser, recorded: tuple[Recording, RunRecording]
+) -> None:
+    recording = recorded[0]
+    assert recording.result is not None
+    states = recording.result["states"]
+    second_turn = [i for i, (_, name) in enumerate(states) if name == "turn"][1]
+    browser.click(f"[data-role=timeline] [data-state=turn]:nth-child({second_turn + 1})")
+    index = _index(browser)
+    frame = recording.frames[index]
+    assert frame["t"] == pytest.approx(states[second_turn][0])
+    _shows(browser, frame, len(recording.frames), index)
+    assert _text(browser, "action") == "rotate"
+
+
+class _Events(BaseHTTPRequestHandler):
+    recording: RunRecording
+    page: str
+
+    def do_GET(self) -> None:
+        if self.path != "/events":
+            body = self.page.encode()
+            self.send_response(200)
+            self.send_header("Content-Type", "text/html; charset=utf-8")
+            self.send_header("Content-Length", str(len(body)))
+            self.end_headers()
+            self.wfile.write(body)
+            return
+        self.send_response(200)
+        self.send_header("Content-Type", "text/event-stream")
+        self.end_headers()
+        recorder = self.recording.recorder
+        assert recorder is not None and recorder.result is not None
+        events = [("header", recorder.header())]
+        events += [("frame", frame) for frame in recorder.frames]
+        events.append(("end", recorder.result))
+        for event, data in events:
+            self.wfile.write(f"event: {event}\ndata: {json.dumps(data)}\n\n".encode())
+        self.wfile.flush()
+
+    def log_message(self, format: str, *args: Any) -> None:
+        pass
+
+
+def test_a_live_source_appends_frames_as_they_come(
+    recorded: tuple[Recording, RunRecording], tmp_path: Path
+) -> None:
+    recording, run = recorded
+    handler = type(
+        "Handler",
+        (_Events,),
+        {"recording": run, "page": viewer_page(live_viewer("/events"), "live")},
+    )
+    server = ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        with open_browser(tmp_path) as browser:
+            browser.open(f"http://127.0.0.1:{server.server_address[1]}/")
+            browser.wait_for("document.querySelector('.rs-viewer').dataset.ended === '1'")
+            browser.wait_for("document.querySelector('.rs-viewer').dataset.ready === '1'")
+            last = len(recording.frames) - 1
+            assert _index(browser) == last  # a live view follows the newest tick
+            _shows(browser, recording.frames[last], len(recording.frames), last)
+            assert _text(browser, "result").startswith("success in 'home'")
+            assert browser.errors == []
+    finally:
+        server.shutdown()
+        server.server_close()
+
+
+def test_a_run_without_a_world_or_a_pose_still_replays(tmp_path: Path) -> None:
+    from roboscript.replay import Recorder
+
+    recorder = Recorder({"mission": {"name": "walk", "states": []}, "world": None, "robot": {}})
+    for i in range(50):
+        state = "walk" if i < 25 else "rest"
+        recorder.add({"t": i * 0.02, "pose": None, "state": state, "sensors": {"range_mm": i}})
+    recorder.finish({"outcome": "success", "final_state": "rest", "duration_s": 0.98})
+    page = tmp_path / "walk.html"
+    page.write_text(viewer_page(viewer_block(recorder.recording()), "walk"), encoding="utf-8")
+    with open_browser(tmp_path) as browser:
+        browser.open(page.as_uri())
+        browser.wait_for("document.querySelector('.rs-viewer').dataset.ready === '1'")
+        browser.click("[data-role=timeline] [data-state=rest]")
+        assert _text(browser, "state") == "rest"
+        assert _text(browser, "time") == "0.50 s"
+        assert _sensor(browser, "range_mm") == "25.0"
+        assert _text(browser, "pose") == "—"
+        assert browser.errors == []

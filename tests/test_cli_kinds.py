@@ -1,0 +1,68 @@
+"""``check``, ``run`` and ``grade`` tell missions, worlds, profiles and test specs apart."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+from helpers import ROOT, run_cli
+
+WORLD = ROOT / "roboscript" / "sim" / "worlds" / "square-room.yaml"
+SPEC = ROOT / "missions" / "teacher" / "square" / "test.yaml"
+
+
+def test_check_reads_a_world_as_a_world(tmp_path: Path) -> None:
+    done = run_cli("check", str(WORLD))
+    assert (done.returncode, done.stderr) == (0, "checked 1 file: 0 with errors\n")
+    broken = tmp_path / "w.yaml"
+    broken.write_text("world: w\nstart: {x: 0 mm, y: 0 mm, heading: 0 deg}\nwals: []\n")
+    done = run_cli("check", str(broken))
+    assert done.returncode == 2
+    assert f"{broken}:3:1: error: unknown key 'wals' in world (did you mean 'walls'?)" in (
+        done.stderr
+    )
+
+
+def test_check_reads_a_profile_as_a_profile(tmp_path: Path) -> None:
+    profile = tmp_path / "fast.yaml"
+    profile.write_text("extends: mirto\nname: fast\nmax_speed_mm_s: 300\n")
+    assert run_cli("check", str(profile)).returncode == 0
+    profile.write_text("extends: mirto\nmax_speed_mm_s: -3\n")
+    done = run_cli("check", str(profile))
+    assert done.returncode == 2 and "'max_speed_mm_s' must be a positive number" in done.stderr
+
+
+def test_run_says_a_world_is_a_world_and_how_to_use_it() -> None:
+    done = run_cli("run", str(WORLD))
+    assert done.returncode == 2
+    assert done.stderr == (
+        f"{WORLD}:1:1: error: this is a world file, not a mission (it is a simulator world: "
+        f"run a mission in it with 'roboscript run MISSION --world {WORLD}')\n"
+    )
+
+
+def test_run_says_a_test_spec_is_a_test_spec() -> None:
+    done = run_cli("run", str(SPEC))
+    assert done.returncode == 2
+    assert "this is a test spec file, not a mission" in done.stderr
+    assert f"roboscript grade {SPEC} MISSIONS" in done.stderr
+
+
+def test_grade_never_lists_a_world_or_a_profile_as_a_student(tmp_path: Path) -> None:
+    subs = tmp_path / "subs"
+    subs.mkdir()
+    shutil.copy(ROOT / "missions" / "square.yaml", subs / "ana.yaml")
+    shutil.copy(WORLD, subs / "room.yaml")
+    (subs / "fast.yaml").write_text("extends: mirto\nname: fast\nmax_speed_mm_s: 300\n")
+    from roboscript.grading.batch import find_submissions
+
+    assert [s.student for s in find_submissions([str(subs)])] == ["ana"]
+    done = run_cli("grade", str(SPEC), "--mission", str(subs / "room.yaml"))
+    assert done.returncode == 2
+    assert "this is a world file, not a mission" in done.stderr
+
+
+def test_grade_says_a_world_given_as_the_test_spec_is_a_world() -> None:
+    done = run_cli("grade", str(WORLD), "--mission", str(ROOT / "missions" / "square.yaml"))
+    assert done.returncode == 2
+    assert f"{WORLD}:1:1: error: this is a world file, not a test spec" in done.stderr
