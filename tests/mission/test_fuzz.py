@@ -7,6 +7,7 @@ import contextlib
 import tracemalloc
 from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -315,3 +316,42 @@ def test_generated_conditions_compile_or_explain_and_never_raise_when_run(source
         assert "\n" not in str(exc)
         return
     assert isinstance(guard(_Env()), bool)
+
+
+def _refusal(source: str) -> tuple[str, int, str | None]:
+    try:
+        compile_guard(source, frozenset())
+    except GuardError as exc:
+        return str(exc), exc.offset, exc.hint
+    raise AssertionError(f"accepted: {source[:40]!r}")
+
+
+def test_a_condition_may_be_1000_characters_long_but_not_1001() -> None:
+    longest = "elapsed > 1".ljust(1000)
+    assert compile_guard(longest, frozenset())(_Env()) is False
+    assert _refusal(longest + " ") == (
+        "a condition of 1001 characters is too long (at most 1000)",
+        1000,
+        "split it: a Python mission's condition method can hold longer logic",
+    )
+
+
+def test_a_condition_may_nest_32_deep_but_not_33() -> None:
+    # 'not' k times over bumper.any: k operators, the attribute, its name and its context
+    assert compile_guard("not " * 29 + "bumper.any", frozenset())(_Env()) is True
+    assert _refusal("not " * 30 + "bumper.any") == (
+        "the condition is nested more than 32 deep",
+        0,
+        "write it flatter: 'a and b and c' rather than brackets inside brackets",
+    )
+
+
+@pytest.mark.parametrize(
+    ("char", "code"), [("\ud800", "D800"), ("\udbff", "DBFF"), ("\udfff", "DFFF")]
+)
+def test_a_lone_surrogate_in_a_condition_is_named_where_it_is(char: str, code: str) -> None:
+    assert _refusal(f"elapsed > {char}") == (
+        f"the condition holds U+{code}, which is not a character",
+        10,
+        None,
+    )

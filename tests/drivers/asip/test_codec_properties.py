@@ -193,6 +193,17 @@ def receives(role: Role) -> st.SearchStrategy[object]:
     return replies if role is Role.HOST else requests
 
 
+# The pixel service reads the ``,{`` before a pixel list with plain reads, which do not wait:
+# a split just before the brace makes the board read the list as missing, as on the real
+# board (tests/conformance/test_asip.py). Only these requests depend on where bytes split.
+_SPLIT_SENSITIVE = (m.PixelsSet, m.PixelsSetRgb, m.PixelsSequence, m.PixelsSequenceRgb)
+
+
+def receives_split_free(role: Role) -> st.SearchStrategy[object]:
+    """Messages ``role`` decodes the same whichever way their bytes are split."""
+    return receives(role).filter(lambda message: not isinstance(message, _SPLIT_SENSITIVE))
+
+
 def sender(role: Role) -> AsipCodec:
     """A codec of the other role, which sends what ``role`` receives."""
     return AsipCodec(Role.DEVICE if role is Role.HOST else Role.HOST)
@@ -264,7 +275,7 @@ cut_lists = st.lists(st.integers(0, 400), max_size=24)
 def test_round_trip_of_a_stream_in_any_chunking(
     data: st.DataObject, role: Role, cuts: list[int]
 ) -> None:
-    sent = data.draw(st.lists(receives(role), max_size=8))
+    sent = data.draw(st.lists(receives_split_free(role), max_size=8))
     sent.append(SENTINEL[role])  # a short last request waits for four bytes: close the stream
     encoder = sender(role)
     stream = b"".join(encoder.send(message) for message in sent)
