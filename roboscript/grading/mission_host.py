@@ -14,7 +14,10 @@ of them with a name, a score or a verdict.
 
 If the mission's own code stops returning, a watchdog thread writes where every thread was to
 standard error (:mod:`faulthandler`) before the grader's hang limit ends the process, so the
-teacher's report can say where it was stuck.
+teacher's report can say where it was stuck. The watchdog is re-armed as the mission makes
+progress, so it fires only in a process that is stuck: reading another thread's frames while
+that thread runs is not safe, and on a busy machine a timer that fired in healthy runs crashed
+some of them.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ from __future__ import annotations
 import faulthandler
 import logging
 import sys
+import time
 from collections.abc import Sequence
 
 from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError
@@ -44,14 +48,37 @@ def main(argv: Sequence[str] | None = None) -> int:
     world_map = args[5] if len(args) > 5 else None
     logging.disable(logging.WARNING)
     channel = WorldChannel.for_fd(fd)
-    watchdog_s = max(0.2, hang_after_s * 0.6)
-    faulthandler.dump_traceback_later(watchdog_s, repeat=True, file=sys.stderr)
+    watchdog = _StuckWatch(max(0.2, hang_after_s * 0.6))
+    watchdog.arm()
     try:
-        return _run(channel, mission_path, robot, max_time_s, world_map)
+        return _run(channel, mission_path, robot, max_time_s, world_map, watchdog)
     except WorldStoppedError:
         return 3
     finally:
         faulthandler.cancel_dump_traceback_later()
+
+
+class _StuckWatch:
+    """Writes every thread's stack to stderr once the mission has made no progress for a while.
+
+    Args:
+        after_s: Wall seconds without :meth:`progress` before the stacks are written.
+    """
+
+    def __init__(self, after_s: float) -> None:
+        self.after_s = after_s
+        self._armed_at = 0.0
+
+    def arm(self) -> None:
+        """Start (or restart) the countdown."""
+        faulthandler.dump_traceback_later(self.after_s, repeat=True, file=sys.stderr)
+        self._armed_at = time.monotonic()
+
+    def progress(self) -> None:
+        """The mission moved on: restart the countdown (at most a few times per countdown,
+        since each restart starts a new timer thread)."""
+        if time.monotonic() - self._armed_at > self.after_s / 4:
+            self.arm()
 
 
 def _run(
@@ -60,6 +87,7 @@ def _run(
     robot: str,
     max_time_s: float,
     world_map: str | None = None,
+    watchdog: _StuckWatch | None = None,
 ) -> int:
     from roboscript.errors import CapabilityError, InputError
     from roboscript.mission import mission_for_robot
@@ -71,6 +99,8 @@ def _run(
         channel.send_json(Kind.LOAD_ERROR, {"message": problems[0], "more": len(problems) - 1})
         return 2
     channel.send_json(Kind.LOADED, {"mission": mission.name})
+    if watchdog is not None:
+        watchdog.arm()
 
     from roboscript.session import WorldMap, run_session
 
@@ -85,6 +115,8 @@ def _run(
             max_time_s=max_time_s,
             on_state=on_state,
             world_map=None if world_map is None else WorldMap.from_json(world_map),
+            on_connected=None if watchdog is None else (lambda _robot: watchdog.arm()),
+            on_tick=None if watchdog is None else (lambda _runner, _robot: watchdog.progress()),
         )
     except CapabilityError as exc:
         channel.send_json(Kind.LOAD_ERROR, {"message": f"it does not fit the robot: {exc}"})
