@@ -35,7 +35,7 @@ name                   value                                               needs
 ``state_time``         seconds since the current state was entered         --
 =====================  ==================================================  ===============
 
-A number may carry a unit (``20 cm``, ``1.5 s``, ``90 deg``): it is converted to the unit of
+A number may carry a unit (``20 cm``, ``1.5 s``, ``-90 deg``): it is converted to the unit of
 the name it is compared with (``range.distance_cm < 200 mm`` compares in cm). Arithmetic never
 raises: dividing by zero gives infinity (or not-a-number for 0/0, which compares false).
 """
@@ -382,6 +382,13 @@ class _Compiler:
         return isinstance(node, ast.Name) and node.id in self.quantities
 
     def operand(self, node: ast.expr, unit: str | None) -> _Eval:
+        if (
+            isinstance(node, ast.UnaryOp)
+            and isinstance(node.op, ast.USub)
+            and self.is_quantity(node.operand)
+        ):  # 'pose.x_mm < -10 cm': the minus belongs to the number with its unit
+            magnitude = self.operand(node.operand, unit)
+            return lambda env: -magnitude(env)
         if self.is_quantity(node):
             assert isinstance(node, ast.Name)
             quantity = self.quantities[node.id]
@@ -409,6 +416,18 @@ class _Compiler:
             items = [_with_unit_suffix(item) for item in items]
         units = [self.unit_of(item) for item in items]
         unit = next((u for u in units if u), None)
+        numbers = [item for item in items if self.is_quantity(_unsigned(item))]
+        if numbers:
+            for item, item_unit in zip(items, units, strict=True):
+                # 'bumper.any < 2 cm' would otherwise read as 'bumper.any < 20'
+                named = isinstance(item, ast.Name | ast.Attribute) and not self.is_quantity(item)
+                if not item_unit and named:
+                    raise self.fail(
+                        f"'{ast.unparse(item)}' has no unit, so it cannot be compared with a"
+                        " number that has one",
+                        numbers[0],
+                        "write the number without a unit",
+                    )
         parts = [self.operand(item, unit) for item in items]
         ops = []
         for op in node.ops:
@@ -555,6 +574,13 @@ def _syntax_mistake(source: str) -> GuardError | None:
             hint.format(fixed=fixed),
         )
     return None
+
+
+def _unsigned(node: ast.expr) -> ast.expr:
+    """The number under a leading minus (``-10 cm``), else the node itself."""
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
+        return node.operand
+    return node
 
 
 def _default_unit(unit: str) -> str | None:

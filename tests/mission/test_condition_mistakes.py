@@ -139,3 +139,25 @@ def test_new_names_and_mistakes_are_read_or_explained_never_crash(tokens: list[s
         assert 0 <= exc.offset <= len(source)
         return
     assert isinstance(guard(_Env()), bool)
+
+
+@pytest.mark.parametrize(
+    ("condition", "name", "offset"),
+    [
+        ("bumper.any < 2 cm", "bumper.any", 13),
+        ("visits.first > 1 s", "visits.first", 15),
+        ("2 cm > line.left", "line.left", 0),
+    ],
+)
+def test_a_unit_beside_a_value_without_one_is_refused_at_the_number(
+    condition: str, name: str, offset: int
+) -> None:
+    """A switch, a count or a raw reading has no unit: '2 cm' beside one would silently be
+    read as 20 (millimetres), so it is refused where the number is written."""
+    with pytest.raises(GuardError) as caught:
+        compile_guard(condition)
+    assert str(caught.value) == (
+        f"'{name}' has no unit, so it cannot be compared with a number that has one"
+    )
+    assert caught.value.offset == offset
+    assert caught.value.hint == "write the number without a unit"
