@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
+import re
 import subprocess
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +30,35 @@ def run_cli(
         env=env,
         check=False,
     )
+
+
+@contextlib.contextmanager
+def served_simulator(robot: str, *options: str) -> Iterator[int]:
+    """Serve a simulated ``robot`` on loopback TCP (``roboscript sim``, a real process).
+
+    Yields:
+        The port it listens on (``socket://127.0.0.1:PORT``); the server is ended after.
+    """
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
+    command = [sys.executable, "-m", "roboscript", "sim", "--robot", robot, *options]
+    proc = subprocess.Popen(
+        [*command, "--tcp", "127.0.0.1:0"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=ROOT,
+        env=env,
+    )
+    try:
+        assert proc.stdout is not None
+        first = proc.stdout.readline()
+        match = re.search(r"tcp://127\.0\.0\.1:(\d+)", first)
+        assert match, first + (proc.stderr.read() if proc.stderr and not first else "")
+        yield int(match.group(1))
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
 
 
 def run_action(bot: object, action: object, limit_s: float = 30.0) -> object:

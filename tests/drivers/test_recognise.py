@@ -6,15 +6,11 @@ codec. The end-to-end tests connect to the real served simulators on loopback TC
 
 from __future__ import annotations
 
-import os
-import re
-import subprocess
-import sys
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from helpers import ROOT, run_cli
+from helpers import run_cli, served_simulator
 
 from roboscript.drivers.recognise import handshake_failure, recognise_protocol, wrong_robot_hint
 from roboscript.robot import Robot
@@ -62,22 +58,8 @@ def test_silence_says_what_was_tried() -> None:
 
 @pytest.fixture
 def served_mirto() -> Iterator[int]:
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "roboscript", "sim", "--robot", "mirto", "--tcp", "127.0.0.1:0"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        cwd=ROOT,
-        env=dict(os.environ, PYTHONPATH=str(ROOT)),
-    )
-    try:
-        assert proc.stdout is not None
-        match = re.search(r"tcp://127\.0\.0\.1:(\d+)", proc.stdout.readline())
-        assert match
-        yield int(match.group(1))
-    finally:
-        proc.terminate()
-        proc.wait(timeout=10)
+    with served_simulator("mirto") as port:
+        yield port
 
 
 def test_a_served_mirto_asked_for_as_a_spike_hub_is_named(served_mirto: int) -> None:
@@ -106,23 +88,8 @@ def test_a_served_mirto_asked_for_as_a_plen2_is_named(served_mirto: int, tmp_pat
 
 @pytest.fixture
 def served_spike() -> Iterator[int]:
-    args = ["sim", "--robot", "spike-prime", "--tcp", "127.0.0.1:0"]
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "roboscript", *args],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        cwd=ROOT,
-        env=dict(os.environ, PYTHONPATH=str(ROOT)),
-    )
-    try:
-        assert proc.stdout is not None
-        match = re.search(r"tcp://127\.0\.0\.1:(\d+)", proc.stdout.readline())
-        assert match
-        yield int(match.group(1))
-    finally:
-        proc.terminate()
-        proc.wait(timeout=10)
+    with served_simulator("spike-prime") as port:
+        yield port
 
 
 def test_a_served_spike_hub_that_stays_silent_is_told_what_was_tried(served_spike: int) -> None:

@@ -3,15 +3,12 @@
 from __future__ import annotations
 
 import json
-import os
 import re
-import subprocess
-import sys
 from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from helpers import MISSIONS, ROOT, run_cli
+from helpers import MISSIONS, run_cli, served_simulator
 
 from roboscript.replay import load_recording
 
@@ -83,24 +80,10 @@ def test_a_run_on_a_port_records_the_odometry_pose(
     write_mission: Callable[..., Path], tmp_path: Path
 ) -> None:
     mission = write_mission(SHORT)
-    server = subprocess.Popen(
-        [sys.executable, "-m", "roboscript", "sim", "--robot", "mirto", "--tcp", "127.0.0.1:0"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        cwd=ROOT,
-        env=dict(os.environ, PYTHONPATH=str(ROOT)),
-    )
     run = tmp_path / "run.jsonl"
-    try:
-        assert server.stdout is not None
-        match = re.search(r"tcp://127\.0\.0\.1:(\d+)", server.stdout.readline())
-        assert match
-        url = f"socket://127.0.0.1:{match.group(1)}"
+    with served_simulator("mirto") as port:
+        url = f"socket://127.0.0.1:{port}"
         done = run_cli("run", str(mission), "--port", url, "--record", str(run), "--quiet")
-    finally:
-        server.terminate()
-        server.wait(timeout=10)
     assert done.returncode == 0, done.stderr
     recording = load_recording(run)
     assert recording.header["pose_source"] == "odometry"

@@ -4,14 +4,10 @@ and a board without motor PID makes the host take over the wheels at run time.""
 from __future__ import annotations
 
 import json
-import os
-import re
-import subprocess
-import sys
 from collections.abc import Callable
 from pathlib import Path
 
-from helpers import ROOT, run_cli
+from helpers import run_cli, served_simulator
 
 from roboscript.robot import Robot
 
@@ -37,23 +33,9 @@ def test_a_mission_over_tcp_matches_the_in_process_simulator(
 ) -> None:
     mission = write_mission(SHORT)
     local = json.loads(run_cli("run", str(mission), "--json").stdout)
-    server = subprocess.Popen(
-        [sys.executable, "-m", "roboscript", "sim", "--robot", "mirto", "--tcp", "127.0.0.1:0"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        cwd=ROOT,
-        env=dict(os.environ, PYTHONPATH=str(ROOT)),
-    )
-    try:
-        assert server.stdout is not None
-        match = re.search(r"tcp://127\.0\.0\.1:(\d+)", server.stdout.readline())
-        assert match
-        url = f"socket://127.0.0.1:{match.group(1)}"
+    with served_simulator("mirto") as port:
+        url = f"socket://127.0.0.1:{port}"
         remote_run = run_cli("run", str(mission), "--port", url, "--json")
-    finally:
-        server.terminate()
-        server.wait(timeout=10)
     assert remote_run.returncode == 0, remote_run.stderr
     remote = json.loads(remote_run.stdout)
     assert remote["outcome"] == local["outcome"] == "success"

@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-import os
 import random
-import re
 import socket
-import subprocess
-import sys
 
 import pytest
-from helpers import ROOT
+from helpers import served_simulator
 
 from roboscript.codec import Role
 from roboscript.drivers.plen.codec import PlenCodec
@@ -293,22 +289,9 @@ def test_a_wall_stops_a_walking_robot() -> None:
 
 
 def test_roboscript_sim_serves_the_simulated_plen2() -> None:
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    command = [sys.executable, "-m", "roboscript", "sim", "--robot", "plen2"]
-    proc = subprocess.Popen(
-        [*command, "--tcp", "127.0.0.1:0"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=env,
-        cwd=ROOT,
-    )
-    try:
-        assert proc.stdout is not None
-        match = re.search(r"tcp://127\.0\.0\.1:(\d+)", proc.stdout.readline())
-        assert match
+    with served_simulator("plen2") as port:
         codec = PlenCodec(Role.HOST)
-        with socket.create_connection(("127.0.0.1", int(match.group(1))), timeout=10) as sock:
+        with socket.create_connection(("127.0.0.1", port), timeout=10) as sock:
             sock.sendall(b"<VI")
             reply = None
             while reply is None:
@@ -317,6 +300,3 @@ def test_roboscript_sim_serves_the_simulated_plen2() -> None:
                 codec.receive_data(data)
                 reply = codec.next_message()
         assert reply == VersionReply()
-    finally:
-        proc.terminate()
-        proc.wait(timeout=10)

@@ -8,17 +8,13 @@ documentation would.
 from __future__ import annotations
 
 import json
-import os
-import re
 import socket
-import subprocess
-import sys
 import time
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from helpers import ROOT, run_cli
+from helpers import run_cli, served_simulator
 
 from roboscript.codec import Role, drain
 from roboscript.drivers.spike import messages as m
@@ -33,25 +29,8 @@ PROGRAM = b'AGENT_VERSION = "tcp-test 1"\n' + b"pass\n" * 150  # two chunks
 
 @pytest.fixture
 def server_port() -> Iterator[int]:
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    args = ["sim", "--robot", "spike-prime", "--tcp", "127.0.0.1:0"]
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "roboscript", *args],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=env,
-        cwd=ROOT,
-    )
-    try:
-        assert proc.stdout is not None
-        first = proc.stdout.readline()
-        match = re.search(r"listening on tcp://127\.0\.0\.1:(\d+)", first)
-        assert match, first
-        yield int(match.group(1))
-    finally:
-        proc.terminate()
-        proc.wait(timeout=10)
+    with served_simulator("spike-prime") as port:
+        yield port
 
 
 class Client:
