@@ -233,13 +233,15 @@ class LiveView:
     # --------------------------------------------------------------- one browser's stream
 
     def _catch_up(
-        self, stats: ClientStats, cursor: int, first: bool
+        self, stats: ClientStats, cursor: int, first: bool, joined_late: bool = False
     ) -> tuple[list[dict[str, Any]], int]:
         """The frames after ``cursor`` (call with the lock held).
 
         A stream that lacks what came before the oldest frame kept (it joined late, or read
         too slowly and fell out of the history) gets that frame as a full snapshot; frames
-        it was due but that are no longer kept are counted as dropped.
+        it was due but that are no longer kept are counted as dropped. A browser that joined
+        mid-run was never due the frames that fell out before its first read (the run went on
+        while its thread started): its snapshot covers them, and they are not counted.
         """
         if not self._history or self._history[-1][0] <= cursor:
             return [], cursor
@@ -247,7 +249,8 @@ class LiveView:
         oldest = self._history[0][0]
         if cursor >= oldest or (cursor == oldest - 1 and not (first and oldest > 1)):
             return [frame for seq, frame in self._history if seq > cursor], last
-        stats.frames_dropped += oldest - 1 - cursor
+        if not (first and joined_late):
+            stats.frames_dropped += oldest - 1 - cursor
         snapshot = {k: dict(v) if isinstance(v, dict) else v
                     for k, v in self._before_history.items()}  # fmt: skip
         _merge(snapshot, self._history[0][1])
@@ -270,6 +273,7 @@ class LiveView:
             self._clients.append(stats)
             # due: the frames still kept, and every frame from now on
             cursor = self._history[0][0] - 1 if self._history else self.frames_published
+            joined_late = bool(self._history)
         header: dict[str, Any] | None = None
         first = True
         quiet_s = 0.0
@@ -282,7 +286,7 @@ class LiveView:
                     if self._closed:
                         return
                     new_header = self._header if header is None else None
-                    frames, cursor = self._catch_up(stats, cursor, first)
+                    frames, cursor = self._catch_up(stats, cursor, first, joined_late)
                     first = first and not frames
                     end = self._end
                 out = []
