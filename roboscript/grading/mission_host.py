@@ -4,7 +4,8 @@ The grader starts it sandboxed (:mod:`roboscript.grading.sandbox`) as::
 
     python -I -m roboscript.grading.mission_host FD MISSION ROBOT MAX_TIME_S HANG_AFTER_S [MAP]
 
-(``MAP``: the world's regions and start pose as JSON, :class:`roboscript.session.WorldMap`.)
+(``MAP``: a file holding the world's regions and start pose as JSON,
+:class:`roboscript.session.WorldMap`.)
 
 It loads the mission, connects to the robot through ``lockstep://FD`` (the world lives in the
 grader's process, :mod:`roboscript.grading.world_host`), runs the mission exactly as
@@ -27,6 +28,7 @@ import logging
 import sys
 import time
 from collections.abc import Sequence
+from pathlib import Path
 
 from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError
 
@@ -114,7 +116,9 @@ def _run(
             port=f"lockstep://{channel_fd(channel)}",
             max_time_s=max_time_s,
             on_state=on_state,
-            world_map=None if world_map is None else WorldMap.from_json(world_map),
+            world_map=None
+            if world_map is None
+            else WorldMap.from_json(Path(world_map).read_text(encoding="utf-8")),
             on_connected=None if watchdog is None else (lambda _robot: watchdog.arm()),
             on_tick=None if watchdog is None else (lambda _runner, _robot: watchdog.progress()),
         )

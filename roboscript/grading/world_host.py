@@ -32,6 +32,7 @@ import re
 import select
 import socket
 import sys
+import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -159,35 +160,40 @@ def run_world(
         robot_arg = str(robot_file.resolve())
     else:
         robot_arg = spec.robot
-    ours, theirs = socket.socketpair()
-    try:
-        jail = Jail(
-            [
-                sys.executable,
-                "-I",
-                "-m",
-                "roboscript.grading.mission_host",
-                str(theirs.fileno()),
-                str(mission),
-                robot_arg,
-                repr(spec.max_time_s),
-                repr(hang_after_s),
-                # the regions and the start, so in_region reads as it does in-process
-                WorldMap.of(sim).to_json(),
-            ],
-            visible=tuple(dict.fromkeys(readable)),
-            workdir=mission.parent,
-            pass_fds=(theirs.fileno(),),
-            limits=limits or Limits(),
-        )
-    finally:
-        theirs.close()
-    with jail:
-        session = _WorldSession(sim, spec, profile.handshake_timeout_s, ours, jail, hang_after_s)
+    # A file, not an argument: a world's regions can outgrow the 128 KiB an argument may hold.
+    with tempfile.TemporaryDirectory(prefix="roboscript-world-") as folder:
+        world_map = Path(folder) / "world-map.json"
+        world_map.write_text(WorldMap.of(sim).to_json(), encoding="utf-8")
+        ours, theirs = socket.socketpair()
         try:
-            return session.run()
+            jail = Jail(
+                [
+                    sys.executable,
+                    "-I",
+                    "-m",
+                    "roboscript.grading.mission_host",
+                    str(theirs.fileno()),
+                    str(mission),
+                    robot_arg,
+                    repr(spec.max_time_s),
+                    repr(hang_after_s),
+                    # the regions and the start, so in_region reads as it does in-process
+                    str(world_map),
+                ],
+                visible=tuple(dict.fromkeys([*readable, world_map])),
+                workdir=mission.parent,
+                pass_fds=(theirs.fileno(),),
+                limits=limits or Limits(),
+            )
         finally:
-            ours.close()
+            theirs.close()
+        with jail:
+            handshake_s = profile.handshake_timeout_s
+            session = _WorldSession(sim, spec, handshake_s, ours, jail, hang_after_s)
+            try:
+                return session.run()
+            finally:
+                ours.close()
 
 
 class _WorldSession:

@@ -6,6 +6,7 @@ convention everywhere (-180 to 180, clockwise positive).
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import pytest
@@ -337,3 +338,31 @@ def test_a_graded_run_reads_the_same_regions_as_the_run_at_home(tmp_path: Path) 
             max_time_s=spec.max_time_s,
         )
         assert graded.record.to_dict() == record_from_session(home).to_dict()
+
+
+def test_a_world_whose_regions_outgrow_a_command_line_is_still_graded(tmp_path: Path) -> None:
+    """The grader hands the world map to the sandboxed mission in a file: an argument holds at
+    most 128 KiB, and one finely drawn region (here 12,000 points) is more than that."""
+    from roboscript.grading.run import grade_run
+    from roboscript.grading.spec import load_test_spec
+
+    angles = [i / 12000 * math.tau for i in range(12000)]
+    points = ", ".join(f"[{300 * math.cos(a):.3f}, {900 + 50 * math.sin(a):.3f}]" for a in angles)
+    world = tmp_path / "fine.yaml"
+    world.write_text(
+        "world: fine\nwalls:\n  - box: {x: -1 m, y: -1 m, width: 2 m, height: 2 m}\n"
+        f"regions:\n  north-wall: {{polygon: [{points}]}}\n",
+        encoding="utf-8",
+    )
+    mission = tmp_path / "m.yaml"
+    mission.write_text(TOWARDS_NORTH_WALL.replace("world: square-room", "world: fine.yaml"))
+    (tmp_path / "test.yaml").write_text(
+        GRADED_SPEC.replace("square-room", "fine.yaml").replace(
+            "  - {seed: 2, start: {x: -600 mm, y: 500 mm, heading: 45 deg}}\n", ""
+        ),
+        encoding="utf-8",
+    )
+    spec = load_test_spec(tmp_path / "test.yaml")
+    graded = grade_run(spec, str(mission), spec.variants[0])
+    assert graded.record is not None, graded.message
+    assert graded.record.final_state == "done"
