@@ -146,6 +146,8 @@ class Repeat(Action):
             return None
         self._child.stop(ctx)
         if result.outcome is not Outcome.DONE:
+            # Already stopped: leaving the state must not stop it a second time.
+            self._child = None
             return result
         self.count += 1
         if self.count >= self.times:

@@ -250,3 +250,11 @@ def test_leaving_a_finished_repeat_stops_nothing_more() -> None:
     assert run(twice) == (DONE, 2)
     twice.stop(ActionContext({}))
     assert log.count("stop a at 2") == 1
+
+
+def test_leaving_a_repeat_whose_run_failed_stops_that_run_once() -> None:
+    log = Log()
+    square = Repeat(Scripted(2, Result.failed("stalled"), log, "side"), times=4)
+    assert run(square) == (Result.failed("stalled"), 2)
+    square.stop(ActionContext({}))
+    assert log == ["start side at 0", "stop side at 2"]
