@@ -548,6 +548,14 @@ class _Compiler:
                 "for several choices, use a list: [(condition, state), state]",
             )
             return None
+        if inspect.isfunction(value) and value is not inspect.getattr_static(Mission, name, value):
+            # Its own method: "has no method 'visits' (did you mean 'visits'?)" would puzzle.
+            self.problem(
+                f"a condition method cannot be called '{name}': Mission uses that name",
+                self.def_of(value)[0],
+                "choose another name",
+            )
+            return None
         if not inspect.isfunction(value) or hasattr(Mission, name):
             methods = _methods(self.cls)
             self.problem(
