@@ -1,0 +1,464 @@
+"""Errors in a student's own code, told in the student's terms (issue 16).
+
+Each test imports a small student file the way ``roboscript run``/``check`` does and pins the
+whole ``file:line:col: error: message (hint)`` the student reads. The student files call only
+functions and classes they define themselves, or roboscript classes, never ``state()``: under
+mutation testing ``state`` is wrapped, and Python's own ``TypeError`` would name the wrapper.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import logging
+import os
+import sys
+import textwrap
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from roboscript.actions.base import Action, Result
+from roboscript.errors import MissionError
+from roboscript.mission.student_code import (
+    StudentCodeError,
+    import_student_file,
+    is_student_class,
+    stuck_at,
+    student_fault,
+)
+
+
+@pytest.fixture
+def here(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
+    """The student works in ``tmp_path``, so messages name files as they typed them."""
+    monkeypatch.chdir(tmp_path)
+    before = set(sys.modules)
+    yield tmp_path
+    # files beside a mission (sizes.py, ...) are imported by name: forget them, so the next
+    # test's file of the same name is imported afresh
+    for name in set(sys.modules) - before:
+        del sys.modules[name]
+
+
+def _write(folder: Path, name: str, text: str) -> Path:
+    path = folder / name
+    path.write_text(textwrap.dedent(text), encoding="utf-8")
+    return path
+
+
+def _message(path: str | Path, *, kind: str | None = None) -> str:
+    with pytest.raises(MissionError) as info:
+        if kind is None:
+            import_student_file(path)
+        else:
+            import_student_file(path, kind=kind)
+    return info.value.format()
+
+
+# ------------------------------------------------------------------ load time: golden messages
+
+# (file text, the message for m.py); each mistake a student makes while the file is imported.
+LOAD_TIME = [
+    pytest.param(
+        """\
+        def square(side_mm):
+            return side_mm
+
+
+        square(sid_mm=3)
+        """,
+        "m.py:5:1: error: square() has no parameter 'sid_mm' (did you mean 'side_mm'?)",
+        id="unknown-keyword-to-own-function",
+    ),
+    pytest.param(
+        """\
+        class Box:
+            def __init__(self, size):
+                self.size = size
+
+
+        Box(sze=1)
+        """,
+        "m.py:6:1: error: Box() has no parameter 'sze' (did you mean 'size'?)",
+        id="unknown-keyword-to-own-class",
+    ),
+    pytest.param(
+        """\
+        import roboscript
+
+        roboscript.Drive(distnce_mm=300)
+        """,
+        "m.py:3:1: error: Drive() has no parameter 'distnce_mm' (did you mean 'distance_mm'?)",
+        id="unknown-keyword-to-roboscript-class-not-imported-by-name",
+    ),
+    pytest.param(
+        # a lowercase callee is only looked up in the file itself: the student's own method
+        # `run` must not borrow roboscript.run's parameters for its hint
+        """\
+        class Robot:
+            def run(self, speed):
+                return speed
+
+
+        Robot().run(mision=1)
+        """,
+        "m.py:6:1: error: run() has no parameter 'mision'",
+        id="unknown-keyword-to-own-method-named-like-roboscript-run",
+    ),
+    pytest.param(
+        # `state` not defined in the file is roboscript's state() (as roboscript.state); a
+        # method of that name stands in for it, because under mutation testing state() is
+        # wrapped and Python's own message would name the wrapper
+        """\
+        class Robot:
+            def state(self, name):
+                return name
+
+
+        Robot().state(on_dnoe="end")
+        """,
+        "m.py:6:1: error: state() has no parameter 'on_dnoe' (did you mean 'on_done'?)",
+        id="unknown-keyword-to-state",
+    ),
+    pytest.param(
+        """\
+        def square(side_mm):
+            return side_mm
+
+
+        square()
+        """,
+        "m.py:5:1: error: square() missing 1 required positional argument: 'side_mm'",
+        id="missing-argument-to-own-function",
+    ),
+    pytest.param(
+        """\
+        class Box:
+            def __init__(self, size):
+                self.size = size
+
+
+        Box()
+        """,
+        "m.py:6:1: error: Box() missing 1 required positional argument: 'size'",
+        id="missing-argument-to-own-class",
+    ),
+    pytest.param(
+        """\
+        class Robot:
+            def turn(self, angle):
+                return angle
+
+
+        Robot().turn()
+        """,
+        "m.py:6:1: error: turn() missing 1 required positional argument: 'angle'",
+        id="missing-argument-to-own-method",
+    ),
+    pytest.param(
+        """\
+        def square(side_mm):
+            return side_mm
+
+
+        sqaure(3)
+        """,
+        "m.py:5:1: error: NameError: name 'sqaure' is not defined (did you mean 'square'?)",
+        id="typo-of-own-name",
+    ),
+    pytest.param(
+        "prnit('hello')\n",
+        ("m.py:1:1: error: NameError: name 'prnit' is not defined (did you mean 'print'?)"),
+        id="typo-of-builtin",
+    ),
+    pytest.param(
+        "Rotate(angle_deg=90)\n",
+        (
+            "m.py:1:1: error: NameError: name 'Rotate' is not defined"
+            " (add 'from roboscript import Rotate')"
+        ),
+        id="roboscript-name-not-imported",
+    ),
+    pytest.param(
+        "Drvie(distance_mm=300)\n",
+        "m.py:1:1: error: NameError: name 'Drvie' is not defined (did you mean 'Drive'?)",
+        id="typo-of-roboscript-name",
+    ),
+    pytest.param(
+        """\
+        COUNT = 0
+
+
+        def bump():
+            COUNT += 1
+
+
+        bump()
+        """,
+        (
+            "m.py:5:5: error: UnboundLocalError: cannot access local variable 'COUNT'"
+            " where it is not associated with a value"
+        ),
+        id="unbound-local-is-not-a-typo",
+    ),
+    pytest.param(
+        "from roboscript import Drvie\n",
+        "m.py:1:1: error: roboscript has no 'Drvie' to import (did you mean 'Drive'?)",
+        id="roboscript-has-no-such-name",
+    ),
+    pytest.param(
+        "from roboscript import Drive\n\nDrive(distance_mm=300, speed_mm_s=-5)\n",
+        "m.py:3:1: error: drive speed must be positive (use a negative distance to reverse)",
+        id="roboscript-own-sentence",
+    ),
+    pytest.param(
+        # the student's own ValueError is theirs: named, not passed off as roboscript's sentence
+        "raise ValueError('too far')\n",
+        "m.py:1:1: error: ValueError: too far",
+        id="student-value-error",
+    ),
+    pytest.param(
+        "raise RuntimeError\n",
+        "m.py:1:1: error: RuntimeError",
+        id="exception-without-text",
+    ),
+    pytest.param(
+        "import sys\n\nsys.exit(3)\n",
+        "m.py:3:1: error: the mission file called exit() while it was loaded",
+        id="exit",
+    ),
+    pytest.param(
+        "class Turn(Mission)\n    pass\n",
+        "m.py:1:20: error: expected ':'",
+        id="syntax-expected",
+    ),
+    pytest.param(
+        "x = 1\n    y = 2\n",
+        "m.py:2:4: error: unexpected indent",
+        id="syntax-unexpected",
+    ),
+    pytest.param(
+        "x = = 1\n",
+        "m.py:1:5: error: invalid syntax",
+        id="syntax-invalid",
+    ),
+    pytest.param(
+        "x = 'open\n",
+        "m.py:1:5: error: syntax error: unterminated string literal (detected at line 1)",
+        id="syntax-other",
+    ),
+]
+
+
+@pytest.mark.parametrize(("text", "expected"), LOAD_TIME)
+def test_a_mistake_at_load_time_is_told_at_the_students_line(
+    here: Path, text: str, expected: str
+) -> None:
+    assert _message(_write(here, "m.py", text).name) == expected
+
+
+def test_a_behaviour_file_that_exits_is_called_a_behaviour_file(here: Path) -> None:
+    _write(here, "b.py", "exit()\n")
+    assert _message("b.py", kind="behaviour") == (
+        "b.py:1:1: error: the behaviour file called exit() while it was loaded"
+    )
+
+
+def test_the_file_is_named_as_the_student_named_it(here: Path) -> None:
+    # given by its full path, the file keeps that name in the message, even though Python
+    # reports the mistake in the resolved file (which shown_path would shorten)
+    path = _write(here, "m.py", "x = = 1\n")
+    assert _message(path) == f"{path}:1:5: error: invalid syntax"
+
+
+def test_a_mistake_in_a_file_beside_it_names_that_file(here: Path) -> None:
+    _write(here, "sizes.py", "SIDE_MM = 1 / 0\n")
+    _write(here, "m.py", "from sizes import SIDE_MM\n")
+    assert _message(here / "m.py") == ("sizes.py:1:11: error: ZeroDivisionError: division by zero")
+
+
+def test_a_class_imported_under_another_name_gets_no_borrowed_hint(here: Path) -> None:
+    # the file holds the class as `Sq`, and roboscript has no `Square`: no parameters to offer
+    _write(here, "shapes.py", "class Square:\n    def __init__(self, side_mm):\n        pass\n")
+    _write(here, "m.py", "from shapes import Square as Sq\n\nSq(sid_mm=1)\n")
+    assert _message("m.py") == "m.py:3:1: error: Square() has no parameter 'sid_mm'"
+
+
+def test_a_syntax_error_in_a_file_beside_it_names_that_file(here: Path) -> None:
+    _write(here, "shapes.py", "x = = 1\n")
+    _write(here, "m.py", "import shapes\n")
+    assert _message(here / "m.py") == "shapes.py:1:5: error: invalid syntax"
+
+
+def test_a_name_missing_from_another_module_is_pythons_message(here: Path) -> None:
+    sizes = _write(here, "sizes.py", "SIDE_MM = 1\n")
+    _write(here, "m.py", "from sizes import SIDE\n")
+    assert _message("m.py") == (
+        f"m.py:1:1: error: ImportError: cannot import name 'SIDE' from 'sizes' ({sizes})"
+    )
+
+
+def test_a_file_that_cannot_be_read(here: Path) -> None:
+    assert _message("nowhere.py") == (
+        "nowhere.py: error: cannot read the file: No such file or directory"
+    )
+
+
+def test_a_file_that_is_not_python(here: Path) -> None:
+    _write(here, "m.txt", "x = 1\n")
+    assert _message("m.txt") == "m.txt: error: a mission file is a Python file ending in .py"
+    assert _message("m.txt", kind="behaviour") == (
+        "m.txt: error: a behaviour file is a Python file ending in .py"
+    )
+
+
+# ------------------------------------------------------------------------- load time: imports
+
+
+def test_the_files_folder_comes_first_on_the_path_and_only_while_importing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a module of the same name earlier on sys.path must not shadow the student's own file
+    decoy = tmp_path / "decoy"
+    decoy.mkdir()
+    _write(decoy, "issue16_sizes.py", "SIDE_MM = 1\n")
+    student = tmp_path / "student"
+    student.mkdir()
+    _write(student, "issue16_sizes.py", "SIDE_MM = 420\n")
+    path = _write(student, "m.py", "from issue16_sizes import SIDE_MM\n")
+    monkeypatch.setattr(sys, "path", [str(decoy), *sys.path])
+    monkeypatch.delitem(sys.modules, "issue16_sizes", raising=False)
+    try:
+        assert import_student_file(path).SIDE_MM == 420
+    finally:
+        sys.modules.pop("issue16_sizes", None)
+    assert str(student) not in sys.path
+
+
+def test_a_module_gets_a_name_of_its_own_per_file(tmp_path: Path) -> None:
+    # two files with the same stem in two folders are two modules; dashes make a valid name
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    first = _write(tmp_path / "a", "my-x.py", "N = 1\n")
+    second = _write(tmp_path / "b", "my-x.py", "N = 2\n")
+    one, two = import_student_file(first), import_student_file(second)
+    assert (one.N, two.N) == (1, 2)
+    for module, path in ((one, first), (two, second)):
+        digest = hashlib.sha1(str(path.resolve()).encode("utf-8")).hexdigest()[:10]
+        assert module.__name__ == f"_roboscript_mission_my_x_{digest}"
+        assert sys.modules[module.__name__] is module
+
+
+def test_files_of_the_same_size_and_time_are_still_different_files(tmp_path: Path) -> None:
+    first = _write(tmp_path, "one.py", "N = 1\n")
+    second = _write(tmp_path, "two.py", "N = 2\n")
+    stamp = first.stat().st_mtime_ns
+    os.utime(second, ns=(stamp, stamp))
+    assert (import_student_file(first).N, import_student_file(second).N) == (1, 2)
+
+
+def test_a_file_is_imported_once_per_version(tmp_path: Path) -> None:
+    path = _write(tmp_path, "m.py", "class Spin:\n    pass\n")
+    assert import_student_file(path).Spin is import_student_file(path).Spin
+
+
+# ----------------------------------------------------------------------------- where it is stuck
+
+STUCK = """\
+import copy
+import sys
+
+from roboscript.mission.student_code import stuck_at
+
+SEEN = []
+
+
+class Probe:
+    def __deepcopy__(self, memo):
+        SEEN.append(stuck_at(sys._getframe(1)))
+        return self
+
+
+def through_the_library():
+    copy.deepcopy(Probe())
+
+
+def through_eval():
+    SEEN.append(eval("stuck_at(sys._getframe())"))
+
+
+through_the_library()
+through_eval()
+"""
+
+
+def test_stuck_at_names_the_innermost_student_frame(here: Path) -> None:
+    # asked from inside copy.deepcopy (the library), the student's line that called it counts;
+    # code run by eval() is in no file, so the line that called eval() counts
+    seen = import_student_file(_write(here, "stuck.py", STUCK)).SEEN
+    assert seen == ["stuck.py:16 in through_the_library", "stuck.py:20 in through_eval"]
+
+
+def test_stuck_at_nowhere_is_empty() -> None:
+    assert stuck_at(None) == ""
+
+
+# ---------------------------------------------------------------------------------- run time
+
+
+def test_the_sentence_for_a_student_code_error() -> None:
+    assert str(StudentCodeError("condition 'close'", problem="returned None", where="m.py:3")) == (
+        "your condition 'close' returned None (m.py:3)"
+    )
+    # the student's file and line, when known, beat the traceback's
+    assert str(StudentCodeError("behaviour 'spin'", ValueError("bad"), where="spin.py:3")) == (
+        "your behaviour 'spin' raised ValueError: bad (spin.py:3)"
+    )
+    # an exception never raised has no traceback, so no place
+    assert str(StudentCodeError("behaviour 'spin'", ValueError("bad"))) == (
+        "your behaviour 'spin' raised ValueError: bad"
+    )
+    # what it did instead is the sentence; the exception it came with is not repeated
+    error = StudentCodeError("condition 'close'", TypeError("x"), problem="returned 'yes'")
+    assert error.reason("go") == "your condition 'close' returned 'yes' in state 'go'"
+
+
+SPIN = """\
+from roboscript import Action
+
+
+class Spin(Action):
+    def update(self, ctx):
+        return 1 / 0
+"""
+
+
+def test_a_behaviour_that_raises_is_named_with_its_state_and_line(
+    here: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    spin_class = import_student_file(_write(here, "spin.py", SPIN), kind="behaviour").Spin
+    with pytest.raises(ZeroDivisionError) as info:
+        spin_class().update(None)
+    expected = "your behaviour 'Spin' raised ZeroDivisionError in state 'go': division by zero"
+    expected += " (spin.py:6)"
+    with caplog.at_level(logging.DEBUG, logger="roboscript.mission.student_code"):
+        assert student_fault(info.value, "go") == expected
+    # the traceback goes to the debug log, under the same sentence
+    (record,) = caplog.records
+    assert record.getMessage() == expected
+    assert record.exc_info is not None and record.exc_info[1] is info.value
+
+
+class _Broken(Action):
+    name = "broken"
+
+    def update(self, ctx: object) -> Result | None:
+        raise AssertionError("not run")
+
+
+def test_only_student_classes_are_blamed() -> None:
+    assert is_student_class(_Broken)
+    assert not is_student_class(Action)
+    assert not is_student_class(type("Shim", (), {"__module__": "roboscript"}))
+    assert student_fault(ValueError("no action ran"), "go") is None
