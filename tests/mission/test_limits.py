@@ -2,16 +2,21 @@
 
 from __future__ import annotations
 
+import dataclasses
 import textwrap
 import tracemalloc
 from collections.abc import Callable
 from pathlib import Path
+from types import SimpleNamespace
+from typing import Any
 
 import pytest
 
+from roboscript.actions import ACTIONS
 from roboscript.errors import MissionError
-from roboscript.mission import mission_for_robot
-from roboscript.mission.limits import MIN_SPEED_MM_S
+from roboscript.mission import load_mission, mission_for_robot
+from roboscript.mission.limits import MIN_SPEED_MM_S, param_problems, profile_problems
+from roboscript.mission.spec import MissionSpec
 
 ONE_ACTION = """\
 mission: m
@@ -332,4 +337,261 @@ def test_speeds_in_range_give_no_warning(write_mission: Callable[..., Path]) -> 
     path = one_action(write_mission, "{drive: {distance: 50 cm, speed: 30 cm/s}}")
     assert report(path) == []
     path = one_action(write_mission, "{drive: {distance: 50 cm, speed: 1 cm/s}}")
+    assert report(path) == []
+
+
+# The edge of every range, numbers too large or not finite, and speed warnings for every action.
+
+
+@pytest.mark.parametrize(
+    ("action", "robot", "expected"),
+    [
+        (
+            # 2**64 has 65 bits: too long to show digit by digit.
+            "{walk: {steps: 18446744073709551616}}",
+            "plen2",
+            (
+                "M:4:24: error: walk steps: a number with about 20 digits is more steps than a"
+                " robot can take in one go (at most 1000 each way)"
+                " (write steps from -1000 to 1000, or repeat a shorter walk)"
+            ),
+        ),
+        (
+            # 2**63 has 64 bits: still shown as written.
+            "{walk: {steps: 9223372036854775808}}",
+            "plen2",
+            (
+                "M:4:24: error: walk steps: 9223372036854775808 is more steps than a robot can"
+                " take in one go (at most 1000 each way)"
+                " (write steps from -1000 to 1000, or repeat a shorter walk)"
+            ),
+        ),
+        (
+            "{drive: {distance: .nan}}",
+            None,
+            (
+                "M:4:28: error: drive distance: not a number is not a number the robot can use"
+                " (write a distance such as '50 cm')"
+            ),
+        ),
+        (
+            "{drive: {distance: -1e400}}",
+            None,
+            (
+                "M:4:28: error: drive distance: minus infinity is not a number the robot can use"
+                " (write a distance such as '50 cm')"
+            ),
+        ),
+        (
+            "{rotate: {angle: inf deg}}",
+            None,
+            (
+                "M:4:26: error: rotate angle: 'inf deg' is not a number the robot can use;"
+                " write an angle such as '90 deg'"
+            ),
+        ),
+        (
+            "{rotate: {angle: 90 deg, turn_rate: inf deg/s}}",
+            None,
+            (
+                "M:4:45: error: rotate turn_rate: 'inf deg/s' is not a number the robot can use;"
+                " write a turn rate such as '90 deg/s'"
+            ),
+        ),
+        (
+            "{wait: {duration: nan s}}",
+            None,
+            (
+                "M:4:27: error: wait duration: 'nan s' is not a number the robot can use;"
+                " write a time such as '2 s'"
+            ),
+        ),
+        (
+            "{rotate: {angle: 90 deg, turn_rate: 0 deg/s}}",
+            None,
+            (
+                "M:4:45: error: rotate turn_rate: 0 deg/s is not a positive turn rate"
+                " (write a turn rate such as '90 deg/s'; a negative angle turns left)"
+            ),
+        ),
+        (
+            "{drive: {distance: 1 m, speed: 0 cm/s}}",
+            None,
+            (
+                "M:4:40: error: drive speed: 0 mm/s is not a positive speed"
+                " (write a speed such as '15 cm/s'; a negative distance drives backward)"
+            ),
+        ),
+        (
+            "{wait: {duration: 3601 s}}",
+            None,
+            (
+                "M:4:27: error: wait duration: 3601 s is longer than any run (at most 1 hour)"
+                " (write a time of at most 3600 s)"
+            ),
+        ),
+        (
+            # Half a mm/s over the top speed: the warning has no slack of a whole unit.
+            "{drive: {distance: 1 m, speed: 300.5 mm/s}}",
+            None,
+            (
+                "M:4:40: warning: drive speed: 300.5 mm/s is faster than mirto can drive, so it"
+                " will drive at its top speed of 300 mm/s (write speed: 300 mm/s or less)"
+            ),
+        ),
+        (
+            "{drive: {distance: 1 m, speed: 9.5 mm/s}}",
+            None,
+            (
+                "M:4:40: warning: drive speed: 9.5 mm/s is too slow to overcome the wheels'"
+                " friction, so mirto may not move and 'drive' may fail (stalled)"
+                " (write speed: 10 mm/s or more)"
+            ),
+        ),
+    ],
+)
+def test_golden_messages_for_numbers_out_of_range(
+    write_mission: Callable[..., Path], action: str, robot: str | None, expected: str
+) -> None:
+    path = write_mission(ONE_ACTION.replace("ACTION", action))
+    assert report(path, robot) == [expected]
+
+
+@pytest.mark.parametrize(
+    ("action", "kwargs"),
+    [
+        ("walk", {"steps": 1000}),
+        ("walk", {"steps": -1000}),
+        ("set_led", {"index": 63}),
+        ("drive", {"distance_mm": 100_000.0}),
+        ("servo", {"angle_deg": 0.0}),
+        ("servo", {"angle_deg": 180.0}),
+        ("rotate", {"angle_deg": 3600.0}),
+        ("play_tone", {"frequency_hz": 20.0}),
+        ("play_tone", {"frequency_hz": 20_000.0}),
+        ("wait", {"duration_s": 3600.0}),
+    ],
+)
+def test_the_edge_of_every_range_is_allowed(action: str, kwargs: dict[str, Any]) -> None:
+    params = ACTIONS[action].params
+    assert {p.kwarg for p in params} >= set(kwargs)  # the keyword is the action's own
+    assert param_problems(action, params, kwargs, built_in=True) == []
+
+
+def _spec(write_mission: Callable[..., Path], action: str) -> MissionSpec:
+    spec, _warnings = load_mission(write_mission(ONE_ACTION.replace("ACTION", action)))
+    return spec
+
+
+def _slow_robot(**overrides: Any) -> SimpleNamespace:
+    robot = {
+        "name": "crawler",
+        "capabilities": frozenset({"drive_base"}),
+        "max_speed_mm_s": 100.0,
+        "track_mm": 160.0,
+    }
+    return SimpleNamespace(**(robot | overrides))
+
+
+def test_a_default_speed_too_fast_for_the_robot_is_warned_at_the_action(
+    write_mission: Callable[..., Path],
+) -> None:
+    path = write_mission(ONE_ACTION.replace("ACTION", "{drive: {distance: 1 m}}"))
+    spec, _warnings = load_mission(path)
+    found = [p.format().replace(str(path), "M") for p in profile_problems(spec, _slow_robot())]
+    assert found == [
+        (
+            "M:4:10: warning: drive speed: 150 mm/s is faster than crawler can drive, so it will"
+            " drive at its top speed of 100 mm/s (write speed: 100 mm/s or less)"
+        )
+    ]
+
+
+def test_an_action_written_nowhere_is_warned_about_the_mission(
+    write_mission: Callable[..., Path],
+) -> None:
+    # A mission built in code may carry no locations; the warning still names a place.
+    spec = _spec(write_mission, "{drive: {distance: 1 m}}")
+    go = spec.states["go"]
+    assert go.action is not None
+    bare = dataclasses.replace(go.action, location=None, param_locations={})
+    spec = dataclasses.replace(
+        spec, states={**spec.states, "go": dataclasses.replace(go, action=bare)}
+    )
+    found = [p.format() for p in profile_problems(spec, _slow_robot())]
+    assert found == [
+        (
+            "<mission>: warning: drive speed: 150 mm/s is faster than crawler can drive, so it"
+            " will drive at its top speed of 100 mm/s (write speed: 100 mm/s or less)"
+        )
+    ]
+
+
+def test_a_robot_without_a_capability_list_gets_no_speed_warnings(
+    write_mission: Callable[..., Path],
+) -> None:
+    spec = _spec(write_mission, "{drive: {distance: 1 m, speed: 2 m/s}}")
+    assert profile_problems(spec, SimpleNamespace(name="box")) == []
+
+
+@pytest.mark.parametrize("speed", [0.0, -5.0, float("inf"), float("nan")])
+def test_speeds_the_parameter_checks_refuse_get_no_robot_warning_but_later_ones_do(
+    write_mission: Callable[..., Path], speed: float
+) -> None:
+    # The bad speed already has its error; the next state's speed must still be checked.
+    spec = _spec(write_mission, "{drive: {distance: 1 m, speed: 2 m/s}}")
+    go = spec.states["go"]
+    assert go.action is not None
+    bad = dataclasses.replace(go.action, kwargs={**go.action.kwargs, "speed_mm_s": speed})
+    first = dataclasses.replace(go, name="first", action=bad)
+    spec = dataclasses.replace(spec, states={"first": first, **spec.states})
+    found = [p.message for p in profile_problems(spec, _slow_robot())]
+    assert found == [
+        (
+            "drive speed: 2000 mm/s is faster than crawler can drive, so it will drive at its"
+            " top speed of 100 mm/s"
+        )
+    ]
+
+
+DIM = """\
+from roboscript import Action, ActionContext, Param, Result
+
+
+class Dim(Action):
+    name = "dim"
+    params = (Param("level", "level_pct", "percent", "how bright", 50.0),)
+
+    def __init__(self, level_pct: float = 50.0) -> None:
+        self.level_pct = level_pct
+
+    def update(self, ctx: ActionContext) -> Result | None:
+        return Result.done()
+"""
+
+
+def test_a_student_percent_that_is_not_a_number_gets_a_percent_example(
+    write_mission: Callable[..., Path],
+) -> None:
+    mission = ONE_ACTION.replace("ACTION", "{dim: {level: inf %}}")
+    path = write_mission("behaviours: [dim.py]\n" + mission)
+    (path.parent / "dim.py").write_text(DIM, encoding="utf-8")
+    assert report(path) == [
+        (
+            "M:5:23: error: dim level: 'inf %' is not a number the robot can use;"
+            " write a percent such as '50 %'"
+        )
+    ]
+
+
+def test_a_student_default_of_false_is_not_read_as_a_time(
+    write_mission: Callable[..., Path],
+) -> None:
+    # ``False`` is an int to Python, but a student who writes it means "none", not 0 s.
+    nap = DIM.replace('name = "dim"', 'name = "nap"').replace(
+        'Param("level", "level_pct", "percent", "how bright", 50.0)',
+        'Param("pause", "level_pct", "time", "wait first", False)',
+    )
+    path = write_mission("behaviours: [nap.py]\n" + ONE_ACTION.replace("ACTION", "{nap: {}}"))
+    (path.parent / "nap.py").write_text(nap, encoding="utf-8")
     assert report(path) == []
