@@ -106,3 +106,41 @@ def write_track(path: Path) -> Path:
         encoding="utf-8",
     )
     return path
+
+
+TWICE_PY = """\
+from roboscript import Drive, Mission, Rotate, state
+
+
+class OutAndBack(Mission):
+    out = state(Drive(distance_mm=300), initial=True, on_done="turn", on_failed="oops")
+    turn = state(Rotate(angle_deg=180), on_done="home", on_failed="oops")
+    home = state(final="success")
+    oops = state(final="failure")
+
+
+class Twice(Mission):
+    first = state(OutAndBack, initial=True, on_done="second", on_failed="sad")
+    second = state(OutAndBack, on_done="happy", on_failed="sad")
+    happy = state(final="success")
+    sad = state(final="failure")
+"""
+"""A Python mission that nests another twice (``Twice`` runs ``OutAndBack`` two times)."""
+
+OUT_TURN_BEEP = """\
+mission: out-and-turn
+initial: out
+states:
+  out:
+    do: {drive: {distance: 20 cm, speed: 15 cm/s}}
+    on: {done: turn, failed: stuck}
+  turn:
+    do: {rotate: {angle: 90 deg}}
+    on: {done: beep, failed: stuck}
+  beep:
+    do: {play_tone: {frequency: 660 Hz, duration: 200 ms}}
+    final: success
+  stuck:
+    final: failure
+"""
+"""A short YAML mission that drives, turns and beeps (a few seconds simulated)."""

@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from helpers import TWICE_PY
 
 from roboscript.mission import load_mission
 from roboscript.mission.graph import to_dot, to_mermaid
@@ -32,23 +33,6 @@ states:
     final: failure
 """
 
-TWICE_PY = """\
-from roboscript import Drive, Mission, Rotate, state
-
-
-class OutAndBack(Mission):
-    out = state(Drive(distance_mm=300), initial=True, on_done="turn", on_failed="oops")
-    turn = state(Rotate(angle_deg=180), on_done="home", on_failed="oops")
-    home = state(final="success")
-    oops = state(final="failure")
-
-
-class Twice(Mission):
-    first = state(OutAndBack, initial=True, on_done="second", on_failed="sad")
-    second = state(OutAndBack, on_done="happy", on_failed="sad")
-    happy = state(final="success")
-    sad = state(final="failure")
-"""
 
 CHOOSE_PY = """\
 from roboscript import Drive, Mission, PlayTone, Wait, state

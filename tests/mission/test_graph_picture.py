@@ -8,7 +8,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
-from helpers import MISSIONS, run_cli
+from helpers import MISSIONS, TWICE_PY, run_cli
 
 from roboscript.mission import load_mission
 from roboscript.mission.graph import _edges
@@ -24,23 +24,6 @@ from roboscript.mission.spec import MissionSpec
 
 SVG = "{http://www.w3.org/2000/svg}"
 
-NESTED = """
-from roboscript import Drive, Mission, Rotate, state
-
-
-class OutAndBack(Mission):
-    out = state(Drive(distance_mm=300), initial=True, on_done="turn", on_failed="oops")
-    turn = state(Rotate(angle_deg=180), on_done="home", on_failed="oops")
-    home = state(final="success")
-    oops = state(final="failure")
-
-
-class Twice(Mission):
-    first = state(OutAndBack, initial=True, on_done="second", on_failed="sad")
-    second = state(OutAndBack, on_done="happy", on_failed="sad")
-    happy = state(final="success")
-    sad = state(final="failure")
-"""
 
 LOOPS = """
 mission: loops
@@ -67,7 +50,7 @@ def _mission_files() -> list[Path]:
 @pytest.fixture
 def nested(tmp_path: Path) -> MissionSpec:
     path = tmp_path / "twice.py"
-    path.write_text(NESTED, encoding="utf-8")
+    path.write_text(TWICE_PY, encoding="utf-8")
     return load_mission(path)[0]
 
 

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers import TWICE_PY
 
 from roboscript.mission import load_mission
 from roboscript.mission.graph_layout import text_width_px
@@ -34,23 +35,6 @@ states:
     final: failure
 """
 
-NESTED = """
-from roboscript import Drive, Mission, Rotate, state
-
-
-class OutAndBack(Mission):
-    out = state(Drive(distance_mm=300), initial=True, on_done="turn", on_failed="oops")
-    turn = state(Rotate(angle_deg=180), on_done="home", on_failed="oops")
-    home = state(final="success")
-    oops = state(final="failure")
-
-
-class Twice(Mission):
-    first = state(OutAndBack, initial=True, on_done="second", on_failed="sad")
-    second = state(OutAndBack, on_done="happy", on_failed="sad")
-    happy = state(final="success")
-    sad = state(final="failure")
-"""
 
 # a three times (twice by its own loop), then b, then the final c; ends in c.
 LOOPS_RUN = RunMarks(((0.0, "a"), (1.25, "a"), (2.5, "a"), (3.0, "b"), (8.0, "c")), "failure", "c")
@@ -72,7 +56,7 @@ def _case(tmp_path: Path, case: str) -> tuple[MissionSpec, RunMarks | None]:
     if case.startswith("loops"):
         spec = _load(tmp_path, "loops.yaml", LOOPS)
         return spec, (LOOPS_RUN if case.endswith("run") else None)
-    spec = _load(tmp_path, "twice.py", NESTED)
+    spec = _load(tmp_path, "twice.py", TWICE_PY)
     return spec, (NESTED_RUN if case.endswith("run") else None)
 
 

@@ -8,26 +8,9 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from helpers import MISSIONS, run_cli, served_simulator
+from helpers import MISSIONS, OUT_TURN_BEEP, run_cli, served_simulator
 
 from roboscript.replay import load_recording
-
-SHORT = """\
-mission: out-and-turn
-initial: out
-states:
-  out:
-    do: {drive: {distance: 20 cm, speed: 15 cm/s}}
-    on: {done: turn, failed: stuck}
-  turn:
-    do: {rotate: {angle: 90 deg}}
-    on: {done: beep, failed: stuck}
-  beep:
-    do: {play_tone: {frequency: 660 Hz, duration: 200 ms}}
-    final: success
-  stuck:
-    final: failure
-"""
 
 
 def test_run_record_then_view_writes_a_self_contained_page(tmp_path: Path) -> None:
@@ -79,7 +62,7 @@ def test_view_names_a_bad_recording_in_one_line(tmp_path: Path) -> None:
 def test_a_run_on_a_port_records_the_odometry_pose(
     write_mission: Callable[..., Path], tmp_path: Path
 ) -> None:
-    mission = write_mission(SHORT)
+    mission = write_mission(OUT_TURN_BEEP)
     run = tmp_path / "run.jsonl"
     with served_simulator("mirto") as port:
         url = f"socket://127.0.0.1:{port}"

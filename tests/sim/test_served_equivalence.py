@@ -7,31 +7,15 @@ import json
 from collections.abc import Callable
 from pathlib import Path
 
-from helpers import run_cli, served_simulator
+from helpers import OUT_TURN_BEEP, run_cli, served_simulator
 
 from roboscript.robot import Robot
-
-SHORT = """
-mission: short
-states:
-  out:
-    do: {drive: {distance: 20 cm, speed: 15 cm/s}}
-    on: {done: turn, failed: stuck}
-  turn:
-    do: {rotate: {angle: 90 deg}}
-    on: {done: beep, failed: stuck}
-  beep:
-    do: {play_tone: {frequency: 660 Hz, duration: 200 ms}}
-    final: success
-  stuck:
-    final: failure
-"""
 
 
 def test_a_mission_over_tcp_matches_the_in_process_simulator(
     write_mission: Callable[..., Path],
 ) -> None:
-    mission = write_mission(SHORT)
+    mission = write_mission(OUT_TURN_BEEP)
     local = json.loads(run_cli("run", str(mission), "--json").stdout)
     with served_simulator("mirto") as port:
         url = f"socket://127.0.0.1:{port}"
