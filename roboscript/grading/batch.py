@@ -1,27 +1,18 @@
-"""Grading a class: finding the students' missions, pairing them with tests, running them all.
+"""Grading a class: pairing the students' missions with tests, running them all.
 
-Submissions (``--mission``) are files, globs or folders:
-
-* a file is one student, named after the file (``alice.yaml`` -> ``alice``);
-* a folder is a class: each mission file directly in it is one student (named after the file),
-  and each sub-folder is one student (named after the folder) holding their mission(s);
-* a glob's files are students named after the files, its folders students named after the
-  folders (``subs/*`` -> one student per folder of ``subs``).
-
-Students with the same file name (``subs/*/square.yaml``) are told apart by their folder. Python
-files count only if they define a ``Mission`` class (behaviours and helpers do not); YAML files
-that are test specs do not count.
+The students are found by :func:`~roboscript.grading.submissions.find_submissions` (see
+:mod:`roboscript.grading.submissions` for who is who, what is refused and what a run may read).
 
 With several tests, a student with one mission runs it in every test; a student with several
 runs, in each test, the mission named after the test (``square-50cm.yaml``) or after the spec
-file; a student without one is marked ``missing`` for that test.
+file; a student without one is marked ``missing`` for that test. A submission that cannot be
+graded (:attr:`~roboscript.grading.submissions.Submission.problem`) is ``invalid`` in every
+run, none of which is started.
 """
 
 from __future__ import annotations
 
-import glob
 import re
-from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -30,9 +21,10 @@ from roboscript.errors import InputError
 from roboscript.grading.pool import RunTask, run_tasks
 from roboscript.grading.record import RunResult, Verdict
 from roboscript.grading.spec import TestSpec, Variant, is_test_spec, load_test_spec
-from roboscript.grading.text import cap_result, public_reason
-from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S, submission_files
-from roboscript.inputs.kinds import file_kind, not_a_mission
+from roboscript.grading.submissions import Submission, find_submissions, visible_files
+from roboscript.grading.text import cap_result, public_reason, student_text
+from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S
+from roboscript.inputs.kinds import file_kind
 from roboscript.sim.world import World
 
 __all__ = [
@@ -45,107 +37,6 @@ __all__ = [
     "mission_for_test",
     "visible_files",
 ]
-
-_MISSION_SUFFIXES = (".yaml", ".yml", ".py")
-
-
-@dataclass(frozen=True)
-class Submission:
-    """One student's work: their name and mission files (paths as given).
-
-    Attributes:
-        student: The student's name.
-        missions: Their mission files.
-        folder: Their own folder, when the student is a folder; their graded runs may read
-            everything in it. A student who is a file may read only that file and the files
-            beside it that it names (never another student's mission).
-    """
-
-    student: str
-    missions: tuple[str, ...]
-    folder: str | None = None
-
-
-def _is_mission_file(path: Path) -> bool:
-    from roboscript.mission.python_loader import is_python_mission
-
-    if not path.is_file() or path.suffix.lower() not in _MISSION_SUFFIXES:
-        return False
-    if path.suffix.lower() == ".py":
-        return is_python_mission(path)  # read as text, never imported here
-    return file_kind(path) == "mission"  # never a world, profile or test spec beside it
-
-
-def _missions_in(folder: Path) -> list[Path]:
-    return sorted(
-        p
-        for p in folder.rglob("*")
-        if not any(part.startswith((".", "__")) for part in p.relative_to(folder).parts)
-        and _is_mission_file(p)
-    )
-
-
-def find_submissions(patterns: Sequence[str]) -> list[Submission]:
-    """The students and their missions, in name order.
-
-    Raises:
-        InputError: A pattern matches no mission.
-    """
-    singles: list[Path] = []  # one student per file, named after it
-    folders: list[Path] = []  # one student per folder, named after it
-    for pattern in patterns:
-        path = Path(pattern)
-        if path.is_dir():
-            children = sorted(path.iterdir())
-            singles += [p for p in children if _is_mission_file(p)]
-            folders += [p for p in children if p.is_dir() and not p.name.startswith((".", "__"))]
-            if not any(_missions_in(path)):
-                raise InputError(f"no mission files in the folder {pattern}")
-        elif path.is_file():
-            if path.suffix.lower() not in _MISSION_SUFFIXES:
-                raise InputError(f"{pattern} is not a mission file (.yaml or .py)")
-            kind = file_kind(path)
-            if kind != "mission":
-                raise not_a_mission(path, kind)
-            singles.append(path)
-        else:
-            matches = sorted(Path(m) for m in glob.glob(pattern, recursive=True))
-            found = [m for m in matches if _is_mission_file(m)]
-            found_dirs = [m for m in matches if m.is_dir() and _missions_in(m)]
-            if not found and not found_dirs:
-                raise InputError(f"no mission matches '{pattern}'")
-            singles += found
-            folders += found_dirs
-    by_student: dict[str, list[str]] = {}
-    own_folder: dict[str, str] = {}
-    singles = list(dict.fromkeys(singles))
-    stems = Counter(file.stem for file in singles)
-    parents = Counter(file.parent.name for file in singles)
-    for file in singles:
-        # subs/*/square.yaml: every file is "square", so each student is named by the folder.
-        name = file.stem
-        if stems[file.stem] > 1:
-            unique_parent = parents[file.parent.name] == 1
-            name = file.parent.name if unique_parent else f"{file.parent.name}/{file.stem}"
-        by_student.setdefault(name, []).append(str(file))
-    for folder in folders:
-        missions = [str(p) for p in _missions_in(folder)]
-        if missions:
-            by_student.setdefault(folder.name, []).extend(missions)
-            own_folder[folder.name] = str(folder)
-    return [
-        Submission(name, tuple(dict.fromkeys(files)), own_folder.get(name))
-        for name, files in sorted(by_student.items(), key=lambda item: item[0].lower())
-    ]
-
-
-def visible_files(
-    submission: Submission, mission: str, others: frozenset[Path]
-) -> tuple[Path, ...]:
-    """What ``submission``'s graded run of ``mission`` may read (see :class:`Submission`)."""
-    if submission.folder is not None:
-        return (Path(submission.folder).resolve(),)
-    return submission_files(Path(mission), exclude=others)
 
 
 def find_specs(paths: Sequence[str]) -> list[TestSpec]:
@@ -282,9 +173,7 @@ class Cell:
         if result is None:
             return ""
         hidden = result.variant in self.hidden  # CI logs show the table to the student
-        if not result.passed and result.status != "failed":
-            return result.message
-        if verdict is None:
+        if verdict is None or (not result.passed and result.status != "failed"):
             return public_reason(result, hidden)
         if verdict.margin:
             return f"{verdict.name} {verdict.margin}"
@@ -362,6 +251,13 @@ class ClassReport:
         """
         return replace(self, results=[cap_result(r) for r in self.results])
 
+    def shown_mission(self, result: RunResult) -> str:
+        """The run's mission file as its student knows it (no folder of the teacher's)."""
+        submission = next((s for s in self.submissions if s.student == result.student), None)
+        if submission is None:
+            return Path(result.mission).name
+        return submission.shown(result.mission)
+
     def world_for(self, result: RunResult) -> World | None:
         """The world a run happened in."""
         spec = next((s for s in self.specs if s.name == result.test), None)
@@ -408,6 +304,9 @@ def grade_class(
         for submission in submissions:
             mission = mission_for_test(submission, spec)
             for variant in spec.variants:
+                if submission.problem:
+                    slots.append(_refused(spec, submission, variant))
+                    continue
                 if mission is None:
                     slots.append(_missing(spec, submission, variant))
                     continue
@@ -419,8 +318,12 @@ def grade_class(
                 )
     _check_setup(tasks)
     done = run_tasks(tasks, jobs, on_result)
+    roots = {s.student: s.root for s in submissions}
     # Capped as they arrive, so a 20 MB exception message is not kept (or copied) any further.
-    results = [cap_result(slot if isinstance(slot, RunResult) else done[slot]) for slot in slots]
+    results = [
+        _for_students(cap_result(slot if isinstance(slot, RunResult) else done[slot]), roots)
+        for slot in slots
+    ]
     # Records come back through a pipe without their worlds; reports find them in `worlds`.
     return ClassReport(list(specs), list(submissions), results, worlds)
 
@@ -443,6 +346,27 @@ def _check_setup(tasks: Sequence[RunTask]) -> None:
             check_visible(visible)
         except (OSError, ValueError) as exc:
             raise InputError(f"cannot grade {task.student or task.mission}: {exc}") from None
+
+
+def _for_students(result: RunResult, roots: dict[str, str | None]) -> RunResult:
+    """``result`` with no folder of the teacher's computer in what students read of it."""
+    root = roots.get(result.student)
+    record = result.record
+    if record is not None and record.reason:
+        record = replace(record, reason=student_text(record.reason, root))
+    return replace(result, message=student_text(result.message, root), record=record)
+
+
+def _refused(spec: TestSpec, submission: Submission, variant: Variant) -> RunResult:
+    """The result of a run of a submission that cannot be graded: never started."""
+    return spec.result(
+        variant,
+        student=submission.student,
+        mission=submission.missions[0] if submission.missions else "",
+        status="invalid",
+        message=submission.problem,
+        during_load=True,
+    )
 
 
 def _missing(spec: TestSpec, submission: Submission, variant: Variant) -> RunResult:

@@ -11,14 +11,17 @@ Columns, in order:
   (``points:`` in the spec, default one per run);
 * ``points`` and ``max points``: the sum over the tests.
 
-Spreadsheets and learning platforms import it as it is. A student name that a spreadsheet
-would read as a formula (``=``, ``+``, ``-``, ``@``) starts with ``'``.
+Spreadsheets and learning platforms import it as it is. A spreadsheet may split a cell again
+at any separator it guesses (``,``, ``;``, a tab, ``|``), so each part of a name or test
+name that it would read as a formula (starting ``=``, ``+``, ``-`` or ``@``, after any
+spaces) gets a ``'`` before it: ``x;=2+5`` is written ``x;'=2+5``.
 """
 
 from __future__ import annotations
 
 import csv
 import io
+import re
 from pathlib import Path
 
 from roboscript.grading.batch import ClassReport
@@ -27,9 +30,12 @@ from roboscript.grading.text import format_points
 __all__ = ["gradebook_csv", "write_gradebook"]
 
 
+_FORMULA = re.compile(r"(^|[,;\t|])([ \t]*)(?=[=+\-@])")
+
+
 def _safe_cell(text: str) -> str:
-    """Text a spreadsheet shows as text, never runs as a formula."""
-    return f"'{text}" if text.startswith(("=", "+", "-", "@", "\t", "\r")) else text
+    """Text a spreadsheet shows as text, never runs as a formula, however it splits it."""
+    return _FORMULA.sub(r"\1\2'", text)
 
 
 def gradebook_csv(report: ClassReport) -> str:
@@ -40,10 +46,13 @@ def gradebook_csv(report: ClassReport) -> str:
     writer.writerow(
         [
             "student",
-            *(spec.name for spec in report.specs),
+            *(_safe_cell(spec.name) for spec in report.specs),
             "total",
             "passed",
-            *(f"{spec.name} points (of {format_points(spec.max_points)})" for spec in report.specs),
+            *(
+                _safe_cell(f"{spec.name} points (of {format_points(spec.max_points)})")
+                for spec in report.specs
+            ),
             "points",
             "max points",
         ]

@@ -34,7 +34,7 @@ from typing import Any
 from roboscript.grading.batch import Cell, ClassReport, Submission
 from roboscript.grading.record import RunResult
 from roboscript.grading.spec import TestSpec
-from roboscript.grading.text import advice, format_points, public_reason
+from roboscript.grading.text import advice, format_points, public_reason, student_text
 
 __all__ = [
     "HIDDEN_VISIBILITY",
@@ -57,7 +57,12 @@ def one_submission(
     ``folder`` is the submission's folder, if it is one: its runs may read everything in it.
     """
     missions = tuple(dict.fromkeys(m for s in submissions for m in s.missions))
-    return Submission(name, missions, folder)
+    problem = next((s.problem for s in submissions if s.problem), "")
+    if folder is not None:
+        return Submission(name, missions, folder, problem, folder)
+    root = next((s.root for s in submissions), None)
+    own = tuple(dict.fromkeys(f for s in submissions for f in s.own))
+    return Submission(name, missions, None, problem, root, own)
 
 
 def _run_output(report: ClassReport, result: RunResult, cell: Cell) -> str:
@@ -140,7 +145,7 @@ def gradescope_results(report: ClassReport) -> dict[str, Any]:
 
 def no_submission_results(specs: Sequence[TestSpec], reason: str) -> dict[str, Any]:
     """``results.json`` when the submission holds no mission: every run failed, ``reason`` why."""
-    text = f"{reason}. {advice('missing')}"
+    text = f"{student_text(reason)}. {advice('missing')}"  # no folder of the teacher's
     tests = []
     for i, spec in enumerate(specs, start=1):
         share = round(spec.max_points / len(spec.variants), 4) if spec.variants else 0.0

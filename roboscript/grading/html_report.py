@@ -24,6 +24,7 @@ pass or fail is a word and a symbol as well as a colour; pictures carry a text a
 
 from __future__ import annotations
 
+import hashlib
 import re
 from html import escape
 from pathlib import Path
@@ -48,7 +49,7 @@ from roboscript.grading.text import advice, format_points, public_reason
 from roboscript.replay.recording import Recording, fill_frames
 from roboscript.replay.viewer import viewer_block, viewer_script, viewer_style
 
-__all__ = ["run_page_name", "student_page_names", "write_html"]
+__all__ = ["run_page_names", "student_page_names", "write_html"]
 
 _CSS = """
 :root { color-scheme: light; }
@@ -153,28 +154,47 @@ def _status_words(result: RunResult) -> str:
     }.get(result.status, result.status)
 
 
-def run_page_name(result: RunResult) -> str:
-    """The run page's file name inside ``runs/``."""
-    raw = f"{result.student}--{result.test}--{result.variant + 1}"
-    return _safe_name(raw) + ".html"
+def _safe_name(raw: str, fallback: str = "student") -> str:
+    """``raw`` as a file name or id any system takes: ASCII letters, digits, ``.``, ``_``, ``-``.
+
+    A name with none of them (``Анна``, ``王芳``) becomes ``fallback`` and a short digest of
+    the name, so two such names still make two files.
+    """
+    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", raw).strip("._")
+    if safe:
+        return safe[:80]
+    return f"{fallback}-{hashlib.sha256(raw.encode('utf-8', 'replace')).hexdigest()[:10]}"
 
 
-def _safe_name(raw: str) -> str:
-    return re.sub(r"[^A-Za-z0-9._-]+", "_", raw).strip("._") or "student"
+def _unique(base: str, taken: set[str]) -> str:
+    """``base.html``, or ``base-2.html``...: the first name not in ``taken`` (case aside)."""
+    name, n = f"{base}.html", 1
+    while name.lower() in taken:  # two names that read the same once made safe
+        n += 1
+        name = f"{base}-{n}.html"
+    taken.add(name.lower())
+    return name
 
 
 def student_page_names(report: ClassReport) -> dict[str, str]:
     """Each student's feedback page's file name inside ``students/`` (``alice.html``)."""
-    names: dict[str, str] = {}
     taken: set[str] = set()
-    for submission in report.submissions:
-        base = _safe_name(submission.student)
-        name, n = f"{base}.html", 1
-        while name.lower() in taken:  # two names that read the same once made safe
-            n += 1
-            name = f"{base}-{n}.html"
-        taken.add(name.lower())
-        names[submission.student] = name
+    return {s.student: _unique(_safe_name(s.student), taken) for s in report.submissions}
+
+
+def run_page_names(report: ClassReport) -> dict[tuple[str, str, int], str]:
+    """Each run page's file name inside ``runs/``, by (student, test, variant): all different.
+
+    ``alice--square-50cm--2.html``; the student part is their page's name, so two students
+    whose names read the same once made safe never share a run page.
+    """
+    students = {name: page[: -len(".html")] for name, page in student_page_names(report).items()}
+    taken: set[str] = set()
+    names = {}
+    for result in report.results:
+        student = students.get(result.student) or _safe_name(result.student)
+        base = f"{student}--{_safe_name(result.test, 'test')}--{result.variant + 1}"
+        names[result.student, result.test, result.variant] = _unique(base, taken)
     return names
 
 
@@ -191,21 +211,25 @@ def write_html(report: ClassReport, folder: str | Path) -> Path:
     students = root / "students"
     runs.mkdir(parents=True, exist_ok=True)
     students.mkdir(parents=True, exist_ok=True)
+    run_pages = run_page_names(report)
     for result in report.results:
-        (runs / run_page_name(result)).write_text(_run_page(report, result), encoding="utf-8")
+        page = run_pages[result.student, result.test, result.variant]
+        (runs / page).write_text(_run_page(report, result), encoding="utf-8")
     pages = student_page_names(report)
     for submission in report.submissions:
         page = _student_page(report, submission.student)
         (students / pages[submission.student]).write_text(page, encoding="utf-8")
     index = root / "index.html"
-    index.write_text(_class_page(report, pages), encoding="utf-8")
+    index.write_text(_class_page(report, pages, run_pages), encoding="utf-8")
     return index
 
 
 # ------------------------------------------------------------------------------ class page
 
 
-def _class_page(report: ClassReport, pages: dict[str, str]) -> str:
+def _class_page(
+    report: ClassReport, pages: dict[str, str], run_pages: dict[tuple[str, str, int], str]
+) -> str:
     runs = len(report.results)
     passed = sum(1 for r in report.results if r.passed)
     parts = [
@@ -243,7 +267,8 @@ def _class_page(report: ClassReport, pages: dict[str, str]) -> str:
             badge = "pass" if cell.passed else "fail"
             symbol = "✓" if cell.passed else "✗"
             links = " ".join(
-                f'<a href="runs/{run_page_name(r)}">{escape(r.label)}'
+                f'<a href="runs/{escape(run_pages[r.student, r.test, r.variant])}">'
+                f"{escape(r.label)}"
                 f"{' (hidden)' if report.is_hidden(r) else ''} {'✓' if r.passed else '✗'}</a>"
                 for r in cell.results
             )
@@ -443,7 +468,7 @@ def _student_page(report: ClassReport, student: str) -> str:
 
 
 def _anchor(test: str, variant: int) -> str:
-    return f"{_safe_name(test)}-run-{variant + 1}"
+    return f"{_safe_name(test, 'test')}-run-{variant + 1}"
 
 
 def _student_run(report: ClassReport, result: RunResult, spec: TestSpec, cell: Cell) -> list[str]:

@@ -24,7 +24,7 @@ from pathlib import Path
 
 from roboscript.grading.batch import ClassReport
 from roboscript.grading.record import RunResult
-from roboscript.grading.text import format_points, public_reason
+from roboscript.grading.text import format_points, public_reason, xml_safe
 
 __all__ = ["junit_kind", "junit_xml", "write_junit"]
 
@@ -96,7 +96,7 @@ def junit_xml(report: ClassReport) -> str:
                 )
                 element.text = _verdict_lines(result, hidden)
             if result.mission:
-                ET.SubElement(case, "system-out").text = f"mission: {result.mission}"
+                ET.SubElement(case, "system-out").text = f"mission: {report.shown_mission(result)}"
         for key, count in counts.items():
             totals[key] += count
         total_time += suite_time
@@ -104,7 +104,9 @@ def junit_xml(report: ClassReport) -> str:
         root.set(key, str(count))
     root.set("time", f"{total_time:.3f}")
     ET.indent(root)
-    return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
+    # Whatever reached the tree, a character XML 1.0 does not allow never reaches the file.
+    text = xml_safe(ET.tostring(root, encoding="unicode"))
+    return '<?xml version="1.0" encoding="UTF-8"?>\n' + text + "\n"
 
 
 def write_junit(report: ClassReport, path: str | Path) -> None:

@@ -9,13 +9,21 @@ terminal. Every report therefore takes that text through :func:`cap` (by way of
 visibly (``… (cut: 1234 characters)``), and cleaned.
 
 :func:`public_reason` is what a student may read about a run whose variant the teacher keeps
-hidden: pass or fail and why, never its seed, start, world or the spec's path.
+hidden: pass or fail and why, never its seed, start, world or the spec's path, and nothing the
+mission printed or raised.
+
+:func:`clean_name` is the one place a student's name is made safe, once, when the grader
+finds the submission (:class:`~roboscript.grading.submissions.Submission`): every report then
+shows the same name. :func:`student_text` takes the teacher's folders out of a sentence a
+student reads.
 """
 
 from __future__ import annotations
 
 import re
+import unicodedata
 from dataclasses import replace
+from pathlib import Path
 
 from roboscript.grading.record import RunRecord, RunResult, Verdict
 
@@ -26,8 +34,11 @@ __all__ = [
     "advice",
     "cap",
     "cap_result",
+    "clean_name",
     "format_points",
     "public_reason",
+    "student_text",
+    "xml_safe",
 ]
 
 MESSAGE_CHARS = 2_000
@@ -54,6 +65,52 @@ def cap(text: str, limit: int = MESSAGE_CHARS) -> str:
         keep = max(0, limit - _MARKER_ROOM)
         text = f"{text[:keep]}… (cut: {len(text) - keep} characters)"
     return _UNSAFE.sub("\ufffd", text)
+
+
+# What may not be in a name: any control character (tab and newline too: a name is one line),
+# line and paragraph separators, and the bidirectional controls that reorder what a terminal
+# or a page shows (U+202A-U+202E, U+2066-U+2069, U+200E, U+200F, U+061C).
+_NAME_UNSAFE = re.compile(
+    "[\x00-\x1f\x7f-\x9f\u2028\u2029\u202a-\u202e\u2066-\u2069\u200e\u200f\u061c"
+    "\ud800-\udfff\ufffe\uffff]"
+)
+
+
+def clean_name(raw: str) -> str:
+    """A student's name made safe for every report: one line, nothing a terminal obeys.
+
+    Control characters (newlines, tabs and escape sequences included), separators and
+    bidirectional controls each become ``�``; the name is stripped of spaces at either end,
+    put in Unicode's composed form (NFC), and cut to :data:`NAME_CHARS`. An empty name
+    becomes ``student``. Cleaning a clean name changes nothing.
+    """
+    text = _NAME_UNSAFE.sub("\ufffd", unicodedata.normalize("NFC", raw)).strip()
+    return cap(text, NAME_CHARS) or "student"
+
+
+# An absolute path's folders (POSIX or Windows): what is left of it is the file's name.
+_FOLDERS = re.compile(
+    r"(?<![\w.~/\\])(?:[A-Za-z]:)?(?:[/\\][^\s/\\:'\"()\[\],;]+)+[/\\](?=[^\s/\\])"
+)
+
+
+def student_text(text: str, root: str | Path | None = None) -> str:
+    """``text`` with no folder of the teacher's computer in it, for a student to read.
+
+    Paths inside ``root`` (the student's folder, or the class folder of a student who is a
+    file) become relative to it (``helpers/turns.py:3``); any other absolute path keeps only
+    its file name.
+    """
+    if root is not None:
+        for folder in dict.fromkeys((str(root), str(Path(root).resolve()))):
+            text = text.replace(folder.rstrip("/\\") + "/", "")
+    return _FOLDERS.sub("", text)
+
+
+def xml_safe(text: str) -> str:
+    """``text`` with every character XML 1.0 does not allow (``\\x01``, lone surrogates...)
+    shown as ``�``; tab, newline and carriage return stay."""
+    return _UNSAFE.sub("\ufffd", text.replace("\r", "\n"))
 
 
 def _cap_verdict(verdict: Verdict) -> Verdict:
@@ -100,12 +157,15 @@ def public_reason(result: RunResult, hidden: bool) -> str:
     A visible run gives its message. A hidden run that failed an expectation gives the
     expectation and its margin only (``final_pose_within failed by 41.5 cm``): the details
     name positions, and a target relative to the start would give the start away. A hidden run
-    that did not finish gives its message, which never names the variant.
+    that did not finish gives one fixed sentence for its status: its message may quote what
+    the mission printed or raised, and a mission can read its start.
     """
     if result.passed:
         return ""
-    if not hidden or result.status != "failed":
+    if not hidden or result.status == "missing":  # nothing ran: the grader's own words
         return result.message
+    if result.status != "failed":
+        return _HIDDEN_ENDINGS.get(result.status, "the run did not finish")
     failed = [v for v in result.verdicts if not v.passed]
     if not failed:
         return "an expectation did not hold"
@@ -114,6 +174,14 @@ def public_reason(result: RunResult, hidden: bool) -> str:
     if len(failed) > 1:
         text += f" (and {len(failed) - 1} more check{'s' if len(failed) > 2 else ''} failed)"
     return text
+
+
+_HIDDEN_ENDINGS = {
+    "crashed": "the run crashed (a hidden run does not show why)",
+    "hung": "the mission stopped responding (a hidden run does not show where)",
+    "timeout": "the run did not finish in time (a hidden run does not show where)",
+    "invalid": "the mission does not load (a visible run shows why)",
+}
 
 
 def format_points(points: float) -> str:

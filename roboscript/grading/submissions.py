@@ -1,0 +1,480 @@
+"""Finding the students' work in what the teacher hands the grader, without trusting it.
+
+Submissions (``--mission``) are files, globs or folders:
+
+* a file is one student, named after the file (``alice.yaml`` -> ``alice``);
+* a folder is a class: each mission file directly in it is one student (named after the file),
+  and each sub-folder is one student (named after the folder) holding their mission(s);
+* a glob's files are students named after the files, its folders students named after the
+  folders (``subs/*`` -> one student per folder of ``subs``).
+
+Students with the same file name (``subs/*/square.yaml``) are told apart by their folder, and
+two mission files with one name in one folder (``ana.py`` beside ``ana.yaml``) are two
+students named by their whole file names: neither takes the other's place. Python files count
+only if they define a ``Mission`` class (behaviours and helpers do not); YAML files that are
+test specs, worlds or robot profiles do not count.
+
+The grader's own process never runs, imports or parses a student's code: it looks at each
+``.py``, ``.yaml`` and ``.yml`` file it meets through
+:func:`~roboscript.inputs.source.read_source` (at most 1 MiB, ordinary UTF-8 files only) and
+reads a Python file's ``class ...(Mission)`` lines and a YAML file's top-level keys as text.
+Whatever a file does to that (too big, not UTF-8, a pipe that never ends, anything raised),
+it is its student's result: the submission is ``invalid``, with one sentence naming the file
+by its path inside the submission. So are symbolic links (which could show a classmate's or
+the teacher's files), devices, pipes and sockets, and a folder holding more than
+:data:`MAX_ENTRIES` files and folders. Every student's name is cleaned once, here
+(:func:`~roboscript.grading.text.clean_name`), and names are unique once cleaned.
+
+What a graded run may read (:func:`visible_files`) follows the same lines: a student who is a
+folder sees that folder; a student who is a file in a folder shared with classmates sees their
+mission and the files of their own that it names: files named after the mission
+(``alice.yaml`` -> ``alice.py``, ``alice_helpers.py``, ``behaviours/alice-turns.py``),
+never a classmate's file, a shared file or an earlier report.
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+import re
+import stat
+from collections import Counter
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from roboscript.errors import InputError
+from roboscript.grading.text import clean_name
+from roboscript.inputs.kinds import file_kind, kind_of_keys, not_a_mission
+from roboscript.inputs.limits import MAX_FILE_BYTES
+from roboscript.inputs.source import read_source
+
+__all__ = [
+    "MAX_ENTRIES",
+    "MISSION_SUFFIXES",
+    "Submission",
+    "find_submissions",
+    "named_files",
+    "visible_files",
+]
+
+MISSION_SUFFIXES = (".yaml", ".yml", ".py")
+"""The files that may be missions (and so are looked into)."""
+
+MAX_ENTRIES = 10_000
+"""The most files and folders one student's folder may hold (counted before any is read)."""
+
+_SPECIAL = {
+    stat.S_IFCHR: "a device",
+    stat.S_IFBLK: "a device",
+    stat.S_IFIFO: "a named pipe",
+    stat.S_IFSOCK: "a socket",
+}
+
+
+@dataclass(frozen=True)
+class Submission:
+    """One student's work: their name and mission files (paths as given).
+
+    Attributes:
+        student: The student's name, cleaned on creation
+            (:func:`~roboscript.grading.text.clean_name`): every report shows this.
+        missions: Their mission files.
+        folder: Their own folder, when the student is a folder; their graded runs may read
+            everything in it. A student who is a file may read only that file and the files of
+            their own beside it that it names (see :func:`visible_files`).
+        problem: Why the submission cannot be graded (one sentence naming the file by its path
+            inside the submission), or empty. Every run of a submission with a problem is
+            ``invalid``, and none is started.
+        root: The folder paths are shown from: the student's folder, or the folder their file
+            is in. No student-facing text holds a path above it.
+        own: For a student who is a file: the files beside it that are theirs (named after
+            their mission); what a run may read is the part of these the mission names.
+    """
+
+    student: str
+    missions: tuple[str, ...]
+    folder: str | None = None
+    problem: str = ""
+    root: str | None = None
+    own: tuple[str, ...] = field(default=(), compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        # The one place a student's name is made safe: every report is written from this.
+        object.__setattr__(self, "student", clean_name(self.student))
+
+    def shown(self, path: str | Path) -> str:
+        """``path`` as the student knows it: relative to :attr:`root` (else its file name)."""
+        if self.root is None:
+            return Path(path).name
+        try:
+            return Path(path).resolve().relative_to(Path(self.root).resolve()).as_posix()
+        except (ValueError, OSError):
+            return Path(path).name
+
+
+# ------------------------------------------------------------------------- looking at files
+
+_CLASS = re.compile(r"^[ \t]*class[ \t]+\w+[ \t]*\(([^)]{0,2000})\)", re.MULTILINE)
+_BASE = re.compile(r"(?:\w+\s*\.\s*)*Mission")
+_TOP_KEY = re.compile(r"^([A-Za-z_][\w-]{0,100})[ \t]*:(?=[ \t\r]|$)", re.MULTILINE)
+
+
+def _defines_mission(text: str) -> bool:
+    """Whether Python text defines a class with a base named ``Mission``, read as text."""
+    for match in _CLASS.finditer(text):
+        bases = (part.strip() for part in match.group(1).split(","))
+        if any(_BASE.fullmatch(base) for base in bases):
+            return True
+    return False
+
+
+def _is_mission_text(path: Path, text: str) -> bool:
+    if path.suffix.lower() == ".py":
+        return _defines_mission(text)
+    return kind_of_keys(set(_TOP_KEY.findall(text))) == "mission"
+
+
+def _examine(path: Path, shown: str) -> tuple[bool, str]:
+    """``(is a mission, problem)`` for a file that may be a mission; never raises."""
+    try:
+        return _is_mission_text(path, read_source(path)), ""
+    except InputError as exc:
+        where = f"{shown}:{exc.line}" if exc.line is not None else shown
+        return False, f"{where} cannot be graded: {exc.message}"
+    except Exception as exc:  # noqa: BLE001 - whatever a file does is its student's result
+        return False, f"{shown} cannot be graded: reading it failed ({type(exc).__name__})"
+
+
+def _entry_problem(mode: int, shown: str) -> str:
+    """Why an entry that is not a folder or an ordinary file is refused."""
+    if stat.S_ISLNK(mode):
+        return (
+            f"{shown} is a symbolic link: a submission holds its own files, not links to"
+            " others (hand in the file itself)"
+        )
+    kind = _SPECIAL.get(stat.S_IFMT(mode), "not an ordinary file")
+    return f"{shown} is {kind}, not an ordinary file: a submission holds ordinary files only"
+
+
+def _hidden(relative: str) -> bool:
+    return any(part.startswith((".", "__")) for part in relative.split("/"))
+
+
+def _walk(
+    folder: Path, skip: frozenset[Path] = frozenset()
+) -> tuple[list[tuple[str, Path]], list[str]]:
+    """Every ordinary file under ``folder`` (path relative to it, path), and what is refused.
+
+    Nothing is followed: a symbolic link, a device, a pipe or a socket is a problem, named by
+    its path relative to ``folder``. Folders in ``skip`` are not entered. At most
+    :data:`MAX_ENTRIES` entries are looked at.
+    """
+    files: list[tuple[str, Path]] = []
+    problems: list[str] = []
+    stack = [(folder, "")]
+    count = 0
+    while stack:
+        current, shown = stack.pop()
+        try:
+            entries = os.scandir(current)
+        except OSError as exc:
+            problems.append(f"{shown or '.'} cannot be read: {exc.strerror or exc}")
+            continue
+        with entries:
+            for entry in entries:
+                count += 1
+                if count > MAX_ENTRIES:
+                    too_many = (
+                        f"the folder holds more than {MAX_ENTRIES} files and folders:"
+                        " hand in the mission and its own files only"
+                    )
+                    return sorted(files), [too_many]
+                name = f"{shown}/{entry.name}" if shown else entry.name
+                try:
+                    mode = entry.stat(follow_symlinks=False).st_mode
+                except OSError as exc:
+                    problems.append(f"{name} cannot be read: {exc.strerror or exc}")
+                    continue
+                if stat.S_ISDIR(mode):
+                    if Path(entry.path) not in skip:
+                        stack.append((Path(entry.path), name))
+                elif stat.S_ISREG(mode):
+                    files.append((name, Path(entry.path)))
+                else:
+                    problems.append(_entry_problem(mode, name))
+    return sorted(files), sorted(problems)
+
+
+@dataclass
+class _Found:
+    """One student as found, before naming: where their work came from."""
+
+    source: Path  # the file or folder that is this student
+    missions: list[Path]
+    folder: Path | None = None
+    problem: str = ""
+    by_parent: bool = False  # named after its folder (a glob of same-named files)
+    name: str = ""
+
+
+def _folder_student(folder: Path) -> _Found | None:
+    """A student who is a folder, or ``None`` when it holds no mission and nothing refused."""
+    files, problems = _walk(folder)
+    missions: list[Path] = []
+    for relative, path in files:
+        if _hidden(relative) or path.suffix.lower() not in MISSION_SUFFIXES:
+            continue
+        is_mission, problem = _examine(path, relative)
+        if problem:
+            problems.append(problem)
+        elif is_mission:
+            missions.append(path)
+    if not missions and not problems:
+        return None
+    return _Found(folder, missions, folder, problems[0] if problems else "")
+
+
+def _student_at(path: Path) -> _Found | None:
+    """The student a file or folder is, or ``None`` when it is none (a helper, a picture).
+
+    A link is never followed: one named like a mission, or leading to a folder, is a student
+    refused with the reason.
+    """
+    try:
+        mode = path.lstat().st_mode
+    except OSError as exc:
+        return _Found(path, [], problem=f"{path.name} cannot be read: {exc.strerror or exc}")
+    is_mission_name = path.suffix.lower() in MISSION_SUFFIXES
+    if stat.S_ISDIR(mode):
+        return _folder_student(path)
+    if stat.S_ISLNK(mode) and not is_mission_name:
+        if not path.is_dir():
+            return None  # a link to something that is not a student: never shown to one
+        return _Found(path, [], path, _entry_problem(mode, path.name))
+    if not is_mission_name:
+        return None
+    if not stat.S_ISREG(mode):
+        return _Found(path, [], problem=_entry_problem(mode, path.name))
+    is_mission, problem = _examine(path, path.name)
+    if problem:
+        return _Found(path, [], problem=problem)
+    return _Found(path, [path]) if is_mission else None
+
+
+def _class_folder(folder: Path) -> list[_Found]:
+    """The students in a class folder: its mission files and its sub-folders."""
+    try:
+        children = sorted(folder.iterdir())
+    except OSError as exc:
+        raise InputError(f"cannot read the folder {folder}: {exc.strerror or exc}") from None
+    found = []
+    for child in children:
+        if not child.name.startswith((".", "__")):
+            student = _student_at(child)
+            if student is not None:
+                found.append(student)
+    return found
+
+
+def _name(found: list[_Found]) -> None:
+    """Give every student a name: unique once cleaned, so no one takes another's place."""
+    singles = [f for f in found if f.folder is None]
+    stems = Counter(f.source.stem for f in singles)
+    in_folder = Counter((f.source.parent, f.source.stem) for f in singles)
+    folders_named = Counter(parent.name for parent in {f.source.parent for f in singles})
+    for f in found:
+        f.name = f.source.name if f.folder is not None else f.source.stem
+        if f.folder is not None or stems[f.source.stem] == 1:
+            continue
+        if in_folder[f.source.parent, f.source.stem] > 1:
+            f.name = f.source.name  # ana.py beside ana.yaml: two students, by their whole names
+        elif folders_named[f.source.parent.name] == 1:
+            f.name, f.by_parent = f.source.parent.name, True  # subs/*/square.yaml
+        else:
+            f.name = f"{f.source.parent.name}/{f.source.stem}"
+    # A name two sources claim (a folder ana/ beside a file ana.yaml) is told apart by the
+    # whole file or folder name, then by a number: never merged into one student.
+    claims: dict[str, set[Path]] = {}
+    for f in found:
+        claims.setdefault(clean_name(f.name), set()).add(_identity(f))
+    for f in found:
+        if len(claims[clean_name(f.name)]) > 1:
+            f.name = f"{f.source.name}/" if f.folder is not None else f.source.name
+    taken: dict[str, Path] = {}
+    for f in found:
+        base = name = clean_name(f.name)
+        n = 1
+        while taken.get(name, _identity(f)) != _identity(f):
+            n += 1
+            name = clean_name(f"{base}-{n}")
+        taken[name] = _identity(f)
+        f.name = name
+
+
+def _identity(found: _Found) -> Path:
+    """What makes two found files one student: their folder, when named after it."""
+    return found.source.parent if found.by_parent else found.source
+
+
+def find_submissions(patterns: Sequence[str]) -> list[Submission]:
+    """The students and their missions, in name order.
+
+    A student whose files cannot be graded is still listed, with the reason in
+    :attr:`Submission.problem`.
+
+    Raises:
+        InputError: A pattern matches no mission (nor any student to refuse).
+    """
+    found: list[_Found] = []
+    for pattern in patterns:
+        path = Path(pattern)
+        if path.is_dir():  # the teacher's class folder: followed if it is a link
+            students = _class_folder(path)
+            if not students:
+                raise InputError(f"no mission files in the folder {pattern}")
+        elif path.is_file() or path.is_symlink():
+            if path.suffix.lower() not in MISSION_SUFFIXES:
+                raise InputError(f"{pattern} is not a mission file (.yaml or .py)")
+            student = _student_at(path)
+            if student is None:
+                raise not_a_mission(path, file_kind(path))
+            students = [student]
+        else:
+            matches = sorted(Path(m) for m in glob.glob(pattern, recursive=True))
+            students = [s for s in map(_student_at, matches[:MAX_ENTRIES]) if s is not None]
+            if not students:
+                raise InputError(f"no mission matches '{pattern}'")
+        found += students
+    unique: dict[Path, _Found] = {}
+    for f in found:
+        unique.setdefault(f.source.absolute(), f)
+    found = list(unique.values())
+    _name(found)
+    return _submissions(found)
+
+
+def _submissions(found: list[_Found]) -> list[Submission]:
+    by_name: dict[str, list[_Found]] = {}
+    for f in found:
+        by_name.setdefault(f.name, []).append(f)
+    owners = _Owners(found)
+    result = []
+    for name, parts in sorted(by_name.items(), key=lambda item: item[0].lower()):
+        missions = tuple(dict.fromkeys(str(m) for part in parts for m in part.missions))
+        problem = next((p.problem for p in parts if p.problem), "")
+        first = parts[0]
+        if first.folder is not None:
+            folder = str(first.folder)
+            result.append(Submission(name, missions, folder, problem, folder))
+            continue
+        root = first.source.parent
+        own = owners.files_of(root, {Path(m).stem for m in missions})
+        result.append(Submission(name, missions, None, problem, str(root), own))
+    return result
+
+
+# ------------------------------------------------------------------- what a run may read
+
+
+class _Owners:
+    """Who owns each file in a folder shared by students who are files.
+
+    A file is a student's when its name is their mission's name, or starts with it followed
+    by ``_``, ``-`` or ``.`` (``alice_helpers.py``); when several students' names fit, the
+    longest wins. Students' folders, hidden folders, links and anything not an ordinary file
+    are no one's. Each shared folder is walked once.
+    """
+
+    def __init__(self, found: list[_Found]) -> None:
+        self._stems: dict[Path, set[str]] = {}
+        for f in found:
+            if f.folder is None:
+                self._stems.setdefault(f.source.parent, set()).add(f.source.stem)
+        self._skip = frozenset(f.source for f in found if f.folder is not None)
+        self._missions = {m.resolve() for f in found for m in f.missions}
+        self._files: dict[Path, list[tuple[str, Path]]] = {}
+
+    def files_of(self, root: Path, stems: set[str]) -> tuple[str, ...]:
+        """The files in ``root`` (and its sub-folders) owned by the student with ``stems``."""
+        if root not in self._files:
+            self._files[root] = _walk(root, self._skip)[0]
+        return tuple(
+            str(path)
+            for relative, path in self._files[root]
+            if not _hidden(relative)
+            and path.resolve() not in self._missions
+            and _owner(path.name, self._stems.get(root, set())) in stems
+        )
+
+
+def _owner(file_name: str, stems: Iterable[str]) -> str | None:
+    best: str | None = None
+    for stem in stems:
+        fits = file_name == stem or (
+            file_name.startswith(stem) and file_name[len(stem) : len(stem) + 1] in ("_", "-", ".")
+        )
+        if fits and (best is None or len(stem) > len(best)):
+            best = stem
+    return best
+
+
+def named_files(start: Path, candidates: Sequence[tuple[str, Path]]) -> tuple[Path, ...]:
+    """``start`` and the ``candidates`` its text names, and those theirs, in turn.
+
+    A candidate is ``(path relative to the start's folder, path)``; it is named by its
+    relative path, its file name, its module name (``behaviours.zigzag``) or, for a ``.py``
+    file, its stem (``import helpers``). Each file's first
+    :data:`~roboscript.inputs.limits.MAX_FILE_BYTES` are read, never more.
+    """
+    seen = [start.resolve()]
+    queue = [start.resolve()]
+    while queue:
+        words = _words(queue.pop())
+        for relative, path in candidates:
+            resolved = path.resolve()
+            if resolved in seen:
+                continue
+            names = {relative, resolved.name, relative.rsplit(".", 1)[0].replace("/", ".")}
+            if relative.endswith(".py"):
+                names.add(Path(relative).stem)
+            if names & words:
+                seen.append(resolved)
+                queue.append(resolved)
+    return tuple(seen)
+
+
+def _words(path: Path) -> set[str]:
+    try:
+        flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
+        fd = os.open(path, flags)
+        with os.fdopen(fd, "rb") as file:
+            if not stat.S_ISREG(os.fstat(fd).st_mode):
+                return set()
+            text = file.read(MAX_FILE_BYTES).decode("utf-8", errors="replace")
+    except OSError:
+        return set()
+    words = set(re.findall(r"[\w.\-/]+", text))
+    return words | {part for word in words for part in word.split("/")}
+
+
+def visible_files(
+    submission: Submission, mission: str, others: frozenset[Path] = frozenset()
+) -> tuple[Path, ...]:
+    """What ``submission``'s graded run of ``mission`` may read (see :class:`Submission`).
+
+    ``others`` (other students' files and folders, the test specs) are never among them.
+    """
+    if submission.folder is not None:
+        return (Path(submission.folder).resolve(),)
+    folder = Path(mission).resolve().parent
+    candidates = []
+    for own in submission.own:
+        path = Path(own).resolve()
+        if path in others or any(parent in others for parent in path.parents):
+            continue
+        try:
+            candidates.append((path.relative_to(folder).as_posix(), path))
+        except ValueError:
+            continue
+    return named_files(Path(mission), candidates)
