@@ -284,7 +284,9 @@ def grade_class(
         specs: The tests.
         submissions: The students.
         jobs: Runs at once (default: one per CPU core).
-        on_result: Called with each result the moment it is known (in the order runs end).
+        on_result: Called with each result the moment it is known: first those of runs that
+            are not started (``missing``, and ``invalid`` for a submission with a problem),
+            then the others in the order they end.
         hang_after_s: Wall seconds without simulated progress that end a run as ``hung``.
 
     Returns:
@@ -317,13 +319,22 @@ def grade_class(
                     RunTask(spec, mission, variant, submission.student, visible, hang_after_s)
                 )
     _check_setup(tasks)
-    done = run_tasks(tasks, jobs, on_result)
     roots = {s.student: s.root for s in submissions}
-    # Capped as they arrive, so a 20 MB exception message is not kept (or copied) any further.
-    results = [
-        _for_students(cap_result(slot if isinstance(slot, RunResult) else done[slot]), roots)
-        for slot in slots
-    ]
+
+    def arrived(result: RunResult) -> RunResult:
+        # Capped as they arrive, so a 20 MB exception message is not kept (or copied) any
+        # further; and no report, the results file included, holds a folder of the teacher's.
+        return _for_students(cap_result(result), roots)
+
+    def report(result: RunResult) -> None:
+        if on_result is not None:
+            on_result(arrived(result))
+
+    for slot in slots:  # known before any run starts: reported first
+        if isinstance(slot, RunResult):
+            report(slot)
+    done = run_tasks(tasks, jobs, report)
+    results = [arrived(slot if isinstance(slot, RunResult) else done[slot]) for slot in slots]
     # Records come back through a pipe without their worlds; reports find them in `worlds`.
     return ClassReport(list(specs), list(submissions), results, worlds)
 

@@ -368,31 +368,7 @@ def _run_sections(
     record = result.record
     world = report.world_for(result)
     if record is not None and world is not None:
-        parts.append("<h3>Where the robot went</h3>" if suffix else "<h2>Where the robot went</h2>")
-        parts.append(
-            "<figure>"
-            + trajectory_svg(world, record, result.verdicts, spec.expectations, id_suffix=suffix)
-            + "<figcaption>Seen from above, north up. The blue line is the path of the"
-            " robot's centre from the start ring to the end square (the circle there is the"
-            " robot's body, the line its heading). Grey strips are floor tape, black lines"
-            " walls, dashed green areas named regions, a dashed red circle the target.</figcaption>"
-            "</figure>"
-        )
-        parts.append(_legend())
-        parts.append("<h3>States over time</h3>" if suffix else "<h2>States over time</h2>")
-        colours = state_colours(record)
-        keys = "".join(
-            f'<li><span class="swatch" style="background:{c}"></span>{escape(n)}</li>'
-            for n, c in colours.items()
-        )
-        parts.append(
-            "<figure>"
-            + timeline_svg(record, result.verdicts, id_suffix=suffix)
-            + "<figcaption>Each bar is a stay in a state. Diamonds are tones, crosses"
-            " collisions, a red ! where an expectation first failed.</figcaption></figure>"
-            f'<ul class="legend" aria-label="State colours">{keys}</ul>'
-        )
-        parts += _replay(result, "<h3>Replay</h3>" if suffix else "<h2>Replay</h2>")
+        parts += _pictures(report, result, spec, suffix)
     if result.verdicts:
         parts.append("<h3>Expectations</h3>" if suffix else "<h2>Expectations</h2>")
         parts.append(_verdict_table(result.verdicts))
@@ -407,6 +383,53 @@ def _run_sections(
             + "</p>"
         )
     return parts
+
+
+_PICTURES_CHARS = 600_000
+"""The most a run's state timeline and replay may add to a page (characters): a mission that
+enters thousands of long-named states would otherwise make pages of tens of megabytes."""
+
+
+def _pictures(report: ClassReport, result: RunResult, spec: TestSpec, suffix: str) -> list[str]:
+    """Where the robot went; the states over time and the replay, if they fit the budget."""
+    record = result.record
+    world = report.world_for(result)
+    assert record is not None and world is not None
+    parts: list[str] = []
+    parts.append("<h3>Where the robot went</h3>" if suffix else "<h2>Where the robot went</h2>")
+    parts.append(
+        "<figure>"
+        + trajectory_svg(world, record, result.verdicts, spec.expectations, id_suffix=suffix)
+        + "<figcaption>Seen from above, north up. The blue line is the path of the"
+        " robot's centre from the start ring to the end square (the circle there is the"
+        " robot's body, the line its heading). Grey strips are floor tape, black lines"
+        " walls, dashed green areas named regions, a dashed red circle the target.</figcaption>"
+        "</figure>"
+    )
+    parts.append(_legend())
+    over_time = "<h3>States over time</h3>" if suffix else "<h2>States over time</h2>"
+    colours = state_colours(record)
+    keys = "".join(
+        f'<li><span class="swatch" style="background:{c}"></span>{escape(n)}</li>'
+        for n, c in colours.items()
+    )
+    states = [
+        over_time,
+        "<figure>"
+        + timeline_svg(record, result.verdicts, id_suffix=suffix)
+        + "<figcaption>Each bar is a stay in a state. Diamonds are tones, crosses"
+        " collisions, a red ! where an expectation first failed.</figcaption></figure>"
+        f'<ul class="legend" aria-label="State colours">{keys}</ul>',
+        *_replay(result, "<h3>Replay</h3>" if suffix else "<h2>Replay</h2>"),
+    ]
+    if sum(len(part) for part in states) > _PICTURES_CHARS:
+        too_many = (
+            f"<p>The mission went through {len(record.states)} states in this run ("
+            f"{len(colours)} different ones): too many to draw them or replay the run here."
+            " Its path is above, its expectations below.</p>"
+        )
+        states = [over_time, too_many]
+    return parts + states
 
 
 # ---------------------------------------------------------------------------- student page

@@ -235,11 +235,12 @@ def _folder_student(folder: Path) -> _Found | None:
     return _Found(folder, missions, folder, problems[0] if problems else "")
 
 
-def _student_at(path: Path) -> _Found | None:
+def _student_at(path: Path, named: bool = False) -> _Found | None:
     """The student a file or folder is, or ``None`` when it is none (a helper, a picture).
 
     A link is never followed: one named like a mission, or leading to a folder, is a student
-    refused with the reason.
+    refused with the reason. A Python file the teacher ``named`` is a mission however it
+    makes its ``Mission`` class.
     """
     try:
         mode = path.lstat().st_mode
@@ -259,7 +260,9 @@ def _student_at(path: Path) -> _Found | None:
     is_mission, problem = _examine(path, path.name)
     if problem:
         return _Found(path, [], problem=problem)
-    return _Found(path, [path]) if is_mission else None
+    if is_mission or (named and path.suffix.lower() == ".py"):
+        return _Found(path, [path])
+    return None
 
 
 def _class_folder(folder: Path) -> list[_Found]:
@@ -336,7 +339,7 @@ def find_submissions(patterns: Sequence[str]) -> list[Submission]:
         elif path.is_file() or path.is_symlink():
             if path.suffix.lower() not in MISSION_SUFFIXES:
                 raise InputError(f"{pattern} is not a mission file (.yaml or .py)")
-            student = _student_at(path)
+            student = _student_at(path, named=True)
             if student is None:
                 raise not_a_mission(path, file_kind(path))
             students = [student]

@@ -1,0 +1,378 @@
+"""A class folder built to break the grader, graded by the real ``roboscript grade``.
+
+Honest students sit beside every hostile file a class has handed in: code the grader's own
+process could choke on (a 20 000-term expression, a 1.7 GB sparse helper, a file that is not
+UTF-8), links to a classmate's work, pipes and devices, a mission dropped beside a
+classmate's with the same name, names made of escape sequences, newlines, formula text and
+only non-Latin letters, a mission that tries to give a hidden run's start away, and one that
+snoops on a classmate's helper and an earlier gradebook. The class is graded once, with every
+report written; each test then checks one promise: every student gets exactly the verdict
+their own work earns, and no report can be broken, forged or made to leak.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+import re
+import stat
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from roboscript.grading.sandbox import detect_isolation
+
+SPEC = """\
+test: forward
+description: Drive 50 cm straight ahead, then stop.
+world: empty
+robot: mirto
+runs:
+  - {seed: 2, start: {x: 313.7 mm, y: 123.4 mm, heading: 0 deg}, hidden: true}
+  - {seed: 1}
+max_time: 20 s
+expect:
+  - outcome: success
+  - final_pose_within: {x: 0 mm, y: 500 mm, radius: 5 cm, relative_to: start}
+"""
+
+HONEST = """\
+mission: forward
+initial: go
+states:
+  go:
+    do: {drive: {distance: 50 cm, speed: 20 cm/s}}
+    on: {done: finished}
+  finished:
+    final: success
+"""
+
+# Drives like HONEST, but where it starts 300 mm east of the world's start (only the hidden
+# run) it prints and raises the start pose it read, hoping a report shows it to the student.
+LEAKER = """\
+import json, sys
+from roboscript import Drive, Mission, state
+
+
+def _start():
+    with open(sys.argv[-1], encoding="utf-8") as handle:
+        return json.load(handle)["start"]
+
+
+class Forward(Mission):
+    go = state(
+        Drive(distance_mm=500, speed_mm_s=200),
+        initial=True,
+        on_done="finished",
+        when=[("give_away", "finished")],
+    )
+    finished = state(final="success")
+
+    def give_away(self):
+        start = _start()
+        if start[0] > 300:
+            print(f"ValueError: LEAKED-PRINT {start}", file=sys.stderr)
+            raise RuntimeError(f"LEAKED-START {start}")
+        return False
+"""
+
+# Drives like HONEST unless it can read a classmate's helper or the earlier gradebook beside
+# it, in which case it fails with what it read.
+SNOOP = """\
+from roboscript import Drive, Mission, state
+
+SEEN = []
+for name in ("bea_helpers.py", "grades.csv"):
+    try:
+        with open(name, encoding="utf-8") as handle:
+            SEEN.append(handle.read())
+    except OSError:
+        pass
+
+
+class Forward(Mission):
+    go = state(Drive(distance_mm=500, speed_mm_s=200), initial=True, on_done="finished")
+    finished = state(final="success")
+
+    def on_start(self):
+        if SEEN:
+            raise RuntimeError("SNOOPED " + " ".join(SEEN))
+"""
+
+IDLE = """\
+from roboscript import Mission, Wait, state
+
+
+class Idle(Mission):
+    go = state(Wait(duration_s=0.5), initial=True, on_done="end")
+    end = state(final="success")
+"""
+
+# Enters a new state with a 180-character name every few ticks, for the whole run.
+MANY_STATES = """\
+from roboscript import Mission, Wait, state
+
+_PAD = "x" * 180
+_states = {"end": state(final="success")}
+for _i in range(5000):
+    _next = f"s{_i + 1}_{_PAD}" if _i < 4999 else "end"
+    _states[f"s{_i}_{_PAD}"] = state(Wait(duration_s=0.01), initial=_i == 0, on_done=_next)
+
+
+class Many(Mission):
+    locals().update(_states)
+"""
+
+DEEP = "X = " + "+".join(["1"] * 20_000) + "\n\n" + IDLE
+
+ESCAPES = "\x1b]0;pwned\x07\x1b[2J\x01esc"
+FORGER = "nl\nforged  forward  ✓ 2 of 2  100%"
+FORMULA = "x;=2+5;"
+NON_LATIN = ("Анна", "王芳")
+# The honest students as every report names them: control characters show as "�".
+HONEST_NAMES = ["ada", "bea", "c01_ana.yaml", "snoop", "leaker", FORMULA, *NON_LATIN]
+HONEST_NAMES += ["�]0;pwned��[2J�esc", "nl�forged  forward  ✓ 2 of 2  100%"]
+AS_ROOT = os.geteuid() == 0
+ISOLATED = detect_isolation().complete
+
+
+def _write(path: Path, text: str | bytes) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if isinstance(text, bytes):
+        path.write_bytes(text)
+    else:
+        path.write_text(text, encoding="utf-8")
+
+
+def _hostile_class(subs: Path) -> None:
+    """Build the class folder: honest students beside every hostile file."""
+    _write(subs / "ada" / "forward.yaml", HONEST)
+    _write(subs / "bea.yaml", HONEST)
+    _write(subs / "bea_helpers.py", "CLASSMATE = 'BEA-SECRET'\n")
+    _write(subs / "grades.csv", "student,score\nbea,SECRET-GRADES\n")
+    _write(subs / "c01_ana.yaml", HONEST)
+    _write(subs / "c01_ana.py", IDLE)  # dropped beside a classmate's mission
+    _write(subs / "snoop.py", SNOOP)
+    _write(subs / "leaker" / "forward.py", LEAKER)
+    _write(subs / "deep" / "mission.py", DEEP)
+    _write(subs / "many" / "mission.py", MANY_STATES)
+    _write(subs / "deep_helper.py", "X = " + "+".join(["1"] * 20_000) + "\n")
+    _write(subs / "huge" / "forward.yaml", HONEST)
+    with open(subs / "huge" / "helper.py", "wb") as handle:  # 1.7 GB, sparse
+        handle.truncate(1_700_000_000)
+    _write(subs / "latin" / "mission.py", IDLE.replace("Idle", "Idlé").encode("latin-1"))
+    _write(subs / "typo.yaml", HONEST.replace("do: {drive:", "do: {drvie:"))
+    (subs / "linker").mkdir()
+    os.symlink(subs / "ada" / "forward.yaml", subs / "linker" / "forward.yaml")
+    os.symlink(subs / "ada", subs / "dave")
+    os.symlink("bea.yaml", subs / "carl.yaml")
+    _write(subs / "piper" / "forward.yaml", HONEST)
+    os.mkfifo(subs / "piper" / "pipe.py")
+    os.mkfifo(subs / "eve.py")
+    if AS_ROOT:
+        _write(subs / "devin" / "forward.yaml", HONEST)
+        os.mknod(subs / "devin" / "null.py", stat.S_IFCHR | 0o666, os.makedev(1, 3))
+    for name in (ESCAPES, FORGER, FORMULA, *NON_LATIN):
+        _write(subs / name / "forward.yaml", HONEST)
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    """The class, graded once by the real command line, with every report written."""
+    root = tmp_path_factory.mktemp("hostile")
+    spec = root / "teacher" / "forward.yaml"
+    _write(spec, SPEC)
+    subs = root / "class"
+    _hostile_class(subs)
+    out = root / "out"
+    command = [
+        sys.executable, "-m", "roboscript", "grade", str(spec), "--mission", str(subs),
+        "--jobs", "2", "--hang-after", "30",
+        "--junit", str(out / "junit.xml"), "--csv", str(out / "grades.csv"),
+        "--html", str(out / "html"), "--results", str(out / "results.jsonl"),
+    ]  # fmt: skip
+    out.mkdir()
+    done = subprocess.run(command, capture_output=True, text=True, timeout=900, check=False)
+    runs = [json.loads(line) for line in (out / "results.jsonl").read_text().splitlines()]
+    return {
+        "root": root,
+        "exit": done.returncode,
+        "stdout": done.stdout,
+        "stderr": done.stderr,
+        "runs": runs,
+        "junit": (out / "junit.xml").read_text(encoding="utf-8"),
+        "csv": (out / "grades.csv").read_text(encoding="utf-8-sig"),
+        "html": out / "html",
+    }
+
+
+def _statuses(graded: dict[str, Any]) -> dict[str, list[str]]:
+    found: dict[str, list[str]] = {}
+    for run in sorted(graded["runs"], key=lambda r: r["variant"]):
+        found.setdefault(run["student"], []).append(run["status"])
+    return found
+
+
+def _messages(graded: dict[str, Any], student: str) -> list[str]:
+    return [r["message"] for r in graded["runs"] if r["student"] == student]
+
+
+def _student_facing(graded: dict[str, Any]) -> dict[str, str]:
+    """Every text a student may read: the table, progress, JUnit, and the students' pages."""
+    progress = [line for line in graded["stderr"].splitlines() if line.startswith("[")]
+    texts = {"table": graded["stdout"], "progress": "\n".join(progress), "junit": graded["junit"]}
+    for page in sorted((graded["html"] / "students").glob("*.html")):
+        texts[page.name] = page.read_text(encoding="utf-8")
+    return texts
+
+
+def test_the_whole_class_is_graded_and_every_report_written(graded: dict[str, Any]) -> None:
+    assert graded["exit"] == 1, graded["stderr"][-3000:]  # some failed: exit 1, no crash
+    assert "Traceback" not in graded["stderr"]
+    hostile = ["c01_ana.py", "deep", "many", "huge", "latin", "typo", "linker", "dave", "carl"]
+    hostile += ["piper", "eve"] + (["devin"] if AS_ROOT else [])
+    assert sorted(_statuses(graded)) == sorted(HONEST_NAMES + hostile)
+    assert all(len(statuses) == 2 for statuses in _statuses(graded).values())
+    assert (graded["html"] / "index.html").is_file()
+
+
+def test_honest_students_pass_beside_every_hostile_file(graded: dict[str, Any]) -> None:
+    statuses = _statuses(graded)
+    for name in HONEST_NAMES:
+        expected = ["crashed", "passed"] if name == "leaker" else ["passed", "passed"]
+        assert statuses[name] == expected, (name, _messages(graded, name))
+
+
+def test_a_mission_beside_a_classmates_with_the_same_name_is_graded_as_what_it_is(
+    graded: dict[str, Any],
+) -> None:
+    statuses = _statuses(graded)
+    assert statuses["c01_ana.yaml"] == ["passed", "passed"]  # never "missing"
+    assert statuses["c01_ana.py"] == ["failed", "failed"]  # the idle mission, judged
+
+
+def test_code_the_grader_could_choke_on_is_that_students_result(graded: dict[str, Any]) -> None:
+    statuses = _statuses(graded)
+    huge = _messages(graded, "huge")
+    assert statuses["huge"] == ["invalid", "invalid"]
+    assert huge[0].startswith("helper.py cannot be graded: the file is 1700000000 bytes")
+    assert statuses["latin"] == ["invalid", "invalid"]
+    assert _messages(graded, "latin")[0].startswith("mission.py:4 cannot be graded: byte 0xE9")
+    # The 20 000-term expression is compiled in the student's own jail, never by the grader.
+    assert statuses["deep"][0] in ("invalid", "crashed")
+    assert "deep_helper" not in _statuses(graded)  # a helper is no student
+
+
+def test_links_pipes_and_devices_are_refused_with_the_reason(graded: dict[str, Any]) -> None:
+    statuses = _statuses(graded)
+    expected = {
+        "linker": "forward.yaml is a symbolic link",
+        "dave": "dave is a symbolic link",
+        "carl": "carl.yaml is a symbolic link",
+        "piper": "pipe.py is a named pipe, not an ordinary file",
+        "eve": "eve.py is a named pipe, not an ordinary file",
+    }
+    if AS_ROOT:
+        expected["devin"] = "null.py is a device, not an ordinary file"
+    for student, reason in expected.items():
+        assert statuses[student] == ["invalid", "invalid"], student
+        assert _messages(graded, student)[0].startswith(reason), _messages(graded, student)
+
+
+def test_no_student_facing_text_holds_a_folder_of_the_teachers(graded: dict[str, Any]) -> None:
+    assert _messages(graded, "typo")[0].startswith("the mission has an error: typo.yaml:5:")
+    for where, text in _student_facing(graded).items():
+        assert str(graded["root"]) not in text, where
+
+
+def test_a_hidden_run_shows_nothing_the_mission_printed_or_raised(graded: dict[str, Any]) -> None:
+    teacher = _messages(graded, "leaker")[0]
+    assert "LEAKED-START [313.7, 123.4" in teacher  # the attempt was made, and kept for you
+    for where, text in _student_facing(graded).items():
+        assert "LEAKED" not in text and "313.7" not in text, where
+    assert "LEAKED" not in graded["csv"]
+
+
+@pytest.mark.skipif(not ISOLATED, reason="needs bubblewrap's full isolation")
+def test_a_student_in_a_shared_folder_reads_no_classmates_file(graded: dict[str, Any]) -> None:
+    assert _statuses(graded)["snoop"] == ["passed", "passed"], _messages(graded, "snoop")
+
+
+def test_no_name_moves_the_terminal_or_forges_a_table_row(graded: dict[str, Any]) -> None:
+    for stream in (graded["stdout"], graded["stderr"]):
+        assert not re.search("[\x00-\x08\x0b-\x1f\x7f-\x9f]", stream)
+        assert not any(line.startswith("forged") for line in stream.splitlines())
+
+
+def test_junit_stays_well_formed_xml(graded: dict[str, Any]) -> None:
+    cases = ET.fromstring(graded["junit"]).iter("testcase")
+    names = {case.get("classname") for case in cases}
+    assert "forward.�]0;pwned��[2J�esc" in names
+
+
+def test_a_name_a_spreadsheet_would_split_into_a_formula_is_defused(
+    graded: dict[str, Any],
+) -> None:
+    rows = list(csv.reader(io.StringIO(graded["csv"])))
+    names = [row[0] for row in rows[1:]]
+    assert "x;'=2+5;" in names
+    for separator in ",;\t|":
+        for row in rows:
+            for cell in row:
+                for part in [*cell.split(separator)[1:], cell]:
+                    assert not part.lstrip(" \t").startswith(("=", "+", "@")), cell
+
+
+def test_every_student_and_run_has_a_page_of_its_own(graded: dict[str, Any]) -> None:
+    html = graded["html"]
+    pages = sorted((html / "runs").glob("*.html"))
+    assert len(pages) == len(graded["runs"])
+    index = (html / "index.html").read_text(encoding="utf-8")
+    for name in NON_LATIN:
+        row = next(line for line in index.split("<tr>") if f">{name}</th>" in line)
+        for link in re.findall(r'href="(runs/[^"]+)"', row):
+            assert f"{name} — forward" in (html / link).read_text(encoding="utf-8")
+    student_pages = sorted((html / "students").glob("*.html"))
+    assert len(student_pages) == len(_statuses(graded))
+
+
+def test_a_students_page_stays_small_whatever_the_mission_did(graded: dict[str, Any]) -> None:
+    assert _statuses(graded)["many"] == ["failed", "failed"]
+    many = (graded["html"] / "students" / "many.html").read_text(encoding="utf-8")
+    assert "too many to draw them or replay the run here" in many
+    for page in (graded["html"] / "students").glob("*.html"):
+        assert page.stat().st_size < 1_500_000, page.name  # two runs each, 600 kB at most
+
+
+def test_gradescope_results_hold_no_hidden_detail_and_no_teacher_folder(tmp_path: Path) -> None:
+    spec = tmp_path / "tests" / "forward.yaml"
+    _write(spec, SPEC)
+    submission = tmp_path / "submission"
+    _write(submission / "forward.py", LEAKER)
+    results = tmp_path / "results" / "results.json"
+    command = [
+        sys.executable, "-m", "roboscript", "grade", str(spec), "--mission", str(submission),
+        "--hang-after", "30", "--gradescope", str(results),
+    ]  # fmt: skip
+    done = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
+    text = results.read_text(encoding="utf-8")
+    tests = json.loads(text)["tests"]
+    assert [t["status"] for t in tests] == ["failed", "passed"], done.stderr[-2000:]
+    assert tests[0]["output"].splitlines()[1] == "the run crashed (a hidden run does not show why)"
+    assert "LEAKED" not in text and "313.7" not in text
+    assert str(tmp_path) not in text
+    # A folder laid out wrongly: the student reads why, and no folder of the teacher's.
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    command[command.index(str(submission))] = str(empty)
+    done = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
+    assert done.returncode == 2
+    text = results.read_text(encoding="utf-8")
+    assert "no mission files in the folder empty" in text
+    assert str(tmp_path) not in text
