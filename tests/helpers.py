@@ -144,3 +144,23 @@ states:
     final: failure
 """
 """A short YAML mission that drives, turns and beeps (a few seconds simulated)."""
+
+FORWARD_50CM = """\
+mission: forward
+initial: go
+states:
+  go:
+    do: {drive: {distance: 50 cm, speed: 20 cm/s}}
+    on: {done: finished}
+  finished:
+    final: success
+"""
+"""An honest YAML mission: 50 cm straight ahead, then stop (2.5 s simulated)."""
+
+FORWARD_50CM_EXPECT = """\
+max_time: 20 s
+expect:
+  - outcome: success
+  - final_pose_within: {x: 0 mm, y: 500 mm, radius: 5 cm, relative_to: start}
+"""
+"""The end of a test spec that :data:`FORWARD_50CM` passes from any start."""

@@ -432,10 +432,10 @@ def named_files(start: Path, candidates: Sequence[tuple[str, Path]]) -> tuple[Pa
     """
     seen = [start.resolve()]
     queue = [start.resolve()]
+    resolved_candidates = [(relative, path.resolve()) for relative, path in candidates]
     while queue:
         words = _words(queue.pop())
-        for relative, path in candidates:
-            resolved = path.resolve()
+        for relative, resolved in resolved_candidates:
             if resolved in seen:
                 continue
             names = {relative, resolved.name, relative.rsplit(".", 1)[0].replace("/", ".")}

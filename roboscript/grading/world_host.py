@@ -41,6 +41,7 @@ from typing import Any, Literal
 from roboscript.grading.record import Collision, RunRecord, RunStatus, Tone
 from roboscript.grading.sandbox import Jail, Limits
 from roboscript.grading.spec import TestSpec, Variant
+from roboscript.grading.submissions import named_files
 from roboscript.mission.runner import MISSION_OUTCOMES
 from roboscript.profiles import get_profile
 from roboscript.replay.world_tap import WorldReplay
@@ -636,8 +637,6 @@ def submission_files(mission: Path, exclude: frozenset[Path] = frozenset()) -> t
     """
     mission = mission.resolve()
     folder = mission.parent
-    seen = [mission]
-    queue = [mission]
     candidates = []
     for path in sorted(folder.rglob("*"))[:_MAX_CANDIDATES]:
         resolved = path.resolve()
@@ -646,21 +645,4 @@ def submission_files(mission: Path, exclude: frozenset[Path] = frozenset()) -> t
         if any(parent in exclude for parent in resolved.parents):
             continue
         candidates.append((path.relative_to(folder).as_posix(), resolved))
-    while queue:
-        current = queue.pop()
-        try:
-            text = current.read_text(encoding="utf-8", errors="replace")[:1_000_000]
-        except OSError:
-            continue
-        words = set(re.findall(r"[\w.\-/]+", text))
-        words |= {part for word in words for part in word.split("/")}
-        for relative, resolved in candidates:
-            if resolved in seen:
-                continue
-            names = {relative, resolved.name, relative.rsplit(".", 1)[0].replace("/", ".")}
-            if relative.endswith(".py"):
-                names.add(Path(relative).stem)  # import helpers
-            if names & words:
-                seen.append(resolved)
-                queue.append(resolved)
-    return tuple(seen)
+    return named_files(mission, candidates)

@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers import FORWARD_50CM, FORWARD_50CM_EXPECT
 
 from roboscript.grading.sandbox import detect_isolation
 
@@ -36,22 +37,10 @@ robot: mirto
 runs:
   - {seed: 1}
   - {seed: 2, start: {x: 300 mm, y: 100 mm, heading: 0 deg}}
-max_time: 20 s
-expect:
-  - outcome: success
-  - final_pose_within: {x: 0 mm, y: 500 mm, radius: 5 cm, relative_to: start}
 """
+SPEC += FORWARD_50CM_EXPECT
 
-HONEST = """\
-mission: forward
-initial: go
-states:
-  go:
-    do: {drive: {distance: 50 cm, speed: 20 cm/s}}
-    on: {done: finished}
-  finished:
-    final: success
-"""
+HONEST = FORWARD_50CM
 
 SPIN = """\
 mission: spin

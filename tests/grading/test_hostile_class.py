@@ -25,33 +25,21 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers import FORWARD_50CM, FORWARD_50CM_EXPECT
 
 from roboscript.grading.sandbox import detect_isolation
 
 SPEC = """\
 test: forward
-description: Drive 50 cm straight ahead, then stop.
 world: empty
-robot: mirto
+description: Drive 50 cm straight ahead from two starts; students do not see the first.
 runs:
   - {seed: 2, start: {x: 313.7 mm, y: 123.4 mm, heading: 0 deg}, hidden: true}
   - {seed: 1}
-max_time: 20 s
-expect:
-  - outcome: success
-  - final_pose_within: {x: 0 mm, y: 500 mm, radius: 5 cm, relative_to: start}
 """
+SPEC += FORWARD_50CM_EXPECT
 
-HONEST = """\
-mission: forward
-initial: go
-states:
-  go:
-    do: {drive: {distance: 50 cm, speed: 20 cm/s}}
-    on: {done: finished}
-  finished:
-    final: success
-"""
+HONEST = FORWARD_50CM
 
 # Drives like HONEST, but where it starts 300 mm east of the world's start (only the hidden
 # run) it prints and raises the start pose it read, hoping a report shows it to the student.
