@@ -265,6 +265,23 @@ def _student_at(path: Path, named: bool = False) -> _Found | None:
     return None
 
 
+def _matched(path: Path, pattern: str) -> _Found | None:
+    """The student a glob matched: :func:`_student_at`, unless the glob went through a link.
+
+    ``subs/*/square.yaml`` also matches ``subs/dave/square.yaml`` when ``dave`` is a link to
+    a classmate's folder; that student is refused, as in a class folder.
+    """
+    fixed = next(
+        (i for i, part in enumerate(Path(pattern).parts) if glob.has_magic(part)),
+        len(path.parts),
+    )
+    for end in range(max(fixed, 1), len(path.parts)):
+        below = Path(*path.parts[: end + 1])
+        if below.is_symlink():
+            return _Found(path, [], problem=_entry_problem(below.lstat().st_mode, below.name))
+    return _student_at(path)
+
+
 def _class_folder(folder: Path) -> list[_Found]:
     """The students in a class folder: its mission files and its sub-folders."""
     try:
@@ -345,7 +362,8 @@ def find_submissions(patterns: Sequence[str]) -> list[Submission]:
             students = [student]
         else:
             matches = sorted(Path(m) for m in glob.glob(pattern, recursive=True))
-            students = [s for s in map(_student_at, matches[:MAX_ENTRIES]) if s is not None]
+            found_here = (_matched(match, pattern) for match in matches[:MAX_ENTRIES])
+            students = [s for s in found_here if s is not None]
             if not students:
                 raise InputError(f"no mission matches '{pattern}'")
         found += students

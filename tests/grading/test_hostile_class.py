@@ -364,3 +364,20 @@ def test_gradescope_results_hold_no_hidden_detail_and_no_teacher_folder(tmp_path
     text = results.read_text(encoding="utf-8")
     assert "no mission files in the folder empty" in text
     assert str(tmp_path) not in text
+
+
+def test_a_glob_through_a_link_to_a_classmates_folder_is_refused(tmp_path: Path) -> None:
+    spec = tmp_path / "forward.yaml"
+    _write(spec, "test: forward\nworld: empty\n" + FORWARD_50CM_EXPECT)
+    subs = tmp_path / "class"
+    _write(subs / "ada" / "forward.yaml", HONEST)
+    os.symlink(subs / "ada", subs / "dave")
+    command = [
+        sys.executable, "-m", "roboscript", "grade", str(spec),
+        "--mission", str(subs / "*" / "forward.yaml"), "--hang-after", "30", "--json",
+    ]  # fmt: skip
+    done = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
+    runs = {r["student"]: r for r in json.loads(done.stdout)["runs"]}
+    assert runs["ada"]["status"] == "passed", done.stderr[-2000:]
+    assert runs["dave"]["status"] == "invalid"
+    assert runs["dave"]["message"].startswith("dave is a symbolic link")
