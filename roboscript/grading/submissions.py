@@ -157,6 +157,15 @@ def _entry_problem(mode: int, shown: str) -> str:
     return f"{shown} is {kind}, not an ordinary file: a submission holds ordinary files only"
 
 
+def _name_problem(name: str, shown: str) -> str:
+    """Why a file or folder name is refused (it is not UTF-8 text), or empty."""
+    try:
+        name.encode("utf-8")
+    except UnicodeEncodeError:  # undecodable bytes, kept by Python as lone surrogates
+        return f"{shown} has a name that is not UTF-8 text: rename it"
+    return ""
+
+
 def _hidden(relative: str) -> bool:
     return any(part.startswith((".", "__")) for part in relative.split("/"))
 
@@ -191,6 +200,9 @@ def _walk(
                     )
                     return sorted(files), [too_many]
                 name = f"{shown}/{entry.name}" if shown else entry.name
+                if _name_problem(entry.name, name):
+                    problems.append(_name_problem(entry.name, name))
+                    continue
                 try:
                     mode = entry.stat(follow_symlinks=False).st_mode
                 except OSError as exc:
@@ -247,6 +259,8 @@ def _student_at(path: Path, named: bool = False) -> _Found | None:
     except OSError as exc:
         return _Found(path, [], problem=f"{path.name} cannot be read: {exc.strerror or exc}")
     is_mission_name = path.suffix.lower() in MISSION_SUFFIXES
+    if (is_mission_name or stat.S_ISDIR(mode)) and _name_problem(path.name, path.name):
+        return _Found(path, [], problem=_name_problem(path.name, path.name))
     if stat.S_ISDIR(mode):
         return _folder_student(path)
     if stat.S_ISLNK(mode) and not is_mission_name:

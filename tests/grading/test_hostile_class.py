@@ -166,6 +166,10 @@ def _hostile_class(subs: Path) -> None:
     if AS_ROOT:
         _write(subs / "devin" / "forward.yaml", HONEST)
         os.mknod(subs / "devin" / "null.py", stat.S_IFCHR | 0o666, os.makedev(1, 3))
+    undecodable = os.fsencode(subs) + b"/\xffbad"  # a folder name that is not UTF-8
+    os.mkdir(undecodable)
+    with open(undecodable + b"/forward.yaml", "w", encoding="utf-8") as handle:
+        handle.write(HONEST)
     for name in (ESCAPES, FORGER, FORMULA, *NON_LATIN):
         _write(subs / name / "forward.yaml", HONEST)
 
@@ -224,7 +228,7 @@ def test_the_whole_class_is_graded_and_every_report_written(graded: dict[str, An
     assert graded["exit"] == 1, graded["stderr"][-3000:]  # some failed: exit 1, no crash
     assert "Traceback" not in graded["stderr"]
     hostile = ["c01_ana.py", "deep", "many", "huge", "latin", "typo", "linker", "dave", "carl"]
-    hostile += ["piper", "eve"] + (["devin"] if AS_ROOT else [])
+    hostile += ["piper", "eve", "�bad"] + (["devin"] if AS_ROOT else [])
     assert sorted(_statuses(graded)) == sorted(HONEST_NAMES + hostile)
     assert all(len(statuses) == 2 for statuses in _statuses(graded).values())
     assert (graded["html"] / "index.html").is_file()
@@ -257,7 +261,9 @@ def test_code_the_grader_could_choke_on_is_that_students_result(graded: dict[str
     assert "deep_helper" not in _statuses(graded)  # a helper is no student
 
 
-def test_links_pipes_and_devices_are_refused_with_the_reason(graded: dict[str, Any]) -> None:
+def test_links_pipes_devices_and_undecodable_names_are_refused_with_the_reason(
+    graded: dict[str, Any],
+) -> None:
     statuses = _statuses(graded)
     expected = {
         "linker": "forward.yaml is a symbolic link",
@@ -265,6 +271,7 @@ def test_links_pipes_and_devices_are_refused_with_the_reason(graded: dict[str, A
         "carl": "carl.yaml is a symbolic link",
         "piper": "pipe.py is a named pipe, not an ordinary file",
         "eve": "eve.py is a named pipe, not an ordinary file",
+        "�bad": "�bad has a name that is not UTF-8 text: rename it",
     }
     if AS_ROOT:
         expected["devin"] = "null.py is a device, not an ordinary file"
