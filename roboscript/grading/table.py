@@ -11,7 +11,7 @@ here (its margin does). Text is capped, and kept to one line.
 from __future__ import annotations
 
 from roboscript.grading.batch import ClassReport
-from roboscript.grading.text import NAME_CHARS, cap, format_points
+from roboscript.grading.text import cap, format_points
 
 __all__ = ["format_table", "symbols_for"]
 
@@ -38,7 +38,7 @@ def format_table(report: ClassReport, encoding: str | None = "utf-8") -> str:
             mark = ok if cell.passed else bad
             rows.append(
                 (
-                    cap(submission.student, NAME_CHARS),
+                    submission.student,  # cleaned when it was found
                     spec.name,
                     f"{mark} {cell.passed_runs}/{cell.total_runs}",
                     f"{cell.score * 100:.0f}%",

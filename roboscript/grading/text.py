@@ -138,8 +138,8 @@ def cap_result(result: RunResult) -> RunResult:
     """``result`` with every text a report shows capped by :func:`cap`.
 
     The message, verdict details and the mission's reason get :data:`MESSAGE_CHARS`, the
-    debug block :data:`DEBUG_CHARS`, names :data:`NAME_CHARS`. The student's name and the
-    mission's path are left as they are: they are file names the grader found.
+    debug block :data:`DEBUG_CHARS`, names :data:`NAME_CHARS`. The student's name is left
+    as it is: it was cleaned once, when the submission was found (:func:`clean_name`).
     """
     return replace(
         result,
