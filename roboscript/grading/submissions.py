@@ -329,12 +329,14 @@ def _name(found: list[_Found]) -> None:
             f.name = f"{f.source.parent.name}/{f.source.stem}"
     # A name two sources claim (a folder ana/ beside a file ana.yaml) is told apart by the
     # whole file or folder name, then by a number: never merged into one student.
-    claims: dict[str, set[Path]] = {}
+    claims: dict[str, list[_Found]] = {}
     for f in found:
-        claims.setdefault(clean_name(f.name), set()).add(_identity(f))
-    for f in found:
-        if len(claims[clean_name(f.name)]) > 1:
-            f.name = f"{f.source.name}/" if f.folder is not None else f.source.name
+        claims.setdefault(clean_name(f.name), []).append(f)
+    for group in claims.values():
+        sources = {_identity(f): _whole_name(f) for f in group}
+        if len(sources) > 1 and len(set(sources.values())) == len(sources):
+            for f in group:
+                f.name = sources[_identity(f)]
     taken: dict[str, Path] = {}
     for f in found:
         base = name = clean_name(f.name)
@@ -344,6 +346,11 @@ def _name(found: list[_Found]) -> None:
             name = clean_name(f"{base}-{n}")
         taken[name] = _identity(f)
         f.name = name
+
+
+def _whole_name(found: _Found) -> str:
+    """A student's name told apart from a same-named one: ``ana/`` (folder), ``ana.yaml``."""
+    return clean_name(f"{found.source.name}/" if found.folder is not None else found.source.name)
 
 
 def _identity(found: _Found) -> Path:

@@ -22,7 +22,15 @@ from roboscript.grading.junit import junit_xml
 from roboscript.grading.record import RunRecord, Verdict
 from roboscript.grading.spec import load_test_spec
 from roboscript.grading.table import format_table
-from roboscript.grading.text import DEBUG_CHARS, MESSAGE_CHARS, cap
+from roboscript.grading.text import (
+    DEBUG_CHARS,
+    MESSAGE_CHARS,
+    cap,
+    clean_name,
+    public_reason,
+    student_text,
+    xml_safe,
+)
 
 # ------------------------------------------------------------------------------- the spec
 
@@ -154,6 +162,26 @@ def test_cap_cuts_visibly_cleans_and_changes_nothing_twice() -> None:
     assert cap(capped, 2_000) == capped
     assert cap("short", 2_000) == "short"
     assert cap("a\x00b\x1b[2Jc\ud800d\te\nf", 100) == "a\ufffdb\ufffd[2Jc\ufffdd\te\nf"
+
+
+def test_a_name_is_made_one_safe_line_once() -> None:
+    assert clean_name("ana\n1 2\x1b[2J\u202etxt\x85 ") == "ana\ufffd1 2\ufffd[2J\ufffdtxt\ufffd"
+    assert clean_name(clean_name("a\tb")) == clean_name("a\tb") == "a\ufffdb"
+    assert clean_name("  ") == "student"
+    assert len(clean_name("n" * 1000)) <= 200 and clean_name("n" * 1000).endswith("characters)")
+
+
+def test_a_student_reads_no_folder_of_the_teachers() -> None:
+    message = "error: /home/t/class/ana/sub/turns.py:3: bad; see /usr/lib/python3/x.py"
+    assert student_text(message, "/home/t/class/ana") == "error: sub/turns.py:3: bad; see x.py"
+    assert student_text("20 cm/s, https://a.org/b/c") == "20 cm/s, https://a.org/b/c"
+
+
+def test_a_hidden_run_that_did_not_finish_tells_nothing_of_the_mission(tmp_path: Path) -> None:
+    run = hand_report(tmp_path).results[1]  # crashed, with the mission's own words
+    assert "ZeroDivisionError" in public_reason(run, hidden=False)
+    assert public_reason(run, hidden=True) == "the run crashed (a hidden run does not show why)"
+    assert xml_safe("a\x01b\rc\ud800") == "a\ufffdb\nc\ufffd"
 
 
 def _huge(report: ClassReport, size: int = 20_000_000) -> ClassReport:

@@ -1,0 +1,117 @@
+"""Finding submissions without trusting them: who is who, what is refused, what a run reads.
+
+``tests/grading/test_hostile_class.py`` grades a hostile class through the real command; these
+check the rules one by one, without running anything.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from helpers import FORWARD_50CM
+
+from roboscript.grading.submissions import MAX_ENTRIES, find_submissions, visible_files
+
+MISSION_PY = """\
+from roboscript import Mission, Wait, state
+
+
+class Idle({base}):
+    go = state(Wait(duration_s=0.5), initial=True, on_done="end")
+    end = state(final="success")
+"""
+
+
+def _found(*patterns: Path) -> dict[str, tuple[list[str], str]]:
+    return {
+        s.student: ([Path(m).name for m in s.missions], s.problem)
+        for s in find_submissions([str(p) for p in patterns])
+    }
+
+
+def test_a_python_mission_is_known_by_its_class_line_without_parsing_it(tmp_path: Path) -> None:
+    deep = "X = " + "+".join(["1"] * 20_000) + "\n"  # ast.parse raises RecursionError on it
+    (tmp_path / "deep.py").write_text(deep + MISSION_PY.format(base="Mission"), encoding="utf-8")
+    (tmp_path / "dotted.py").write_text(MISSION_PY.format(base="roboscript.Mission"))
+    (tmp_path / "helper.py").write_text(deep + "class Helper(Base):\n    pass\n")
+    assert _found(tmp_path) == {"deep": (["deep.py"], ""), "dotted": (["dotted.py"], "")}
+
+
+def test_two_missions_with_one_name_in_one_folder_are_two_students(tmp_path: Path) -> None:
+    (tmp_path / "ana.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    (tmp_path / "ana.py").write_text(MISSION_PY.format(base="Mission"), encoding="utf-8")
+    (tmp_path / "bo").mkdir()
+    (tmp_path / "bo" / "forward.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    (tmp_path / "bo.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    assert _found(tmp_path) == {
+        "ana.py": (["ana.py"], ""),
+        "ana.yaml": (["ana.yaml"], ""),
+        "bo.yaml": (["bo.yaml"], ""),
+        "bo/": (["forward.yaml"], ""),
+    }
+
+
+def test_names_are_cleaned_once_and_stay_unique(tmp_path: Path) -> None:
+    for name in ("a\x01", "a\x02", "b\nc"):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "forward.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    assert sorted(_found(tmp_path)) == ["a�", "a�-2", "b�c"]
+
+
+def test_a_file_too_big_to_read_makes_its_student_invalid(tmp_path: Path) -> None:
+    folder = tmp_path / "ada"
+    folder.mkdir()
+    (folder / "forward.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    with open(folder / "big.yaml", "wb") as handle:
+        handle.truncate(2 * 1024 * 1024)
+    ((missions, problem),) = _found(tmp_path).values()
+    assert missions == ["forward.yaml"]
+    assert problem.startswith("big.yaml cannot be graded: the file is 2097152 bytes")
+
+
+def test_a_folder_with_too_many_entries_is_refused_unread(tmp_path: Path) -> None:
+    folder = tmp_path / "ada"
+    folder.mkdir()
+    (folder / "forward.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    for i in range(MAX_ENTRIES):
+        (folder / f"{i}.txt").touch()
+    ((_, problem),) = _found(tmp_path).values()
+    assert problem.startswith(f"the folder holds more than {MAX_ENTRIES} files and folders")
+
+
+def test_a_link_is_never_followed(tmp_path: Path) -> None:
+    (tmp_path / "ada").mkdir()
+    (tmp_path / "ada" / "forward.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    (tmp_path / "ben").mkdir()
+    os.symlink(tmp_path / "ada" / "forward.yaml", tmp_path / "ben" / "notes.txt")
+    os.symlink("/", tmp_path / "cy")
+    found = _found(tmp_path)
+    assert found["ben"][1] == (
+        "notes.txt is a symbolic link: a submission holds its own files, not links to others"
+        " (hand in the file itself)"
+    )
+    assert found["cy"][1].startswith("cy is a symbolic link")
+
+
+def test_a_student_in_a_shared_folder_sees_only_files_named_after_them(tmp_path: Path) -> None:
+    names = ["alice.yaml", "alice_b.yaml", "alice_util.py", "alice_b_util.py", "alicex.py"]
+    names += ["helpers.py", "grades.csv"]
+    for name in names:
+        text = FORWARD_50CM if name.endswith(".yaml") else "X = 1\n"
+        (tmp_path / name).write_text(text, encoding="utf-8")
+    os.symlink(tmp_path / "alice_b_util.py", tmp_path / "alice_link.py")
+    naming = " ".join([*names, "alice_link.py"])
+    for student in ("alice", "alice_b"):
+        (tmp_path / f"{student}.yaml").write_text(FORWARD_50CM + f"# {naming}\n")
+    submissions = {s.student: s for s in find_submissions([str(tmp_path)])}
+    assert submissions["alice_link"].problem.startswith("alice_link.py is a symbolic link")
+    seen = {
+        name: sorted(p.name for p in visible_files(s, s.missions[0]))
+        for name, s in submissions.items()
+        if s.missions
+    }
+    assert seen == {
+        "alice": ["alice.yaml", "alice_util.py"],
+        "alice_b": ["alice_b.yaml", "alice_b_util.py"],
+    }
