@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from roboscript.errors import InputError, MissionError
+from roboscript.inputs.source import read_source
 from roboscript.mission.python_api import Mission
 from roboscript.mission.python_compiler import mission_states
 from roboscript.mission.python_source import PythonSource
@@ -105,15 +106,15 @@ def is_python_mission(path: str | Path) -> bool:
     ``Mission`` but does not parse, so the syntax error is reported).
     """
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
+        text = read_source(path)  # at most 1 MiB, an ordinary UTF-8 file
+    except InputError:
         return False
     if "Mission" not in text:
         return False
     try:
         tree = ast.parse(text)
-    except SyntaxError:
-        return True
+    except (SyntaxError, RecursionError, MemoryError, ValueError):
+        return True  # loading it says what is wrong, with its line
     for node in ast.walk(tree):
         if isinstance(node, ast.ClassDef):
             for base in node.bases:

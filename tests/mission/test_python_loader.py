@@ -148,6 +148,16 @@ def test_check_finds_python_missions_in_a_folder_but_not_behaviours(tmp_path: Pa
     assert "broken.py:1:17: error: expected ':'" in result.stderr
 
 
+def test_check_reports_code_too_deep_to_parse_as_an_error_not_a_traceback(tmp_path: Path) -> None:
+    deep = "from roboscript import Mission\nX = " + "+".join(["1"] * 20_000) + "\n"
+    (tmp_path / "deep.py").write_text(deep, encoding="utf-8")
+    assert is_python_mission(tmp_path / "deep.py")  # so what is wrong is reported
+    result = run_cli("check", str(tmp_path))
+    assert result.returncode == 2
+    assert "Traceback" not in result.stderr
+    assert "deep.py: error: RecursionError" in result.stderr
+
+
 # ------------------------------------------------------------------------------- the twins
 
 
