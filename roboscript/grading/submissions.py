@@ -171,13 +171,14 @@ def _hidden(relative: str) -> bool:
 
 
 def _walk(
-    folder: Path, skip: frozenset[Path] = frozenset()
+    folder: Path, skip: frozenset[Path] = frozenset(), shared: bool = False
 ) -> tuple[list[tuple[str, Path]], list[str]]:
     """Every ordinary file under ``folder`` (path relative to it, path), and what is refused.
 
     Nothing is followed: a symbolic link, a device, a pipe or a socket is a problem, named by
-    its path relative to ``folder``. Folders in ``skip`` are not entered. At most
-    :data:`MAX_ENTRIES` entries are looked at.
+    its path relative to ``folder``. Folders in ``skip`` are not entered, nor hidden ones
+    (``.git``) in a folder ``shared`` by students. At most :data:`MAX_ENTRIES` entries are
+    looked at.
     """
     files: list[tuple[str, Path]] = []
     problems: list[str] = []
@@ -209,7 +210,7 @@ def _walk(
                     problems.append(f"{name} cannot be read: {exc.strerror or exc}")
                     continue
                 if stat.S_ISDIR(mode):
-                    if Path(entry.path) not in skip:
+                    if Path(entry.path) not in skip and not (shared and _hidden(entry.name)):
                         stack.append((Path(entry.path), name))
                 elif stat.S_ISREG(mode):
                     files.append((name, Path(entry.path)))
@@ -440,7 +441,7 @@ class _Owners:
     def files_of(self, root: Path, stems: set[str]) -> tuple[str, ...]:
         """The files in ``root`` (and its sub-folders) owned by the student with ``stems``."""
         if root not in self._files:
-            self._files[root] = _walk(root, self._skip)[0]
+            self._files[root] = _walk(root, self._skip, shared=True)[0]
         return tuple(
             str(path)
             for relative, path in self._files[root]
