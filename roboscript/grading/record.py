@@ -188,6 +188,7 @@ class Verdict:
         relative_margin: The margin as a share of its tolerance (radius, band, limit), to find
             the tightest pass across expectations; ``None`` when there is no tolerance.
         weight: Share of the run's score this expectation carries.
+        required: The expectation is required: a run that fails it scores 0.
     """
 
     name: str
@@ -199,10 +200,14 @@ class Verdict:
     margin_unit: str = ""
     relative_margin: float | None = None
     weight: float = 1.0
+    required: bool = False
 
     def to_dict(self) -> dict[str, Any]:
-        """A JSON-ready dictionary."""
-        return asdict(self)
+        """A JSON-ready dictionary (``required`` only when it is true)."""
+        data = asdict(self)
+        if not self.required:
+            del data["required"]
+        return data
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> Verdict:

@@ -9,8 +9,9 @@ deterministic and runs on its own clock, and the wire is lockstep.
 
 Scores (written in the teachers' guide): a run that passed scores 1; a run that failed after
 ending normally (its mission reached a final state by itself, within the test's simulated
-time, without its own code raising) scores the weighted share of expectations that held; every
-other run (out of simulated time, crashed, hung, timed out, invalid, missing) scores 0.
+time, without its own code raising) scores the weighted share of expectations that held, or 0
+if it failed one the spec marks ``required``; every other run (out of simulated time, crashed,
+hung, timed out, invalid, missing) scores 0.
 """
 
 from __future__ import annotations
@@ -100,7 +101,10 @@ def _finish(base: RunResult, started: float, **changes: object) -> RunResult:
 
 
 def run_score(verdicts: tuple[Verdict, ...]) -> float:
-    """The weighted share of verdicts that passed, 0 to 1 (0 with no verdicts)."""
+    """The weighted share of verdicts that passed, 0 to 1 (0 with no verdicts, and 0 when a
+    required one failed)."""
+    if any(v.required and not v.passed for v in verdicts):
+        return 0.0
     total = sum(v.weight for v in verdicts)
     if total <= 0:
         return 0.0
@@ -112,8 +116,10 @@ def run_message(verdicts: tuple[Verdict, ...]) -> str:
     failed = [v for v in verdicts if not v.passed]
     if not failed:
         return ""
-    first = failed[0]
+    first = next((v for v in failed if v.required), failed[0])
     text = first.text
+    if first.required:
+        text += " (required: without it the run scores 0)"
     if len(failed) > 1:
         text += f" (and {len(failed) - 1} more check{'s' if len(failed) > 2 else ''} failed)"
     return text

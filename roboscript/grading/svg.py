@@ -12,7 +12,7 @@ import math
 from collections.abc import Sequence
 from html import escape
 
-from roboscript.grading.expectations import Expectation, FinalPose, final_pose_target
+from roboscript.grading.expectations import Expectation
 from roboscript.grading.record import RunRecord, Verdict
 from roboscript.sim.world import World
 
@@ -75,6 +75,14 @@ class _Frame:
     def point(self, x_mm: float, y_mm: float) -> str:
         return f"{_f(self.x(x_mm))},{_f(self.y(y_mm))}"
 
+    def target_circle(self, x_mm: float, y_mm: float, radius_mm: float, title: str) -> str:
+        """A dashed circle an expectation's target is drawn as (see ``Rule.draw``)."""
+        return (
+            f'<circle cx="{_f(self.x(x_mm))}" cy="{_f(self.y(y_mm))}"'
+            f' r="{_f(radius_mm * self.scale)}" fill="none" stroke="{END}"'
+            f' stroke-width="1.5" stroke-dasharray="5 4"><title>{escape(title)}</title></circle>'
+        )
+
 
 def _extent(world: World, record: RunRecord) -> tuple[list[float], list[float]]:
     xs: list[float] = []
@@ -116,7 +124,8 @@ def trajectory_svg(
         world: The world the run happened in.
         record: The run.
         verdicts: Their first violations are marked on the path.
-        expectations: A ``final_pose_within`` target is drawn as a dashed circle.
+        expectations: Each draws its target for this run (``final_pose_within``: a dashed
+            circle).
         width_px: Largest width of the picture.
         max_height_px: Largest height of the picture.
         id_suffix: Added to the element ids, to tell several pictures on one page apart.
@@ -156,14 +165,7 @@ def trajectory_svg(
             ' stroke-width="3" stroke-linecap="round"/>'
         )
     for expectation in expectations:
-        if isinstance(expectation.params, FinalPose):
-            target = final_pose_target(expectation.params, record)
-            out.append(
-                f'<circle cx="{_f(frame.x(target.x_mm))}" cy="{_f(frame.y(target.y_mm))}"'
-                f' r="{_f(target.radius_mm * frame.scale)}" fill="none" stroke="{END}"'
-                ' stroke-width="1.5" stroke-dasharray="5 4"><title>target: the robot must end'
-                " inside this circle</title></circle>"
-            )
+        out += expectation.for_record(record).draw(record, frame)
     if record.path:
         trail = " ".join(frame.point(x, y) for _, x, y, _ in record.path)
         out.append(

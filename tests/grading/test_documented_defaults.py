@@ -15,7 +15,11 @@ from helpers import ROOT
 
 from roboscript.grading import expectations as ex
 from roboscript.grading import spec as sp
-from roboscript.grading.expectations import Expectation, Tones, evaluate
+from roboscript.grading.expectations import (
+    Expectation,
+    Tones,
+    evaluate,
+)
 from roboscript.grading.record import RunRecord, Tone
 from roboscript.grading.spec import load_test_spec
 from roboscript.sim.world import World
@@ -88,7 +92,7 @@ def test_a_tones_test_without_a_tolerance_allows_5_hz(tmp_path: Path) -> None:
     path = tmp_path / "beep.yaml"
     path.write_text("test: beep\nexpect:\n  - tones: {frequency: 880 Hz}\n", encoding="utf-8")
     (tones,) = load_test_spec(path).expectations
-    assert tones.params == Tones(frequency_hz=880.0, tolerance_hz=5.0)
+    assert tones.rule == Tones(frequency_hz=880.0, tolerance_hz=5.0)
     assert evaluate(tones, _record(884.9, 875.1)).passed
     off = evaluate(tones, _record(880.0, 885.2))
     assert not off.passed
@@ -96,6 +100,6 @@ def test_a_tones_test_without_a_tolerance_allows_5_hz(tmp_path: Path) -> None:
 
 
 def test_a_tones_expectation_made_in_python_allows_5_hz() -> None:
-    expectation = Expectation("tones", Tones(frequencies_hz=(440.0, 880.0)))
+    expectation = Expectation(Tones(frequencies_hz=(440.0, 880.0)))
     assert evaluate(expectation, _record(444.0, 876.0)).passed
     assert not evaluate(expectation, _record(446.0, 880.0)).passed

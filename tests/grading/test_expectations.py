@@ -12,8 +12,16 @@ from roboscript.grading.expectations import (
     CheckFunction,
     Expectation,
     FinalPose,
+    FinalState,
+    MaxDuration,
+    NeverEnter,
+    NoCollisions,
+    Outcome,
     PathVisits,
+    RegionsInOrder,
+    Rule,
     RunTargets,
+    Selection,
     Tones,
     Turns,
     WallAhead,
@@ -76,8 +84,8 @@ def _north(t_end: float, x: float = 0.0, speed_mm_s: float = 100.0) -> list[tupl
     return [(round(i * 0.1, 3), x, round(i * 0.1 * speed_mm_s, 1), 0.0) for i in range(steps + 1)]
 
 
-def _judge(kind: str, params: object, record: RunRecord) -> Verdict:
-    return evaluate(Expectation(kind, params), record)
+def _judge(rule: Rule, record: RunRecord) -> Verdict:
+    return evaluate(Expectation(rule), record)
 
 
 # ------------------------------------------------------------------------------- outcome
@@ -85,17 +93,17 @@ def _judge(kind: str, params: object, record: RunRecord) -> Verdict:
 
 def test_outcome_names_the_reason_and_fails_at_the_end() -> None:
     record = _record(_north(3.0), outcome="failure", reason="state 'go' timed out after 3 s")
-    verdict = _judge("outcome", "success", record)
+    verdict = _judge(Outcome("success"), record)
     assert not verdict.passed
     assert verdict.first_violation_s == 3.0
     assert verdict.detail == "the mission ended in failure: state 'go' timed out after 3 s"
-    assert _judge("outcome", "failure", record).passed
+    assert _judge(Outcome("failure"), record).passed
 
 
 def test_final_state_accepts_any_of_several() -> None:
     record = _record(_north(1.0), final_state="home")
-    assert _judge("final_state", ("home", "parked"), record).passed
-    assert not _judge("final_state", ("parked",), record).passed
+    assert _judge(FinalState(("home", "parked")), record).passed
+    assert not _judge(FinalState(("parked",)), record).passed
 
 
 # ---------------------------------------------------------------------------- final pose
@@ -103,11 +111,11 @@ def test_final_state_accepts_any_of_several() -> None:
 
 def test_final_pose_margin_is_signed_in_centimetres() -> None:
     record = _record(_north(5.0))  # ends at (0, 500)
-    near = _judge("final_pose_within", FinalPose(0.0, 521.0, 80.0), record)
+    near = _judge(FinalPose(0.0, 521.0, 80.0), record)
     assert near.passed
     assert near.margin == "passed by 5.9 cm"
     assert near.margin_value == pytest.approx(59.0)
-    far = _judge("final_pose_within", FinalPose(0.0, 600.0, 80.0), record)
+    far = _judge(FinalPose(0.0, 600.0, 80.0), record)
     assert not far.passed
     assert far.margin == "failed by 2.0 cm"
     assert far.first_violation_s == 5.0
@@ -117,14 +125,14 @@ def test_final_pose_relative_to_the_start_follows_the_start_heading() -> None:
     # Start at (100, 0) facing east (90°): "50 cm ahead" is (600, 0) in the world.
     path = [(0.0, 100.0, 0.0, 90.0), (5.0, 600.0, 10.0, 90.0)]
     target = FinalPose(0.0, 500.0, 30.0, heading_deg=0.0, relative_to="start")
-    verdict = _judge("final_pose_within", target, _record(path))
+    verdict = _judge(target, _record(path))
     assert verdict.passed, verdict.detail
     assert verdict.margin == "passed by 2.0 cm"
 
 
 def test_final_pose_heading_outside_its_tolerance_fails_in_degrees() -> None:
     path = [(0.0, 0.0, 0.0, 0.0), (2.0, 0.0, 0.0, 40.0)]
-    verdict = _judge("final_pose_within", FinalPose(0.0, 0.0, 50.0, 0.0, 15.0), _record(path))
+    verdict = _judge(FinalPose(0.0, 0.0, 50.0, 0.0, 15.0), _record(path))
     assert not verdict.passed
     assert verdict.margin == "failed by 25.0°"
     assert verdict.margin_unit == "deg"
@@ -134,14 +142,14 @@ def test_final_pose_heading_outside_its_tolerance_fails_in_degrees() -> None:
 
 
 def test_regions_in_order_lists_when_each_was_reached() -> None:
-    verdict = _judge("regions_in_order", ("a", "b"), _record(_north(12.0)))
+    verdict = _judge(RegionsInOrder(("a", "b")), _record(_north(12.0)))
     assert verdict.passed
     assert verdict.detail == "reached 'a' at 4.0 s, 'b' at 9.0 s"
 
 
 def test_regions_out_of_order_fail_by_the_closest_miss() -> None:
     # Drives north past a and b, so b-then-a never happens after b.
-    verdict = _judge("regions_in_order", ("b", "a"), _record(_north(12.0)))
+    verdict = _judge(RegionsInOrder(("b", "a")), _record(_north(12.0)))
     assert not verdict.passed
     assert verdict.detail.startswith("never reached 'a' after 'b' at 9.0 s")
     assert verdict.margin == "failed by 31.0 cm"  # just after b (y = 910 mm) to a's edge (600)
@@ -151,14 +159,14 @@ def test_regions_out_of_order_fail_by_the_closest_miss() -> None:
 def test_a_fast_robot_cannot_slip_through_a_region_between_samples() -> None:
     # 1 m/s: samples 100 mm apart straddle the 10 mm wide region "dot" at y = 2000 +- 5.
     path = [(round(t * 0.1, 3), 0.0, 1950.0 + t * 100.0, 0.0) for t in range(3)]
-    assert _judge("regions_in_order", ("dot",), _record(path)).passed
+    assert _judge(RegionsInOrder(("dot",)), _record(path)).passed
 
 
 def test_never_enter_gives_the_first_entry_time_and_depth() -> None:
     # East at 100 mm/s along y = 500 from x = 0: on the pit's edge (x = 500) at 5.0 s, inside
     # from the next sample on.
     path = [(round(i * 0.1, 3), i * 10.0, 500.0, 90.0) for i in range(71)]
-    verdict = _judge("never_enter", ("pit",), _record(path))
+    verdict = _judge(NeverEnter(("pit",)), _record(path))
     assert not verdict.passed
     assert verdict.first_violation_s == 5.1
     assert verdict.margin == "failed by 10.0 cm"  # deepest: x = 600, the pit's middle
@@ -166,7 +174,7 @@ def test_never_enter_gives_the_first_entry_time_and_depth() -> None:
 
 
 def test_never_enter_passes_by_the_closest_approach() -> None:
-    verdict = _judge("never_enter", ("pit",), _record(_north(10.0)))
+    verdict = _judge(NeverEnter(("pit",)), _record(_north(10.0)))
     assert verdict.passed
     assert verdict.margin == "passed by 50.0 cm"  # x = 0 to the pit's west edge at 500
 
@@ -176,7 +184,7 @@ def test_never_enter_passes_by_the_closest_approach() -> None:
 
 def test_no_collisions_fails_at_the_first_collision() -> None:
     hits = (Collision(2.5, 200.0, 250.0, "right"), Collision(4.0, 200.0, 400.0, "right"))
-    verdict = _judge("no_collisions", True, _record(_north(5.0), collisions=hits))
+    verdict = _judge(NoCollisions(), _record(_north(5.0), collisions=hits))
     assert not verdict.passed
     assert verdict.first_violation_s == 2.5
     assert verdict.margin == "failed by 2 collisions"
@@ -185,7 +193,7 @@ def test_no_collisions_fails_at_the_first_collision() -> None:
 
 def test_no_collisions_passes_by_the_clearance_to_the_nearest_wall() -> None:
     # Centre at x = 0, walls at +-300, body radius 100: 20 cm to spare.
-    verdict = _judge("no_collisions", True, _record(_north(5.0)))
+    verdict = _judge(NoCollisions(), _record(_north(5.0)))
     assert verdict.passed
     assert verdict.margin == "passed by 20.0 cm"
 
@@ -199,14 +207,14 @@ def _tones(*pairs: tuple[float, float]) -> tuple[Tone, ...]:
 
 def test_tone_count_too_many_fails_when_the_extra_one_plays() -> None:
     played = _tones((1.0, 880), (2.0, 880), (3.0, 880))
-    verdict = _judge("tones", Tones(count=2), _record(_north(5.0), tones=played))
+    verdict = _judge(Tones(count=2), _record(_north(5.0), tones=played))
     assert not verdict.passed
     assert verdict.first_violation_s == 3.0
     assert verdict.margin == "failed by 1 tone"
 
 
 def test_tone_count_too_few_has_no_moment() -> None:
-    verdict = _judge("tones", Tones(count=4), _record(_north(5.0), tones=_tones((1.0, 880))))
+    verdict = _judge(Tones(count=4), _record(_north(5.0), tones=_tones((1.0, 880))))
     assert not verdict.passed
     assert verdict.first_violation_s is None
     assert verdict.margin == "failed by 3 tones"
@@ -216,8 +224,8 @@ def test_tone_count_too_few_has_no_moment() -> None:
 def test_tone_frequencies_in_order_within_tolerance() -> None:
     played = _tones((1.0, 440), (2.0, 882), (3.0, 660))
     record = _record(_north(5.0), tones=played)
-    assert _judge("tones", Tones(frequencies_hz=(440.0, 880.0, 660.0)), record).passed
-    wrong = _judge("tones", Tones(frequencies_hz=(440.0, 660.0, 880.0)), record)
+    assert _judge(Tones(frequencies_hz=(440.0, 880.0, 660.0)), record).passed
+    wrong = _judge(Tones(frequencies_hz=(440.0, 660.0, 880.0)), record)
     assert not wrong.passed
     assert wrong.first_violation_s == 2.0
     assert wrong.margin == "failed by 222 Hz"
@@ -226,16 +234,16 @@ def test_tone_frequencies_in_order_within_tolerance() -> None:
 
 def test_tone_min_and_max_count() -> None:
     record = _record(_north(5.0), tones=_tones((1.0, 880), (2.0, 880)))
-    assert _judge("tones", Tones(min_count=1, max_count=3), record).passed
-    assert not _judge("tones", Tones(min_count=3), record).passed
+    assert _judge(Tones(min_count=1, max_count=3), record).passed
+    assert not _judge(Tones(min_count=3), record).passed
 
 
 # ------------------------------------------------------------------------------ duration
 
 
 def test_max_duration_margin_in_seconds() -> None:
-    assert _judge("max_duration", 30.0, _record(_north(20.0))).margin == "passed by 10.0 s"
-    late = _judge("max_duration", 30.0, _record(_north(30.4)))
+    assert _judge(MaxDuration(30.0), _record(_north(20.0))).margin == "passed by 10.0 s"
+    late = _judge(MaxDuration(30.0), _record(_north(30.4)))
     assert not late.passed
     assert late.margin == "failed by 0.40 s"
     assert late.first_violation_s == 30.0
@@ -257,8 +265,10 @@ def _drifting_right() -> list[tuple[float, float, float, float]]:
 def test_wall_distance_measures_from_the_side_sensor_with_the_first_violation() -> None:
     # The side sensor sits 80 mm right of the centre: 220 mm from the wall while x = 0.
     states = ((0.0, "approach"), (1.0, "follow"))
-    rule = WallDistance("follow", "right", 150.0, 250.0, settle_s=1.0)
-    verdict = _judge("wall_distance", rule, _record(_drifting_right(), states=states))
+    rule = WallDistance(
+        side="right", min_mm=150.0, max_mm=250.0, selection=Selection(state="follow", settle_s=1.0)
+    )
+    verdict = _judge(rule, _record(_drifting_right(), states=states))
     assert not verdict.passed
     # Below 150 mm once x > 70, i.e. after 5.4 s: the first sample past it is 5.5 s.
     assert verdict.first_violation_s == pytest.approx(5.5)
@@ -269,8 +279,10 @@ def test_wall_distance_measures_from_the_side_sensor_with_the_first_violation() 
 
 def test_wall_distance_passes_by_the_tightest_sample_after_settling() -> None:
     states = ((0.0, "follow"), (4.0, "stop"))
-    rule = WallDistance("follow", "right", 150.0, 250.0, settle_s=1.0)
-    verdict = _judge("wall_distance", rule, _record(_drifting_right(), states=states))
+    rule = WallDistance(
+        side="right", min_mm=150.0, max_mm=250.0, selection=Selection(state="follow", settle_s=1.0)
+    )
+    verdict = _judge(rule, _record(_drifting_right(), states=states))
     assert verdict.passed
     assert verdict.margin == "passed by 3.0 cm"  # 220 mm: 30 mm inside the top of the band
     assert verdict.relative_margin == pytest.approx(30.0 / 50.0)
@@ -279,19 +291,27 @@ def test_wall_distance_passes_by_the_tightest_sample_after_settling() -> None:
 def test_wall_distance_skips_the_settling_time() -> None:
     # Far from the wall for the first 0.5 s of the state, then in the band.
     path = [(round(i * 0.1, 3), -200.0 if i < 5 else 0.0, i * 10.0, 0.0) for i in range(30)]
-    rule = WallDistance("go", "right", 150.0, 250.0, settle_s=0.5)
-    assert _judge("wall_distance", rule, _record(path)).passed
-    strict = WallDistance("go", "right", 150.0, 250.0, settle_s=0.0)
-    verdict = _judge("wall_distance", strict, _record(path))
+    rule = WallDistance(
+        side="right", min_mm=150.0, max_mm=250.0, selection=Selection(state="go", settle_s=0.5)
+    )
+    assert _judge(rule, _record(path)).passed
+    strict = WallDistance(
+        side="right", min_mm=150.0, max_mm=250.0, selection=Selection(state="go", settle_s=0.0)
+    )
+    verdict = _judge(strict, _record(path))
     assert not verdict.passed
     assert verdict.first_violation_s == 0.0
 
 
 def test_wall_distance_on_the_left_and_a_state_never_entered() -> None:
-    rule = WallDistance("go", "left", 150.0, 250.0, settle_s=0.0)
-    assert _judge("wall_distance", rule, _record(_north(3.0))).passed  # left wall: 220 mm
-    missing = WallDistance("follow", "right", 150.0, 250.0)
-    verdict = _judge("wall_distance", missing, _record(_north(3.0)))
+    rule = WallDistance(
+        side="left", min_mm=150.0, max_mm=250.0, selection=Selection(state="go", settle_s=0.0)
+    )
+    assert _judge(rule, _record(_north(3.0))).passed  # left wall: 220 mm
+    missing = WallDistance(
+        side="right", min_mm=150.0, max_mm=250.0, selection=Selection(state="follow")
+    )
+    verdict = _judge(missing, _record(_north(3.0)))
     assert not verdict.passed
     assert verdict.detail == "the mission never entered state 'follow'"
 
@@ -322,7 +342,7 @@ def test_a_teacher_check_may_answer_in_three_ways(
         encoding="utf-8",
     )
     verdict = evaluate(
-        Expectation("check", CheckFunction(str(checks), "judge", "checks.py:judge"), 2.0),
+        Expectation(CheckFunction(str(checks), "judge", "checks.py:judge"), 2.0),
         _record(_north(5.0)),
     )
     assert verdict.passed is passed
@@ -384,7 +404,7 @@ SQUARE = PathVisits(
 
 
 def test_path_visits_a_right_square_in_order() -> None:
-    verdict = _judge("path_visits", SQUARE, _record(_square()))
+    verdict = _judge(SQUARE, _record(_square()))
     assert verdict.passed, verdict.detail
     assert verdict.margin == "passed by 4.0 cm"  # every corner exactly: the whole tolerance
     assert verdict.relative_margin == pytest.approx(1.0)
@@ -393,7 +413,7 @@ def test_path_visits_a_right_square_in_order() -> None:
 
 def test_path_visits_right_is_not_left() -> None:
     # A left square goes to (-500, 500), a metre from the second corner it should reach.
-    verdict = _judge("path_visits", SQUARE, _record(_square(-90.0)))
+    verdict = _judge(SQUARE, _record(_square(-90.0)))
     assert not verdict.passed
     assert verdict.detail.startswith(
         "missed waypoint 2 (50 cm forward, 50 cm right): the closest the robot came was 50.0 cm"
@@ -402,13 +422,13 @@ def test_path_visits_right_is_not_left() -> None:
     assert verdict.margin == "failed by 46.0 cm"
     assert verdict.first_violation_s is None  # never reaching a point has no moment
     mirrored = PathVisits(tuple(Waypoint(w.forward_mm, -w.right_mm) for w in SQUARE.waypoints))
-    assert _judge("path_visits", mirrored, _record(_square(-90.0))).passed
+    assert _judge(mirrored, _record(_square(-90.0))).passed
 
 
 def test_path_visits_forward_is_not_back() -> None:
     ahead = _record(_north(5.0))  # 500 mm north, facing north
-    assert _judge("path_visits", PathVisits((Waypoint(500.0, 0.0),)), ahead).passed
-    behind = _judge("path_visits", PathVisits((Waypoint(-500.0, 0.0),)), ahead)
+    assert _judge(PathVisits((Waypoint(500.0, 0.0),)), ahead).passed
+    behind = _judge(PathVisits((Waypoint(-500.0, 0.0),)), ahead)
     assert not behind.passed
     assert behind.detail.startswith("missed waypoint 1 (50 cm back)")
 
@@ -417,20 +437,20 @@ def test_path_visits_is_in_the_start_frame() -> None:
     # Starting at (100, 0) facing east: ahead is east, the right-hand side is south.
     path = _square(start=(100.0, 0.0, 90.0))
     assert path[50][1:3] == (600.0, 0.0)  # the first corner, 50 cm east of the start
-    verdict = _judge("path_visits", SQUARE, _record(path))
+    verdict = _judge(SQUARE, _record(path))
     assert verdict.passed, verdict.detail
     # In world terms the square is (600, 0), (600, -500), (100, -500): nowhere near +y.
     world_frame = PathVisits((Waypoint(500.0, 0.0), Waypoint(500.0, -500.0)))
-    assert not _judge("path_visits", world_frame, _record(path)).passed
+    assert not _judge(world_frame, _record(path)).passed
 
 
 def test_path_visits_tolerance_is_inclusive() -> None:
     # North along x = 0: a waypoint 80 mm right of the track is 80 mm away, exactly.
     record = _record(_north(10.0))
-    edge = _judge("path_visits", PathVisits((Waypoint(500.0, 80.0),), 80.0), record)
+    edge = _judge(PathVisits((Waypoint(500.0, 80.0),), 80.0), record)
     assert edge.passed
     assert edge.margin_value == pytest.approx(0.0)
-    beyond = _judge("path_visits", PathVisits((Waypoint(500.0, 81.0),), 80.0), record)
+    beyond = _judge(PathVisits((Waypoint(500.0, 81.0),), 80.0), record)
     assert not beyond.passed
     assert beyond.margin == "failed by 0.1 cm"
     assert "the closest the robot came was 8.1 cm, at 5.0 s (allowed 8.0 cm)" in beyond.detail
@@ -440,19 +460,19 @@ def test_path_visits_in_order_unless_told_otherwise() -> None:
     # North to y = 1000: it passes 50 cm ahead before 100 cm ahead, not after.
     backwards = (Waypoint(1000.0, 0.0), Waypoint(500.0, 0.0))
     record = _record(_north(10.0))
-    verdict = _judge("path_visits", PathVisits(backwards, 80.0), record)
+    verdict = _judge(PathVisits(backwards, 80.0), record)
     assert not verdict.passed
     # 100 cm ahead is within 8 cm from y = 920 on, so waypoint 2 is looked for from the
     # stretch of path that reaches it (y = 910 to 920): 41 cm from 50 cm ahead at best.
     assert verdict.detail.startswith("missed waypoint 2 (50 cm forward): the closest")
     assert verdict.margin == "failed by 33.0 cm"
-    assert _judge("path_visits", PathVisits(backwards, 80.0, in_order=False), record).passed
+    assert _judge(PathVisits(backwards, 80.0, in_order=False), record).passed
 
 
 def test_path_visits_a_fast_robot_cannot_skip_a_waypoint_between_samples() -> None:
     # 2 m/s: samples 200 mm apart, the waypoint halfway between two of them.
     path = [(round(i * 0.1, 3), 0.0, i * 200.0, 0.0) for i in range(6)]
-    verdict = _judge("path_visits", PathVisits((Waypoint(330.0, 10.0),), 20.0), _record(path))
+    verdict = _judge(PathVisits((Waypoint(330.0, 10.0),), 20.0), _record(path))
     assert verdict.passed
     assert verdict.margin == "passed by 1.0 cm"
     assert "at 0.2 s" in verdict.detail  # 330 mm at 2 m/s: 0.165 s, between two samples
@@ -460,7 +480,7 @@ def test_path_visits_a_fast_robot_cannot_skip_a_waypoint_between_samples() -> No
 
 def test_path_visits_margin_is_the_worst_waypoint() -> None:
     waypoints = (Waypoint(300.0, 10.0), Waypoint(600.0, 30.0))
-    verdict = _judge("path_visits", PathVisits(waypoints, 50.0), _record(_north(10.0)))
+    verdict = _judge(PathVisits(waypoints, 50.0), _record(_north(10.0)))
     assert verdict.passed
     assert verdict.margin == "passed by 2.0 cm"
     assert "the farthest off was waypoint 2 (60 cm forward, 3 cm right), 3.0 cm away" in (
@@ -489,23 +509,23 @@ def test_a_right_turn_through_north_is_not_a_left_turn() -> None:
 
 def test_turns_direction_fails_at_the_first_wrong_turn() -> None:
     rule = Turns(direction="right", count=4, angle_deg=90.0)
-    assert _judge("turns", rule, _record(_square())).passed
-    verdict = _judge("turns", rule, _record(_square(-90.0)))
+    assert _judge(rule, _record(_square())).passed
+    verdict = _judge(rule, _record(_square(-90.0)))
     assert not verdict.passed
     assert verdict.first_violation_s == 5.5
     assert verdict.margin == "failed by 90.0°"
     assert verdict.detail.startswith(
         "turned 90° left at 5.5 s; this test wants right turns only; 4 turns (90° left at 5.5 s,"
     )
-    assert _judge("turns", Turns(direction="left"), _record(_square(-90.0))).passed
+    assert _judge(Turns(direction="left"), _record(_square(-90.0))).passed
 
 
 def test_turns_count_too_many_fails_when_the_extra_turn_starts() -> None:
-    verdict = _judge("turns", Turns(count=3), _record(_square()))
+    verdict = _judge(Turns(count=3), _record(_square()))
     assert not verdict.passed
     assert verdict.first_violation_s == 26.5  # the fourth turn starts
     assert verdict.margin == "failed by 1 turn"
-    few = _judge("turns", Turns(count=5), _record(_square()))
+    few = _judge(Turns(count=5), _record(_square()))
     assert not few.passed
     assert few.first_violation_s is None
     assert few.detail.startswith("4 turns, expected 5")
@@ -513,8 +533,8 @@ def test_turns_count_too_many_fails_when_the_extra_turn_starts() -> None:
 
 def test_turns_angle_tolerance_is_inclusive() -> None:
     record = _record(_square(100.0))
-    assert _judge("turns", Turns(angle_deg=90.0, tolerance_deg=10.0), record).passed
-    verdict = _judge("turns", Turns(angle_deg=89.5, tolerance_deg=10.0), record)
+    assert _judge(Turns(angle_deg=90.0, tolerance_deg=10.0), record).passed
+    verdict = _judge(Turns(angle_deg=89.5, tolerance_deg=10.0), record)
     assert not verdict.passed
     assert verdict.margin == "failed by 0.5°"
     assert verdict.first_violation_s == 6.6  # the end of the first turn
@@ -522,12 +542,12 @@ def test_turns_angle_tolerance_is_inclusive() -> None:
 
 
 def test_turns_total_counts_whole_turns_and_their_direction() -> None:
-    assert _judge("turns", Turns(direction="right", total_deg=360.0), _record(_square())).passed
-    left = _judge("turns", Turns(direction="right", total_deg=360.0), _record(_square(-90.0)))
+    assert _judge(Turns(direction="right", total_deg=360.0), _record(_square())).passed
+    left = _judge(Turns(direction="right", total_deg=360.0), _record(_square(-90.0)))
     assert not left.passed
-    spun = _judge("turns", Turns(total_deg=360.0), _record(_square(-90.0)))
+    spun = _judge(Turns(total_deg=360.0), _record(_square(-90.0)))
     assert spun.passed  # no direction asked: 360° either way
-    three = _judge("turns", Turns(total_deg=360.0), _record(_square(sides=3)))
+    three = _judge(Turns(total_deg=360.0), _record(_square(sides=3)))
     assert not three.passed
     assert three.margin == "failed by 70.0°"
     assert three.first_violation_s == 21.0  # the end of the run
@@ -537,13 +557,17 @@ def _spin(headings: list[float]) -> list[tuple[float, float, float, float]]:
     return [(round(i * 0.1, 3), 0.0, 0.0, h % 360.0) for i, h in enumerate(headings)]
 
 
-def test_a_short_pause_does_not_split_a_turn_but_a_beep_does() -> None:
-    # Two 45° turns at 90°/s, 0.1 s apart, are one 90° turn; 0.3 s apart (a beep) two.
+def test_rotations_the_same_way_with_no_travel_between_are_one_turn() -> None:
+    # Two 45° rotations at 90°/s on the spot, 0.1 s or 0.3 s (a beep) apart: one 90° corner
+    # either way, so a run's corners are counted alike however long each pause happened to be.
     half = [9.0 * i for i in range(6)]  # 0 to 45 in 0.5 s
-    one = _spin([*half, 45.0, *(45.0 + h for h in half[1:]), 90.0, 90.0, 90.0])
-    two = _spin([*half, 45.0, 45.0, 45.0, *(45.0 + h for h in half[1:]), 90.0, 90.0, 90.0])
-    assert [t.angle_deg for t in find_turns(one)] == [90.0]
-    assert [(t.start_s, t.angle_deg) for t in find_turns(two)] == [(0.0, 45.0), (0.8, 45.0)]
+    short = _spin([*half, 45.0, *(45.0 + h for h in half[1:]), 90.0, 90.0, 90.0])
+    beep = _spin([*half, 45.0, 45.0, 45.0, *(45.0 + h for h in half[1:]), 90.0, 90.0, 90.0])
+    assert [t.angle_deg for t in find_turns(short)] == [90.0]
+    assert [(t.start_s, t.end_s, t.angle_deg) for t in find_turns(beep)] == [(0.0, 1.3, 90.0)]
+    # Back the other way on the spot is a turn of its own.
+    back = _spin([*half, 45.0, 45.0, 45.0, *(45.0 - h for h in half[1:]), 0.0, 0.0])
+    assert [t.angle_deg for t in find_turns(back)] == [45.0, -45.0]
 
 
 def test_a_wobble_is_not_a_turn() -> None:
@@ -553,11 +577,11 @@ def test_a_wobble_is_not_a_turn() -> None:
     assert find_turns(path) == []
     path += _square(start=(0.0, 110.0, 0.0))[1:]
     path = [(round(i * 0.1, 3), x, y, h) for i, (_, x, y, h) in enumerate(path)]
-    assert _judge("turns", Turns(direction="right", count=4), _record(path)).passed
+    assert _judge(Turns(direction="right", count=4), _record(path)).passed
 
 
 def test_turns_never_turning_fails() -> None:
-    verdict = _judge("turns", Turns(direction="right"), _record(_north(5.0)))
+    verdict = _judge(Turns(direction="right"), _record(_north(5.0)))
     assert not verdict.passed
     assert verdict.detail == "the robot never turned"
 
@@ -573,11 +597,11 @@ def test_wall_ahead_is_measured_from_the_front_of_the_body() -> None:
     # Facing east at x = 0, the wall at x = 300: the centre is 30 cm away, the body's front
     # (radius 10 cm) 20 cm.
     record = _stopped(0.0, 500.0, 90.0)
-    verdict = _judge("wall_ahead_at_end", WallAhead(200.0, 30.0), record)
+    verdict = _judge(WallAhead(200.0, 30.0), record)
     assert verdict.passed
     assert verdict.margin == "passed by 3.0 cm"
     assert verdict.detail.startswith("stopped 20.0 cm from the wall ahead")
-    centre = _judge("wall_ahead_at_end", WallAhead(300.0, 30.0), record)
+    centre = _judge(WallAhead(300.0, 30.0), record)
     assert not centre.passed
     assert centre.margin == "failed by 7.0 cm"
     assert "(too close)" in centre.detail
@@ -587,11 +611,11 @@ def test_wall_ahead_is_measured_from_the_front_of_the_body() -> None:
 def test_wall_ahead_follows_the_heading() -> None:
     # At x = 100: east, the wall is 20 cm from the centre (10 cm from the front); west, 40 cm
     # (30 cm); at 45° the ray meets x = 300 after 200 / sin 45° = 282.8 mm.
-    assert _judge("wall_ahead_at_end", WallAhead(100.0, 5.0), _stopped(100.0, 500.0, 90.0)).passed
-    assert _judge("wall_ahead_at_end", WallAhead(300.0, 5.0), _stopped(100.0, 500.0, 270.0)).passed
-    slanted = _judge("wall_ahead_at_end", WallAhead(182.8, 1.0), _stopped(100.0, 500.0, 45.0))
+    assert _judge(WallAhead(100.0, 5.0), _stopped(100.0, 500.0, 90.0)).passed
+    assert _judge(WallAhead(300.0, 5.0), _stopped(100.0, 500.0, 270.0)).passed
+    slanted = _judge(WallAhead(182.8, 1.0), _stopped(100.0, 500.0, 45.0))
     assert slanted.margin_value == pytest.approx(1.0, abs=0.05)
-    north = _judge("wall_ahead_at_end", WallAhead(100.0, 5.0), _stopped(100.0, 500.0, 0.0))
+    north = _judge(WallAhead(100.0, 5.0), _stopped(100.0, 500.0, 0.0))
     assert not north.passed
     assert north.detail.startswith("no wall straight ahead when the robot stopped (facing 0°)")
 
@@ -608,13 +632,13 @@ def test_run_targets_are_chosen_by_seed_and_start() -> None:
             (("room", 2, (100.0, 0.0, 90.0)), WallAhead(100.0)),
         ),
     )
-    expectation = Expectation("wall_ahead_at_end", targets)
+    expectation = Expectation(WallAhead(200.0), targets=targets)
     record = _stopped(100.0, 500.0, 90.0)  # started at (0, 0) facing north, seed 1
-    assert expectation.for_record(record).params == WallAhead(200.0)
-    assert expectation.for_record(replace(record, seed=2)).params == WallAhead(300.0)
+    assert expectation.for_record(record) == WallAhead(200.0)
+    assert expectation.for_record(replace(record, seed=2)) == WallAhead(300.0)
     turned = replace(record, seed=2, path=((0.0, 102.0, 1.0, 90.0), *record.path[1:]))
-    assert expectation.for_record(turned).params == WallAhead(100.0)
-    assert expectation.for_record(replace(record, seed=9)).params == WallAhead(200.0)
+    assert expectation.for_record(turned) == WallAhead(100.0)
+    assert expectation.for_record(replace(record, seed=9)) == WallAhead(200.0)
     assert evaluate(expectation, turned).passed  # 10 cm from the front to the wall
     assert not evaluate(expectation, replace(record, seed=2)).passed
 
@@ -639,8 +663,8 @@ def test_a_run_changes_only_the_targets_it_names(tmp_path: Path) -> None:
             "  - wall_ahead_at_end: {distance: 20 cm, tolerance: 2 cm}\n",
         )
     )
-    assert spec.expectations[0].params == "success"
-    targets = spec.expectations[1].params
+    assert spec.expectations[0].rule == Outcome("success")
+    targets = spec.expectations[1].targets
     assert isinstance(targets, RunTargets)
     assert targets.default == WallAhead(200.0, 20.0)
     assert [params for _, params in targets.runs] == [
@@ -665,7 +689,7 @@ def test_a_run_may_change_the_tolerance_of_a_short_path_visits(tmp_path: Path) -
             "  - path_visits: [{forward: 50 cm}, start]\n",
         )
     )
-    targets = spec.expectations[0].params
+    targets = spec.expectations[0].targets
     assert isinstance(targets, RunTargets)
     waypoints = (Waypoint(500.0, 0.0), Waypoint(0.0, 0.0))
     assert [params for _, params in targets.runs] == [
@@ -687,7 +711,7 @@ def test_the_new_expectations_read_with_units_and_defaults(tmp_path: Path) -> No
             "  - wall_ahead_at_end: {distance: 200}\n",
         )
     )
-    params = [e.params for e in spec.expectations]
+    params = [e.rule for e in spec.expectations]
     assert params[0] == PathVisits(
         (Waypoint(500.0, 0.0), Waypoint(500.0, -200.0), Waypoint(0.0, 0.0), Waypoint(-1.0, 0.0))
     )

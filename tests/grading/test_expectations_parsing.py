@@ -8,14 +8,20 @@ from pathlib import Path
 import pytest
 
 from roboscript.errors import SpecError
-from roboscript.grading.expectations import FinalPose, Tones, WallDistance
+from roboscript.grading.expectations import (
+    FinalPose,
+    MaxDuration,
+    Selection,
+    Tones,
+    WallDistance,
+)
 from roboscript.grading.spec import load_test_spec
 
 
 def _params(tmp_path: Path, expect: str) -> object:
     path = tmp_path / "spec.yaml"
     path.write_text(f"test: t\nworld: corridor\nexpect:\n  - {expect}\n", encoding="utf-8")
-    return load_test_spec(path).expectations[0].params
+    return load_test_spec(path).expectations[0].rule
 
 
 def _mistake(tmp_path: Path, expect: str) -> str:
@@ -112,11 +118,17 @@ def test_min_count_may_equal_max_count(tmp_path: Path) -> None:
 
 def test_wall_distance_reads_with_units_and_defaults(tmp_path: Path) -> None:
     rule = _params(tmp_path, "wall_distance: {state: follow, min: 15 cm, max: 0.25 m}")
-    assert rule == WallDistance("follow", "right", 150.0, 250.0, 1.0)
+    assert rule == WallDistance(
+        side="right", min_mm=150.0, max_mm=250.0, selection=Selection(state="follow", settle_s=1.0)
+    )
     left = _params(tmp_path, "wall_distance: {state: f, max: 30 cm, side: left, settle: 2 s}")
-    assert left == WallDistance("f", "left", None, 300.0, 2.0)
+    assert left == WallDistance(
+        side="left", min_mm=None, max_mm=300.0, selection=Selection(state="f", settle_s=2.0)
+    )
     at_least = _params(tmp_path, "wall_distance: {state: f, min: 0 cm, settle: 0 s}")
-    assert at_least == WallDistance("f", "right", 0.0, None, 0.0)
+    assert at_least == WallDistance(
+        side="right", min_mm=0.0, max_mm=None, selection=Selection(state="f", settle_s=0.0)
+    )
 
 
 @pytest.mark.parametrize(
@@ -136,7 +148,30 @@ def test_wall_distance_reads_with_units_and_defaults(tmp_path: Path) -> None:
             "wall_distance: {state: f, min: 1 cm, side: up}",
             "4:48: error: 'side' must be one of: left, right (got 'up')",
         ),
-        ("wall_distance: {min: 1 cm}", "4:20: error:"),
+        (
+            "wall_distance: {min: 1 cm, during: whole ru}",
+            (
+                "4:40: error: during is 'whole run' or a time window such as during: {from: 5 s,"
+                " to: 20 s} (got 'whole ru') (did you mean 'whole run'?)"
+            ),
+        ),
+        ("wall_distance: {min: 1 cm, durng: whole run}", "4:32: error: unknown key 'durng'"),
+        ("wall_distance: {min: 1 cm, during: {from: 5 s, too: 9 s}}", "4:52: error: unknown"),
+        (
+            "wall_distance: {min: 1 cm, along: {from: 2 m, to: 1 m}}",
+            "4:55: error: 'from' must come before 'to'",
+        ),
+        (
+            "wall_distance: {min: 1 cm, along: {}}",
+            "4:39: error: along needs from, to or both, such as along: {from: 50 cm, to: 2.5 m}",
+        ),
+        (
+            "wall_distance: {min: 1 cm, in_region: far-edn}",
+            (
+                "4:43: error: the world 'corridor' has no region 'far-edn' (its regions: far-end,"
+                " start-zone) (did you mean 'far-end'?)"
+            ),
+        ),
     ],
 )
 def test_mistakes_in_wall_distance_are_located(tmp_path: Path, expect: str, error: str) -> None:
@@ -177,7 +212,7 @@ def test_mistakes_in_final_pose_are_located(tmp_path: Path, expect: str, error: 
 
 
 def test_max_duration_reads_a_time(tmp_path: Path) -> None:
-    assert _params(tmp_path, "max_duration: 1.5 min") == 90.0
+    assert _params(tmp_path, "max_duration: 1.5 min") == MaxDuration(90.0)
     assert _mistake(tmp_path, "max_duration: 0 s").startswith(
         "4:19: error: 'max_duration' must be more than 0"
     )

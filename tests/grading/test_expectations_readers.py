@@ -15,6 +15,10 @@ from roboscript.grading.expectations import (
     CheckFunction,
     Expectation,
     FinalPose,
+    FinalState,
+    MaxDuration,
+    NoCollisions,
+    Outcome,
     PathVisits,
     RunTargets,
     Turns,
@@ -33,7 +37,7 @@ def _load(tmp_path: Path, text: str) -> TestSpec:
 
 
 def _params(tmp_path: Path, text: str) -> list[tuple[object, float]]:
-    return [(e.params, e.weight) for e in _load(tmp_path, text).expectations]
+    return [(e.rule, e.weight) for e in _load(tmp_path, text).expectations]
 
 
 @pytest.fixture
@@ -79,9 +83,9 @@ def folder(tmp_path: Path) -> Path:
             "expect:\n  - path_visits: [{left: 20, back: 30}, {right: 2 cm}]\n",
             [(PathVisits((Waypoint(-30.0, -20.0), Waypoint(0.0, 20.0))), 1.0)],
         ),
-        ("expect:\n  - final_state: [a, b]\n", [(("a", "b"), 1.0)]),
-        ("expect:\n  - {outcome: success, weight: 0.5}\n", [("success", 0.5)]),
-        ("expect:\n  - {outcome: success}\n", [("success", 1.0)]),
+        ("expect:\n  - final_state: [a, b]\n", [(FinalState(("a", "b")), 1.0)]),
+        ("expect:\n  - {outcome: success, weight: 0.5}\n", [(Outcome("success"), 0.5)]),
+        ("expect:\n  - {outcome: success}\n", [(Outcome("success"), 1.0)]),
     ],
 )
 def test_bare_numbers_read_in_the_documented_unit(
@@ -104,23 +108,28 @@ def test_where_an_expectation_was_written_is_kept(tmp_path: Path) -> None:
 # ------------------------------------------------------------------------- run targets
 
 
+def _targets(tmp_path: Path, text: str) -> RunTargets:
+    """The run targets of the spec's first expectation."""
+    targets = _load(tmp_path, text).expectations[0].targets
+    assert targets is not None
+    return targets
+
+
 def test_a_run_may_change_a_list_that_is_not_a_path(tmp_path: Path) -> None:
-    targets = _params(
+    targets = _targets(
         tmp_path,
         "runs:\n  - {seed: 1}\n  - {seed: 2, expect: {final_state: [c]}}\n"
         "expect:\n  - final_state: [a, b]\n",
-    )[0][0]
-    assert isinstance(targets, RunTargets)
-    assert [params for _, params in targets.runs] == [("a", "b"), ("c",)]
+    )
+    assert [params for _, params in targets.runs] == [FinalState(("a", "b")), FinalState(("c",))]
 
 
 def test_a_run_may_replace_a_short_path_and_keep_the_rest(tmp_path: Path) -> None:
-    targets = _params(
+    targets = _targets(
         tmp_path,
         "runs:\n  - {seed: 2, expect: {path_visits: [start]}}\n  - {seed: 3}\n"
         "expect:\n  - path_visits: [{forward: 1 m}]\n",
-    )[0][0]
-    assert isinstance(targets, RunTargets)
+    )
     assert [params for _, params in targets.runs] == [
         PathVisits((Waypoint(0.0, 0.0),)),
         PathVisits((Waypoint(1000.0, 0.0),)),
@@ -128,13 +137,12 @@ def test_a_run_may_replace_a_short_path_and_keep_the_rest(tmp_path: Path) -> Non
 
 
 def test_runs_50_mm_apart_are_different_runs(tmp_path: Path) -> None:
-    targets = _params(
+    targets = _targets(
         tmp_path,
         "runs:\n  - {seed: 1, start: {x: 50 mm}, expect: {max_duration: 20 s}}\n  - {seed: 1}\n"
         "expect:\n  - max_duration: 30 s\n",
-    )[0][0]
-    assert isinstance(targets, RunTargets)
-    assert [params for _, params in targets.runs] == [20.0, 30.0]
+    )
+    assert [params for _, params in targets.runs] == [MaxDuration(20.0), MaxDuration(30.0)]
 
 
 # ---------------------------------------------------------------------- located mistakes
@@ -404,8 +412,8 @@ def test_each_mistake_is_one_located_line(folder: Path, text: str, error: str) -
 def test_final_state_verdicts_name_what_was_expected() -> None:
     record = _record(_north(5.0), final_state="home")
     wanted = Verdict("final_state", True, detail="ended in 'home' (expected 'home' or 'dock')")
-    assert evaluate(Expectation("final_state", ("home", "dock")), record) == wanted
-    missed = evaluate(Expectation("final_state", ("dock",)), record)
+    assert evaluate(Expectation(FinalState(("home", "dock"))), record) == wanted
+    missed = evaluate(Expectation(FinalState(("dock",))), record)
     assert missed == Verdict(
         "final_state", False, first_violation_s=5.0, detail="ended in 'home' (expected 'dock')"
     )
@@ -422,7 +430,7 @@ def _check_answer(tmp_path: Path, body: str, *, calls: int = 1) -> Verdict:
         f"def judge(run):\n    calls = next(CALLS)\n    {body}\n",
         encoding="utf-8",
     )
-    expectation = Expectation("check", CheckFunction(str(checks), "judge", "checks.py:judge"))
+    expectation = Expectation(CheckFunction(str(checks), "judge", "checks.py:judge"))
     verdicts = [evaluate(expectation, _record(_north(5.0))) for _ in range(calls)]
     return verdicts[-1]
 
@@ -468,17 +476,17 @@ def test_a_check_that_is_no_function_or_no_python_fails_with_a_reason(tmp_path: 
     checks = tmp_path / "values.py"
     checks.write_text("judge = 5\n", encoding="utf-8")
     record = _record(_north(1.0))
-    named = evaluate(Expectation("check", CheckFunction(str(checks), "judge", "x")), record)
+    named = evaluate(Expectation(CheckFunction(str(checks), "judge", "x")), record)
     assert named.detail.startswith("the teacher's check raised TypeError: judge is not a function")
     text = tmp_path / "values.txt"
     text.write_text("judge = 5\n", encoding="utf-8")
-    odd = evaluate(Expectation("check", CheckFunction(str(text), "judge", "x")), record)
+    odd = evaluate(Expectation(CheckFunction(str(text), "judge", "x")), record)
     assert odd.detail.startswith(f"the teacher's check raised ImportError: cannot import {text}")
 
 
 def test_outcome_and_no_collisions_read_as_written(tmp_path: Path) -> None:
     params = _params(tmp_path, "expect:\n  - outcome: failure\n  - no_collisions: true\n")
-    assert params == [("failure", 1.0), (True, 1.0)]
+    assert params == [(Outcome("failure"), 1.0), (NoCollisions(), 1.0)]
     with pytest.raises(SpecError) as caught:
         _load(tmp_path, "expect:\n  - outcome: failur\n")
     assert caught.value.format() == (

@@ -13,6 +13,11 @@ import pytest
 from roboscript.grading.expectations import (
     Expectation,
     FinalPose,
+    MaxDuration,
+    NeverEnter,
+    NoCollisions,
+    Rule,
+    Selection,
     Tones,
     Turns,
     WallDistance,
@@ -64,8 +69,8 @@ def _tones(*pairs: tuple[float, float]) -> tuple[Tone, ...]:
     return tuple(Tone(t, f, 0.2) for t, f in pairs)
 
 
-def _judge(kind: str, params: object, record: RunRecord) -> Verdict:
-    return evaluate(Expectation(kind, params), record)
+def _judge(rule: Rule, record: RunRecord) -> Verdict:
+    return evaluate(Expectation(rule), record)
 
 
 # ------------------------------------------------------------------------------- tones
@@ -74,34 +79,34 @@ def _judge(kind: str, params: object, record: RunRecord) -> Verdict:
 @pytest.mark.parametrize(("frequency", "passed"), [(445.0, True), (435.0, True), (445.5, False)])
 def test_the_tone_tolerance_is_inclusive(frequency: float, passed: bool) -> None:
     record = _record(_north(3.0), tones=_tones((1.0, frequency)))
-    verdict = _judge("tones", Tones(frequency_hz=440.0, tolerance_hz=5.0), record)
+    verdict = _judge(Tones(frequency_hz=440.0, tolerance_hz=5.0), record)
     assert verdict.passed is passed
 
 
 def test_a_passing_tone_verdict_lists_what_was_heard() -> None:
     record = _record(_north(3.0), tones=_tones((1.0, 440), (2.0, 660)))
-    assert _judge("tones", Tones(count=2), record) == Verdict(
+    assert _judge(Tones(count=2), record) == Verdict(
         "tones", True, "", None, "2 tones played (440 Hz, 660 Hz)"
     )
 
 
 def test_a_long_tune_lists_its_first_eight_tones() -> None:
     played = _tones(*((float(i), 400.0 + i) for i in range(1, 10)))
-    verdict = _judge("tones", Tones(min_count=1), _record(_north(10.0), tones=played))
+    verdict = _judge(Tones(min_count=1), _record(_north(10.0), tones=played))
     heard = ", ".join(f"{400 + i} Hz" for i in range(1, 9))
     assert verdict.detail == f"9 tones played ({heard} ...)"
-    eight = _judge("tones", Tones(min_count=1), _record(_north(10.0), tones=played[:8]))
+    eight = _judge(Tones(min_count=1), _record(_north(10.0), tones=played[:8]))
     assert eight.detail == f"8 tones played ({heard})"
 
 
 def test_no_tone_at_all_says_so_without_a_list() -> None:
-    verdict = _judge("tones", Tones(count=1), _record(_north(3.0)))
+    verdict = _judge(Tones(count=1), _record(_north(3.0)))
     assert verdict.detail == "1 tone too few: 0 tones played"
 
 
 def test_a_wrong_frequency_fails_by_its_distance_in_hertz() -> None:
     record = _record(_north(3.0), tones=_tones((1.0, 440), (2.0, 700)))
-    verdict = _judge("tones", Tones(frequencies_hz=(440.0, 660.0)), record)
+    verdict = _judge(Tones(frequencies_hz=(440.0, 660.0)), record)
     assert verdict == Verdict(
         "tones",
         False,
@@ -116,32 +121,32 @@ def test_a_wrong_frequency_fails_by_its_distance_in_hertz() -> None:
 def test_a_list_of_frequencies_also_wants_that_many_tones() -> None:
     wanted = Tones(frequencies_hz=(440.0, 660.0))
     three = _record(_north(5.0), tones=_tones((1.0, 440), (2.0, 660), (3.0, 660)))
-    extra = _judge("tones", wanted, three)
+    extra = _judge(wanted, three)
     assert not extra.passed
     assert (extra.margin, extra.first_violation_s) == ("failed by 1 tone", 3.0)
     assert extra.detail.startswith("1 tone too many: ")
     assert (extra.margin_value, extra.margin_unit) == (-1, "tones")
-    one = _judge("tones", wanted, _record(_north(5.0), tones=_tones((1.0, 440))))
+    one = _judge(wanted, _record(_north(5.0), tones=_tones((1.0, 440))))
     assert not one.passed
     assert one.detail.startswith("1 tone too few: ")
 
 
 def test_an_explicit_count_wins_over_the_length_of_the_list() -> None:
     record = _record(_north(5.0), tones=_tones((1.0, 440)))
-    assert _judge("tones", Tones(count=1, frequencies_hz=(440.0, 660.0)), record).passed
+    assert _judge(Tones(count=1, frequencies_hz=(440.0, 660.0)), record).passed
 
 
 def test_the_first_problem_in_time_is_reported_before_one_only_known_at_the_end() -> None:
     # two wanted, one wrong at 2 s, and one missing (known only at the end)
     record = _record(_north(5.0), tones=_tones((1.0, 440), (2.0, 700)))
-    verdict = _judge("tones", Tones(frequencies_hz=(440.0, 660.0, 880.0)), record)
+    verdict = _judge(Tones(frequencies_hz=(440.0, 660.0, 880.0)), record)
     assert verdict.detail.startswith("tone 2 was 700 Hz, expected 660 Hz")
     assert verdict.first_violation_s == 2.0
 
 
 def test_too_many_tones_over_a_maximum_fail_when_the_extra_one_plays() -> None:
     record = _record(_north(5.0), tones=_tones((1.0, 440), (2.0, 440), (3.0, 440), (4.0, 440)))
-    verdict = _judge("tones", Tones(max_count=2), record)
+    verdict = _judge(Tones(max_count=2), record)
     assert not verdict.passed
     assert verdict.first_violation_s == 3.0
     assert verdict.detail.startswith("2 tones too many: ")
@@ -151,10 +156,10 @@ def test_too_many_tones_over_a_maximum_fail_when_the_extra_one_plays() -> None:
 
 
 def test_max_duration_passes_up_to_and_including_the_limit() -> None:
-    on_time = _judge("max_duration", 30.0, _record(_north(30.0)))
+    on_time = _judge(MaxDuration(30.0), _record(_north(30.0)))
     assert on_time.passed is True
     assert on_time.first_violation_s is None
-    early = _judge("max_duration", 30.0, _record(_north(29.5)))
+    early = _judge(MaxDuration(30.0), _record(_north(29.5)))
     assert early == Verdict(
         "max_duration",
         True,
@@ -175,14 +180,14 @@ def test_the_final_pose_radius_counts_sideways_error_and_is_inclusive(
     x: float, passed: bool
 ) -> None:
     record = _record([(0.0, 0.0, 0.0, 0.0), (5.0, x, 500.0, 0.0)])
-    verdict = _judge("final_pose_within", FinalPose(0.0, 500.0, 80.0), record)
+    verdict = _judge(FinalPose(0.0, 500.0, 80.0), record)
     assert verdict.passed is passed
     assert verdict.first_violation_s == (None if passed else 5.0)
 
 
 def test_the_final_pose_verdict_names_where_it_ended_and_what_was_allowed() -> None:
     record = _record([(0.0, 0.0, 0.0, 0.0), (5.0, 30.0, 540.0, 0.0)])
-    verdict = _judge("final_pose_within", FinalPose(0.0, 500.0, 80.0), record)
+    verdict = _judge(FinalPose(0.0, 500.0, 80.0), record)
     assert verdict == Verdict(
         "final_pose_within",
         True,
@@ -199,14 +204,14 @@ def test_the_final_pose_verdict_names_where_it_ended_and_what_was_allowed() -> N
 def test_the_final_heading_tolerance_is_inclusive(heading: float, passed: bool) -> None:
     record = _record([(0.0, 0.0, 0.0, 0.0), (5.0, 0.0, 500.0, heading)])
     target = FinalPose(0.0, 500.0, 80.0, heading_deg=0.0, heading_tolerance_deg=15.0)
-    assert _judge("final_pose_within", target, record).passed is passed
+    assert _judge(target, record).passed is passed
 
 
 def test_the_tighter_of_position_and_heading_gives_the_margin() -> None:
     # 6 cm inside an 8 cm radius (75 % spare) but 12 of 15 degrees off (20 % spare)
     record = _record([(0.0, 0.0, 0.0, 0.0), (5.0, 0.0, 520.0, 12.0)])
     target = FinalPose(0.0, 500.0, 80.0, heading_deg=0.0, heading_tolerance_deg=15.0)
-    verdict = _judge("final_pose_within", target, record)
+    verdict = _judge(target, record)
     assert verdict.passed
     assert verdict.margin == "passed by 3.0°"
     assert (verdict.margin_value, verdict.margin_unit) == (3.0, "deg")
@@ -215,7 +220,7 @@ def test_the_tighter_of_position_and_heading_gives_the_margin() -> None:
     assert verdict.detail.startswith("ended at (0, 520) mm")
     # heading well inside, position tight: the position's margin stays
     near = _record([(0.0, 0.0, 0.0, 0.0), (5.0, 0.0, 570.0, 1.0)])
-    assert _judge("final_pose_within", target, near).margin_unit == "mm"
+    assert _judge(target, near).margin_unit == "mm"
 
 
 # ---------------------------------------------------------------------- wall distance
@@ -223,8 +228,10 @@ def test_the_tighter_of_position_and_heading_gives_the_margin() -> None:
 
 def test_leaving_the_state_before_the_settling_time_fails_the_wall_distance() -> None:
     record = _record(_north(3.0), states=((0.0, "follow"), (0.8, "stop")))
-    rule = WallDistance("follow", "right", 150.0, 250.0, settle_s=1.0)
-    assert _judge("wall_distance", rule, record) == Verdict(
+    rule = WallDistance(
+        side="right", min_mm=150.0, max_mm=250.0, selection=Selection(state="follow", settle_s=1.0)
+    )
+    assert _judge(rule, record) == Verdict(
         "wall_distance",
         False,
         "",
@@ -235,25 +242,37 @@ def test_leaving_the_state_before_the_settling_time_fails_the_wall_distance() ->
 
 def test_the_wall_distance_is_measured_on_the_side_named() -> None:
     record = _record(_north(3.0), world=CORRIDOR_SIDE)
-    right = _judge("wall_distance", WallDistance("go", "right", 150.0, 250.0, 0.0), record)
+    right = _judge(
+        WallDistance(
+            side="right", min_mm=150.0, max_mm=250.0, selection=Selection(state="go", settle_s=0.0)
+        ),
+        record,
+    )
     assert right.passed
     assert right.detail == (
         "in 'go' the right gap must stay between 15.0 cm and 25.0 cm;"
         " the worst was 22.0 cm at 0.0 s"  # the gap never changes: the first sample
     )
-    left = _judge("wall_distance", WallDistance("go", "left", 150.0, 250.0, 0.0), record)
+    left = _judge(
+        WallDistance(
+            side="left", min_mm=150.0, max_mm=250.0, selection=Selection(state="go", settle_s=0.0)
+        ),
+        record,
+    )
     assert not left.passed
     assert left.first_violation_s == 0.0
 
 
 def test_with_no_wall_in_sight_an_at_least_band_passes_and_an_at_most_band_fails() -> None:
     record = _record(_north(3.0), world=CORRIDOR_SIDE)
-    at_least = WallDistance("go", "left", min_mm=150.0, settle_s=0.0)
-    assert _judge("wall_distance", at_least, record) == Verdict(
+    at_least = WallDistance(
+        side="left", min_mm=150.0, selection=Selection(state="go", settle_s=0.0)
+    )
+    assert _judge(at_least, record) == Verdict(
         "wall_distance", True, "", None, "no left wall was ever closer than allowed"
     )
-    at_most = WallDistance("go", "left", max_mm=250.0, settle_s=0.0)
-    assert _judge("wall_distance", at_most, record) == Verdict(
+    at_most = WallDistance(side="left", max_mm=250.0, selection=Selection(state="go", settle_s=0.0))
+    assert _judge(at_most, record) == Verdict(
         "wall_distance",
         False,
         "",
@@ -264,27 +283,45 @@ def test_with_no_wall_in_sight_an_at_least_band_passes_and_an_at_most_band_fails
 
 def test_one_sided_wall_bands_judge_the_side_they_bound() -> None:
     record = _record(_north(3.0), world=CORRIDOR_SIDE)  # 220 mm on the right
-    assert _judge("wall_distance", WallDistance("go", min_mm=200.0, settle_s=0.0), record).passed
-    too_far = _judge("wall_distance", WallDistance("go", max_mm=200.0, settle_s=0.0), record)
+    assert _judge(
+        WallDistance(min_mm=200.0, selection=Selection(state="go", settle_s=0.0)), record
+    ).passed
+    too_far = _judge(
+        WallDistance(max_mm=200.0, selection=Selection(state="go", settle_s=0.0)), record
+    )
     assert (too_far.passed, too_far.margin) == (False, "failed by 2.0 cm")
     assert too_far.relative_margin == pytest.approx(-20.0 / 200.0)
-    too_close = _judge("wall_distance", WallDistance("go", min_mm=250.0, settle_s=0.0), record)
+    too_close = _judge(
+        WallDistance(min_mm=250.0, selection=Selection(state="go", settle_s=0.0)), record
+    )
     assert (too_close.passed, too_close.margin) == (False, "failed by 3.0 cm")
     assert "must stay at least 25.0 cm" in too_close.detail
 
 
 def test_a_record_without_a_world_has_no_wall_to_be_near() -> None:
     record = replace(_record(_north(3.0)), world=None)
-    verdict = _judge("wall_distance", WallDistance("go", min_mm=150.0, settle_s=0.0), record)
+    verdict = _judge(
+        WallDistance(min_mm=150.0, selection=Selection(state="go", settle_s=0.0)), record
+    )
     assert verdict.passed
 
 
 # ------------------------------------------------------------------------------ turns
 
 
-def _spin(headings: list[float], dt_s: float = 0.1) -> list[tuple[float, float, float, float]]:
-    """Turning in place at the origin through ``headings``, one sample every ``dt_s``."""
-    return [(round(i * dt_s, 3), 0.0, 0.0, h % 360.0) for i, h in enumerate(headings)]
+def _spin(
+    headings: list[float], dt_s: float = 0.1, creep_mm: float = 50.0
+) -> list[tuple[float, float, float, float]]:
+    """Turning on the spot through ``headings``, one sample every ``dt_s``; between samples
+    with the same heading the robot creeps ``creep_mm`` east, so turns a pause apart are
+    driven apart too."""
+    path = []
+    x = 0.0
+    for i, h in enumerate(headings):
+        if i and h == headings[i - 1]:
+            x += creep_mm
+        path.append((round(i * dt_s, 3), x, 0.0, h % 360.0))
+    return path
 
 
 def test_a_10_degree_turn_is_a_turn_but_9_5_degrees_is_a_wobble() -> None:
@@ -299,10 +336,23 @@ def test_turning_at_3_deg_s_is_turning_but_slower_is_drifting() -> None:
     assert find_turns(slower) == []
 
 
-def test_a_pause_of_0_2_s_splits_a_turn_in_two() -> None:
+def test_a_pause_of_0_2_s_with_travel_splits_a_turn_in_two() -> None:
     half = [9.0 * i for i in range(6)]  # 0 to 45 in 0.5 s
     paused = _spin([*half, 45.0, 45.0, *(45.0 + h for h in half[1:]), 90.0, 90.0])
     assert [(t.start_s, t.angle_deg) for t in find_turns(paused)] == [(0.0, 45.0), (0.7, 45.0)]
+    # Without the travel, the same pause leaves one turn.
+    still = _spin([*half, 45.0, 45.0, *(45.0 + h for h in half[1:]), 90.0, 90.0], creep_mm=0.0)
+    assert [(t.start_s, t.angle_deg) for t in find_turns(still)] == [(0.0, 90.0)]
+
+
+@pytest.mark.parametrize(("travel_mm", "turns"), [(19.9, [90.0]), (20.0, [45.0, 45.0])])
+def test_turns_the_same_way_less_than_2_cm_apart_are_one_turn(
+    travel_mm: float, turns: list[float]
+) -> None:
+    half = [9.0 * i for i in range(6)]  # 0 to 45 in 0.5 s
+    headings = [*half, 45.0, 45.0, 45.0, *(45.0 + h for h in half[1:]), 90.0, 90.0]
+    path = _spin(headings, creep_mm=travel_mm / 3)  # three creeps between the turns
+    assert [t.angle_deg for t in find_turns(path)] == turns
 
 
 def _left_turns(n: int) -> list[tuple[float, float, float, float]]:
@@ -315,8 +365,8 @@ def _left_turns(n: int) -> list[tuple[float, float, float, float]]:
 
 def test_a_total_to_the_left_is_judged_with_its_direction() -> None:
     record = _record(_left_turns(4))
-    assert _judge("turns", Turns(direction="left", total_deg=360.0), record).passed
-    half = _judge("turns", Turns(direction="left", total_deg=180.0), record)
+    assert _judge(Turns(direction="left", total_deg=360.0), record).passed
+    half = _judge(Turns(direction="left", total_deg=180.0), record)
     assert not half.passed
     assert half.detail.startswith("turned 360° left in all, expected 180° left ± 20°")
     assert half.margin == "failed by 160.0°"
@@ -324,7 +374,7 @@ def test_a_total_to_the_left_is_judged_with_its_direction() -> None:
 
 def test_a_total_passes_up_to_its_tolerance_with_its_share_as_the_margin() -> None:
     record = _record(_left_turns(4))
-    edge = _judge("turns", Turns(total_deg=340.0), record)
+    edge = _judge(Turns(total_deg=340.0), record)
     assert edge.passed
     assert (edge.margin_value, edge.margin_unit, edge.relative_margin) == (0.0, "deg", 0.0)
     assert edge.detail == (
@@ -332,12 +382,12 @@ def test_a_total_passes_up_to_its_tolerance_with_its_share_as_the_margin() -> No
         " 360° left in all"
     )
     assert edge.first_violation_s is None
-    room = _judge("turns", Turns(total_deg=350.0), record)
+    room = _judge(Turns(total_deg=350.0), record)
     assert room.relative_margin == pytest.approx(10.0 / 20.0)
 
 
 def test_too_few_turns_fail_by_the_turns_missing() -> None:
-    few = _judge("turns", Turns(count=6), _record(_left_turns(4)))
+    few = _judge(Turns(count=6), _record(_left_turns(4)))
     assert (few.passed, few.margin, few.margin_value, few.margin_unit) == (
         False,
         "failed by 2 turns",
@@ -348,11 +398,11 @@ def test_too_few_turns_fail_by_the_turns_missing() -> None:
 
 
 def test_a_long_list_of_turns_shows_the_first_six() -> None:
-    verdict = _judge("turns", Turns(count=7), _record(_left_turns(7)))
+    verdict = _judge(Turns(count=7), _record(_left_turns(7)))
     assert verdict.passed
     assert verdict.detail.startswith("7 turns (90° left at 0.0 s, ")
     assert verdict.detail.endswith("90° left at 10.0 s ...), 630° left in all")
-    six = _judge("turns", Turns(count=6), _record(_left_turns(6)))
+    six = _judge(Turns(count=6), _record(_left_turns(6)))
     assert "90° left at 10.0 s), 540° left in all" in six.detail
 
 
@@ -373,7 +423,7 @@ YARD = World(
 def test_never_enter_names_the_first_region_entered_and_the_deepest_point() -> None:
     # east along y = 500 from x = 0 at 100 mm/s: into the pit (x > 500) after 5 s
     path = [(round(i * 0.1, 3), i * 10.0, 500.0, 90.0) for i in range(61)]
-    verdict = _judge("never_enter", ("pond", "pit"), _record(path, world=YARD))
+    verdict = _judge(NeverEnter(("pond", "pit")), _record(path, world=YARD))
     assert verdict == Verdict(
         "never_enter",
         False,
@@ -386,7 +436,7 @@ def test_never_enter_names_the_first_region_entered_and_the_deepest_point() -> N
 
 
 def test_never_enter_passes_by_the_closest_approach_to_any_of_its_regions() -> None:
-    verdict = _judge("never_enter", ("pit", "pond"), _record(_north(3.0), world=YARD))
+    verdict = _judge(NeverEnter(("pit", "pond")), _record(_north(3.0), world=YARD))
     # x = 0 passes 30 cm from the pond's rim (centre 40 cm west, radius 10 cm)
     assert verdict == Verdict(
         "never_enter",
@@ -402,7 +452,7 @@ def test_never_enter_passes_by_the_closest_approach_to_any_of_its_regions() -> N
 def test_no_collisions_names_the_first_hit_and_counts_them_all() -> None:
     hits = (Collision(2.5, 200.0, 250.0, "left"), Collision(4.0, 210.0, 400.0, "right"))
     record = replace(_record(_north(5.0)), collisions=hits)
-    assert _judge("no_collisions", True, record) == Verdict(
+    assert _judge(NoCollisions(), record) == Verdict(
         "no_collisions",
         False,
         "failed by 2 collisions",
@@ -416,7 +466,7 @@ def test_no_collisions_names_the_first_hit_and_counts_them_all() -> None:
 def test_no_collisions_passes_by_the_closest_the_body_came_to_a_wall() -> None:
     # the body (radius 100 mm) drifting east from x = 0 to x = 150, the wall at x = 300
     path = [(round(i * 0.1, 3), i * 5.0, i * 10.0, 0.0) for i in range(31)]
-    assert _judge("no_collisions", True, _record(path, world=YARD)) == Verdict(
+    assert _judge(NoCollisions(), _record(path, world=YARD)) == Verdict(
         "no_collisions",
         True,
         "passed by 5.0 cm",
@@ -429,14 +479,14 @@ def test_no_collisions_passes_by_the_closest_the_body_came_to_a_wall() -> None:
 
 def test_no_collisions_without_walls_passes_with_nothing_to_measure() -> None:
     record = replace(_record(_north(3.0)), world=None)
-    assert _judge("no_collisions", True, record) == Verdict(
+    assert _judge(NoCollisions(), record) == Verdict(
         "no_collisions", True, "", None, "no collisions"
     )
 
 
 def test_a_record_without_a_path_never_moved_and_so_never_entered() -> None:
     record = replace(_record(_north(1.0), world=YARD), path=())
-    assert _judge("never_enter", ("pit",), record) == Verdict(
+    assert _judge(NeverEnter(("pit",)), record) == Verdict(
         "never_enter", True, "", None, "the robot never moved"
     )
 
@@ -444,20 +494,24 @@ def test_a_record_without_a_path_never_moved_and_so_never_entered() -> None:
 @pytest.mark.parametrize(("top_mm", "passed"), [(220.0, True), (220.5, True), (219.5, False)])
 def test_the_edge_of_a_wall_band_is_inside_it(top_mm: float, passed: bool) -> None:
     record = _record(_north(3.0), world=CORRIDOR_SIDE)  # 220 mm on the right
-    verdict = _judge("wall_distance", WallDistance("go", max_mm=top_mm, settle_s=0.0), record)
+    verdict = _judge(
+        WallDistance(max_mm=top_mm, selection=Selection(state="go", settle_s=0.0)), record
+    )
     assert verdict.passed is passed
     assert (verdict.margin_value, verdict.margin_unit) == (top_mm - 220.0, "mm")
 
 
 def test_an_at_least_0_band_has_no_share_to_give() -> None:
     record = _record(_north(3.0), world=CORRIDOR_SIDE)
-    verdict = _judge("wall_distance", WallDistance("go", min_mm=0.0, settle_s=0.0), record)
+    verdict = _judge(
+        WallDistance(min_mm=0.0, selection=Selection(state="go", settle_s=0.0)), record
+    )
     assert verdict.passed
     assert verdict.relative_margin is None
 
 
 def test_a_wall_distance_in_a_state_never_entered_fails_with_no_margin() -> None:
     record = _record(_north(3.0), world=CORRIDOR_SIDE)
-    assert _judge("wall_distance", WallDistance("follow", min_mm=150.0), record) == Verdict(
-        "wall_distance", False, "", None, "the mission never entered state 'follow'"
-    )
+    assert _judge(
+        WallDistance(min_mm=150.0, selection=Selection(state="follow")), record
+    ) == Verdict("wall_distance", False, "", None, "the mission never entered state 'follow'")

@@ -16,7 +16,11 @@ from grading.test_expectations import SQUARE, _north, _record, _square, _stopped
 from roboscript.grading.expectations import (
     Expectation,
     FinalPose,
+    MaxDuration,
+    Outcome,
     PathVisits,
+    RegionsInOrder,
+    Rule,
     RunTargets,
     Turns,
     WallAhead,
@@ -31,8 +35,15 @@ Path = list[tuple[float, float, float, float]]
 
 
 def _spin(headings: list[float]) -> Path:
-    """Turning in place at the origin through ``headings``, one sample every 0.1 s."""
-    return [(round(i * 0.1, 3), 0.0, 0.0, h % 360.0) for i, h in enumerate(headings)]
+    """Turning on the spot through ``headings``, one sample every 0.1 s; between samples with
+    the same heading the robot creeps 5 cm east, so turns a pause apart are driven apart."""
+    path = []
+    x = 0.0
+    for i, h in enumerate(headings):
+        if i and h == headings[i - 1]:
+            x += 50.0
+        path.append((round(i * 0.1, 3), x, 0.0, h % 360.0))
+    return path
 
 
 def _verdict(
@@ -48,8 +59,8 @@ def _verdict(
     return Verdict(name, passed, margin, first_violation_s, detail, value, unit, relative)
 
 
-def _judge(kind: str, params: object, record: RunRecord) -> Verdict:
-    return evaluate(Expectation(kind, params), record)
+def _judge(rule: Rule, record: RunRecord) -> Verdict:
+    return evaluate(Expectation(rule), record)
 
 
 def _same(got: Verdict, wanted: Verdict) -> None:
@@ -276,12 +287,12 @@ DRIFT += [90.0 - 0.2 * i for i in range(1, 1001)] + [-110.0] * 3
     ],
 )
 def test_turns_verdicts(rule: Turns, record: RunRecord, wanted: Verdict) -> None:
-    _same(_judge("turns", rule, record), wanted)
+    _same(_judge(rule, record), wanted)
 
 
 def test_a_drift_of_under_a_degree_to_the_left_is_to_the_left() -> None:
     record = _record(_spin([0.0, 0.0, 0.0, -0.1, -0.2, -0.3, -0.4, -0.5]))
-    verdict = _judge("turns", Turns(total_deg=10.0), record)
+    verdict = _judge(Turns(total_deg=10.0), record)
     assert verdict.detail == "0 turns, 0° left in all"
 
 
@@ -397,7 +408,7 @@ WANTED = "measured from the front of the robot straight ahead; wanted"
     ],
 )
 def test_wall_ahead_verdicts(rule: WallAhead, record: RunRecord, wanted: Verdict) -> None:
-    _same(_judge("wall_ahead_at_end", rule, record), wanted)
+    _same(_judge(rule, record), wanted)
 
 
 # ----------------------------------------------------------------------- regions in order
@@ -459,7 +470,7 @@ def test_wall_ahead_verdicts(rule: WallAhead, record: RunRecord, wanted: Verdict
 def test_regions_in_order_verdicts(
     names: tuple[str, ...], record: RunRecord, wanted: Verdict
 ) -> None:
-    _same(_judge("regions_in_order", names, record), wanted)
+    _same(_judge(RegionsInOrder(names), record), wanted)
 
 
 # ---------------------------------------------------------------------------- path visits
@@ -574,12 +585,12 @@ AHEAD = [Waypoint(500.0, 0.0), Waypoint(1500.0, 0.0), Waypoint(2000.0, 0.0)]
     ],
 )
 def test_path_visits_verdicts(rule: PathVisits, record: RunRecord, wanted: Verdict) -> None:
-    _same(_judge("path_visits", rule, record), wanted)
+    _same(_judge(rule, record), wanted)
 
 
 def test_the_farthest_waypoint_is_named_when_it_is_not_the_last() -> None:
     waypoints = (Waypoint(300.0, 30.0), Waypoint(600.0, 10.0))
-    verdict = _judge("path_visits", PathVisits(waypoints, 50.0), _record(_north(10.0)))
+    verdict = _judge(PathVisits(waypoints, 50.0), _record(_north(10.0)))
     assert verdict.margin == "passed by 2.0 cm"
     assert "the farthest off was waypoint 1 (30 cm forward, 3 cm right), 3.0 cm away" in (
         verdict.detail
@@ -592,7 +603,7 @@ def test_a_waypoint_passed_twice_is_judged_on_the_visit_that_reached_it() -> Non
     out = [(round(i * 0.1, 3), 0.0, i * 10.0, 0.0) for i in range(101)]
     back = [(round(10.0 + i * 0.1, 3), 20.0, 1000.0 - i * 10.0, 180.0) for i in range(1, 101)]
     rule = PathVisits((Waypoint(1000.0, 0.0), Waypoint(500.0, 0.0)), 40.0)
-    verdict = _judge("path_visits", rule, _record(out + back))
+    verdict = _judge(rule, _record(out + back))
     assert verdict.passed
     assert verdict.margin == "passed by 2.0 cm"
     assert verdict.detail == (
@@ -629,7 +640,7 @@ def test_a_waypoint_passed_twice_is_judged_on_the_visit_that_reached_it() -> Non
 def test_path_visits_judges_the_visit_that_reached_the_waypoint(
     rule: PathVisits, path: Path, detail: str
 ) -> None:
-    assert _judge("path_visits", rule, _record(path)).detail == detail
+    assert _judge(rule, _record(path)).detail == detail
 
 
 @pytest.mark.parametrize(
@@ -652,7 +663,7 @@ def test_path_visits_judges_the_visit_that_reached_the_waypoint(
     ],
 )
 def test_a_single_miss_says_nothing_of_other_waypoints(rule: PathVisits, detail: str) -> None:
-    assert _judge("path_visits", rule, _record(_north(10.0))).detail == detail
+    assert _judge(rule, _record(_north(10.0))).detail == detail
 
 
 @pytest.mark.parametrize(
@@ -687,7 +698,7 @@ def test_a_single_miss_says_nothing_of_other_waypoints(rule: PathVisits, detail:
     ],
 )
 def test_a_total_never_reached_says_which_way_the_robot_went(path: Path, wanted: Verdict) -> None:
-    _same(_judge("turns", Turns(total_deg=90.0), _record(path)), wanted)
+    _same(_judge(Turns(total_deg=90.0), _record(path)), wanted)
 
 
 def test_a_turn_angle_is_kept_to_a_tenth_of_a_degree() -> None:
@@ -707,26 +718,26 @@ def test_two_samples_at_the_same_time_do_not_break_the_turns() -> None:
 def test_an_outcome_as_wanted_has_no_moment_of_failure() -> None:
     record = _record(_north(2.0), outcome="success", final_state="done")
     wanted = _verdict("outcome", True, "", None, "the mission ended in success in state 'done'")
-    assert _judge("outcome", "success", record) == wanted
+    assert _judge(Outcome("success"), record) == wanted
 
 
 def test_the_outcome_names_the_final_state_when_there_is_no_reason() -> None:
     record = _record(_north(2.0), outcome="failure", final_state="stuck")
     wanted = _verdict("outcome", False, "", 2.0, "the mission ended in failure in state 'stuck'")
-    assert _judge("outcome", "success", record) == wanted
+    assert _judge(Outcome("success"), record) == wanted
 
 
 @pytest.mark.parametrize(
     ("limit_s", "margin"), [(6.0, "passed by 1.0 s"), (5.5, "passed by 0.50 s")]
 )
 def test_a_margin_under_a_second_has_two_decimals(limit_s: float, margin: str) -> None:
-    assert _judge("max_duration", limit_s, _record(_north(5.0))).margin == margin
+    assert _judge(MaxDuration(limit_s), _record(_north(5.0))).margin == margin
 
 
 def test_regions_need_a_world() -> None:
     record = replace(_record(_north(1.0)), world=None)
     with pytest.raises(ValueError, match=r"^this record has no world to find its regions in$"):
-        _judge("regions_in_order", ("a",), record)
+        _judge(RegionsInOrder(("a",)), record)
 
 
 # ----------------------------------------------------------------------- per-run targets
@@ -739,12 +750,14 @@ def test_a_record_gets_the_targets_of_the_run_whose_start_is_nearest() -> None:
         (("room", 2, (0.0, 300.0, 0.0)), WallAhead(300.0)),
         (("room", 2, (105.0, 0.0, 10.0)), WallAhead(400.0)),
     )
-    expectation = Expectation("wall_ahead_at_end", RunTargets(WallAhead(1.0), runs))
+    expectation = Expectation(WallAhead(1.0), targets=RunTargets(WallAhead(1.0), runs))
     base = replace(_stopped(0.0, 500.0, 90.0), seed=2)
     chosen = []
     for start in ((290.0, 5.0, 0.0), (5.0, 290.0, 0.0), (0.0, 0.0, 10.0), (0.0, 0.0, 0.0)):
         record = replace(base, path=((0.0, *start), *base.path[1:]))
-        chosen.append(expectation.for_record(record).params.distance_mm)
+        rule = expectation.for_record(record)
+        assert isinstance(rule, WallAhead)
+        chosen.append(rule.distance_mm)
     # (0, 0, 10°) is 10° from the first start (100 at 10 mm a degree), 105 mm from the last
     assert chosen == [200.0, 300.0, 100.0, 100.0]
 
@@ -786,7 +799,7 @@ SLANT = [(0.0, 0.0, 0.0, 0.0)] + [(0.5 * i, 300.0 * i, 400.0 * i, 36.87) for i i
     ],
 )
 def test_waypoints_are_met_between_samples(rule: PathVisits, path: Path, detail: str) -> None:
-    assert _judge("path_visits", rule, _record(path)).detail == detail
+    assert _judge(rule, _record(path)).detail == detail
 
 
 # --------------------------------------------------------------------- final pose targets
@@ -809,7 +822,7 @@ def test_a_target_relative_to_a_slanted_start_is_turned_with_it() -> None:
         "world",
     )
     assert final_pose_target(replace(target, heading_deg=None), record).heading_deg is None
-    verdict = _judge("final_pose_within", target, record)
+    verdict = _judge(target, record)
     assert verdict.detail == (
         "ended at (237, 103) mm, 0.0 cm from the target (237, 103) mm (allowed 5.0 cm);"
         " heading 41°, 1.0° off (allowed 15.0°)"

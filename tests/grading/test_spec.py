@@ -8,7 +8,13 @@ import pytest
 from helpers import MISSIONS
 
 from roboscript.errors import InputError, SpecError
-from roboscript.grading.expectations import FinalPose, Tones, WallDistance
+from roboscript.grading.expectations import (
+    KINDS,
+    FinalPose,
+    Selection,
+    Tones,
+    WallDistance,
+)
 from roboscript.grading.spec import (
     DEFAULT_MAX_TIME_S,
     DEFAULT_WALL_TIME_LIMIT_S,
@@ -51,8 +57,8 @@ def test_the_interfaces_example_reads_with_units(tmp_path: Path) -> None:
     assert spec.wall_time_limit_s == DEFAULT_WALL_TIME_LIMIT_S
     kinds = [e.kind for e in spec.expectations]
     assert kinds == ["outcome", "final_pose_within", "tones", "no_collisions"]
-    assert spec.expectations[1].params == FinalPose(0.0, 0.0, 80.0)
-    assert spec.expectations[2].params == Tones(count=4)
+    assert spec.expectations[1].rule == FinalPose(0.0, 0.0, 80.0)
+    assert spec.expectations[2].rule == Tones(count=4)
     assert spec.expectations[1].location is not None
     assert (spec.expectations[1].location.line, spec.expectations[1].location.col) == (10, 5)
 
@@ -80,7 +86,9 @@ def test_weights_settle_and_world_files_next_to_the_spec(tmp_path: Path) -> None
     assert spec.variants[0].world == str((tmp_path / "hall.yaml").resolve())
     assert spec.wall_time_limit_s == 5.0
     assert spec.expectations[0].weight == 3.0
-    assert spec.expectations[1].params == WallDistance("follow", "left", 150.0, 250.0, 2.0)
+    assert spec.expectations[1].rule == WallDistance(
+        side="left", min_mm=150.0, max_mm=250.0, selection=Selection(state="follow", settle_s=2.0)
+    )
 
 
 @pytest.mark.parametrize(
@@ -194,10 +202,9 @@ GUIDE = MISSIONS.parent / "docs" / "teachers" / "grading.md"
 
 
 def test_the_guide_documents_every_expectation() -> None:
-    from roboscript.grading.expectations import EXPECTATION_KINDS
 
     text = GUIDE.read_text(encoding="utf-8")
-    for kind in EXPECTATION_KINDS:
+    for kind in KINDS:
         assert f"| `{kind}" in text, f"docs/teachers/grading.md lacks a row for {kind}"
 
 

@@ -1,0 +1,115 @@
+"""``check: file.py:function``: a teacher's own Python function judges the run."""
+
+from __future__ import annotations
+
+import ast
+import importlib.util
+import sys
+import traceback
+import zlib
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Self
+
+from roboscript.errors import did_you_mean
+from roboscript.grading.expectations.base import Rule, SpecContext
+from roboscript.grading.record import RunRecord, Verdict
+from roboscript.inputs.fields import FieldReader
+from roboscript.inputs.source import Mark
+
+__all__ = ["CheckFunction"]
+
+
+@dataclass(frozen=True)
+class CheckFunction(Rule):
+    """``check``: a teacher's Python function, by file (``path``) and name (``function``),
+    as ``written`` in the spec. It is read (not run) when the spec is, and imported and
+    called in the grading worker, never in the process that reads the spec."""
+
+    kind = "check"
+
+    path: str
+    function: str
+    written: str
+
+    def describe(self) -> str:
+        return f"check: {self.function}"
+
+    @classmethod
+    def parse(cls, reader: FieldReader, value: object, mark: Mark, ctx: SpecContext) -> Self:
+        if not isinstance(value, str) or ":" not in value:
+            raise reader.fail(
+                "check is written 'file.py:function' (a Python file beside the spec)", mark
+            )
+        file_part, _, function = value.rpartition(":")
+        if not function.isidentifier():
+            raise reader.fail(f"'{function}' is not a Python function name", mark)
+        path = (ctx.folder / file_part).resolve()
+        if path.suffix != ".py" or not path.is_file():
+            raise reader.fail(f"no Python file '{file_part}' next to the spec", mark)
+        try:
+            tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+        except (SyntaxError, UnicodeDecodeError) as exc:
+            raise reader.fail(f"cannot read {file_part}: {exc}", mark) from None
+        defined = [n.name for n in tree.body if isinstance(n, ast.FunctionDef)]
+        if function not in defined:
+            raise reader.fail(
+                f"{file_part} has no function '{function}'", mark, did_you_mean(function, defined)
+            )
+        return cls(str(path), function, value)
+
+    def judge(self, record: RunRecord) -> Verdict:
+        name = self.describe()
+        try:
+            function = _load_check(self)
+            answer = function(record)
+        except Exception as exc:  # noqa: BLE001 - a fault of the teacher's code fails this check
+            where = traceback.extract_tb(exc.__traceback__)[-1]
+            return Verdict(
+                name,
+                False,
+                "",
+                None,
+                f"the teacher's check raised {type(exc).__name__}: {exc}"
+                f" ({Path(where.filename).name}:{where.lineno})",
+            )
+        if isinstance(answer, Verdict):
+            return answer
+        if isinstance(answer, bool):
+            return Verdict(name, answer)
+        if (
+            isinstance(answer, tuple)
+            and len(answer) == 2
+            and isinstance(answer[0], bool)
+            and isinstance(answer[1], str)
+        ):
+            return Verdict(name, answer[0], "", None, answer[1])
+        return Verdict(
+            name,
+            False,
+            "",
+            None,
+            f"the teacher's check returned {type(answer).__name__}; it must return True/False,"
+            " (True/False, message) or a Verdict",
+        )
+
+
+def _load_check(ref: CheckFunction) -> Callable[[RunRecord], object]:
+    module_name = f"roboscript_teacher_check_{zlib.crc32(ref.path.encode()):08x}"
+    module = sys.modules.get(module_name)
+    if module is None:
+        spec = importlib.util.spec_from_file_location(module_name, ref.path)
+        if spec is None or spec.loader is None:
+            raise ImportError(f"cannot import {ref.path}")
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[module_name] = module
+        try:
+            spec.loader.exec_module(module)
+        except BaseException:
+            del sys.modules[module_name]
+            raise
+    function = getattr(module, ref.function)
+    if not callable(function):
+        raise TypeError(f"{ref.function} is not a function")
+    return function  # type: ignore[no-any-return]
