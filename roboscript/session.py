@@ -186,7 +186,7 @@ def run_session(
         device_errors=robot.driver.take_device_error,
         on_state=on_state,
         # The path (for --json and grading) starts where the mission starts.
-        on_start=(lambda now_s: sim.sample_path()) if sim is not None else None,
+        on_start=(lambda now_s: sim.start_mission()) if sim is not None else None,
         # in_region places the robot's odometry at the start in the world's map: the same
         # answer in-process and in a graded run, whose world is in the grader's process
         regions=world_map.regions if world_map is not None else None,

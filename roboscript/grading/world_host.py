@@ -322,7 +322,7 @@ class _WorldSession:
             self._check_still()
             self.claims.started_s = self.now_s
             self.limit_s = self.now_s + self.spec.max_time_s + _TIME_SLACK_S
-            sim.sample_path()
+            sim.start_mission()
             self.replay.start(self.now_s)
         elif kind == Kind.STATE:
             self._state(payload)

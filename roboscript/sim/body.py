@@ -195,6 +195,11 @@ class SimLog:
         """Time (s) each collision began."""
         return [contact.start_s for contact in self.contacts]
 
+    def forget_events(self) -> None:
+        """Start the tones and collisions afresh (the mission starts now)."""
+        self.tones = FirstOf(MAX_TONES)
+        self.contacts = FirstOf(MAX_CONTACTS)
+
 
 class Body:
     """The state and physics of one simulated robot in a world.

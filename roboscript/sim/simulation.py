@@ -122,13 +122,23 @@ class Simulation:
         return [(round(t - start_s, 3), x, y, h) for t, x, y, h in self.log.path if t >= start]
 
     def tones_since(self, start_s: float) -> list[tuple[float, float, float]]:
-        """Every tone heard: ``(t s from start_s, Hz, duration s)``."""
-        return [(round(t - start_s, 3), f, round(d, 3)) for t, f, d in self.log.tones]
+        """Every tone started from ``start_s`` on: ``(t s from start_s, Hz, duration s)``."""
+        start = start_s - 1e-9
+        return [
+            (round(t - start_s, 3), f, round(d, 3)) for t, f, d in self.log.tones if t >= start
+        ]
 
     def final_pose(self) -> tuple[float, float, float]:
         """The body's pose now: ``(x mm, y mm, heading deg)``, rounded; heading in [-180, 180)."""
         body = self.body
         return round(body.x_mm, 1), round(body.y_mm, 1), round(wrap_deg(body.heading_deg), 1)
+
+    def start_mission(self) -> None:
+        """The mission starts now: the path starts here, and the tones and collisions logged
+        before are forgotten, since only what the robot does after its start counts (a mission
+        cannot earn a beep, or fill the log, before it has started)."""
+        self.sample_path()
+        self.log.forget_events()
 
     def sample_path(self) -> None:
         """Record a path sample now (the grader and ``--json`` start the path here).

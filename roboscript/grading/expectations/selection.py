@@ -141,6 +141,11 @@ class Selection:
             return (
                 f"the robot travelled {cm(_travelled(record)[-1])} in all, never {cm(self.from_mm)}"
             )
+        if self.state is None and record.duration_s < (self.from_s or 0.0) + self.settle_s:
+            return (
+                f"the run ended at {at(record.duration_s)}, before the {self.settle_s:g} s it is"
+                " given to settle were over"
+            )
         if self.regions and not _inside(record, self.regions):
             names = " or ".join(f"'{name}'" for name in self.regions)
             return f"the robot never entered {names}"

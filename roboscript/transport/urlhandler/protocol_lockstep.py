@@ -63,7 +63,7 @@ class RemoteWorld:
         if self._unanswered:
             self._exchange(Kind.SYNC)
 
-    def sample_path(self) -> None:
+    def start_mission(self) -> None:
         """The mission starts now (the world starts its mission clock)."""
         self._send(Kind.START)
 
