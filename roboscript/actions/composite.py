@@ -61,6 +61,8 @@ class Parallel(Action):
             raise ValueError("parallel needs at least one action")
         self.child_requires = _needs(factories)
         """Capabilities the children need (the class itself needs none)."""
+        self.actions = tuple(factories)
+        """The children as given (a Python mission's compiler reads them)."""
         self.factories = [_factory(item) for item in factories]
         self.mode = mode
         self._children: list[Action] = []
@@ -128,6 +130,8 @@ class Repeat(Action):
             raise ValueError("repeat needs 'times' of at least 1")
         self.child_requires = _needs([factory])
         """Capabilities the repeated action needs."""
+        self.action = factory
+        """The repeated action as given (a Python mission's compiler reads it)."""
         self.factory = _factory(factory)
         self.times = times
         self.count = 0

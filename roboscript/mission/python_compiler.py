@@ -32,6 +32,7 @@ from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.actions.base import Action
+from roboscript.actions.composite import Parallel, Repeat
 from roboscript.errors import InputError, LinkError, did_you_mean
 from roboscript.inputs.source import Location
 from roboscript.mission.builder import MissionBuilder
@@ -41,13 +42,25 @@ from roboscript.mission.python_source import PythonSource, item, keyword
 from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec, TransitionSpec
 from roboscript.mission.student_code import StudentCodeError, shown_path
 
-__all__ = ["MethodGuard", "compile_mission", "mission_states"]
+__all__ = ["MethodGuard", "compile_mission", "mission_states", "nested_missions"]
 
 # The capability each value a guard method can read needs: {"range": "range", ...}.
 _SENSOR_CAPABILITY: dict[str, str] = {
     name.split(".")[0]: needs for name, needs in guard_names().items() if needs is not None
 }
 _KEYWORDS = {"done": "on_done", "failed": "on_failed", "timeout": "on_timeout"}
+
+
+def nested_missions(action: object) -> Iterator[type[Mission]]:
+    """The Mission classes a state's action runs as nested machines: the action itself, or
+    one inside a ``Repeat`` or ``Parallel`` (``Repeat(Side, times=4)``)."""
+    if isinstance(action, type) and issubclass(action, Mission):
+        yield action
+    elif isinstance(action, Repeat):
+        yield from nested_missions(action.action)
+    elif isinstance(action, Parallel):
+        for child in action.actions:
+            yield from nested_missions(child)
 
 
 def mission_states(cls: type[Mission]) -> dict[str, StateDef]:
@@ -382,6 +395,8 @@ class _Compiler:
                 f"write {action.__name__}(...)",
             )
             return None
+        if isinstance(action, Repeat | Parallel) and any(nested_missions(action)):
+            return self.composite(name, action, node, where)
         if not isinstance(action, Action):
             self.problem(
                 f"state '{name}' does {action!r}, which is not an action",
@@ -426,6 +441,26 @@ class _Compiler:
             instance=template,
             name=action_name,
         )
+
+    def composite(
+        self, name: str, action: Repeat | Parallel, node: ast.expr | None, where: Location
+    ) -> ActionSpec | None:
+        """A ``Repeat`` or ``Parallel`` that runs another Mission class: built from its
+        children, as YAML's ``repeat:`` and ``parallel:`` are, so the inner mission is
+        compiled and checked like any nested one."""
+        if isinstance(action, Repeat):
+            given = self.action_node(node) or keyword(node, "factory")
+            child = self.action(name, action.action, given)
+            return None if child is None else self.build.repeat(action.times, child, where)
+        written = self.action_node(node) or keyword(node, "factories")
+        children = [
+            self.action(name, child, item(written, i, len(action.actions)))
+            for i, child in enumerate(action.actions)
+        ]
+        built = [child for child in children if child is not None]
+        if len(built) < len(children):
+            return None
+        return self.build.parallel(action.mode, built, where)
 
     def nested(self, name: str, cls: type[Mission], where: Location) -> ActionSpec | None:
         """A state whose action is another Mission class: its machine runs nested."""

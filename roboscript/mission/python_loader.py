@@ -14,7 +14,7 @@ from typing import Any
 from roboscript.errors import InputError, MissionError
 from roboscript.inputs.source import read_source
 from roboscript.mission.python_api import Mission
-from roboscript.mission.python_compiler import mission_states
+from roboscript.mission.python_compiler import mission_states, nested_missions
 from roboscript.mission.python_source import PythonSource
 from roboscript.mission.spec import MissionSpec
 from roboscript.mission.student_code import import_student_file
@@ -27,7 +27,8 @@ def find_mission_class(module: Any, path: str) -> type[Mission]:
 
     Base classes that another mission class of the file extends do not count, so a file may
     hold a template and the mission built on it; nor do missions that another one runs as a
-    nested state (``state(Inner, ...)``), so a file may hold a mission and its parts.
+    nested state (``state(Inner, ...)``, or inside one: ``state(Repeat(Inner, times=4))``), so
+    a file may hold a mission and its parts.
 
     Raises:
         MissionError: The file defines no mission class, or several.
@@ -41,7 +42,12 @@ def find_mission_class(module: Any, path: str) -> type[Mission]:
         and value.__module__ == module.__name__
     ]
     leaves = [c for c in classes if not any(o is not c and issubclass(o, c) for o in classes)]
-    nested = {id(d.action) for c in leaves for d in mission_states(c).values()}
+    nested = {
+        id(inner)
+        for c in leaves
+        for d in mission_states(c).values()
+        for inner in nested_missions(d.action)
+    }
     leaves = [c for c in leaves if id(c) not in nested] or leaves
     if not leaves:
         from roboscript.actions.base import Action

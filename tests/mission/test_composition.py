@@ -148,3 +148,58 @@ def test_a_mission_file_used_by_two_states_is_warned_about_once(
     assert result.returncode == 0, result.stderr
     warnings = [line for line in result.stderr.splitlines() if "warning:" in line]
     assert len(warnings) == 1 and "hop.yaml:3:10: warning" in warnings[0], result.stderr
+
+
+REPEATED_INNER = """\
+from roboscript import Drive, Mission, Parallel, PlayTone, Repeat, Rotate, state
+
+
+class Side(Mission):
+    go = state(Drive(distance_mm=200), initial=True, on_done="turn", on_failed="stuck")
+    turn = state(Rotate(angle_deg=90), on_done="done", on_failed="stuck")
+    done = state(final="success")
+    stuck = state(final="failure")
+
+
+class Square(Mission):
+    sides = state(Repeat(Side, times=4), initial=True, on_done="tune", on_failed="oops")
+    tune = state(
+        Parallel([Side, PlayTone(frequency_hz=660, duration_s=0.5)]),
+        on_done="home",
+        on_failed="oops",
+    )
+    home = state(final="success")
+    oops = state(final="failure")
+"""
+
+
+def test_a_python_repeat_or_parallel_of_an_inner_mission_runs_it_nested(
+    write_mission: Callable[..., Path],
+) -> None:
+    path = write_mission(REPEATED_INNER, "square.py")
+    checked = run_cli("check", str(path))
+    assert checked.returncode == 0, checked.stdout + checked.stderr
+    assert "checked 1 file: 0 with errors" in checked.stderr
+    summary = _run(path)
+    assert summary["outcome"] == "success"
+    names = [name for _, name in summary["states"]]  # type: ignore[attr-defined]
+    assert names == [
+        "sides",
+        *(["sides.go", "sides.turn", "sides.done"] * 4),
+        "tune",
+        "tune.go",
+        "tune.turn",
+        "tune.done",
+        "home",
+    ]
+    pose = summary["sim"]["final_pose"]  # type: ignore[index]
+    assert abs(pose["heading_deg"] - 90.0) < 5.0  # five right-angle turns
+
+
+def test_a_mistake_in_a_repeated_inner_mission_is_found_where_it_is_written(
+    write_mission: Callable[..., Path],
+) -> None:
+    path = write_mission(REPEATED_INNER.replace('on_done="done"', 'on_done="dne"'), "square.py")
+    checked = run_cli("check", str(path))
+    assert checked.returncode == 2
+    assert f"{path}:6:48: error: there is no state 'dne' (did you mean 'done'?)" in checked.stderr
