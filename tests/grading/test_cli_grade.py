@@ -45,7 +45,7 @@ def test_the_table_shows_each_student_with_runs_score_and_worst_margin(
     amy = next(line for line in lines if line.startswith("amy"))
     bo = next(line for line in lines if line.startswith("bo "))
     assert "✓ 3/3" in amy and "100%" in amy
-    assert "✗ 0/3" in bo and "43%" in bo and "final_pose_within failed by" in bo
+    assert "✗ 0/3" in bo and " 0%" in bo and "path_visits failed by" in bo  # required
     for line in (amy, bo):  # three runs, a point each: the points are 3 × the score
         score, points = line.split()[4:6]
         earned, possible = points.split("/")
@@ -97,7 +97,7 @@ def test_junit_is_a_suite_per_test_and_a_case_per_student_and_run(
     failure = cases[3].find("failure")
     assert failure is not None
     assert failure.get("type") == "failed"
-    assert (failure.get("message") or "").startswith("final_pose_within failed by")
+    assert (failure.get("message") or "").startswith("path_visits failed by")
     assert "FAIL tones failed by 1 tone" in (failure.text or "")
     for case in cases:
         assert float(case.get("time") or "x") >= 0.0
@@ -113,7 +113,7 @@ def test_csv_is_a_gradebook_row_per_student(graded: dict[str, object]) -> None:
     ]  # fmt: skip
     assert [row[:4] for row in body] == [
         ["amy", "100.0", "100.0", "yes"],
-        ["bo", "42.9", "42.9", "no"],
+        ["bo", "0.0", "0.0", "no"],
     ]
     for row in body:  # three runs, a point each: the points are 3 × the score
         assert float(row[4]) == pytest.approx(3 * float(row[1]) / 100, abs=0.01)

@@ -132,7 +132,8 @@ states:
   finished:
     final: success
 """,
-        {"path_visits"},
+        # Four rotations on the spot with no travel between them are one 360° turn.
+        {"path_visits", "turns"},
     ),
 }
 
