@@ -124,9 +124,7 @@ class Simulation:
     def tones_since(self, start_s: float) -> list[tuple[float, float, float]]:
         """Every tone started from ``start_s`` on: ``(t s from start_s, Hz, duration s)``."""
         start = start_s - 1e-9
-        return [
-            (round(t - start_s, 3), f, round(d, 3)) for t, f, d in self.log.tones if t >= start
-        ]
+        return [(round(t - start_s, 3), f, round(d, 3)) for t, f, d in self.log.tones if t >= start]
 
     def final_pose(self) -> tuple[float, float, float]:
         """The body's pose now: ``(x mm, y mm, heading deg)``, rounded; heading in [-180, 180)."""
