@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from roboscript.grading.record import Verdict
-from roboscript.grading.run import grade_run, run_score
+from roboscript.grading.run import grade_run, run_message, run_score
 from roboscript.grading.spec import TestSpec, load_test_spec
 
 SPEC = """\
@@ -113,3 +113,31 @@ def test_run_score_weighs_the_verdicts() -> None:
     verdicts = (Verdict("a", True, weight=3), Verdict("b", False, weight=1))
     assert run_score(verdicts) == 0.75
     assert run_score(()) == 0.0
+
+
+def test_a_failed_required_verdict_scores_the_run_0() -> None:
+    held = Verdict("outcome", True, weight=5)
+    assert run_score((held, Verdict("path_visits", False, required=True))) == 0.0
+    assert run_score((held, Verdict("path_visits", True, required=True))) == 1.0
+    assert run_score((held, Verdict("tones", False))) == round(5 / 6, 4)
+
+
+def test_the_message_names_the_failed_required_verdict_first() -> None:
+    verdicts = (
+        Verdict("tones", False, "failed by 1 tone"),
+        Verdict("path_visits", False, "failed by 4.0 cm", required=True),
+    )
+    assert run_message(verdicts) == (
+        "path_visits failed by 4.0 cm (required: without it the run scores 0)"
+        " (and 1 more check failed)"
+    )
+    assert run_message(verdicts[:1]) == "tones failed by 1 tone"
+
+
+def test_a_verdict_says_it_is_required_in_its_dictionary_only_when_it_is() -> None:
+    plain = Verdict("tones", True)
+    assert "required" not in plain.to_dict()
+    required = Verdict("path_visits", False, required=True)
+    assert required.to_dict()["required"] is True
+    assert Verdict.from_dict(required.to_dict()) == required
+    assert Verdict.from_dict(plain.to_dict()) == plain
