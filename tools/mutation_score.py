@@ -37,12 +37,8 @@ TESTS_FOR: dict[str, tuple[str, ...]] = {
     "roboscript/control": ("tests/control", "tests/actions/test_motion.py"),
     "roboscript/actions": ("tests/actions", "tests/mission/test_runner.py"),
     "roboscript/mission": ("tests/mission",),
-    "roboscript/grading/expectations.py": (
-        "tests/grading/test_expectations.py",
-        "tests/grading/test_expectations_thresholds.py",
-        "tests/grading/test_expectations_parsing.py",
-        "tests/grading/test_expectations_verdicts.py",
-        "tests/grading/test_expectations_readers.py",
+    "roboscript/grading/expectations": (
+        "tests/grading/expectations",
         "tests/grading/test_documented_defaults.py",
         "tests/grading/test_spec.py",
     ),
@@ -53,7 +49,7 @@ only those of them that reach the mutated function)."""
 DESELECTED: tuple[str, ...] = (
     # grades a mission in a worker process, which imports the mutated copy without mutmut's
     # trampoline state and crashes: mutmut's first, unmutated run then fails
-    "tests/grading/test_expectations.py::test_wall_ahead_and_run_targets_through_the_grader",
+    "tests/grading/expectations/test_reading.py::test_wall_ahead_and_run_targets_through_the_grader",
     # run `roboscript` in a child process from a temporary folder: mutmut's trampoline there
     # looks for its configuration in that folder while it records which tests reach what
     "tests/mission/test_behaviours.py::test_an_exception_in_a_behaviour_ends_the_mission_in_one_sentence",

@@ -1,6 +1,6 @@
 """Which stretches of a run ``wall_distance`` judges: chosen from the world's record.
 
-The records are hand-made (the helpers of ``grading/test_expectations.py``): a robot driving
+The records are hand-made (the helpers of ``runs.py``): a robot driving
 north at 100 mm/s along x = 0 in a room whose right wall is at x = 300 mm, so the right side
 sensor (80 mm right of the centre) reads 220 mm, inside a 15-25 cm band.
 """
@@ -10,7 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from grading.test_expectations import _north, _record
+from grading.expectations.runs import _north, _record
 
 from roboscript.grading.expectations import (
     Expectation,
