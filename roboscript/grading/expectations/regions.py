@@ -48,16 +48,21 @@ def world_regions(record: RunRecord) -> dict[str, Region]:
 
 
 @dataclass(frozen=True)
-class RegionsInOrder(Rule):
-    """``regions_in_order: [a, b]``: the robot's centre enters each region, in this order."""
-
-    kind = "regions_in_order"
+class _RegionRule(Rule):
+    """A kind whose value is the names of world regions (one name or a list)."""
 
     names: tuple[str, ...]
 
     @classmethod
     def parse(cls, reader: FieldReader, value: object, mark: Mark, ctx: SpecContext) -> Self:
         return cls(read_region_names(reader, value, mark, ctx, cls.kind))
+
+
+@dataclass(frozen=True)
+class RegionsInOrder(_RegionRule):
+    """``regions_in_order: [a, b]``: the robot's centre enters each region, in this order."""
+
+    kind = "regions_in_order"
 
     def judge(self, record: RunRecord) -> Verdict:
         regions = world_regions(record)
@@ -93,16 +98,10 @@ class RegionsInOrder(Rule):
 
 
 @dataclass(frozen=True)
-class NeverEnter(Rule):
+class NeverEnter(_RegionRule):
     """``never_enter: [pit]``: the robot's centre never enters any of these regions."""
 
     kind = "never_enter"
-
-    names: tuple[str, ...]
-
-    @classmethod
-    def parse(cls, reader: FieldReader, value: object, mark: Mark, ctx: SpecContext) -> Self:
-        return cls(read_region_names(reader, value, mark, ctx, cls.kind))
 
     def judge(self, record: RunRecord) -> Verdict:
         regions = [world_regions(record)[name] for name in self.names]
