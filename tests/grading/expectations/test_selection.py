@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 from grading.expectations.runs import _north, _record
+from helpers import run_cli
 
 from roboscript.grading.expectations import (
     Expectation,
@@ -162,3 +163,21 @@ def test_selectors_read_from_a_spec_with_units(tmp_path: Path) -> None:
     assert _read(tmp_path, "state: follow, during: {to: 9 s}, settle: 0 s") == Selection(
         to_s=9.0, state="follow", settle_s=0.0
     )
+
+
+def test_check_locates_a_mistaken_selector_in_a_spec_with_a_suggestion(tmp_path: Path) -> None:
+    spec = tmp_path / "corridor.yaml"
+    spec.write_text(
+        "test: corridor\n"
+        "world: corridor\n"
+        "expect:\n"
+        "  - wall_distance: {min: 12 cm, durin: whole run}\n"
+        "  - wall_distance: {min: 12 cm, in_region: far-edn}\n",
+        encoding="utf-8",
+    )
+    result = run_cli("check", str(spec))
+    assert result.returncode == 2
+    assert f"{spec}:4:33: error: unknown key 'durin' in wall_distance (did you mean 'during'?)" in (
+        result.stderr
+    )
+    assert "Traceback" not in result.stderr
