@@ -18,6 +18,7 @@ A test spec (YAML; quantities take units, bare numbers the documented unit)::
       - outcome: success
       - final_pose_within: {x: 0 mm, y: 0 mm, radius: 80 mm}
       - {tones: {count: 4}, weight: 2}
+      - {no_collisions: true, required: true}   # a run that fails it scores 0
 
 Every mistake is a :class:`~roboscript.errors.SpecError` at ``file:line:col``, with a "did you
 mean" where one fits. The expectations are documented in :mod:`roboscript.grading.expectations`
@@ -177,7 +178,8 @@ class TestSpec:
         )
 
     def to_dict(self) -> dict[str, Any]:
-        """A JSON-ready summary for reports (the expectations by name and weight)."""
+        """A JSON-ready summary for reports (the expectations by name and weight, and
+        ``required`` for those that are)."""
         return {
             "test": self.name,
             "path": self.path,
@@ -198,7 +200,10 @@ class TestSpec:
                 }
                 for v in self.variants
             ],
-            "expect": [{"name": e.name, "weight": e.weight} for e in self.expectations],
+            "expect": [
+                {"name": e.name, "weight": e.weight} | ({"required": True} if e.required else {})
+                for e in self.expectations
+            ],
         }
 
 

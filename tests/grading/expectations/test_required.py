@@ -74,3 +74,11 @@ def test_mistakes_in_required_are_located(
     with pytest.raises(SpecError) as caught:
         _load(tmp_path, expect, runs)
     assert caught.value.format() == f"{tmp_path / 'spec.yaml'}:{error}"
+
+
+def test_the_spec_summary_says_which_expectations_are_required(tmp_path: Path) -> None:
+    spec = _load(tmp_path, "  - {outcome: success, required: true}\n  - max_duration: 5 s\n")
+    assert spec.to_dict()["expect"] == [
+        {"name": "outcome", "weight": 1.0, "required": True},
+        {"name": "max_duration", "weight": 1.0},
+    ]
