@@ -316,9 +316,10 @@ class RunResult:
         )
 
     def worst_verdict(self) -> Verdict | None:
-        """The first failed verdict, else the passed one with the least relative margin."""
-        for verdict in self.verdicts:
-            if not verdict.passed:
-                return verdict
+        """The first failed required verdict, else the first failed one, else the passed one
+        with the least relative margin."""
+        failed = [verdict for verdict in self.verdicts if not verdict.passed]
+        if failed:
+            return next((verdict for verdict in failed if verdict.required), failed[0])
         measured = [v for v in self.verdicts if v.relative_margin is not None]
         return min(measured, key=lambda v: v.relative_margin or math.inf, default=None)

@@ -8,7 +8,7 @@ import pytest
 
 from roboscript.errors import SpecError
 from roboscript.grading.expectations import Expectation, Outcome, Tones, evaluate
-from roboscript.grading.record import RunRecord
+from roboscript.grading.record import RunRecord, RunResult, Verdict
 from roboscript.grading.spec import TestSpec, load_test_spec
 
 
@@ -82,3 +82,22 @@ def test_the_spec_summary_says_which_expectations_are_required(tmp_path: Path) -
         {"name": "outcome", "weight": 1.0, "required": True},
         {"name": "max_duration", "weight": 1.0},
     ]
+
+
+def test_reports_show_the_failed_required_expectation_as_the_worst() -> None:
+    result = RunResult(
+        "amy",
+        "t",
+        0,
+        "seed 1",
+        1,
+        "m.yaml",
+        "failed",
+        verdicts=(
+            Verdict("final_pose_within", False, "failed by 4.0 cm"),
+            Verdict("path_visits", False, "failed by 2.0 cm", required=True),
+        ),
+    )
+    assert result.worst_verdict() == result.verdicts[1]
+    plain = RunResult("amy", "t", 0, "seed 1", 1, "m.yaml", "failed", verdicts=result.verdicts[:1])
+    assert plain.worst_verdict() == result.verdicts[0]
