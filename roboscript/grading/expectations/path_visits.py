@@ -76,11 +76,10 @@ class PathVisits(Rule):
         )
 
     def judge(self, record: RunRecord) -> Verdict:
-        rule = self
-        tol = rule.tolerance_mm
+        tol = self.tolerance_mm
         if not record.path:
             return Verdict("path_visits", False, "", None, "the run has no path")
-        points = [waypoint_position(w, record.start_pose) for w in rule.waypoints]
+        points = [waypoint_position(w, record.start_pose) for w in self.waypoints]
         near = [_approaches(record.path, px, py) for px, py in points]
         # Per waypoint: (closest distance, when) on its visit, or anywhere it was looked for if
         # missed; and when it was first within reach.
@@ -91,11 +90,11 @@ class PathVisits(Rule):
             entry = next((j for j in range(begin, len(stretches)) if stretches[j][0] <= tol), None)
             if entry is None:
                 closest.append(min(stretches[begin:]))
-                if rule.in_order:
+                if self.in_order:
                     break
                 continue
             reached[k] = _entry_time(record.path, entry, *points[k], tol)
-            if rule.in_order:
+            if self.in_order:
                 stay = entry
                 while stay + 1 < len(stretches) and stretches[stay + 1][0] <= tol:
                     stay += 1
@@ -106,7 +105,7 @@ class PathVisits(Rule):
         missed = [k for k in range(len(closest)) if k not in reached]
 
         def name(k: int) -> str:
-            return f"waypoint {k + 1} ({rule.waypoints[k].label})"
+            return f"waypoint {k + 1} ({self.waypoints[k].label})"
 
         if missed:
             k = missed[0]
@@ -116,7 +115,7 @@ class PathVisits(Rule):
                 f"missed {name(k)}: the closest the robot came was {cm(distance)}, at {at(when)}"
                 f" (allowed {cm(tol)})"
             )
-            if rule.in_order and k > 0:
+            if self.in_order and k > 0:
                 visits = ", ".join(f"{i + 1} at {at(reached[i])}" for i in range(k))
                 detail += f", after reaching waypoint{'s' if k > 1 else ''} {visits}"
             elif len(missed) > 1:
@@ -139,7 +138,7 @@ class PathVisits(Rule):
                 f" (allowed {cm(tol)})"
             )
         else:
-            order = " in order" if rule.in_order else ""
+            order = " in order" if self.in_order else ""
             times = ", ".join(at(reached[i]) for i in range(len(closest)))
             detail = (
                 f"reached all {len(closest)} waypoints{order} ({times}); the farthest off was"

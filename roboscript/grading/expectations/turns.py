@@ -165,15 +165,14 @@ class Turns(Rule):
         )
 
     def judge(self, record: RunRecord) -> Verdict:
-        rule = self
         turns = find_turns(record.path)
         headings = _unwrapped_headings(record.path)
         net = headings[-1] - headings[0] if headings else 0.0
-        tol = rule.tolerance_deg
+        tol = self.tolerance_deg
         parts: list[_Part] = []
         never = _Part(False, "the robot never turned")
-        if rule.direction is not None:
-            wrong = [t for t in turns if t.direction != rule.direction]
+        if self.direction is not None:
+            wrong = [t for t in turns if t.direction != self.direction]
             if not turns:
                 parts.append(never)
             elif wrong:
@@ -181,7 +180,7 @@ class Turns(Rule):
                 parts.append(
                     _Part(
                         False,
-                        f"turned {wrong[0].text}; this test wants {rule.direction} turns only",
+                        f"turned {wrong[0].text}; this test wants {self.direction} turns only",
                         -worst,
                         "deg",
                         None,
@@ -190,24 +189,24 @@ class Turns(Rule):
                 )
             else:
                 parts.append(_Part(True))
-        if rule.count is not None:
-            n, wanted = len(turns), rule.count
+        if self.count is not None:
+            n, wanted = len(turns), self.count
             why = f"{plural(n, 'turn')}, expected {wanted}"
             when = turns[wanted].start_s if n > wanted else None  # too few has no moment
             short = float(wanted - n) if n > wanted else float(n - wanted) if n < wanted else None
             parts.append(_Part(n == wanted, why, short, "turns", None, when))
-        if rule.angle_deg is not None:
+        if self.angle_deg is not None:
             if not turns:
                 parts.append(never)
             else:
-                errors = [abs(t.angle_deg) - rule.angle_deg for t in turns]
+                errors = [abs(t.angle_deg) - self.angle_deg for t in turns]
                 worst = max(range(len(turns)), key=lambda i: abs(errors[i]))
                 margin = tol - abs(errors[worst])
                 bad = next((i for i, e in enumerate(errors) if abs(e) > tol), worst)
                 parts.append(
                     _Part(
                         margin >= 0,
-                        f"turn {bad + 1} was {turns[bad].text}, expected {rule.angle_deg:g}°"
+                        f"turn {bad + 1} was {turns[bad].text}, expected {self.angle_deg:g}°"
                         f" ± {tol:g}°",
                         margin,
                         "deg",
@@ -215,16 +214,16 @@ class Turns(Rule):
                         turns[bad].end_s if margin < 0 else None,
                     )
                 )
-        if rule.total_deg is not None:
-            sign = {"right": 1.0, "left": -1.0}.get(rule.direction or "")
-            error = net - sign * rule.total_deg if sign else abs(net) - rule.total_deg
+        if self.total_deg is not None:
+            sign = {"right": 1.0, "left": -1.0}.get(self.direction or "")
+            error = net - sign * self.total_deg if sign else abs(net) - self.total_deg
             margin = tol - abs(error)
             way = "right" if net >= 0 else "left"
-            wanted_way = f" {rule.direction}" if rule.direction else ""
+            wanted_way = f" {self.direction}" if self.direction else ""
             parts.append(
                 _Part(
                     margin >= 0,
-                    f"turned {abs(net):.0f}° {way} in all, expected {rule.total_deg:g}°{wanted_way}"
+                    f"turned {abs(net):.0f}° {way} in all, expected {self.total_deg:g}°{wanted_way}"
                     f" ± {tol:g}°",
                     margin,
                     "deg",

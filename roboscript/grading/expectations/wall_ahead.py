@@ -51,12 +51,11 @@ class WallAhead(Rule):
         )
 
     def judge(self, record: RunRecord) -> Verdict:
-        rule = self
         x, y, heading = record.final_pose
         walls = list(record.world.walls) if record.world is not None else []
         dx, dy = heading_vector(heading)
         hit = ray_cast(x, y, dx, dy, walls, math.inf)
-        wanted = f"wanted {cm(rule.distance_mm)} ± {cm(rule.tolerance_mm)}"
+        wanted = f"wanted {cm(self.distance_mm)} ± {cm(self.tolerance_mm)}"
         if hit is None:
             return Verdict(
                 "wall_ahead_at_end",
@@ -67,8 +66,8 @@ class WallAhead(Rule):
             )
         # Measured as with a ruler: from the front edge of the round body, straight ahead.
         gap = hit - record.body_radius_mm
-        error = gap - rule.distance_mm
-        margin = rule.tolerance_mm - abs(error)
+        error = gap - self.distance_mm
+        margin = self.tolerance_mm - abs(error)
         how = "" if margin >= 0 else (" (too close)" if error < 0 else " (too far)")
         return Verdict(
             "wall_ahead_at_end",
@@ -79,5 +78,5 @@ class WallAhead(Rule):
             f" robot straight ahead; {wanted}",
             margin,
             "mm",
-            margin / rule.tolerance_mm,
+            margin / self.tolerance_mm,
         )
