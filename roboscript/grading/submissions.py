@@ -21,8 +21,9 @@ reads a Python file's ``class ...(Mission)`` lines and a YAML file's top-level k
 Whatever a file does to that (too big, not UTF-8, a pipe that never ends, anything raised),
 it is its student's result: the submission is ``invalid``, with one sentence naming the file
 by its path inside the submission. So are symbolic links (which could show a classmate's or
-the teacher's files), devices, pipes and sockets, and a folder holding more than
-:data:`MAX_ENTRIES` files and folders. Every student's name is cleaned once, here
+the teacher's files), devices, pipes and sockets, names that are not UTF-8, and a folder
+holding more than :data:`MAX_ENTRIES` files and folders or :data:`MAX_SOURCE_BYTES` of them
+to look into. Every student's name is cleaned once, here
 (:func:`~roboscript.grading.text.clean_name`), and names are unique once cleaned.
 
 What a graded run may read (:func:`visible_files`) follows the same lines: a student who is a
@@ -51,6 +52,7 @@ from roboscript.inputs.source import read_source
 
 __all__ = [
     "MAX_ENTRIES",
+    "MAX_SOURCE_BYTES",
     "MISSION_SUFFIXES",
     "Submission",
     "find_submissions",
@@ -63,6 +65,10 @@ MISSION_SUFFIXES = (".yaml", ".yml", ".py")
 
 MAX_ENTRIES = 10_000
 """The most files and folders one student's folder may hold (counted before any is read)."""
+
+MAX_SOURCE_BYTES = 16 * 1024 * 1024
+"""The most ``.py``, ``.yaml`` and ``.yml`` bytes one student's folder may hold in all (16 MiB,
+measured before any is read): each is read to tell whether it is a mission."""
 
 _SPECIAL = {
     stat.S_IFCHR: "a device",
@@ -234,10 +240,19 @@ class _Found:
 def _folder_student(folder: Path) -> _Found | None:
     """A student who is a folder, or ``None`` when it holds no mission and nothing refused."""
     files, problems = _walk(folder)
+    sources = [
+        (relative, path)
+        for relative, path in files
+        if not _hidden(relative) and path.suffix.lower() in MISSION_SUFFIXES
+    ]
+    if _total_bytes(path for _, path in sources) > MAX_SOURCE_BYTES:
+        too_much = (
+            f"the folder holds more than {MAX_SOURCE_BYTES // 1024 // 1024} MiB of .py and"
+            " .yaml files: hand in the mission and its own files only"
+        )
+        return _Found(folder, [], folder, too_much)
     missions: list[Path] = []
-    for relative, path in files:
-        if _hidden(relative) or path.suffix.lower() not in MISSION_SUFFIXES:
-            continue
+    for relative, path in sources:
         is_mission, problem = _examine(path, relative)
         if problem:
             problems.append(problem)
@@ -246,6 +261,16 @@ def _folder_student(folder: Path) -> _Found | None:
     if not missions and not problems:
         return None
     return _Found(folder, missions, folder, problems[0] if problems else "")
+
+
+def _total_bytes(paths: Iterable[Path]) -> int:
+    total = 0
+    for path in paths:
+        try:
+            total += path.lstat().st_size
+        except OSError:
+            continue  # gone meanwhile: reading it will say so
+    return total
 
 
 def _student_at(path: Path, named: bool = False) -> _Found | None:

@@ -11,7 +11,12 @@ from pathlib import Path
 
 from helpers import FORWARD_50CM
 
-from roboscript.grading.submissions import MAX_ENTRIES, find_submissions, visible_files
+from roboscript.grading.submissions import (
+    MAX_ENTRIES,
+    MAX_SOURCE_BYTES,
+    find_submissions,
+    visible_files,
+)
 
 MISSION_PY = """\
 from roboscript import Mission, Wait, state
@@ -78,6 +83,17 @@ def test_a_folder_with_too_many_entries_is_refused_unread(tmp_path: Path) -> Non
         (folder / f"{i}.txt").touch()
     ((_, problem),) = _found(tmp_path).values()
     assert problem.startswith(f"the folder holds more than {MAX_ENTRIES} files and folders")
+
+
+def test_a_folder_with_too_much_code_to_look_into_is_refused_unread(tmp_path: Path) -> None:
+    folder = tmp_path / "ada"
+    folder.mkdir()
+    (folder / "forward.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    for i in range(MAX_SOURCE_BYTES // (1024 * 1024)):  # each at the 1 MiB a file may have
+        with open(folder / f"part{i}.py", "wb") as handle:
+            handle.truncate(1024 * 1024)
+    ((_, problem),) = _found(tmp_path).values()
+    assert problem.startswith("the folder holds more than 16 MiB of .py and .yaml files")
 
 
 def test_a_link_is_never_followed(tmp_path: Path) -> None:
