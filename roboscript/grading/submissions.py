@@ -264,12 +264,15 @@ def _folder_student(folder: Path) -> _Found | None:
 
 
 def _total_bytes(paths: Iterable[Path]) -> int:
+    """The bytes reading ``paths`` would cost: a file over the 1 MiB a file may have is
+    refused by its size, unread, so it counts for nothing."""
     total = 0
     for path in paths:
         try:
-            total += path.lstat().st_size
+            size = path.lstat().st_size
         except OSError:
             continue  # gone meanwhile: reading it will say so
+        total += size if size <= MAX_FILE_BYTES else 0
     return total
 
 
