@@ -318,7 +318,7 @@ def grade_class(
                 tasks.append(
                     RunTask(spec, mission, variant, submission.student, visible, hang_after_s)
                 )
-    _check_setup(tasks)
+    tasks, slots = _check_setup(tasks, slots)
     roots = {s.student: s.root for s in submissions}
 
     def arrived(result: RunResult) -> RunResult:
@@ -339,24 +339,61 @@ def grade_class(
     return ClassReport(list(specs), list(submissions), results, worlds)
 
 
-def _check_setup(tasks: Sequence[RunTask]) -> None:
-    """Every submission's files can be shown to its sandbox (else one error, before any run).
+def _check_setup(
+    tasks: list[RunTask], slots: list[RunResult | int]
+) -> tuple[list[RunTask], list[RunResult | int]]:
+    """Every submission's files can be shown to its sandbox, checked before any run.
+
+    When no submission's can (a class folder root's jails cannot read), that is one error for
+    the teacher. When only some cannot (a student's file that others may not read), those
+    students' runs are ``invalid``, saying why, and the others are graded.
+
+    Returns:
+        The tasks to run and the slots, those of refused runs now their results.
 
     Raises:
-        InputError: Naming the student and what to fix.
+        InputError: Naming a student and what to fix, when no submission can be shown.
     """
     from roboscript.grading.sandbox import check_visible
 
+    blocked: dict[str, str] = {}
     checked: set[tuple[Path, ...]] = set()
     for task in tasks:
         visible = task.visible or (Path(task.mission).resolve(),)
-        if visible in checked:
+        if visible in checked or task.student in blocked:
             continue
         checked.add(visible)
         try:
             check_visible(visible)
         except (OSError, ValueError) as exc:
-            raise InputError(f"cannot grade {task.student or task.mission}: {exc}") from None
+            blocked[task.student] = str(exc)
+    if not blocked:
+        return tasks, slots
+    if blocked.keys() >= {task.student for task in tasks}:
+        student, reason = next(iter(blocked.items()))
+        raise InputError(f"cannot grade {student or tasks[0].mission}: {reason}")
+    kept: list[RunTask] = []
+    new_slots: list[RunResult | int] = []
+    for slot in slots:
+        if isinstance(slot, RunResult):
+            new_slots.append(slot)
+        elif tasks[slot].student in blocked:
+            task = tasks[slot]
+            reason = blocked[task.student]
+            new_slots.append(
+                task.spec.result(
+                    task.variant,
+                    student=task.student,
+                    mission=task.mission,
+                    status="invalid",
+                    message=f"the grader's sandbox cannot show this submission's files: {reason}",
+                    during_load=True,
+                )
+            )
+        else:
+            new_slots.append(len(kept))
+            kept.append(tasks[slot])
+    return kept, new_slots
 
 
 def _for_students(result: RunResult, roots: dict[str, str | None]) -> RunResult:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 from pathlib import Path
@@ -78,3 +79,26 @@ def test_a_submission_the_sandbox_cannot_read_is_one_error_before_any_run(tmp_pa
     spec.write_text("test: t\nexpect:\n  - outcome: success\n", encoding="utf-8")
     with pytest.raises(InputError, match=r"cannot grade ada: .*chmod o\+rX"):
         grade_class(find_specs([str(spec)]), find_submissions([str(mission)]))
+
+
+@pytest.mark.skipif(os.geteuid() != 0, reason="only root's jails need files others can read")
+def test_one_submission_the_sandbox_cannot_read_is_that_students_result(tmp_path: Path) -> None:
+    from helpers import run_cli
+
+    from roboscript.grading.sandbox import detect_isolation
+
+    if not detect_isolation().complete:
+        pytest.skip("needs bubblewrap's full isolation")
+    spec = tmp_path / "spec.yaml"
+    spec.write_text("test: t\nworld: empty\nexpect:\n  - outcome: success\n", encoding="utf-8")
+    folder = tmp_path / "class"
+    folder.mkdir()
+    for student in ("ada", "ben"):
+        shutil.copy(MISSIONS / "teacher" / "square" / "good.yaml", folder / f"{student}.yaml")
+    (folder / "ada.yaml").chmod(0o600)
+    done = run_cli("grade", str(spec), "--mission", str(folder), "--json", "--hang-after", "30")
+    runs = {r["student"]: r for r in json.loads(done.stdout)["runs"]}
+    assert runs["ben"]["status"] == "passed", done.stderr
+    assert runs["ada"]["status"] == "invalid"
+    assert runs["ada"]["message"].startswith("the grader's sandbox cannot show this submission")
+    assert str(tmp_path) not in runs["ada"]["message"]
