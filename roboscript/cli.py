@@ -132,7 +132,7 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
     if args.record or args.view:
         from roboscript.replay.session_tap import RunRecording
 
-        recording = RunRecording()
+        recording = RunRecording(path=args.record)  # written as the run goes
     if args.view:  # the page is served from its own thread; the ticks only hand it frames
         from roboscript.replay.live import LiveView
 

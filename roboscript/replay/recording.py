@@ -24,31 +24,46 @@ know, so adding a key keeps the version; removing a key or changing a meaning or
 :class:`Recorder` builds a recording while the run goes (the header, then one frame per tick,
 each handed to its listeners as it is made, e.g. a live view); :func:`load_recording` reads one
 back with the frames filled in.
+
+One writer and one reader hold the framing: :func:`encode_line` writes a line no text can
+break (every character a reader could take for a line end is escaped), and
+:func:`read_recording` reads a file line by line, splitting at ``"\\n"`` only, bounding each
+line and the number of frames, and checking each line has the shape a viewer draws, so a
+hostile or huge file gets ``FILE:LINE: error: ...``, never a traceback. A :class:`Recorder`
+given a :class:`RecordingFile` writes its lines as the run goes (flushed at least once a
+second), so a run killed outright leaves a readable prefix.
 """
 
 from __future__ import annotations
 
 import json
 import math
-from collections.abc import Callable, Iterable, Mapping
+import re
+import time
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 from roboscript.errors import InputError
 
 __all__ = [
     "FORMAT",
     "MAX_FRAMES",
+    "MAX_LINE_CHARS",
     "NESTED_KEYS",
     "VERSION",
     "Listener",
     "Recorder",
     "Recording",
     "RecordingError",
+    "RecordingFile",
+    "decode_line",
+    "encode_line",
     "fill_frames",
     "load_recording",
     "parse_recording",
+    "read_recording",
 ]
 
 FORMAT = "roboscript-run"
@@ -58,6 +73,10 @@ VERSION = 1
 MAX_FRAMES = 200_000
 """Most frames one recording keeps (66 minutes at 50 ticks a second); later ticks are counted
 in the result's ``frames_not_recorded``, so a run of hours keeps a bounded size."""
+MAX_LINE_CHARS = 4_000_000
+"""Longest line a reader takes (a header with a world of 20,000 walls is about 1 MB)."""
+FLUSH_EVERY_S = 1.0
+"""Most wall seconds a written line waits in memory before it reaches the file."""
 NESTED_KEYS = ("sensors", "motors")
 """Frame keys whose value is an object recorded entry by entry (only changed entries)."""
 EVENT_KEYS = ("tone",)
@@ -87,6 +106,9 @@ class Recorder:
         format_changes: Turns a frame given to :meth:`add_changes` into its written form
             (rounded, JSON-ready); it runs when the frame is first needed (a listener, the
             :attr:`frames`, the file), not in the tick that recorded it.
+        out: Where the lines go as the run goes: the header at once, the frames at least
+            once a second, the result at :meth:`finish` (which closes it). A write error
+            stops the writing (see :attr:`RecordingFile.error`), never the run.
 
     Attributes:
         result: The result once :meth:`finish` was called, else ``None``.
@@ -99,6 +121,7 @@ class Recorder:
         *,
         max_frames: int = MAX_FRAMES,
         format_changes: Callable[[Any], dict[str, Any]] | None = None,
+        out: RecordingFile | None = None,
     ) -> None:
         self._header: dict[str, Any] = {"format": FORMAT, "version": VERSION, **header}
         self._frames: list[dict[str, Any]] = []
@@ -111,6 +134,13 @@ class Recorder:
         self.not_recorded = 0
         self._last: dict[str, Any] = {}
         self._listeners: list[Listener] = []
+        self.out = out
+        self._written = 0  # frames already handed to ``out``
+        self._next_write_s = 0.0  # time.monotonic() at which the next frames are written
+        if out is not None:
+            out.write(self._header)
+            out.flush()
+            self._next_write_s = time.monotonic() + FLUSH_EVERY_S
 
     def header(self) -> dict[str, Any]:
         """The header line's object."""
@@ -165,6 +195,8 @@ class Recorder:
         delta = self._delta(frame)
         self.frames.append(delta)
         self._tell("frame", delta)
+        if self.out is not None and time.monotonic() >= self._next_write_s:
+            self._write_out()
         return delta
 
     def add_changes(self, frame: Any) -> None:
@@ -185,6 +217,20 @@ class Recorder:
         if self._listeners:
             self._flush()
             self._tell("frame", self._frames[-1])
+        if self.out is not None and time.monotonic() >= self._next_write_s:
+            self._write_out()
+
+    def _write_out(self) -> None:
+        """Hand ``out`` the frames it has not had yet, and flush it."""
+        out = self.out
+        if out is None:
+            return
+        frames = self.frames
+        for frame in frames[self._written :]:
+            out.write(frame)
+        self._written = len(frames)
+        out.flush()
+        self._next_write_s = time.monotonic() + FLUSH_EVERY_S
 
     def _delta(self, frame: Mapping[str, Any]) -> dict[str, Any]:
         # Called once per tick: plain loops over a handful of keys, nothing clever.
@@ -220,6 +266,10 @@ class Recorder:
             if self.error is not None:
                 self.result["recording_error"] = self.error
             self._tell("end", self.result)
+            if self.out is not None:
+                self._write_out()
+                self.out.write({"result": self.result})
+                self.out.close()
         return self.result
 
     def _tell(
@@ -233,11 +283,11 @@ class Recorder:
 
     def lines(self) -> Iterable[str]:
         """The file's lines (without newlines): header, frames, result if finished."""
-        yield _dumps(self._header)
+        yield encode_line(self._header)
         for frame in self.frames:
-            yield _dumps(frame)
+            yield encode_line(frame)
         if self.result is not None:
-            yield _dumps({"result": self.result})
+            yield encode_line({"result": self.result})
 
     def write(self, path: str | Path) -> None:
         """Write the recording to ``path`` (JSON Lines, UTF-8).
@@ -245,7 +295,7 @@ class Recorder:
         Raises:
             OSError: The file cannot be written.
         """
-        with Path(path).open("w", encoding="utf-8") as out:
+        with Path(path).open("w", encoding="utf-8", newline="\n") as out:
             for line in self.lines():
                 out.write(line)
                 out.write("\n")
@@ -255,6 +305,69 @@ class Recorder:
     def recording(self) -> Recording:
         """The recording so far, frames filled in, as :func:`load_recording` would read it."""
         return Recording(dict(self._header), fill_frames(self.frames), self.result)
+
+
+class RecordingFile:
+    """A recording's file, written line by line as the run goes.
+
+    Every line goes through :func:`encode_line`. A write that fails (a full disk, a file-size
+    limit, a line that cannot be JSON) closes the file, keeps what reached it, and is said in
+    :attr:`error`; later lines are dropped, so the run itself never sees the error.
+
+    Args:
+        path: The file (replaced if it exists).
+
+    Attributes:
+        error: ``"cannot write the recording PATH: why"``, or ``None`` while all is well.
+    """
+
+    def __init__(self, path: str | Path) -> None:
+        self.path = Path(path)
+        self.error: str | None = None
+        self._file: IO[str] | None = None
+        try:
+            self._file = self.path.open("w", encoding="utf-8", newline="\n")
+        except OSError as exc:
+            self._fail(exc)
+
+    def write(self, item: Mapping[str, Any]) -> None:
+        """Write one line (a header, a frame or the result); buffered until :meth:`flush`."""
+        if self._file is None:
+            return
+        try:
+            self._file.write(encode_line(item) + "\n")
+        except (OSError, ValueError, TypeError) as exc:
+            self._fail(exc)
+
+    def flush(self) -> None:
+        """Push the lines written so far to the file."""
+        if self._file is None:
+            return
+        try:
+            self._file.flush()
+        except OSError as exc:
+            self._fail(exc)
+
+    def close(self) -> None:
+        """Flush and close; later lines are dropped."""
+        if self._file is None:
+            return
+        try:
+            self._file.close()
+        except OSError as exc:
+            self._fail(exc)
+        self._file = None
+
+    def _fail(self, exc: Exception) -> None:
+        if self.error is None:
+            reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+            self.error = f"cannot write the recording {self.path}: {reason}"
+        file, self._file = self._file, None
+        if file is not None:
+            try:
+                file.close()
+            except OSError:  # the buffer that failed to go out fails again: already said
+                pass
 
 
 @dataclass
@@ -304,18 +417,23 @@ def fill_frames(deltas: Iterable[Mapping[str, Any]]) -> list[dict[str, Any]]:
 
 
 def load_recording(path: str | Path) -> Recording:
-    """Read a recording file.
+    """Read a recording file, its frames filled in.
 
     Raises:
         RecordingError: Unreadable file, not a roboscript recording, a newer version, or a
-            line that is not a JSON object (with ``file:line``).
+            line that is not what a recording holds (with ``file:line``).
     """
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        raise RecordingError(f"cannot read the recording: {reason}", path=str(path)) from None
-    return parse_recording(text, str(path))
+    header: dict[str, Any] = {}
+    deltas: list[dict[str, Any]] = []
+    result: dict[str, Any] | None = None
+    for kind, _, item in read_recording(path):
+        if kind == "header":
+            header = item
+        elif kind == "frame":
+            deltas.append(item)
+        else:
+            result = item
+    return Recording(header, fill_frames(deltas), result)
 
 
 def parse_recording(text: str, name: str = "<recording>") -> Recording:
@@ -324,39 +442,173 @@ def parse_recording(text: str, name: str = "<recording>") -> Recording:
     Raises:
         RecordingError: See :func:`load_recording`.
     """
-    header: dict[str, Any] | None = None
+    header: dict[str, Any] = {}
     deltas: list[dict[str, Any]] = []
     result: dict[str, Any] | None = None
-    for number, line in enumerate(text.splitlines(), 1):
+    for kind, _, item in _items(_split(text), name):
+        if kind == "header":
+            header = item
+        elif kind == "frame":
+            deltas.append(item)
+        else:
+            result = item
+    return Recording(header, fill_frames(deltas), result)
+
+
+def read_recording(path: str | Path) -> Iterator[tuple[str, int, dict[str, Any]]]:
+    """The lines of a recording file as they are read: ``(kind, line number, object)``.
+
+    ``kind`` is ``"header"`` (first), ``"frame"`` (the frame's changes, as written) or
+    ``"result"`` (the result line's object, last if present). Memory stays bounded by one
+    line (at most :data:`MAX_LINE_CHARS`) whatever the file's size; a file may hold at most
+    :data:`MAX_FRAMES` frames, as no recorder writes more.
+
+    Raises:
+        RecordingError: See :func:`load_recording`; raised when the bad line is reached.
+    """
+    name = str(path)
+    try:
+        stream = Path(path).open(encoding="utf-8", newline="\n")
+    except OSError as exc:
+        raise RecordingError(
+            f"cannot read the recording: {exc.strerror or exc}", path=name
+        ) from None
+    with stream:
+        yield from _items(_read_lines(stream, name), name)
+
+
+def _read_lines(stream: IO[str], name: str) -> Iterator[tuple[int, str, bool]]:
+    """``(line number, text, ended)`` for each line; ``ended`` is False for a last line
+    with no newline (a run killed while writing it)."""
+    number = 0
+    while True:
+        number += 1
+        try:
+            line = stream.readline(MAX_LINE_CHARS + 1)
+        except UnicodeDecodeError:
+            raise RecordingError("this line is not UTF-8 text", path=name, line=number) from None
+        except OSError as exc:
+            raise RecordingError(
+                f"cannot read the recording: {exc.strerror or exc}", path=name, line=number
+            ) from None
+        if not line:
+            return
+        if line.endswith("\n"):
+            yield number, line[:-1], True
+        elif len(line) > MAX_LINE_CHARS:
+            raise RecordingError(
+                f"this line is longer than {MAX_LINE_CHARS:,} characters",
+                path=name,
+                line=number,
+            )
+        else:
+            yield number, line, False
+
+
+def _split(text: str) -> Iterator[tuple[int, str, bool]]:
+    lines = text.split("\n")
+    last = len(lines) - 1
+    for index, line in enumerate(lines):
+        if index < last or line:
+            yield index + 1, line, index < last
+
+
+def _items(
+    lines: Iterable[tuple[int, str, bool]], name: str
+) -> Iterator[tuple[str, int, dict[str, Any]]]:
+    seen_header = seen_result = False
+    frames = 0
+    for number, line, ended in lines:
         if not line.strip():
             continue
-        try:
-            item = json.loads(line)
-        except ValueError as exc:
-            raise RecordingError(
-                f"this line is not JSON ({exc.args[0].split(':')[0]})", path=name, line=number
-            ) from None
-        if not isinstance(item, dict):
-            raise RecordingError("each line must be a JSON object", path=name, line=number)
-        if header is None:
+        if not ended and seen_header and _cut_short(line):
+            return  # the last line, cut short when the run was killed: the rest is good
+        item = decode_line(line, name, number)
+        if not seen_header:
             _check_header(item, name, number)
-            header = item
-        elif result is not None:
+            seen_header = True
+            yield "header", number, item
+        elif seen_result:
             raise RecordingError("nothing may follow the result line", path=name, line=number)
         elif "result" in item:
-            if not isinstance(item["result"], dict):
-                raise RecordingError("'result' must be an object", path=name, line=number)
-            result = item["result"]
+            _check_shape(item["result"], _RESULT, "result", name, number)
+            seen_result = True
+            yield "result", number, item["result"]
         else:
+            frames += 1
+            if frames > MAX_FRAMES:
+                raise RecordingError(
+                    f"more than {MAX_FRAMES:,} frames: no recording holds so many",
+                    path=name,
+                    line=number,
+                )
             t = item.get("t")
             if isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t):
                 raise RecordingError(
                     "a frame needs 't', its time in seconds", path=name, line=number
                 )
-            deltas.append(item)
-    if header is None:
+            _check_shape(item, _FRAME, "", name, number)
+            yield "frame", number, item
+    if not seen_header:
         raise RecordingError("the recording is empty", path=name)
-    return Recording(header, fill_frames(deltas), result)
+
+
+def _cut_short(line: str) -> bool:
+    """True if ``line`` is the start of a JSON text that was never finished."""
+    try:
+        json.loads(line, parse_constant=_no_constant)
+    except json.JSONDecodeError:
+        return True
+    except (ValueError, RecursionError):
+        return False
+    return False
+
+
+# Characters a reader may take for the end of a line (Python's str.splitlines() does, and
+# JavaScript's line terminators include U+2028/U+2029) that json.dumps leaves raw, and lone
+# surrogates, which UTF-8 cannot hold: each is written as its \uXXXX escape, which any JSON
+# reader turns back into the same character.
+_UNSAFE = re.compile("[\x85\u2028\u2029\ud800-\udfff]")
+
+
+def _escape(match: re.Match[str]) -> str:
+    return f"\\u{ord(match.group()):04x}"
+
+
+def encode_line(item: Mapping[str, Any]) -> str:
+    """One line of a recording (no newline): compact JSON, UTF-8-safe, unbreakable.
+
+    Raises:
+        ValueError: A number is NaN or infinite (JSON has none).
+        TypeError: A value is not JSON (an object of some class).
+    """
+    # Compact separators: a 60 s run is 3000 lines, and the viewer embeds them as they are.
+    text = json.dumps(item, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
+    return _UNSAFE.sub(_escape, text)
+
+
+def _no_constant(name: str) -> Any:
+    raise ValueError(f"{name} is not a number JSON allows")
+
+
+def decode_line(line: str, name: str = "<recording>", number: int = 0) -> dict[str, Any]:
+    """Read one line written by :func:`encode_line`.
+
+    Raises:
+        RecordingError: Not a JSON object (NaN, Infinity, nesting too deep: named so).
+    """
+    try:
+        item = json.loads(line, parse_constant=_no_constant)
+    except RecursionError:
+        raise RecordingError("this line is nested too deeply", path=name, line=number) from None
+    except ValueError as exc:
+        reason = str(exc.args[0] if exc.args else exc).split(":")[0]
+        raise RecordingError(
+            f"this line is not JSON ({reason})", path=name, line=number or None
+        ) from None
+    if not isinstance(item, dict):
+        raise RecordingError("each line must be a JSON object", path=name, line=number or None)
+    return item
 
 
 def _check_header(item: dict[str, Any], name: str, number: int) -> None:
@@ -376,8 +628,132 @@ def _check_header(item: dict[str, Any], name: str, number: int) -> None:
             path=name,
             line=number,
         )
+    _check_shape(item, _HEADER, "", name, number)
 
 
-def _dumps(item: Mapping[str, Any]) -> str:
-    # Compact separators: a 60 s run is 3000 lines, and the viewer embeds them as they are.
-    return json.dumps(item, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
+# ---- shapes: what the viewer and the state diagram read, checked before they read it ----
+#
+# A shape is NUMBER, TEXT or ANY; Maybe(shape) (also null); [shape] (a list of); a tuple of
+# shapes (a list of exactly these); {key: shape} (an object whose listed keys, when present,
+# have these shapes; other keys are free); Each(shape) (an object, every value of this shape).
+
+NUMBER = "a number"
+TEXT = "text"
+ANY = "anything"
+
+
+@dataclass(frozen=True)
+class Maybe:
+    """A shape that may also be ``null``."""
+
+    shape: Any
+
+
+@dataclass(frozen=True)
+class Each:
+    """An object whose every value has ``shape``."""
+
+    shape: Any
+
+
+_XY = (NUMBER, NUMBER)
+_SEGMENT = (NUMBER, NUMBER, NUMBER, NUMBER)
+_HEADER = {
+    "mission": {"name": Maybe(TEXT), "initial": Maybe(TEXT), "states": [{"name": TEXT}]},
+    "robot": {
+        "name": Maybe(TEXT),
+        "body_radius_mm": NUMBER,
+        "sensors": [
+            {
+                "name": TEXT,
+                "kind": TEXT,
+                "forward_mm": NUMBER,
+                "right_mm": NUMBER,
+                "bearing_deg": NUMBER,
+                "cone_deg": NUMBER,
+                "max_range_mm": NUMBER,
+                "spots_mm": [_XY],
+                "spot_diameter_mm": NUMBER,
+            }
+        ],
+    },
+    "world": Maybe(
+        {
+            "name": Maybe(TEXT),
+            "walls": [_SEGMENT],
+            "lines": [{"segments": [_SEGMENT], "width_mm": NUMBER}],
+            "regions": [{"name": TEXT, "center": _XY, "radius_mm": Maybe(NUMBER), "points": [_XY]}],
+            "start": (NUMBER, NUMBER, NUMBER),
+        }
+    ),
+    "tick_s": Maybe(NUMBER),
+}
+_SENSOR_VALUE = Maybe(ANY)
+_FRAME = {
+    "pose": Maybe((NUMBER, NUMBER, NUMBER)),
+    "state": Maybe(TEXT),
+    "action": Maybe(TEXT),
+    "outcome": Maybe(TEXT),
+    "display": Maybe(TEXT),
+    "contact": Maybe(TEXT),
+    "sensors": Each(_SENSOR_VALUE),
+    "motors": Each(Maybe(NUMBER)),
+    "tone": (NUMBER, NUMBER),
+}
+_RESULT = {
+    "outcome": Maybe(TEXT),
+    "final_state": Maybe(TEXT),
+    "reason": Maybe(TEXT),
+    "duration_s": Maybe(NUMBER),
+    "states": [(NUMBER, TEXT)],
+}
+
+
+def _check_shape(value: Any, shape: Any, where: str, name: str, number: int) -> None:
+    problem = _misfit(value, shape, where)
+    if problem is not None:
+        raise RecordingError(problem, path=name, line=number)
+
+
+def _misfit(value: Any, shape: Any, where: str) -> str | None:
+    """What is wrong with ``value`` for ``shape`` (one sentence), or ``None``."""
+    if isinstance(shape, Maybe):
+        return None if value is None else _misfit(value, shape.shape, where)
+    if shape is ANY:
+        return None
+    if shape is NUMBER:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            return f"'{where}' must be a number"
+        return None if math.isfinite(value) else f"'{where}' must be a finite number"
+    if shape is TEXT:
+        return None if isinstance(value, str) else f"'{where}' must be text"
+    if isinstance(shape, tuple):
+        if not isinstance(value, list) or len(value) != len(shape):
+            return f"'{where}' must be a list of {len(shape)} values"
+        for index, (item, part) in enumerate(zip(value, shape, strict=True)):
+            problem = _misfit(item, part, f"{where}[{index}]")
+            if problem:
+                return problem
+        return None
+    if isinstance(shape, list):
+        if not isinstance(value, list):
+            return f"'{where}' must be a list"
+        for index, item in enumerate(value):
+            problem = _misfit(item, shape[0], f"{where}[{index}]")
+            if problem:
+                return problem
+        return None
+    if not isinstance(value, dict):
+        return f"'{where}' must be an object"
+    if isinstance(shape, Each):
+        for key, item in value.items():
+            problem = _misfit(item, shape.shape, f"{where}.{key}")
+            if problem:
+                return problem
+        return None
+    for key, part in shape.items():
+        if key in value:
+            problem = _misfit(value[key], part, f"{where}.{key}" if where else key)
+            if problem:
+                return problem
+    return None

@@ -20,7 +20,7 @@ from roboscript.mission.runner import MissionResult, MissionRunner
 from roboscript.mission.spec import MissionSpec
 from roboscript.profiles import RobotProfile
 from roboscript.replay.header import mission_header, run_header
-from roboscript.replay.recording import MAX_FRAMES, Listener, Recorder
+from roboscript.replay.recording import MAX_FRAMES, Listener, Recorder, RecordingFile
 from roboscript.robot import Robot
 from roboscript.sim.simulation import Simulation
 
@@ -138,15 +138,23 @@ class RunRecording:
         max_frames: Most frames kept (see :data:`~roboscript.replay.recording.MAX_FRAMES`).
         listeners: Handed every event as it is made: ``("header", header)`` once connected,
             ``("frame", frame)`` each tick, ``("end", result)`` (a live view streams these).
+        path: Write the recording to this file as the run goes (``run --record``): a run
+            killed outright leaves every line up to its last second; see
+            :func:`save_recording` for how it ends.
 
     Attributes:
         recorder: The recording, from the moment the robot is connected (else ``None``).
     """
 
     def __init__(
-        self, *, max_frames: int = MAX_FRAMES, listeners: tuple[Listener, ...] = ()
+        self,
+        *,
+        max_frames: int = MAX_FRAMES,
+        listeners: tuple[Listener, ...] = (),
+        path: str | None = None,
     ) -> None:
         self.max_frames = max_frames
+        self.path = path
         self.listeners = list(listeners)
         self.recorder: Recorder | None = None
         self.commands = CommandTap()
@@ -206,7 +214,12 @@ class RunRecording:
             body=sim.body.spec if sim is not None else None,
         )
         header["port"] = robot.url
-        self.recorder = Recorder(header, max_frames=self.max_frames, format_changes=self.format_row)
+        self.recorder = Recorder(
+            header,
+            max_frames=self.max_frames,
+            format_changes=self.format_row,
+            out=RecordingFile(self.path) if self.path is not None else None,
+        )
         for listener in self.listeners:
             self.recorder.subscribe(listener, with_header=True)
         return self.commands.wrap(caps)
@@ -380,17 +393,24 @@ def result_line(result: MissionResult) -> dict[str, Any]:
 
 
 def save_recording(recording: RunRecording, path: str) -> str | None:
-    """Write a finished run's recording to ``path``; the one-line problem, or ``None``.
+    """Finish writing a finished run's recording to ``path``; the one-line problem, or ``None``.
 
-    Called after the robot is stopped, so a slow or failing disk never delays the stop.
+    A recording made with ``path`` was written as the run went (and closed when it finished);
+    one made without is written now. Called after the robot is stopped, so a slow or failing
+    disk never delays the stop.
     """
     recorder = recording.recorder
     if recorder is None:
         return f"error: nothing recorded to {path}: the robot was never connected"
-    try:
-        recorder.write(path)
-    except OSError as exc:
-        return f"error: cannot write the recording {path}: {exc.strerror or exc}"
+    if recorder.out is not None:
+        if recorder.out.error is not None:
+            return f"error: {recorder.out.error}"
+    else:
+        try:
+            recorder.write(path)
+        except (OSError, ValueError, TypeError) as exc:
+            reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+            return f"error: cannot write the recording {path}: {reason}"
     if recorder.error is not None:
         return f"warning: {path}: {recorder.error}"
     return None
