@@ -167,19 +167,22 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
             )
         else:
             _err(f"{result.outcome}: {result.reason}")
-    plotted = _write_plot(args.plot, result, sim) if args.plot else True
+    outputs_ok = _write_plot(args.plot, result, sim) if args.plot else True
+    if session.wire_log_error is not None:  # said now: the robot is stopped
+        _err(f"error: {session.wire_log_error}")
+        outputs_ok = False
     if recording is not None and args.record:
         from roboscript.replay.session_tap import save_recording
 
         problem = save_recording(recording, args.record)
         if problem:
             _err(problem)
-        plotted = plotted and not problem
+        outputs_ok = outputs_ok and not problem
     if live is not None:
         live.serve_the_end(_err, interrupted=bool(interrupted))
     if interrupted:
         return interrupted, summary
-    ok = result.outcome == "success" and plotted
+    ok = result.outcome == "success" and outputs_ok
     return (EXIT_OK if ok else EXIT_FAILED), summary
 
 

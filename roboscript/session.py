@@ -96,6 +96,12 @@ class Session:
         """The in-process simulation, or ``None`` for a robot reached on a port."""
         return self.robot.simulation
 
+    @property
+    def wire_log_error(self) -> str | None:
+        """Why the wire log (``wire_log=``) could not be written in full, or ``None``."""
+        wire_log = self.robot.driver.link.wire_log
+        return wire_log.error if wire_log is not None else None
+
     def mission_time_s(self, sim_time_s: float) -> float:
         """A simulator time on the mission clock (0 when the mission started), to the ms."""
         return round(sim_time_s - self.start_time_s, 3)

@@ -137,9 +137,9 @@ class Link:
             self.wire_log.record(self.clock.now(), ">", data)
 
     def close(self) -> None:
-        """Close the port and flush the wire log (safe to call twice)."""
+        """Close the port and the wire log (safe to call twice)."""
         if self.wire_log is not None:
-            self.wire_log.flush()
+            self.wire_log.close()
         if not self.closed:
             self.closed = True
             try:

@@ -3,14 +3,20 @@
 from __future__ import annotations
 
 import json
+import os
 import re
+import resource
+import subprocess
+import sys
+import time
 from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from helpers import MISSIONS, OUT_TURN_BEEP, run_cli, served_simulator
+from helpers import MISSIONS, OUT_TURN_BEEP, ROOT, run_cli, served_simulator
 
 from roboscript.replay import load_recording
+from roboscript.transport.wirelog import read_wire_log
 
 
 def test_run_record_then_view_writes_a_self_contained_page(tmp_path: Path) -> None:
@@ -80,3 +86,96 @@ def test_a_run_on_a_port_records_the_odometry_pose(
     assert [f["tone"] for f in recording.frames if "tone" in f] == [[660.0, 0.2]]
     ticks = [b["t"] - a["t"] for a, b in zip(recording.frames, recording.frames[1:], strict=False)]
     assert sum(ticks) / len(ticks) == pytest.approx(0.02, abs=0.005)  # the tick loop's timing
+
+
+def _line_end_mission(folder: Path) -> Path:
+    mission = folder / "ends.yaml"
+    mission.write_text(
+        'mission: "ends\\u2028here"\n'
+        "initial: show\n"
+        "states:\n"
+        '  show: {do: {display: {text: "a\\u2028b\\u2029c\\x85d"}}, on: {done: wait}}\n'
+        "  wait: {do: {wait: {duration: 0.2 s}}, on: {done: finished}}\n"
+        "  finished: {final: success}\n",
+        encoding="utf-8",
+    )
+    return mission
+
+
+def test_a_run_showing_line_separators_records_a_file_view_and_graph_read(
+    tmp_path: Path,
+) -> None:
+    mission = _line_end_mission(tmp_path)
+    run = tmp_path / "run.jsonl"
+    done = run_cli("run", str(mission), "--record", str(run), "--quiet")
+    assert done.returncode == 0, done.stderr
+    assert load_recording(run).frames[-1]["display"] == "a\u2028b\u2029c\x85d"
+    view = run_cli("view", str(run))
+    assert view.returncode == 0, view.stderr
+    graph = run_cli("graph", str(mission), "--run", str(run), "-o", str(tmp_path / "g.svg"))
+    assert graph.returncode == 0, graph.stderr
+
+
+def _limited_run(limit_bytes: int, *args: str) -> subprocess.CompletedProcess[str]:
+    """``roboscript ARGS`` with files limited to ``limit_bytes`` (a full disk, for one
+    process): writes past it fail with EFBIG, as Python ignores SIGXFSZ."""
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit_bytes, limit_bytes))
+
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "PYTHONDONTWRITEBYTECODE": "1"}
+    return subprocess.run(
+        [sys.executable, "-m", "roboscript", *args],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=env,
+        preexec_fn=limit,
+        check=False,
+    )
+
+
+@pytest.mark.parametrize(
+    ("option", "what"), [("--record", "the recording"), ("--wire-log", "the wire log")]
+)
+def test_a_full_disk_is_one_sentence_after_the_robot_stops(
+    tmp_path: Path, option: str, what: str
+) -> None:
+    out = tmp_path / "out.txt"
+    done = _limited_run(20_000, "run", str(MISSIONS / "square.yaml"), option, str(out), "--json")
+    assert "Traceback" not in done.stderr, done.stderr
+    assert done.returncode == 1, done.stderr
+    assert json.loads(done.stdout)["outcome"] == "success"  # the run went on to its end
+    assert done.stderr.strip().splitlines()[-1] == (
+        f"error: cannot write {what} {out}: File too large"
+    )
+    assert 0 < out.stat().st_size <= 20_000
+
+
+def test_a_killed_run_leaves_a_recording_and_wire_log_view_opens(tmp_path: Path) -> None:
+    run, wire = tmp_path / "run.jsonl", tmp_path / "run.wire"
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    child = subprocess.Popen(
+        [sys.executable, "-m", "roboscript", "run", str(MISSIONS / "square.yaml"), "--realtime"]
+        + ["--record", str(run), "--wire-log", str(wire), "--quiet"],
+        env=env,
+        stderr=subprocess.DEVNULL,
+    )
+    try:
+        # wait for the frames of the first second to reach the disk, then kill outright
+        for _ in range(1200):
+            if run.exists() and run.read_text(encoding="utf-8").count("\n") > 3:
+                break
+            if child.poll() is not None:
+                break
+            time.sleep(0.1)
+        assert child.poll() is None, "the run ended before it could be killed"
+        child.kill()
+    finally:
+        child.kill()
+        child.wait()
+    recording = load_recording(run)
+    assert recording.frames and recording.result is None  # a prefix, cut short
+    assert any(direction == ">" for _, direction, _ in read_wire_log(wire))
+    view = run_cli("view", str(run))
+    assert view.returncode == 0, view.stderr

@@ -6,9 +6,17 @@ import json
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from roboscript.replay import FORMAT, VERSION, Recorder, RecordingError, load_recording
-from roboscript.replay.recording import fill_frames, parse_recording
+from roboscript.replay.recording import (
+    MAX_FRAMES,
+    MAX_LINE_CHARS,
+    RecordingFile,
+    fill_frames,
+    parse_recording,
+)
 
 SNAPSHOTS = [
     {
@@ -183,3 +191,102 @@ def test_unknown_keys_are_kept_for_newer_minor_additions() -> None:
     assert recording.header["extra"] == 5
     assert recording.frames == [{"t": 0, "new_key": [1]}]
     assert recording.result is None
+
+
+# Text a student may type, the kinds that once broke the framing first: every character a
+# reader could take for a line end, then anything Unicode holds but lone surrogates (which
+# a JSON reader joins into one character when two meet).
+_TEXT = st.text(
+    alphabet=st.one_of(
+        st.sampled_from("\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029\"\\<>'"),
+        st.characters(exclude_categories=["Cs"]),
+    )
+)
+
+
+@settings(max_examples=200, deadline=None)
+@given(name=_TEXT, display=_TEXT, state=_TEXT)
+def test_any_text_reads_back_as_it_was_written(name: str, display: str, state: str) -> None:
+    recorder = Recorder({"mission": {"name": name, "states": [{"name": state}]}})
+    recorder.add({"t": 0.0, "state": state, "display": display, "sensors": {name: 1.0}})
+    recorder.finish({"outcome": "success", "final_state": state, "reason": display})
+    text = "".join(line + "\n" for line in recorder.lines())
+    assert len(text.split("\n")) == 4  # header, frame, result, and nothing after the last
+    recording = parse_recording(text)
+    assert recording.header["mission"]["name"] == name
+    assert recording.frames[0]["display"] == display
+    assert recording.frames[0]["sensors"] == {name: 1.0}
+    assert recording.result is not None and recording.result["reason"] == display
+
+
+def test_a_lone_surrogate_is_written_as_its_escape() -> None:
+    recorder = Recorder({"mission": {"name": "\ud800"}})
+    recorder.finish({"outcome": "success"})
+    text = "\n".join(recorder.lines()).encode("utf-8").decode("utf-8")
+    assert parse_recording(text).header["mission"]["name"] == "\ud800"
+
+
+def test_a_recorder_with_a_file_writes_as_it_goes(tmp_path: Path) -> None:
+    out = RecordingFile(tmp_path / "run.jsonl")
+    recorder = Recorder({"mission": {"name": "m"}}, out=out)
+    # the header is on disk before the first frame, as a run killed at once would leave it
+    assert load_recording(tmp_path / "run.jsonl").header["mission"]["name"] == "m"
+    for snapshot in SNAPSHOTS:
+        recorder.add(snapshot)
+    recorder.finish({"outcome": "success"})
+    assert out.error is None
+    recording = load_recording(tmp_path / "run.jsonl")
+    assert recording.frames == _recorder().recording().frames
+    assert recording.result is not None and recording.result["outcome"] == "success"
+
+
+def test_a_line_cut_short_at_the_end_is_a_run_killed_while_writing() -> None:
+    text = "\n".join(_recorder().lines())
+    cut = text[: text.rindex("\n") + 12]  # the result line, cut after 11 characters
+    recording = parse_recording(cut)
+    assert len(recording.frames) == len(SNAPSHOTS) and recording.result is None
+
+
+HEADER = '{"format": "roboscript-run", "version": 1}\n'
+
+
+@pytest.mark.parametrize(
+    ("text", "problem"),
+    [
+        (HEADER + '{"t": NaN}\n', "2: error: this line is not JSON (NaN is not a number"),
+        (HEADER + '{"t": 0, "pose": [0, 0, Infinity]}\n', "2: error: this line is not JSON"),
+        (HEADER + '{"t": 0, "pose": [0, 0, 1e999]}\n', "2: error: 'pose[2]' must be a finite"),
+        (HEADER + "[" * 5000 + "]" * 5000 + "\n", "2: error: this line is nested too deeply"),
+        (HEADER[:-2] + ', "mission": "x"}\n', "1: error: 'mission' must be an object"),
+        (HEADER[:-2] + ', "robot": {"sensors": 3}}\n', "1: error: 'robot.sensors' must be a list"),
+        (
+            HEADER[:-2] + ', "world": {"walls": [[0, 0, 1]]}}\n',
+            "1: error: 'world.walls[0]' must be a list of 4 values",
+        ),
+        (HEADER + '{"t": 0, "sensors": "a"}\n', "2: error: 'sensors' must be an object"),
+        (HEADER + '{"t": 0, "motors": {"left": "x"}}\n', "2: error: 'motors.left' must be a"),
+        (HEADER + '{"result": {"states": [[0]]}}\n', "2: error: 'result.states[0]' must be"),
+        (HEADER + '{"t": 0}\n{"t": 0}\n\x85\n{"t": 0, "display": "\u2028"}\n', ""),
+    ],
+)
+def test_a_hostile_recording_is_refused_at_its_line(text: str, problem: str) -> None:
+    if not problem:  # a recording only this reader's framing reads right
+        assert parse_recording(text, "r.jsonl").frames[-1]["display"] == "\u2028"
+        return
+    with pytest.raises(RecordingError) as caught:
+        parse_recording(text, "r.jsonl")
+    assert str(caught.value).startswith("r.jsonl:" + problem)
+
+
+def test_a_file_of_more_frames_than_any_recorder_writes_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "many.jsonl"
+    path.write_text(HEADER + '{"t": 0}\n' * (MAX_FRAMES + 1), encoding="utf-8")
+    with pytest.raises(RecordingError, match=f"many.jsonl:{MAX_FRAMES + 2}: error: more than"):
+        load_recording(path)
+
+
+def test_an_endless_line_is_refused_without_reading_it_whole(tmp_path: Path) -> None:
+    path = tmp_path / "long.jsonl"
+    path.write_text(HEADER + " " * (MAX_LINE_CHARS + 10), encoding="utf-8")
+    with pytest.raises(RecordingError, match="long.jsonl:2: error: this line is longer"):
+        load_recording(path)
