@@ -46,6 +46,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from roboscript.errors import InputError
+from roboscript.transport.output_file import FLUSH_EVERY_S, OutputFile
 
 __all__ = [
     "FORMAT",
@@ -75,8 +76,6 @@ MAX_FRAMES = 200_000
 in the result's ``frames_not_recorded``, so a run of hours keeps a bounded size."""
 MAX_LINE_CHARS = 4_000_000
 """Longest line a reader takes (a header with a world of 20,000 walls is about 1 MB)."""
-FLUSH_EVERY_S = 1.0
-"""Most wall seconds a written line waits in memory before it reaches the file."""
 NESTED_KEYS = ("sensors", "motors")
 """Frame keys whose value is an object recorded entry by entry (only changed entries)."""
 EVENT_KEYS = ("tone",)
@@ -312,62 +311,38 @@ class RecordingFile:
 
     Every line goes through :func:`encode_line`. A write that fails (a full disk, a file-size
     limit, a line that cannot be JSON) closes the file, keeps what reached it, and is said in
-    :attr:`error`; later lines are dropped, so the run itself never sees the error.
+    :attr:`error`; later lines are dropped, so the run itself never sees the error
+    (:class:`~roboscript.transport.output_file.OutputFile`).
 
     Args:
         path: The file (replaced if it exists).
-
-    Attributes:
-        error: ``"cannot write the recording PATH: why"``, or ``None`` while all is well.
     """
 
     def __init__(self, path: str | Path) -> None:
         self.path = Path(path)
-        self.error: str | None = None
-        self._file: IO[str] | None = None
-        try:
-            self._file = self.path.open("w", encoding="utf-8", newline="\n")
-        except OSError as exc:
-            self._fail(exc)
+        self._out = OutputFile(path, "the recording")
+
+    @property
+    def error(self) -> str | None:
+        """``"cannot write the recording PATH: why"``, or ``None`` while all is well."""
+        return self._out.error
 
     def write(self, item: Mapping[str, Any]) -> None:
         """Write one line (a header, a frame or the result); buffered until :meth:`flush`."""
-        if self._file is None:
-            return
         try:
-            self._file.write(encode_line(item) + "\n")
-        except (OSError, ValueError, TypeError) as exc:
-            self._fail(exc)
+            line = encode_line(item)
+        except (ValueError, TypeError) as exc:
+            self._out.fail(exc)
+            return
+        self._out.write(line + "\n")
 
     def flush(self) -> None:
         """Push the lines written so far to the file."""
-        if self._file is None:
-            return
-        try:
-            self._file.flush()
-        except OSError as exc:
-            self._fail(exc)
+        self._out.flush()
 
     def close(self) -> None:
         """Flush and close; later lines are dropped."""
-        if self._file is None:
-            return
-        try:
-            self._file.close()
-        except OSError as exc:
-            self._fail(exc)
-        self._file = None
-
-    def _fail(self, exc: Exception) -> None:
-        if self.error is None:
-            reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-            self.error = f"cannot write the recording {self.path}: {reason}"
-        file, self._file = self._file, None
-        if file is not None:
-            try:
-                file.close()
-            except OSError:  # the buffer that failed to go out fails again: already said
-                pass
+        self._out.close()
 
 
 @dataclass
@@ -468,13 +443,12 @@ def read_recording(path: str | Path) -> Iterator[tuple[str, int, dict[str, Any]]
     """
     name = str(path)
     try:
-        stream = Path(path).open(encoding="utf-8", newline="\n")
-    except OSError as exc:
+        with Path(path).open(encoding="utf-8", newline="\n") as stream:
+            yield from _items(_read_lines(stream, name), name)
+    except OSError as exc:  # opening it: reading it raises RecordingError already
         raise RecordingError(
             f"cannot read the recording: {exc.strerror or exc}", path=name
         ) from None
-    with stream:
-        yield from _items(_read_lines(stream, name), name)
 
 
 def _read_lines(stream: IO[str], name: str) -> Iterator[tuple[int, str, bool]]:

@@ -156,8 +156,10 @@ def test_a_killed_run_leaves_a_recording_and_wire_log_view_opens(tmp_path: Path)
     run, wire = tmp_path / "run.jsonl", tmp_path / "run.wire"
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     child = subprocess.Popen(
-        [sys.executable, "-m", "roboscript", "run", str(MISSIONS / "square.yaml"), "--realtime"]
-        + ["--record", str(run), "--wire-log", str(wire), "--quiet"],
+        [
+            *(sys.executable, "-m", "roboscript", "run", str(MISSIONS / "square.yaml")),
+            *("--realtime", "--record", str(run), "--wire-log", str(wire), "--quiet"),
+        ],
         env=env,
         stderr=subprocess.DEVNULL,
     )

@@ -288,5 +288,5 @@ def test_a_file_of_more_frames_than_any_recorder_writes_is_refused(tmp_path: Pat
 def test_an_endless_line_is_refused_without_reading_it_whole(tmp_path: Path) -> None:
     path = tmp_path / "long.jsonl"
     path.write_text(HEADER + " " * (MAX_LINE_CHARS + 10), encoding="utf-8")
-    with pytest.raises(RecordingError, match="long.jsonl:2: error: this line is longer"):
+    with pytest.raises(RecordingError, match=r"long\.jsonl:2: error: this line is longer"):
         load_recording(path)
