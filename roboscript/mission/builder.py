@@ -160,16 +160,18 @@ def _convert(param: Param, value: Any, state_names: frozenset[str] | None = None
 
 
 def _holding(instance: Action, cls: type[Action], kwargs: Mapping[str, Any]) -> Action:
-    """``instance``, or a copy of it holding each quantity as the float the spec has (a
-    Python mission writes ``Drive(distance_mm=500)``, YAML ``distance: 50 cm``: both run
-    500.0)."""
+    """``instance``, or a copy of it holding each quantity as the float the spec has.
+
+    A Python mission writes ``Drive(distance_mm=500)`` or, as in YAML,
+    ``Drive(distance_mm="50 cm")``; YAML writes ``distance: 50 cm``: all three run 500.0, read
+    by the one rule (:func:`~roboscript.inputs.quantities.parse_quantity`) at ``check``.
+    """
     changed = {
         p.kwarg: kwargs[p.kwarg]
         for p in cls.params
         if p.kind in DIMENSIONS
         and p.kwarg in kwargs
-        and type(getattr(instance, p.kwarg, None)) is int
-        and getattr(instance, p.kwarg) == kwargs[p.kwarg]
+        and _as_written(getattr(instance, p.kwarg, None), kwargs[p.kwarg])
     }
     if not changed:
         return instance
@@ -180,6 +182,12 @@ def _holding(instance: Action, cls: type[Action], kwargs: Mapping[str, Any]) -> 
     except (AttributeError, TypeError):  # a behaviour's read-only attribute: keep it
         return instance
     return template
+
+
+def _as_written(held: object, converted: object) -> bool:
+    """True if an action holds a quantity as a student wrote it, not as it runs: text
+    (``"50 cm"``), or a whole number the constructor kept as given."""
+    return isinstance(held, str) or (type(held) is int and held == converted)
 
 
 def _guard_capabilities(kwargs: Mapping[str, Any]) -> frozenset[str]:

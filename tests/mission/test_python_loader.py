@@ -179,3 +179,51 @@ def test_a_python_twin_runs_like_its_yaml(twin: Path) -> None:
     assert python_run["outcome"] == yaml_run["outcome"] == "success"
     assert python_run["states"] == yaml_run["states"]
     assert python_run == yaml_run
+
+
+# ------------------------------------------------------------ quantities written as in YAML
+
+WITH_UNITS = """\
+from roboscript import Drive, Mission, Rotate, state
+
+
+class Units(Mission):
+    go = state(Drive(distance_mm={distance!r}), initial=True, on_done="turn", on_failed="end")
+    turn = state(Rotate(angle_deg={angle!r}), on_done="end", on_failed="end")
+    end = state(final="success")
+"""
+
+
+def test_python_arguments_with_units_run_as_yaml_reads_them(tmp_path: Path) -> None:
+    units = tmp_path / "units.py"
+    units.write_text(WITH_UNITS.format(distance="50 cm", angle="90 deg"), encoding="utf-8")
+    numbers = tmp_path / "numbers.py"
+    numbers.write_text(WITH_UNITS.format(distance=500, angle=90), encoding="utf-8")
+    assert run_cli("check", str(units)).returncode == 0
+    runs = []
+    for path in (units, numbers):
+        result = run_cli("run", str(path), "--json")
+        assert result.returncode == 0, result.stderr
+        assert "Traceback" not in result.stderr
+        runs.append(json.loads(result.stdout)["sim"])
+    assert runs[0] == runs[1]  # "50 cm" is 500 mm, "90 deg" is 90 degrees
+
+
+@pytest.mark.parametrize(
+    ("distance", "angle", "problem"),
+    [
+        ("50 deg", "90 deg", "5:34: error: drive distance: 'deg' is a unit of angle"),
+        ("50 cm", "90 cm", "6:35: error: rotate angle: 'cm' is a unit of distance"),
+        ("fifty", "90 deg", "5:34: error: drive distance: expected a distance"),
+    ],
+)
+def test_python_arguments_with_a_wrong_unit_are_refused_at_check(
+    tmp_path: Path, distance: str, angle: str, problem: str
+) -> None:
+    mission = tmp_path / "wrong.py"
+    mission.write_text(WITH_UNITS.format(distance=distance, angle=angle), encoding="utf-8")
+    for command in ("check", "run"):
+        result = run_cli(command, str(mission))
+        assert result.returncode == 2, result.stderr
+        assert f"{mission}:{problem}" in result.stderr
+        assert "Traceback" not in result.stderr
