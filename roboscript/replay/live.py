@@ -18,6 +18,12 @@ Who does what:
   not at all, falls out of the history: when it reads again it gets a fresh snapshot and the
   recent frames, and the frames it missed are counted as dropped for it. Nobody else waits.
 
+The server holds at most :data:`MAX_CONNECTIONS` connections, each with its own thread. A
+connection that has not asked for anything yet (an idle socket, a browser's spare connection)
+gives its place to a new one when all are taken, and is closed after :data:`READ_TIMEOUT_S`
+anyway; streams keep theirs. A client that resets its connection or goes away is simply gone:
+nothing is printed (the terminal shows the run).
+
 Closing the page never stops the robot: the run does not know who is watching. After the run,
 :meth:`LiveView.linger` keeps serving until every open page has the end of the run, or
 :data:`LINGER_S` seconds if none is open (Ctrl-C ends the wait at once).
@@ -25,8 +31,12 @@ Closing the page never stops the robot: the run does not know who is watching. A
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import json
+import logging
+import socket
+import sys
 import threading
 from collections import deque
 from collections.abc import Callable, Mapping
@@ -44,6 +54,9 @@ __all__ = [
     "HISTORY_FRAMES",
     "HOST",
     "LINGER_S",
+    "LISTEN_BACKLOG",
+    "MAX_CONNECTIONS",
+    "READ_TIMEOUT_S",
     "ClientStats",
     "LiveView",
     "LiveViewError",
@@ -61,6 +74,14 @@ PING_S = 15.0
 """A comment line this often keeps an idle stream (a paused run) from being cut by proxies."""
 SEND_TIMEOUT_S = 30.0
 """A browser that accepts nothing this long is disconnected (its thread ends)."""
+READ_TIMEOUT_S = 30.0
+"""A connection that sends no complete request this long is closed (its thread ends)."""
+MAX_CONNECTIONS = 32
+"""Most connections served at once (each holds a thread); a browser opens about six."""
+LISTEN_BACKLOG = 128
+"""Connections the system queues before they are accepted (Python's default is 5)."""
+
+logger = logging.getLogger(__name__)
 
 
 class LiveViewError(RoboscriptError, OSError):
@@ -127,7 +148,7 @@ class LiveView:
         self._closed = False
         self._changed = threading.Condition()
         self._clients: list[ClientStats] = []
-        self._server: ThreadingHTTPServer | None = None
+        self._server: _Server | None = None
         self._thread: threading.Thread | None = None
         self._page = viewer_page(live_viewer("/events", label=f"live view of {title}"), title)
 
@@ -168,13 +189,12 @@ class LiveView:
             live = view
 
         try:
-            server = ThreadingHTTPServer((HOST, self.port), Handler)
+            server = _Server((HOST, self.port), Handler)
         except OSError as exc:
             raise LiveViewError(
                 f"cannot serve the live view on {HOST}:{self.port}: {exc.strerror or exc}"
                 " (choose another port with --view-port)"
             ) from None
-        server.daemon_threads = True  # a browser's thread never keeps the program alive
         self._server = server
         self.port = int(server.server_address[1])
         self.url = f"http://{HOST}:{self.port}/"
@@ -321,11 +341,99 @@ class LiveView:
                 self._changed.notify_all()  # linger() may be waiting for this stream
 
 
+class _Server(ThreadingHTTPServer):
+    """The standard threading server, bounded: at most :data:`MAX_CONNECTIONS` connections,
+    a listen backlog of :data:`LISTEN_BACKLOG`, and silence for clients that go away.
+
+    Each connection is *idle* until its request line arrives and again between requests;
+    when every place is taken, a new connection takes the place of the longest idle one (so
+    sockets that connect and say nothing can never lock a browser out), and if none is idle
+    the new one is closed at once.
+    """
+
+    daemon_threads = True  # a browser's thread never keeps the program alive
+    request_queue_size = LISTEN_BACKLOG
+
+    def __init__(self, address: tuple[str, int], handler: type[_Handler]) -> None:
+        super().__init__(address, handler)
+        self._lock = threading.Lock()
+        self._idle: dict[socket.socket, None] = {}  # insertion order: the oldest first
+        self._busy: set[socket.socket] = set()
+        self.refused = 0
+        self.evicted = 0
+
+    def connections(self) -> int:
+        """Connections being served now."""
+        with self._lock:
+            return len(self._idle) + len(self._busy)
+
+    def process_request(self, request: Any, client_address: Any) -> None:
+        """Take the connection if there is a place (freeing an idle one if need be)."""
+        with self._lock:
+            if len(self._idle) + len(self._busy) >= MAX_CONNECTIONS:
+                if not self._idle:
+                    self.refused += 1
+                    self.shutdown_request(request)
+                    return
+                oldest = next(iter(self._idle))
+                del self._idle[oldest]
+                self.evicted += 1
+                _hang_up(oldest)  # its thread reads the end of the stream and finishes
+            self._idle[request] = None
+        super().process_request(request, client_address)
+
+    def process_request_thread(self, request: Any, client_address: Any) -> None:
+        try:
+            super().process_request_thread(request, client_address)
+        finally:
+            with self._lock:
+                self._idle.pop(request, None)
+                self._busy.discard(request)
+
+    def mark(self, request: socket.socket, *, busy: bool) -> bool:
+        """Say whether a connection is answering a request; False if it was closed meanwhile."""
+        with self._lock:
+            if busy:
+                if request not in self._idle:
+                    return False  # it gave its place to a newer connection
+                del self._idle[request]
+                self._busy.add(request)
+            elif request in self._busy:
+                self._busy.discard(request)
+                self._idle[request] = None
+            return True
+
+    def handle_error(self, request: Any, client_address: Any) -> None:
+        """Say nothing: a browser that resets, times out or sends garbage is its own business."""
+        logger.debug("live view client %s left: %s", client_address, sys.exc_info()[1])
+
+
+def _hang_up(connection: socket.socket) -> None:
+    with contextlib.suppress(OSError):  # already gone
+        connection.shutdown(socket.SHUT_RDWR)
+
+
 class _Handler(BaseHTTPRequestHandler):
     """``/`` is the page, ``/events`` the stream; nothing else, and only for this computer."""
 
     live: LiveView
+    server: _Server
     protocol_version = "HTTP/1.1"
+    timeout = READ_TIMEOUT_S  # for every read, the request line first
+
+    def parse_request(self) -> bool:
+        """Read the request's head; from its first line on, the connection is busy."""
+        if not self.server.mark(self.request, busy=True):
+            self.close_connection = True  # it gave its place to a newer connection
+            return False
+        return super().parse_request()
+
+    def handle_one_request(self) -> None:
+        """Answer one request, then wait idle for the next (a browser keeps connections)."""
+        try:
+            super().handle_one_request()
+        finally:
+            self.server.mark(self.request, busy=False)
 
     def log_message(self, format: str, *args: Any) -> None:
         """Say nothing: the terminal shows the run, not each request."""

@@ -7,8 +7,10 @@ import os
 import re
 import signal
 import socket
+import struct
 import subprocess
 import sys
+import threading
 import time
 import urllib.request
 from collections.abc import Iterator
@@ -19,7 +21,7 @@ import pytest
 from browser import open_browser
 from helpers import ROOT
 
-from roboscript.replay.live import HOST, LiveView
+from roboscript.replay.live import HOST, LISTEN_BACKLOG, MAX_CONNECTIONS, LiveView, _Handler
 from roboscript.transport.wirelog import read_wire_log
 
 HEADER = {"format": "roboscript-run", "version": 1, "mission": {"name": "m", "states": []}}
@@ -234,3 +236,101 @@ def test_after_the_run_the_server_waits_for_open_pages_then_closes(live: LiveVie
     assert _read_events(page)[-1] == ("end", {"outcome": "success"})
     with pytest.raises(OSError):
         socket.create_connection((HOST, live.port), timeout=5)
+
+
+# ---------------------------------------------------------- hostile and careless clients
+
+
+def _reset(port: int, says: bytes = b"") -> None:
+    """A client that connects, maybe starts a request, and resets the connection."""
+    client = socket.create_connection((HOST, port), timeout=10)
+    if says:
+        client.sendall(says)
+    client.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
+    client.close()  # with a zero linger: RST, not FIN
+
+
+def _settle(view: LiveView, connections: int) -> None:
+    """Wait until the server holds at most ``connections`` connections."""
+    server = view._server
+    assert server is not None
+    for _ in range(3000):
+        if server.connections() <= connections:
+            return
+        time.sleep(0.01)
+    pytest.fail(f"the server still holds {server.connections()} connections")
+
+
+def test_clients_that_reset_their_connection_print_nothing(
+    live: LiveView, capfd: pytest.CaptureFixture[str]
+) -> None:
+    for index in range(300):
+        _reset(live.port, [b"", b"GET / HT", f"GET / HTTP/1.1\r\nHost: {HOST}".encode()][index % 3])
+    _settle(live, 0)
+    with urllib.request.urlopen(live.url, timeout=30) as page:  # still answering
+        assert page.status == 200
+    captured = capfd.readouterr()
+    assert captured.err == "" and captured.out == ""
+
+
+def test_idle_connections_hold_a_bounded_number_of_places_and_never_lock_a_browser_out(
+    live: LiveView,
+) -> None:
+    server = live._server
+    assert server is not None
+    threads_before = threading.active_count()
+    idle = [socket.create_connection((HOST, live.port), timeout=30) for _ in range(300)]
+    try:
+        with urllib.request.urlopen(live.url, timeout=30) as page:
+            assert b'data-live="/events"' in page.read()
+        assert server.connections() <= MAX_CONNECTIONS
+        assert server.evicted >= 300 - MAX_CONNECTIONS
+        # every connection given up ends its thread: the threads come back to the bound
+        for _ in range(3000):
+            if threading.active_count() <= threads_before + MAX_CONNECTIONS:
+                break
+            time.sleep(0.01)
+        assert threading.active_count() <= threads_before + MAX_CONNECTIONS
+        # the oldest idle sockets were hung up on: they read the end of the stream
+        assert idle[0].recv(1) == b""
+    finally:
+        for client in idle:
+            client.close()
+
+
+def test_an_idle_connection_is_closed_after_the_read_timeout(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(_Handler, "timeout", 0.2)
+    view = LiveView("m")
+    view.start()
+    try:
+        client = socket.create_connection((HOST, view.port), timeout=60)
+        client.sendall(b"GET / HT")  # and nothing more
+        assert client.recv(1) == b""  # the server gave up on it and closed
+        _settle(view, 0)
+    finally:
+        view.close()
+
+
+def test_the_listen_backlog_queues_a_burst_of_connections(live: LiveView) -> None:
+    server = live._server
+    assert server is not None
+    assert server.socket.getsockopt(socket.SOL_SOCKET, socket.SO_ACCEPTCONN) == 1
+    assert server.request_queue_size == LISTEN_BACKLOG >= 128
+
+
+def test_a_run_with_a_live_view_prints_nothing_for_clients_that_reset() -> None:
+    process, url = _start_run("missions/square.yaml")
+    port = int(url.rsplit(":", 1)[1].strip("/"))
+    try:
+        for index in range(300):
+            _reset(port, b"GET /events HTTP/1.1\r\n" if index % 2 else b"")
+        with urllib.request.urlopen(url, timeout=30) as page:
+            assert page.status == 200
+        process.send_signal(signal.SIGINT)
+        _, stderr = process.communicate(timeout=60)
+    finally:
+        process.kill()
+    assert "Traceback" not in stderr and "Exception" not in stderr, stderr
+    assert stderr.splitlines()[-1] == "error: interrupted by Ctrl-C"
