@@ -615,20 +615,23 @@
       fmt(frame.tone[1], 2) + " s" : "—";
     this.q("frame").textContent = (this.index + 1) + " / " + list.length;
     var body = this.q("sensors"), values = frame.sensors || {};
-    var keys = Object.keys(values);
-    if (body.getAttribute("data-keys") !== keys.join(",")) {
+    var keys = Object.keys(values), shown = JSON.stringify(keys);
+    if (this.sensorKeys !== shown) {
+      // rows are found by position, never by a selector built from a name: a sensor may be
+      // called anything (a quote, "</script>")
       body.textContent = "";
-      keys.forEach(function (k) {
+      this.sensorCells = keys.map(function (k) {
         var row = el("tr", { "data-sensor": k });
+        var cell = el("td", { "class": "rs-value" }, "");
         row.appendChild(el("th", { scope: "row" }, k));
-        row.appendChild(el("td", { "class": "rs-value" }, ""));
+        row.appendChild(cell);
         body.appendChild(row);
+        return cell;
       });
-      body.setAttribute("data-keys", keys.join(","));
+      this.sensorKeys = shown;
     }
-    keys.forEach(function (k) {
-      body.querySelector("[data-sensor='" + k + "'] td").textContent = fmt(values[k]);
-    });
+    var cells = this.sensorCells;
+    keys.forEach(function (k, i) { cells[i].textContent = fmt(values[k]); });
     this.scrub.value = String(this.index);
     this.root.setAttribute("data-index", String(this.index));
     this.root.setAttribute("data-t", String(frame.t));

@@ -9,15 +9,21 @@ from a Server-Sent-Events URL (events ``header``, ``frame``, ``end``; see
 
 from __future__ import annotations
 
-import json
-from collections.abc import Iterable, Mapping, Sequence
+import os
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from functools import cache
 from html import escape
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from roboscript.replay.recording import EVENT_KEYS, Recorder, Recording, load_recording
+from roboscript.replay.recording import (
+    EVENT_KEYS,
+    Recorder,
+    Recording,
+    encode_line,
+    read_recording,
+)
 
 __all__ = [
     "decimate",
@@ -121,14 +127,29 @@ def viewer_block(
         label: The viewer's accessible name.
     """
     data = _data(recording, open_at_s=open_at_s, marks=marks, rate_hz=rate_hz)
-    text = json.dumps(data, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
-    # Inside <script>, only "</" can end the element early; \u003c is the same JSON string.
-    text = text.replace("<", "\\u003c")
-    name = label or f"replay of {recording.header.get('mission', {}).get('name', 'a run')}"
-    return (
-        f'<div class="rs-viewer" tabindex="0" role="region" aria-label="{escape(name)}">'
-        f'<script type="application/json" class="rs-data">{text}</script></div>\n'
+    opening, closing = _block_ends(label or _label(recording.header))
+    return opening + _embedded(data) + closing
+
+
+def _embedded(item: Mapping[str, Any]) -> str:
+    """JSON for inside ``<script>``, where only ``"</"`` could end the element early:
+    ``\\u003c`` is the same JSON string."""
+    return encode_line(item).replace("<", "\\u003c")
+
+
+def _label(header: Mapping[str, Any]) -> str:
+    mission = header.get("mission")
+    name = mission.get("name") if isinstance(mission, dict) else None
+    return f"replay of {name if isinstance(name, str) else 'a run'}"
+
+
+def _block_ends(label: str) -> tuple[str, str]:
+    """The viewer block's text before and after its embedded JSON."""
+    opening = (
+        f'<div class="rs-viewer" tabindex="0" role="region" aria-label="{escape(label)}">'
+        '<script type="application/json" class="rs-data">'
     )
+    return opening, "</script></div>\n"
 
 
 def live_viewer(url: str, *, label: str = "live view") -> str:
@@ -141,38 +162,83 @@ def live_viewer(url: str, *, label: str = "live view") -> str:
 
 def viewer_page(body: str, title: str) -> str:
     """A whole page around viewer blocks: styles, the blocks, the script once."""
-    return (
+    head, tail = _page_ends(title)
+    return head + body + tail
+
+
+def _page_ends(title: str) -> tuple[str, str]:
+    """The page's text before and after its viewer blocks."""
+    head = (
         '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
         '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
         f"<title>{escape(title)}</title>\n{viewer_style()}"
         "<style>body { margin: 1rem auto; max-width: 900px; padding: 0 1rem;"
         " font-family: system-ui, sans-serif; } h1 { font-size: 1.3rem; }</style>\n"
-        f"</head>\n<body>\n<h1>{escape(title)}</h1>\n{body}{viewer_script()}</body>\n</html>\n"
+        f"</head>\n<body>\n<h1>{escape(title)}</h1>\n"
     )
+    return head, f"{viewer_script()}</body>\n</html>\n"
 
 
 def recording_title(recording: Recording) -> str:
     """The page title for a run: mission, robot, world."""
-    header = recording.header
-    mission = header.get("mission", {}).get("name", "a run")
-    robot = header.get("robot", {}).get("name", "a robot")
-    world = header.get("world")
-    where = f" in {world['name']}" if isinstance(world, dict) and world.get("name") else ""
-    return f"{mission} on {robot}{where}"
+    return _title(recording.header)
+
+
+def _title(header: Mapping[str, Any]) -> str:
+    def name(part: Any, default: str) -> str:
+        found = part.get("name") if isinstance(part, dict) else None
+        return found if isinstance(found, str) and found else default
+
+    mission = name(header.get("mission"), "a run")
+    robot = name(header.get("robot"), "a robot")
+    world = name(header.get("world"), "")
+    return f"{mission} on {robot}{f' in {world}' if world else ''}"
 
 
 def write_viewer_page(recording_path: str | Path, out_path: str | Path) -> Path:
     """Write the replay page of the recording at ``recording_path`` to ``out_path``.
 
+    The recording is read and the page written line by line, so memory stays bounded
+    whatever the file's size; the page appears whole or not at all (it is written beside
+    ``out_path`` and renamed when done).
+
     Raises:
-        RecordingError: The recording cannot be read.
+        RecordingError: The recording cannot be read (nothing is written).
         OSError: The page cannot be written.
     """
-    recording = load_recording(recording_path)
-    page = viewer_page(viewer_block(recording), recording_title(recording))
     out = Path(out_path)
-    out.write_text(page, encoding="utf-8")
+    part = out.with_name(out.name + ".part")
+    try:
+        with part.open("w", encoding="utf-8") as page:
+            _stream_page(read_recording(recording_path), page.write)
+        os.replace(part, out)
+    finally:
+        part.unlink(missing_ok=True)
     return out
+
+
+def _stream_page(
+    items: Iterable[tuple[str, int, dict[str, Any]]], write: Callable[[str], object]
+) -> None:
+    """Write a page from a recording's lines (:func:`read_recording`) as they are read."""
+    result: dict[str, Any] | None = None
+    opened = False
+    closing = tail = ""
+    for kind, _, item in items:
+        if kind == "header":
+            head, tail = _page_ends(_title(item))
+            opening, closing = _block_ends(_label(item))
+            write(head + opening + '{"header":' + _embedded(item) + ',"frames":[')
+        elif kind == "frame":
+            write(("," if opened else "") + _embedded(item))
+            opened = True
+        else:
+            result = item
+    write('],"result":' + _embedded_value(result) + ',"marks":[]}' + closing + tail)
+
+
+def _embedded_value(value: dict[str, Any] | None) -> str:
+    return "null" if value is None else _embedded(value)
 
 
 def view_recording(

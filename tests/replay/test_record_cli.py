@@ -181,3 +181,55 @@ def test_a_killed_run_leaves_a_recording_and_wire_log_view_opens(tmp_path: Path)
     assert any(direction == ">" for _, direction, _ in read_wire_log(wire))
     view = run_cli("view", str(run))
     assert view.returncode == 0, view.stderr
+
+
+HEADER_LINE = '{"format":"roboscript-run","version":1,"mission":{"name":"m","states":[]}}\n'
+
+
+@pytest.mark.parametrize(
+    ("body", "problem"),
+    [
+        ('{"t":NaN}\n', "2: error: this line is not JSON (NaN is not a number JSON allows)"),
+        ('{"t":0,"pose":[0,0,-Infinity]}\n', "2: error: this line is not JSON"),
+        ("[" * 5000 + "]" * 5000 + "\n", "2: error: this line is nested too deeply"),
+        ('{"t":0,"sensors":"loud"}\n', "2: error: 'sensors' must be an object"),
+        ('{"t":0}\n{"result":"fine"}\n', "3: error: 'result' must be an object"),
+        ('{"t":0,"pose":"here"}\n', "2: error: 'pose' must be a list of 3 values"),
+        ('{"t":0}\n\x85\u2028{oops\n', "3: error: this line is not JSON"),
+    ],
+)
+def test_view_refuses_a_hostile_recording_at_its_line(
+    tmp_path: Path, body: str, problem: str
+) -> None:
+    bad = tmp_path / "bad.jsonl"
+    bad.write_text(HEADER_LINE + body, encoding="utf-8")
+    done = run_cli("view", str(bad))
+    assert done.returncode == 2
+    assert done.stderr.startswith(f"{bad}:{problem}"), done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1  # one sentence, no traceback
+    assert not list(tmp_path.glob("bad.html*"))  # no page, not even half of one
+
+
+def _view_peak_kib(recording: Path) -> int:
+    """``roboscript view RECORDING``'s peak resident memory, KiB, as the kernel counted it."""
+    child = subprocess.Popen(
+        [sys.executable, "-m", "roboscript", "view", str(recording)],
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        stderr=subprocess.DEVNULL,
+    )
+    _, status, usage = os.wait4(child.pid, 0)
+    child.returncode = os.waitstatus_to_exitcode(status)
+    assert child.returncode == 0
+    return int(usage.ru_maxrss)
+
+
+def test_view_memory_does_not_grow_with_the_recording(tmp_path: Path) -> None:
+    frame = '{"t":%d.02,"pose":[%d.5,-3.25,90.0],"sensors":{"range_mm":%d.5,"line":[1,2,3]}}\n'
+    small, large = tmp_path / "small.jsonl", tmp_path / "large.jsonl"
+    small.write_text(HEADER_LINE + "".join(frame % (i, i, i) for i in range(1_000)))
+    large.write_text(HEADER_LINE + "".join(frame % (i, i, i) for i in range(150_000)))
+    grown_kib = _view_peak_kib(large) - _view_peak_kib(small)
+    more_kib = (large.stat().st_size - small.stat().st_size) // 1024
+    # the whole file in memory would cost several times its size (it once cost 23 times)
+    assert grown_kib < more_kib / 4, (grown_kib, more_kib)
+    assert (tmp_path / "large.html").stat().st_size > large.stat().st_size

@@ -240,3 +240,35 @@ def test_a_run_without_a_world_or_a_pose_still_replays(tmp_path: Path) -> None:
         assert _sensor(browser, "range_mm") == "25.0"
         assert _text(browser, "pose") == "—"
         assert browser.errors == []
+
+
+HOSTILE_NAMES = ["a'b", 'say "hi"', "</script><script>window.owned=1</script>", "x]y\\z"]
+
+
+def test_names_of_any_text_show_as_text_and_run_nothing(tmp_path: Path) -> None:
+    from helpers import run_cli
+
+    from roboscript.replay import Recorder
+
+    names = HOSTILE_NAMES
+    recorder = Recorder(
+        {"mission": {"name": names[2], "states": [{"name": n} for n in names]}, "robot": {}}
+    )
+    for i, name in enumerate(names):
+        recorder.add({"t": i * 0.1, "state": name, "sensors": dict.fromkeys(names, i)})
+    recorder.finish({"outcome": "success", "final_state": names[-1], "reason": names[2]})
+    run = tmp_path / "names.jsonl"
+    recorder.write(run)
+    done = run_cli("view", str(run))  # the page as `roboscript view` writes it
+    assert done.returncode == 0, done.stderr
+    with open_browser(tmp_path) as browser:
+        browser.open((tmp_path / "names.html").as_uri())
+        browser.wait_for("document.querySelector('.rs-viewer').dataset.ready === '1'")
+        cells = "[...document.querySelectorAll('[data-role=sensors] tr')]"
+        assert browser.evaluate(f"{cells}.map(r => r.firstChild.textContent)") == names
+        assert browser.evaluate(f"{cells}.map(r => r.lastChild.textContent)") == ["0.0"] * 4
+        browser.click("[data-action=step]")
+        assert _text(browser, "state") == names[1]
+        assert browser.evaluate(f"{cells}.map(r => r.lastChild.textContent)") == ["1.0"] * 4
+        assert browser.evaluate("window.owned === undefined")
+        assert browser.errors == []
