@@ -667,7 +667,8 @@ def _parser() -> argparse.ArgumentParser:
         type=float,
         default=5.0,
         metavar="SECONDS",
-        help="drop a TCP client that sends nothing this long after connecting (default: 5)",
+        help="drop a TCP client that sends nothing this long after connecting, or stops this"
+        " long in the middle of a message (default: 5)",
     )
     sim.add_argument("--max-runtime", type=float, metavar="SECONDS", help=argparse.SUPPRESS)
     sim.set_defaults(func=_cmd_sim)

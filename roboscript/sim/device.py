@@ -28,6 +28,11 @@ class SimDevice(Protocol):
         """Run the firmware's periodic work up to ``now_s`` (after a physics step)."""
         ...
 
+    def pending_input_bytes(self) -> int:
+        """Request bytes received and not yet a whole message: the host stopped mid-frame
+        (``roboscript sim`` drops a client that stays so)."""
+        ...
+
     def read_output(self) -> bytes:
         """Take the bytes the device has written since the last call."""
         ...

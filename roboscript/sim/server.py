@@ -17,7 +17,10 @@ Fair to every client of a classroom (TCP):
   ``client X refused: busy with Y``.
 * **A client that says nothing is dropped.** One that sends no byte within
   ``handshake_wait_s`` of connecting (:data:`DEFAULT_HANDSHAKE_WAIT_S`) is closed and the
-  motors stopped, so a stray connection cannot keep the robot from the next client.
+  motors stopped, so a stray connection cannot keep the robot from the next client. So is one
+  that stops in the middle of a message (the device holds part of a frame) for as long: one
+  byte and silence is no more a claim on the robot than silence. A client that finished its
+  last message may stay quiet as long as it likes (a host waiting for sensor events).
 * **No client can flood the robot.** The device takes bytes no faster than the robot's line
   carries them (``baudrate / 10`` bytes a second, at least :data:`MIN_LINE_BYTES_S`, with
   :data:`LINE_BURST_S` of burst); what a client sends beyond that is dropped and counted, as
@@ -80,6 +83,14 @@ class _Client:
     budget_at_s: float
     heard: bool = False
     dropped_bytes: int = 0
+    last_byte_s: float = 0.0
+    mid_frame: bool = False
+
+    def quiet_since_s(self) -> float | None:
+        """Since when its silence counts against it; ``None`` while it may stay quiet."""
+        if not self.heard:
+            return self.connected_s
+        return self.last_byte_s if self.mid_frame else None
 
 
 def parse_host_port(text: str) -> tuple[str, int]:
@@ -172,8 +183,9 @@ class SimServer:
                 wait = self._advance()
                 if client is not None:
                     self._send_output(client.sock)
-                    if not client.heard:
-                        left = client.connected_s + self.handshake_wait_s - self.now()
+                    quiet_since_s = client.quiet_since_s()
+                    if quiet_since_s is not None:
+                        left = quiet_since_s + self.handshake_wait_s - self.now()
                         wait = max(0.0, min(wait, left))
                 readable = [listener] if client is None else [client.sock, listener]
                 ready, _, _ = select.select(readable, [], [], wait)
@@ -249,15 +261,19 @@ class SimServer:
         self.announce(f"client {name} refused: busy with {client.name}")
 
     def _idle(self, client: _Client) -> bool:
-        """Drop ``client`` if it has said nothing within the handshake wait; True if dropped."""
-        if client.heard or self.now() - client.connected_s < self.handshake_wait_s:
+        """Drop ``client`` if it has said nothing, or stopped mid-message, for the handshake
+        wait; True if dropped."""
+        quiet_since_s = client.quiet_since_s()
+        if quiet_since_s is None or self.now() - quiet_since_s < self.handshake_wait_s:
             return False
         self.idle_drops += 1
-        self._hang_up(
-            client,
-            f"client {client.name} dropped: it sent nothing for "
-            f"{self.handshake_wait_s:g} s after connecting; motors stopped",
+        wait = f"{self.handshake_wait_s:g} s"
+        why = (
+            f"it stopped in the middle of a message and sent nothing for {wait}"
+            if client.heard
+            else f"it sent nothing for {wait} after connecting"
         )
+        self._hang_up(client, f"client {client.name} dropped: {why}; motors stopped")
         return True
 
     def _hang_up(self, client: _Client, line: str) -> None:
@@ -279,6 +295,8 @@ class SimServer:
             return None
         client.heard = True
         self.simulation.write(self._within_line_rate(client, data))
+        client.last_byte_s = self.now()
+        client.mid_frame = self.simulation.input_pending > 0
         self._send_output(client.sock)
         return client
 

@@ -102,6 +102,11 @@ class Simulation:
         return data
 
     @property
+    def input_pending(self) -> int:
+        """Bytes from the host the device holds as an unfinished message."""
+        return self.device.pending_input_bytes()
+
+    @property
     def in_waiting(self) -> int:
         """Bytes waiting for the host."""
         return len(self._to_host)

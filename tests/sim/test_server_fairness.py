@@ -10,10 +10,12 @@ from __future__ import annotations
 import queue
 import socket
 import threading
+import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 
 import pytest
+from helpers import served_simulator
 
 from roboscript.codec import Role, drain
 from roboscript.drivers.stackmod.codec import StackModCodec
@@ -178,3 +180,48 @@ def test_a_client_connecting_right_after_a_flood_ends_gets_the_robot(served: Ser
     with served.connect() as nxt:
         assert _ask_arm(nxt).address == ord("M")
     assert served.server.refused == 0
+
+
+def test_a_client_that_stops_mid_message_is_dropped_after_the_same_wait(
+    served: Served,
+) -> None:
+    stalled = served.connect()
+    first = served.said("client connected from ")
+    stalled.sendall(StackModCodec(Role.HOST).send(Get(ord("M"), Command.ARM, 0))[:1])
+    for _ in range(2000):  # until the byte has reached the device
+        if served.server.simulation.input_pending:
+            break
+        time.sleep(0.01)
+    served.clock.now_s += DEFAULT_HANDSHAKE_WAIT_S - 0.5
+    other = served.connect()  # not yet: still within the wait, so the robot is busy
+    assert _read_to_end(other).startswith(b"roboscript sim: busy:")
+    served.clock.now_s += 0.5
+    assert served.said(f"client {first.split()[-1]} ") == (
+        f"client {first.split()[-1]} dropped: it stopped in the middle of a message and sent"
+        " nothing for 5 s; motors stopped"
+    )
+    assert _read_to_end(stalled) == b""
+    with served.connect() as nxt:
+        served.said("client connected from ")
+        assert _ask_arm(nxt).address == ord("M")
+
+
+def test_a_client_that_finished_its_message_may_stay_quiet(served: Served) -> None:
+    with served.connect() as talker:
+        served.said("client connected from ")
+        _ask_arm(talker)
+        served.clock.now_s += 10 * DEFAULT_HANDSHAKE_WAIT_S
+        with served.connect() as other:  # the quiet client still has the robot
+            assert _read_to_end(other).startswith(b"roboscript sim: busy:")
+        assert _ask_arm(talker).address == ord("M")
+    assert served.server.idle_drops == 0
+
+
+def test_roboscript_sim_drops_a_client_that_sends_one_byte_and_goes_quiet() -> None:
+    with served_simulator("stackmod-rover", "--handshake-wait", "0.5") as port:
+        with socket.create_connection(("127.0.0.1", port), timeout=_SAFETY_S) as stalled:
+            frame = StackModCodec(Role.HOST).send(Get(ord("M"), Command.ARM, 0))
+            stalled.sendall(frame[:1])  # the first byte of a frame, and nothing more
+            assert _read_to_end(stalled) == b""  # the server hung up on it
+        with socket.create_connection(("127.0.0.1", port), timeout=_SAFETY_S) as nxt:
+            assert _ask_arm(nxt).address == ord("M")  # the robot is free for the next one

@@ -251,6 +251,11 @@ class MirtoBoard:
                 if event.next_s < now_s:
                     event.next_s = now_s + event.interval_s
 
+    def pending_input_bytes(self) -> int:
+        """Request bytes received and not yet a whole message (a frame the host has not
+        finished)."""
+        return self.codec.pending_bytes()
+
     def read_output(self) -> bytes:
         """Take the bytes written since the last call."""
         data = bytes(self._out)

@@ -245,6 +245,11 @@ class SpikeHub:
             if self._next_notify_s < now_s:
                 self._next_notify_s = now_s + self._notify_s
 
+    def pending_input_bytes(self) -> int:
+        """Request bytes received and not yet a whole message (a frame the host has not
+        finished)."""
+        return self.codec.buffered_bytes
+
     def read_output(self) -> bytes:
         """Take the bytes sent since the last call."""
         data = bytes(self._out)

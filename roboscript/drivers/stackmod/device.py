@@ -119,6 +119,11 @@ class StackModRover:
         """Nothing in the modules runs on a timer; the time is kept for the tone log."""
         self._now_s = now_s
 
+    def pending_input_bytes(self) -> int:
+        """Request bytes received and not yet a whole message (a frame the host has not
+        finished)."""
+        return self.codec.buffered
+
     def read_output(self) -> bytes:
         """Take the bytes written since the last call."""
         data = bytes(self._out)

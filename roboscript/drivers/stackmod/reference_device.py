@@ -145,6 +145,10 @@ class ReferenceModule:
             self._drive()
             self._next_loop_s += LOOP_PERIOD_S
 
+    def pending_input_bytes(self) -> int:
+        """Always 0: each I2C write is a whole one (the sketch ends it with a 0)."""
+        return 0
+
     def read_output(self) -> bytes:
         """The firmware never writes: always empty."""
         return b""
