@@ -689,16 +689,21 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> NoReturn:
     """Run the command line and exit with its status."""
-    parser = _parser()
-    args = parser.parse_args(argv)
-    logging.basicConfig(
-        level=logging.DEBUG if args.debug else logging.WARNING,
-        format="roboscript: %(message)s",
-    )
     # Ctrl-C, SIGTERM and SIGHUP all stop the robot on the way out; a second one while
-    # stopping must still end the program.
+    # stopping must still end the program. Installed before anything else is done, so a
+    # signal while the arguments are read ends the same way (roboscript.__main__ installs
+    # them earlier still, before this module loads).
     install_interrupts()
     try:
+        args = _parser().parse_args(argv)
+    except KeyboardInterrupt as exc:
+        _err(f"error: {reason_for(exc)}")
+        sys.exit(exit_status_for(exc))
+    try:
+        logging.basicConfig(
+            level=logging.DEBUG if args.debug else logging.WARNING,
+            format="roboscript: %(message)s",
+        )
         code = args.func(args)
     except InputError as exc:
         if args.debug:

@@ -137,3 +137,54 @@ def test_outside_a_stop_a_signal_raises_where_the_program_is() -> None:
     with pytest.raises(Interrupted) as raised:
         os.kill(os.getpid(), signal.SIGINT)
     assert raised.value.exit_status == 130
+
+
+# A module that makes the program signal itself the moment it starts to import MODULE: the
+# signal lands while the command line is still loading, however fast or slow the machine.
+SIGNAL_ON_IMPORT = """\
+import os, signal, sys
+
+class SignalOnImport:
+    def find_spec(self, name, path=None, target=None):
+        if name == os.environ["SIGNAL_ON_IMPORT"]:
+            sys.meta_path.remove(self)
+            os.kill(os.getpid(), getattr(signal, os.environ["SIGNAL_NAME"]))
+        return None
+
+sys.meta_path.insert(0, SignalOnImport())
+"""
+
+
+def _commands() -> list[list[str]]:
+    commands = [[sys.executable, "-m", "roboscript"]]
+    script = Path(sys.executable).with_name("roboscript")
+    if script.exists():  # the installed command, whose entry point is the same function
+        commands.append([str(script)])
+    return commands
+
+
+@pytest.mark.parametrize("name", SIGNALS)
+@pytest.mark.parametrize("module", ["roboscript.errors", "roboscript.watchdog", "argparse"])
+def test_a_signal_while_the_program_starts_ends_it_in_one_line(
+    tmp_path: Path, name: str, module: str
+) -> None:
+    (tmp_path / "sitecustomize.py").write_text(SIGNAL_ON_IMPORT, encoding="utf-8")
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(tmp_path), str(ROOT)]),
+        "SIGNAL_ON_IMPORT": module,
+        "SIGNAL_NAME": name,
+    }
+    for command in _commands():
+        done = subprocess.run(
+            [*command, "run", "missions/square.yaml"],
+            cwd=ROOT,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
+        signum = getattr(signal, name)
+        assert done.stderr == f"error: {Interrupted(signum).reason}\n", (command, done.stderr)
+        assert done.returncode == 128 + signum
