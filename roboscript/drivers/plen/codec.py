@@ -201,6 +201,13 @@ class PlenCodec:
         return len(self._buffer) + len(self._attempt)
 
     @property
+    def unreadable_bytes(self) -> int:
+        """Bytes received that belong to no message: those dropped so far, and the run of
+        garbage still going (known as garbage the moment it arrives, though reported as a
+        fault only when it ends)."""
+        return self.stats.dropped_bytes + self._junk_count
+
+    @property
     def in_progress(self) -> bool:
         """Whether a command (device) or reply (host) has started but not yet ended."""
         return bool(self._attempt) or self._in_reply or self._skipping

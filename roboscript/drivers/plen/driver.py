@@ -194,6 +194,8 @@ class PlenDriver(Driver):
         self._motion_generation = 0
         self._now_s = clock.now()
         self._offsets_deg: dict[str, float] = {}
+        # The motion being written, and the unreadable bytes counted when its writing began.
+        self._upload: tuple[Gait, int] | None = None
 
     # ---------------------------------------------------------------------------- handshake
 
@@ -240,11 +242,15 @@ class PlenDriver(Driver):
         """Queue the paced writes of ``gait`` and a read-back, before anything else."""
         data = gait.install_bytes()
         writes: list[_Op] = [
-            _Send(data[start : start + CHUNK_BYTES], CHUNK_GAP_S)
-            for start in range(0, len(data), CHUNK_BYTES)
+            _Call(lambda: self._begin_upload(gait)),
+            *(
+                _Send(data[start : start + CHUNK_BYTES], CHUNK_GAP_S)
+                for start in range(0, len(data), CHUNK_BYTES)
+            ),
         ]
 
         def verify(reply: m.Reply) -> None:
+            self._upload = None
             if reply != gait.stored:
                 raise DeviceError(
                     f"the PLEN2 did not keep the {gait.key} motion written to slot "
@@ -260,6 +266,32 @@ class PlenDriver(Driver):
 
         writes.append(_Ask(m.GetMotion(gait.slot), verify, on_garbled=unreadable))
         self._ops.extendleft(reversed(writes))
+
+    def _begin_upload(self, gait: Gait) -> None:
+        self._upload = (gait, self._unreadable_bytes())
+
+    def _unreadable_bytes(self) -> int:
+        codec = self.link.codec
+        return codec.unreadable_bytes if isinstance(codec, PlenCodec) else 0
+
+    def _check_upload(self) -> None:
+        """Fail at once if the robot sends garbage while a motion is written to it.
+
+        The firmware says nothing while it stores a motion, so any byte then is noise on the
+        line (a wrong baud rate, a failing board), and the motion being written cannot be
+        trusted; a stream of it would also keep the read-back waiting (bytes restart the
+        reply wait) until the handshake's time ran out.
+        """
+        upload = self._upload
+        if upload is None or self._unreadable_bytes() <= upload[1]:
+            return
+        gait, _ = upload
+        self._upload = None
+        raise DeviceError(
+            f"the PLEN2 sent unreadable bytes while the {gait.key} motion was being written"
+            f" to slot {gait.slot}, so it may be stored wrong: check that the port is the"
+            f" robot's USB serial at {self.profile.baudrate} baud, then connect again"
+        )
 
     def _become_ready(self) -> None:
         self.offer({cap.WALKER: _Walker(self), cap.JOINTS: _Joints(self)})
@@ -282,6 +314,7 @@ class PlenDriver(Driver):
                 asked.on_reply(message)
             else:
                 logger.debug("PLEN2 reply nobody asked for: %r", message)
+        self._check_upload()
         self._check_reply_timeout(now_s)
 
     def flush(self, now_s: float, dt_s: float) -> None:

@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+import contextlib
 import itertools
+import select
+import socket
+import threading
 from collections.abc import Callable
 from typing import Any
 
 import pytest
+from helpers import run_cli
 
 from roboscript import capabilities as cap
 from roboscript.clock import SimClock
@@ -65,10 +70,12 @@ class SimPort:
 class Rig:
     """The driver, the simulated robot and a scheduler on a simulated clock."""
 
-    def __init__(self, prepare: Callable[[SimPort], None] | None = None) -> None:
+    def __init__(
+        self, prepare: Callable[[SimPort], None] | None = None, port: type[SimPort] | None = None
+    ) -> None:
         self.clock = SimClock()
         self.scheduler = Scheduler(self.clock, 0.02)
-        self.port = SimPort(self.clock)
+        self.port = (port or SimPort)(self.clock)
         if prepare is not None:
             prepare(self.port)
         self.link = Link(self.port, PlenDriver.make_codec(PROFILE), clock=self.clock)
@@ -196,6 +203,30 @@ def test_a_silent_robot_times_out_after_three_tries() -> None:
     with pytest.raises(LinkTimeoutError, match=r"did not answer <VI \(3 tries\)"):
         rig.scheduler.run(until=lambda: rig.driver.ready, max_duration_s=20.0)
     assert rig.port.sent() == b"<VI<VI<VI"
+
+
+class NoisyPort(SimPort):
+    """A PLEN2 whose line turns to noise once a motion starts being written: from then on
+    every read brings garbage, and never a reply."""
+
+    NOISE = b"\xde\xad~noise~"
+
+    def read(self, size: int = 1) -> bytes:
+        data = super().read(size)
+        writing = any(not sent.startswith((b"<", b"$")) for _, sent in self.writes)
+        return self.NOISE if writing else data
+
+
+def test_garbage_while_a_motion_is_written_fails_the_handshake_at_once() -> None:
+    rig = Rig(preinstalled(*GAIT_KEYS[1:]), port=NoisyPort)  # walk_forward to be written
+    rig.driver.start()
+    with pytest.raises(DeviceError, match="sent unreadable bytes while the walk_forward motion"):
+        rig.scheduler.run(
+            until=lambda: rig.driver.ready, max_duration_s=PROFILE.handshake_timeout_s
+        )
+    first_write_s = next(t for t, data in rig.port.writes if not data.startswith((b"<", b"$")))
+    # on the tick the noise is read, not when the handshake's time runs out
+    assert rig.clock.now() - first_write_s <= 2 * rig.scheduler.period_s + 1e-9
 
 
 def test_other_firmware_is_refused_or_noticed() -> None:
@@ -411,3 +442,40 @@ def test_a_reply_with_impossible_values_is_counted_skipped_and_asked_again() -> 
     assert rig.link.faults == {"bad_reply": 1}
     beats = [data for _, data in rig.port.writes[mark:] if data == b"<VI"]
     assert len(beats) >= 2  # asked again after the garbage, and answered
+
+
+def test_roboscript_run_says_in_one_line_that_the_upload_met_garbage() -> None:
+    """A PLEN2 behind a socket whose line turns to noise once a motion is being written."""
+    sim = make_simulation("plen2")
+    listener = socket.create_server(("127.0.0.1", 0))
+    port = listener.getsockname()[1]
+
+    def serve() -> None:
+        connection, _ = listener.accept()
+        sim.connect()
+        writing = False
+        with connection:
+            while True:
+                if select.select([connection], [], [], 0.01)[0]:
+                    data = connection.recv(4096)
+                    if not data:
+                        return
+                    writing = writing or b">MH" in data
+                    sim.write(data)
+                out = sim.read(sim.in_waiting)
+                with contextlib.suppress(OSError):
+                    connection.sendall(NoisyPort.NOISE if writing else out)
+
+    server = threading.Thread(target=serve, daemon=True)
+    server.start()
+    try:
+        done = run_cli("run", "missions/plen_walk.yaml", "--port", f"socket://127.0.0.1:{port}")
+    finally:
+        listener.close()
+    assert done.returncode == 1, done.stderr
+    assert "Traceback" not in done.stderr
+    assert done.stderr.strip().splitlines()[-1] == (
+        "error: the PLEN2 sent unreadable bytes while the walk_forward motion was being written"
+        " to slot 80, so it may be stored wrong: check that the port is the robot's USB serial"
+        " at 2000000 baud, then connect again"
+    )
