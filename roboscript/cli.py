@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import errno
 import json
 import logging
 import os
@@ -730,11 +731,36 @@ def main(argv: Sequence[str] | None = None) -> NoReturn:
         code = EXIT_FAILED
     except BrokenPipeError:
         code = _closed_pipe()
+    except OSError as exc:
+        if args.debug or exc.errno not in _DISK_FULL:
+            raise
+        code = _output_failed(exc)
     try:
         sys.stdout.flush()  # a closed pipe shows here when the output was still buffered
     except BrokenPipeError:
         code = _closed_pipe()
+    except OSError as exc:
+        if exc.errno not in _DISK_FULL:
+            raise
+        code = _output_failed(exc)
     sys.exit(code)
+
+
+_DISK_FULL = frozenset({errno.ENOSPC, errno.EFBIG, errno.EDQUOT})
+"""Write errors of a full disk or a file-size limit: the output could not be written."""
+
+
+def _output_failed(exc: OSError) -> int:
+    """Our output (``--json`` to a file, a table) could not be written: say so in one line.
+
+    Output is printed once the robot has stopped, so it is stopped by now.
+    """
+    what = exc.filename or "the output"
+    _err(f"error: cannot write {what}: {exc.strerror or exc}")
+    devnull = os.open(os.devnull, os.O_WRONLY)  # Python's own flush at exit would fail again
+    os.dup2(devnull, sys.stdout.fileno())
+    os.close(devnull)
+    return EXIT_FAILED
 
 
 def _closed_pipe() -> int:

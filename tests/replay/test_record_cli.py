@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import re
@@ -116,23 +117,29 @@ def test_a_run_showing_line_separators_records_a_file_view_and_graph_read(
     assert graph.returncode == 0, graph.stderr
 
 
-def _limited_run(limit_bytes: int, *args: str) -> subprocess.CompletedProcess[str]:
+def _limited_run(
+    limit_bytes: int, *args: str, stdout: Path | None = None
+) -> subprocess.CompletedProcess[str]:
     """``roboscript ARGS`` with files limited to ``limit_bytes`` (a full disk, for one
-    process): writes past it fail with EFBIG, as Python ignores SIGXFSZ."""
+    process): writes past it fail with EFBIG, as Python ignores SIGXFSZ. ``stdout``: a file
+    the output goes to, under the same limit."""
 
     def limit() -> None:
         resource.setrlimit(resource.RLIMIT_FSIZE, (limit_bytes, limit_bytes))
 
     env = {**os.environ, "PYTHONPATH": str(ROOT), "PYTHONDONTWRITEBYTECODE": "1"}
-    return subprocess.run(
-        [sys.executable, "-m", "roboscript", *args],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        env=env,
-        preexec_fn=limit,
-        check=False,
-    )
+    with contextlib.ExitStack() as stack:
+        out = stack.enter_context(stdout.open("w")) if stdout else subprocess.PIPE
+        return subprocess.run(
+            [sys.executable, "-m", "roboscript", *args],
+            stdout=out,
+            stderr=subprocess.PIPE,
+            text=True,
+            timeout=120,
+            env=env,
+            preexec_fn=limit,
+            check=False,
+        )
 
 
 @pytest.mark.parametrize(
@@ -150,6 +157,13 @@ def test_a_full_disk_is_one_sentence_after_the_robot_stops(
         f"error: cannot write {what} {out}: File too large"
     )
     assert 0 < out.stat().st_size <= 20_000
+
+
+def test_json_output_to_a_full_disk_is_one_sentence(tmp_path: Path) -> None:
+    out = tmp_path / "summary.json"
+    done = _limited_run(1_000, "run", str(MISSIONS / "square.yaml"), "--json", stdout=out)
+    assert done.returncode == 1
+    assert done.stderr == "error: cannot write the output: File too large\n"
 
 
 def test_a_killed_run_leaves_a_recording_and_wire_log_view_opens(tmp_path: Path) -> None:
