@@ -398,17 +398,7 @@ def load_recording(path: str | Path) -> Recording:
         RecordingError: Unreadable file, not a roboscript recording, a newer version, or a
             line that is not what a recording holds (with ``file:line``).
     """
-    header: dict[str, Any] = {}
-    deltas: list[dict[str, Any]] = []
-    result: dict[str, Any] | None = None
-    for kind, _, item in read_recording(path):
-        if kind == "header":
-            header = item
-        elif kind == "frame":
-            deltas.append(item)
-        else:
-            result = item
-    return Recording(header, fill_frames(deltas), result)
+    return _recording_of(read_recording(path))
 
 
 def parse_recording(text: str, name: str = "<recording>") -> Recording:
@@ -417,10 +407,14 @@ def parse_recording(text: str, name: str = "<recording>") -> Recording:
     Raises:
         RecordingError: See :func:`load_recording`.
     """
+    return _recording_of(_items(_split(text), name))
+
+
+def _recording_of(items: Iterable[tuple[str, int, dict[str, Any]]]) -> Recording:
     header: dict[str, Any] = {}
     deltas: list[dict[str, Any]] = []
     result: dict[str, Any] | None = None
-    for kind, _, item in _items(_split(text), name):
+    for kind, _, item in items:
         if kind == "header":
             header = item
         elif kind == "frame":
