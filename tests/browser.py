@@ -154,8 +154,10 @@ class Browser:
 
     def open(self, url: str) -> None:
         """Load ``url`` and wait until the page has finished loading."""
+        # The page being left is 'complete' already: mark it, and wait for one without the mark.
+        self.evaluate("window.rsLeaving = true")
         self._call("Page.navigate", {"url": url})
-        self.wait_for("document.readyState === 'complete'")
+        self.wait_for("!window.rsLeaving && document.readyState === 'complete'")
 
     def evaluate(self, expression: str) -> Any:
         """The value of a JavaScript expression in the page (promises are awaited).
