@@ -133,6 +133,25 @@ def _waits_on(state: StateSpec) -> bool:
     return action is None or not action.bounded or not state.on.get("done")
 
 
+_ACTION_OUTCOMES = {"done": "is done", "failed": "fails"}
+
+
+def _routes_without_action(name: str, state: StateSpec) -> list[InputError]:
+    """Routes for an action's outcome in a state that runs no action: nothing can take them
+    (students meet this after deleting a state's ``do:``), so the state would wait for ever."""
+    return [
+        _problem(
+            f"state '{name}' moves on when its action {ends}, but it has no 'do:' action, "
+            "so it would wait for ever",
+            state.location,
+            "give it an action, e.g. do: {drive: {distance: 50 cm}}, or leave it with "
+            "'when:' or 'timeout:'",
+        )
+        for outcome, ends in _ACTION_OUTCOMES.items()
+        if state.on.get(outcome)
+    ]
+
+
 def check_mission(spec: MissionSpec, profile: object | None = None) -> list[InputError]:
     """Check a mission's structure (and its fit to a robot, when ``profile`` is given).
 
@@ -175,6 +194,8 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                     "add 'on: {done: NEXT}', a 'when' condition, or 'final: success'",
                 )
             )
+        if state.action is None and not state.final:
+            problems.extend(_routes_without_action(name, state))
         if state.final and (state.when or any(state.on.values())):
             problems.append(
                 _problem(

@@ -312,14 +312,55 @@ def _explain(
         name = getattr(exc, "name", None) or ""
         if name in _roboscript_names():
             return f"NameError: {text}", f"add 'from roboscript import {name}'"
+        what = _class_members(module).get(name)
+        if what is not None:
+            return f"NameError: {text}", f"a {what} is named in quotes: write '{name}'"
         known = [*vars(module), *dir(builtins)]
         return f"NameError: {text}", did_you_mean(name, [*known, *_roboscript_names()])
+    if isinstance(exc, ModuleNotFoundError) and exc.name and "." not in exc.name:
+        file = Path(getattr(module, "__file__", None) or f"{kind}.py")
+        return f"ModuleNotFoundError: {text}", (
+            f"if '{exc.name}' is a file of yours, it must sit in the same folder as "
+            f"{file.name}: {exc.name}.py, or a folder {exc.name}/ holding __init__.py"
+        )
     if isinstance(exc, ImportError):
         match = _CANNOT_IMPORT.match(text)
         if match and match.group(2) == "roboscript":
             name = match.group(1)
             return f"roboscript has no '{name}' to import", did_you_mean(name, _roboscript_names())
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__, None
+
+
+def _class_members(module: ModuleType) -> dict[str, str]:
+    """What the student's file defines in a class body, by name: ``state`` for an assignment
+    (the states of a mission), ``condition`` for a method.
+
+    Read from the source, since the class that defines them is still being built when a
+    state refers to a later one without quotes."""
+    import ast
+
+    try:
+        tree = ast.parse(Path(module.__file__ or "").read_bytes())
+    except (OSError, SyntaxError, ValueError, RecursionError, MemoryError):
+        return {}
+    members: dict[str, str] = {}
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.ClassDef):
+            continue
+        for statement in node.body:
+            if isinstance(statement, ast.FunctionDef):
+                members.setdefault(statement.name, "condition")
+            targets = (
+                statement.targets
+                if isinstance(statement, ast.Assign)
+                else [statement.target]
+                if isinstance(statement, ast.AnnAssign)
+                else []
+            )
+            for target in targets:
+                if isinstance(target, ast.Name):
+                    members[target.id] = "state"
+    return members
 
 
 def _roboscript_names() -> list[str]:

@@ -91,7 +91,13 @@ class _Reader:
             return None
         names = frozenset(str(name) for name in states_raw)
         states: dict[str, StateSpec] = {}
+        previous: str | None = None
         for name, raw in states_raw.items():
+            if previous is not None and self.dedented_state_key(
+                str(name), raw, previous, states_raw.key_mark(name)
+            ):
+                continue
+            previous = str(name)
             state = self.state(
                 str(name), raw, states_raw.value_mark(name), states_raw.key_mark(name), names
             )
@@ -119,6 +125,24 @@ class _Reader:
 
     # ---------------------------------------------------------------------------- states
 
+    def dedented_state_key(self, name: str, raw: Any, previous: str, mark: Mark) -> bool:
+        """True (and a problem said) when a state's own key, such as ``on:``, was indented
+        as far as the state names, so YAML made it a state of its own.
+
+        A state may be called ``on`` or ``final``: it is taken as one while all its keys are
+        a state's keys."""
+        if name not in _STATE_KEYS or raw is None:
+            return False
+        if isinstance(raw, YamlMap) and all(key in _STATE_KEYS for key in raw):
+            return False
+        self.problem(
+            f"'{name}:' is indented as far as the state names, so it makes a state called '{name}'",
+            mark,
+            f"indent it two more spaces, under '{previous}:', to make it part of state "
+            f"'{previous}'",
+        )
+        return True
+
     def state(
         self, name: str, raw: Any, mark: Mark, key_mark: Mark, names: frozenset[str]
     ) -> StateSpec | None:
@@ -127,7 +151,14 @@ class _Reader:
         if not isinstance(raw, YamlMap):
             self.problem(f"state '{name}' must be a mapping (do:, on:, when:, final:)", mark)
             return None
-        self.unknown_keys(raw, _STATE_KEYS, f"state '{name}'")
+        misplaced = [key for key in raw if key not in _STATE_KEYS and key in self.actions]
+        for key in misplaced:
+            self.problem(
+                f"'{key}' is an action, and a state runs its action under 'do:'",
+                raw.key_mark(key),
+                f"write do: {{{key}: {{...}}}}",
+            )
+        self.unknown_keys(raw, (*_STATE_KEYS, *misplaced), f"state '{name}'")
         action = None
         if "do" in raw:
             action = self.action(raw["do"], raw.value_mark("do"), names, label=name)

@@ -248,6 +248,49 @@ LOAD_TIME = [
         "m.py:1:5: error: syntax error: unterminated string literal (detected at line 1)",
         id="syntax-other",
     ),
+    pytest.param(
+        """\
+        from roboscript import Drive, Mission, state
+
+
+        class Out(Mission):
+            go = state(Drive(distance_mm=500), initial=True, on_done=turn)
+            turn = state(final="success")
+        """,
+        "m.py:5:62: error: NameError: name 'turn' is not defined"
+        " (a state is named in quotes: write 'turn')",
+        id="state-named-without-quotes",
+    ),
+    pytest.param(
+        """\
+        from roboscript import Drive, Mission, state
+
+
+        class Out(Mission):
+            go = state(Drive(distance_mm=500), initial=True, when=[(near, "end")])
+            end = state(final="success")
+
+            def near(self):
+                return True
+        """,
+        "m.py:5:61: error: NameError: name 'near' is not defined"
+        " (a condition is named in quotes: write 'near')",
+        id="condition-named-without-quotes",
+    ),
+    pytest.param(
+        "from wiggle import Wiggle\n",
+        "m.py:1:1: error: ModuleNotFoundError: No module named 'wiggle' (if 'wiggle' is a file"
+        " of yours, it must sit in the same folder as m.py: wiggle.py, or a folder wiggle/"
+        " holding __init__.py)",
+        id="own-module-not-beside-the-mission",
+    ),
+    pytest.param(
+        "import wiggle.moves\n",
+        "m.py:1:1: error: ModuleNotFoundError: No module named 'wiggle'"
+        " (if 'wiggle' is a file of yours, it must sit in the same folder as m.py: wiggle.py,"
+        " or a folder wiggle/ holding __init__.py)",
+        id="package-not-beside-the-mission",
+    ),
 ]
 
 

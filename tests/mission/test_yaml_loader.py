@@ -271,3 +271,53 @@ def test_a_condition_error_has_the_same_column_from_text_as_from_a_file(
     # col 17 is the opening quote; the second '=' the compiler stumbles on is col 38.
     for error in (from_text.value, from_file.value):
         assert ":7:38: error: cannot read the condition" in str(error)
+
+
+# ----------------------------------------------------------- where a state's parts belong
+
+
+def test_an_action_written_under_the_state_says_it_goes_under_do(
+    write_mission: Callable[..., Path],
+) -> None:
+    text = GOOD.replace("do: {drive: {distance: 30 cm}}", "drive: {distance: 30 cm}")
+    assert problems(write_mission(text))[0] == (
+        "M:5:5: error: 'drive' is an action, and a state runs its action under 'do:'"
+        " (write do: {drive: {...}})"
+    )
+
+
+def test_a_key_that_is_no_action_keeps_its_did_you_mean(
+    write_mission: Callable[..., Path],
+) -> None:
+    text = GOOD.replace("on: {done: end", "onn: {done: end")
+    assert problems(write_mission(text))[0] == (
+        "M:6:5: error: unknown key 'onn' in state 'go' (did you mean 'on'?)"
+    )
+
+
+def test_an_on_indented_as_far_as_the_states_names_the_state_it_belongs_to(
+    write_mission: Callable[..., Path],
+) -> None:
+    text = GOOD.replace("    on: {done: end", "  on: {done: end")
+    assert problems(write_mission(text)) == [
+        (
+            "M:6:3: error: 'on:' is indented as far as the state names, so it makes a state called"
+            " 'on' (indent it two more spaces, under 'go:', to make it part of state 'go')"
+        )
+    ]
+
+
+def test_a_dedented_timeout_is_told_the_same_way(write_mission: Callable[..., Path]) -> None:
+    text = GOOD.replace("  end:\n", "  timeout: 5 s\n  end:\n")
+    assert problems(write_mission(text))[0].startswith(
+        "M:7:3: error: 'timeout:' is indented as far as the state names"
+    )
+
+
+def test_a_state_called_final_with_a_states_keys_is_a_state(
+    write_mission: Callable[..., Path],
+) -> None:
+    text = GOOD.replace("on: {done: end, failed: end}", "on: {done: final, failed: final}")
+    text = text.replace("  end:\n    final: success\n", "  final:\n    final: success\n")
+    spec, _ = load_mission(write_mission(text))
+    assert spec.states["final"].final == "success"
