@@ -19,7 +19,7 @@ import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from roboscript import __version__
 from roboscript.errors import (
@@ -30,6 +30,9 @@ from roboscript.errors import (
 from roboscript.interrupts import exit_status_for, reason_for
 from roboscript.interrupts import install as install_interrupts
 from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
+
+if TYPE_CHECKING:
+    from roboscript.mission.cause import TransitionCause
 
 __all__ = ["main"]
 
@@ -117,9 +120,9 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
 
     status = StatusLine(sys.stderr, live=not quiet and sys.stderr.isatty())
 
-    def on_state(time_s: float, name: str) -> None:
+    def on_state(time_s: float, name: str, cause: TransitionCause) -> None:
         if not quiet:
-            status.state(time_s, name)
+            status.state(time_s, name, None if cause.kind == "start" else cause.text())
 
     def show(runner: Any, robot: Any) -> None:
         feedback = getattr(runner.action, "feedback", "") or ""

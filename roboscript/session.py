@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 from roboscript.errors import LinkError
 from roboscript.interrupts import exit_status_for, reason_for
+from roboscript.mission.cause import TransitionCause
 from roboscript.mission.runner import MissionResult, MissionRunner
 from roboscript.mission.spec import MissionSpec
 from roboscript.mission.student_code import stuck_at
@@ -133,7 +134,7 @@ def run_session(
     realtime: bool = False,
     wire_log: str | None = None,
     max_time_s: float = 300.0,
-    on_state: Callable[[float, str], None] | None = None,
+    on_state: Callable[[float, str, TransitionCause], None] | None = None,
     on_connected: Callable[[Robot], None] | None = None,
     on_tick: Callable[[MissionRunner, Robot], None] | None = None,
     runaway_after_s: float | None = DEFAULT_LIMIT_S,
@@ -152,7 +153,7 @@ def run_session(
         realtime: Pace a simulated robot to the wall clock.
         wire_log: Record every byte to this file.
         max_time_s: Mission time limit (scheduler clock), seconds; past it the mission fails.
-        on_state: Called with ``(mission time s, state)`` whenever a state is entered.
+        on_state: Called with ``(mission time s, state, cause)`` whenever a state is entered.
         on_connected: Called with the robot once the handshake is done, before the mission.
         on_tick: Called after every scheduler tick with the runner and the robot (progress).
         runaway_after_s: Wall seconds one tick's code (a behaviour, a condition) may run
@@ -250,6 +251,7 @@ def session_summary(session: Session) -> dict[str, Any]:
         "reason": result.reason,
         "duration_s": round(result.duration_s, 3),
         "states": [[round(t, 3), name] for t, name in result.states],
+        "transitions": result.transitions(),
     }
     if result.states_dropped:  # a long loop: only the first and last states are listed
         summary["states_dropped"] = result.states_dropped

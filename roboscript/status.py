@@ -32,10 +32,11 @@ class StatusLine:
         self._last_draw = -float("inf")
         self._shown = False
 
-    def state(self, time_s: float, name: str) -> None:
-        """Print a state change as its own line."""
+    def state(self, time_s: float, name: str, why: str | None = None) -> None:
+        """Print a state change as its own line, with why it happened in brackets."""
         self._clear()
-        self.stream.write(f"{time_s:8.2f} s  {name}\n")
+        because = f"  [{why}]" if why else ""
+        self.stream.write(f"{time_s:8.2f} s  {name}{because}\n")
         self.stream.flush()
 
     def update(self, time_s: float, state: str, feedback: str, extra: str) -> None:

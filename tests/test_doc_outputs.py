@@ -41,6 +41,7 @@ def test_the_json_example_matches_a_real_run() -> None:
     for key in ("duration_s", "outcome", "final_state"):
         assert example[key] == actual[key], key
     assert example["states"] == actual["states"][: len(example["states"])]
+    assert example["transitions"] == actual["transitions"][: len(example["transitions"])]
     for key in ("final_pose", "distance_travelled_mm", "collisions"):
         assert example["sim"][key] == actual["sim"][key], key
     assert example["sim"]["tones"] == actual["sim"]["tones"][:1]

@@ -106,7 +106,7 @@ def _run(
 
     from roboscript.session import WorldMap, run_session
 
-    def on_state(_t_s: float, name: str) -> None:
+    def on_state(_t_s: float, name: str, _cause: object) -> None:
         channel.send(Kind.STATE, name.encode("utf-8", "replace")[:256])
 
     try:

@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import Any
 
 from roboscript.actions.base import Action, ActionContext, Result
+from roboscript.mission.cause import TransitionCause
 from roboscript.mission.spec import MissionSpec
 
 __all__ = ["SubMission"]
@@ -37,9 +38,9 @@ class SubMission(Action):
 
         outer = ctx.env
 
-        def record(time_s: float, state: str) -> None:
+        def record(time_s: float, state: str, cause: TransitionCause) -> None:
             if outer is not None:
-                outer.record_inner_state(f"{self.label}.{state}")
+                outer.record_inner_state(f"{self.label}.{state}", cause)
 
         self._runner = MissionRunner(
             self.spec,

@@ -24,7 +24,7 @@ import logging
 import math
 from collections import Counter
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Literal, get_args
 
 from transitions import Machine, State
@@ -33,6 +33,7 @@ from roboscript import capabilities as cap
 from roboscript.actions.base import ActionContext, Outcome, Result
 from roboscript.angles import turned_deg, wrap_deg
 from roboscript.errors import CapabilityError
+from roboscript.mission.cause import TransitionCause
 from roboscript.mission.checks import check_regions
 from roboscript.mission.guards import GuardEnv
 from roboscript.mission.sensor_readings import color_or_buttons
@@ -88,6 +89,7 @@ class MissionResult:
             :data:`STATES_KEPT_AT_EACH_END` of them.
         states_dropped: How many entered states were left out of ``states`` (0 when it
             holds them all); they were entered between its two halves.
+        causes: Why each state in ``states`` was entered, one for one.
         code_error: True when an exception from the student's own code (a behaviour, a
             condition method) ended the mission: the grader scores such a run as crashed.
     """
@@ -100,13 +102,23 @@ class MissionResult:
     states: list[tuple[float, str]] = field(default_factory=list)
     states_dropped: int = 0
     code_error: bool = False
+    causes: list[TransitionCause] = field(default_factory=list)
 
-    def record_state(self, time_s: float, name: str) -> None:
-        """Add an entered state, keeping only the first and last ones past the cap."""
+    def record_state(self, time_s: float, name: str, cause: TransitionCause) -> None:
+        """Add an entered state and why, keeping only the first and last ones past the cap."""
         self.states.append((time_s, name))
+        self.causes.append(cause)
         if len(self.states) > 2 * STATES_KEPT_AT_EACH_END:
             del self.states[STATES_KEPT_AT_EACH_END]  # the oldest of the last ones
+            del self.causes[STATES_KEPT_AT_EACH_END]
             self.states_dropped += 1
+
+    def transitions(self) -> list[dict[str, Any]]:
+        """Each entered state with its time and cause, as ``run --json`` writes them."""
+        return [
+            {"t_s": round(t, 3), "state": name, "cause": cause.to_json()}
+            for (t, name), cause in zip(self.states, self.causes, strict=True)
+        ]
 
 
 class _Model:
@@ -125,7 +137,7 @@ class MissionRunner(GuardEnv):
         spec: The mission.
         capabilities: The robot's capability objects by name.
         robot_name: For messages.
-        on_state: Called with ``(time_s, state)`` whenever a state is entered.
+        on_state: Called with ``(time_s, state, cause)`` whenever a state is entered.
         on_start: Called with the scheduler time when the mission starts.
         gains: Host PID gains from the robot profile, for the actions' control loops.
         device_errors: Returns the next error the robot reported, or ``None``; such an error
@@ -150,7 +162,7 @@ class MissionRunner(GuardEnv):
         capabilities: Mapping[str, object],
         *,
         robot_name: str = "the robot",
-        on_state: Callable[[float, str], None] | None = None,
+        on_state: Callable[[float, str, TransitionCause], None] | None = None,
         on_start: Callable[[float], None] | None = None,
         gains: Mapping[str, tuple[float, float, float]] | None = None,
         device_errors: Callable[[], str | None] | None = None,
@@ -168,6 +180,12 @@ class MissionRunner(GuardEnv):
         self.during: list[Any] = []
         self.action_result: Result | None = None
         self._cause: str | None = None  # the last failure routed by 'on', for the final reason
+        # Why the next state is entered: set before a transition fires, taken by _enter.
+        self._pending: TransitionCause | None = None
+        # What a condition being evaluated has read so far (None: no condition running).
+        self._reads: dict[str, float | bool] | None = None
+        self.last_cause: TransitionCause | None = None
+        """Why the current state was entered (``None`` before the mission starts)."""
         self._visits: Counter[str] = Counter()
         self._start_s: float | None = None
         self._state_start_s = 0.0
@@ -224,9 +242,20 @@ class MissionRunner(GuardEnv):
             text = option.guard_text or "condition"
 
             def condition(event: Any, guard: Callable[[Any], bool] = guard) -> bool:
-                held = bool(guard(self))
-                if held and trigger == "check":
-                    self._cause = f"'{text}' held in state '{source}'"
+                outer_reads, self._reads = self._reads, {}
+                try:
+                    held = bool(guard(self))
+                finally:
+                    reads, self._reads = self._reads, outer_reads
+                if held:
+                    values = TransitionCause.kept_values(reads)
+                    if trigger == "check":
+                        self._pending = TransitionCause(
+                            "when", source, condition=text, values=values
+                        )
+                        self._cause = self._pending.in_state()
+                    elif self._pending is not None:
+                        self._pending = replace(self._pending, condition=text, values=values)
                 return held
 
             condition.__name__ = option.guard_text or "condition"
@@ -261,9 +290,12 @@ class MissionRunner(GuardEnv):
         self._visits[name] += 1
         self._state_start_s = now
         self._driven_at_state_mm = self._driven_mm
-        self.result.record_state(round(now - start, 3), name)
+        cause = self._pending or TransitionCause("start")
+        self._pending = None
+        self.last_cause = cause
+        self.result.record_state(round(now - start, 3), name, cause)
         if self._on_state is not None:
-            self._on_state(now - start, name)
+            self._on_state(now - start, name, cause)
         spec = self.spec.states[name]
         self.action_result = None
         self.action = spec.action.factory() if spec.action is not None else None
@@ -281,12 +313,13 @@ class MissionRunner(GuardEnv):
             self.action.stop(self.ctx)
             self.action = None
 
-    def record_inner_state(self, name: str) -> None:
-        """Add a nested machine's state to this mission's timeline."""
+    def record_inner_state(self, name: str, cause: TransitionCause) -> None:
+        """Add a nested machine's state, and why it was entered, to this mission's timeline."""
         start = self._start_s if self._start_s is not None else self.ctx.now_s
-        self.result.record_state(round(self.ctx.now_s - start, 3), name)
+        self.last_cause = cause
+        self.result.record_state(round(self.ctx.now_s - start, 3), name, cause)
         if self._on_state is not None:
-            self._on_state(self.ctx.now_s - start, name)
+            self._on_state(self.ctx.now_s - start, name, cause)
 
     def _tick_during(self) -> None:
         still = []
@@ -298,7 +331,10 @@ class MissionRunner(GuardEnv):
         self.during = still
 
     def _fire(self, trigger: str) -> bool:
-        moved = bool(self._model.trigger(trigger))
+        try:
+            moved = bool(self._model.trigger(trigger))
+        finally:
+            self._pending = None  # taken by the state entered, or no transition fired
         if moved:
             self._end_if_final()
         return moved
@@ -370,7 +406,9 @@ class MissionRunner(GuardEnv):
         if state.timeout_s is not None and self.ctx.has_passed(
             self._state_start_s, state.timeout_s
         ):
-            self._cause = f"state '{name}' timed out after {state.timeout_s:g} s"
+            timed_out = TransitionCause("timeout", name, timeout_s=state.timeout_s)
+            self._cause = timed_out.in_state()
+            self._pending = timed_out
             if not self._fire("timeout"):
                 self.finish("failure", self._cause)
 
@@ -379,11 +417,16 @@ class MissionRunner(GuardEnv):
         state = self.spec.states[name]
         if state.final:
             return False
-        action_name = state.action.name if state.action else "the action"
-        why = result.reason or result.outcome.value
-        cause = f"{action_name} {result.outcome.value} in state '{name}': {why}"
+        routed = TransitionCause(
+            result.outcome.value,
+            name,
+            action=state.action.name if state.action else None,
+            reason=result.reason,
+        )
+        cause = routed.in_state()
         if result.outcome is not Outcome.DONE:
             self._cause = cause
+        self._pending = routed
         if self._fire(result.outcome.value):
             return True
         if result.outcome is Outcome.DONE:
@@ -453,7 +496,10 @@ class MissionRunner(GuardEnv):
 
     def visits(self, state: str) -> int:
         """How many times ``state`` has been entered."""
-        return self._visits[state]
+        count = self._visits[state]
+        if self._reads is not None:
+            self._reads[f"visits.{state}"] = count
+        return count
 
     def in_region(self, name: str) -> bool:
         """True while the robot, by its own odometry, is inside the world's region ``name``."""
@@ -467,7 +513,10 @@ class MissionRunner(GuardEnv):
             listed = ", ".join(sorted(self._regions)) or "none"
             raise KeyError(f"the world has no region '{name}' (its regions: {listed})")
         x_mm, y_mm = self._world_position(self._origin)
-        return bool(self._regions[name].contains(x_mm, y_mm))
+        inside = bool(self._regions[name].contains(x_mm, y_mm))
+        if self._reads is not None:
+            self._reads[f"in_region.{name}"] = inside
+        return inside
 
     def _world_position(self, origin: tuple[float, float, float]) -> tuple[float, float]:
         """Where odometry puts the robot in the world: ``pose`` turned and moved to ``origin``."""
@@ -500,6 +549,12 @@ class MissionRunner(GuardEnv):
 
     def sensor(self, root: str, attr: str | None) -> float | bool:
         """The value a guard name reads (see :mod:`roboscript.mission.guards`)."""
+        value = self._sensor(root, attr)
+        if self._reads is not None:  # a condition is deciding: remember what it saw
+            self._reads[root if attr is None else f"{root}.{attr}"] = value
+        return value
+
+    def _sensor(self, root: str, attr: str | None) -> float | bool:
         whole_mission = root == "pose" or (root == "driven" and attr in ("total_mm", "total_cm"))
         if whole_mission and self._outer is not None:
             return self._outer.sensor(root, attr)

@@ -169,6 +169,7 @@ class RunRecording:
         self._last_action: Any = _UNSET
         self._last_result: Any = _UNSET
         self._last_outcome: Any = _UNSET
+        self._last_cause: Any = _UNSET
         self._last_wheels: Any = _UNSET
         self._last_motors: dict[str, float] = {}
         self._last_written_pose: Any = _UNSET
@@ -268,6 +269,7 @@ class RunRecording:
                     (body.contact_side if body.in_contact else None)
                     if body is not None
                     else _UNSET,
+                    runner.last_cause,
                 )
             )
         except Exception as exc:  # noqa: BLE001 - a failed sample ends the recording only
@@ -278,7 +280,7 @@ class RunRecording:
 
         Rows must be formatted once each, in order (the recorder does so).
         """
-        now_s, pose, state, result, values, wheels, tone, display, contact = row
+        now_s, pose, state, result, values, wheels, tone, display, contact, cause = row
         frame: dict[str, Any] = {"t": round(now_s - (self._start_s or 0.0), 3) + 0.0}
         if pose != self._last_pose:
             self._last_pose = pose
@@ -290,6 +292,10 @@ class RunRecording:
             action = self._actions.get(state)
             if action != self._last_action:
                 frame["action"] = self._last_action = action
+        if cause is not self._last_cause:  # a new transition, even back into the same state
+            self._last_cause = cause
+            if cause is not None:
+                frame["why"] = cause.to_json()
         if result is not self._last_result:
             self._last_result = result
             outcome = None if result is None else result.outcome.value

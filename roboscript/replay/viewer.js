@@ -41,6 +41,12 @@
     return String(value);
   }
 
+  /* Why the mission entered the frame's state, in the student's words (the record's text). */
+  function whyText(why) {
+    if (!why) return "—";
+    return typeof why.text === "string" ? why.text : String(why.kind || "—");
+  }
+
   /* Full snapshots from frames holding only changes. */
   function Frames() {
     this.list = [];
@@ -129,6 +135,7 @@
     side.innerHTML =
       "<dl class='rs-facts'>" +
       "<dt>state</dt><dd data-role='state'>—</dd>" +
+      "<dt>why</dt><dd data-role='why'>—</dd>" +
       "<dt>action</dt><dd data-role='action'>—</dd>" +
       "<dt>outcome</dt><dd data-role='outcome'>—</dd>" +
       "<dt>pose</dt><dd data-role='pose'>—</dd>" +
@@ -577,8 +584,11 @@
     if (!list.length) return;
     var span = this.plotSpan(), start = 0, states = [];
     for (var i = 1; i <= list.length; i++) {
-      if (i === list.length || list[i].state !== list[start].state) {
-        states.push([list[start].t, i < list.length ? list[i].t : span[1], list[start].state]);
+      // a new segment at each transition, even one back into the same state
+      if (i === list.length || list[i].state !== list[start].state ||
+          list[i].why !== list[start].why) {
+        states.push([list[start].t, i < list.length ? list[i].t : span[1], list[start].state,
+                     whyText(list[start].why)]);
         start = i;
       }
     }
@@ -587,7 +597,8 @@
     });
     states.forEach(function (s) {
       var part = el("button", { type: "button", "class": "rs-seg", "data-t": String(s[0]),
-                                "data-state": s[2], title: s[2] + " from " + fmt(s[0], 2) + " s" },
+                                "data-state": s[2], "data-why": s[3],
+                                title: s[2] + " from " + fmt(s[0], 2) + " s: " + s[3] },
                     s[2]);
       var k = names.indexOf(s[2]);
       part.style.background = COLOURS[(k < 0 ? 0 : k) % COLOURS.length];
@@ -602,7 +613,9 @@
     this.q("time").textContent = fmt(frame.t, 2) + " s";
     this.q("state").textContent = frame.state || "—";
     this.q("action").textContent = frame.action || "—";
-    this.q("outcome").textContent = frame.outcome || "running";
+    this.q("why").textContent = whyText(frame.why);
+    var last = this.index === list.length - 1 && this.result;
+    this.q("outcome").textContent = frame.outcome || (last ? this.result.outcome : "running");
     this.q("pose").textContent = frame.pose ?
       "x " + fmt(frame.pose[0]) + " mm, y " + fmt(frame.pose[1]) + " mm, heading " +
       fmt(frame.pose[2]) + "°" : "—";

@@ -59,7 +59,8 @@ def viewer_style() -> str:
 
 
 def decimate(frames: Sequence[Mapping[str, Any]], rate_hz: float) -> list[dict[str, Any]]:
-    """At most ``rate_hz`` full frames a second, plus every frame where the state changes.
+    """At most ``rate_hz`` full frames a second, plus every frame of a transition (the state
+    or why it was entered changes).
 
     A tone that started on a dropped frame moves to the next frame kept, and the last frame is
     always kept, so the replay shows every state, every tone and where the run ended.
@@ -71,18 +72,21 @@ def decimate(frames: Sequence[Mapping[str, Any]], rate_hz: float) -> list[dict[s
     next_t = -float("inf")
     pending: dict[str, Any] = {}
     last_state: Any = object()
+    last_why: Any = object()
     for index, frame in enumerate(frames):
         for key in EVENT_KEYS:
             if key in frame:
                 pending[key] = frame[key]
         is_last = index == len(frames) - 1
-        if frame["t"] >= next_t - 1e-9 or frame.get("state") != last_state or is_last:
+        moved = frame.get("state") != last_state or frame.get("why") != last_why
+        if frame["t"] >= next_t - 1e-9 or moved or is_last:
             item = {k: v for k, v in frame.items() if k not in EVENT_KEYS}
             item.update(pending)
             pending = {}
             kept.append(item)
             next_t = frame["t"] + period
             last_state = frame.get("state")
+            last_why = frame.get("why")
     return kept
 
 

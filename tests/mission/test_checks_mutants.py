@@ -132,6 +132,10 @@ def _drive(**fields: object) -> ActionSpec:
     return ActionSpec(name="drive", kwargs={}, factory=object, **fields)  # type: ignore[arg-type]
 
 
+def _tone() -> ActionSpec:
+    return ActionSpec(name="play_tone", kwargs={}, factory=object)  # type: ignore[arg-type]
+
+
 def _go(target: str, guard_text: str | None = "bumper.any") -> TransitionSpec:
     return TransitionSpec(target=target, guard_text=guard_text)
 
@@ -140,8 +144,10 @@ def test_a_mission_built_in_code_without_locations_is_checked() -> None:
     # The 'ghost' state is named but missing, and is searched first: 'b' must still be
     # followed to 'c', and problems without a location still format.
     states = {
-        "a": StateSpec(name="a", on={"done": (_go("b"),), "failed": (_go("ghost"),)}),
-        "b": StateSpec(name="b", on={"done": (_go("c"),)}),
+        "a": StateSpec(
+            name="a", action=_tone(), on={"done": (_go("b"),), "failed": (_go("ghost"),)}
+        ),
+        "b": StateSpec(name="b", action=_tone(), on={"done": (_go("c"),)}),
         "c": StateSpec(name="c", final="success"),
         "idle": StateSpec(name="idle", when=(_go("c", None),)),
     }

@@ -165,6 +165,49 @@ def test_clicking_a_state_jumps_to_where_it_began(
     assert _text(browser, "action") == "rotate"
 
 
+def test_clicking_a_transition_shows_why_the_robot_turned_there(
+    browser: Browser, recorded: tuple[Recording, RunRecording]
+) -> None:
+    # bump_and_turn turns when the ranger sees a wall closer than 25 cm: the page alone says so
+    browser.click("[data-role=timeline] [data-state=turn]:nth-child(2)")
+    frame = recorded[0].frames[_index(browser)]
+    assert frame["state"] == "turn"
+    why = _text(browser, "why")
+    assert why == frame["why"]["text"]
+    assert why.startswith("'range.distance_cm < 25' held (range.distance_cm = ")
+    assert float(why.rsplit("= ", 1)[1].rstrip(")")) < 25
+
+
+def test_each_timeline_segment_names_its_cause(
+    browser: Browser, recorded: tuple[Recording, RunRecording]
+) -> None:
+    causes = browser.evaluate(
+        "Array.from(document.querySelectorAll('[data-role=timeline] [data-state]'))"
+        ".map(function (b) { return b.dataset.why; })"
+    )
+    recording = recorded[0]
+    assert recording.result is not None
+    assert len(causes) == len(recording.result["states"])
+    assert causes[0] == "the mission started"
+    assert "'bumper.any' held (bumper.any = true)" in causes
+
+
+def test_the_last_frame_shows_how_the_mission_ended(
+    browser: Browser, recorded: tuple[Recording, RunRecording]
+) -> None:
+    browser.evaluate("document.querySelector('[data-role=scrubber]').value = '999999'")
+    browser.evaluate(
+        "document.querySelector('[data-role=scrubber]').dispatchEvent(new Event('input'))"
+    )
+    recording = recorded[0]
+    assert recording.result is not None
+    last = recording.frames[-1]
+    assert _index(browser) == len(recording.frames) - 1
+    # the final state's own action ended 'done' (a final state without one: the result's)
+    assert _text(browser, "outcome") == (last.get("outcome") or recording.result["outcome"])
+    assert _text(browser, "outcome") != "running"
+
+
 class _Events(BaseHTTPRequestHandler):
     recording: RunRecording
     page: str
