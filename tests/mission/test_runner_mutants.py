@@ -483,7 +483,9 @@ def test_an_inner_machine_reads_its_own_state_distance_and_the_missions_pose() -
     spec, _ = parse_yaml_mission(NESTED)
     base = Base()
     seen: list[tuple[float, str]] = []
-    runner = MissionRunner(spec, {"drive_base": base}, on_state=lambda t, s, _why: seen.append((t, s)))
+    runner = MissionRunner(
+        spec, {"drive_base": base}, on_state=lambda t, s, _why: seen.append((t, s))
+    )
     start_s = 100.0
     for step, travel_mm in enumerate([0.0, 160.0, 200.0, 250.0, 250.0, 250.0]):
         base.travel = [travel_mm, travel_mm]
