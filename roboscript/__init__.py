@@ -39,6 +39,7 @@ if TYPE_CHECKING:
         Walk,
     )
     from roboscript.api import RunResult, run
+    from roboscript.mission.channels import log
     from roboscript.mission.python_api import Mission, state
 
 __version__ = "0.1.0"
@@ -68,6 +69,7 @@ __all__ = [
     "WaitUntil",
     "Walk",
     "__version__",
+    "log",
     "run",
     "state",
 ]
@@ -81,6 +83,7 @@ _LAZY = {
     "Mission": "roboscript.mission.python_api",
     "state": "roboscript.mission.python_api",
     "run": "roboscript.api",
+    "log": "roboscript.mission.channels",
     "RunResult": "roboscript.api",
 }
 

@@ -92,6 +92,25 @@ class RunResult:
     summary: dict[str, Any] = field(default_factory=dict, repr=False)
 
     @property
+    def transitions(self) -> list[dict[str, Any]]:
+        """Each state entered with why (``run --json``'s ``transitions``)."""
+        return list(self.summary.get("transitions", []))
+
+    def columns(self) -> dict[str, list[Any]]:
+        """The run tick by tick as columns: ``t_s``, ``state``, ``why``, the pose, the
+        sensors, the motors, the values the mission logged (``log.NAME``) and what it
+        printed; ``pandas.DataFrame(result.columns())`` makes a table to plot.
+
+        Raises:
+            ValueError: The run was not recorded (``record=False``).
+        """
+        if self.recording is None:
+            raise ValueError("this run was not recorded: run it with record=True")
+        from roboscript.replay.columns import run_columns
+
+        return run_columns(self.recording)
+
+    @property
     def succeeded(self) -> bool:
         """Whether the mission ended in a success state."""
         return self.outcome == "success"

@@ -443,7 +443,9 @@ def _cmd_graph(args: argparse.Namespace) -> int:
 def _cmd_view(args: argparse.Namespace) -> int:
     from roboscript.replay.viewer import view_recording
 
-    page, problem = view_recording(args.recording, args.output, open_page=args.open)
+    page, problem = view_recording(
+        args.recording, args.output, open_page=args.open, csv_path=args.csv
+    )
     if problem:
         _err(problem)
         return EXIT_FAILED
@@ -585,6 +587,9 @@ def _parser() -> argparse.ArgumentParser:
     view.add_argument("recording", help="a file written by `run --record`")
     view.add_argument("-o", "--output", metavar="FILE", help="the page (default: beside it)")
     view.add_argument("--open", action="store_true", help="open the page in a web browser")
+    view.add_argument(
+        "--csv", metavar="FILE", help="also write the run tick by tick as columns (CSV)"
+    )
     view.set_defaults(func=_cmd_view)
 
     check = sub.add_parser("check", help="check mission files without a robot")

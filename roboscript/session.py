@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 from roboscript.errors import LinkError
 from roboscript.interrupts import exit_status_for, reason_for
 from roboscript.mission.cause import TransitionCause
+from roboscript.mission.channels import stamped_prints
 from roboscript.mission.runner import MissionResult, MissionRunner
 from roboscript.mission.spec import MissionSpec
 from roboscript.mission.student_code import stuck_at
@@ -219,7 +220,12 @@ def run_session(
     try:
         with robot:
             try:
-                with watchdog or contextlib.nullcontext():
+                with (
+                    watchdog or contextlib.nullcontext(),
+                    stamped_prints(
+                        runner.elapsed, recording.printed if recording is not None else None
+                    ),
+                ):
                     robot.scheduler.run(until=lambda: runner.finished, max_duration_s=max_time_s)
             except RunawayCode as exc:
                 robot.stop()

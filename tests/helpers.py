@@ -164,3 +164,21 @@ expect:
   - final_pose_within: {x: 0 mm, y: 500 mm, radius: 5 cm, relative_to: start}
 """
 """The end of a test spec that :data:`FORWARD_50CM` passes from any start."""
+
+
+# A Python mission that logs its own values and prints once, a second in (log(), prints).
+LOGGING_MISSION = """\
+from roboscript import Drive, Mission, log, state
+
+
+class Logged(Mission):
+    go = state(Drive(distance_mm=300), initial=True, when=[("near", "end")],
+               on_done="end", on_failed="end")
+    end = state(final="success")
+
+    def near(self) -> bool:
+        log(driven_cm=self.driven.total_cm, halfway=self.driven.total_cm > 15)
+        if self.visits("go") == 1 and 1.0 < self.elapsed < 1.03:
+            print("one second in")
+        return False
+"""

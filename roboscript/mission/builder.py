@@ -497,8 +497,10 @@ class MissionBuilder:
         world: str | None = None,
         robot_where: Location | None = None,
         world_where: Location | None = None,
+        plots: tuple[tuple[str, Any], ...] = (),
     ) -> MissionSpec:
-        """The whole mission (``robot_where``, ``world_where``: where those were written)."""
+        """The whole mission (``robot_where``, ``world_where``: where those were written;
+        ``plots``: the condition values to record, compiled by :meth:`expression`)."""
         return MissionSpec(
             name=str(name),
             initial=initial,
@@ -510,6 +512,7 @@ class MissionBuilder:
             world=world,
             robot_location=robot_where if robot is not None else None,
             world_location=world_where if world is not None else None,
+            plots=plots,
         )
 
     def finish(

@@ -219,6 +219,11 @@ class Guard:
         """Evaluate the guard now."""
         return bool(self._evaluate(env))
 
+    def value(self, env: GuardEnv) -> float | bool:
+        """The expression's value now, not made true/false (what ``plot:`` records)."""
+        found = self._evaluate(env)
+        return found if isinstance(found, bool) else float(found)
+
 
 @dataclass
 class _Quantity:

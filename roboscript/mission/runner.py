@@ -34,6 +34,7 @@ from roboscript.actions.base import ActionContext, Outcome, Result
 from roboscript.angles import turned_deg, wrap_deg
 from roboscript.errors import CapabilityError
 from roboscript.mission.cause import TransitionCause
+from roboscript.mission.channels import Channels, logging_to
 from roboscript.mission.checks import check_regions
 from roboscript.mission.guards import GuardEnv
 from roboscript.mission.sensor_readings import color_or_buttons
@@ -186,6 +187,8 @@ class MissionRunner(GuardEnv):
         self._reads: dict[str, float | bool] | None = None
         self.last_cause: TransitionCause | None = None
         """Why the current state was entered (``None`` before the mission starts)."""
+        self.channels: Channels = outer.channels if outer is not None else {}
+        """The student's own values (``log()`` and ``plot:``), the last of each by name."""
         self._visits: Counter[str] = Counter()
         self._start_s: float | None = None
         self._state_start_s = 0.0
@@ -356,7 +359,9 @@ class MissionRunner(GuardEnv):
         the traceback goes to the debug log. Any other exception propagates.
         """
         try:
-            self._tick(now_s, dt_s)
+            with logging_to(self.channels):
+                self._tick(now_s, dt_s)
+                self._plot()
         except Exception as exc:
             reason = student_fault(exc, self.state)
             if reason is None:
@@ -411,6 +416,12 @@ class MissionRunner(GuardEnv):
             self._pending = timed_out
             if not self._fire("timeout"):
                 self.finish("failure", self._cause)
+
+    def _plot(self) -> None:
+        """Record the ``plot:`` values of this tick (after it decided, as the sensors are)."""
+        for text, guard in self.spec.plots:
+            number = guard.value(self)
+            self.channels[text] = number if math.isfinite(number) else None
 
     def _route(self, name: str, result: Result) -> bool:
         """Route an action's outcome; True if the mission moved on or ended."""

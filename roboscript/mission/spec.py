@@ -124,6 +124,8 @@ class MissionSpec:
         world: The simulator world it is written for (``--world`` overrides it), or ``None``.
         robot_location: Where ``robot`` was written, or ``None``.
         world_location: Where ``world`` was written, or ``None``.
+        plots: Condition values recorded each tick as the student's own channels
+            (``plot:``): ``(expression, compiled guard)``.
     """
 
     name: str
@@ -136,10 +138,11 @@ class MissionSpec:
     world: str | None = None
     robot_location: Location | None = field(default=None, compare=False, repr=False)
     world_location: Location | None = field(default=None, compare=False, repr=False)
+    plots: tuple[tuple[str, Any], ...] = ()
 
     def requires(self) -> frozenset[str]:
         """Every capability the mission's actions and guards need."""
-        needed: set[str] = set()
+        needed: set[str] = {c for _, guard in self.plots for c in guard.capabilities}
         for state in self.states.values():
             for action in state.actions():
                 needed |= action.requires

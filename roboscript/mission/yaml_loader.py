@@ -7,7 +7,7 @@ you mean" where one fits. All problems in a file are collected, so one run of
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -17,6 +17,7 @@ from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.quantities import QuantityError, bare_number_warning, parse_quantity
 from roboscript.inputs.source import Location, Mark, YamlList, YamlMap, load_yaml, load_yaml_text
 from roboscript.mission.builder import MissionBuilder
+from roboscript.mission.channels import MAX_CHANNELS
 from roboscript.mission.files import FileReferenceError, beside_mission
 from roboscript.mission.spec import (
     OUTCOMES,
@@ -28,7 +29,13 @@ from roboscript.mission.spec import (
 
 __all__ = ["load_yaml_mission", "parse_yaml_mission"]
 
-_TOP_KEYS = ("mission", "description", "robot", "world", "behaviours", "initial", "states")
+
+def _at(where: Location) -> Callable[[int], Location]:
+    """A locator for a mistake anywhere in one list item: the item itself."""
+    return lambda _offset: where
+
+
+_TOP_KEYS = ("mission", "description", "robot", "world", "behaviours", "initial", "states", "plot")
 _STATE_KEYS = ("do", "during", "on", "when", "timeout", "final", "description")
 _INNER_KEYS = ("states", "initial", "description")
 _CHOICE_KEYS = ("if", "goto")
@@ -121,7 +128,29 @@ class _Reader:
             world=hints["world"],
             robot_where=self.loc(data.value_mark("robot")),
             world_where=self.loc(data.value_mark("world")),
+            plots=self.plots(data["plot"], data.value_mark("plot"), names)
+            if inner_of is None and "plot" in data
+            else (),
         )
+
+    def plots(self, raw: Any, mark: Mark, names: frozenset[str]) -> tuple[tuple[str, Any], ...]:
+        """``plot:``, condition values recorded each tick: a list of expressions."""
+        if not isinstance(raw, YamlList):
+            self.problem(
+                "'plot' is a list of values to record, e.g. plot: [range.distance_cm]", mark
+            )
+            return ()
+        found: list[tuple[str, Any]] = []
+        for item, item_mark in zip(raw, raw.item_marks, strict=True):
+            guard = self.build.expression(item, names, _at(self.loc(item_mark)))
+            if guard is not None:
+                found.append((str(guard.source), guard))
+        if len(found) > MAX_CHANNELS:
+            self.problem(
+                f"'plot' records at most {MAX_CHANNELS} values (it lists {len(found)})", mark
+            )
+            return ()
+        return tuple(found)
 
     # ---------------------------------------------------------------------------- states
 

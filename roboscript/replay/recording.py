@@ -76,9 +76,9 @@ MAX_FRAMES = 200_000
 in the result's ``frames_not_recorded``, so a run of hours keeps a bounded size."""
 MAX_LINE_CHARS = 4_000_000
 """Longest line a reader takes (a header with a world of 20,000 walls is about 1 MB)."""
-NESTED_KEYS = ("sensors", "motors")
+NESTED_KEYS = ("sensors", "motors", "log")
 """Frame keys whose value is an object recorded entry by entry (only changed entries)."""
-EVENT_KEYS = ("tone",)
+EVENT_KEYS = ("tone", "print")
 """Frame keys that happen on one tick and do not carry over to the next."""
 
 _NESTED = frozenset(NESTED_KEYS)

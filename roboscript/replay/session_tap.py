@@ -16,6 +16,7 @@ from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.angles import wrap_deg
+from roboscript.mission.channels import MAX_PRINTED_LINES
 from roboscript.mission.runner import MissionResult, MissionRunner
 from roboscript.mission.spec import MissionSpec
 from roboscript.profiles import RobotProfile
@@ -23,6 +24,8 @@ from roboscript.replay.header import mission_header, run_header
 from roboscript.replay.recording import MAX_FRAMES, Listener, Recorder, RecordingFile
 from roboscript.robot import Robot
 from roboscript.sim.simulation import Simulation
+
+_PRINTED_CHARS = 500  # of one printed line in the record (a terminal shows it whole)
 
 __all__ = [
     "SHOWN",
@@ -170,6 +173,9 @@ class RunRecording:
         self._last_result: Any = _UNSET
         self._last_outcome: Any = _UNSET
         self._last_cause: Any = _UNSET
+        self._last_log: dict[str, Any] = {}
+        self._printed: list[str] = []  # printed since the last tick was recorded
+        self._printed_total = 0
         self._last_wheels: Any = _UNSET
         self._last_motors: dict[str, float] = {}
         self._last_written_pose: Any = _UNSET
@@ -232,6 +238,12 @@ class RunRecording:
         self._reads = [read for _, read in self._readers]
         self._raw = [*self._raw, *([_UNSET] * len(readers))]
 
+    def printed(self, line: str) -> None:
+        """Record a line the mission printed (written with the next tick, as ``print``)."""
+        self._printed_total += 1
+        if self._printed_total <= MAX_PRINTED_LINES:
+            self._printed.append(line[:_PRINTED_CHARS])
+
     def tick(self, runner: MissionRunner) -> None:
         """Record this tick (called after the mission's think phase).
 
@@ -252,6 +264,9 @@ class RunRecording:
                 if body is not None
                 else self._sample_pose()
             )
+            printed = self._printed
+            if printed:
+                self._printed = []
             commands = self.commands
             tone = commands.tone
             if tone is not None:
@@ -270,6 +285,8 @@ class RunRecording:
                     if body is not None
                     else _UNSET,
                     runner.last_cause,
+                    dict(runner.channels) if runner.channels else None,
+                    printed or None,
                 )
             )
         except Exception as exc:  # noqa: BLE001 - a failed sample ends the recording only
@@ -280,7 +297,20 @@ class RunRecording:
 
         Rows must be formatted once each, in order (the recorder does so).
         """
-        now_s, pose, state, result, values, wheels, tone, display, contact, cause = row
+        (
+            now_s,
+            pose,
+            state,
+            result,
+            values,
+            wheels,
+            tone,
+            display,
+            contact,
+            cause,
+            logged,
+            printed,
+        ) = row
         frame: dict[str, Any] = {"t": round(now_s - (self._start_s or 0.0), 3) + 0.0}
         if pose != self._last_pose:
             self._last_pose = pose
@@ -315,8 +345,17 @@ class RunRecording:
             if changed:
                 frame["motors"] = changed
                 self._last_motors = motors
+        if logged is not None and logged != self._last_log:
+            frame["log"] = {
+                name: _logged(value)
+                for name, value in logged.items()
+                if self._last_log.get(name, _UNSET) != value
+            }
+            self._last_log = logged
         if tone is not None:
             frame["tone"] = [tone[0], tone[1]]
+        if printed is not None:
+            frame["print"] = printed
         if display is not None and display != self._last_display:
             frame["display"] = self._last_display = display
         if contact is not _UNSET and contact != self._last_contact:
@@ -327,6 +366,8 @@ class RunRecording:
         """Close the recording with the mission's result (and ``extra`` keys)."""
         if self.recorder is None:
             return None
+        if self._printed_total > MAX_PRINTED_LINES:
+            extra["prints_not_recorded"] = self._printed_total - MAX_PRINTED_LINES
         return self.recorder.finish({**result_line(result), **extra})
 
 
@@ -363,6 +404,11 @@ def _rounded(value: float | None) -> float | None:
 def _heading(value: float | None) -> float | None:
     rounded = _rounded(value)
     return None if rounded is None else round(wrap_deg(rounded), 1) + 0.0
+
+
+def _logged(value: float | bool | None) -> float | bool | None:
+    """A ``log()`` value as a frame writes it: numbers to 0.001, true/false as they are."""
+    return value if value is None or isinstance(value, bool) else round(value, 3) + 0.0
 
 
 def _line(values: tuple[float, ...] | None) -> list[int] | None:

@@ -13,8 +13,8 @@
 (function () {
   "use strict";
 
-  var NESTED = { sensors: true, motors: true };
-  var EVENTS = { tone: true };
+  var NESTED = { sensors: true, motors: true, log: true };
+  var EVENTS = { tone: true, print: true };
   var SPEEDS = [0.25, 0.5, 1, 2, 4, 8, 16];
   var MAX_PATH_POINTS = 4000;
   var COLOURS = ["#1565c0", "#ef6c00", "#2e7d32", "#6a1b9a", "#c62828", "#00838f", "#5d4037",
@@ -51,9 +51,15 @@
   function Frames() {
     this.list = [];
     this.current = {};
+    this.tones = [];   // [t s, frequency Hz, duration s], in time order
+    this.prints = [];  // [t s, line], in time order
   }
   Frames.prototype.push = function (delta) {
     var cur = this.current, key, frame = {};
+    if (delta.tone) this.tones.push([delta.t, delta.tone[0], delta.tone[1]]);
+    if (delta.print) {
+      for (var p = 0; p < delta.print.length; p++) this.prints.push([delta.t, delta.print[p]]);
+    }
     for (key in delta) {
       if (!Object.prototype.hasOwnProperty.call(delta, key) || EVENTS[key]) continue;
       if (NESTED[key] && delta[key] && typeof delta[key] === "object") {
@@ -77,6 +83,7 @@
     for (key in values) {
       var v = values[key];
       if (typeof v === "number" || v === null) out.push([key, v]);
+      else if (typeof v === "boolean") out.push([key, v ? 1 : 0]);
       else if (Array.isArray(v) && key === "line") {
         for (var i = 0; i < v.length; i++) out.push([key + "[" + i + "]", v[i]]);
       } else if (Array.isArray(v)) out.push([key, v.length]);
@@ -97,6 +104,10 @@
     this.follow = false;
     this.dirty = true;
     this.plotDirty = true;
+    this.pauseAt = "";      // "state:NAME" or "true:LOG NAME": where playing stops by itself
+    this.breakKeys = "";    // the choices offered so far (rebuilt when a new one appears)
+    this.muted = false;
+    this.audio = null;
     this.build();
   }
 
@@ -121,12 +132,19 @@
     var scrub = el("input", { type: "range", min: "0", max: "0", value: "0", step: "1",
                               "data-role": "scrubber", "aria-label": "time" });
     var time = el("span", { "data-role": "time", "class": "rs-time" }, "0.00 s");
+    var pauseAt = el("select", { "data-role": "pause-at", "aria-label": "pause when",
+                                 title: "pause the replay when this happens" });
+    pauseAt.appendChild(el("option", { value: "" }, "pause at: nothing"));
+    var mute = el("button", { type: "button", "data-action": "mute", "aria-pressed": "false",
+                              title: "tones are played as the replay passes them" }, "sound: on");
     bar.appendChild(this.playButton);
     bar.appendChild(back);
     bar.appendChild(step);
     bar.appendChild(speed);
     bar.appendChild(scrub);
     bar.appendChild(time);
+    bar.appendChild(pauseAt);
+    bar.appendChild(mute);
     var timeline = el("div", { "data-role": "timeline", "class": "rs-timeline" });
     var main = el("div", { "class": "rs-main" });
     this.canvas = el("canvas", { width: "560", height: "420", "class": "rs-world",
@@ -145,10 +163,13 @@
       "<dt>tick</dt><dd data-role='frame'>—</dd>" +
       "</dl><table class='rs-sensors'><caption>sensors</caption>" +
       "<tbody data-role='sensors'></tbody></table>" +
+      "<table class='rs-sensors'><caption>your values (log)</caption>" +
+      "<tbody data-role='log'></tbody></table>" +
+      "<div class='rs-prints'><span>printed</span><ol data-role='prints'></ol></div>" +
       "<p class='rs-result' data-role='result'></p>";
     main.appendChild(this.canvas);
     main.appendChild(side);
-    this.plotCanvas = el("canvas", { width: "860", height: "200", "class": "rs-plot",
+    this.plotCanvas = el("canvas", { width: "860", height: "240", "class": "rs-plot",
                                      role: "img", "aria-label": "sensors and motors over time" });
     var legend = el("div", { "class": "rs-legend", "data-role": "legend" });
     root.appendChild(bar);
@@ -161,6 +182,13 @@
     back.addEventListener("click", function () { self.pause(); self.seek(self.index - 1); });
     step.addEventListener("click", function () { self.pause(); self.seek(self.index + 1); });
     speed.addEventListener("change", function () { self.speed = parseFloat(speed.value) || 1; });
+    pauseAt.addEventListener("change", function () { self.pauseAt = pauseAt.value; });
+    mute.addEventListener("click", function () {
+      self.muted = !self.muted;
+      mute.setAttribute("aria-pressed", self.muted ? "true" : "false");
+      mute.textContent = self.muted ? "sound: off" : "sound: on";
+    });
+    this.pauseAtSelect = pauseAt;
     scrub.addEventListener("input", function () { self.seek(parseInt(scrub.value, 10)); });
     timeline.addEventListener("click", function (ev) {
       var target = ev.target.closest ? ev.target.closest("[data-t]") : null;
@@ -293,10 +321,80 @@
       this.playTime += (wallMs - this.lastWall) / 1000 * this.speed;
       var list = this.frames.list;
       var index = this.indexAt(this.playTime);
+      if (index > this.index) {
+        var stop = this.breakBetween(this.index + 1, index);
+        this.soundTones(list[this.index].t, list[stop < 0 ? index : stop].t);
+        if (stop >= 0) {
+          this.index = stop;
+          this.pause();
+          this.dirty = true;
+          this.lastWall = wallMs;
+          return;
+        }
+      }
       if (index !== this.index) { this.index = index; this.dirty = true; }
       if (index >= list.length - 1 && this.playTime >= list[list.length - 1].t) this.pause();
     }
     this.lastWall = wallMs;
+  };
+
+  /* The first frame from `first` to `last` where the chosen pause happens, or -1. */
+  Viewer.prototype.breakBetween = function (first, last) {
+    var choice = this.pauseAt, list = this.frames.list;
+    if (!choice) return -1;
+    var colon = choice.indexOf(":"), kind = choice.slice(0, colon), name = choice.slice(colon + 1);
+    for (var i = Math.max(1, first); i <= last && i < list.length; i++) {
+      var before = list[i - 1], now = list[i];
+      if (kind === "state" && now.state === name && now.why !== before.why) return i;
+      if (kind === "true" && (now.log || {})[name] === true && (before.log || {})[name] !== true) {
+        return i;
+      }
+    }
+    return -1;
+  };
+
+  /* Play the tones that start after t0 and no later than t1 (seconds), unless muted. */
+  Viewer.prototype.soundTones = function (t0, t1) {
+    var tones = this.frames.tones;
+    if (this.muted || !tones.length) return;
+    var Context = window.AudioContext || window.webkitAudioContext;
+    if (!Context) return;
+    for (var i = 0; i < tones.length; i++) {
+      if (tones[i][0] <= t0 || tones[i][0] > t1) continue;
+      try {
+        if (!this.audio) this.audio = new Context();
+        var ctx = this.audio, osc = ctx.createOscillator(), gain = ctx.createGain();
+        osc.frequency.value = tones[i][1];
+        gain.gain.value = 0.08;
+        osc.connect(gain);
+        gain.connect(ctx.destination);
+        osc.start();
+        osc.stop(ctx.currentTime + Math.min(tones[i][2] / this.speed, 5));
+      } catch (e) { this.muted = true; return; }  // no sound here: the tone row still shows it
+    }
+  };
+
+  /* The pause choices: entering each state, and each true/false value the mission logs. */
+  Viewer.prototype.offerBreaks = function () {
+    var names = (((this.header || {}).mission || {}).states || []).map(function (s) {
+      return s.name;
+    });
+    var flags = Object.keys(this.frames.current.log || {}).filter(function (k) {
+      return typeof this.frames.current.log[k] === "boolean";
+    }, this);
+    var keys = names.join("\n") + "\t" + flags.join("\n");
+    if (keys === this.breakKeys) return;
+    this.breakKeys = keys;
+    var select = this.pauseAtSelect, chosen = select.value;
+    while (select.options.length > 1) select.remove(1);
+    names.forEach(function (n) {
+      select.appendChild(el("option", { value: "state:" + n }, "pause at: entering " + n));
+    });
+    flags.forEach(function (n) {
+      select.appendChild(el("option", { value: "true:" + n }, "pause at: " + n + " becomes true"));
+    });
+    select.value = chosen;
+    if (select.value !== chosen) { select.value = ""; this.pauseAt = ""; }
   };
 
   /* ------------------------------------------------------------------------- drawing */
@@ -488,6 +586,23 @@
     }
     g.stroke();
     this.drawRobot(g, frame);
+    this.drawScaleBar(g);
+  };
+
+  /* A bar of a round length (10 cm, 20 cm, 50 cm, 1 m, ...) in the map's bottom-left corner. */
+  Viewer.prototype.drawScaleBar = function (g) {
+    var scale = this.view.scale, lengths = [50, 100, 200, 500, 1000, 2000, 5000, 10000];
+    var mm = lengths[0];
+    for (var i = 0; i < lengths.length; i++) if (lengths[i] * scale <= 120) mm = lengths[i];
+    var x = 12, y = this.canvas.height - 14, w = mm * scale;
+    g.strokeStyle = "#222";
+    g.lineWidth = 2;
+    g.beginPath(); g.moveTo(x, y - 4); g.lineTo(x, y); g.lineTo(x + w, y); g.lineTo(x + w, y - 4);
+    g.stroke();
+    g.fillStyle = "#222";
+    g.font = "11px sans-serif";
+    g.fillText(mm >= 1000 ? mm / 1000 + " m" : mm / 10 + " cm", x + w + 6, y);
+    this.root.setAttribute("data-scale-mm", String(mm));
   };
 
   Viewer.prototype.plotSpan = function () {
@@ -508,8 +623,14 @@
     legend.textContent = "";
     this.plotLayer = c;
     if (!list.length) return;
-    var span = this.plotSpan(), left = 40, width = c.width - 50;
-    var panels = [["sensors", 0, c.height * 0.62], ["motors", c.height * 0.62, c.height]];
+    var span = this.plotSpan(), left = 40, width = c.width - 50, axis = 16;
+    var h = c.height - axis, logged = Object.keys(this.frames.current.log || {}).length > 0;
+    var panels = logged ?
+      [["sensors", 0, h * 0.45], ["log", h * 0.45, h * 0.72], ["motors", h * 0.72, h]] :
+      [["sensors", 0, h * 0.62], ["motors", h * 0.62, h]];
+    var TITLES = { sensors: "sensors (unit in each name)", log: "your values (log)",
+                   motors: "motors (mm/s, or power -1 to 1)" };
+    this.drawTimeAxis(g, span, left, width, h);
     var colour = 0;
     panels.forEach(function (panel) {
       var group = panel[0], top = panel[1] + 6, bottom = panel[2] - 6;
@@ -530,6 +651,7 @@
       g.strokeRect(left, top, width, bottom - top);
       g.fillStyle = "#555";
       g.font = "10px sans-serif";
+      g.fillText(TITLES[group], left + 4, top + 10);
       g.fillText(String(Math.round(hi)), 2, top + 9);
       g.fillText(String(Math.round(lo)), 2, bottom);
       order.forEach(function (name) {
@@ -555,6 +677,24 @@
       });
     });
     this.plotDirty = false;
+  };
+
+  /* The time axis under the plots: ticks at a round step, labelled in seconds. */
+  Viewer.prototype.drawTimeAxis = function (g, span, left, width, y) {
+    var length = span[1] - span[0], steps = [0.1, 0.2, 0.5, 1, 2, 5, 10, 20, 30, 60, 120, 300,
+                                               600, 1200, 1800, 3600];
+    var step = steps[steps.length - 1];
+    for (var k = 0; k < steps.length; k++) if (length / steps[k] <= 10) { step = steps[k]; break; }
+    g.strokeStyle = "#999";
+    g.fillStyle = "#555";
+    g.font = "10px sans-serif";
+    g.beginPath(); g.moveTo(left, y + 2); g.lineTo(left + width, y + 2); g.stroke();
+    for (var t = Math.ceil(span[0] / step) * step; t <= span[1] + 1e-9; t += step) {
+      var x = left + (t - span[0]) / length * width;
+      g.beginPath(); g.moveTo(x, y + 2); g.lineTo(x, y + 6); g.stroke();
+      g.fillText(String(Math.round(t * 10) / 10), x - 6, y + 15);
+    }
+    g.fillText("time (s)", left + width - 40, y + 15);
   };
 
   Viewer.prototype.drawPlotCursor = function () {
@@ -624,8 +764,12 @@
       return k + " " + fmt(m[k]);
     }).join(", ") : "—";
     this.q("display").textContent = frame.display === undefined ? "—" : frame.display;
-    this.q("tone").textContent = frame.tone ? fmt(frame.tone[0], 0) + " Hz for " +
-      fmt(frame.tone[1], 2) + " s" : "—";
+    var tone = this.toneAt(frame.t);
+    this.q("tone").textContent = tone ? fmt(tone[1], 0) + " Hz for " + fmt(tone[2], 2) +
+      " s (from " + fmt(tone[0], 2) + " s)" : "—";
+    this.showLog(frame);
+    this.showPrints(frame.t);
+    this.offerBreaks();
     this.q("frame").textContent = (this.index + 1) + " / " + list.length;
     var body = this.q("sensors"), values = frame.sensors || {};
     var keys = Object.keys(values), shown = JSON.stringify(keys);
@@ -654,6 +798,50 @@
       var t1 = i + 1 < segs.length ? parseFloat(segs[i + 1].getAttribute("data-t")) : Infinity;
       segs[i].setAttribute("aria-current", frame.t >= t0 && frame.t < t1 ? "true" : "false");
     }
+  };
+
+  /* The tone sounding at time t: [start s, Hz, duration s], or null. */
+  Viewer.prototype.toneAt = function (t) {
+    var tones = this.frames.tones;
+    for (var i = tones.length - 1; i >= 0; i--) {
+      if (tones[i][0] <= t + 1e-9) return t < tones[i][0] + tones[i][2] - 1e-9 ? tones[i] : null;
+    }
+    return null;
+  };
+
+  /* The student's own values at this frame; rows are kept by reference, never looked up by a
+   * selector built from a name. */
+  Viewer.prototype.showLog = function (frame) {
+    var body = this.q("log"), values = frame.log || {}, keys = Object.keys(values);
+    if (!this.logCells || this.logKeys !== keys.join("\n")) {
+      body.textContent = "";
+      this.logCells = {};
+      for (var i = 0; i < keys.length; i++) {
+        var row = el("tr"), cell = el("td", { "class": "rs-value" }, "");
+        row.appendChild(el("th", { scope: "row" }, keys[i]));
+        row.appendChild(cell);
+        body.appendChild(row);
+        this.logCells[keys[i]] = cell;
+      }
+      this.logKeys = keys.join("\n");
+    }
+    for (var j = 0; j < keys.length; j++) {
+      var v = values[keys[j]];
+      this.logCells[keys[j]].textContent = typeof v === "boolean" ? String(v) : fmt(v, 3);
+    }
+  };
+
+  /* The last few lines the mission printed up to time t, each with its time. */
+  Viewer.prototype.showPrints = function (t) {
+    var prints = this.frames.prints, list = this.q("prints"), shown = [];
+    for (var i = prints.length - 1; i >= 0 && shown.length < 6; i--) {
+      if (prints[i][0] <= t + 1e-9) shown.unshift(prints[i]);
+    }
+    var key = shown.map(function (p) { return p[0] + " " + p[1]; }).join("\n");
+    if (list.getAttribute("data-key") === key) return;
+    list.setAttribute("data-key", key);
+    list.textContent = "";
+    shown.forEach(function (p) { list.appendChild(el("li", null, fmt(p[0], 2) + " s  " + p[1])); });
   };
 
   Viewer.prototype.render = function () {

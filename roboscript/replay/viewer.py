@@ -246,9 +246,14 @@ def _embedded_value(value: dict[str, Any] | None) -> str:
 
 
 def view_recording(
-    recording_path: str, out_path: str | None = None, *, open_page: bool = False
+    recording_path: str,
+    out_path: str | None = None,
+    *,
+    open_page: bool = False,
+    csv_path: str | None = None,
 ) -> tuple[Path, str | None]:
-    """``roboscript view``: write the page (default: the recording's name with ``.html``).
+    """``roboscript view``: write the page (default: the recording's name with ``.html``),
+    and with ``csv_path`` the run as columns (:func:`~roboscript.replay.columns.write_csv`).
 
     Returns:
         The page's path, and the one-line problem if it could not be written or opened.
@@ -261,6 +266,13 @@ def view_recording(
         write_viewer_page(recording_path, out)
     except OSError as exc:
         return out, f"error: cannot write the page {out}: {exc.strerror or exc}"
+    if csv_path is not None:
+        from roboscript.replay.columns import write_csv
+
+        try:  # the page streamed the file; the columns need it whole (bounded by the reader)
+            write_csv(load_recording(recording_path), csv_path)
+        except OSError as exc:
+            return out, f"error: cannot write {csv_path}: {exc.strerror or exc}"
     if open_page:
         import webbrowser
 

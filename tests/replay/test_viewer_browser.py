@@ -15,7 +15,7 @@ from typing import Any
 
 import pytest
 from browser import Browser, open_browser
-from helpers import MISSIONS
+from helpers import LOGGING_MISSION, MISSIONS
 
 from roboscript.mission import mission_for_robot
 from roboscript.replay import Recording
@@ -206,6 +206,74 @@ def test_the_last_frame_shows_how_the_mission_ended(
     # the final state's own action ended 'done' (a final state without one: the result's)
     assert _text(browser, "outcome") == (last.get("outcome") or recording.result["outcome"])
     assert _text(browser, "outcome") != "running"
+
+
+def test_pause_at_a_state_stops_playing_where_it_is_entered(
+    browser: Browser, recorded: tuple[Recording, RunRecording]
+) -> None:
+    browser.evaluate(
+        "var s = document.querySelector('[data-role=pause-at]');"
+        "s.value = 'state:back_off'; s.dispatchEvent(new Event('change'));"
+        "var v = document.querySelector('[data-role=speed]');"
+        "v.value = '8'; v.dispatchEvent(new Event('change'));"
+    )
+    browser.click("button[data-action=play]")
+    browser.wait_for("document.querySelector('.rs-viewer').dataset.playing === '0'", 60)
+    frames = recorded[0].frames
+    index = _index(browser)
+    assert frames[index]["state"] == "back_off"
+    assert frames[index - 1]["state"] != "back_off"  # the very tick it was entered
+    assert _text(browser, "why") == "'bumper.any' held (bumper.any = true)"
+
+
+def test_a_tone_shows_for_its_whole_duration(
+    browser: Browser, recorded: tuple[Recording, RunRecording]
+) -> None:
+    start = next(f for f in recorded[0].frames if "tone" in f)
+    frequency_hz, duration_s = start["tone"]
+    browser.evaluate(f"window.roboscriptViewer.viewers[0].seekTime({start['t'] + duration_s / 2})")
+    assert _text(browser, "tone").startswith(f"{frequency_hz:.0f} Hz for {duration_s:.2f} s")
+    browser.evaluate(
+        f"window.roboscriptViewer.viewers[0].seekTime({start['t'] + duration_s + 0.05})"
+    )
+    assert _text(browser, "tone") == "—"
+
+
+def test_the_map_has_a_scale_bar_and_sound_can_be_muted(browser: Browser) -> None:
+    assert int(browser.evaluate("document.querySelector('.rs-viewer').dataset.scaleMm")) > 0
+    browser.click("button[data-action=mute]")
+    assert (
+        browser.evaluate(
+            "document.querySelector('[data-action=mute]').getAttribute('aria-pressed')"
+        )
+        == "true"
+    )
+
+
+def test_the_students_values_and_prints_show_beside_the_sensors(tmp_path: Path) -> None:
+    mission = tmp_path / "logged.py"
+    mission.write_text(LOGGING_MISSION, encoding="utf-8")
+    spec, profile, _ = mission_for_robot(mission)
+    recording = RunRecording()
+    run_session(spec, profile, recording=recording)
+    assert recording.recorder is not None
+    page = tmp_path / "run.html"
+    page.write_text(
+        viewer_page(viewer_block(recording.recorder.recording()), "logged"), encoding="utf-8"
+    )
+    with open_browser(tmp_path) as browser:
+        browser.open(page.as_uri())
+        browser.wait_for("document.querySelector('.rs-viewer').dataset.ready === '1'")
+        browser.evaluate("window.roboscriptViewer.viewers[0].seekTime(1.5)")
+        assert _text(browser, "log").startswith("driven_cm")
+        assert "halfway" in _text(browser, "log")
+        assert _text(browser, "prints") == "1.02 s  one second in"
+        options = browser.evaluate(
+            "Array.from(document.querySelector('[data-role=pause-at]').options)"
+            ".map(function (o) { return o.value; })"
+        )
+        assert "true:halfway" in options and "state:end" in options
+        assert browser.errors == []
 
 
 class _Events(BaseHTTPRequestHandler):
