@@ -229,7 +229,11 @@
     this.timelineDirty = true;
     this.plotDirty = true;
     this.boundsDirty = true;
-    if (this.follow) this.index = n - 1;
+    if (this.follow) {
+      // live: stop following where the chosen pause happens; the run goes on behind it
+      if (this.breakBetween(n - 1, n - 1) >= 0) { this.follow = false; this.pausedLive = true; }
+      this.index = n - 1;
+    }
     this.dirty = true;
   };
 
