@@ -512,6 +512,22 @@ def _cmd_ports(args: argparse.Namespace) -> int:
 # ---------------------------------------------------------------------------------- robots
 
 
+def _cmd_web(args: argparse.Namespace) -> int:
+    # loaded here: building the app reads packages no other command needs
+    from roboscript.web.build import WebBuildError, build_web_app
+
+    try:
+        built = build_web_app(args.dir, pyodide=args.pyodide, codemirror=args.codemirror)
+    except WebBuildError as exc:
+        _err(f"error: {exc}")
+        return EXIT_FAILED
+    _err(
+        f"web app: {built.page} ({built.size_bytes / 1e6:.1f} MB; open it in a web browser, "
+        "or copy the folder anywhere: it needs no network)"
+    )
+    return EXIT_OK
+
+
 def _cmd_robots(args: argparse.Namespace) -> int:
     from roboscript.profiles import BUILTIN_PROFILES
 
@@ -687,6 +703,20 @@ def _parser() -> argparse.ArgumentParser:
 
     robots = sub.add_parser("robots", help="list the built-in robot profiles")
     robots.set_defaults(func=_cmd_robots)
+
+    web = sub.add_parser("web", help="the browser app (zero install)")
+    web_sub = web.add_subparsers(dest="web_command", required=True, metavar="COMMAND")
+    web_build = web_sub.add_parser(
+        "build", help="write the offline browser app into a folder (open its index.html)"
+    )
+    web_build.add_argument("dir", metavar="DIR", help="the folder to write")
+    web_build.add_argument(
+        "--pyodide", metavar="DIR", help="an unpacked npm 'pyodide' package (default: npm)"
+    )
+    web_build.add_argument(
+        "--codemirror", metavar="DIR", help="an unpacked npm 'codemirror' 5 package"
+    )
+    web_build.set_defaults(func=_cmd_web)
     for command in sub.choices.values():
         # Global options are accepted after the command too (`roboscript run m.yaml --debug`);
         # SUPPRESS keeps a command not given --debug from resetting the global one.

@@ -57,7 +57,9 @@ def run_columns(recording: Recording) -> dict[str, Column]:
         columns["t_s"].append(frame.get("t"))
         columns["state"].append(frame.get("state"))
         why = frame.get("why")
-        columns["why"].append(why.get("text") if isinstance(why, dict) and why != last_why else None)
+        columns["why"].append(
+            why.get("text") if isinstance(why, dict) and why != last_why else None
+        )
         last_why = why
         if has_pose:
             pose = frame.get("pose") or [None, None, None]

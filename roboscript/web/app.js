@@ -1,0 +1,214 @@
+/* roboscript in a browser tab: the editor, check as you type, a run on the simulator, the
+ * replay and the state diagram, all from roboscript itself running in Pyodide. Works from
+ * file:// with no network: every binary comes from the page's own scripts (window.rsAssets).
+ */
+(function () {
+  "use strict";
+
+  function $(role) { return document.querySelector("[data-role='" + role + "']"); }
+  function button(action) { return document.querySelector("[data-action='" + action + "']"); }
+  function say(text) { $("status").textContent = text; }
+
+  /* Pyodide asks for its binaries with fetch(); a file:// page may not fetch files, so they
+   * are answered from the base64 the asset scripts stored (decoded by the browser itself). */
+  var realFetch = window.fetch;
+  window.fetch = function (url, options) {
+    var name = String(url).split("/").pop().split("?")[0];
+    var data = (window.rsAssets || {})[name];
+    if (data === undefined) return realFetch.apply(this, arguments);
+    var type = /\.wasm$/.test(name) ? "application/wasm" : "application/octet-stream";
+    return realFetch("data:" + type + ";base64," + data).then(function (response) {
+      return response.arrayBuffer();
+    }).then(function (bytes) {
+      return new Response(bytes, { headers: { "Content-Type": type } });
+    });
+  };
+
+  var py = null, bridge = null, editor = null, checkTimer = null, marked = [];
+
+  function mode(name) { return /\.py$/.test(name) ? "python" : "yaml"; }
+
+  function makeEditor() {
+    var first = window.rsExamples["hello.yaml"] || "";
+    editor = window.CodeMirror($("editor"), {
+      value: first, mode: "yaml", lineNumbers: true, indentUnit: 2, tabSize: 2,
+      extraKeys: { Tab: function (cm) { cm.replaceSelection("  "); } },
+      viewportMargin: Infinity
+    });
+    editor.on("change", function () {
+      window.clearTimeout(checkTimer);
+      checkTimer = window.setTimeout(check, 300);
+    });
+    var examples = $("example");
+    Object.keys(window.rsExamples).forEach(function (name) {
+      var option = document.createElement("option");
+      option.value = name;
+      option.textContent = name;
+      examples.appendChild(option);
+    });
+    examples.addEventListener("change", function () {
+      if (!examples.value) return;
+      load(examples.value, window.rsExamples[examples.value]);
+      examples.value = "";
+    });
+    $("name").addEventListener("change", function () {
+      editor.setOption("mode", mode($("name").value));
+      check();
+    });
+  }
+
+  function load(name, text) {
+    $("name").value = name;
+    editor.setOption("mode", mode(name));
+    editor.setValue(text);
+  }
+
+  function showProblems(problems) {
+    var list = $("problems");
+    list.textContent = "";
+    marked.forEach(function (line) { editor.removeLineClass(line, "background", "rs-bad-line"); });
+    marked = [];
+    problems.forEach(function (p) {
+      var item = document.createElement("li");
+      item.className = "rs-" + p.severity;
+      item.textContent = p.text;
+      item.setAttribute("data-line", String(p.line || ""));
+      item.setAttribute("data-col", String(p.col || ""));
+      if (p.line) {
+        item.tabIndex = 0;
+        item.addEventListener("click", function () {
+          editor.focus();
+          editor.setCursor({ line: p.line - 1, ch: Math.max(0, (p.col || 1) - 1) });
+        });
+        if (p.severity === "error") {
+          var handle = editor.addLineClass(p.line - 1, "background", "rs-bad-line");
+          marked.push(handle);
+        }
+      }
+      list.appendChild(item);
+    });
+    var errors = problems.filter(function (p) { return p.severity === "error"; }).length;
+    list.setAttribute("data-errors", String(errors));
+    button("run").disabled = py === null || errors > 0;
+    return errors;
+  }
+
+  function call(fn) {
+    var args = Array.prototype.slice.call(arguments, 1);
+    return JSON.parse(bridge[fn].apply(null, args));
+  }
+
+  function check() {
+    if (!bridge) return;
+    var found = call("check_text", $("name").value, editor.getValue(), $("robot").value);
+    var errors = showProblems(found.problems);
+    say(errors ? errors + (errors === 1 ? " error" : " errors") + ": fix it, then run"
+               : "No errors: ready to run");
+    drawDiagram(errors);
+  }
+
+  function drawDiagram(errors) {
+    var image = $("diagram");
+    var svg = errors ? "" : bridge.diagram_text($("name").value, editor.getValue());
+    if (!svg) { image.removeAttribute("src"); return; }
+    // an <img> shows the picture and runs nothing in it, whatever names it holds
+    image.src = "data:image/svg+xml;charset=utf-8," + encodeURIComponent(svg);
+  }
+
+  function run() {
+    say("Running on the simulator…");
+    button("run").disabled = true;
+    window.setTimeout(function () {  // let the page say so before the run holds the tab
+      var started = performance.now();
+      var seed = parseInt($("seed").value, 10) || 0;
+      var answer = call("run_text", $("name").value, editor.getValue(), $("robot").value,
+                        $("world").value, seed);
+      var wallS = (performance.now() - started) / 1000;
+      showProblems(answer.problems);
+      var result = $("result"), box = $("viewer");
+      box.textContent = "";
+      if (!answer.summary) {
+        result.textContent = answer.error || "The mission has errors: see above.";
+        say("Not run");
+        return;
+      }
+      var s = answer.summary;
+      result.textContent = s.outcome + ": " + s.mission + " ended in '" + s.final_state +
+        "' after " + s.duration_s.toFixed(2) + " s" + (s.reason ? " (" + s.reason + ")" : "");
+      result.setAttribute("data-outcome", s.outcome);
+      result.setAttribute("data-json", JSON.stringify(s));
+      box.innerHTML = answer.viewer;  // roboscript's own block: the run as JSON in a script
+      window.roboscriptViewer.mount(box.querySelector(".rs-viewer"));
+      var factor = wallS > 0 ? s.duration_s / wallS : Infinity;
+      document.body.setAttribute("data-real-time-factor", String(factor));
+      say("Done: " + s.duration_s.toFixed(1) + " s of robot time in " + wallS.toFixed(1) +
+          " s");
+    }, 20);
+  }
+
+  function save() {
+    var blob = new Blob([editor.getValue()], { type: "text/plain" });
+    var link = document.createElement("a");
+    link.href = URL.createObjectURL(blob);
+    link.download = $("name").value || "mission.yaml";
+    document.body.appendChild(link);
+    link.click();
+    link.remove();
+  }
+
+  function open() {
+    var input = $("file");
+    input.onchange = function () {
+      var file = input.files && input.files[0];
+      if (!file) return;
+      file.text().then(function (text) { load(file.name, text); });
+      input.value = "";
+    };
+    input.click();
+  }
+
+  function hardwareNote() {
+    var serial = "serial" in navigator, bluetooth = "bluetooth" in navigator;
+    $("hardware").textContent = serial && bluetooth ?
+      "This browser can talk to robots over USB and Bluetooth." :
+      "This browser cannot talk to a robot over USB" + (bluetooth ? "" : " or Bluetooth") +
+      " (it has no Web Serial). The simulator works here; for a real robot use Chrome or " +
+      "Edge on a computer or a Chromebook.";
+    document.body.setAttribute("data-web-serial", serial ? "1" : "0");
+  }
+
+  function boot() {
+    makeEditor();
+    hardwareNote();
+    button("run").addEventListener("click", run);
+    button("save").addEventListener("click", save);
+    button("open").addEventListener("click", open);
+    var started = performance.now();
+    window.loadPyodide({
+      indexURL: new URL("roboscript-web/", document.baseURI).href,
+      createPyodideModule: window.rsCreatePyodide,
+      lockFileContents: Promise.resolve(JSON.parse(window.rsPyodideLock)),
+      stdout: function (line) { console.log(line); },
+      stderr: function (line) { console.log(line); }
+    }).then(function (runtime) {
+      py = runtime;
+      return window.fetch("site-packages.zip");
+    }).then(function (response) {
+      return response.arrayBuffer();
+    }).then(function (zip) {
+      py.unpackArchive(zip, "zip", { extractDir: "/home/pyodide/site-packages" });
+      py.runPython("import sys; sys.path.insert(0, '/home/pyodide/site-packages')");
+      bridge = py.pyimport("roboscript.web.bridge");
+      var readyMs = Math.round(performance.now() - started);
+      document.body.setAttribute("data-ready-ms", String(readyMs));
+      document.body.setAttribute("data-ready", "1");
+      check();
+    }).catch(function (error) {
+      say("roboscript could not start in this browser: " + error);
+      document.body.setAttribute("data-ready", "error");
+    });
+  }
+
+  if (document.readyState === "loading") document.addEventListener("DOMContentLoaded", boot);
+  else boot();
+})();
