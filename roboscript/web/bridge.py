@@ -121,7 +121,7 @@ def run_text(name: str, text: str, robot: str = "", world: str = "", seed: int =
 def diagram_text(name: str, text: str) -> str:
     """The mission's state diagram as SVG text, or ``""`` when the mission has errors."""
     try:
-        path, spec, _, _ = _load(name, text, None)
+        spec = _load(name, text, None)[1]
     except MissionError:
         return ""
     return "" if spec is None else to_svg(spec)
