@@ -169,11 +169,14 @@
 
   function hardwareNote() {
     var serial = "serial" in navigator, bluetooth = "bluetooth" in navigator;
-    $("hardware").textContent = serial && bluetooth ?
-      "This browser can talk to robots over USB and Bluetooth." :
-      "This browser cannot talk to a robot over USB" + (bluetooth ? "" : " or Bluetooth") +
-      " (it has no Web Serial). The simulator works here; for a real robot use Chrome or " +
-      "Edge on a computer or a Chromebook.";
+    var has = serial && bluetooth ? "USB (Web Serial) and Bluetooth (Web Bluetooth)" :
+      serial ? "USB (Web Serial) but not Bluetooth" : bluetooth ? "Bluetooth but not USB" : "";
+    $("hardware").textContent = has ?
+      "This browser can reach robots over " + has + ". Driving a real robot from this page " +
+      "is not ready yet: use the roboscript command for that; the simulator works here." :
+      "This browser cannot reach a robot over USB or Bluetooth (it has no Web Serial or " +
+      "Web Bluetooth). The simulator works here; for a real robot use Chrome or Edge on a " +
+      "computer or a Chromebook.";
     document.body.setAttribute("data-web-serial", serial ? "1" : "0");
   }
 
