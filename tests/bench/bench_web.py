@@ -1,0 +1,114 @@
+"""The browser app: how soon the page is ready, how fast the simulator runs in it, its size.
+
+Run by hand, not by pytest::
+
+    python tests/bench/bench_web.py [--quick]
+
+Rows (issue 29), all in headless Chromium from ``file://`` with ``roboscript web build``'s
+folder:
+
+* page ready: from the start of loading to Python started and roboscript imported, against
+  5 s. Goal: at most 1.
+* real-time factor in the browser: the square mission's simulated seconds per wall second,
+  run from the page, against 50. Goal: at least 1 (i.e. at least 50×). The same run in this
+  CPython process is reported beside it, for information.
+* the folder's size, against 25 MB, for information.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+for _path in (str(HERE), str(HERE.parent), str(HERE.parent.parent)):
+    if _path not in sys.path:
+        sys.path.insert(0, _path)
+
+from benchlib import Row, at_least, at_most, info, run_alone  # noqa: E402
+
+from roboscript.web.bridge import run_text  # noqa: E402
+from roboscript.web.build import build_web_app  # noqa: E402
+
+__all__ = ["measure"]
+
+KEY = "10"
+READY_LIMIT_S = 5.0
+RTF_GOAL = 50.0
+SIZE_NOTE_BYTES = 25_000_000
+MISSION = HERE.parent.parent / "missions" / "square.yaml"
+
+
+def _in_browser(page: Path, folder: Path, runs: int) -> tuple[float, float]:
+    """(ms to ready, best real-time factor over ``runs`` runs of the square)."""
+    from browser import Browser, chromium
+
+    executable = chromium()
+    if executable is None:
+        return float("nan"), float("nan")
+    browser = Browser(executable, folder / "profile", timeout_s=600)
+    try:
+        browser._call("Page.navigate", {"url": page.as_uri()})
+        browser.wait_for("document.body && document.body.dataset.ready === '1'", 600)
+        ready_ms = float(browser.evaluate("document.body.dataset.readyMs"))
+        text = MISSION.read_text(encoding="utf-8")
+        best = 0.0
+        for _ in range(runs):
+            browser.evaluate(
+                "document.querySelector('[data-role=name]').value = 'square.yaml';"
+                f"document.querySelector('.CodeMirror').CodeMirror.setValue({json.dumps(text)});"
+                "document.querySelector('[data-role=result]').removeAttribute('data-outcome');"
+            )
+            browser.wait_for("!document.querySelector('[data-action=run]').disabled", 600)
+            browser.evaluate("document.querySelector('[data-action=run]').click()")
+            browser.wait_for("document.querySelector('[data-role=result]').dataset.outcome", 600)
+            best = max(best, float(browser.evaluate("document.body.dataset.realTimeFactor")))
+        return ready_ms, best
+    finally:
+        browser.close()
+
+
+def measure(quick: bool = False) -> list[Row]:
+    """Build the app, open it, run the square in it, and run it here for comparison."""
+    runs = 2 if quick else 5
+    with tempfile.TemporaryDirectory() as scratch:
+        folder = Path(scratch)
+        built = build_web_app(folder / "app")
+        ready_ms, rtf_browser = _in_browser(built.page, folder, runs)
+        text = MISSION.read_text(encoding="utf-8")
+        best_here = 0.0
+        for _ in range(runs):
+            started = time.perf_counter()
+            answer = json.loads(run_text("square.yaml", text))
+            wall_s = time.perf_counter() - started
+            best_here = max(best_here, answer["summary"]["duration_s"] / wall_s)
+    rows = [
+        at_most(
+            KEY,
+            "web page ready (Python + roboscript) ÷ 5 s",
+            ready_ms / 1000 / READY_LIMIT_S,
+            1.0,
+            f"{ready_ms:.0f} ms from loading to ready",
+        ),
+        at_least(
+            KEY,
+            "simulator real-time factor in the browser ÷ 50",
+            rtf_browser / RTF_GOAL,
+            1.0,
+            f"{rtf_browser:.0f}× in the page, {best_here:.0f}× in CPython here",
+        ),
+        info(
+            KEY,
+            "web app folder size ÷ 25 MB",
+            built.size_bytes / SIZE_NOTE_BYTES,
+            f"{built.size_bytes / 1e6:.1f} MB",
+        ),
+    ]
+    return rows
+
+
+if __name__ == "__main__":
+    run_alone(__doc__, measure, "2 runs of the square, not 5")
