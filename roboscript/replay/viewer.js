@@ -633,7 +633,7 @@
       [["sensors", 0, h * 0.45], ["log", h * 0.45, h * 0.72], ["motors", h * 0.72, h]] :
       [["sensors", 0, h * 0.62], ["motors", h * 0.62, h]];
     var TITLES = { sensors: "sensors (unit in each name)", log: "your values (log)",
-                   motors: "motors (mm/s, or power -1 to 1)" };
+                   motors: "motors (wheel speeds, mm/s)" };
     this.drawTimeAxis(g, span, left, width, h);
     var colour = 0;
     panels.forEach(function (panel) {

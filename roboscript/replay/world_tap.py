@@ -5,8 +5,9 @@ world process owns the simulation. :class:`WorldReplay` records there, so nothin
 process writes becomes a frame except the state names the world has already checked. It reads
 the body without disturbing it (the range sensors' last measurements, never a new one), keeps
 at most ``rate_hz`` frames a second plus every state change, and its frames' ``motors`` are
-the simulated motor power the robot's firmware applied (``left_power``/``right_power``,
--1 to 1, forward positive): the mission's own wheel commands never leave its sandbox.
+the simulated wheels' speeds (``left_mm_s``/``right_mm_s``, mm/s, forward positive: the same
+fields and units as ``run --record``'s, where they are the speeds the mission asked for): the
+mission's own wheel commands never leave its sandbox.
 """
 
 from __future__ import annotations
@@ -92,8 +93,8 @@ class WorldReplay:
             "state": state,
             "sensors": self._sensors(),
             "motors": {
-                "left_power": round(body.power[0], 3),
-                "right_power": round(body.power[1], 3),
+                "left_mm_s": round(body.wheel_speed_mm_s[0], 1) + 0.0,
+                "right_mm_s": round(body.wheel_speed_mm_s[1], 1) + 0.0,
             },
             "contact": body.contact_side if body.in_contact else None,
         }

@@ -85,9 +85,10 @@ def test_a_graded_run_keeps_ten_frames_a_second_and_every_state(
     assert [f["tone"] for f in frames if "tone" in f] == [[660.0, 0.3]]
     assert data["header"]["mission"]["name"] == "bump-and-turn"
     assert data["result"]["outcome"] == "success"
-    # what the simulated board drives: motor power, -1 to 1
-    powers = [f["motors"]["left_power"] for f in frames]
-    assert max(powers) > 0.2 and all(-1.0 <= p <= 1.0 for p in powers)
+    # the wheels' own speeds, in run --record's fields and units (mm/s), up to the top speed
+    speeds = [f["motors"]["left_mm_s"] for f in frames]
+    top_mm_s = data["header"]["robot"]["max_speed_mm_s"]
+    assert max(speeds) > 50 and all(abs(s) <= top_mm_s + 1e-6 for s in speeds)
 
 
 def test_the_range_shown_is_the_sensors_last_measurement(
