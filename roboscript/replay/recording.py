@@ -667,6 +667,9 @@ _FRAME = {
     "sensors": Each(_SENSOR_VALUE),
     "motors": Each(Maybe(NUMBER)),
     "tone": (NUMBER, NUMBER),
+    "why": {"kind": TEXT, "text": TEXT, "values": Each(_SENSOR_VALUE)},
+    "log": Each(_SENSOR_VALUE),
+    "print": [TEXT],
 }
 _RESULT = {
     "outcome": Maybe(TEXT),

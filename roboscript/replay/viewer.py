@@ -22,6 +22,7 @@ from roboscript.replay.recording import (
     Recorder,
     Recording,
     encode_line,
+    load_recording,
     read_recording,
 )
 
