@@ -254,8 +254,16 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     if args.jobs is not None and args.jobs < 1:
         _err("error: --jobs must be 1 or more")
         return EXIT_INPUT
+    from roboscript.grading.shards import Shard
+
+    try:
+        shard = Shard.parse(args.shard) if args.shard else None
+    except ValueError as exc:
+        _err(f"error: {exc}")
+        return EXIT_INPUT
     specs = find_specs(args.specs)  # a SpecError prints file:line:col and exits 2
-    submissions = _grade_submissions(args, specs)
+    everyone = _grade_submissions(args, specs)
+    submissions = [s for s in everyone if shard is None or shard.holds(s.student)]
     if args.hang_after is not None and args.hang_after <= 0:
         _err("error: --hang-after must be more than 0 seconds")
         return EXIT_INPUT
@@ -273,12 +281,18 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     journal = _open_journal(args.results)
     if journal is False:
         return EXIT_INPUT
+    if journal:
+        from roboscript.grading.shards import results_header
+
+        journal.write(json.dumps(results_header(specs, submissions, shard)) + "\n")
+        journal.flush()
 
     def progress(result: Any) -> None:
         nonlocal done
         done += 1
         if journal:
-            journal.write(json.dumps(result.to_dict(), ensure_ascii=False) + "\n")
+            line = result.to_dict(replay=True)  # the replay: a gradebook's --html shows it
+            journal.write(json.dumps(line, ensure_ascii=False) + "\n")
             journal.flush()  # a grader killed now keeps every finished run
         if not quiet:
             mark = "ok" if result.passed else result.status
@@ -292,10 +306,16 @@ def _cmd_grade(args: argparse.Namespace) -> int:
             args.jobs,
             progress,
             hang_after_s=args.hang_after or DEFAULT_HANG_AFTER_S,
+            others=[s for s in everyone if s not in submissions],
         )
     finally:
         if journal:
             journal.close()
+    return _report_class(args, report)
+
+
+def _report_class(args: argparse.Namespace, report: Any) -> int:
+    """Print the table (or --json) and write the reports asked for; the exit status."""
     if args.json:
         from roboscript.grading.json_report import report_dict
 
@@ -308,6 +328,19 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     if not written:
         return EXIT_FAILED
     return EXIT_OK if report.passed else EXIT_FAILED
+
+
+def _cmd_gradebook(args: argparse.Namespace) -> int:
+    from roboscript.grading.shards import read_results
+
+    report = read_results(args.parts)
+    if args.gradescope and len(report.submissions) != 1:
+        _err(
+            f"error: a Gradescope results.json is one student's, but these results hold"
+            f" {len(report.submissions)} students: use --csv, --html or --json for a class"
+        )
+        return EXIT_INPUT
+    return _report_class(args, report)
 
 
 def _open_journal(path: str | None) -> Any:
@@ -334,11 +367,15 @@ def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
     from roboscript.grading.gradescope import (
         no_submission_results,
         one_submission,
+        several_students,
         write_gradescope,
     )
 
     try:
         found = find_submissions(args.missions)
+        several = several_students(found, specs)
+        if several:
+            raise InputError(several)
     except InputError as exc:
         try:
             write_gradescope(no_submission_results(specs, str(exc)), args.gradescope)
@@ -630,8 +667,34 @@ def _parser() -> argparse.ArgumentParser:
         metavar="SECONDS",
         help="end a run as hung when its simulated time stops for this long (default: 2)",
     )
+    grade.add_argument(
+        "--shard",
+        metavar="I/N",
+        help="grade only part I of N of the class (by a hash of each student's name)",
+    )
     grade.add_argument("--quiet", action="store_true", help="print only the table")
     grade.set_defaults(func=_cmd_grade)
+
+    gradebook = sub.add_parser(
+        "gradebook",
+        help="merge results files (grade --shard I/N --results FILE) into one class's reports",
+    )
+    gradebook.add_argument(
+        "parts", nargs="+", metavar="RESULTS.jsonl", help="the results files of every part"
+    )
+    gradebook.add_argument("--json", action="store_true", help="print one JSON report on stdout")
+    gradebook.add_argument("--junit", metavar="FILE", help="write JUnit XML (one case per run)")
+    gradebook.add_argument(
+        "--csv", metavar="FILE", help="write a gradebook CSV (one row per student)"
+    )
+    gradebook.add_argument(
+        "--html", metavar="DIR", help="write HTML: DIR/index.html and DIR/students/"
+    )
+    gradebook.add_argument(
+        "--gradescope", metavar="FILE", help="write Gradescope's results.json (one student only)"
+    )
+    gradebook.add_argument("--quiet", action="store_true", help="print only the table")
+    gradebook.set_defaults(func=_cmd_gradebook)
 
     graph = sub.add_parser(
         "graph", help="draw a mission's state diagram (mermaid, dot, or an SVG or PNG picture)"
