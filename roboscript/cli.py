@@ -355,20 +355,20 @@ def _open_journal(path: str | None) -> Any:
 
 
 def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
-    """The students to grade; with --gradescope, everything found is one submission.
+    """The students to grade; with --gradescope or --prairielearn, everything found is one
+    submission.
 
-    With --gradescope and no mission in the submission, ``results.json`` still tells the
-    student so (every run failed), before the error exits 2.
+    When that is not one student's submission (no mission in it, or a class), the platform's
+    ``results.json`` still tells the student why (every run failed), before the error exits 2.
     """
     from roboscript.grading.batch import find_submissions
 
-    if not args.gradescope:
+    if not (args.gradescope or args.prairielearn):
         return find_submissions(args.missions)
     from roboscript.grading.gradescope import (
         no_submission_results,
         one_submission,
         several_students,
-        write_gradescope,
     )
 
     try:
@@ -377,15 +377,29 @@ def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
         if several:
             raise InputError(several)
     except InputError as exc:
-        try:
-            write_gradescope(no_submission_results(specs, str(exc)), args.gradescope)
-        except OSError as write_error:
-            _err(f"error: cannot write {args.gradescope}: {write_error.strerror or write_error}")
+        _write_platform_results(args, no_submission_results(specs, str(exc)))
         raise
     folders = [m for m in args.missions if Path(m).is_dir()]
     folder = folders[0] if len(args.missions) == 1 and folders else None
     name = Path(folder).resolve().name if folder else "submission"
     return [one_submission(found, name or "submission", folder)]
+
+
+def _write_platform_results(args: argparse.Namespace, results: dict[str, Any]) -> None:
+    """Write ready Gradescope-shaped results to --gradescope and --prairielearn."""
+    from roboscript.grading.gradescope import write_gradescope
+    from roboscript.grading.prairielearn import write_prairielearn
+
+    for target, write in (
+        (args.gradescope, write_gradescope),
+        (args.prairielearn, write_prairielearn),
+    ):
+        if not target:
+            continue
+        try:
+            write(results, target)
+        except OSError as write_error:
+            _err(f"error: cannot write {target}: {write_error.strerror or write_error}")
 
 
 def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
@@ -395,12 +409,14 @@ def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
     from roboscript.grading.gradescope import write_gradescope
     from roboscript.grading.html_report import write_html
     from roboscript.grading.junit import write_junit
+    from roboscript.grading.prairielearn import write_prairielearn
 
     writers = [
         (args.junit, write_junit),
         (args.csv, write_gradebook),
         (args.html, write_html),
         (args.gradescope, write_gradescope),
+        (getattr(args, "prairielearn", None), write_prairielearn),
     ]
     for target, write in writers:
         if not target:
@@ -652,6 +668,11 @@ def _parser() -> argparse.ArgumentParser:
         "--gradescope",
         metavar="FILE",
         help="write Gradescope's results.json (everything under --mission is one submission)",
+    )
+    grade.add_argument(
+        "--prairielearn",
+        metavar="FILE",
+        help="write PrairieLearn's results.json (everything under --mission is one submission)",
     )
     grade.add_argument(
         "--jobs", type=int, metavar="N", help="runs at once (default: one per CPU core)"
