@@ -432,6 +432,37 @@ def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
     return True
 
 
+# ------------------------------------------------------------------------------ autograder
+
+
+def _cmd_autograder(args: argparse.Namespace) -> int:
+    from roboscript.grading import autograder
+    from roboscript.grading.batch import find_specs
+    from roboscript.grading.wheels import dependency_wheels
+
+    specs = find_specs(args.specs)  # a broken spec is found here, not on the platform
+    wheels = dependency_wheels(ready=Path(args.wheels) if args.wheels else None)
+    try:
+        if args.platform == "gradescope":
+            Path(args.output).write_bytes(autograder.gradescope_zip(specs, wheels))
+        elif args.platform == "classroom":
+            files = autograder.classroom_files(specs, wheels, args.tests_repo)
+            autograder.write_folder(files, args.output)
+        else:
+            question = args.question or f"roboscript-{specs[0].name}"
+            autograder.write_folder(
+                autograder.prairielearn_files(specs, wheels, question), args.output
+            )
+    except OSError as exc:
+        _err(f"error: cannot write {args.output}: {exc.strerror or exc}")
+        return EXIT_FAILED
+    for wheel in wheels:
+        _err(f"  {wheel.filename}" + (f" ({wheel.note})" if wheel.note else ""))
+    tests = ", ".join(spec.name for spec in specs)
+    _err(f"{args.platform}: {args.output} ({tests}; {len(wheels)} wheels, no package index)")
+    return EXIT_OK
+
+
 # ----------------------------------------------------------------------------------- graph
 
 
@@ -716,6 +747,35 @@ def _parser() -> argparse.ArgumentParser:
     )
     gradebook.add_argument("--quiet", action="store_true", help="print only the table")
     gradebook.set_defaults(func=_cmd_gradebook)
+
+    autograder = sub.add_parser(
+        "autograder",
+        help="build a ready-to-upload autograder for Gradescope, GitHub Classroom or PrairieLearn",
+    )
+    autograder.add_argument("platform", choices=("gradescope", "classroom", "prairielearn"))
+    autograder.add_argument(
+        "specs", nargs="+", metavar="TEST_SPEC", help="test spec files or folders of them"
+    )
+    autograder.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        metavar="OUT",
+        help="the zip (gradescope) or a new folder (classroom, prairielearn)",
+    )
+    autograder.add_argument(
+        "--wheels", metavar="DIR", help="take a dependency's wheel from DIR when it has one"
+    )
+    autograder.add_argument(
+        "--tests-repo",
+        default="my-school/robotics-tests",
+        metavar="OWNER/NAME",
+        help="classroom: your private repository for the tests (default: my-school/robotics-tests)",
+    )
+    autograder.add_argument(
+        "--question", metavar="NAME", help="prairielearn: the question's folder name"
+    )
+    autograder.set_defaults(func=_cmd_autograder)
 
     graph = sub.add_parser(
         "graph", help="draw a mission's state diagram (mermaid, dot, or an SVG or PNG picture)"
