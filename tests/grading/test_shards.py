@@ -152,8 +152,8 @@ def test_each_student_is_in_exactly_one_part() -> None:
 
 @pytest.mark.parametrize("text", ["3", "0/3", "4/3", "1/0", "a/b", "-1/2", "1/2/3"])
 def test_a_bad_shard_is_one_sentence(text: str) -> None:
-    with pytest.raises(ValueError, match=r"^--shard I/N"):
+    with pytest.raises(ValueError, match=r"^--shard (is )?I/N"):
         Shard.parse(text)
-    result = run_cli("grade", "x.yaml", "--mission", "y", "--shard", text)
+    result = run_cli("grade", "x.yaml", "--mission", "y", f"--shard={text}")
     assert result.returncode == 2
-    assert result.stderr.startswith("error: --shard I/N") and "Traceback" not in result.stderr
+    assert result.stderr.startswith("error: --shard ") and "Traceback" not in result.stderr
