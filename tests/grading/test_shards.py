@@ -105,7 +105,9 @@ def test_a_part_cut_short_is_refused(graded: dict[str, Any], tmp_path: Path) -> 
     (root / "cut.jsonl").write_text("\n".join(lines[:-1]) + "\n", encoding="utf-8")
     merged = run_cli("gradebook", "cut.jsonl", "--csv", "cut.csv", cwd=root)
     assert merged.returncode == 2
-    assert "cut.jsonl lacks the run of" in merged.stderr and "grade that part again" in merged.stderr
+    assert (
+        "cut.jsonl lacks the run of" in merged.stderr and "grade that part again" in merged.stderr
+    )
     assert not (root / "cut.csv").exists()
 
 
