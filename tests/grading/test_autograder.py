@@ -137,7 +137,7 @@ def test_compiled_code_is_refused_unless_a_wheel_is_given(
     site = tmp_path / "site"
     _fake_distribution(site, "fastthing", "fastthing")
     monkeypatch.syspath_prepend(str(site))
-    with pytest.raises(RoboscriptError, match="fastthing has compiled code .* --wheels DIR"):
+    with pytest.raises(RoboscriptError, match=r"fastthing has compiled code .* --wheels DIR"):
         dependency_wheels("fastthing")
     ready = tmp_path / "ready"
     ready.mkdir()
@@ -179,10 +179,8 @@ def test_the_gradescope_zip_grades_a_submission_as_gradescope_does(
         ["bash", str(root / "source" / "setup.sh")], cwd=root / "source", home=tmp_path, env=env
     )
     assert setup.returncode == 0, setup.stdout + setup.stderr
-    pure = _offline(
-        [str(tmp_path / "opt-roboscript/bin/python"), "-c", "import yaml; print(yaml.__with_libyaml__)"],
-        home=tmp_path,
-    )  # fmt: skip
+    venv_python = str(tmp_path / "opt-roboscript/bin/python")
+    pure = _offline([venv_python, "-c", "import yaml; print(yaml.__with_libyaml__)"], home=tmp_path)
     assert pure.stdout.strip() == "False"
     (root / "submission" / "mine.yaml").write_text(MISSION, encoding="utf-8")
     graded = _offline([str(root / "source" / "run_autograder")], cwd=root, home=tmp_path, env=env)
