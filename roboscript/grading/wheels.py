@@ -86,6 +86,10 @@ def _record_hash(content: bytes) -> str:
 
 
 def _is_editable(dist: metadata.Distribution) -> bool:
+    """Installed from a source folder (``pip install -e``, or a bare ``.egg-info``): the
+    installed files are not listed, the package folder is the source."""
+    if dist.read_text("RECORD") is None:
+        return True
     text = dist.read_text("direct_url.json")
     if not text:
         return False
@@ -157,6 +161,8 @@ def _wheel_from_installed(dist: metadata.Distribution) -> Wheel:
     for required in ("METADATA", "entry_points.txt", "top_level.txt"):
         key = f"{info_dir}/{required}"
         written = dist.read_text(required)
+        if required == "METADATA" and written is None:
+            written = dist.read_text("PKG-INFO")  # an .egg-info's name for the same fields
         if key not in contents and written is not None:
             contents[key] = written.encode("utf-8")
     contents[f"{info_dir}/WHEEL"] = (
@@ -181,6 +187,14 @@ def _requirement_names(dist: metadata.Distribution) -> Iterable[str]:
             yield match.group(1)
 
 
+def _installed(name: str) -> metadata.Distribution | None:
+    """The installed distribution ``name``: the one pip installed (with a ``RECORD``) where a
+    source folder's ``.egg-info`` on the path shows the same name first."""
+    found = list(metadata.distributions(name=name))
+    recorded = [dist for dist in found if dist.read_text("RECORD") is not None]
+    return (recorded or found)[0] if found else None
+
+
 def _ready_wheel(folder: Path, name: str) -> Wheel | None:
     """A wheel of ``name`` in ``folder`` (``--wheels DIR``), if there is one."""
     for path in sorted(folder.glob("*.whl")):
@@ -203,13 +217,12 @@ def dependency_wheels(root: str = "roboscript", ready: Path | None = None) -> li
         key = canonical_name(name)
         if key in wheels:
             continue
-        try:
-            dist = metadata.distribution(name)
-        except metadata.PackageNotFoundError:
+        dist = _installed(name)
+        if dist is None:
             raise RoboscriptError(
                 f"{root} needs {name}, which is not installed here: install it, or give"
                 " --wheels DIR with its wheel"
-            ) from None
+            )
         found = _ready_wheel(ready, name) if ready is not None else None
         wheels[key] = found or _wheel_from_installed(dist)
         todo.extend(_requirement_names(dist))
