@@ -163,6 +163,7 @@ def _results(path: Path) -> dict[str, Any]:
 
 
 @pytest.mark.slow
+@pytest.mark.timeout(900)  # a venv and an install, then a grading, on a loaded machine
 def test_the_gradescope_zip_grades_a_submission_as_gradescope_does(
     specs_folder: Path, tmp_path: Path
 ) -> None:
@@ -230,6 +231,7 @@ def _run_workflow(workflow: dict[str, Any], workspace: Path, tests: Path, tmp: P
 
 
 @pytest.mark.slow
+@pytest.mark.timeout(900)  # a venv and an install, then a grading, on a loaded machine
 def test_the_classroom_template_grades_a_push_as_a_github_runner_does(
     specs_folder: Path, tmp_path: Path
 ) -> None:
@@ -253,6 +255,7 @@ def test_the_classroom_template_grades_a_push_as_a_github_runner_does(
 
 
 @pytest.mark.slow
+@pytest.mark.timeout(900)  # a venv and an install, then a grading, on a loaded machine
 def test_the_prairielearn_grader_writes_results_as_prairielearn_reads_them(
     specs_folder: Path, tmp_path: Path
 ) -> None:
