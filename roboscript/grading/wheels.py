@@ -31,6 +31,7 @@ import zipfile
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from importlib import metadata
+from importlib.util import find_spec
 from pathlib import Path
 
 from roboscript.errors import RoboscriptError
@@ -106,8 +107,6 @@ def _package_files(dist: metadata.Distribution) -> dict[str, Path]:
     ]
     found: dict[str, Path] = {}
     for top in tops:
-        from importlib.util import find_spec
-
         spec = find_spec(top)
         if spec is None or not spec.submodule_search_locations:
             continue
