@@ -614,6 +614,20 @@ def _positive_seconds(text: str) -> float:
     return value
 
 
+def _add_class_reports(command: argparse.ArgumentParser) -> None:
+    """The class reports ``grade`` and ``gradebook`` both write (see _report_class)."""
+    command.add_argument("--json", action="store_true", help="print one JSON report on stdout")
+    command.add_argument("--junit", metavar="FILE", help="write JUnit XML (one case per run)")
+    command.add_argument(
+        "--csv", metavar="FILE", help="write a gradebook CSV (one row per student)"
+    )
+    command.add_argument(
+        "--html",
+        metavar="DIR",
+        help="write HTML: the teacher's DIR/index.html and a page per student in DIR/students/",
+    )
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="roboscript",
@@ -687,14 +701,7 @@ def _parser() -> argparse.ArgumentParser:
         metavar="MISSION",
         help="mission files, globs or folders of submissions (one student per file or folder)",
     )
-    grade.add_argument("--json", action="store_true", help="print one JSON report on stdout")
-    grade.add_argument("--junit", metavar="FILE", help="write JUnit XML (one case per run)")
-    grade.add_argument("--csv", metavar="FILE", help="write a gradebook CSV (one row per student)")
-    grade.add_argument(
-        "--html",
-        metavar="DIR",
-        help="write HTML: the teacher's DIR/index.html and a page per student in DIR/students/",
-    )
+    _add_class_reports(grade)
     grade.add_argument(
         "--gradescope",
         metavar="FILE",
@@ -734,14 +741,7 @@ def _parser() -> argparse.ArgumentParser:
     gradebook.add_argument(
         "parts", nargs="+", metavar="RESULTS.jsonl", help="the results files of every part"
     )
-    gradebook.add_argument("--json", action="store_true", help="print one JSON report on stdout")
-    gradebook.add_argument("--junit", metavar="FILE", help="write JUnit XML (one case per run)")
-    gradebook.add_argument(
-        "--csv", metavar="FILE", help="write a gradebook CSV (one row per student)"
-    )
-    gradebook.add_argument(
-        "--html", metavar="DIR", help="write HTML: DIR/index.html and DIR/students/"
-    )
+    _add_class_reports(gradebook)
     gradebook.add_argument(
         "--gradescope", metavar="FILE", help="write Gradescope's results.json (one student only)"
     )
