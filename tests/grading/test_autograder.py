@@ -34,7 +34,7 @@ points: 10
 max_time: 20 s
 expect:
   - outcome: success
-  - final_pose_within: {x: 200 mm, y: 0 mm, radius: 60 mm}
+  - final_pose_within: {x: 0 mm, y: 200 mm, radius: 60 mm}
   - check: turned.py:turned_left
 """
 ARENA = """\
