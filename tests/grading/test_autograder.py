@@ -184,7 +184,9 @@ def test_the_gradescope_zip_grades_a_submission_as_gradescope_does(
     pure = _offline([venv_python, "-c", "import yaml; print(yaml.__with_libyaml__)"], home=tmp_path)
     assert pure.stdout.strip() == "False"
     (root / "submission" / "mine.yaml").write_text(MISSION, encoding="utf-8")
-    graded = _offline([str(root / "source" / "run_autograder")], cwd=root, home=tmp_path, env=env)
+    # The harness runs its copy, /autograder/run_autograder, in /autograder.
+    shutil.copy2(root / "source" / "run_autograder", root / "run_autograder")
+    graded = _offline([str(root / "run_autograder")], cwd=root, home=tmp_path, env=env)
     assert graded.returncode == 0, graded.stderr
     results = _results(root / "results" / "results.json")
     names = [t["name"] for t in results["tests"]]
