@@ -10,7 +10,12 @@ from typing import Any
 from hand_graded import HIDDEN_SECRETS, SPEC_TEXT, hand_report, one_student
 from helpers import MISSIONS, run_cli
 
-from roboscript.grading.gradescope import gradescope_results, no_submission_results
+from roboscript.grading.batch import find_specs, find_submissions
+from roboscript.grading.gradescope import (
+    gradescope_results,
+    no_submission_results,
+    several_students,
+)
 
 # The fields of Gradescope's "Autograder Specifications" this writer uses, and their types.
 TOP_FIELDS = {
@@ -198,9 +203,6 @@ def test_a_class_folder_with_gradescope_is_refused_in_one_sentence(tmp_path: Pat
 
 
 def test_one_mission_per_test_is_one_gradescope_submission(tmp_path: Path) -> None:
-    from roboscript.grading.batch import find_specs, find_submissions
-    from roboscript.grading.gradescope import several_students
-
     teacher = MISSIONS / "teacher"
     specs = find_specs([str(teacher / "square" / "test.yaml"), str(teacher / "corridor")])
     submission = tmp_path / "submission"
