@@ -25,7 +25,7 @@ runs:
 max_time: 20 s
 expect:
   - outcome: success
-  - final_pose_within: {x: 200 mm, y: 0 mm, radius: 60 mm}
+  - final_pose_within: {x: 0 mm, y: 200 mm, radius: 25 mm}
 """
 # The class is graded four times, once for the whole module's tests, on a loaded machine.
 pytestmark = pytest.mark.timeout(900)
@@ -47,10 +47,15 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
     (root / "spec.yaml").write_text(SPEC, encoding="utf-8")
     (root / "class").mkdir()
     for i, name in enumerate(STUDENTS):
-        # every third student turns the other way: their final pose differs, so do their points
+        # each drives a little further (18 to 24 cm): some end within 25 mm of 20 cm, some not;
+        # every third turns the other way (the heading differs, the points do not)
         text = OUT_TURN_BEEP if i % 3 else OUT_TURN_BEEP.replace("angle: 90 deg", "angle: -90 deg")
         text = text.replace("distance: 20 cm", f"distance: {18 + i} cm")
         (root / "class" / f"{name}.yaml").write_text(text, encoding="utf-8")
+    # hal hands in two missions, neither named after the test: missing, and in the report
+    (root / "class" / "hal").mkdir()
+    for name in ("first", "second"):
+        (root / "class" / "hal" / f"{name}.yaml").write_text(OUT_TURN_BEEP, encoding="utf-8")
     whole = run_cli(
         "grade", "spec.yaml", "--mission", "class", "--results", "all.jsonl", "--json",
         "--csv", "all.csv", *PATIENT, cwd=root, timeout=600,
@@ -71,6 +76,8 @@ def test_a_class_graded_in_three_parts_merges_into_the_report_of_one_run(
     graded: dict[str, Any],
 ) -> None:
     root = graded["root"]
+    statuses = {run["status"] for run in json.loads(graded["whole"])["runs"]}
+    assert {"passed", "failed", "missing"} <= statuses  # every kind of result crosses
     merged = run_cli("gradebook", *graded["parts"], "--json", "--csv", "merged.csv", cwd=root)
     assert merged.returncode in (0, 1), merged.stderr
     assert json.dumps(_without_wall_time(json.loads(merged.stdout))) == json.dumps(
@@ -92,7 +99,7 @@ def test_the_parts_hold_every_student_once(graded: dict[str, Any]) -> None:
         held += [s["name"] for s in header["students"]]
         runs = (root / part).read_text(encoding="utf-8").splitlines()[1:]
         assert {json.loads(r)["student"] for r in runs} == {s["name"] for s in header["students"]}
-    assert sorted(held) == sorted(STUDENTS)
+    assert sorted(held) == sorted([*STUDENTS, "hal"])
 
 
 def test_a_missing_part_is_refused_naming_it(graded: dict[str, Any]) -> None:
@@ -118,7 +125,7 @@ def test_a_spec_changed_since_grading_is_refused(graded: dict[str, Any], tmp_pat
     root = graded["root"]
     moved = tmp_path / "elsewhere"
     moved.mkdir()
-    (moved / "spec.yaml").write_text(SPEC.replace("radius: 60 mm", "radius: 10 mm"), "utf-8")
+    (moved / "spec.yaml").write_text(SPEC.replace("radius: 25 mm", "radius: 10 mm"), "utf-8")
     (moved / "all.jsonl").write_bytes((root / "all.jsonl").read_bytes())
     merged = run_cli("gradebook", "all.jsonl", "--json", cwd=moved)
     assert merged.returncode == 2
