@@ -7,6 +7,7 @@ import shutil
 from pathlib import Path
 from typing import Any
 
+import pytest
 from hand_graded import HIDDEN_SECRETS, SPEC_TEXT, hand_report, one_student
 from helpers import MISSIONS, run_cli
 
@@ -182,7 +183,10 @@ def test_the_cli_writes_results_json_when_nothing_was_handed_in(tmp_path: Path) 
     assert "no mission files in the folder" in results["output"]
 
 
-def test_a_class_folder_with_gradescope_is_refused_in_one_sentence(tmp_path: Path) -> None:
+@pytest.mark.parametrize("platform", ["--gradescope", "--prairielearn"])
+def test_a_class_folder_for_a_platform_is_refused_in_one_sentence(
+    tmp_path: Path, platform: str
+) -> None:
     """Not graded as one student called after the folder, each report overwriting the last."""
     folder = tmp_path / "class"
     folder.mkdir()
@@ -191,7 +195,7 @@ def test_a_class_folder_with_gradescope_is_refused_in_one_sentence(tmp_path: Pat
     results_json = tmp_path / "results.json"
     result = run_cli(
         "grade", str(MISSIONS / "teacher" / "square" / "test.yaml"), "--mission", str(folder),
-        "--gradescope", str(results_json),
+        platform, str(results_json),
     )  # fmt: skip
     assert result.returncode == 2
     assert result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
@@ -199,7 +203,8 @@ def test_a_class_folder_with_gradescope_is_refused_in_one_sentence(tmp_path: Pat
     assert "holds 3 (ada, bob, cyd)" in result.stderr
     assert result.stdout == ""  # nothing was graded
     results = json.loads(results_json.read_text(encoding="utf-8"))
-    assert results["score"] == 0 and "holds 3 (ada, bob, cyd)" in results["output"]
+    summary = results["output" if platform == "--gradescope" else "message"]
+    assert results["score"] == 0 and "holds 3 (ada, bob, cyd)" in summary
 
 
 def test_one_mission_per_test_is_one_gradescope_submission(tmp_path: Path) -> None:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import shutil
 from pathlib import Path
 
 from hand_graded import HIDDEN_SECRETS, hand_report, one_student
@@ -47,17 +46,3 @@ def test_a_submission_without_points_scores_zero(tmp_path: Path) -> None:
     assert written["gradable"] is True and written["score"] == 0.0
     assert "no mission files in the folder" in written["message"]
     assert len(written["tests"]) == 3 and results["score"] == 0.0
-
-
-def test_a_class_folder_is_refused_as_on_gradescope(tmp_path: Path) -> None:
-    folder = tmp_path / "class"
-    folder.mkdir()
-    for name in ("ada", "bob"):
-        shutil.copy(MISSIONS / "teacher" / "square" / "good.yaml", folder / f"{name}.yaml")
-    target = tmp_path / "results.json"
-    done = run_cli(
-        "grade", str(MISSIONS / "teacher" / "square" / "test.yaml"), "--mission", str(folder),
-        "--prairielearn", str(target),
-    )  # fmt: skip
-    assert done.returncode == 2 and "holds 2 (ada, bob)" in done.stderr
-    assert json.loads(target.read_text(encoding="utf-8"))["score"] == 0.0
