@@ -261,6 +261,9 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     except ValueError as exc:
         _err(f"error: {exc}")
         return EXIT_INPUT
+    if shard is not None and (args.gradescope or args.prairielearn):
+        _err("error: --shard splits a class, and a platform's results.json is one submission's")
+        return EXIT_INPUT
     specs = find_specs(args.specs)  # a SpecError prints file:line:col and exits 2
     everyone = _grade_submissions(args, specs)
     submissions = [s for s in everyone if shard is None or shard.holds(s.student)]

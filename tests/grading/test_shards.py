@@ -197,3 +197,11 @@ def test_a_part_keeps_the_other_parts_missions_private(
     with pytest.raises(KeyboardInterrupt):
         batch.grade_class(specs, [ada])  # the check bites: without `others`, bob is readable
     assert (tmp_path / "bob.yaml").resolve() in {p for task in seen for p in task.visible}
+
+
+def test_a_part_of_one_submission_is_refused() -> None:
+    result = run_cli("grade", "x.yaml", "--mission", "y", "--shard=1/2", "--gradescope=r.json")
+    assert result.returncode == 2
+    assert result.stderr == (
+        "error: --shard splits a class, and a platform's results.json is one submission's\n"
+    )
