@@ -10,7 +10,8 @@ run would have written it.
 A results file (``--results``) is JSON Lines:
 
 * line 1, the header: ``{"roboscript_results": 1, "roboscript": VERSION, "shard": [I, N] or
-  null, "specs": [{"path", "sha256"}], "students": [{"name", "missions", "folder"}]}``: the
+  null, "specs": [{"path", "sha256"}], "students": [{"name", "missions", "folder", "problem",
+  "root", "own"}]}``: the
   specs by the path they were given (relative to the folder ``grade`` ran in) and a hash of
   their files (the spec, and the world files it names), and the students of this part;
 * one line per finished run, written the moment it ends: the run as in ``--json``'s ``runs``
@@ -34,9 +35,10 @@ from typing import Any
 
 from roboscript import __version__
 from roboscript.errors import InputError
-from roboscript.grading.batch import ClassReport, Submission, find_specs
+from roboscript.grading.batch import ClassReport, find_specs
 from roboscript.grading.record import RunResult
 from roboscript.grading.spec import TestSpec
+from roboscript.grading.submissions import Submission
 
 __all__ = [
     "RESULTS_FORMAT",
@@ -108,7 +110,14 @@ def results_header(
         "shard": [shard.index, shard.count] if shard is not None else None,
         "specs": [{"path": spec.path, "sha256": spec_hash(spec)} for spec in specs],
         "students": [
-            {"name": s.student, "missions": list(s.missions), "folder": s.folder}
+            {
+                "name": s.student,
+                "missions": list(s.missions),
+                "folder": s.folder,
+                "problem": s.problem,
+                "root": s.root,
+                "own": list(s.own),
+            }
             for s in submissions
         ],
     }
@@ -214,8 +223,16 @@ def read_results(paths: Sequence[str]) -> ClassReport:
     results: dict[tuple[str, str, int], RunResult] = {}
     for part in parts:
         for entry in part.header["students"]:
-            missions = tuple(entry["missions"])
-            submissions.append(Submission(entry["name"], missions, entry.get("folder")))
+            submissions.append(
+                Submission(
+                    entry["name"],
+                    tuple(entry["missions"]),
+                    entry.get("folder"),
+                    entry.get("problem", ""),
+                    entry.get("root"),
+                    tuple(entry.get("own", ())),
+                )
+            )
         for run in part.runs:
             results[(run.test, run.student, run.variant)] = run
     names = [s.student for s in submissions]
