@@ -309,7 +309,6 @@ def _cmd_grade(args: argparse.Namespace) -> int:
             args.jobs,
             progress,
             hang_after_s=args.hang_after or DEFAULT_HANG_AFTER_S,
-            others=[s for s in everyone if s not in submissions],
         )
     finally:
         if journal:

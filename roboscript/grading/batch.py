@@ -277,7 +277,6 @@ def grade_class(
     on_result: Callable[[RunResult], None] | None = None,
     *,
     hang_after_s: float = DEFAULT_HANG_AFTER_S,
-    others: Sequence[Submission] = (),
 ) -> ClassReport:
     """Run every student's mission on every variant of every test, each in its own worker.
 
@@ -289,8 +288,6 @@ def grade_class(
             are not started (``missing``, and ``invalid`` for a submission with a problem),
             then the others in the order they end.
         hang_after_s: Wall seconds without simulated progress that end a run as ``hung``.
-        others: Students of the class graded elsewhere (another ``--shard``): not run here,
-            and their files as private from these students' runs as any classmate's.
 
     Returns:
         The report; its results are in a fixed order (test, student, variant) whatever
@@ -298,10 +295,9 @@ def grade_class(
     """
     worlds = {name: world for spec in specs for name, world in spec.worlds.items()}
     # No student may read another's missions, nor the tests.
-    everyone = [*submissions, *others]
     private = frozenset(
-        [Path(m).resolve() for s in everyone for m in s.missions]
-        + [Path(s.folder).resolve() for s in everyone if s.folder is not None]
+        [Path(m).resolve() for s in submissions for m in s.missions]
+        + [Path(s.folder).resolve() for s in submissions if s.folder is not None]
         + [Path(spec.path).resolve() for spec in specs]
     )
     tasks: list[RunTask] = []

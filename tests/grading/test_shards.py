@@ -13,7 +13,6 @@ from typing import Any
 import pytest
 from helpers import OUT_TURN_BEEP, run_cli
 
-from roboscript.grading import batch
 from roboscript.grading.shards import Shard, shard_number
 
 STUDENTS = ("ada", "Bea", "cyd", "dan", "eve", "fay", "gus")
@@ -169,34 +168,6 @@ def test_a_bad_shard_is_one_sentence(text: str) -> None:
     result = run_cli("grade", "x.yaml", "--mission", "y", f"--shard={text}")
     assert result.returncode == 2
     assert result.stderr.startswith("error: --shard ") and "Traceback" not in result.stderr
-
-
-def test_a_part_keeps_the_other_parts_missions_private(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """A student graded in this part may not read a classmate graded in another one."""
-    (tmp_path / "spec.yaml").write_text(SPEC, encoding="utf-8")
-    # ada's mission names bob's file: were bob not known as a student, ada's run could read it
-    (tmp_path / "ada.yaml").write_text("# see bob.yaml\n" + OUT_TURN_BEEP, encoding="utf-8")
-    (tmp_path / "bob.yaml").write_text(OUT_TURN_BEEP, encoding="utf-8")
-    specs = batch.find_specs([str(tmp_path / "spec.yaml")])
-    ada, bob = batch.find_submissions([str(tmp_path / "ada.yaml"), str(tmp_path / "bob.yaml")])
-    seen: list[Any] = []
-
-    def capture(tasks: list[Any], *args: Any) -> list[Any]:
-        seen.extend(tasks)
-        raise KeyboardInterrupt  # nothing is run: what each run may read is the question
-
-    monkeypatch.setattr(batch, "run_tasks", capture)
-    with pytest.raises(KeyboardInterrupt):
-        batch.grade_class(specs, [ada], others=[bob])
-    visible = {path for task in seen for path in task.visible}
-    assert (tmp_path / "ada.yaml").resolve() in visible
-    assert (tmp_path / "bob.yaml").resolve() not in visible
-    seen.clear()
-    with pytest.raises(KeyboardInterrupt):
-        batch.grade_class(specs, [ada])  # the check bites: without `others`, bob is readable
-    assert (tmp_path / "bob.yaml").resolve() in {p for task in seen for p in task.visible}
 
 
 def test_a_part_of_one_submission_is_refused() -> None:
