@@ -261,8 +261,19 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     if args.jobs is not None and args.jobs < 1:
         _err("error: --jobs must be 1 or more")
         return EXIT_INPUT
+    from roboscript.grading.shards import Shard
+
+    try:
+        shard = Shard.parse(args.shard) if args.shard else None
+    except ValueError as exc:
+        _err(f"error: {exc}")
+        return EXIT_INPUT
+    if shard is not None and (args.gradescope or args.prairielearn):
+        _err("error: --shard splits a class, and a platform's results.json is one submission's")
+        return EXIT_INPUT
     specs = find_specs(args.specs)  # a SpecError prints file:line:col and exits 2
-    submissions = _grade_submissions(args, specs)
+    everyone = _grade_submissions(args, specs)
+    submissions = [s for s in everyone if shard is None or shard.holds(s.student)]
     if args.hang_after is not None and args.hang_after <= 0:
         _err("error: --hang-after must be more than 0 seconds")
         return EXIT_INPUT
@@ -280,12 +291,18 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     journal = _open_journal(args.results)
     if journal is False:
         return EXIT_INPUT
+    if journal:
+        from roboscript.grading.shards import results_header
+
+        journal.write(json.dumps(results_header(specs, submissions, shard)) + "\n")
+        journal.flush()
 
     def progress(result: Any) -> None:
         nonlocal done
         done += 1
         if journal:
-            journal.write(json.dumps(result.to_dict(), ensure_ascii=False) + "\n")
+            line = result.to_dict(replay=True)  # the replay: a gradebook's --html shows it
+            journal.write(json.dumps(line, ensure_ascii=False) + "\n")
             journal.flush()  # a grader killed now keeps every finished run
         if not quiet:
             mark = "ok" if result.passed else result.status
@@ -303,6 +320,11 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     finally:
         if journal:
             journal.close()
+    return _report_class(args, report)
+
+
+def _report_class(args: argparse.Namespace, report: Any) -> int:
+    """Print the table (or --json) and write the reports asked for; the exit status."""
     if args.json:
         from roboscript.grading.json_report import report_dict
 
@@ -317,6 +339,19 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     return EXIT_OK if report.passed else EXIT_FAILED
 
 
+def _cmd_gradebook(args: argparse.Namespace) -> int:
+    from roboscript.grading.shards import read_results
+
+    report = read_results(args.parts)
+    if args.gradescope and len(report.submissions) != 1:
+        _err(
+            f"error: a Gradescope results.json is one student's, but these results hold"
+            f" {len(report.submissions)} students: use --csv, --html or --json for a class"
+        )
+        return EXIT_INPUT
+    return _report_class(args, report)
+
+
 def _open_journal(path: str | None) -> Any:
     """``--results FILE``, open for one JSON line per finished run; None, or False on error."""
     if not path:
@@ -329,33 +364,51 @@ def _open_journal(path: str | None) -> Any:
 
 
 def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
-    """The students to grade; with --gradescope, everything found is one submission.
+    """The students to grade; with --gradescope or --prairielearn, everything found is one
+    submission.
 
-    With --gradescope and no mission in the submission, ``results.json`` still tells the
-    student so (every run failed), before the error exits 2.
+    When that is not one student's submission (no mission in it, or a class), the platform's
+    ``results.json`` still tells the student why (every run failed), before the error exits 2.
     """
     from roboscript.grading.batch import find_submissions
 
-    if not args.gradescope:
+    if not (args.gradescope or args.prairielearn):
         return find_submissions(args.missions)
     from roboscript.grading.gradescope import (
         no_submission_results,
         one_submission,
-        write_gradescope,
+        several_students,
     )
 
     try:
         found = find_submissions(args.missions)
+        several = several_students(found, specs)
+        if several:
+            raise InputError(several)
     except InputError as exc:
-        try:
-            write_gradescope(no_submission_results(specs, str(exc)), args.gradescope)
-        except OSError as write_error:
-            _err(f"error: cannot write {args.gradescope}: {write_error.strerror or write_error}")
+        _write_platform_results(args, no_submission_results(specs, str(exc)))
         raise
     folders = [m for m in args.missions if Path(m).is_dir()]
     folder = folders[0] if len(args.missions) == 1 and folders else None
     name = Path(folder).resolve().name if folder else "submission"
     return [one_submission(found, name or "submission", folder)]
+
+
+def _write_platform_results(args: argparse.Namespace, results: dict[str, Any]) -> None:
+    """Write ready Gradescope-shaped results to --gradescope and --prairielearn."""
+    from roboscript.grading.gradescope import write_gradescope
+    from roboscript.grading.prairielearn import write_prairielearn
+
+    for target, write in (
+        (args.gradescope, write_gradescope),
+        (args.prairielearn, write_prairielearn),
+    ):
+        if not target:
+            continue
+        try:
+            write(results, target)
+        except OSError as write_error:
+            _err(f"error: cannot write {target}: {write_error.strerror or write_error}")
 
 
 def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
@@ -365,12 +418,14 @@ def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
     from roboscript.grading.gradescope import write_gradescope
     from roboscript.grading.html_report import write_html
     from roboscript.grading.junit import write_junit
+    from roboscript.grading.prairielearn import write_prairielearn
 
     writers = [
         (args.junit, write_junit),
         (args.csv, write_gradebook),
         (args.html, write_html),
         (args.gradescope, write_gradescope),
+        (getattr(args, "prairielearn", None), write_prairielearn),
     ]
     for target, write in writers:
         if not target:
@@ -384,6 +439,37 @@ def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
         _err(f"report: {Path(args.html) / 'index.html'} (for the teacher only)")
         _err(f"feedback pages to hand out: {Path(args.html) / 'students'}/ (one per student)")
     return True
+
+
+# ------------------------------------------------------------------------------ autograder
+
+
+def _cmd_autograder(args: argparse.Namespace) -> int:
+    from roboscript.grading import autograder
+    from roboscript.grading.batch import find_specs
+    from roboscript.grading.wheels import dependency_wheels
+
+    specs = find_specs(args.specs)  # a broken spec is found here, not on the platform
+    wheels = dependency_wheels(ready=Path(args.wheels) if args.wheels else None)
+    try:
+        if args.platform == "gradescope":
+            Path(args.output).write_bytes(autograder.gradescope_zip(specs, wheels))
+        elif args.platform == "classroom":
+            files = autograder.classroom_files(specs, wheels, args.tests_repo)
+            autograder.write_folder(files, args.output)
+        else:
+            question = args.question or f"roboscript-{specs[0].name}"
+            autograder.write_folder(
+                autograder.prairielearn_files(specs, wheels, question), args.output
+            )
+    except OSError as exc:
+        _err(f"error: cannot write {args.output}: {exc.strerror or exc}")
+        return EXIT_FAILED
+    for wheel in wheels:
+        _err(f"  {wheel.filename}" + (f" ({wheel.note})" if wheel.note else ""))
+    tests = ", ".join(spec.name for spec in specs)
+    _err(f"{args.platform}: {args.output} ({tests}; {len(wheels)} wheels, no package index)")
+    return EXIT_OK
 
 
 # ----------------------------------------------------------------------------------- graph
@@ -555,6 +641,20 @@ def _positive_seconds(text: str) -> float:
     return value
 
 
+def _add_class_reports(command: argparse.ArgumentParser) -> None:
+    """The class reports ``grade`` and ``gradebook`` both write (see _report_class)."""
+    command.add_argument("--json", action="store_true", help="print one JSON report on stdout")
+    command.add_argument("--junit", metavar="FILE", help="write JUnit XML (one case per run)")
+    command.add_argument(
+        "--csv", metavar="FILE", help="write a gradebook CSV (one row per student)"
+    )
+    command.add_argument(
+        "--html",
+        metavar="DIR",
+        help="write HTML: the teacher's DIR/index.html and a page per student in DIR/students/",
+    )
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="roboscript",
@@ -631,18 +731,16 @@ def _parser() -> argparse.ArgumentParser:
         metavar="MISSION",
         help="mission files, globs or folders of submissions (one student per file or folder)",
     )
-    grade.add_argument("--json", action="store_true", help="print one JSON report on stdout")
-    grade.add_argument("--junit", metavar="FILE", help="write JUnit XML (one case per run)")
-    grade.add_argument("--csv", metavar="FILE", help="write a gradebook CSV (one row per student)")
-    grade.add_argument(
-        "--html",
-        metavar="DIR",
-        help="write HTML: the teacher's DIR/index.html and a page per student in DIR/students/",
-    )
+    _add_class_reports(grade)
     grade.add_argument(
         "--gradescope",
         metavar="FILE",
         help="write Gradescope's results.json (everything under --mission is one submission)",
+    )
+    grade.add_argument(
+        "--prairielearn",
+        metavar="FILE",
+        help="write PrairieLearn's results.json (everything under --mission is one submission)",
     )
     grade.add_argument(
         "--jobs", type=int, metavar="N", help="runs at once (default: one per CPU core)"
@@ -658,8 +756,56 @@ def _parser() -> argparse.ArgumentParser:
         metavar="SECONDS",
         help="end a run as hung when its simulated time stops for this long (default: 2)",
     )
+    grade.add_argument(
+        "--shard",
+        metavar="I/N",
+        help="grade only part I of N of the class (by a hash of each student's name)",
+    )
     grade.add_argument("--quiet", action="store_true", help="print only the table")
     grade.set_defaults(func=_cmd_grade)
+
+    gradebook = sub.add_parser(
+        "gradebook",
+        help="merge results files (grade --shard I/N --results FILE) into one class's reports",
+    )
+    gradebook.add_argument(
+        "parts", nargs="+", metavar="RESULTS.jsonl", help="the results files of every part"
+    )
+    _add_class_reports(gradebook)
+    gradebook.add_argument(
+        "--gradescope", metavar="FILE", help="write Gradescope's results.json (one student only)"
+    )
+    gradebook.add_argument("--quiet", action="store_true", help="print only the table")
+    gradebook.set_defaults(func=_cmd_gradebook)
+
+    autograder = sub.add_parser(
+        "autograder",
+        help="build a ready-to-upload autograder for Gradescope, GitHub Classroom or PrairieLearn",
+    )
+    autograder.add_argument("platform", choices=("gradescope", "classroom", "prairielearn"))
+    autograder.add_argument(
+        "specs", nargs="+", metavar="TEST_SPEC", help="test spec files or folders of them"
+    )
+    autograder.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        metavar="OUT",
+        help="the zip (gradescope) or a new folder (classroom, prairielearn)",
+    )
+    autograder.add_argument(
+        "--wheels", metavar="DIR", help="take a dependency's wheel from DIR when it has one"
+    )
+    autograder.add_argument(
+        "--tests-repo",
+        default="my-school/robotics-tests",
+        metavar="OWNER/NAME",
+        help="classroom: your private repository for the tests (default: my-school/robotics-tests)",
+    )
+    autograder.add_argument(
+        "--question", metavar="NAME", help="prairielearn: the question's folder name"
+    )
+    autograder.set_defaults(func=_cmd_autograder)
 
     graph = sub.add_parser(
         "graph", help="draw a mission's state diagram (mermaid, dot, or an SVG or PNG picture)"

@@ -10,7 +10,12 @@
 * the reports: :mod:`~roboscript.grading.table` (terminal), :mod:`~roboscript.grading.junit`,
   :mod:`~roboscript.grading.gradebook` (CSV), :mod:`~roboscript.grading.html_report` (the
   teacher's pages and one per student), :mod:`~roboscript.grading.json_report`,
-  :mod:`~roboscript.grading.gradescope` (Gradescope's ``results.json``); every one of them
-  caps and cleans student-controlled text, and words hidden runs for students, through
-  :mod:`~roboscript.grading.text`.
+  :mod:`~roboscript.grading.gradescope` (Gradescope's ``results.json``),
+  :mod:`~roboscript.grading.prairielearn` (PrairieLearn's); every one of them caps and cleans
+  student-controlled text, and words hidden runs for students, through
+  :mod:`~roboscript.grading.text`;
+* :mod:`~roboscript.grading.shards` grades a class in parts (``--shard``) and merges their
+  results files (``roboscript gradebook``);
+* :mod:`~roboscript.grading.autograder` packages the specs for Gradescope, GitHub Classroom and
+  PrairieLearn, with the wheels :mod:`~roboscript.grading.wheels` makes offline.
 """

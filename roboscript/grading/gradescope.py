@@ -31,7 +31,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from roboscript.grading.batch import Cell, ClassReport, Submission
+from roboscript.grading.batch import Cell, ClassReport, Submission, mission_for_test
 from roboscript.grading.record import RunResult
 from roboscript.grading.spec import TestSpec
 from roboscript.grading.text import advice, format_points, public_reason, student_text
@@ -41,6 +41,7 @@ __all__ = [
     "gradescope_results",
     "no_submission_results",
     "one_submission",
+    "several_students",
     "write_gradescope",
 ]
 
@@ -63,6 +64,29 @@ def one_submission(
     root = next((s.root for s in submissions), None)
     own = tuple(dict.fromkeys(f for s in submissions for f in s.own))
     return Submission(name, missions, None, problem, root, own)
+
+
+def several_students(submissions: Sequence[Submission], specs: Sequence[TestSpec]) -> str | None:
+    """Why what was found is not one student's submission, or ``None`` when it is.
+
+    One submission holds one mission, or one per test named after it. Anything else (a class
+    folder, two versions of a mission) would grade several students as one and keep one
+    mission per test at random: it is refused, in one sentence naming the missions.
+    """
+    if len(submissions) < 2:
+        return None
+    whole = one_submission(submissions)
+    used = {mission_for_test(whole, spec) for spec in specs}
+    if not set(whole.missions) - used:
+        return None
+    names = ", ".join(s.student for s in submissions[:5])
+    if len(submissions) > 5:
+        names += ", ..."
+    return (
+        f"a Gradescope submission is one student's, with one mission per test named after it,"
+        f" but this one holds {len(submissions)} ({names}): grade a class without"
+        f" --gradescope, or submit one mission per test"
+    )
 
 
 def _run_output(report: ClassReport, result: RunResult, cell: Cell) -> str:

@@ -382,7 +382,7 @@ def test_a_flood_of_output_is_cut_everywhere(graded: dict[str, Any]) -> None:
 
 
 def test_every_finished_run_is_in_the_results_file(graded: dict[str, Any]) -> None:
-    lines = graded["results"].read_text(encoding="utf-8").splitlines()
+    lines = graded["results"].read_text(encoding="utf-8").splitlines()[1:]  # after the header
     assert len(lines) == len(graded["report"]["runs"])
     assert max(len(line) for line in lines) < 200_000  # the flood is cut there too
     assert {json.loads(line)["student"] for line in lines} == {

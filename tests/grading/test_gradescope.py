@@ -7,10 +7,16 @@ import shutil
 from pathlib import Path
 from typing import Any
 
+import pytest
 from hand_graded import HIDDEN_SECRETS, SPEC_TEXT, hand_report, one_student
 from helpers import MISSIONS, run_cli
 
-from roboscript.grading.gradescope import gradescope_results, no_submission_results
+from roboscript.grading.batch import find_specs, find_submissions
+from roboscript.grading.gradescope import (
+    gradescope_results,
+    no_submission_results,
+    several_students,
+)
 
 # The fields of Gradescope's "Autograder Specifications" this writer uses, and their types.
 TOP_FIELDS = {
@@ -175,3 +181,39 @@ def test_the_cli_writes_results_json_when_nothing_was_handed_in(tmp_path: Path) 
     assert_gradescope_shape(results)
     assert results["score"] == 0 and len(results["tests"]) == 3
     assert "no mission files in the folder" in results["output"]
+
+
+@pytest.mark.parametrize("platform", ["--gradescope", "--prairielearn"])
+def test_a_class_folder_for_a_platform_is_refused_in_one_sentence(
+    tmp_path: Path, platform: str
+) -> None:
+    """Not graded as one student called after the folder, each report overwriting the last."""
+    folder = tmp_path / "class"
+    folder.mkdir()
+    for name in ("ada", "bob", "cyd"):
+        shutil.copy(MISSIONS / "teacher" / "square" / "good.yaml", folder / f"{name}.yaml")
+    results_json = tmp_path / "results.json"
+    result = run_cli(
+        "grade", str(MISSIONS / "teacher" / "square" / "test.yaml"), "--mission", str(folder),
+        platform, str(results_json),
+    )  # fmt: skip
+    assert result.returncode == 2
+    assert result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
+    assert "one student's, with one mission per test" in result.stderr
+    assert "holds 3 (ada, bob, cyd)" in result.stderr
+    assert result.stdout == ""  # nothing was graded
+    results = json.loads(results_json.read_text(encoding="utf-8"))
+    summary = results["output" if platform == "--gradescope" else "message"]
+    assert results["score"] == 0 and "holds 3 (ada, bob, cyd)" in summary
+
+
+def test_one_mission_per_test_is_one_gradescope_submission(tmp_path: Path) -> None:
+    teacher = MISSIONS / "teacher"
+    specs = find_specs([str(teacher / "square" / "test.yaml"), str(teacher / "corridor")])
+    submission = tmp_path / "submission"
+    submission.mkdir()
+    shutil.copy(teacher / "square" / "good.yaml", submission / "square-50cm.yaml")
+    shutil.copy(teacher / "corridor" / "good.yaml", submission / "corridor-wall-follow.yaml")
+    assert several_students(find_submissions([str(submission)]), specs) is None
+    shutil.copy(teacher / "square" / "bad.yaml", submission / "square-old.yaml")
+    assert "holds 3" in (several_students(find_submissions([str(submission)]), specs) or "")

@@ -1,0 +1,178 @@
+"""``grade --shard I/N --results PART.jsonl`` and ``roboscript gradebook PART.jsonl...``: a class
+graded in parts, on any machines, merges into the reports one run would have written."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import pytest
+from helpers import OUT_TURN_BEEP, run_cli
+
+from roboscript.grading.shards import Shard, shard_number
+
+STUDENTS = ("ada", "Bea", "cyd", "dan", "eve", "fay", "gus")
+SPEC = """\
+test: out-and-turn
+runs:
+  - {seed: 1}
+  - {seed: 2, start: {heading: 30 deg}, hidden: true}
+max_time: 20 s
+expect:
+  - outcome: success
+  - final_pose_within: {x: 0 mm, y: 200 mm, radius: 25 mm}
+"""
+# The class is graded four times, once for the whole module's tests, on a loaded machine.
+pytestmark = pytest.mark.timeout(900)
+# Under a loaded machine a run may wait its turn: no run may be called hung for that here.
+PATIENT = ("--hang-after", "60", "--jobs", "2", "--quiet")
+
+
+def _without_wall_time(report: dict[str, Any]) -> dict[str, Any]:
+    """The report without the one field that differs between two gradings of the same class."""
+    for run in report["runs"]:
+        run.pop("wall_time_s")
+    return report
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    """A class graded once whole and once in three parts, in the same folder."""
+    root = tmp_path_factory.mktemp("sharded")
+    (root / "spec.yaml").write_text(SPEC, encoding="utf-8")
+    (root / "class").mkdir()
+    for i, name in enumerate(STUDENTS):
+        # each drives a little further (18 to 24 cm): some end within 25 mm of 20 cm, some not;
+        # every third turns the other way (the heading differs, the points do not)
+        text = OUT_TURN_BEEP if i % 3 else OUT_TURN_BEEP.replace("angle: 90 deg", "angle: -90 deg")
+        text = text.replace("distance: 20 cm", f"distance: {18 + i} cm")
+        (root / "class" / f"{name}.yaml").write_text(text, encoding="utf-8")
+    # hal hands in two missions, neither named after the test: missing, and in the report
+    (root / "class" / "hal").mkdir()
+    for name in ("first", "second"):
+        (root / "class" / "hal" / f"{name}.yaml").write_text(OUT_TURN_BEEP, encoding="utf-8")
+    whole = run_cli(
+        "grade", "spec.yaml", "--mission", "class", "--results", "all.jsonl", "--json",
+        "--csv", "all.csv", *PATIENT, cwd=root, timeout=600,
+    )  # fmt: skip
+    assert whole.returncode in (0, 1), whole.stderr
+    parts = []
+    for i in (1, 2, 3):
+        part = run_cli(
+            "grade", "spec.yaml", "--mission", "class", "--shard", f"{i}/3",
+            "--results", f"part{i}.jsonl", *PATIENT, cwd=root, timeout=600,
+        )  # fmt: skip
+        assert part.returncode in (0, 1), part.stderr
+        parts.append(f"part{i}.jsonl")
+    return {"root": root, "whole": whole.stdout, "parts": parts}
+
+
+def test_a_class_graded_in_three_parts_merges_into_the_report_of_one_run(
+    graded: dict[str, Any],
+) -> None:
+    root = graded["root"]
+    statuses = {run["status"] for run in json.loads(graded["whole"])["runs"]}
+    assert {"passed", "failed", "missing"} <= statuses  # every kind of result crosses
+    merged = run_cli("gradebook", *graded["parts"], "--json", "--csv", "merged.csv", cwd=root)
+    assert merged.returncode in (0, 1), merged.stderr
+    assert json.dumps(_without_wall_time(json.loads(merged.stdout))) == json.dumps(
+        _without_wall_time(json.loads(graded["whole"]))
+    )
+    assert (root / "merged.csv").read_bytes() == (root / "all.csv").read_bytes()
+
+
+def test_the_gradebook_of_one_run_repeats_its_json_byte_for_byte(graded: dict[str, Any]) -> None:
+    again = run_cli("gradebook", "all.jsonl", "--json", cwd=graded["root"])
+    assert again.stdout == graded["whole"]
+
+
+def test_the_parts_hold_every_student_once(graded: dict[str, Any]) -> None:
+    root = graded["root"]
+    held = []
+    for part in graded["parts"]:
+        header = json.loads((root / part).read_text(encoding="utf-8").splitlines()[0])
+        held += [s["name"] for s in header["students"]]
+        runs = (root / part).read_text(encoding="utf-8").splitlines()[1:]
+        assert {json.loads(r)["student"] for r in runs} == {s["name"] for s in header["students"]}
+    assert sorted(held) == sorted([*STUDENTS, "hal"])
+
+
+def test_a_missing_part_is_refused_naming_it(graded: dict[str, Any]) -> None:
+    merged = run_cli("gradebook", *graded["parts"][:2], "--json", cwd=graded["root"])
+    assert merged.returncode == 2
+    assert merged.stderr.strip() == "error: part 3 of 3 missing: give every part's results file"
+    assert merged.stdout == ""
+
+
+def test_a_part_cut_short_is_refused(graded: dict[str, Any], tmp_path: Path) -> None:
+    root = graded["root"]
+    lines = (root / "all.jsonl").read_text(encoding="utf-8").splitlines()
+    (root / "cut.jsonl").write_text("\n".join(lines[:-1]) + "\n", encoding="utf-8")
+    merged = run_cli("gradebook", "cut.jsonl", "--csv", "cut.csv", cwd=root)
+    assert merged.returncode == 2
+    assert (
+        "cut.jsonl lacks the run of" in merged.stderr and "grade that part again" in merged.stderr
+    )
+    assert not (root / "cut.csv").exists()
+
+
+def test_a_spec_changed_since_grading_is_refused(graded: dict[str, Any], tmp_path: Path) -> None:
+    root = graded["root"]
+    moved = tmp_path / "elsewhere"
+    moved.mkdir()
+    (moved / "spec.yaml").write_text(SPEC.replace("radius: 25 mm", "radius: 10 mm"), "utf-8")
+    (moved / "all.jsonl").write_bytes((root / "all.jsonl").read_bytes())
+    merged = run_cli("gradebook", "all.jsonl", "--json", cwd=moved)
+    assert merged.returncode == 2
+    assert "the test spec spec.yaml (or a world it names) changed since" in merged.stderr
+
+
+def test_a_class_gradebook_is_no_gradescope_results(graded: dict[str, Any]) -> None:
+    merged = run_cli("gradebook", "all.jsonl", "--gradescope", "gs.json", cwd=graded["root"])
+    assert merged.returncode == 2
+    assert "a Gradescope results.json is one student's" in merged.stderr
+    assert not (graded["root"] / "gs.json").exists()
+
+
+def test_a_students_part_is_the_same_in_every_process() -> None:
+    """Python's own hash() changes with PYTHONHASHSEED; the part must not."""
+    here = [shard_number(name, 5) for name in STUDENTS]
+    code = "from roboscript.grading.shards import shard_number as s; print([s(n, 5) for n in %r])"
+    for seed in ("1", "2"):
+        other = subprocess.run(
+            [sys.executable, "-c", code % (STUDENTS,)],
+            capture_output=True,
+            text=True,
+            env={**os.environ, "PYTHONHASHSEED": seed},
+            check=True,
+        )
+        assert other.stdout.strip() == str(here)
+    assert all(1 <= n <= 5 for n in here) and len(set(here)) > 1
+
+
+def test_each_student_is_in_exactly_one_part() -> None:
+    names = [f"student{i}" for i in range(200)]
+    for count in (1, 2, 3, 7):
+        owners = [[i for i in range(1, count + 1) if Shard(i, count).holds(n)] for n in names]
+        assert all(len(found) == 1 for found in owners)
+
+
+@pytest.mark.parametrize("text", ["3", "0/3", "4/3", "1/0", "a/b", "-1/2", "1/2/3"])
+def test_a_bad_shard_is_one_sentence(text: str) -> None:
+    with pytest.raises(ValueError, match=r"^--shard (is )?I/N"):
+        Shard.parse(text)
+    result = run_cli("grade", "x.yaml", "--mission", "y", f"--shard={text}")
+    assert result.returncode == 2
+    assert result.stderr.startswith("error: --shard ") and "Traceback" not in result.stderr
+
+
+def test_a_part_of_one_submission_is_refused() -> None:
+    result = run_cli("grade", "x.yaml", "--mission", "y", "--shard=1/2", "--gradescope=r.json")
+    assert result.returncode == 2
+    assert result.stderr == (
+        "error: --shard splits a class, and a platform's results.json is one submission's\n"
+    )
