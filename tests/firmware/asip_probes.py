@@ -1,0 +1,109 @@
+"""The ASIP probe set: every request roboscript's driver sends, and the parsers' error paths.
+
+Each probe is sent to the real firmware (emulated) and to ``roboscript sim``'s board, one at a
+time on one connection, and what each answers before the next probe is compared byte for byte.
+The driver's requests are encoded by roboscript's own host codec, so the probe is exactly what
+the driver writes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from roboscript.codec import Role
+from roboscript.drivers.asip import messages as m
+from roboscript.drivers.asip.codec import AsipCodec
+
+SETTLE_S = 0.12
+"""Time each probe is given: a reply is a few milliseconds of line time at 57600 baud."""
+PARSE_WAIT_S = 1.2
+"""Time for a probe on which the firmware waits out ``parseInt``'s 1000 ms timeout."""
+
+
+@dataclass(frozen=True)
+class Probe:
+    """One request and how long to let both boards answer it."""
+
+    name: str
+    data: bytes
+    settle_s: float = SETTLE_S
+
+
+def _driver(name: str, message: object) -> Probe:
+    return Probe(name, AsipCodec(Role.HOST).send(message))
+
+
+DRIVER_PROBES: tuple[Probe, ...] = (
+    _driver("version", m.VersionRequest()),
+    _driver("service names", m.ServiceNamesRequest()),
+    _driver("pin services", m.PinServicesRequest()),
+    _driver("io events off", m.SetAutoEventInterval("I", 0)),
+    _driver("encoder events on", m.EnableEncoderEvents(True)),
+    _driver("encoder events off", m.EnableEncoderEvents(False)),
+    _driver("bump events", m.SetAutoEventInterval("B", 50)),
+    _driver("bump events off", m.SetAutoEventInterval("B", 0)),
+    _driver("ir events", m.SetAutoEventInterval("R", 50)),
+    _driver("ir events off", m.SetAutoEventInterval("R", 0)),
+    _driver("distance events", m.SetAutoEventInterval("D", 100)),
+    _driver("distance events off", m.SetAutoEventInterval("D", 0)),
+    _driver("pixel count", m.PixelsInfoRequest(0)),
+    _driver("tone", m.PlayTone(440, 100)),
+    _driver("motors power", m.SetMotorsPower(40, -40)),
+    _driver("motors stop", m.StopMotors()),
+    _driver("motors power zero", m.SetMotorsPower(0, 0)),
+    _driver("motor stop one", m.StopMotor(1)),
+    _driver("motor rpm", m.SetMotorRpm(0, 30, 200)),
+    _driver("motors rpm", m.SetMotorsRpm(30, 30, 200)),
+    _driver("servo", m.ServoWrite(0, 45)),
+    _driver("lcd clear", m.LcdClear()),
+    _driver("lcd write", m.LcdWrite(1, "hello")),
+    _driver("pixel set", m.PixelsSetRgb(0, ((2, (10, 20, 30)),))),
+)
+"""Every request :mod:`roboscript.drivers.asip.driver` sends, in its own encoding."""
+
+ERROR_PROBES: tuple[Probe, ...] = (
+    Probe("unknown service", b"X,?\n"),
+    Probe("unknown service, long tail", b"X,abcdefghijklmnop\n"),
+    Probe("service without comma", b"M;S,0\n"),
+    Probe("unknown system tag", b"#,Z\n"),
+    Probe("unknown io tag", b"I,Z\n"),
+    Probe("unknown motor tag", b"M,Z,0\n"),
+    Probe("unknown bump tag", b"B,Z\n"),
+    Probe("unknown ir tag", b"R,Z\n"),
+    Probe("unknown distance tag", b"D,Z\n"),
+    Probe("unknown servo tag", b"S,Z\n"),
+    Probe("unknown tone tag", b"T,Z\n"),
+    Probe("unknown lcd tag", b"L,Z\n"),
+    Probe("unknown pixels tag", b"P,Z\n"),
+    Probe("io port map", b"I,M\n"),
+    Probe("io analog map", b"I,m\n"),
+    Probe("io pin modes", b"I,p\n"),
+    Probe("io capabilities", b"I,c\n"),
+    Probe("digital write on motor pin", b"I,d,8,1\n"),
+    Probe("analog write on non-pwm pin", b"I,a,2,10\n"),
+    Probe("analog write on pwm pin of a service", b"I,a,5,10\n"),
+    Probe("pin mode on reserved pin", b"I,P,0,3\n"),
+    Probe("pin mode unsupported", b"I,P,2,9\n"),
+    Probe("pin mode input on service pin", b"I,P,18,2\n"),
+    Probe("servo id out of range", b"S,W,5,45\n"),
+    Probe("distance measure", b"D,M\n"),
+    Probe("pixels strip info", b"P,I,0\n"),
+    Probe("pixels clear", b"P,C,0\n"),
+    Probe("pixels brightness", b"P,B,0,32\n"),
+    Probe("pixels set packed", b"P,P,0,1,{0:255}\n"),
+    Probe("pixels set range", b"P,S,0,1,0,{255}\n"),
+    Probe("pixels set range without brace", b"P,S,0\n"),
+    Probe("lcd long row", b"L,W,2,abcdefghijklmnopqrstuvwxyz\n"),
+    Probe("lcd bar graph", b"L,G,1,{0:50}\n"),
+    Probe("motors speed", b"M,c,10,200\n"),
+    Probe("motors rotate", b"M,a,90,45\n"),
+    Probe("encoder reset", b"M,E,0\n"),
+    Probe("stop with no argument", b"M,S\n", PARSE_WAIT_S),
+    Probe("request with no newline", b"M,M,0,0", PARSE_WAIT_S),
+    Probe("two requests in one write", b"M,A,0M,M,0,0\n"),
+    Probe("tone with zero duration", b"T,P,440,0\n"),
+    Probe("version again", b"#,?\n"),
+)
+"""The parsers' error paths and the requests other clients send."""
+
+PROBES = DRIVER_PROBES + ERROR_PROBES

@@ -1,0 +1,36 @@
+"""Run a probe set on the emulated firmware and on ``roboscript sim``, one answer per probe."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from firmware.asip_probes import Probe
+from firmware.avr import Board, build
+from firmware.recipes import MIRTLE_BAUD, MIRTLE_F_CPU_HZ, MIRTLE_MCU, mirtle_328p
+
+from roboscript.sim.simulation import make_simulation
+
+BOOT_S = 4.0
+"""Long enough for the sketch's start-up (3.2 s of ``pixelFun`` delays, then ``setup()``)."""
+
+
+def firmware_transcript(probes: Sequence[Probe]) -> tuple[bytes, list[bytes]]:
+    """The emulated MIRTO board's start-up bytes and its answer to each probe in turn."""
+    with Board(build(mirtle_328p()), MIRTLE_MCU, MIRTLE_F_CPU_HZ, baud=MIRTLE_BAUD) as board:
+        greeting = board.advance_to(BOOT_S)
+        answers = [board.exchange(probe.data, probe.settle_s) for probe in probes]
+    return greeting, answers
+
+
+def sim_transcript(probes: Sequence[Probe], robot: str = "mirto") -> tuple[bytes, list[bytes]]:
+    """``roboscript sim``'s board's start-up bytes and its answer to each probe in turn."""
+    simulation = make_simulation(robot)
+    simulation.connect()
+    greeting = simulation.read(simulation.in_waiting)
+    answers = []
+    for probe in probes:
+        simulation.write(probe.data)
+        end_s = simulation.time_s + probe.settle_s
+        simulation.tick(end_s, probe.settle_s)
+        answers.append(simulation.read(simulation.in_waiting))
+    return greeting, answers
