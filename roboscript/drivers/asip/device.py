@@ -50,23 +50,26 @@ _MOTOR_FRAME_S = 0.033  # 1000 / PID_FRAME_HZ in integer milliseconds
 _AUTO_STOP_S = 2.0
 _PARSE_TIMEOUT_S = 1.0
 
-# Pin map of the simulated board (an Uno-sized, 20-pin layout).
-_PIN_SERVICES = "@@MMRMMMMMMBBTRRRDII"
+# Pin map of the MIRTO 328 V2 board as the mirtle2017 sketch allocates it (robot_pins.h, the
+# 328 branch): motors 8, 11, 5, 12, 13, 6 and encoders 3, 7, 2, 4; bumpers 9, 10; IR 14-17
+# (14 drives the emitters); the UART's pins 0, 1 and the LCD's I2C pins 18, 19 are reserved
+# before the servo (18) and distance sensor (19) register, so both show as reserved.
+_PIN_SERVICES = "@@MMMMMMMBBMMMRRRR@@"
 _PORT_MAP = tuple([(4, 1 << i) for i in range(8)] + [(2, 1 << i) for i in range(6)]) + tuple(
     (3, 1 << i) for i in range(6)
 )
 _ANALOG_PINS = {14 + i: i for i in range(6)}
 _PWM_PINS = {3, 5, 6, 9, 10, 11}
-_BUMP_PINS = (11, 12)  # left, right: INPUT_PULLUP, so 0 while pressed
-_SERVICE_NAMES = {
+_BUMP_PINS = (9, 10)  # left, right: INPUT_PULLUP, so 0 while pressed
+_SERVICE_NAMES = {  # in the order of the sketch's services[]
     "I": "ASIP core IO",
     "M": "Motors",
     "B": "Bump Sensors",
     "R": "IR Sensors",
-    "D": "Distance",
     "T": "Tone",
-    "L": "LCD",
     "S": "Servos",
+    "D": "Distance",
+    "L": "LCD",
     "P": "Pixels",
 }
 # Like the LCD (on I2C), servos and the pixel strip sit on pins the 20-pin map does not show.
@@ -96,10 +99,14 @@ class BoardConfig:
         encoder_events_on: Whether ``@M,e`` events are on at power-on (V1.1: off).
         servo_count: Servos the sketch declares (``mirtle2017``: 1).
         pixel_count: Pixels on strip 0 (``mirtle2017``: 9).
+        whole_lines: True for a USB board (a Teensy: a line written at once arrives at
+            once); False for a UART board, whose firmware sees each byte as it arrives and
+            acts on what has arrived so far (see :class:`~roboscript.drivers.asip.options.
+            AsipOptions`).
     """
 
     firmware_pid: bool = True
-    sketch: str = "mirto2017"
+    sketch: str = "Mirtle2017"
     chip: str = "ATmega328P"
     kp: int = 20
     ki: int = 0
@@ -110,6 +117,7 @@ class BoardConfig:
     encoder_events_on: bool = False
     servo_count: int = 1
     pixel_count: int = 9
+    whole_lines: bool = False
 
 
 @dataclass
@@ -212,17 +220,24 @@ class MirtoBoard:
         self._send(m.PinModesReply(tuple(self.state.pin_modes)))
         self._send(m.PortMapReply(_PORT_MAP))
         for service, name in _SERVICE_NAMES.items():
-            if service != "I":
-                self._out += f"{name} is service {service}\r\n".encode("ascii")
+            self._out += f"{name} is service {service}\r\n".encode("ascii")
         for event in self.state.auto.values():
             event.next_s = now_s + event.interval_s
         self.state.next_motor_frame_s = now_s + _MOTOR_FRAME_S
 
     def receive(self, data: bytes, now_s: float) -> None:
         """Parse and act on request bytes."""
-        if data:
-            self._wait_since_s = now_s  # a byte ends the wait; the next one starts now
+        if not data:
+            return
+        self._wait_since_s = now_s  # a byte ends the wait; the next one starts now
+        if self.config.whole_lines:
             self.codec.receive_data(data)
+            self._process(now_s)
+            return
+        # A UART hands the firmware one byte at a time, far slower than it parses: every
+        # plain read() that looks one byte ahead finds nothing yet.
+        for index in range(len(data)):
+            self.codec.receive_data(data[index : index + 1])
             self._process(now_s)
 
     def step(self, now_s: float) -> None:
@@ -634,5 +649,6 @@ def simulated_device(profile: RobotProfile) -> Callable[[Body], MirtoBoard]:
         firmware_pid=profile.firmware_pid,
         servo_count=options.servo_count,
         pixel_count=options.pixel_count,
+        whole_lines=options.whole_lines,
     )
     return lambda body: MirtoBoard(body, config)

@@ -28,6 +28,10 @@ from roboscript.errors import ProfileError
 __all__ = ["AsipOptions"]
 
 _LIMITS = {"servo_count": (0, 16), "pixel_count": (0, 1024), "lcd_columns": (1, LCD_COLUMNS)}
+TRANSPORTS = ("uart", "usb")
+"""How the board's line reaches the firmware: ``uart`` (an ATmega328P's serial port: the
+firmware sees a request a byte at a time, as the bytes arrive) or ``usb`` (a Teensy's USB
+serial: a line the host wrote at once is there at once)."""
 
 
 @dataclass(frozen=True)
@@ -39,11 +43,21 @@ class AsipOptions:
         pixel_count: Pixels on the sketch's strip 0 (``MAX_PIXELS``); the driver asks the
             board (``P,I,0``), the simulated board answers this.
         lcd_columns: Characters a display row holds (1-20; the firmware keeps at most 20).
+        transport: ``uart`` or ``usb`` (:data:`TRANSPORTS`). On a UART board the firmware
+            cannot read pixel requests (``asipPixels.cpp`` reads ``,{`` with two plain
+            ``read()`` calls straight after ``parseInt()``, before the ``{`` has arrived),
+            so the driver offers no LEDs there.
     """
 
     servo_count: int = 1
     pixel_count: int = 9
     lcd_columns: int = LCD_COLUMNS
+    transport: str = "uart"
+
+    @property
+    def whole_lines(self) -> bool:
+        """Whether the firmware sees a written line at once (USB) rather than byte by byte."""
+        return self.transport == "usb"
 
     @classmethod
     def from_mapping(cls, options: Mapping[str, Any], *, profile: str) -> AsipOptions:
@@ -55,7 +69,13 @@ class AsipOptions:
         return read_options(cls, options, profile=profile, family="ASIP", read=_read)
 
 
-def _read(name: str, value: object, profile: str) -> int:
+def _read(name: str, value: object, profile: str) -> int | str:
+    if name == "transport":
+        if value not in TRANSPORTS:
+            raise ProfileError(
+                f"{profile}: ASIP option 'transport' must be one of {', '.join(TRANSPORTS)}"
+            )
+        return str(value)
     low, high = _LIMITS[name]
     if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
         raise ProfileError(f"{profile}: ASIP option '{name}' must be a whole number {low}-{high}")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 
 from roboscript.profiles import get_profile
@@ -12,8 +14,14 @@ from roboscript.sim.world import load_world
 class Board:
     """A simulated board plus a clock, speaking bytes."""
 
-    def __init__(self, robot: str = "mirto", world: str = "empty") -> None:
+    def __init__(self, robot: str = "mirto", world: str = "empty", *, usb: bool = False) -> None:
         self.sim: Simulation = make_simulation(robot, world, seed=1)
+        if usb:  # a Teensy-style board: a line written at once arrives at once
+            profile = get_profile(robot)
+            usb_profile = dataclasses.replace(
+                profile, options={**profile.options, "transport": "usb"}
+            )
+            self.sim = Simulation(load_world(world), usb_profile, seed=1)
         self.now = 0.0
         self.sim.connect()
 
@@ -34,21 +42,31 @@ class Board:
 def test_greeting_has_the_startup_line_modes_map_and_unprefixed_lines() -> None:
     board = Board()
     lines = board.lines()
-    assert lines[0] == "!mirto2017 running on ATmega328P with Services: I M B R D T L S P "
-    assert lines[1].startswith("@I,p,20,{6,6,7,")
+    # mirtle2017's setup(): the banner lists services[] in order, then one line per entry
+    assert lines[0] == "!Mirtle2017 running on ATmega328P with Services: I M B R T S D L P "
+    assert lines[1] == "@I,p,20,{6,6,7,7,7,7,7,7,7,7,7,7,7,7,7,7,7,7,6,6}"
     assert lines[2].startswith("@I,M,20,{4:1,4:2,4:4,4:8,4:10,4:20,4:40,4:80,2:1,")
-    assert "Motors is service M\r" in lines
+    assert lines[3:] == [
+        f"{name} is service {service}\r"
+        for name, service in [
+            ("ASIP core IO", "I"),
+            ("Motors", "M"),
+            ("Bump Sensors", "B"),
+            ("IR Sensors", "R"),
+            ("Tone", "T"),
+            ("Servos", "S"),
+            ("Distance", "D"),
+            ("LCD", "L"),
+            ("Pixels", "P"),
+        ]
+    ]
 
 
-def test_analog_stream_runs_every_50_ms_from_power_on_until_stopped() -> None:
+def test_no_analog_stream_when_every_analog_pin_belongs_to_a_service() -> None:
+    # IR 14-17, and the LCD's 18-19: asipIO.begin() finds no free analog pin to report
     board = Board()
     board.lines()
     board.run(1.0)
-    analog = [line for line in board.lines() if line.startswith("@I,a,")]
-    assert len(analog) == 20
-    assert analog[0].startswith("@I,a,2,{4:") and analog[0].endswith("}")
-    board.send(b"I,A,0\n")
-    board.run(0.5)
     assert not [line for line in board.lines() if line.startswith("@I,a")]
 
 
@@ -107,25 +125,26 @@ def test_board_without_pid_refuses_the_pid_tags() -> None:
     ("request_bytes", "reply"),
     [
         (b"X,?\n", "~X,?,1{INVALID_SERVICE}"),
-        (b"X,W,0,90\n", "~X,?,1{INVALID_SERVICE}"),
+        (b"X,W,0,90\n", "~X,?,1{INVALID_SERVICE}"),  # the rest of the line is skipped
         (b"S,W,5\n", "~S,W,7{INVALID_DEVICE_NUMBER}"),  # mirtle2017 has servo 0 only
         (b"P,I,0\n", "@P,I,0,9"),  # and nine pixels
         (b"P,B,3,10\n", "~P,B,7{INVALID_DEVICE_NUMBER}"),
         (b"M,z,1,2\n", "~M,z,2{UNKNOWN_REQUEST}"),
         (b"#,Q\n", "~#,Q,2{UNKNOWN_REQUEST}"),
         (b"I,P,0,1\n", "~I,P,4{MODE_UNAVAILABLE}"),
-        (b"I,P,18,5\n", "~I,P,5{INVALID_MODE}"),
+        (b"I,P,9,5\n", "~I,P,4{MODE_UNAVAILABLE}"),  # a bump pin
+        (b"I,P,13,5\n", "~I,P,5{INVALID_MODE}"),  # 13 cannot do PWM
         (b"I,d,18,1\n", "~I,d,6{WRONG_MODE}"),
         (b"I,a,18,100\n", "~I,a,3{INVALID_PIN}"),
         (b"I,a,3,100\n", "~I,a,6{WRONG_MODE}"),  # a PWM pin the motor service owns
         (b"I,d,30,1\n", "~I,d,3{INVALID_PIN}"),
         (b"I,P,30,1\n", "~I,P,5{INVALID_MODE}"),  # no such pin: no mode fits it
-        (b"#,?\n", "@#,?,1,1,ATmega328P,20,mirto2017"),
+        (b"#,?\n", "@#,?,1,1,ATmega328P,20,Mirtle2017"),
         (
             b"#,N\n",
             (
-                "@#,N,9,{I:ASIP core IO,M:Motors,B:Bump Sensors,R:IR Sensors,D:Distance,T:Tone,"
-                "L:LCD,S:Servos,P:Pixels}"
+                "@#,N,9,{I:ASIP core IO,M:Motors,B:Bump Sensors,R:IR Sensors,T:Tone,S:Servos,"
+                "D:Distance,L:LCD,P:Pixels}"
             ),
         ),
         (b"I,m\n", "@I,m,6,{14:0,15:1,16:2,17:3,18:4,19:5}"),
@@ -133,7 +152,7 @@ def test_board_without_pid_refuses_the_pid_tags() -> None:
     ],
 )
 def test_replies_and_errors_match_the_firmware(request_bytes: bytes, reply: str) -> None:
-    board = Board()
+    board = Board(usb=True)  # whole lines: a UART board's leftovers are tested below
     board.send(b"I,A,0\n")
     board.lines()
     board.send(request_bytes)
@@ -152,12 +171,12 @@ def test_pullup_input_reports_its_port_at_once_then_on_changes_only() -> None:
     board = Board()
     board.send(b"I,A,0\n")
     board.lines()
-    board.send(b"I,P,18,2\n")
-    assert board.lines() == ["@I,d,3,10"]
+    board.send(b"I,P,9,2\n")  # a bump pin, pulled up: reported, then refused
+    assert board.lines() == ["@I,d,2,2", "~I,P,4{MODE_UNAVAILABLE}"]
     board.run(0.5)
     assert board.lines() == []
-    board.send(b"I,P,19,1\n")  # a second input on the port: the port again, with both pins
-    assert board.lines() == ["@I,d,3,10"]
+    board.send(b"I,P,10,1\n")  # a second input on the port: the port again, with both pins
+    assert board.lines() == ["@I,d,2,6", "~I,P,4{MODE_UNAVAILABLE}"]
 
 
 def test_a_refused_input_request_on_a_bump_pin_still_reports_the_bumper() -> None:
@@ -166,8 +185,8 @@ def test_a_refused_input_request_on_a_bump_pin_still_reports_the_bumper() -> Non
     board = Board()
     board.send(b"I,A,0\n")
     board.lines()
-    board.send(b"I,P,11,1\n")
-    assert board.lines() == ["@I,d,2,8", "~I,P,4{MODE_UNAVAILABLE}"]
+    board.send(b"I,P,9,1\n")
+    assert board.lines() == ["@I,d,2,2", "~I,P,4{MODE_UNAVAILABLE}"]
     board.sim.body.bumpers_pressed = lambda: (True, False)  # type: ignore[method-assign]
     board.run(0.05)
     assert board.lines() == ["@I,d,2,0"]  # once, on the change
@@ -205,7 +224,7 @@ def test_distance_is_reported_in_cm_towards_a_wall() -> None:
 
 
 def test_servo_and_pixel_requests_change_the_boards_state() -> None:
-    board = Board()
+    board = Board(usb=True)
     board.send(b"S,W,0,45\nP,P,0,2,{0:16711680,7:255}\nP,p,0,1,{3:1:2:3}\nP,B,0,200\n")
     state = board.sim.device.state  # type: ignore[attr-defined]
     assert state.servos_deg == [45]
@@ -213,3 +232,23 @@ def test_servo_and_pixel_requests_change_the_boards_state() -> None:
     assert state.pixels[3] == (1, 2, 3) and state.brightness == 200
     board.send(b"P,C,0\n")
     assert state.pixels == [(0, 0, 0)] * 9
+
+
+def test_a_uart_board_drops_a_pixel_request_and_answers_its_tail_as_garbage() -> None:
+    # asipPixels.cpp reads ",{" with plain read()s right after parseInt(): on a UART the "{"
+    # has not arrived yet, so the request is dropped and the rest parses as new requests
+    board = Board()
+    board.send(b"I,A,0\n")
+    board.lines()
+    board.send(b"P,P,0,1,{0:255}\n")
+    assert board.lines()[0] == "~{,?,1{INVALID_SERVICE}"
+    assert board.sim.device.state.pixels[0] == (0, 0, 0)  # type: ignore[attr-defined]
+
+
+def test_a_usb_board_reads_the_same_pixel_request() -> None:
+    board = Board(usb=True)
+    board.send(b"I,A,0\n")
+    board.lines()
+    board.send(b"P,P,0,1,{0:255}\n")
+    assert board.lines() == []
+    assert board.sim.device.state.pixels[0] == (0, 0, 255)  # type: ignore[attr-defined]
