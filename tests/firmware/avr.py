@@ -166,7 +166,12 @@ def build(recipe: Recipe) -> Path:
     sketch_cpp = generated / "sketch.cpp"
     sketch_cpp.write_text(_sketch_as_cpp(recipe.sketch, recipe.forced_includes), encoding="utf-8")
     core_dir = ARDUINO_AVR / "cores" / "arduino"
-    includes = [generated, *recipe.include_dirs, core_dir, ARDUINO_AVR / "variants" / recipe.variant]
+    includes = [
+        generated,
+        *recipe.include_dirs,
+        core_dir,
+        ARDUINO_AVR / "variants" / recipe.variant,
+    ]
     include_flags = [f"-I{path}" for path in includes]
     objects: list[Path] = []
     for index, source in enumerate([*recipe.core_sources(), *recipe.sources, sketch_cpp]):

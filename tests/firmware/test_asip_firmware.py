@@ -66,4 +66,3 @@ def test_sim_answers_each_probe_as_the_firmware_does(
         assert sim != firmware, f"no longer differs: drop {probe.name!r} from KNOWN_DIFFERENCES"
     else:
         assert sim == firmware, f"{probe.data!r}: firmware {firmware!r}, sim {sim!r}"
-

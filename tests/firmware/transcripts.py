@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 
 from firmware.asip_probes import Probe
 from firmware.avr import Board, build
 from firmware.recipes import MIRTLE_BAUD, MIRTLE_F_CPU_HZ, MIRTLE_MCU, mirtle_328p
 
-from roboscript.sim.simulation import make_simulation
+from roboscript.profiles import get_profile
+from roboscript.sim.simulation import Simulation
+from roboscript.sim.world import load_world
 
 BOOT_S = 4.0
 """Long enough for the sketch's start-up (3.2 s of ``pixelFun`` delays, then ``setup()``)."""
@@ -22,9 +25,12 @@ def firmware_transcript(probes: Sequence[Probe]) -> tuple[bytes, list[bytes]]:
     return greeting, answers
 
 
-def sim_transcript(probes: Sequence[Probe], robot: str = "mirto") -> tuple[bytes, list[bytes]]:
-    """``roboscript sim``'s board's start-up bytes and its answer to each probe in turn."""
-    simulation = make_simulation(robot)
+def sim_transcript(probes: Sequence[Probe]) -> tuple[bytes, list[bytes]]:
+    """``roboscript sim``'s MIRTO board, on a UART like the emulated 328P build: its start-up
+    bytes and its answer to each probe in turn."""
+    mirto = get_profile("mirto")
+    profile = dataclasses.replace(mirto, options={**mirto.options, "transport": "uart"})
+    simulation = Simulation(load_world("empty"), profile, seed=1)
     simulation.connect()
     greeting = simulation.read(simulation.in_waiting)
     answers = []

@@ -117,7 +117,7 @@ class BoardConfig:
     encoder_events_on: bool = False
     servo_count: int = 1
     pixel_count: int = 9
-    whole_lines: bool = False
+    whole_lines: bool = True
 
 
 @dataclass

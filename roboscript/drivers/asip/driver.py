@@ -129,6 +129,7 @@ class AsipDriver(Driver):
         )
         self._mm_per_tick = math.pi * profile.wheel_diameter_mm / profile.ticks_per_rev
         self._tones: list[tuple[int, int]] = []
+        self._padding_noticed = False
 
     # ----------------------------------------------------------------------------- handshake
 
@@ -154,7 +155,7 @@ class AsipDriver(Driver):
         if (cap.RANGE in caps or cap.SIDE_RANGE in caps) and "D" in self.services:
             self.link.send(m.SetAutoEventInterval("D", 100))
         self.stop_all()
-        if cap.LEDS in caps and "P" in self.services:
+        if cap.LEDS in caps and "P" in self.services and self.options.whole_lines:
             # The strip's length decides the leds capability: wait for it (briefly).
             request = m.PixelsInfoRequest(0)
             self.link.send(request)
@@ -197,7 +198,12 @@ class AsipDriver(Driver):
         for name, service in have.items():
             if name not in wanted:
                 continue
-            if name == cap.LEDS and service in self.services and not self.pixel_count:
+            if name == cap.LEDS and service in self.services and not self.options.whole_lines:
+                self.notice(
+                    "the board reads its line a byte at a time (transport: uart), and its "
+                    "firmware drops pixel requests read that way: no leds"
+                )
+            elif name == cap.LEDS and service in self.services and not self.pixel_count:
                 self.notice("the board's pixel strip did not say how long it is: no leds")
             elif service in self.services:
                 result[name] = makers[name]()
@@ -356,8 +362,18 @@ class AsipDriver(Driver):
                     "speeds itself"
                 )
             return
+        if error.errno == m.ErrorCode.INVALID_SERVICE and error.service == ",":
+            # "~,,?,1" after "M,S,0": a board that reads M,S with no value (as documented)
+            # found the ",0" padded for V1.1's parser. It did stop; nothing failed.
+            if not self._padding_noticed:
+                self._padding_noticed = True
+                self.notice(
+                    "the board reads 'M,S' without a value: the ',0' sent for ASIP V1.1 "
+                    "boards came back as '~,,?,1{INVALID_SERVICE}' (harmless)"
+                )
+            return
         if error.errno == m.ErrorCode.INVALID_SERVICE and not error.service.isalpha():
-            # "~,,?,1": the board read what was left of a request as a new one.
+            # "~0,?,1" and the like: the board read what was left of a request as a new one.
             self.device_errors.append(
                 "the board read the end of a request as a new one: a request carried more "
                 "values than the board takes"

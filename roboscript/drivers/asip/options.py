@@ -43,7 +43,9 @@ class AsipOptions:
         pixel_count: Pixels on the sketch's strip 0 (``MAX_PIXELS``); the driver asks the
             board (``P,I,0``), the simulated board answers this.
         lcd_columns: Characters a display row holds (1-20; the firmware keeps at most 20).
-        transport: ``uart`` or ``usb`` (:data:`TRANSPORTS`). On a UART board the firmware
+        transport: ``usb`` (the MIRTO's Teensy 3.1) or ``uart`` (an ATmega328P board such as
+            the MIRTO 328 V2, or a Teensy on its serial pins), see :data:`TRANSPORTS`. On a
+            UART board the firmware
             cannot read pixel requests (``asipPixels.cpp`` reads ``,{`` with two plain
             ``read()`` calls straight after ``parseInt()``, before the ``{`` has arrived),
             so the driver offers no LEDs there.
@@ -52,7 +54,7 @@ class AsipOptions:
     servo_count: int = 1
     pixel_count: int = 9
     lcd_columns: int = LCD_COLUMNS
-    transport: str = "uart"
+    transport: str = "usb"
 
     @property
     def whole_lines(self) -> bool:

@@ -14,14 +14,14 @@ from roboscript.sim.world import load_world
 class Board:
     """A simulated board plus a clock, speaking bytes."""
 
-    def __init__(self, robot: str = "mirto", world: str = "empty", *, usb: bool = False) -> None:
+    def __init__(self, robot: str = "mirto", world: str = "empty", *, uart: bool = False) -> None:
         self.sim: Simulation = make_simulation(robot, world, seed=1)
-        if usb:  # a Teensy-style board: a line written at once arrives at once
+        if uart:  # a 328P board: the firmware sees each byte as it arrives
             profile = get_profile(robot)
-            usb_profile = dataclasses.replace(
-                profile, options={**profile.options, "transport": "usb"}
+            uart_profile = dataclasses.replace(
+                profile, options={**profile.options, "transport": "uart"}
             )
-            self.sim = Simulation(load_world(world), usb_profile, seed=1)
+            self.sim = Simulation(load_world(world), uart_profile, seed=1)
         self.now = 0.0
         self.sim.connect()
 
@@ -152,7 +152,7 @@ def test_board_without_pid_refuses_the_pid_tags() -> None:
     ],
 )
 def test_replies_and_errors_match_the_firmware(request_bytes: bytes, reply: str) -> None:
-    board = Board(usb=True)  # whole lines: a UART board's leftovers are tested below
+    board = Board()
     board.send(b"I,A,0\n")
     board.lines()
     board.send(request_bytes)
@@ -224,7 +224,7 @@ def test_distance_is_reported_in_cm_towards_a_wall() -> None:
 
 
 def test_servo_and_pixel_requests_change_the_boards_state() -> None:
-    board = Board(usb=True)
+    board = Board()
     board.send(b"S,W,0,45\nP,P,0,2,{0:16711680,7:255}\nP,p,0,1,{3:1:2:3}\nP,B,0,200\n")
     state = board.sim.device.state  # type: ignore[attr-defined]
     assert state.servos_deg == [45]
@@ -237,7 +237,7 @@ def test_servo_and_pixel_requests_change_the_boards_state() -> None:
 def test_a_uart_board_drops_a_pixel_request_and_answers_its_tail_as_garbage() -> None:
     # asipPixels.cpp reads ",{" with plain read()s right after parseInt(): on a UART the "{"
     # has not arrived yet, so the request is dropped and the rest parses as new requests
-    board = Board()
+    board = Board(uart=True)
     board.send(b"I,A,0\n")
     board.lines()
     board.send(b"P,P,0,1,{0:255}\n")
@@ -246,7 +246,7 @@ def test_a_uart_board_drops_a_pixel_request_and_answers_its_tail_as_garbage() ->
 
 
 def test_a_usb_board_reads_the_same_pixel_request() -> None:
-    board = Board(usb=True)
+    board = Board()
     board.send(b"I,A,0\n")
     board.lines()
     board.send(b"P,P,0,1,{0:255}\n")

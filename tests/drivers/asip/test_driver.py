@@ -6,6 +6,7 @@ messages a test queues, so every test reads as the conversation a MIRTO board wo
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
@@ -18,7 +19,7 @@ from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
 from roboscript.drivers.asip.driver import AsipDriver
 from roboscript.errors import LinkError, LinkTimeoutError
-from roboscript.profiles import get_profile
+from roboscript.profiles import RobotProfile, get_profile
 
 ALL_SERVICES = (
     ("I", "IO"),
@@ -66,10 +67,10 @@ class ScriptedLink:
 class Board:
     """A driver, its link and a clock, stepped tick by tick as the scheduler would."""
 
-    def __init__(self, robot: str = "mirto") -> None:
+    def __init__(self, robot: str = "mirto", profile: RobotProfile | None = None) -> None:
         self.clock = SimClock()
         self.link = ScriptedLink(self.clock)
-        self.profile = get_profile(robot)
+        self.profile = profile or get_profile(robot)
         self.driver = AsipDriver(self.link, self.profile, self.clock)  # type: ignore[arg-type]
 
     def tick(self, *incoming: object, dt: float = DT) -> list[object]:
@@ -309,11 +310,20 @@ def test_stop_all_sends_both_stops_and_never_raises() -> None:
     board.driver.stop_all()  # a lost link must not hide the real error
 
 
-def test_an_error_with_no_service_letter_says_a_request_was_read_in_two() -> None:
-    # "~,,?,1{INVALID_SERVICE}": the board read the leftover of a request as a new one.
+def test_a_leftover_of_the_padded_stop_is_a_notice_not_a_failed_action() -> None:
+    # "~,,?,1{INVALID_SERVICE}": a board that reads M,S with no value found the ",0"
+    # roboscript pads for V1.1's parser; the motors did stop.
     board = Board()
     board.connect()
     board.tick(m.ErrorReply(",", "?", m.ErrorCode.INVALID_SERVICE, "INVALID_SERVICE"))
+    assert board.driver.take_device_error() is None
+    assert any("'M,S' without a value" in text for text in board.driver.notices)
+
+
+def test_an_error_with_a_digit_for_a_service_says_a_request_was_read_in_two() -> None:
+    board = Board()
+    board.connect()
+    board.tick(m.ErrorReply("0", "?", m.ErrorCode.INVALID_SERVICE, "INVALID_SERVICE"))
     assert board.driver.take_device_error() == (
         "the board read the end of a request as a new one: a request carried more values "
         "than the board takes"
@@ -350,3 +360,12 @@ def test_servo_count_and_lcd_width_come_from_the_profile_options() -> None:
     board.driver.capabilities()[cap.DISPLAY].show_text("y" * 20)  # type: ignore[attr-defined]
     rows = [msg for msg in board.link.take() if isinstance(msg, m.LcdWrite)]
     assert rows == [m.LcdWrite(0, "y" * 16), m.LcdWrite(1, "y" * 4)]
+
+
+def test_a_uart_board_offers_no_leds_and_says_why() -> None:
+    mirto = get_profile("mirto")
+    uart = dataclasses.replace(mirto, options={**mirto.options, "transport": "uart"})
+    board = Board(profile=uart)
+    board.connect()
+    assert cap.LEDS not in board.driver.capabilities()
+    assert any("a byte at a time" in text for text in board.driver.notices)
