@@ -100,6 +100,9 @@ BUILTIN_PROFILES: dict[str, RobotProfile] = {
         firmware_pid=True,
         # The V1.1 mirtle2017 sketch: one servo, nine pixels; the LCD keeps 20 characters.
         options={"servo_count": 1, "pixel_count": 9, "lcd_columns": 20},
+        # A board that resets when the port opens (an Uno-style 328 board) runs the sketch's
+        # start-up for 3.2 s (pixelFun's three 1 s delays, then setup()) before it answers.
+        handshake_timeout_s=5.0,
     ),
     "asip-basic": RobotProfile(
         name="asip-basic",

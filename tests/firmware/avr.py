@@ -21,6 +21,7 @@ import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Self
 
 HERE = Path(__file__).resolve().parent
 SHIMS = HERE / "shims"
@@ -234,7 +235,7 @@ def _run(command: list[str]) -> None:
         )
 
 
-class BoardStopped(RuntimeError):
+class BoardStoppedError(RuntimeError):
     """The emulated AVR stopped running (crashed, or slept with interrupts off)."""
 
 
@@ -284,9 +285,9 @@ class Board:
         stdin.flush()
         answer = stdout.readline().rstrip("\n")
         if answer.startswith("X"):
-            raise BoardStopped(f"the emulated AVR stopped (simavr state {answer[2:]})")
+            raise BoardStoppedError(f"the emulated AVR stopped (simavr state {answer[2:]})")
         if not answer:
-            raise BoardStopped("the emulator ended")
+            raise BoardStoppedError("the emulator ended")
         return answer
 
     def advance_to(self, time_s: float) -> bytes:
@@ -340,7 +341,7 @@ class Board:
                 pass  # the emulator has already gone
             self._process.wait(timeout=10)
 
-    def __enter__(self) -> Board:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, *exc: object) -> None:
