@@ -13,7 +13,7 @@ from roboscript.transport.wirelog import read_wire_log
 
 def test_connect_to_the_default_simulator_and_read_capabilities() -> None:
     with Robot.connect("mirto") as robot:
-        assert robot.describe() == "mirto2017 on ATmega328P (ASIP 1.1)"
+        assert robot.describe() == "Mirtle2017 on ATmega328P (ASIP 1.1)"
         assert {"drive_base", "range", "bumper", "line", "speaker", "display"} <= set(
             robot.capabilities
         )

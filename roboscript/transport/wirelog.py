@@ -3,7 +3,7 @@
 Format (UTF-8 text, one record per line)::
 
     # roboscript wire log v1
-    0.000000 < "!mirto2017 running on ATmega328P with Services: I M B R D T L \\n"
+    0.000000 < "!Mirtle2017 running on ATmega328P with Services: I M B R T S D L P \\n"
     0.020000 > "#,?\\n"
 
 * the scheduler time in seconds with six decimals;

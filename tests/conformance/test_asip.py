@@ -108,15 +108,15 @@ def test_the_pid_does_not_run_while_the_board_waits() -> None:
 
 
 def test_a_byte_arriving_during_the_wait_continues_the_request() -> None:
-    """A wait ends as soon as its byte arrives: ``I,A,2`` then ``0`` then a newline is one
+    """A wait ends as soon as its byte arrives: ``B,A,2`` then ``0`` then a newline is one
     request for a 20 ms interval, not a 2 ms one."""
     board = Board()
-    board.send(b"I,A,2")
+    board.send(b"B,A,2")
     board.run(0.5)
     board.send(b"0\n")
     board.run(0.2)
-    analog = [line for line in board.lines() if line.startswith("@I,a,")]
-    assert 9 <= len(analog) <= 11  # every 20 ms over 200 ms
+    bumps = [line for line in board.lines() if line.startswith("@B,e,")]
+    assert 9 <= len(bumps) <= 11  # every 20 ms over 200 ms
 
 
 # ------------------------------------------------------------------------------------------
@@ -131,7 +131,7 @@ def test_an_unknown_service_is_answered_at_once_and_a_later_request_is_served() 
     board.send(b"X,?,junk")
     assert board.lines() == ["~X,?,1{INVALID_SERVICE}"]
     board.send(b"#,?\n")
-    assert board.lines() == ["@#,?,1,1,ATmega328P,20,mirto2017"]
+    assert board.lines() == ["@#,?,1,1,ATmega328P,20,Mirtle2017"]
 
 
 def test_a_known_service_without_its_comma_is_an_invalid_service() -> None:
@@ -139,7 +139,7 @@ def test_a_known_service_without_its_comma_is_an_invalid_service() -> None:
     looking and reports the letter as an invalid service."""
     board = quiet_board()
     board.send(b"T;P,440,250\n#,?\n")
-    assert board.lines() == ["~T,?,1{INVALID_SERVICE}", "@#,?,1,1,ATmega328P,20,mirto2017"]
+    assert board.lines() == ["~T,?,1{INVALID_SERVICE}", "@#,?,1,1,ATmega328P,20,Mirtle2017"]
 
 
 def test_a_leftover_number_is_answered_as_a_service_named_comma() -> None:
@@ -191,10 +191,11 @@ def test_analog_write_on_a_pwm_pin_of_another_service_is_wrong_mode() -> None:
 
 def test_a_pullup_input_reports_only_ports_with_a_report_mask() -> None:
     """After ``I,P`` with mode 1 or 2, ``sendDigitalPortChanges`` reports every port whose
-    report mask is not zero; on this board only pin 18's port (3, bit 4, pulled up)."""
+    report mask is not zero; here only bump pin 9's port (2, bit 1, pulled up), reported before
+    the pin, which the bump service owns, is refused."""
     board = quiet_board()
-    board.send(b"I,P,18,2\n")
-    assert board.raw() == b"@I,d,3,10\n"
+    board.send(b"I,P,9,2\n")
+    assert board.raw() == b"@I,d,2,2\n~I,P,4{MODE_UNAVAILABLE}\n"
 
 
 # ------------------------------------------------------------------------------------------

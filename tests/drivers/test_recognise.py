@@ -42,7 +42,7 @@ def test_text_or_noise_is_no_protocol(data: bytes) -> None:
 
 
 def test_an_asip_banner_names_the_robot_to_use() -> None:
-    banner = b"!mirto2017 running on ATmega328P\n@I,a,2,{4:578,5:615}\n"
+    banner = b"!Mirtle2017 running on ATmega328P\n@I,a,2,{4:578,5:615}\n"
     assert wrong_robot_hint(banner, "spike") == (
         "this port speaks the ASIP protocol (a MIRTO or another ASIP board): use --robot mirto"
     )
@@ -98,7 +98,7 @@ def test_a_served_spike_hub_that_stays_silent_is_told_what_was_tried(served_spik
     assert done.returncode == 1
     [line] = done.stderr.strip().splitlines()
     assert line.startswith(
-        f"error: mirto did not answer on {url} within 3 s: nothing came back to 48 bytes of "
+        f"error: mirto did not answer on {url} within 5 s: nothing came back to 80 bytes of "
         "the ASIP handshake"
     )
     assert "A SPIKE hub or a StackMod bridge says nothing until asked" in line
