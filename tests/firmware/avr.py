@@ -316,6 +316,28 @@ class Board:
         """Set the voltage on an ADC channel, millivolts."""
         self._ask(f"A {channel} {millivolts}")
 
+    def step(
+        self, time_s: float, encoder_steps: tuple[int, int], address: int, count: int
+    ) -> tuple[bytes, bytes]:
+        """One lockstep step in one round trip: spread each encoder's steps (set up before
+        with :meth:`turn_encoder`) over the span, run to ``time_s``, read ``count`` bytes
+        of data memory at ``address``. Returns (what the board sent, the memory read)."""
+        target = max(self.cycle, round(time_s * self.f_cpu_hz))
+        steps0, steps1 = encoder_steps
+        answer = self._ask(f"S {target} {steps0} {steps1} {address} {count}")
+        self.cycle = target
+        _, sent, memory = answer.split(" ")
+        data = bytes.fromhex(sent)
+        self.received += data
+        return data, bytes.fromhex(memory)
+
+    def turn_encoder(
+        self, encoder: int, port: str, bit_a: int, bit_b: int, steps: int, span_cycles: int
+    ) -> None:
+        """Make ``steps`` quadrature steps (negative: backwards) on two input pins, spread
+        evenly over the next ``span_cycles``, as a turning wheel's encoder would."""
+        self._ask(f"E {encoder} {port} {bit_a} {bit_b} {steps} {span_cycles}")
+
     def peek(self, address: int, count: int = 1) -> bytes:
         """Read the board's data memory (I/O registers start at 0x20)."""
         return bytes.fromhex(self._ask(f"M {address} {count}")[2:])

@@ -11,7 +11,15 @@
  *                      -> "K"
  *   P <port> <bit> <0|1>  drive an input pin (e.g. "P D 3 1")             -> "K"
  *   M <addr> <count>   read data memory (I/O registers, RAM)               -> "M <hex>"
+ *   S <cycle> <steps0> <steps1> <addr> <count>
+ *                      one simulation step in one round trip: queue the encoders' steps
+ *                      (set up before with E) over the span, run to <cycle>, then read
+ *                      memory                                -> "O <hex> <memory hex>"
  *   A <channel> <mV>   set an ADC input voltage                            -> "K"
+ *   E <n> <port> <bitA> <bitB> <steps> <cycles>
+ *                      quadrature encoder n (0 or 1) on two input pins: make <steps> Gray-code
+ *                      steps (negative: backwards) spread evenly over the next <cycles>, as a
+ *                      turning wheel would                                  -> "K"
  *   Q                  end
  *
  * If the AVR stops (crash, sleep with interrupts off) the answer is "X <state>".
@@ -43,6 +51,14 @@ static size_t in_head, in_tail;
 static avr_cycle_count_t cycles_per_byte;
 static int feeding;
 static i2c_eeprom_t eeprom;
+struct encoder {
+    avr_irq_t *a, *b;
+    int gray;           /* 0..3: (A,B) = (0,0) (0,1) (1,1) (1,0) */
+    long pending;       /* steps still to make; the sign is the direction */
+    avr_cycle_count_t period;
+    int running;
+};
+static struct encoder encoders[2];
 static FILE *answers; /* the host's channel; simavr's own messages go to stderr */
 
 static void on_uart_output(struct avr_irq_t *irq, uint32_t value, void *param) {
@@ -57,6 +73,44 @@ static avr_cycle_count_t feed_next(avr_t *board, avr_cycle_count_t when, void *p
     avr_raise_irq(uart_input, in[in_head]);
     in_head = (in_head + 1) % QUEUE_BYTES;
     return when + cycles_per_byte;
+}
+
+static void encoder_set_pins(struct encoder *e) {
+    static const int a[4] = {0, 0, 1, 1}, b[4] = {0, 1, 1, 0};
+    avr_raise_irq(e->a, a[e->gray]);
+    avr_raise_irq(e->b, b[e->gray]);
+}
+
+static avr_cycle_count_t encoder_step(avr_t *board, avr_cycle_count_t when, void *param) {
+    (void)board;
+    struct encoder *e = param;
+    if (e->pending == 0) { e->running = 0; return 0; }
+    if (e->pending > 0) { e->gray = (e->gray + 1) & 3; e->pending--; }
+    else { e->gray = (e->gray + 3) & 3; e->pending++; }
+    encoder_set_pins(e);
+    if (e->pending == 0) { e->running = 0; return 0; }
+    return when + e->period;
+}
+
+static void encoder_queue(struct encoder *e, long steps, avr_cycle_count_t span) {
+    e->pending += steps;
+    long count = e->pending < 0 ? -e->pending : e->pending;
+    if (count == 0) return;
+    e->period = span / (avr_cycle_count_t)count;
+    if (e->period < 64) e->period = 64;  /* room for the pin-change interrupt */
+    if (!e->running) {
+        e->running = 1;
+        avr_cycle_timer_register(avr, e->period, encoder_step, e);
+    }
+}
+
+static int run_to(avr_cycle_count_t target) {
+    int state = avr->state;
+    while (avr->cycle < target) {
+        state = avr_run(avr);
+        if (state == cpu_Done || state == cpu_Crashed) return state;
+    }
+    return -1;
 }
 
 static int hexval(int c) {
@@ -124,19 +178,42 @@ int main(int argc, char **argv) {
     while (fgets(line, sizeof line, stdin)) {
         char kind = line[0];
         if (kind == 'Q') break;
-        if (kind == 'T') {
-            avr_cycle_count_t target = strtoull(line + 2, NULL, 10);
-            int state = avr->state;
-            while (avr->cycle < target) {
-                state = avr_run(avr);
-                if (state == cpu_Done || state == cpu_Crashed) break;
+        if (kind == 'T' || kind == 'S') {
+            unsigned long long target = 0;
+            long steps0 = 0, steps1 = 0;
+            unsigned long address = 0, count = 0;
+            if (kind == 'T') {
+                target = strtoull(line + 2, NULL, 10);
+            } else {
+                sscanf(line + 2, "%llu %ld %ld %lu %lu", &target, &steps0, &steps1, &address, &count);
+                avr_cycle_count_t span = target > avr->cycle ? target - avr->cycle : 1;
+                if (encoders[0].a) encoder_queue(&encoders[0], steps0, span);
+                if (encoders[1].a) encoder_queue(&encoders[1], steps1, span);
             }
-            if (state == cpu_Done || state == cpu_Crashed) {
+            int state = run_to(target);
+            if (state >= 0) {
                 fprintf(answers, "X %d\n", state);
                 fflush(answers);
                 continue;
             }
-            answer_hex('O', out, out_len);
+            if (kind == 'T') {
+                answer_hex('O', out, out_len);
+            } else {
+                static const char digits[] = "0123456789abcdef";
+                if (address + count > avr->ramend + 1UL) count = 0;
+                fputs("O ", answers);
+                for (size_t i = 0; i < out_len; i++) {
+                    fputc(digits[out[i] >> 4], answers);
+                    fputc(digits[out[i] & 15], answers);
+                }
+                fputc(' ', answers);
+                for (unsigned long i = 0; i < count; i++) {
+                    fputc(digits[avr->data[address + i] >> 4], answers);
+                    fputc(digits[avr->data[address + i] & 15], answers);
+                }
+                fputc('\n', answers);
+                fflush(answers);
+            }
             out_len = 0;
         } else if (kind == 'W') {
             for (char *p = line + 2; hexval(p[0]) >= 0 && hexval(p[1]) >= 0; p += 2) {
@@ -162,6 +239,24 @@ int main(int argc, char **argv) {
             int channel = 0, millivolts = 0;
             sscanf(line + 2, "%d %d", &channel, &millivolts);
             avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, channel), millivolts);
+            fputs("K\n", answers);
+            fflush(answers);
+        } else if (kind == 'E') {
+            int n = 0, bit_a = 0, bit_b = 0;
+            char port = 0;
+            long steps = 0;
+            unsigned long long span = 0;
+            sscanf(line + 2, "%d %c %d %d %ld %llu", &n, &port, &bit_a, &bit_b, &steps, &span);
+            struct encoder *e = &encoders[n & 1];
+            avr_irq_t *a = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), bit_a);
+            avr_irq_t *b = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), bit_b);
+            if (e->a != a || e->b != b) {  /* first use: both pins low */
+                e->a = a;
+                e->b = b;
+                e->gray = 0;
+                encoder_set_pins(e);
+            }
+            encoder_queue(e, steps, span);
             fputs("K\n", answers);
             fflush(answers);
         } else if (kind == 'M') {
