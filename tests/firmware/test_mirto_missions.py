@@ -19,6 +19,11 @@ from roboscript.profiles import get_profile
 from roboscript.session import Session, run_session
 
 MISSIONS = Path(__file__).resolve().parents[2] / "missions"
+LOCKSTEP_TIMEOUT = pytest.mark.timeout(900)
+"""A whole mission is hundreds of millions of AVR cycles: about 30 s of emulation on an idle
+core, several times that on a loaded machine. Lockstep makes the result independent of that;
+only the wall-clock allowance has to cover it."""
+
 SHORT_DRIVE = """\
 mission: short drive
 initial: side
@@ -41,6 +46,7 @@ def _run(path: Path, monkeypatch: pytest.MonkeyPatch) -> tuple[Session, bytes]:
         return session, bytes(boards[0].board.received)
 
 
+@LOCKSTEP_TIMEOUT
 def test_square_runs_to_success_on_the_firmware_with_four_sides_and_corners(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
@@ -57,6 +63,7 @@ def test_square_runs_to_success_on_the_firmware_with_four_sides_and_corners(
     assert 1800 <= travelled_mm <= 2200  # four 50 cm sides under the firmware's PID
 
 
+@LOCKSTEP_TIMEOUT
 def test_a_mission_on_the_firmware_is_the_same_run_byte_for_byte_every_time(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
