@@ -36,12 +36,13 @@ _FIRST, _LAST = _PORTB, _OCR0B
 _IN_PINS = ((0, 3), (4, 5))  # PORTB bits of (in1, in2): pins 8, 11 and 12, 13
 _PWM = ((5, _OCR0B, 0x20), (6, _OCR0A, 0x80))  # (PORTD bit, OCR register, TCCR0A COM bit)
 _ENCODERS = ((3, 7), (2, 4))  # PORTD bits of (A, B)
-_FORWARD_IN2 = (False, True)
-"""The in2 level that drives each wheel forward: the sketch's ``wheel[0].begin(
-REVERSED_DIRECTION)`` mounts the left motor mirrored (RobotMotor.cpp:101-103)."""
-_ENCODER_SIGN = (-1, 1)
-"""Raw count direction of a forward-turning wheel: ``encoderPos() = read() *
-motorDirectionMode`` (RobotMotor.cpp:167), so the mirrored left encoder counts down."""
+_FORWARD_IN2 = (True, True)
+"""The in2 level of a wheel turning forward. ASIP's convention is that positive power drives
+the robot forward; the firmware drives ``M,M,50,50`` as in1 low, in2 high on both motors
+(``setMotorPwm`` with the sketch's direction modes), so that is forward for the body too."""
+_ENCODER_SIGN = (1, 1)
+"""Raw count direction of a forward-turning wheel: the firmware reports a forward wheel's
+count going up (``encoderPos() = read() * motorDirectionMode``) when the raw count goes up."""
 
 
 class EmulatedMirto:

@@ -13,7 +13,9 @@ one request at a time, each answered within ``_REPLY_TIMEOUT_S``):
    name is asked for ``describe()``.
 2. ``ProgramFlowRequest(start, agent slot)``. A NACK (empty slot) means: upload.
 3. ``VersionQuery`` over the tunnel every 0.25 s, and only once the hub has said the program
-   started: a TunnelMessage while no program runs crashes the hub (spike-prime-docs issue 8).
+   started *and* the agent has printed its ready line (its tunnel callback is registered):
+   a TunnelMessage while no program is ready for it crashes the hub (spike-prime-docs
+   issue 8).
    The same ``AGENT_VERSION`` as the agent source in this package -> 5. Another version, no
    answer within 3 s (some other program is in the slot), or the program ending -> 4.
 4. Upload: ``ProgramFlowRequest(stop)``, ``ClearSlotRequest`` (a NACK is fine),
@@ -78,6 +80,8 @@ _INFO_RETRY_S = 0.5
 _REPLY_TIMEOUT_S = 2.0
 _VERSION_RETRY_S = 0.25
 _VERSION_TIMEOUT_S = 3.0
+_READY_LINE = " ready, tunnel from "
+"""What the agent prints once its tunnel callback is registered (``hub_agent.main``)."""
 _TANK_REFRESH_S = 0.5
 _MOVE_RESULTS = {
     t.MoveStatus.DONE: "done",
@@ -176,6 +180,7 @@ class SpikeDriver(Driver):
         self.console: deque[str] = deque(maxlen=_CONSOLE_LINES)
         self.move_results: dict[int, t.MoveStatus] = {}
         self._phase: _Phase = "info"
+        self._agent_said_ready = False
         self._now_s = 0.0
         self._pending: PendingRequest[_Request] = PendingRequest(
             timeout_s=_REPLY_TIMEOUT_S, retries=0, matches=_answers, give_up=_no_answer
@@ -255,7 +260,7 @@ class SpikeDriver(Driver):
         self._agent_running = True
         self._phase = "version"
         self._version_deadline_s = self._now_s + _VERSION_TIMEOUT_S
-        self._query_version()
+        self._agent_said_ready = False  # the first query waits for the ready line
 
     def _query_version(self) -> None:
         self._tunnel(t.VersionQuery())
@@ -406,7 +411,7 @@ class SpikeDriver(Driver):
         elif self._phase == "version" and self._pending.in_flight is None:
             if now_s >= self._version_deadline_s:
                 self._upload_or_fail("the program in the slot does not answer")
-            elif now_s >= self._next_probe_s:
+            elif self._agent_said_ready and now_s >= self._next_probe_s:
                 self._query_version()
 
     def flush(self, now_s: float, dt_s: float) -> None:
@@ -474,6 +479,8 @@ class SpikeDriver(Driver):
             for line in message.text.splitlines():
                 self.console.append(line)
                 logger.info("hub says: %s", line)
+                if _READY_LINE in line and self._phase == "version":
+                    self._agent_said_ready = True  # the next tick asks for its version
         elif isinstance(message, m.ProgramFlowNotification):
             if message.action is m.ProgramAction.STOP:
                 self._program_stopped()

@@ -27,15 +27,21 @@ import runloop
 from hub import button, light_matrix, motion_sensor, sound
 
 try:
-    from time import ticks_diff, ticks_ms
+    from time import ticks_add, ticks_diff, ticks_ms
 except ImportError:  # CPython, where roboscript's tests run the agent
     from time import monotonic_ns
 
     def ticks_ms():
         return monotonic_ns() // 1000000
 
+    def ticks_add(ticks, delta):
+        return ticks + delta
+
     def ticks_diff(new, old):
         return new - old
+
+# MicroPython's ticks_ms() wraps (at 2**30 ms on most ports): a deadline is made with
+# ticks_add() and compared with ticks_diff(), never with + and <, which go wrong at the wrap.
 
 
 AGENT_VERSION = "roboscript-agent 2"
@@ -112,9 +118,19 @@ def move_status(result):
     return MOVE_FAILED
 
 
+PLAIN_VALUES = (str, bytes, bytearray, list, tuple, dict)
+
+
 def is_awaitable(value):
-    """True for what the hub API returns when an action finishes later."""
-    return hasattr(value, "__await__") or hasattr(value, "send")
+    """True for what the hub API returns when an action finishes later.
+
+    MicroPython's ``await`` takes any object it can iterate: a coroutine or generator
+    (``send``), an object with ``__await__``, or an iterator (``__next__``/``__iter__``).
+    Plain values (numbers, text, containers) are results, not actions still running.
+    """
+    if isinstance(value, PLAIN_VALUES):
+        return False
+    return any(hasattr(value, name) for name in ("__await__", "send", "__next__", "__iter__"))
 
 
 class Agent:
@@ -171,7 +187,7 @@ class Agent:
                 motor.stop(port, stop=motor.BRAKE)
         due = self.next_report_ms
         if due is not None and ticks_diff(now_ms, due) >= 0:
-            self.next_report_ms = now_ms + self.watch_ms
+            self.next_report_ms = ticks_add(now_ms, self.watch_ms)
             self.report()
 
     def handle(self, op, args, now_ms):
@@ -281,7 +297,7 @@ class Agent:
         self.right_port = right_port
 
     def arm_watchdog(self, now_ms, watchdog_ms):
-        self.watchdog_deadline = None if watchdog_ms == 0 else now_ms + watchdog_ms
+        self.watchdog_deadline = None if watchdog_ms == 0 else ticks_add(now_ms, watchdog_ms)
 
     def stop_motors(self):
         """Brake the drive motors (Stop); the other motors keep what they were told."""
