@@ -84,9 +84,7 @@ class EmulatedMirto:
             return
         steps = [(self.body.ticks[w] - self._ticks[w]) * _ENCODER_SIGN[w] for w in (0, 1)]
         self._ticks = list(self.body.ticks)
-        sent, registers = self.board.step(
-            now_s, (steps[0], steps[1]), _FIRST, _LAST - _FIRST + 1
-        )
+        sent, registers = self.board.step(now_s, (steps[0], steps[1]), _FIRST, _LAST - _FIRST + 1)
         self._out += sent
         self.body.set_power(*motor_power(registers))
 

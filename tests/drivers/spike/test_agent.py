@@ -511,3 +511,72 @@ def test_a_motor_move_reports_move_done_with_its_seq(
     move.finish()
     step(runloop.STARTED[1])
     assert replies(tunnel.SENT) == [t.MoveDone(9, t.MoveStatus.DONE)]
+
+
+# ---------------------------------------------------------------------- MicroPython's ticks
+
+TICKS_PERIOD = 2**30
+"""``time.ticks_ms()`` wraps at 2**30 on MicroPython's ports (``MICROPY_PY_TIME_TICKS_PERIOD``)."""
+
+
+def _micropython_ticks(module: ModuleType, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Give the agent MicroPython's ticks arithmetic (from its documentation): values live in
+    the period, and ``ticks_diff`` is only defined for values ``ticks_ms``/``ticks_add`` made."""
+
+    def ticks_add(ticks: int, delta: int) -> int:
+        assert 0 <= ticks < TICKS_PERIOD, f"not a ticks value: {ticks}"
+        return (ticks + delta) % TICKS_PERIOD
+
+    def ticks_diff(new: int, old: int) -> int:
+        assert 0 <= new < TICKS_PERIOD and 0 <= old < TICKS_PERIOD, (new, old)
+        half = TICKS_PERIOD // 2
+        return (new - old + half) % TICKS_PERIOD - half
+
+    monkeypatch.setattr(module, "ticks_add", ticks_add)
+    monkeypatch.setattr(module, "ticks_diff", ticks_diff)
+
+
+def test_the_watchdog_fires_on_time_across_the_ticks_wrap(
+    agent_module: ModuleType, hub: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    _micropython_ticks(agent_module, monkeypatch)
+    agent, _ = make_agent(agent_module)
+    near_wrap = TICKS_PERIOD - 100
+    command(agent, t.Configure(0, 1), t.Tank(100, 100, 1000, 500), now_ms=near_wrap)
+    agent.poll(TICKS_PERIOD - 1)
+    agent.poll(399)  # wrapped: 499 ms after the command
+    assert "motor_pair.stop" not in hub.names()
+    agent.poll(400)
+    assert hub.names()[-3:] == ["motor_pair.stop", "motor.stop", "motor.stop"]
+
+
+def test_reports_keep_their_interval_across_the_ticks_wrap(
+    agent_module: ModuleType, hub: ModuleType, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    _micropython_ticks(agent_module, monkeypatch)
+    agent, sent = make_agent(agent_module)
+    command(agent, t.Watch(t.NO_PORT, 100), now_ms=TICKS_PERIOD - 150)
+    for now_ms in (TICKS_PERIOD - 50, 49, 50):
+        agent.poll(now_ms)
+    assert len(replies(sent)) == 3  # at -150, -50 and 50: every 100 ms through the wrap
+
+
+class _IteratorOnly:
+    """What MicroPython's ``await`` takes besides coroutines: an object it can iterate."""
+
+    def __iter__(self) -> _IteratorOnly:
+        return self
+
+    def __next__(self) -> None:
+        raise StopIteration
+
+
+def test_what_micropython_can_await_is_awaited_and_plain_results_are_not(
+    agent_module: ModuleType,
+) -> None:
+    import motor
+
+    assert agent_module.is_awaitable(_IteratorOnly())
+    assert agent_module.is_awaitable(x for x in ())
+    for result in (motor.READY, 0, None, "text", b"", [1], (1,), {}):
+        assert not agent_module.is_awaitable(result), result

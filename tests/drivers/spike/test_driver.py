@@ -545,3 +545,12 @@ def test_stop_all_brakes_every_extra_motor_used_and_a_wheel_stop_does_not() -> N
     session.driver.stop_all()
     assert session.sent_records()[-2:] == [t.Stop(), t.MotorStop(int(m.HubPort.F))]
     assert session.hub.extra_motors[int(m.HubPort.F)].speed_deg_s == 0.0
+
+
+def test_the_host_sends_nothing_on_the_tunnel_before_the_agents_ready_line() -> None:
+    # LEGO's tracker reports hubs crashing on a TunnelMessage no program is ready for: the
+    # first VersionQuery waits for the agent to print that its callback is registered.
+    session = Session()
+    assert session.hub.tunnel_lost == 0
+    assert session.hub.tunnel_without_program == 0
+    assert any(" ready, tunnel from " in line for line in session.driver.console)
