@@ -8,6 +8,7 @@ handshake waits for it as it would for a board that resets when its port opens.
 
 from __future__ import annotations
 
+import itertools
 import math
 from pathlib import Path
 
@@ -57,7 +58,7 @@ def test_square_runs_to_success_on_the_firmware_with_four_sides_and_corners(
     assert received.startswith(b"!Mirtle2017 running on ATmega328P")
     assert b"@M,e,2,{" in received  # the driver followed the firmware's own encoder events
     path = session.mission_path()
-    travelled_mm = sum(math.dist(a[1:3], b[1:3]) for a, b in zip(path, path[1:], strict=False))
+    travelled_mm = sum(math.dist(a[1:3], b[1:3]) for a, b in itertools.pairwise(path))
     assert 1800 <= travelled_mm <= 2200  # four 50 cm sides under the firmware's PID
 
 
