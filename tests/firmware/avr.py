@@ -89,6 +89,8 @@ class Recipe:
         forced_includes: Headers included ahead of the sketch only (board facts the sketch
             expects its IDE board package to give).
         file_defines: Extra ``-D`` for named files, each with its reason in the recipe.
+        file_forced_includes: Headers included ahead of named library files.
+        defines: Extra ``-D`` for every file (board facts the IDE's board menu gives).
         generated: Extra headers written into the build (name -> text).
     """
 
@@ -102,6 +104,8 @@ class Recipe:
     include_dirs: tuple[Path, ...]
     forced_includes: tuple[Path, ...] = ()
     file_defines: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    file_forced_includes: dict[str, tuple[Path, ...]] = field(default_factory=dict)
+    defines: tuple[str, ...] = ()
     generated: dict[str, str] = field(default_factory=dict)
 
     def core_sources(self) -> list[Path]:
@@ -119,6 +123,7 @@ class Recipe:
             "-w",
             "-ffunction-sections",
             "-fdata-sections",
+            *(f"-D{define}" for define in self.defines),
         ]
 
     def key(self) -> str:
@@ -128,6 +133,8 @@ class Recipe:
         digest.update(version.stdout)
         digest.update(repr((self, self.common_flags())).encode())
         files = [self.sketch, *self.sources, *self.forced_includes, *self.core_sources()]
+        for headers in self.file_forced_includes.values():
+            files.extend(headers)
         for folder in self.include_dirs:
             files.extend(sorted(p for p in folder.rglob("*") if p.is_file()))
         for path in files:
@@ -186,6 +193,8 @@ def build(recipe: Recipe) -> Path:
             compiler += ["-fno-threadsafe-statics"]
         defines = CORE_FILE_DEFINES.get(source.name, ()) + recipe.file_defines.get(source.name, ())
         extra = [f"-D{d}" for d in defines]
+        for header in recipe.file_forced_includes.get(source.name, ()):
+            extra += ["-include", str(header)]
         command = [*compiler, *recipe.common_flags(), *extra, *include_flags, "-c", str(source)]
         _run([*command, "-o", str(obj)])
         objects.append(obj)
@@ -248,7 +257,8 @@ class Board:
         f_cpu_hz: Clock, hertz.
         uart: Which UART the host's line is wired to (``"0"``, ``"1"``).
         baud: The line's speed, bits per second (the firmware's own ``Serial.begin``).
-        eeprom: ``(i2c_address, bytes)`` of an I2C EEPROM on the TWI bus, or None.
+        eeprom: ``(i2c_addresses, bytes)``: an I2C EEPROM of that size on the TWI bus at each
+            address, or None.
     """
 
     def __init__(
@@ -259,13 +269,13 @@ class Board:
         *,
         uart: str = "0",
         baud: int = 57600,
-        eeprom: tuple[int, int] | None = None,
+        eeprom: tuple[tuple[int, ...], int] | None = None,
     ) -> None:
         self.f_cpu_hz = f_cpu_hz
         self.baud = baud
         args = [str(harness()), str(elf), mcu, str(f_cpu_hz), uart, str(baud)]
         if eeprom is not None:
-            args += [hex(eeprom[0]), str(eeprom[1])]
+            args += [",".join(hex(address) for address in eeprom[0]), str(eeprom[1])]
         self._process = subprocess.Popen(
             args, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1
         )

@@ -71,3 +71,37 @@ def stackmod_328p() -> Recipe:
         sources=(library / "Stackmodio.cpp", SHIMS / "stackmod" / "Wire.cpp"),
         include_dirs=(SHIMS / "stackmod", library),
     )
+
+
+PLEN2_MCU = "atmega32u4"
+PLEN2_F_CPU_HZ = 16_000_000
+PLEN2_BAUD = 2_000_000
+"""``System.h``: ``BLESERIAL_BAUDRATE = 2000000L`` (the firmware's UART, not a developer build)."""
+PLEN2_EEPROM = ((0x50, 0x54), 0x10000)
+"""``ExternalEEPROM.h``: a 24FC1025 (128 KiB, two address bytes) at 0x50; its upper 64 KiB
+answer at 0x54 (the block-select bit), so the emulator attaches two 64 KiB parts."""
+
+
+def plen2_32u4() -> Recipe:
+    """PLEN2 firmware 1.4.2 (``plen-Firmware_Arduino``) on its ATmega32u4, replies on UART1."""
+    root = firmware_root() / "plen-Firmware_Arduino" / "firmware"
+    wire = ARDUINO_AVR / "libraries" / "Wire" / "src"
+    sources = [*sorted(root.glob("*.cpp")), wire / "Wire.cpp", wire / "utility" / "twi.c"]
+    return Recipe(
+        name="plen2-atmega32u4",
+        mcu=PLEN2_MCU,
+        f_cpu_hz=PLEN2_F_CPU_HZ,
+        variant="leonardo",
+        board_define="ARDUINO_AVR_LEONARDO",
+        sketch=root / "firmware.ino",
+        sources=tuple(sources),
+        include_dirs=(root, wire, ARDUINO_AVR / "libraries" / "EEPROM" / "src"),
+        file_forced_includes={"System.cpp": (SHIMS / "plen2" / "replies_on_uart1.h",)},
+        # the Arduino Micro's board entry (PLEN2's controller board is one)
+        defines=(
+            "USB_VID=0x2341",
+            "USB_PID=0x8037",
+            'USB_MANUFACTURER="Unknown"',
+            'USB_PRODUCT="Arduino Micro"',
+        ),
+    )

@@ -24,7 +24,8 @@
  *
  * If the AVR stops (crash, sleep with interrupts off) the answer is "X <state>".
  *
- * Usage: avrboard ELF MCU F_CPU_HZ UART_INDEX BAUD [EEPROM_I2C_ADDRESS EEPROM_BYTES]
+ * Usage: avrboard ELF MCU F_CPU_HZ UART_INDEX BAUD [EEPROM_I2C_ADDRESSES EEPROM_BYTES]
+ * (addresses comma-separated, one I2C EEPROM of EEPROM_BYTES on the TWI bus at each)
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -50,7 +51,7 @@ static unsigned char in[QUEUE_BYTES];
 static size_t in_head, in_tail;
 static avr_cycle_count_t cycles_per_byte;
 static int feeding;
-static i2c_eeprom_t eeprom;
+static i2c_eeprom_t eeproms[4];
 struct encoder {
     avr_irq_t *a, *b;
     int gray;           /* 0..3: (A,B) = (0,0) (0,1) (1,1) (1,0) */
@@ -167,11 +168,15 @@ int main(int argc, char **argv) {
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(uart), UART_IRQ_OUTPUT),
                             on_uart_output, NULL);
 
-    if (argc == 8) {  /* an I2C EEPROM (24LC-class, two address bytes) on the TWI bus */
-        unsigned long address = strtoul(argv[6], NULL, 0);
+    if (argc == 8) {  /* I2C EEPROMs (24LC-class, two address bytes) on the TWI bus */
         size_t size = strtoul(argv[7], NULL, 0);
-        i2c_eeprom_init(avr, &eeprom, (uint8_t)(address << 1), 0x01, NULL, size);
-        i2c_eeprom_attach(avr, &eeprom, AVR_IOCTL_TWI_GETIRQ(0));
+        char *next = argv[6];
+        for (int i = 0; i < 4 && *next; i++) {
+            unsigned long address = strtoul(next, &next, 0);
+            i2c_eeprom_init(avr, &eeproms[i], (uint8_t)(address << 1), 0x01, NULL, size);
+            i2c_eeprom_attach(avr, &eeproms[i], AVR_IOCTL_TWI_GETIRQ(0));
+            if (*next == ',') next++;
+        }
     }
 
     char line[QUEUE_BYTES * 2 + 16];
