@@ -1,8 +1,8 @@
 """Benchmark 10: the real firmware on the emulated AVR: its speed in lockstep and the tier's cost.
 
 * **Emulated speed in lockstep**: the MIRTO firmware (``mirtle2017`` on an ATmega328P at
-  16 MHz) advanced in the simulator's 5 ms physics steps, its encoders turning as its motors
-  drive, one harness round trip per step, as ``tests/firmware/test_mirto_missions.py`` runs
+  16 MHz) advanced one 20 ms mission tick at a time, its encoders turning as its motors
+  drive, one harness round trip per mission tick, as ``tests/firmware/test_mirto_missions.py`` runs
   whole missions. Reported as simulated seconds per wall second, and against the same
   firmware run free (one long advance), which is the emulator's own speed: the ratio is what
   lockstep costs.
@@ -39,8 +39,8 @@ from firmware.recipes import (  # noqa: E402
 
 __all__ = ["measure"]
 
-STEP_S = 0.005
-"""The simulator's physics step (roboscript.sim.simulation.PHYSICS_DT_S)."""
+STEP_S = 0.02
+"""The mission tick (roboscript.robot.DEFAULT_PERIOD_S): one harness round trip each."""
 BOOT_S = 4.0
 
 
@@ -56,7 +56,7 @@ def lockstep_speed(duration_s: float) -> tuple[float, float]:
         end_s = board.time_s
         for _ in range(steps):
             end_s += STEP_S
-            _, registers = board.step(end_s, (8, 8), 0x25, 0x24)
+            _, registers = board.step(end_s, (32, 32), 0x25, 0x24)
             motor_power(registers)
         lockstep = steps * STEP_S / (time.perf_counter() - started)
         started = time.perf_counter()
@@ -106,7 +106,7 @@ def measure(quick: bool = False) -> list[Row]:
             "10",
             "emulated MIRTO firmware in lockstep (simulated s per wall s)",
             lockstep,
-            f"{duration_s:g} s of driving in 5 ms steps, encoders turning; 16 MHz ATmega328P",
+            f"{duration_s:g} s of driving in 20 ms ticks, encoders turning; 16 MHz ATmega328P",
         ),
         info(
             "10",

@@ -2,8 +2,9 @@
 
 :class:`EmulatedMirto` is a :class:`~roboscript.sim.device.SimDevice`: where ``roboscript
 sim`` puts its own model of the board, this puts the emulated ATmega328P running the
-``mirtle2017`` sketch. Every time the simulation steps, the AVR runs exactly the cycles of
-that step (16 000 cycles a millisecond); the firmware's motor pins (direction lines and
+``mirtle2017`` sketch. Every mission tick (20 ms), the AVR runs exactly the cycles of that
+tick (16 000 cycles a millisecond), and bytes from the host reach its UART at the simulated
+time they were written; the firmware's motor pins (direction lines and
 Timer0's PWM) set the simulated body's motor power, and the body's wheels turn the
 firmware's quadrature encoders, one Gray-code step per encoder tick, spread over the step. So
 a whole mission runs against the real firmware and its PID, deterministically, however busy
@@ -20,6 +21,7 @@ from firmware.avr import Board, build
 from firmware.recipes import MIRTLE_BAUD, MIRTLE_F_CPU_HZ, MIRTLE_MCU, mirtle_328p
 
 import roboscript.sim.simulation as simulation_module
+from roboscript.robot import DEFAULT_PERIOD_S
 
 if TYPE_CHECKING:
     import pytest
@@ -66,8 +68,10 @@ class EmulatedMirto:
         self.board.write(data)
 
     def step(self, now_s: float) -> None:
-        """Run the firmware to ``now_s``, turning its encoders as the wheels turned."""
-        self._advance(now_s)
+        """Run the firmware to ``now_s`` once a mission tick has passed (the simulation steps
+        its physics four times a tick), turning its encoders as the wheels turned meanwhile."""
+        if now_s - self.board.time_s >= DEFAULT_PERIOD_S - 1e-9:
+            self._advance(now_s)
 
     def read_output(self) -> bytes:
         """What the firmware sent since the last call."""
