@@ -22,7 +22,9 @@ The rows, numbered as in the README's "Performance" section:
 8. recorded runs: what ``run --record`` costs the simulator, a 60 s recording's size, and the
    replay page's open time in headless Chromium (``bench_replay.py``);
 9. the live view (``run --view``): the p99 lateness it adds to the 100 Hz scheduler while a
-   browser streams the run (``bench_live.py``).
+   browser streams the run (``bench_live.py``);
+10. the robots' real firmware on the emulated AVR: simulated seconds per wall second in
+    lockstep, and the firmware tier's set-up cost (``bench_firmware.py``).
 """
 
 from __future__ import annotations
@@ -76,6 +78,13 @@ def _live_rows(quick: bool) -> list[Row]:
     return bench_live.measure(quick)
 
 
+def _firmware_rows(quick: bool) -> list[Row]:
+    """Row 10, from the firmware benchmark (empty without the AVR toolchain)."""
+    import bench_firmware
+
+    return bench_firmware.measure(quick)
+
+
 def _grading_rows(quick: bool) -> list[Row]:
     """Row 7, from the grading benchmark: a class of 30 missions x 3 one-minute seeds."""
     import bench_grading
@@ -92,6 +101,7 @@ BENCHMARKS: tuple[tuple[str, Callable[[bool], list[Row]]], ...] = (
     ("grading", _grading_rows),
     ("recorded runs", _replay_rows),
     ("live view", _live_rows),
+    ("real firmware", _firmware_rows),
 )
 
 
