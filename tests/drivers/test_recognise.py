@@ -6,6 +6,7 @@ codec. The end-to-end tests connect to the real served simulators on loopback TC
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -97,8 +98,10 @@ def test_a_served_spike_hub_that_stays_silent_is_told_what_was_tried(served_spik
     done = run_cli("run", "missions/square.yaml", "--robot", "mirto", "--port", url)
     assert done.returncode == 1
     [line] = done.stderr.strip().splitlines()
-    assert line.startswith(
-        f"error: mirto did not answer on {url} within 5 s: nothing came back to 80 bytes of "
-        "the ASIP handshake"
+    # how many probes went out in those 5 s depends on the machine's load: not the count
+    assert re.match(
+        rf"error: mirto did not answer on {re.escape(url)} within 5 s: nothing came back to "
+        r"\d+ bytes of the ASIP handshake",
+        line,
     )
     assert "A SPIKE hub or a StackMod bridge says nothing until asked" in line
