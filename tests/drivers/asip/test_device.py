@@ -234,21 +234,22 @@ def test_servo_and_pixel_requests_change_the_boards_state() -> None:
     assert state.pixels == [(0, 0, 0)] * 9
 
 
-def test_a_uart_board_drops_a_pixel_request_and_answers_its_tail_as_garbage() -> None:
-    # asipPixels.cpp reads ",{" with plain read()s right after parseInt(): on a UART the "{"
-    # has not arrived yet, so the request is dropped and the rest parses as new requests
-    board = Board(uart=True)
+@pytest.mark.parametrize(
+    ("uart", "answer", "pixel"),
+    [
+        # asipPixels.cpp reads ",{" with plain read()s right after parseInt(): on a UART the
+        # "{" has not arrived yet, so the request is dropped and its tail parses as garbage
+        (True, ["~{,?,1{INVALID_SERVICE}"], (0, 0, 0)),
+        (False, [], (0, 0, 255)),  # over USB the line is there at once
+    ],
+    ids=["uart-drops-it", "usb-reads-it"],
+)
+def test_a_pixel_request_on_a_uart_and_on_a_usb_board(
+    uart: bool, answer: list[str], pixel: tuple[int, int, int]
+) -> None:
+    board = Board(uart=uart)
     board.send(b"I,A,0\n")
     board.lines()
     board.send(b"P,P,0,1,{0:255}\n")
-    assert board.lines()[0] == "~{,?,1{INVALID_SERVICE}"
-    assert board.sim.device.state.pixels[0] == (0, 0, 0)  # type: ignore[attr-defined]
-
-
-def test_a_usb_board_reads_the_same_pixel_request() -> None:
-    board = Board()
-    board.send(b"I,A,0\n")
-    board.lines()
-    board.send(b"P,P,0,1,{0:255}\n")
-    assert board.lines() == []
-    assert board.sim.device.state.pixels[0] == (0, 0, 255)  # type: ignore[attr-defined]
+    assert board.lines()[: len(answer) or None] == answer
+    assert board.sim.device.state.pixels[0] == pixel  # type: ignore[attr-defined]
