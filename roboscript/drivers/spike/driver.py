@@ -23,7 +23,8 @@ one request at a time, each answered within ``_REPLY_TIMEOUT_S``):
    with the file CRC, then ``TransferChunkRequest`` one at a time with the running CRC (each
    chunk a multiple of 4 bytes but the last, so that the running CRC ends at the file CRC),
    then 2 again. A refused chunk ends connecting with a sentence naming it; if the fresh agent
-   does not answer, connecting fails with a sentence saying so (and what the hub printed).
+   never prints its ready line or does not answer, connecting fails with a sentence saying
+   which (and what the hub printed).
 5. ``Configure`` (the drive motor ports), ``Watch`` (the colour sensor's port: the agent
    reports its reflection and the hub buttons every ``telemetry_ms``) and
    ``DeviceNotificationRequest(telemetry_ms)``; ready at the first DeviceNotification that
@@ -262,6 +263,14 @@ class SpikeDriver(Driver):
         self._version_deadline_s = self._now_s + _VERSION_TIMEOUT_S
         self._agent_said_ready = False  # the first query waits for the ready line
 
+    def _why_silent(self) -> str:
+        """Why the program in the slot is given up on: it never printed the agent's ready line
+        (a program that is not the agent, or an agent that could not bind the tunnel), or it
+        did and then did not answer the VersionQuery."""
+        if self._agent_said_ready:
+            return "the program in the slot does not answer"
+        return f"the program in the slot never said it was ready within {_VERSION_TIMEOUT_S:g} s"
+
     def _query_version(self) -> None:
         self._tunnel(t.VersionQuery())
         self._next_probe_s = self._now_s + _VERSION_RETRY_S
@@ -410,7 +419,7 @@ class SpikeDriver(Driver):
             self._probe_info()
         elif self._phase == "version" and self._pending.in_flight is None:
             if now_s >= self._version_deadline_s:
-                self._upload_or_fail("the program in the slot does not answer")
+                self._upload_or_fail(self._why_silent())
             elif self._agent_said_ready and now_s >= self._next_probe_s:
                 self._query_version()
 

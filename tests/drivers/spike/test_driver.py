@@ -202,7 +202,7 @@ def test_a_hub_refusing_a_chunk_fails_the_connection_in_one_sentence(
     )
 
 
-def test_an_agent_that_never_answers_fails_the_connection_in_one_sentence() -> None:
+def test_an_agent_that_never_says_ready_fails_the_connection_in_one_sentence() -> None:
     def never_boots(hub: SpikeHub) -> None:
         hub.config = replace(hub.config, agent_boot_s=1000.0)
 
@@ -210,7 +210,23 @@ def test_an_agent_that_never_answers_fails_the_connection_in_one_sentence() -> N
         Session(prepare=never_boots)
     assert str(caught.value) == (
         "roboscript's agent did not start on the hub after the upload: the program in the slot"
-        " does not answer; is the hub (firmware 1.0.0) running SPIKE App 3 firmware?"
+        " never said it was ready within 3 s; is the hub (firmware 1.0.0) running SPIKE App 3"
+        " firmware?"
+    )
+
+
+def test_an_agent_that_says_ready_but_never_answers_fails_saying_it_does_not_answer(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    def mute(hub: SpikeHub, data: bytes, now_s: float) -> None:
+        hub.tunnel_lost += 1  # a program that printed the line but reads nothing
+
+    monkeypatch.setattr(SpikeHub, "_tunnel", mute)
+    with pytest.raises(DeviceError) as caught:
+        Session()
+    assert str(caught.value).startswith(
+        "roboscript's agent did not start on the hub after the upload: the program in the slot"
+        " does not answer (the hub printed: roboscript-agent 2 ready, tunnel from "
     )
 
 
@@ -526,9 +542,10 @@ def test_a_hub_without_a_tunnel_fails_naming_the_firmware_and_the_forms_tried() 
         Session(prepare=no_tunnel)
     assert str(caught.value) == (
         "roboscript's agent did not start on the hub after the upload: the program in the slot"
-        " does not answer (the hub printed: roboscript agent: no tunnel on this hub (firmware"
-        " 3.4.0): tried hub.config['module_tunnel'] and import tunnel; update the hub with the"
-        " SPIKE App 3); is the hub (firmware 3.4.0) running SPIKE App 3 firmware?"
+        " never said it was ready within 3 s (the hub printed: roboscript agent: no tunnel on"
+        " this hub (firmware 3.4.0): tried hub.config['module_tunnel'] and import tunnel;"
+        " update the hub with the SPIKE App 3); is the hub (firmware 3.4.0) running SPIKE App 3"
+        " firmware?"
     )
 
 
