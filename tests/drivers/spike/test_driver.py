@@ -571,3 +571,16 @@ def test_the_host_sends_nothing_on_the_tunnel_before_the_agents_ready_line() -> 
     assert session.hub.tunnel_lost == 0
     assert session.hub.tunnel_without_program == 0
     assert any(" ready, tunnel from " in line for line in session.driver.console)
+
+
+def test_the_host_waits_for_a_slow_agent_to_say_ready_and_keeps_it() -> None:
+    # A hub that takes 2.5 s to compile and start the agent: nothing on the tunnel is lost
+    # while it starts, and the agent in the slot is used, not replaced.
+    def slow_agent(hub: SpikeHub) -> None:
+        _install(agent_source())(hub)
+        hub.config = replace(hub.config, agent_boot_s=2.5)
+
+    session = Session(prepare=slow_agent)
+    assert session.hub.tunnel_lost == 0
+    assert not session.driver.uploaded
+    assert session.ready_s > 2.5
