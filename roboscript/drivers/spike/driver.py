@@ -182,6 +182,7 @@ class SpikeDriver(Driver):
         self.move_results: dict[int, t.MoveStatus] = {}
         self._phase: _Phase = "info"
         self._agent_said_ready = False
+        self._console_tail = ""  # the end of the last console text, for a ready line cut in two
         self._now_s = 0.0
         self._pending: PendingRequest[_Request] = PendingRequest(
             timeout_s=_REPLY_TIMEOUT_S, retries=0, matches=_answers, give_up=_no_answer
@@ -262,6 +263,7 @@ class SpikeDriver(Driver):
         self._phase = "version"
         self._version_deadline_s = self._now_s + _VERSION_TIMEOUT_S
         self._agent_said_ready = False  # the first query waits for the ready line
+        self._console_tail = ""
 
     def _why_silent(self) -> str:
         """Why the program in the slot is given up on: it never printed the agent's ready line
@@ -485,11 +487,15 @@ class SpikeDriver(Driver):
             for record in t.decode_records(message.data, Role.HOST):
                 self._handle_record(record)
         elif isinstance(message, m.ConsoleNotification):
+            # The hub may cut what a program prints into several notifications: the ready line
+            # is looked for across the cut.
+            text = self._console_tail + message.text
+            self._console_tail = text[-len(_READY_LINE) :]
+            if _READY_LINE in text and self._phase == "version":
+                self._agent_said_ready = True  # the next tick asks for its version
             for line in message.text.splitlines():
                 self.console.append(line)
                 logger.info("hub says: %s", line)
-                if _READY_LINE in line and self._phase == "version":
-                    self._agent_said_ready = True  # the next tick asks for its version
         elif isinstance(message, m.ProgramFlowNotification):
             if message.action is m.ProgramAction.STOP:
                 self._program_stopped()

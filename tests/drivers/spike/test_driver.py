@@ -584,3 +584,21 @@ def test_the_host_waits_for_a_slow_agent_to_say_ready_and_keeps_it() -> None:
     assert session.hub.tunnel_lost == 0
     assert not session.driver.uploaded
     assert session.ready_s > 2.5
+
+
+def test_a_ready_line_the_hub_prints_in_pieces_is_still_heard() -> None:
+    def print_in_pieces(hub: SpikeHub) -> None:
+        send = hub._send
+
+        def cut(message: m.Message) -> None:
+            if not isinstance(message, m.ConsoleNotification):
+                send(message)
+                return
+            for start in range(0, len(message.text), 7):
+                send(m.ConsoleNotification(message.text[start : start + 7]))
+
+        hub._send = cut  # type: ignore[method-assign]
+
+    session = Session(prepare=print_in_pieces)
+    assert session.ready_s < 3.0  # no waiting for the time limit, no second upload
+    assert session.hub.tunnel_lost == 0
