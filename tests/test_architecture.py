@@ -314,7 +314,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("roboscript.replay",),
     ("roboscript.session",),
     ("roboscript.grading",),
-    ("roboscript.cli", "roboscript.__main__", "roboscript.api"),
+    # the browser app's bridge calls what the command line calls (check, run, graph)
+    ("roboscript.cli", "roboscript.__main__", "roboscript.api", "roboscript.web"),
 )
 """The one-way flow, lowest first: a module imports only from its own layer or below.
 
