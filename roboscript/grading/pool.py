@@ -36,6 +36,7 @@ from multiprocessing.process import BaseProcess
 from typing import Any
 
 from roboscript.grading.record import RunResult, RunStatus
+from roboscript.grading.sandbox import byte_compile_package
 from roboscript.grading.task import RunTask, crash_result
 
 __all__ = ["RunTask", "crash_result", "default_jobs", "run_tasks"]
@@ -85,6 +86,8 @@ def run_tasks(
         One result per task, in the order of ``tasks``.
     """
     jobs = max(1, jobs or default_jobs())
+    # Before any jail starts: a jail cannot compile, so every run would compile from source.
+    byte_compile_package()
     context = _context()
     waiting = list(enumerate(tasks))
     results: dict[int, RunResult] = {}

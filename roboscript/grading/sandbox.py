@@ -194,6 +194,25 @@ def _probe() -> str:
     return (lines[0] if lines else f"exit status {done.returncode}")[:120]
 
 
+@functools.cache
+def byte_compile_package() -> bool:
+    """Write the roboscript package's compiled modules beside it, once per grader process.
+
+    A jail cannot write ``.pyc`` files (and ``PYTHONDONTWRITEBYTECODE`` forbids it anyway), so
+    an install that was never compiled (an editable install, ``pip install --no-compile``)
+    would compile every module from source at the start of every run, on the student's time.
+    Installs from a wheel are compiled by pip already; then this only checks timestamps.
+
+    Returns:
+        True when every module has an up-to-date compiled file (False: the package folder is
+        not writable here and some are missing; runs still work, each compiling what it
+        imports).
+    """
+    import compileall
+
+    return bool(compileall.compile_dir(str(_PACKAGE), quiet=2, workers=1))
+
+
 # ----------------------------------------------------------------------------------- output
 
 

@@ -9,8 +9,10 @@ with the reason, where it is not available (macOS, Windows, a container without 
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
+import re
 import select
 import shutil
 import signal
@@ -27,7 +29,13 @@ import pytest
 
 import roboscript
 from roboscript.grading import sandbox
-from roboscript.grading.sandbox import Isolation, Jail, Limits, detect_isolation
+from roboscript.grading.sandbox import (
+    Isolation,
+    Jail,
+    Limits,
+    byte_compile_package,
+    detect_isolation,
+)
 
 PACKAGE = Path(roboscript.__file__).resolve().parent
 HERE = Path(__file__).resolve().parent
@@ -429,6 +437,23 @@ def test_the_roboscript_package_is_read_only(box: Path) -> None:
     assert out.splitlines() in (["refused 30", "refused 30"], ["refused 13", "refused 30"])
     assert target.read_bytes() == before
     assert not (PACKAGE / "planted.py").exists()
+
+
+def test_a_jail_never_compiles_the_package_it_imports(box: Path) -> None:
+    # A jail cannot write .pyc files: an uncompiled install would be compiled from source at
+    # the start of every run, on the student's time. The grader compiles it first.
+    cached = Path(importlib.util.cache_from_source(str(PACKAGE / "grading" / "mission_host.py")))
+    cached.unlink(missing_ok=True)
+    assert byte_compile_package.__wrapped__()
+    code = "import roboscript.grading.mission_host, roboscript.session, roboscript.mission"
+    with Jail([sys.executable, "-I", "-v", "-c", code], visible=[box], workdir=box) as j:
+        assert j.wait(60) == 0, j.stderr
+        trace = j.stderr
+    package = re.escape(str(PACKAGE))
+    loaded = re.findall(rf"^# \S+\.pyc matches ({package}/\S+\.py)$", trace, re.MULTILINE)
+    compiled = re.findall(rf"^# code object from '?({package}/\S+\.py)'?$", trace, re.MULTILINE)
+    assert str(PACKAGE / "grading" / "mission_host.py") in loaded
+    assert compiled == []
 
 
 @needs_bwrap
