@@ -17,6 +17,7 @@ guarantees is in ``docs/teachers/grading.md`` ("What the sandbox guarantees").
 
 from __future__ import annotations
 
+import array
 import contextlib
 import functools
 import json
@@ -25,14 +26,17 @@ import select
 import shutil
 import signal
 import site
+import socket
+import struct
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from typing_extensions import Self
@@ -40,7 +44,18 @@ if TYPE_CHECKING:
 if sys.platform != "win32":
     import resource
 
-__all__ = ["Isolation", "Jail", "Limits", "check_visible", "detect_isolation"]
+__all__ = [
+    "Isolation",
+    "Jail",
+    "JailedRun",
+    "Limits",
+    "WarmJail",
+    "byte_compile_package",
+    "check_visible",
+    "detect_isolation",
+    "process_cpu_time_s",
+    "warm_jails_supported",
+]
 
 _PACKAGE = Path(__file__).resolve().parent.parent
 # An editable install: the package sits in the git checkout beside the teachers' hidden tests.
@@ -409,6 +424,7 @@ def _bubblewrap_plan(
     env: Mapping[str, str],
     limits: Limits,
     info_fd: int | None,
+    reserve: int = 0,
 ) -> _Plan:
     """The ``bwrap`` command line for one jail (see the module docstring for the layout)."""
     bwrap = shutil.which("bwrap")
@@ -471,7 +487,7 @@ def _bubblewrap_plan(
         args += [bwrap, "--unshare-user", "--disable-userns", "--die-with-parent"]
         args += ["--cap-drop", "ALL", "--bind", "/", "/", "--dev-bind", "/dev", "/dev", "--"]
         # The uid is the jail's alone: its own processes plus the inner bwrap.
-        preexec = _rlimit_setter(limits, limits.processes + 1)
+        preexec = _rlimit_setter(limits, limits.processes + 1 + reserve)
         owner = None
     else:
         preexec = None  # completed by Jail once it has counted the user's processes
@@ -510,141 +526,23 @@ def _tasks_of(uid: int) -> int | None:
     return sum(1 for line in listing.split() if line == str(uid))
 
 
-# ------------------------------------------------------------------------------------- jail
+class _Output:
+    """Standard output and error of a jailed process: pipes read without blocking, capped."""
 
-
-class Jail:
-    """One untrusted process tree, started sandboxed.
-
-    The process starts at once. The caller's loop waits on :meth:`fileno_list` and calls
-    :meth:`drain` (a student who floods its output never blocks and never bloats the caller),
-    then :meth:`poll` or :meth:`wait`, and :meth:`kill` (or leaves the ``with`` block) to end
-    it. Once :meth:`poll` or :meth:`wait` returns a status, every process of the tree is gone.
-
-    Under bubblewrap the jail also dies with the *thread* that created it (Linux's parent-death
-    signal follows the creating thread): create jails from a thread that outlives them.
-
-    Attributes:
-        pid: The process the caller started (under bubblewrap, ``bwrap`` itself).
-        isolation: The isolation in force.
-        limits: The limits in force.
-    """
-
-    def __init__(
-        self,
-        argv: Sequence[str],
-        *,
-        visible: Sequence[Path],
-        workdir: Path,
-        pass_fds: Sequence[int] = (),
-        limits: Limits = Limits(),
-        env: Mapping[str, str] | None = None,
-        isolation: Isolation | None = None,
-    ) -> None:
-        """Start ``argv`` jailed.
-
-        Args:
-            argv: The command; ``argv[0]`` is the interpreter (usually ``sys.executable``).
-            visible: Files and folders the process may read, shown read-only at their own
-                absolute paths. Nothing else of the disk is visible but the system, the
-                interpreter and the roboscript package, read-only. When the grader runs as
-                root, each must be readable by other users (else :class:`PermissionError`).
-            workdir: The process's working folder: a visible folder, or a folder holding
-                visible files (it then shows only those).
-            pass_fds: Descriptors the process inherits (e.g. the socket to the grader).
-            limits: The resource limits.
-            env: Variables added to the jail's small environment (``HOME=/tmp``, ``PATH``,
-                ``LANG=C.UTF-8``, ``PYTHONDONTWRITEBYTECODE=1``); nothing else is inherited.
-            isolation: Defaults to :func:`detect_isolation`.
-
-        Raises:
-            FileNotFoundError: A visible path does not exist.
-            ValueError: ``workdir`` is not visible, or a visible path holds the roboscript
-                checkout.
-            PermissionError: As root, a visible path is not readable by other users.
-        """
-        self.isolation = isolation or detect_isolation()
-        self.limits = limits
+    def __init__(self, limits: Limits) -> None:
         self._out = _Capped(limits.output_bytes)
         self._err = _Capped(limits.output_bytes)
-        self._status: int | None = None
-        self._tree_fd: int | None = None  # pidfd of the jail's PID 1 (bubblewrap)
-        self._exit_fd: int | None = None  # pidfd of our own child
         self._idle: tuple[int, int] | None = None
         self._closed = False
-        jailed = self.isolation.complete
-        shown = _visible_paths(visible)
-        workdir_real = os.path.realpath(workdir)
-        if not any(
-            _is_within(workdir_real, path) or _is_within(path, workdir_real) for path in shown
-        ):
-            raise ValueError(f"the working folder {workdir} is not visible to the jail")
-        if jailed and os.geteuid() == 0:
-            _check_readable_by_others(shown)
-        full_env = {**_BASE_ENV, **(env or {})}
-        out_r, out_w = os.pipe()
-        err_r, err_w = os.pipe()
-        info_r = info_w = -1
-        try:
-            if jailed:
-                info_r, info_w = os.pipe()
-                plan = _bubblewrap_plan(argv, shown, Path(workdir_real), full_env, limits, info_w)
-                fds = (*pass_fds, info_w)
-                child_env: dict[str, str] | None = dict(_BASE_ENV)
-                cwd = "/"
-            else:
-                plan = _Plan(list(argv), None, os.getuid() if hasattr(os, "getuid") else None)
-                fds = tuple(pass_fds)
-                child_env = _host_env(full_env)
-                cwd = workdir_real
-            if plan.nproc_owner is not None and sys.platform != "win32":
-                count = _tasks_of(plan.nproc_owner)
-                # bwrap's monitor and PID 1 run as the user too, outside the student's share.
-                overhead = 2 if jailed else 0
-                nproc = None if count is None else count + overhead + limits.processes
-                plan.preexec = _rlimit_setter(limits, nproc)
-            elif plan.preexec is None:
-                plan.preexec = _rlimit_setter(limits, None)
-            self._proc = subprocess.Popen(
-                plan.argv,
-                stdin=subprocess.DEVNULL,
-                stdout=out_w,
-                stderr=err_w,
-                pass_fds=fds,
-                cwd=cwd,
-                env=child_env,
-                start_new_session=sys.platform != "win32",
-                # Only setrlimit runs in the child (3.11's subprocess has no rlimit option).
-                preexec_fn=plan.preexec,  # noqa: PLW1509
-                creationflags=getattr(subprocess, "CREATE_NEW_PROCESS_GROUP", 0),
-            )
-        except BaseException:
-            for fd in (out_r, err_r, info_r):
-                if fd >= 0:
-                    os.close(fd)
-            raise
-        finally:
-            for fd in (out_w, err_w, info_w):
-                if fd >= 0:
-                    os.close(fd)
-        self.pid = self._proc.pid
+        self._streams: dict[int, _Capped] = {}
+        self._open: list[int] = []
+
+    def _attach(self, out_r: int, err_r: int) -> None:
         self._streams = {out_r: self._out, err_r: self._err}
         self._open = [out_r, err_r]
-        if sys.platform == "win32":
-            self._start_readers()
-            return
-        for fd in self._open:
-            os.set_blocking(fd, False)
-        if sys.platform == "linux":
-            with contextlib.suppress(OSError):
-                self._exit_fd = os.pidfd_open(self.pid)
-        if info_r >= 0:
-            try:
-                self._tree_fd = _jail_init_fd(info_r)
-            finally:
-                os.close(info_r)
-
-    # ------------------------------------------------------------------------------ output
+        if sys.platform != "win32":
+            for fd in self._open:
+                os.set_blocking(fd, False)
 
     def fileno_list(self) -> list[int]:
         """The descriptors of standard output and error, to wait on with select or poll.
@@ -697,6 +595,149 @@ class Jail:
     def stderr(self) -> str:
         """Standard error kept so far, with a ``… (cut: N more bytes)`` line if any was cut."""
         return self._err.text()
+
+    def _close_output(self, also: Sequence[int] = ()) -> None:
+        self._closed = True
+        for fd in [*self._open, *(self._idle or ()), *also]:
+            with contextlib.suppress(OSError):
+                os.close(fd)
+        self._streams.clear()
+        self._open = []
+        self._idle = None
+
+
+# ------------------------------------------------------------------------------------- jail
+
+
+class Jail(_Output):
+    """One untrusted process tree, started sandboxed.
+
+    The process starts at once. The caller's loop waits on :meth:`fileno_list` and calls
+    :meth:`drain` (a student who floods its output never blocks and never bloats the caller),
+    then :meth:`poll` or :meth:`wait`, and :meth:`kill` (or leaves the ``with`` block) to end
+    it. Once :meth:`poll` or :meth:`wait` returns a status, every process of the tree is gone.
+
+    Under bubblewrap the jail also dies with the *thread* that created it (Linux's parent-death
+    signal follows the creating thread): create jails from a thread that outlives them.
+
+    Attributes:
+        pid: The process the caller started (under bubblewrap, ``bwrap`` itself).
+        isolation: The isolation in force.
+        limits: The limits in force.
+    """
+
+    def __init__(
+        self,
+        argv: Sequence[str],
+        *,
+        visible: Sequence[Path],
+        workdir: Path,
+        pass_fds: Sequence[int] = (),
+        limits: Limits = Limits(),
+        env: Mapping[str, str] | None = None,
+        isolation: Isolation | None = None,
+        reserve: int = 0,
+    ) -> None:
+        """Start ``argv`` jailed.
+
+        Args:
+            argv: The command; ``argv[0]`` is the interpreter (usually ``sys.executable``).
+            visible: Files and folders the process may read, shown read-only at their own
+                absolute paths. Nothing else of the disk is visible but the system, the
+                interpreter and the roboscript package, read-only. When the grader runs as
+                root, each must be readable by other users (else :class:`PermissionError`).
+            workdir: The process's working folder: a visible folder, or a folder holding
+                visible files (it then shows only those).
+            pass_fds: Descriptors the process inherits (e.g. the socket to the grader).
+            limits: The resource limits.
+            env: Variables added to the jail's small environment (``HOME=/tmp``, ``PATH``,
+                ``LANG=C.UTF-8``, ``PYTHONDONTWRITEBYTECODE=1``); nothing else is inherited.
+            isolation: Defaults to :func:`detect_isolation`.
+            reserve: Processes ``argv`` itself keeps beside the student's (a fork server),
+                added to the process limit.
+
+        Raises:
+            FileNotFoundError: A visible path does not exist.
+            ValueError: ``workdir`` is not visible, or a visible path holds the roboscript
+                checkout.
+            PermissionError: As root, a visible path is not readable by other users.
+        """
+        super().__init__(limits)
+        self.isolation = isolation or detect_isolation()
+        self.limits = limits
+        self._status: int | None = None
+        self._tree_fd: int | None = None  # pidfd of the jail's PID 1 (bubblewrap)
+        self._exit_fd: int | None = None  # pidfd of our own child
+        jailed = self.isolation.complete
+        shown = _visible_paths(visible)
+        workdir_real = os.path.realpath(workdir)
+        if not any(
+            _is_within(workdir_real, path) or _is_within(path, workdir_real) for path in shown
+        ):
+            raise ValueError(f"the working folder {workdir} is not visible to the jail")
+        if jailed and os.geteuid() == 0:
+            _check_readable_by_others(shown)
+        full_env = {**_BASE_ENV, **(env or {})}
+        out_r, out_w = os.pipe()
+        err_r, err_w = os.pipe()
+        info_r = info_w = -1
+        try:
+            if jailed:
+                info_r, info_w = os.pipe()
+                plan = _bubblewrap_plan(
+                    argv, shown, Path(workdir_real), full_env, limits, info_w, reserve
+                )
+                fds = (*pass_fds, info_w)
+                child_env: dict[str, str] | None = dict(_BASE_ENV)
+                cwd = "/"
+            else:
+                plan = _Plan(list(argv), None, os.getuid() if hasattr(os, "getuid") else None)
+                fds = tuple(pass_fds)
+                child_env = _host_env(full_env)
+                cwd = workdir_real
+            if plan.nproc_owner is not None and sys.platform != "win32":
+                count = _tasks_of(plan.nproc_owner)
+                # bwrap's monitor and PID 1 run as the user too, outside the student's share.
+                overhead = 2 if jailed else 0
+                nproc = None if count is None else count + overhead + limits.processes + reserve
+                plan.preexec = _rlimit_setter(limits, nproc)
+            elif plan.preexec is None:
+                plan.preexec = _rlimit_setter(limits, None)
+            self._proc = subprocess.Popen(
+                plan.argv,
+                stdin=subprocess.DEVNULL,
+                stdout=out_w,
+                stderr=err_w,
+                pass_fds=fds,
+                cwd=cwd,
+                env=child_env,
+                start_new_session=sys.platform != "win32",
+                # Only setrlimit runs in the child (3.11's subprocess has no rlimit option).
+                preexec_fn=plan.preexec,  # noqa: PLW1509
+                creationflags=getattr(subprocess, "CREATE_NEW_PROCESS_GROUP", 0),
+            )
+        except BaseException:
+            for fd in (out_r, err_r, info_r):
+                if fd >= 0:
+                    os.close(fd)
+            raise
+        finally:
+            for fd in (out_w, err_w, info_w):
+                if fd >= 0:
+                    os.close(fd)
+        self.pid = self._proc.pid
+        self._attach(out_r, err_r)
+        if sys.platform == "win32":
+            self._start_readers()
+            return
+        if sys.platform == "linux":
+            with contextlib.suppress(OSError):
+                self._exit_fd = os.pidfd_open(self.pid)
+        if info_r >= 0:
+            try:
+                self._tree_fd = _jail_init_fd(info_r)
+            finally:
+                os.close(info_r)
 
     # -------------------------------------------------------------------------- lifecycle
 
@@ -799,14 +840,7 @@ class Jail:
             self._read(fd, 4 * _READS_PER_DRAIN)
 
     def _close(self) -> None:
-        self._closed = True
-        pidfd = [self._exit_fd] if self._exit_fd is not None else []
-        for fd in [*self._open, *(self._idle or ()), *pidfd]:
-            with contextlib.suppress(OSError):
-                os.close(fd)
-        self._streams.clear()
-        self._open = []
-        self._idle = None
+        self._close_output([self._exit_fd] if self._exit_fd is not None else [])
         self._exit_fd = None
 
     def _start_readers(self) -> None:
@@ -834,6 +868,305 @@ class Jail:
 
     def __exit__(self, *exc_info: object) -> None:
         self.kill()
+
+
+# ------------------------------------------------------------------------------- warm jail
+
+_SERVER_READY_TIMEOUT_S = 120.0
+"""How long a fork server may take to import roboscript (a loaded machine; never a student's
+time: no student code has run yet)."""
+_SERVER_MODULE = "roboscript.grading.jail_server"
+
+
+def warm_jails_supported() -> bool:
+    """True where :class:`WarmJail` works (Linux: it needs ``fork`` and kernel-checked pids)."""
+    return sys.platform == "linux"
+
+
+class WarmJail:
+    """One jail, started once, whose pre-imported interpreter forks a process per run.
+
+    The runs of one student's mission see the same files under the same limits, so they can
+    share one jail: the interpreter starts and imports roboscript once
+    (:mod:`roboscript.grading.jail_server`), and each :meth:`start` costs a ``fork``. Between
+    two runs every process the first left is killed and its scratch files are deleted, so a
+    run never meets another's leftovers. Isolation is that of :class:`Jail`, per jail; hidden
+    and visible runs must not share one (a run could keep what it saw for the next).
+
+    Linux only (:func:`warm_jails_supported`); create it, like a :class:`Jail`, from a thread
+    that outlives it.
+
+    Attributes:
+        exchange: A folder the jail reads, for files given to one run (:meth:`share`).
+        isolation: The isolation in force.
+    """
+
+    def __init__(
+        self,
+        module: str,
+        warm_args: Sequence[str] = (),
+        *,
+        visible: Sequence[Path],
+        workdir: Path,
+        limits: Limits = Limits(),
+        env: Mapping[str, str] | None = None,
+        isolation: Isolation | None = None,
+    ) -> None:
+        """Start the jail and its server.
+
+        Args:
+            module: What each run runs: ``module.main(argv)``, after ``module.warm_up(*
+                warm_args)`` once in the server (imports, so that runs start warm).
+            warm_args: Passed to ``warm_up``.
+            visible: As for :class:`Jail`.
+            workdir: As for :class:`Jail`.
+            limits: As for :class:`Jail`, per run (each run is a process of its own).
+            env: As for :class:`Jail`.
+            isolation: Defaults to :func:`detect_isolation`.
+
+        Raises:
+            As :class:`Jail`.
+        """
+        self.isolation = isolation or detect_isolation()
+        self.limits = limits
+        self._folder = tempfile.mkdtemp(prefix="roboscript-jail-")
+        self.exchange = Path(self._folder) / "shared"
+        self.exchange.mkdir()
+        # Only the jail reads it: the folder above it stays the grader's own (bubblewrap
+        # shows the exchange alone, at its own path).
+        self.exchange.chmod(0o755)
+        self._count = 0
+        self._ready = False
+        self._running: JailedRun | None = None
+        ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+        ours.setsockopt(socket.SOL_SOCKET, socket.SO_PASSCRED, 1)
+        self._control = ours
+        try:
+            self._jail = Jail(
+                [
+                    sys.executable,
+                    "-I",
+                    "-m",
+                    _SERVER_MODULE,
+                    str(theirs.fileno()),
+                    "uid" if self.isolation.complete else "group",
+                    "/tmp" if self.isolation.complete else str(self._scratch()),
+                    module,
+                    *warm_args,
+                ],
+                visible=[*visible, self.exchange],
+                workdir=workdir,
+                pass_fds=(theirs.fileno(),),
+                limits=limits,
+                env=env,
+                isolation=self.isolation,
+                reserve=1,
+            )
+        except BaseException:
+            ours.close()
+            shutil.rmtree(self._folder, ignore_errors=True)
+            raise
+        finally:
+            theirs.close()
+
+    def _scratch(self) -> Path:
+        scratch = Path(self._folder) / "scratch"
+        scratch.mkdir(exist_ok=True)
+        return scratch
+
+    @property
+    def alive(self) -> bool:
+        """False once the server has ended (a run killed it, or :meth:`close`)."""
+        return self._jail.poll() is None
+
+    @property
+    def server_output(self) -> str:
+        """What the server itself wrote (its start-up errors), capped."""
+        self._jail.drain()
+        return self._jail.stderr
+
+    def share(self, name: str, text: str) -> Path:
+        """Write ``text`` to a file of the exchange folder that the jail can read."""
+        path = self.exchange / name
+        path.write_text(text, encoding="utf-8")
+        path.chmod(0o644)
+        return path
+
+    def start(self, argv: Sequence[str], *, pass_fds: Sequence[int] = (), cwd: Path) -> JailedRun:
+        """Fork a run of ``module.main(argv)`` in the jail.
+
+        Args:
+            argv: The run's arguments; the i-th of ``pass_fds`` is its descriptor ``3 + i``.
+            pass_fds: Descriptors the run inherits.
+            cwd: The run's working folder (visible to the jail).
+
+        Returns:
+            The run, with the interface of :class:`Jail`.
+
+        Raises:
+            OSError: The server is gone or did not answer (start a new :class:`WarmJail`).
+        """
+        if self._running is not None and self._running.poll() is None:
+            raise RuntimeError("a WarmJail runs one run at a time")
+        self._wait_ready()
+        out_r, out_w = os.pipe()
+        err_r, err_w = os.pipe()
+        try:
+            request = json.dumps({"argv": list(argv), "cwd": str(cwd)}).encode()
+            fds = array.array("i", [out_w, err_w, *pass_fds])
+            self._control.sendmsg(
+                [request], [(socket.SOL_SOCKET, socket.SCM_RIGHTS, fds.tobytes())]
+            )
+        except BaseException:
+            for fd in (out_r, err_r):
+                os.close(fd)
+            raise
+        finally:
+            os.close(out_w)
+            os.close(err_w)
+        reply, pid = self._receive(_START_TIMEOUT_S)
+        run = JailedRun(self, pid, out_r, err_r)
+        if "status" in reply:  # it ended before it could say it started
+            run._ended(int(reply["status"]))
+        elif pid is None:
+            run.kill()
+            raise OSError("the jail's server sent no process id for its run")
+        self._running = run
+        return run
+
+    def _wait_ready(self) -> None:
+        if self._ready:
+            return
+        reply, _pid = self._receive(_SERVER_READY_TIMEOUT_S)
+        if "ready" not in reply:
+            raise OSError(f"the jail's server did not start: {self.server_output[-500:]}")
+        self._ready = True
+
+    def _receive(self, timeout_s: float) -> tuple[dict[str, Any], int | None]:
+        """The server's next message, and the pid it carries as credentials (if any)."""
+        if not _wait_readable([self._control.fileno()], timeout_s):
+            raise OSError(f"the jail's server did not answer within {timeout_s:g} s")
+        data, ancillary, _flags, _addr = self._control.recvmsg(
+            4096, socket.CMSG_SPACE(struct.calcsize("3i"))
+        )
+        if not data:
+            raise OSError(f"the jail's server ended: {self.server_output[-500:]}")
+        pid = None
+        for level, kind, payload in ancillary:
+            if level == socket.SOL_SOCKET and kind == socket.SCM_CREDENTIALS:
+                pid = struct.unpack("3i", payload[: struct.calcsize("3i")])[0]
+        try:
+            reply = json.loads(data)
+        except ValueError:
+            reply = None
+        if not isinstance(reply, dict):
+            raise OSError("the jail's server broke its protocol")
+        return reply, pid
+
+    def close(self) -> None:
+        """End the server and the jail (and a run still going)."""
+        if self._running is not None:
+            self._running.kill()
+        self._control.close()
+        self._jail.kill()
+        shutil.rmtree(self._folder, ignore_errors=True)
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.close()
+
+
+class JailedRun(_Output):
+    """One run forked by a :class:`WarmJail`; used as a :class:`Jail` is.
+
+    Once :meth:`poll` or :meth:`wait` returns a status, every process of the run is gone.
+
+    Attributes:
+        pid: The run's process, as this process sees it (to measure its CPU time).
+    """
+
+    def __init__(self, server: WarmJail, pid: int | None, out_r: int, err_r: int) -> None:
+        super().__init__(server.limits)
+        self.isolation = server.isolation
+        self.limits = server.limits
+        self.pid = pid
+        self._server = server
+        self._status: int | None = None
+        self._attach(out_r, err_r)
+
+    def _ended(self, status: int) -> None:
+        self._status = status
+        self._finish_output()
+
+    def cpu_time_s(self) -> float | None:
+        """CPU seconds the run's process has used so far (None once it is gone)."""
+        return process_cpu_time_s(self.pid) if self.pid is not None else None
+
+    def poll(self) -> int | None:
+        """The run's exit status once it and everything it started are gone, else None."""
+        if self._status is not None:
+            return self._status
+        if not _wait_readable([self._server._control.fileno()], 0):
+            if self._server.alive:
+                return None
+            self._ended(-signal.SIGKILL)  # its server (and jail) ended under it
+            return self._status
+        try:
+            reply, _pid = self._server._receive(0)
+        except OSError:
+            self._server._jail.kill()
+            self._ended(-signal.SIGKILL)
+            return self._status
+        self._ended(int(reply.get("status", -signal.SIGKILL)))
+        return self._status
+
+    def wait(self, timeout_s: float) -> int | None:
+        """Wait up to ``timeout_s`` seconds for the run to end, draining its output."""
+        deadline = time.monotonic() + max(0.0, timeout_s)
+        while True:
+            status = self.poll()
+            if status is not None:
+                return status
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return None
+            _wait_readable([*self._streams, self._server._control.fileno()], min(left, 1.0))
+            self.drain()
+
+    def kill(self) -> None:
+        """End the run now (and what it started); the jail stays for the next run."""
+        if self._closed:
+            return
+        if self._status is None and self.pid is not None:
+            with contextlib.suppress(OSError):
+                os.kill(self.pid, signal.SIGKILL)
+        if self.wait(_TEARDOWN_TIMEOUT_S) is None:
+            self._server._jail.kill()  # the server is stuck: the whole jail goes
+            self._ended(-signal.SIGKILL)
+        self._close_output()
+
+    def _finish_output(self) -> None:
+        for fd in list(self._streams):
+            self._read(fd, 4 * _READS_PER_DRAIN)
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.kill()
+
+
+def process_cpu_time_s(pid: int) -> float | None:
+    """CPU seconds (user + system) process ``pid`` has used, from ``/proc``; None if gone."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as handle:
+            fields = handle.read().rsplit(b")", 1)[1].split()
+    except (OSError, IndexError):
+        return None
+    ticks = os.sysconf("SC_CLK_TCK")
+    return (int(fields[11]) + int(fields[12])) / ticks
 
 
 def _wait_readable(fds: Sequence[int], timeout_s: float) -> bool:
