@@ -117,7 +117,8 @@ for path in [{spec!r}, {classmate!r}] + glob.glob("/proc/*/cmdline"):
             text = handle.read(4000)
     except OSError:
         continue
-    if b"forward" in text or b"grade" in text:
+    # the spec's name, or the grader's command line ("roboscript grade ...")
+    if b"forward" in text or b"\\x00grade\\x00" in text:
         seen.append(path)
 print("SNOOPED", seen)
 folder = os.path.dirname({classmate!r})

@@ -24,6 +24,7 @@ import textwrap
 import uuid
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -35,6 +36,7 @@ from roboscript.grading.sandbox import (
     Limits,
     byte_compile_package,
     detect_isolation,
+    warm_jails_supported,
 )
 
 PACKAGE = Path(roboscript.__file__).resolve().parent
@@ -707,3 +709,136 @@ def test_a_grader_run_by_an_ordinary_user_gets_the_same_isolation() -> None:
     assert int(pids) <= 3  # bwrap's PID 1 and the student's process: nothing of the grader's
     assert 0 < int(forked) < 6
     assert alive_with(marker) == []
+
+
+# ----------------------------------------------------------------------- warm jails (fork server)
+
+needs_warm = pytest.mark.skipif(not warm_jails_supported(), reason="warm jails are Linux only")
+
+WARM_SPEC = """\
+test: still
+world: empty
+runs:
+  - {seed: 1}
+  - {seed: 2}
+  - {seed: 3}
+max_time: 5 s
+expect:
+  - outcome: success
+"""
+
+# Loaded once per run: what this run finds of the run before it, then leftovers of its own.
+LEFTOVERS = """\
+import os, time
+from roboscript import Mission, Wait, state
+
+me = os.getpid()
+alive = []
+for name in filter(str.isdigit, os.listdir("/proc")):
+    try:
+        with open(f"/proc/{{name}}/stat") as handle:
+            fields = handle.read().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        continue
+    mine = os.stat(f"/proc/{{name}}").st_uid == os.getuid()
+    if int(name) != me and fields[0] not in "ZX" and mine:
+        alive.append(int(name))
+print("FOUND", sorted(os.listdir({scratch!r})), len(alive), os.getppid(), flush=True)
+with open(os.path.join({scratch!r}, "left-behind"), "w") as handle:
+    handle.write("x")
+if os.fork() == 0:
+    os.setsid()
+    if os.fork() == 0:
+        time.sleep(60)
+    os._exit(0)
+{extra}
+
+class Idle(Mission):
+    go = state(Wait(duration_s=0.2), initial=True, on_done="end")
+    end = state(final="success")
+"""
+
+
+def _warm_runs(box: Path, extra: str = "", scratch: str = "/tmp") -> list[Any]:
+    """The three runs of WARM_SPEC in one warm jail, with LEFTOVERS as the mission."""
+    from roboscript.grading.run import grade_run
+    from roboscript.grading.spec import load_test_spec
+    from roboscript.grading.world_host import warm_jail
+
+    spec_file = box.parent / "still.yaml"
+    spec_file.write_text(WARM_SPEC, encoding="utf-8")
+    mission = box / "still.py"
+    mission.write_text(LEFTOVERS.format(scratch=scratch, extra=extra), encoding="utf-8")
+    spec = load_test_spec(spec_file)
+    results = []
+    with warm_jail(spec, str(mission)) as server:
+        for variant in spec.variants:
+            results.append(grade_run(spec, str(mission), variant, server=server))
+    return results
+
+
+def _found(result: Any) -> list[str]:
+    line = next(x for x in result.debug.splitlines() if x.startswith("FOUND"))
+    return line.split(" ", 1)[1].rsplit(" ", 2)
+
+
+@needs_warm
+@needs_bwrap
+def test_a_warm_jails_runs_never_meet_each_others_leftovers(box: Path) -> None:
+    first, second, third = _warm_runs(box)
+    assert [r.status for r in (first, second, third)] == ["passed"] * 3, first.debug
+    files, alive, server = _found(first)
+    # The first run left a file and a daemon: neither is there for the next two.
+    assert _found(second) == _found(third) == [files, alive, server]
+    assert "left-behind" not in files
+
+
+@needs_warm
+@needs_bwrap
+def test_a_run_that_kills_its_warm_jail_ends_alone_and_the_next_gets_a_new_jail(
+    box: Path,
+) -> None:
+    kill_server = "import signal\nos.kill(os.getppid(), signal.SIGKILL)\ntime.sleep(1)\n"
+    from roboscript.grading.run import grade_run
+    from roboscript.grading.spec import load_test_spec
+    from roboscript.grading.world_host import warm_jail
+
+    spec_file = box.parent / "still.yaml"
+    spec_file.write_text(WARM_SPEC, encoding="utf-8")
+    mission = box / "still.py"
+    mission.write_text(LEFTOVERS.format(scratch="/tmp", extra=kill_server), encoding="utf-8")
+    spec = load_test_spec(spec_file)
+    with warm_jail(spec, str(mission)) as server:
+        result = grade_run(spec, str(mission), spec.variants[0], server=server)
+        assert result.status == "crashed"
+        assert not server.alive
+
+
+@needs_warm
+def test_a_warm_run_names_its_own_process_so_its_cpu_time_can_be_read(box: Path) -> None:
+    from roboscript.grading.spec import load_test_spec
+    from roboscript.grading.world_host import warm_jail
+
+    spec_file = box.parent / "still.yaml"
+    spec_file.write_text(WARM_SPEC, encoding="utf-8")
+    mission = box / "still.py"
+    # Loading it burns 0.3 s of CPU: the grader must see that much on the run's own process.
+    spin = "t = time.process_time()\nwhile time.process_time() - t < 0.3:\n    pass\n"
+    mission.write_text(LEFTOVERS.format(scratch="/tmp", extra=spin), encoding="utf-8")
+    spec = load_test_spec(spec_file)
+    ours, theirs = socket.socketpair()
+    with warm_jail(spec, str(mission)) as server:
+        args = ["3", str(mission), "mirto", "5.0", "2.0"]
+        with server.start(args, pass_fds=(theirs.fileno(),), cwd=box) as run_:
+            theirs.close()
+            ours.settimeout(60)
+            assert ours.recv(1)  # it loaded its mission and speaks: the spin is done
+            assert run_.pid is not None and run_.pid != os.getpid()
+            cmdline = Path(f"/proc/{run_.pid}/cmdline").read_bytes()
+            assert b"roboscript.grading.jail_server" in cmdline
+            cpu_s = run_.cpu_time_s()
+            assert cpu_s is not None and cpu_s >= 0.25
+            run_.kill()
+            assert run_.poll() is not None
+            assert run_.cpu_time_s() is None  # gone, with everything it started
+    ours.close()
