@@ -3,7 +3,7 @@
 :class:`roboscript.grading.sandbox.WarmJail` starts it jailed, once for several runs of the
 same student's mission (the same files visible, the same limits), as::
 
-    python -I -m roboscript.grading.jail_server CONTROL_FD SWEEP SCRATCH MODULE [WARM_ARG...]
+    python -I -m roboscript.grading.jail_server CONTROL_FD SWEEP MODULE [WARM_ARG...]
 
 It imports ``MODULE`` and calls its ``warm_up(*WARM_ARG)`` once, so that a run starts in a few
 milliseconds instead of re-importing roboscript. Then, for each request read from the control
@@ -18,7 +18,7 @@ standard output, standard error and passed descriptors attached), it forks a chi
 When the child has ended, whoever ended it, the server ends every other process the run left
 (``SWEEP``: ``uid`` kills every process of the jail's user but the server and its
 ancestors, for jails whose user is the run's alone; ``group`` kills the run's process group,
-for a fallback that shares the grader's user), empties the scratch folder ``SCRATCH``, and
+for a fallback that shares the grader's user), empties its scratch folder (``TMPDIR``), and
 only then tells the grader the run's exit status: a run's leftovers never meet the next run.
 
 The server makes itself undumpable first, so a run (same user, its child) can neither trace
@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import array
 import contextlib
-import fcntl
 import importlib
 import json
 import os
@@ -40,11 +39,12 @@ import struct
 import sys
 from collections.abc import Sequence
 
+from roboscript.grading.sandbox import kill_user_processes, reap_children
+
 __all__ = ["main"]
 
 _MAX_REQUEST = 1 << 16
 _MAX_FDS = 16
-_SWEEP_ROUNDS = 1000
 _FIRST_PASSED_FD = 3
 _HIGH_FD = 64
 """Received descriptors are moved above this before being put in place (no clash)."""
@@ -53,12 +53,13 @@ _HIGH_FD = 64
 def main(argv: Sequence[str] | None = None) -> int:
     """Serve runs until the grader closes the control socket."""
     args = list(sys.argv[1:] if argv is None else argv)
-    control_fd, sweep, scratch, module_name = int(args[0]), args[1], args[2], args[3]
+    control_fd, sweep, module_name = int(args[0]), args[1], args[2]
+    scratch = os.environ.get("TMPDIR", "/tmp")
     control = socket.socket(fileno=control_fd)
     _undumpable()
     module = importlib.import_module(module_name)
     with contextlib.suppress(Exception):  # a run reports its own problems better
-        module.warm_up(*args[4:])
+        module.warm_up(*args[3:])
     control.send(json.dumps({"ready": os.getpid()}).encode())
     while True:
         request = _receive(control)
@@ -104,12 +105,12 @@ def _serve_one(
     for fd in fds:
         os.close(fd)
     _, wait_status = os.waitpid(pid, 0)
-    if sweep == "uid":
-        _sweep_user()
+    if sweep == "uid":  # the jail's user is the run's alone
+        kill_user_processes(os.getuid(), _ancestors())
     else:
         with contextlib.suppress(OSError):
             os.killpg(pid, signal.SIGKILL)
-    _reap()
+    reap_children()
     _empty(scratch)
     return os.waitstatus_to_exitcode(wait_status)
 
@@ -125,6 +126,8 @@ def _child(
         [b'{"started": true}'], [(socket.SOL_SOCKET, socket.SCM_CREDENTIALS, credentials)]
     )
     control.close()  # before the descriptors move: its number may be one of theirs
+    import fcntl  # POSIX only; the grader imports this module on every system
+
     high = [fcntl.fcntl(fd, fcntl.F_DUPFD, _HIGH_FD) for fd in fds]
     out, err, *passed = high
     os.dup2(out, 1)
@@ -164,52 +167,6 @@ def _ancestors() -> set[int]:
         except (OSError, ValueError, IndexError):
             break
     return found
-
-
-def _sweep_user() -> None:
-    """Kill every live process of this user but this one and its ancestors, until none is left.
-
-    The jail's user is the run's alone, so that is exactly what the run left; a fork bomb
-    runs out of processes before the rounds do (its process limit is small).
-    """
-    keep = _ancestors()
-    uid = os.getuid()
-    for _ in range(_SWEEP_ROUNDS):
-        victims = [pid for pid in _live_processes(uid) if pid not in keep]
-        if not victims:
-            return
-        for pid in victims:
-            with contextlib.suppress(OSError):
-                os.kill(pid, signal.SIGKILL)
-        _reap()
-
-
-def _live_processes(uid: int) -> list[int]:
-    found = []
-    for name in os.listdir("/proc"):
-        if not name.isdigit():
-            continue
-        try:
-            with open(f"/proc/{name}/status", "rb") as handle:
-                status = handle.read()
-        except OSError:
-            continue
-        fields = dict(line.split(b":\t", 1) for line in status.splitlines() if b":\t" in line)
-        if fields.get(b"State", b"Z").startswith((b"Z", b"X")):
-            continue  # dead already, waiting to be reaped
-        if int(fields.get(b"Uid", b"-1").split()[0]) == uid:
-            found.append(int(name))
-    return found
-
-
-def _reap() -> None:
-    while True:
-        try:
-            pid, _status = os.waitpid(-1, os.WNOHANG)
-        except ChildProcessError:
-            return
-        if pid == 0:
-            return
 
 
 def _empty(scratch: str) -> None:

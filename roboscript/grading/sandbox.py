@@ -27,13 +27,14 @@ import shutil
 import signal
 import site
 import socket
+import stat
 import struct
 import subprocess
 import sys
 import tempfile
 import threading
 import time
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -53,7 +54,10 @@ __all__ = [
     "byte_compile_package",
     "check_visible",
     "detect_isolation",
+    "kill_user_processes",
+    "private_class",
     "process_cpu_time_s",
+    "reap_children",
     "warm_jails_supported",
 ]
 
@@ -83,6 +87,7 @@ caller's loop."""
 _START_TIMEOUT_S = 10.0
 _TEARDOWN_TIMEOUT_S = 10.0
 _POLL_STEP_S = 0.01
+_SWEEP_ROUNDS = 1000
 _REMEDY_LINUX = "install it (apt install bubblewrap) for full isolation"
 _LIMITS_ONLY = (
     "students' code runs with resource limits only and can read any file this user can read"
@@ -117,12 +122,24 @@ class Limits:
                 raise ValueError(f"Limits.{name} must be a positive whole number, not {value!r}")
 
 
+BUBBLEWRAP = "bubblewrap"
+SEPARATE_USER = "separate user"
+LIMITS_ONLY = "resource limits only"
+PROCESS_ONLY = "separate process only"
+ISOLATION_VARIABLE = "ROBOSCRIPT_ISOLATION"
+"""Forces the isolation (``bubblewrap``, ``user`` or ``limits``) when it is available; for
+tests, and for a teacher who wants to see what a weaker mode does."""
+_FORCED = {"bubblewrap": BUBBLEWRAP, "user": SEPARATE_USER, "limits": LIMITS_ONLY}
+
+
 @dataclass(frozen=True)
 class Isolation:
     """How students' code is isolated on this computer.
 
     Attributes:
-        name: ``"bubblewrap"``, or what the fallback offers (``"resource limits only"``).
+        name: :data:`BUBBLEWRAP` (a full jail), :data:`SEPARATE_USER` (no bubblewrap, but the
+            grader is root: each jail runs as a user of its own), or what the fallback offers
+            (:data:`LIMITS_ONLY`, :data:`PROCESS_ONLY`).
         complete: True only when bubblewrap's full isolation is in force.
         warning: One line to print when not complete (``""`` when complete).
     """
@@ -131,18 +148,53 @@ class Isolation:
     complete: bool
     warning: str
 
+    @property
+    def separate_user(self) -> bool:
+        """True when each jail runs as a user of its own without bubblewrap."""
+        return self.name == SEPARATE_USER
+
+    @property
+    def statement(self) -> str:
+        """One sentence for every report: how the students' runs were isolated."""
+        if self.complete:
+            return (
+                "each run was sandboxed by bubblewrap: it saw only its own files and a"
+                " read-only system, with no network, its own processes only and hard limits"
+            )
+        if self.separate_user:
+            return (
+                "each run ran as a user of its own with hard limits (bubblewrap cannot run"
+                " here): the tests, classmates' files and reports were unreadable to it, but"
+                " it could reach the network and see other processes"
+            )
+        return f"students' runs were not isolated: {self.warning}"
+
 
 _AS_ROOT = (
     "students' code runs as root, with limits it can lift, and can read any file and signal"
     " any process"
 )
+_AS_USER = (
+    "each run is a user of its own with hard limits, and cannot read the tests, classmates'"
+    " files or reports, but can reach the network and see other processes"
+)
 
 
 def _fallback(why: str, offer: str = "", remedy: str = _REMEDY_LINUX) -> Isolation:
+    root = os.name == "posix" and os.geteuid() == 0
+    if not offer and root and sys.platform == "linux" and _forced() != LIMITS_ONLY:
+        problem = _probe_user()
+        if not problem:
+            return Isolation(SEPARATE_USER, False, f"{why}: {_AS_USER}; {remedy}")
+        why += f", and a run as a user of its own cannot start ({problem})"
     if not offer:
-        offer = _AS_ROOT if os.name == "posix" and os.geteuid() == 0 else _LIMITS_ONLY
-    name = "resource limits only" if sys.platform != "win32" else "separate process only"
+        offer = _AS_ROOT if root else _LIMITS_ONLY
+    name = LIMITS_ONLY if sys.platform != "win32" else PROCESS_ONLY
     return Isolation(name, False, f"{why}: {offer}; {remedy}")
+
+
+def _forced() -> str:
+    return _FORCED.get(os.environ.get(ISOLATION_VARIABLE, "").strip().lower(), "")
 
 
 @functools.cache
@@ -150,11 +202,19 @@ def detect_isolation() -> Isolation:
     """The isolation :class:`Jail` gives here, found once per process.
 
     Bubblewrap counts only when ``bwrap`` is on ``PATH`` and a quick probe (the interpreter
-    started jailed, as :class:`Jail` would) succeeds.
+    started jailed, as :class:`Jail` would) succeeds. Without it, a grader running as root on
+    Linux runs each jail as a user of its own (:data:`SEPARATE_USER`). The environment
+    variable :data:`ISOLATION_VARIABLE` can ask for a weaker mode than the best available.
 
     Returns:
         The isolation; when it is not complete its ``warning`` says why and what to do.
     """
+    forced = _forced()
+    if forced in (SEPARATE_USER, LIMITS_ONLY):
+        return _fallback(
+            f"{ISOLATION_VARIABLE} asks for '{forced}'",
+            remedy=f"unset {ISOLATION_VARIABLE} for the best isolation available",
+        )
     if sys.platform == "win32":
         return _fallback(
             "bubblewrap (bwrap) does not exist on Windows",
@@ -183,7 +243,37 @@ def detect_isolation() -> Isolation:
             remedy="allow it to create namespaces (see docs/teachers/grading.md) for full"
             " isolation",
         )
-    return Isolation("bubblewrap", True, "")
+    return Isolation(BUBBLEWRAP, True, "")
+
+
+def _probe_user() -> str:
+    """Start the interpreter as a jail's own user once; what went wrong, or ``""``.
+
+    Without bubblewrap that user must reach the interpreter and roboscript itself: an
+    interpreter under a folder only root may enter (``/root``) cannot start.
+    """
+    user = _jail_uid()
+    try:
+        done = subprocess.run(
+            [sys.executable, "-I", "-c", "import roboscript.grading.jail_server"],
+            stdin=subprocess.DEVNULL,
+            capture_output=True,
+            cwd="/",
+            env=dict(_BASE_ENV),
+            user=user,
+            group=user,
+            extra_groups=[],
+            timeout=_START_TIMEOUT_S * 6,
+            check=False,
+        )
+    except (OSError, subprocess.SubprocessError) as exc:
+        return f"{sys.executable}: {exc.strerror or exc}" if isinstance(exc, OSError) else str(exc)
+    finally:
+        kill_user_processes(user)
+    if done.returncode == 0:
+        return ""
+    lines = done.stderr.decode("utf-8", "replace").strip().splitlines()
+    return (lines[-1] if lines else f"exit status {done.returncode}")[:120]
 
 
 def _probe() -> str:
@@ -378,14 +468,49 @@ def _mount_points(paths: Iterable[str]) -> list[str]:
 
 def _check_readable_by_others(paths: Iterable[str]) -> None:
     """As root the jail runs as a uid with no rights of its own: it reads what others may."""
+    _check_readable_by_jail(paths, None)
+
+
+_JAIL_GID_BASE = 0x7800_0000
+"""A student's files are given group ``base + 4096 * grader pid + n`` in separate-user mode
+(:func:`private_class`): the student's jails run in that group, and read them through it."""
+_GIDS_PER_PROCESS = 4096
+_JAIL_GID_END = _JAIL_GID_BASE + (1 << 28)
+
+
+def _jail_group(paths: Sequence[str]) -> int | None:
+    """The student's group the files were given (:func:`private_class`), if any."""
     for path in paths:
-        mode = os.stat(path).st_mode
-        need = 0o005 if os.path.isdir(path) else 0o004
-        if mode & need != need:
+        gid = os.stat(path).st_gid
+        if _JAIL_GID_BASE <= gid < _JAIL_GID_END:
+            return gid
+    return None
+
+
+def _check_readable_by_jail(paths: Iterable[str], group: int | None, reach: bool = False) -> None:
+    """A jail run as a user of its own reads what others may, or what its student's
+    ``group`` may; with ``reach`` (no bubblewrap to show it the path) it must also be able
+    to pass through every folder above."""
+    for path in paths:
+        info = os.stat(path)
+        need = 0o5 if os.path.isdir(path) else 0o4
+        if info.st_mode & need != need and not (
+            info.st_gid == group and (info.st_mode >> 3) & need == need
+        ):
             raise PermissionError(
-                f"{path} is not readable by other users (mode {mode & 0o777:o}): a jail started"
-                " by root reads only what any user may; chmod o+rX it"
+                f"{path} is not readable by other users (mode {info.st_mode & 0o777:o}): a"
+                " jail started by root reads only what any user may; chmod o+rX it"
             )
+        folder = os.path.dirname(path)
+        while reach and folder != os.path.dirname(folder):
+            mode = os.stat(folder).st_mode
+            if mode & 0o1 == 0 and not (os.stat(folder).st_gid == group and mode & 0o10):
+                raise PermissionError(
+                    f"{folder} cannot be passed through by other users (mode"
+                    f" {mode & 0o777:o}): a run as a user of its own could not reach {path};"
+                    " chmod o+x it"
+                )
+            folder = os.path.dirname(folder)
 
 
 def check_visible(visible: Sequence[Path], isolation: Isolation | None = None) -> None:
@@ -401,8 +526,85 @@ def check_visible(visible: Sequence[Path], isolation: Isolation | None = None) -
         ValueError: A path would show the whole disk or the roboscript checkout.
     """
     shown = _visible_paths(visible)
-    if (isolation or detect_isolation()).complete and os.geteuid() == 0:
+    isolation = isolation or detect_isolation()
+    if isolation.complete and os.geteuid() == 0:
         _check_readable_by_others(shown)
+    elif isolation.separate_user and os.geteuid() == 0:
+        _check_readable_by_jail(shown, _jail_group(shown), reach=True)
+
+
+@contextlib.contextmanager
+def private_class(
+    students: Sequence[Sequence[Path]],
+    teacher: Sequence[Path],
+    isolation: Isolation | None = None,
+) -> Iterator[None]:
+    """While grading in separate-user mode, make the class's files readable only where needed.
+
+    Without bubblewrap a run sees the whole disk as a user of its own, so what it may read is
+    what the file modes say. For the time of the block: each student's files and folders get
+    a group of that student's (readable by the group, not by others), which that student's
+    jails run in; a folder holding students' files can be passed through but not listed; the
+    teacher's files (the tests) are unreadable to others; and files the grader writes
+    (reports, results) are private to it (umask 077). Modes and groups are put back
+    afterwards. In any other mode nothing changes.
+
+    Args:
+        students: Each student's visible files and folders.
+        teacher: The tests' files.
+        isolation: Defaults to :func:`detect_isolation`.
+    """
+    isolation = isolation or detect_isolation()
+    if not (isolation.separate_user and os.geteuid() == 0):
+        yield
+        return
+    saved: dict[str, tuple[int, int]] = {}
+
+    def change(path: str, mode: int, group: int = -1) -> None:
+        info = os.lstat(path)
+        saved.setdefault(path, (stat.S_IMODE(info.st_mode), info.st_gid))
+        os.chown(path, -1, group, follow_symlinks=False)
+        os.chmod(path, mode)
+
+    tops = {os.path.realpath(p) for paths in students for p in paths}
+    umask = os.umask(0o077)
+    try:
+        for index, paths in enumerate(students):
+            group = (
+                _JAIL_GID_BASE
+                + (os.getpid() % (1 << 16)) * _GIDS_PER_PROCESS
+                + index % _GIDS_PER_PROCESS
+            )
+            for top in map(os.path.realpath, paths):
+                for path in _tree(top):
+                    mode = stat.S_IMODE(os.lstat(path).st_mode) & ~0o007
+                    change(path, mode | (0o050 if os.path.isdir(path) else 0o040), group)
+                folder = os.path.dirname(top)
+                if folder not in tops:
+                    mode = saved.get(folder, (stat.S_IMODE(os.stat(folder).st_mode), 0))[0]
+                    change(folder, (mode & ~0o007) | 0o001)
+        for path in map(os.path.realpath, teacher):
+            change(path, stat.S_IMODE(os.stat(path).st_mode) & ~0o007)
+        yield
+    finally:
+        os.umask(umask)
+        for path, (mode, group) in reversed(saved.items()):
+            with contextlib.suppress(OSError):
+                os.chown(path, -1, group, follow_symlinks=False)
+                os.chmod(path, mode)
+
+
+def _tree(top: str) -> Iterator[str]:
+    """``top`` and, for a folder, everything in it (links are neither followed nor changed)."""
+    if os.path.islink(top):
+        return
+    yield top
+    if os.path.isdir(top):
+        for folder, dirs, files in os.walk(top):
+            for name in [*dirs, *files]:
+                path = os.path.join(folder, name)
+                if not os.path.islink(path):
+                    yield path
 
 
 _uid_counter = 0
@@ -678,6 +880,26 @@ class Jail(_Output):
         if jailed and os.geteuid() == 0:
             _check_readable_by_others(shown)
         full_env = {**_BASE_ENV, **(env or {})}
+        self.user: int | None = None  # the jail's own user and group (separate-user mode)
+        self.group: int | None = None
+        self._scratch: str | None = None
+        user_kwargs: dict[str, Any] = {}
+        if not jailed and sys.platform != "win32":
+            # Its own writable folder, never the shared /tmp (a fork server empties it).
+            self._scratch = tempfile.mkdtemp(prefix="roboscript-run-")
+            full_env.update(HOME=self._scratch, TMPDIR=self._scratch)
+            if self.isolation.separate_user and os.geteuid() == 0:
+                self.user = _jail_uid()
+                group = _jail_group(shown) or self.user
+                _check_readable_by_jail(shown, group, reach=True)
+                self.group = group
+                os.chown(self._scratch, self.user, group)
+                user_kwargs = {
+                    "user": self.user,
+                    "group": group,
+                    "extra_groups": [],
+                    "umask": 0o077,
+                }
         out_r, out_w = os.pipe()
         err_r, err_w = os.pipe()
         info_r = info_w = -1
@@ -695,6 +917,9 @@ class Jail(_Output):
                 fds = tuple(pass_fds)
                 child_env = _host_env(full_env)
                 cwd = workdir_real
+            if self.user is not None:  # the user is the jail's alone: an absolute limit
+                plan.nproc_owner = None
+                plan.preexec = _rlimit_setter(limits, limits.processes + reserve)
             if plan.nproc_owner is not None and sys.platform != "win32":
                 count = _tasks_of(plan.nproc_owner)
                 # bwrap's monitor and PID 1 run as the user too, outside the student's share.
@@ -715,11 +940,14 @@ class Jail(_Output):
                 # Only setrlimit runs in the child (3.11's subprocess has no rlimit option).
                 preexec_fn=plan.preexec,  # noqa: PLW1509
                 creationflags=getattr(subprocess, "CREATE_NEW_PROCESS_GROUP", 0),
+                **user_kwargs,
             )
         except BaseException:
             for fd in (out_r, err_r, info_r):
                 if fd >= 0:
                     os.close(fd)
+            if self._scratch is not None:
+                shutil.rmtree(self._scratch, ignore_errors=True)
             raise
         finally:
             for fd in (out_w, err_w, info_w):
@@ -821,6 +1049,8 @@ class Jail(_Output):
             with contextlib.suppress(OSError):
                 signal.pidfd_send_signal(self._tree_fd, signal.SIGKILL)
         code = self._proc.wait()
+        if self.user is not None:  # what it started, wherever it went: the user is its own
+            kill_user_processes(self.user)
         if self.isolation.complete and 128 < code <= 128 + 64:
             code = 128 - code  # bwrap reports a child killed by signal N as 128 + N
         self._status = code
@@ -842,6 +1072,9 @@ class Jail(_Output):
     def _close(self) -> None:
         self._close_output([self._exit_fd] if self._exit_fd is not None else [])
         self._exit_fd = None
+        if self._scratch is not None:
+            shutil.rmtree(self._scratch, ignore_errors=True)
+            self._scratch = None
 
     def _start_readers(self) -> None:
         """Windows has no non-blocking pipes for select: a thread per stream, capped alike."""
@@ -868,6 +1101,55 @@ class Jail(_Output):
 
     def __exit__(self, *exc_info: object) -> None:
         self.kill()
+
+
+def kill_user_processes(uid: int, keep: Collection[int] = ()) -> bool:
+    """Kill every live process of ``uid`` but those in ``keep``, until none is left.
+
+    For a user that is one jail's alone: what it runs is exactly what its runs left. A fork
+    bomb runs out of processes (its limit is small) before this runs out of rounds.
+
+    Returns:
+        True when none is left.
+    """
+    for _ in range(_SWEEP_ROUNDS):
+        victims = [pid for pid in _live_processes(uid) if pid not in keep]
+        if not victims:
+            return True
+        for pid in victims:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
+        reap_children()
+    return False
+
+
+def _live_processes(uid: int) -> list[int]:
+    found = []
+    for name in os.listdir("/proc"):
+        if not name.isdigit():
+            continue
+        try:
+            with open(f"/proc/{name}/status", "rb") as handle:
+                status = handle.read()
+        except OSError:
+            continue
+        fields = dict(line.split(b":\t", 1) for line in status.splitlines() if b":\t" in line)
+        if fields.get(b"State", b"Z").startswith((b"Z", b"X")):
+            continue  # dead already, waiting to be reaped
+        if int(fields.get(b"Uid", b"-1").split()[0]) == uid:
+            found.append(int(name))
+    return found
+
+
+def reap_children() -> None:
+    """Reap this process's ended children, without waiting for any."""
+    while True:
+        try:
+            pid, _status = os.waitpid(-1, os.WNOHANG)
+        except ChildProcessError:
+            return
+        if pid == 0:
+            return
 
 
 # ------------------------------------------------------------------------------- warm jail
@@ -935,6 +1217,8 @@ class WarmJail:
         # Only the jail reads it: the folder above it stays the grader's own (bubblewrap
         # shows the exchange alone, at its own path).
         self.exchange.chmod(0o755)
+        if self.isolation.separate_user and os.geteuid() == 0:
+            os.chmod(self._folder, 0o711)  # passed through by the jail's user, never listed
         self._count = 0
         self._ready = False
         self._running: JailedRun | None = None
@@ -949,8 +1233,7 @@ class WarmJail:
                     "-m",
                     _SERVER_MODULE,
                     str(theirs.fileno()),
-                    "uid" if self.isolation.complete else "group",
-                    "/tmp" if self.isolation.complete else str(self._scratch()),
+                    "group" if self.isolation.name == LIMITS_ONLY else "uid",
                     module,
                     *warm_args,
                 ],
@@ -968,11 +1251,10 @@ class WarmJail:
             raise
         finally:
             theirs.close()
-
-    def _scratch(self) -> Path:
-        scratch = Path(self._folder) / "scratch"
-        scratch.mkdir(exist_ok=True)
-        return scratch
+        self._group = self._jail.group
+        if self._group is not None:  # a user of its own, no bubblewrap: only it may read
+            os.chown(self.exchange, -1, self._group)
+            self.exchange.chmod(0o750)
 
     @property
     def alive(self) -> bool:
@@ -989,7 +1271,11 @@ class WarmJail:
         """Write ``text`` to a file of the exchange folder that the jail can read."""
         path = self.exchange / name
         path.write_text(text, encoding="utf-8")
-        path.chmod(0o644)
+        if self._group is not None:
+            os.chown(path, -1, self._group)
+            path.chmod(0o640)
+        else:
+            path.chmod(0o644)
         return path
 
     def start(self, argv: Sequence[str], *, pass_fds: Sequence[int] = (), cwd: Path) -> JailedRun:

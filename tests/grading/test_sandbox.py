@@ -36,6 +36,7 @@ from roboscript.grading.sandbox import (
     Limits,
     byte_compile_package,
     detect_isolation,
+    private_class,
     warm_jails_supported,
 )
 
@@ -222,6 +223,8 @@ def without_bwrap(monkeypatch: pytest.MonkeyPatch) -> Iterator[Isolation]:
     monkeypatch.setattr(
         shutil, "which", lambda name, *a, **k: None if name == "bwrap" else real_which(name)
     )
+    # As root, the fallback would first try a user of its own per run: tested below.
+    monkeypatch.setattr(sandbox, "_probe_user", lambda: "not tried in this test")
     detect_isolation.cache_clear()
     yield detect_isolation()
     detect_isolation.cache_clear()
@@ -842,3 +845,99 @@ def test_a_warm_run_names_its_own_process_so_its_cpu_time_can_be_read(box: Path)
             assert run_.poll() is not None
             assert run_.cpu_time_s() is None  # gone, with everything it started
     ours.close()
+
+
+# ------------------------------------------------------------- a user of its own (no bubblewrap)
+
+
+def _separate_user() -> Isolation | None:
+    """The separate-user isolation, where this computer can give it (root, an interpreter
+    other users may run), else None."""
+    if sys.platform != "linux" or os.geteuid() != 0 or sandbox._probe_user():
+        return None
+    return Isolation(sandbox.SEPARATE_USER, False, "no bubblewrap in this test")
+
+
+needs_separate_user = pytest.mark.skipif(
+    _separate_user() is None,
+    reason="needs root and an interpreter other users may run (a user of its own per run)",
+)
+
+
+@needs_separate_user
+def test_as_a_user_of_its_own_a_run_reads_only_its_students_files(tmp_path: Path) -> None:
+    for folder in [tmp_path, *tmp_path.parents]:
+        folder.chmod(folder.stat().st_mode | 0o001)
+    tests = tmp_path / "tests"
+    tests.mkdir()
+    spec = tests / "hidden.yaml"
+    spec.write_text("secret", encoding="utf-8")
+    classroom = tmp_path / "class"
+    ada, ben = classroom / "ada", classroom / "ben"
+    for folder in (ada, ben):
+        folder.mkdir(parents=True)
+        (folder / "mission.yaml").write_text(folder.name, encoding="utf-8")
+    before = {p: p.stat().st_mode for p in (spec, classroom, ada, ada / "mission.yaml")}
+    isolation = _separate_user()
+    code = textwrap.dedent(
+        f"""
+        import os, resource
+        def read(path):
+            try:
+                with open(path) as handle:
+                    return handle.read()
+            except OSError as exc:
+                return type(exc).__name__
+        def listing(path):
+            try:
+                return len(os.listdir(path))
+            except OSError as exc:
+                return type(exc).__name__
+        print(os.getuid() != 0, resource.getrlimit(resource.RLIMIT_NPROC))
+        print(read({str(ada / "mission.yaml")!r}), read({str(ben / "mission.yaml")!r}))
+        print(read({str(spec)!r}), listing({str(classroom)!r}), listing({str(ben)!r}))
+        """
+    )
+    with private_class([[ada], [ben]], [spec], isolation):
+        with Jail(
+            [sys.executable, "-I", "-c", code],
+            visible=[ada],
+            workdir=ada,
+            limits=Limits(processes=5),
+            isolation=isolation,
+        ) as j:
+            assert j.wait(60) == 0, j.stderr
+            out = j.stdout.splitlines()
+        written = tmp_path / "grades.csv"
+        written.write_text("x", encoding="utf-8")
+    assert out[0] == "True (5, 5)"
+    assert out[1] == "ada PermissionError"
+    assert out[2] == "PermissionError PermissionError PermissionError"
+    # Afterwards every mode is as it was, and what the grader wrote meanwhile is its own.
+    assert {p: p.stat().st_mode for p in before} == before
+    assert written.stat().st_mode & 0o077 == 0
+
+
+@needs_separate_user
+def test_as_a_user_of_its_own_a_daemon_dies_with_its_jail(box: Path) -> None:
+    for folder in box.parents:
+        folder.chmod(folder.stat().st_mode | 0o001)
+    isolation = _separate_user()
+    code = textwrap.dedent(
+        """
+        import os, time
+        if os.fork() == 0:
+            os.setsid()
+            if os.fork() == 0:
+                time.sleep(300)
+            os._exit(0)
+        print(os.getuid(), flush=True)
+        time.sleep(300)
+        """
+    )
+    with Jail(
+        [sys.executable, "-I", "-c", code], visible=[box], workdir=box, isolation=isolation
+    ) as j:
+        uid = int(read_until(j, "\n").strip())
+        assert j.user == uid
+    assert sandbox._live_processes(uid) == []
