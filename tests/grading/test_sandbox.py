@@ -864,10 +864,19 @@ needs_separate_user = pytest.mark.skipif(
 )
 
 
+@pytest.fixture
+def reachable(tmp_path: Path) -> Iterator[Path]:
+    """A folder every user may pass through to (pytest's own are private to their user, and
+    a run as a user of its own sees the real disk)."""
+    folder = Path(tempfile.mkdtemp(prefix="roboscript-user-test-"))
+    folder.chmod(0o711)
+    yield folder
+    shutil.rmtree(folder, ignore_errors=True)
+
+
 @needs_separate_user
-def test_as_a_user_of_its_own_a_run_reads_only_its_students_files(tmp_path: Path) -> None:
-    for folder in [tmp_path, *tmp_path.parents]:
-        folder.chmod(folder.stat().st_mode | 0o001)
+def test_as_a_user_of_its_own_a_run_reads_only_its_students_files(reachable: Path) -> None:
+    tmp_path = reachable
     tests = tmp_path / "tests"
     tests.mkdir()
     spec = tests / "hidden.yaml"
@@ -919,9 +928,10 @@ def test_as_a_user_of_its_own_a_run_reads_only_its_students_files(tmp_path: Path
 
 
 @needs_separate_user
-def test_as_a_user_of_its_own_a_daemon_dies_with_its_jail(box: Path) -> None:
-    for folder in box.parents:
-        folder.chmod(folder.stat().st_mode | 0o001)
+def test_as_a_user_of_its_own_a_daemon_dies_with_its_jail(reachable: Path) -> None:
+    box = reachable / "student"
+    box.mkdir()
+    box.chmod(0o755)
     isolation = _separate_user()
     code = textwrap.dedent(
         """
@@ -929,15 +939,15 @@ def test_as_a_user_of_its_own_a_daemon_dies_with_its_jail(box: Path) -> None:
         if os.fork() == 0:
             os.setsid()
             if os.fork() == 0:
+                print("daemon up as", os.getuid(), flush=True)
                 time.sleep(300)
             os._exit(0)
-        print(os.getuid(), flush=True)
         time.sleep(300)
         """
     )
     with Jail(
         [sys.executable, "-I", "-c", code], visible=[box], workdir=box, isolation=isolation
     ) as j:
-        uid = int(read_until(j, "\n").strip())
-        assert j.user == uid
+        uid = int(read_until(j, "\n").split()[-1])
+        assert j.user == uid and sandbox._live_processes(uid)
     assert sandbox._live_processes(uid) == []
