@@ -14,6 +14,7 @@ import logging
 from collections.abc import Sequence
 from multiprocessing.connection import Connection
 
+from roboscript.grading.record import RunResult
 from roboscript.grading.run import grade_run
 from roboscript.grading.sandbox import WarmJail, detect_isolation, warm_jails_supported
 from roboscript.grading.task import RunTask, crash_result
@@ -54,15 +55,15 @@ def work(connection: Connection, tasks: Sequence[tuple[int, RunTask]]) -> None:
                     server.close()
                 server = _warm_jail(task)
             try:
-                graded = grade_run(
-                    task.spec,
-                    task.mission,
-                    task.variant,
-                    task.student,
-                    visible=task.visible,
-                    hang_after_s=task.hang_after_s,
-                    server=server,
-                )
+                try:
+                    graded = _grade(task, server)
+                except OSError:
+                    if server is None or server.alive:
+                        raise
+                    # The previous run killed its jail's server as it ended: a new jail.
+                    server.close()
+                    server = _warm_jail(task)
+                    graded = _grade(task, server)
                 # Capped here, so a student's flood never crosses the pipe or reaches --results.
                 result = cap_result(graded).to_dict(replay=True)
             except Exception as exc:  # noqa: BLE001 - a bug of ours: report it for this run only
@@ -72,6 +73,18 @@ def work(connection: Connection, tasks: Sequence[tuple[int, RunTask]]) -> None:
         if server is not None:
             server.close()
         connection.close()
+
+
+def _grade(task: RunTask, server: WarmJail | None) -> RunResult:
+    return grade_run(
+        task.spec,
+        task.mission,
+        task.variant,
+        task.student,
+        visible=task.visible,
+        hang_after_s=task.hang_after_s,
+        server=server,
+    )
 
 
 def _warm_jail(task: RunTask) -> WarmJail | None:
