@@ -703,22 +703,11 @@ def _bubblewrap_plan(
 def _tasks_of(uid: int) -> int | None:
     """How many processes and threads ``uid`` has (what RLIMIT_NPROC counts), or None."""
     if os.path.isdir("/proc/self/task"):
-        total = 0
-        for name in os.listdir("/proc"):
-            if not name.isdigit():
-                continue
-            try:
-                with open(f"/proc/{name}/status", "rb") as handle:
-                    status = handle.read()
-            except OSError:
-                continue  # it ended meanwhile
-            uid_at = status.find(b"\nUid:\t")
-            threads_at = status.find(b"\nThreads:\t")
-            if uid_at < 0 or threads_at < 0:
-                continue
-            if int(status[uid_at + 6 :].split(None, 1)[0]) == uid:
-                total += int(status[threads_at + 10 :].split(None, 1)[0])
-        return total
+        return sum(
+            int(fields.get(b"Threads", b"0"))
+            for _pid, fields in _statuses()
+            if _uid_of(fields) == uid
+        )
     try:  # macOS and the BSDs: processes, which is what their RLIMIT_NPROC counts
         listing = subprocess.run(
             ["ps", "-A", "-o", "uid="], capture_output=True, text=True, timeout=10, check=True
@@ -967,6 +956,14 @@ class Jail(_Output):
             finally:
                 os.close(info_r)
 
+    def cpu_time_s(self) -> float | None:
+        """CPU seconds the started process has used so far, where this process can see it
+        (not under bubblewrap, whose first process is ``bwrap``: use a :class:`WarmJail`,
+        whose runs name their own process)."""
+        if self.isolation.complete or sys.platform != "linux" or self._status is not None:
+            return None
+        return process_cpu_time_s(self.pid)
+
     # -------------------------------------------------------------------------- lifecycle
 
     def poll(self) -> int | None:
@@ -1124,7 +1121,16 @@ def kill_user_processes(uid: int, keep: Collection[int] = ()) -> bool:
 
 
 def _live_processes(uid: int) -> list[int]:
-    found = []
+    """The processes of ``uid`` that have not ended (zombies excluded)."""
+    return [
+        pid
+        for pid, fields in _statuses()
+        if _uid_of(fields) == uid and not fields.get(b"State", b"Z").startswith((b"Z", b"X"))
+    ]
+
+
+def _statuses() -> Iterator[tuple[int, dict[bytes, bytes]]]:
+    """Every process in ``/proc`` with the fields of its ``status`` file (Linux)."""
     for name in os.listdir("/proc"):
         if not name.isdigit():
             continue
@@ -1132,13 +1138,14 @@ def _live_processes(uid: int) -> list[int]:
             with open(f"/proc/{name}/status", "rb") as handle:
                 status = handle.read()
         except OSError:
-            continue
-        fields = dict(line.split(b":\t", 1) for line in status.splitlines() if b":\t" in line)
-        if fields.get(b"State", b"Z").startswith((b"Z", b"X")):
-            continue  # dead already, waiting to be reaped
-        if int(fields.get(b"Uid", b"-1").split()[0]) == uid:
-            found.append(int(name))
-    return found
+            continue  # it ended meanwhile
+        lines = status.splitlines()
+        yield int(name), dict(line.split(b":\t", 1) for line in lines if b":\t" in line)
+
+
+def _uid_of(fields: dict[bytes, bytes]) -> int:
+    """The real user id in a ``status`` file's fields (-1 if missing)."""
+    return int(fields.get(b"Uid", b"-1").split()[0])
 
 
 def reap_children() -> None:
