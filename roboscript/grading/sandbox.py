@@ -1072,6 +1072,8 @@ class Jail(_Output):
         if self._scratch is not None:
             shutil.rmtree(self._scratch, ignore_errors=True)
             self._scratch = None
+        if self.user is not None:
+            _remove_files_of(self.user)
 
     def _start_readers(self) -> None:
         """Windows has no non-blocking pipes for select: a thread per stream, capped alike."""
@@ -1118,6 +1120,28 @@ def kill_user_processes(uid: int, keep: Collection[int] = ()) -> bool:
                 os.kill(pid, signal.SIGKILL)
         reap_children()
     return False
+
+
+_SHARED_SCRATCH = ("/tmp", "/var/tmp", "/dev/shm")
+
+
+def _remove_files_of(uid: int) -> None:
+    """Delete what ``uid`` (a jail's own user) left in the computer's shared scratch folders."""
+    for folder in _SHARED_SCRATCH:
+        try:
+            entries = list(os.scandir(folder))
+        except OSError:
+            continue
+        for entry in entries:
+            try:
+                if entry.stat(follow_symlinks=False).st_uid != uid:
+                    continue
+                if entry.is_dir(follow_symlinks=False):
+                    shutil.rmtree(entry.path, ignore_errors=True)
+                else:
+                    os.unlink(entry.path)
+            except OSError:
+                continue
 
 
 def _live_processes(uid: int) -> list[int]:

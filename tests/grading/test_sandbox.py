@@ -928,7 +928,7 @@ def test_as_a_user_of_its_own_a_run_reads_only_its_students_files(reachable: Pat
 
 
 @needs_separate_user
-def test_as_a_user_of_its_own_a_daemon_dies_with_its_jail(reachable: Path) -> None:
+def test_as_a_user_of_its_own_a_daemon_and_its_tmp_files_die_with_its_jail(reachable: Path) -> None:
     box = reachable / "student"
     box.mkdir()
     box.chmod(0o755)
@@ -936,6 +936,8 @@ def test_as_a_user_of_its_own_a_daemon_dies_with_its_jail(reachable: Path) -> No
     code = textwrap.dedent(
         """
         import os, time
+        with open("/tmp/left-by-" + str(os.getuid()), "w") as handle:
+            handle.write("the computer's /tmp is shared without bubblewrap")
         if os.fork() == 0:
             os.setsid()
             if os.fork() == 0:
@@ -951,3 +953,4 @@ def test_as_a_user_of_its_own_a_daemon_dies_with_its_jail(reachable: Path) -> No
         uid = int(read_until(j, "\n").split()[-1])
         assert j.user == uid and sandbox._live_processes(uid)
     assert sandbox._live_processes(uid) == []
+    assert not Path(f"/tmp/left-by-{uid}").exists()  # nor does what it left in /tmp
