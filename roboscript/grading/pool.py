@@ -170,6 +170,8 @@ def run_tasks(
                     continue
                 if run.batch:  # the worker ended before doing them all: do them again
                     waiting.insert(0, list(run.batch))
+                else:  # done: it closes its jail and ends by itself
+                    run.process.join(_KILL_GRACE_S)
                 _stop(run.process)
                 run.connection.close()
             running = still

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import importlib
 import logging
+import signal
 from collections.abc import Sequence
 from multiprocessing.connection import Connection
 
@@ -47,6 +48,9 @@ def work(connection: Connection, tasks: Sequence[tuple[int, RunTask]]) -> None:
     or all visible).
     """
     logging.disable(logging.WARNING)
+    # Stopped by the parent (its runs are known already): clean up on the way out, so no
+    # jail's folder or world map outlives the worker.
+    signal.signal(signal.SIGTERM, _exit_on_term)
     server: WarmJail | None = None
     try:
         for index, task in tasks:
@@ -73,6 +77,10 @@ def work(connection: Connection, tasks: Sequence[tuple[int, RunTask]]) -> None:
         if server is not None:
             server.close()
         connection.close()
+
+
+def _exit_on_term(signum: int, _frame: object) -> None:
+    raise SystemExit(128 + signum)
 
 
 def _grade(task: RunTask, server: WarmJail | None) -> RunResult:
