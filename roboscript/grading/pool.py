@@ -142,6 +142,8 @@ def run_tasks(
                     probing.add(key)
                 waiting.remove(batch)
                 running.append(_start(context, batch))
+            if not running:
+                continue  # a batch was put back: start it
             now = time.monotonic()
             timeout = max(0.0, min(r.deadline for r in running) - now)
             ready = set(
@@ -169,6 +171,7 @@ def run_tasks(
                     still.append(run)
                     continue
                 if run.batch:  # the worker ended before doing them all: do them again
+                    probing.discard(run.batch[0][1].load_key)  # its first run included
                     waiting.insert(0, list(run.batch))
                 else:  # done: it closes its jail and ends by itself
                     run.process.join(_KILL_GRACE_S)
