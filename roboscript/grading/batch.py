@@ -20,6 +20,7 @@ from pathlib import Path
 from roboscript.errors import InputError
 from roboscript.grading.pool import RunTask, run_tasks
 from roboscript.grading.record import RunResult, Verdict
+from roboscript.grading.sandbox import detect_isolation, private_class
 from roboscript.grading.spec import TestSpec, Variant, is_test_spec, load_test_spec
 from roboscript.grading.submissions import Submission, find_submissions, visible_files
 from roboscript.grading.text import cap_result, public_reason, student_text
@@ -191,12 +192,15 @@ class ClassReport:
         submissions: The students.
         results: Every run, by test, then student, then variant.
         worlds: The worlds the runs used, by the name or path the variants give.
+        isolation: How the runs were isolated, one sentence
+            (:attr:`~roboscript.grading.sandbox.Isolation.statement`), for every report.
     """
 
     specs: list[TestSpec]
     submissions: list[Submission]
     results: list[RunResult]
     worlds: dict[str, World] = field(default_factory=dict)
+    isolation: str = ""
 
     @property
     def passed(self) -> bool:
@@ -318,7 +322,6 @@ def grade_class(
                 tasks.append(
                     RunTask(spec, mission, variant, submission.student, visible, hang_after_s)
                 )
-    tasks, slots = _check_setup(tasks, slots)
     roots = {s.student: s.root for s in submissions}
 
     def arrived(result: RunResult) -> RunResult:
@@ -330,13 +333,21 @@ def grade_class(
         if on_result is not None:
             on_result(arrived(result))
 
-    for slot in slots:  # known before any run starts: reported first
-        if isinstance(slot, RunResult):
-            report(slot)
-    done = run_tasks(tasks, jobs, report)
+    # Without bubblewrap, a run reads what file modes allow: only its own student's files.
+    readable: dict[str, set[Path]] = {}
+    for task in tasks:
+        readable.setdefault(task.student, set()).update(task.visible or (Path(task.mission),))
+    with private_class([sorted(p) for p in readable.values()], [Path(s.path) for s in specs]):
+        tasks, slots = _check_setup(tasks, slots)
+        for slot in slots:  # known before any run starts: reported first
+            if isinstance(slot, RunResult):
+                report(slot)
+        done = run_tasks(tasks, jobs, report)
     results = [arrived(slot if isinstance(slot, RunResult) else done[slot]) for slot in slots]
     # Records come back through a pipe without their worlds; reports find them in `worlds`.
-    return ClassReport(list(specs), list(submissions), results, worlds)
+    return ClassReport(
+        list(specs), list(submissions), results, worlds, detect_isolation().statement
+    )
 
 
 def _check_setup(

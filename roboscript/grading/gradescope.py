@@ -162,6 +162,8 @@ def gradescope_results(report: ClassReport) -> dict[str, Any]:
         )
     total = round(sum(t["score"] for t in tests), 4)
     summary.append(f"Total: {format_points(total)}/{format_points(report.max_points)} points.")
+    if report.isolation:
+        summary.append(f"Isolation: {report.isolation}.")
     if any(report.is_hidden(r) for r in report.results):
         summary.append("Hidden runs show their result once grades are published.")
     return _results(total, "\n".join(summary), tests, sum(r.wall_time_s for r in report.results))

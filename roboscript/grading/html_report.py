@@ -244,7 +244,13 @@ def _class_page(
         (
             f'<p class="muted">{len(report.submissions)} students, {len(report.specs)} test'
             f"{'s' if len(report.specs) != 1 else ''}, {runs} runs: <strong>{passed} passed,"
-            f" {runs - passed} failed</strong>.</p></header>"
+            f" {runs - passed} failed</strong>.</p>"
+            + (
+                f'<p class="muted">Isolation: {escape(report.isolation)}.</p>'
+                if report.isolation
+                else ""
+            )
+            + "</header>"
         ),
         "<main>",
         "<h2>Results</h2>",

@@ -37,6 +37,7 @@ def report_dict(report: ClassReport) -> dict[str, Any]:
         )
     return {
         "roboscript": __version__,
+        "isolation": report.isolation,
         "passed": report.passed,
         "specs": [spec.to_dict() for spec in report.specs],
         "students": [

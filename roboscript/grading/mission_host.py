@@ -32,7 +32,7 @@ from pathlib import Path
 
 from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError
 
-__all__ = ["main"]
+__all__ = ["main", "warm_up"]
 
 _REASON_CHARS = 500
 
@@ -58,6 +58,22 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 3
     finally:
         faulthandler.cancel_dump_traceback_later()
+
+
+def warm_up(robot: str = "") -> None:
+    """Import what a run needs, once, in a fork server whose runs are forked from it.
+
+    Args:
+        robot: The robot the runs connect to (its driver is imported too), or ``""``.
+    """
+    import roboscript.mission
+    import roboscript.session  # noqa: F401 - imported to be inherited by every run
+
+    if robot:
+        from roboscript.drivers import driver_class
+        from roboscript.profiles import get_profile
+
+        driver_class(get_profile(robot).protocol)
 
 
 class _StuckWatch:

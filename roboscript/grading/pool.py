@@ -26,6 +26,7 @@ script's module (not as ``__main__``) before they start.
 
 from __future__ import annotations
 
+import math
 import multiprocessing
 import os
 import time
@@ -36,6 +37,7 @@ from multiprocessing.process import BaseProcess
 from typing import Any
 
 from roboscript.grading.record import RunResult, RunStatus
+from roboscript.grading.sandbox import byte_compile_package
 from roboscript.grading.task import RunTask, crash_result
 
 __all__ = ["RunTask", "crash_result", "default_jobs", "run_tasks"]
@@ -61,12 +63,31 @@ def _context() -> Any:
 
 @dataclass
 class _Running:
-    task: RunTask
-    index: int
+    batch: list[tuple[int, RunTask]]
+    """The runs the worker has not reported yet, in the order it does them."""
     process: BaseProcess
     connection: Connection
     started: float
     deadline: float
+
+
+def _jail_key(task: RunTask) -> tuple[object, ...]:
+    """Runs with the same key may share a jail: the same mission, files and robot, and all
+    hidden or all visible (a run could keep what it saw for the next in its jail)."""
+    return task.mission, task.visible, task.spec.robot, task.variant.hidden
+
+
+def _batches(tasks: Sequence[RunTask], jobs: int) -> list[list[tuple[int, RunTask]]]:
+    """The runs, in batches that share a jail; no batch so long that a worker idles."""
+    groups: dict[tuple[object, ...], list[tuple[int, RunTask]]] = {}
+    for index, task in enumerate(tasks):
+        groups.setdefault(_jail_key(task), []).append((index, task))
+    longest = max(1, math.ceil(len(tasks) / jobs))
+    return [
+        group[start : start + longest]
+        for group in groups.values()
+        for start in range(0, len(group), longest)
+    ]
 
 
 def run_tasks(
@@ -74,7 +95,10 @@ def run_tasks(
     jobs: int | None = None,
     on_result: Callable[[RunResult], None] | None = None,
 ) -> list[RunResult]:
-    """Do every task in its own worker process, ``jobs`` at a time.
+    """Do every task in a worker process, ``jobs`` workers at a time.
+
+    A worker does the runs of one student's mission that may share a jail (see
+    :func:`roboscript.grading.worker.work`), one after the other.
 
     Args:
         tasks: The runs.
@@ -85,8 +109,10 @@ def run_tasks(
         One result per task, in the order of ``tasks``.
     """
     jobs = max(1, jobs or default_jobs())
+    # Before any jail starts: a jail cannot compile, so every run would compile from source.
+    byte_compile_package()
     context = _context()
-    waiting = list(enumerate(tasks))
+    waiting = _batches(tasks, jobs)
     results: dict[int, RunResult] = {}
     running: list[_Running] = []
     probing: set[tuple[str, str]] = set()  # keys whose first run is under way
@@ -97,19 +123,27 @@ def run_tasks(
         if on_result is not None:
             on_result(result)
 
+    def same_for_all(key: tuple[str, str], first: RunResult) -> None:
+        """The mission ended while loading: every other run of it ends the same way."""
+        for batch in [b for b in waiting if b[0][1].load_key == key]:
+            waiting.remove(batch)
+            for index, task in batch:
+                deliver(index, _same_as(first, task))
+
     try:
         while waiting or running:
-            for entry in list(waiting):
+            for batch in list(waiting):
                 if len(running) >= jobs:
                     break
-                index, task = entry
-                key = task.load_key
+                key = batch[0][1].load_key
                 if key in probing:
                     continue  # wait for the first run of this mission to say whether it loads
                 if key not in loaded:
                     probing.add(key)
-                waiting.remove(entry)
-                running.append(_start(context, index, task))
+                waiting.remove(batch)
+                running.append(_start(context, batch))
+            if not running:
+                continue  # a batch was put back: start it
             now = time.monotonic()
             timeout = max(0.0, min(r.deadline for r in running) - now)
             ready = set(
@@ -120,20 +154,29 @@ def run_tasks(
             )
             still: list[_Running] = []
             for run in running:
-                result = _collect(run, ready)
-                if result is None:
+                for index, result in _collect(run, ready):
+                    deliver(index, result)
+                    key = tasks[index].load_key
+                    if key not in probing:
+                        continue
+                    probing.discard(key)
+                    if not result.during_load:
+                        loaded.add(key)
+                        continue
+                    same_for_all(key, result)
+                    for other_index, other in run.batch:  # the worker need not do them
+                        deliver(other_index, _same_as(result, other))
+                    run.batch.clear()
+                if run.batch and run.process.is_alive():
                     still.append(run)
                     continue
-                deliver(run.index, result)
-                key = run.task.load_key
-                if key in probing:
-                    probing.discard(key)
-                    if result.during_load:
-                        for entry in [e for e in waiting if e[1].load_key == key]:
-                            waiting.remove(entry)
-                            deliver(entry[0], _same_as(result, entry[1]))
-                    else:
-                        loaded.add(key)
+                if run.batch:  # the worker ended before doing them all: do them again
+                    probing.discard(run.batch[0][1].load_key)  # its first run included
+                    waiting.insert(0, list(run.batch))
+                else:  # done: it closes its jail and ends by itself
+                    run.process.join(_KILL_GRACE_S)
+                _stop(run.process)
+                run.connection.close()
             running = still
     finally:
         for run in running:  # interrupted (Ctrl-C): leave no worker behind
@@ -154,69 +197,92 @@ def _same_as(first: RunResult, task: RunTask) -> RunResult:
     )
 
 
-def _start(context: Any, index: int, task: RunTask) -> _Running:
+def _start(context: Any, batch: list[tuple[int, RunTask]]) -> _Running:
     receiver, sender = context.Pipe(duplex=False)
     process = context.Process(
-        target=_worker_entry, args=(sender, task), name=f"roboscript-grade-{index}", daemon=True
+        target=_worker_entry,
+        args=(sender, batch),
+        name=f"roboscript-grade-{batch[0][0]}",
+        daemon=True,
     )
     started = time.monotonic()
     process.start()
     sender.close()  # the parent keeps only its reading end, so a dead worker reads as EOF
-    deadline = started + task.spec.wall_time_limit_s + _BACKSTOP_S
-    return _Running(task, index, process, receiver, started, deadline)
+    return _Running(list(batch), process, receiver, started, _deadline(started, batch[0][1]))
 
 
-def _worker_entry(connection: Connection, task: RunTask) -> None:
+def _deadline(started: float, task: RunTask) -> float:
+    return started + task.spec.wall_time_limit_s + _BACKSTOP_S
+
+
+def _worker_entry(connection: Connection, batch: list[tuple[int, RunTask]]) -> None:
     from roboscript.grading.worker import work
 
-    work(connection, task)
+    work(connection, batch)
 
 
-def _collect(run: _Running, ready: set[Any]) -> RunResult | None:
-    """The run's result if it has one now (sent, died or timed out), else ``None``."""
-    wall = round(time.monotonic() - run.started, 3)
+def _collect(run: _Running, ready: set[Any]) -> list[tuple[int, RunResult]]:
+    """The results the worker has now (sent, or its run failed as it died or timed out)."""
+    found: list[tuple[int, RunResult]] = []
+    now = time.monotonic()
     if run.connection in ready or run.process.sentinel in ready:
-        data = None
-        if run.connection.poll():
+        while run.batch and run.connection.poll():
             try:
                 data = run.connection.recv()
             except (EOFError, OSError):
-                data = None
+                break
             except Exception as exc:  # noqa: BLE001 - a half-sent result from a dying worker
-                data = {"unreadable": f"{type(exc).__name__}: {exc}"}
-        if isinstance(data, dict) and "student" in data:
-            _stop(run.process)
-            run.connection.close()
-            return replace(RunResult.from_dict(data), wall_time_s=wall)
-        if data is None and run.process.is_alive() and run.connection not in ready:
-            return None
-        _stop(run.process)
-        run.connection.close()
+                found.append(_lost(run, f"unreadable result: {type(exc).__name__}: {exc}"))
+                break
+            index, result = data
+            position = next(i for i, (n, _task) in enumerate(run.batch) if n == index)
+            wall = round(now - run.started, 3)
+            found.append((index, replace(RunResult.from_dict(result), wall_time_s=wall)))
+            del run.batch[position]
+            run.started = now
+            if run.batch:
+                run.deadline = _deadline(now, run.batch[0][1])
+        if found or run.process.is_alive():
+            return found
         code = run.process.exitcode
-        return _failed(
-            run,
-            "crashed",
-            "the grader could not finish this run (its world process ended with exit code"
-            f" {code}); this is a roboscript problem, not the student's: please report it",
-            f"world worker exit code {code}; {data or 'no result was sent'}",
-            wall,
-        )
-    if time.monotonic() >= run.deadline:
+        if run.batch:
+            found.append(_lost(run, f"world worker exit code {code}; no result was sent", code))
+        return found
+    if now >= run.deadline and run.batch:
         _stop(run.process)
-        run.connection.close()
-        return _failed(
-            run,
-            "crashed",
-            "the grader could not finish this run in time; this is a roboscript problem, not"
-            " the student's: please report it",
-            f"world worker stopped by the parent after {wall:g} s",
-            wall,
+        wall = round(now - run.started, 3)
+        index, task = run.batch.pop(0)
+        found.append(
+            (
+                index,
+                _failed(
+                    task,
+                    "crashed",
+                    "the grader could not finish this run in time; this is a roboscript"
+                    " problem, not the student's: please report it",
+                    f"world worker stopped by the parent after {wall:g} s",
+                    wall,
+                ),
+            )
         )
-    return None
+    return found
 
 
-def _failed(run: _Running, status: RunStatus, message: str, debug: str, wall: float) -> RunResult:
-    task = run.task
+def _lost(run: _Running, debug: str, code: int | None = None) -> tuple[int, RunResult]:
+    """The worker's current run, when the worker died without sending it."""
+    index, task = run.batch.pop(0)
+    wall = round(time.monotonic() - run.started, 3)
+    return index, _failed(
+        task,
+        "crashed",
+        "the grader could not finish this run (its world process ended with exit code"
+        f" {code}); this is a roboscript problem, not the student's: please report it",
+        debug,
+        wall,
+    )
+
+
+def _failed(task: RunTask, status: RunStatus, message: str, debug: str, wall: float) -> RunResult:
     return task.spec.result(
         task.variant,
         student=task.student,

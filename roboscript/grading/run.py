@@ -21,7 +21,7 @@ from pathlib import Path
 
 from roboscript.grading.expectations import evaluate
 from roboscript.grading.record import RunRecord, RunResult, Verdict
-from roboscript.grading.sandbox import Limits
+from roboscript.grading.sandbox import Limits, WarmJail
 from roboscript.grading.spec import TestSpec, Variant
 from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S, run_world, simulation_record
 from roboscript.session import Session
@@ -38,6 +38,7 @@ def grade_run(
     visible: tuple[Path, ...] | None = None,
     hang_after_s: float = DEFAULT_HANG_AFTER_S,
     limits: Limits | None = None,
+    server: WarmJail | None = None,
 ) -> RunResult:
     """Run ``mission_path`` on ``variant`` of ``spec`` in the simulator and judge it.
 
@@ -54,6 +55,8 @@ def grade_run(
             files beside it that it names).
         hang_after_s: Wall seconds without simulated progress that end a run as ``hung``.
         limits: The sandbox's resource limits (default :class:`~roboscript.grading.sandbox.Limits`).
+        server: A warm jail of this student's to fork the mission's process in (see
+            :class:`~roboscript.grading.sandbox.WarmJail`); by default a jail of its own.
 
     Returns:
         The result: ``passed`` or ``failed`` (judged), or ``invalid``, ``crashed``, ``hung``
@@ -62,7 +65,13 @@ def grade_run(
     started = time.perf_counter()
     base = spec.result(variant, student=student, mission=mission_path, status="crashed")
     world = run_world(
-        spec, mission_path, variant, visible=visible, hang_after_s=hang_after_s, limits=limits
+        spec,
+        mission_path,
+        variant,
+        visible=visible,
+        hang_after_s=hang_after_s,
+        limits=limits,
+        server=server,
     )
     if world.record is None:
         return _finish(

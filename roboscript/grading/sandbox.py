@@ -17,6 +17,7 @@ guarantees is in ``docs/teachers/grading.md`` ("What the sandbox guarantees").
 
 from __future__ import annotations
 
+import array
 import contextlib
 import functools
 import json
@@ -25,14 +26,18 @@ import select
 import shutil
 import signal
 import site
+import socket
+import stat
+import struct
 import subprocess
 import sys
+import tempfile
 import threading
 import time
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from typing_extensions import Self
@@ -40,7 +45,21 @@ if TYPE_CHECKING:
 if sys.platform != "win32":
     import resource
 
-__all__ = ["Isolation", "Jail", "Limits", "check_visible", "detect_isolation"]
+__all__ = [
+    "Isolation",
+    "Jail",
+    "JailedRun",
+    "Limits",
+    "WarmJail",
+    "byte_compile_package",
+    "check_visible",
+    "detect_isolation",
+    "kill_user_processes",
+    "private_class",
+    "process_cpu_time_s",
+    "reap_children",
+    "warm_jails_supported",
+]
 
 _PACKAGE = Path(__file__).resolve().parent.parent
 # An editable install: the package sits in the git checkout beside the teachers' hidden tests.
@@ -68,6 +87,7 @@ caller's loop."""
 _START_TIMEOUT_S = 10.0
 _TEARDOWN_TIMEOUT_S = 10.0
 _POLL_STEP_S = 0.01
+_SWEEP_ROUNDS = 1000
 _REMEDY_LINUX = "install it (apt install bubblewrap) for full isolation"
 _LIMITS_ONLY = (
     "students' code runs with resource limits only and can read any file this user can read"
@@ -102,12 +122,24 @@ class Limits:
                 raise ValueError(f"Limits.{name} must be a positive whole number, not {value!r}")
 
 
+BUBBLEWRAP = "bubblewrap"
+SEPARATE_USER = "separate user"
+LIMITS_ONLY = "resource limits only"
+PROCESS_ONLY = "separate process only"
+ISOLATION_VARIABLE = "ROBOSCRIPT_ISOLATION"
+"""Forces the isolation (``bubblewrap``, ``user`` or ``limits``) when it is available; for
+tests, and for a teacher who wants to see what a weaker mode does."""
+_FORCED = {"bubblewrap": BUBBLEWRAP, "user": SEPARATE_USER, "limits": LIMITS_ONLY}
+
+
 @dataclass(frozen=True)
 class Isolation:
     """How students' code is isolated on this computer.
 
     Attributes:
-        name: ``"bubblewrap"``, or what the fallback offers (``"resource limits only"``).
+        name: :data:`BUBBLEWRAP` (a full jail), :data:`SEPARATE_USER` (no bubblewrap, but the
+            grader is root: each jail runs as a user of its own), or what the fallback offers
+            (:data:`LIMITS_ONLY`, :data:`PROCESS_ONLY`).
         complete: True only when bubblewrap's full isolation is in force.
         warning: One line to print when not complete (``""`` when complete).
     """
@@ -116,18 +148,53 @@ class Isolation:
     complete: bool
     warning: str
 
+    @property
+    def separate_user(self) -> bool:
+        """True when each jail runs as a user of its own without bubblewrap."""
+        return self.name == SEPARATE_USER
+
+    @property
+    def statement(self) -> str:
+        """One sentence for every report: how the students' runs were isolated."""
+        if self.complete:
+            return (
+                "each run was sandboxed by bubblewrap: it saw only its own files and a"
+                " read-only system, with no network, its own processes only and hard limits"
+            )
+        if self.separate_user:
+            return (
+                "each run ran as a user of its own with hard limits (bubblewrap cannot run"
+                " here): the tests, classmates' files and reports were unreadable to it, but"
+                " it could reach the network and see other processes"
+            )
+        return f"students' runs were not isolated: {self.warning}"
+
 
 _AS_ROOT = (
     "students' code runs as root, with limits it can lift, and can read any file and signal"
     " any process"
 )
+_AS_USER = (
+    "each run is a user of its own with hard limits, and cannot read the tests, classmates'"
+    " files or reports, but can reach the network and see other processes"
+)
 
 
 def _fallback(why: str, offer: str = "", remedy: str = _REMEDY_LINUX) -> Isolation:
+    root = os.name == "posix" and os.geteuid() == 0
+    if not offer and root and sys.platform == "linux" and _forced() != LIMITS_ONLY:
+        problem = _probe_user()
+        if not problem:
+            return Isolation(SEPARATE_USER, False, f"{why}: {_AS_USER}; {remedy}")
+        why += f", and a run as a user of its own cannot start ({problem})"
     if not offer:
-        offer = _AS_ROOT if os.name == "posix" and os.geteuid() == 0 else _LIMITS_ONLY
-    name = "resource limits only" if sys.platform != "win32" else "separate process only"
+        offer = _AS_ROOT if root else _LIMITS_ONLY
+    name = LIMITS_ONLY if sys.platform != "win32" else PROCESS_ONLY
     return Isolation(name, False, f"{why}: {offer}; {remedy}")
+
+
+def _forced() -> str:
+    return _FORCED.get(os.environ.get(ISOLATION_VARIABLE, "").strip().lower(), "")
 
 
 @functools.cache
@@ -135,11 +202,19 @@ def detect_isolation() -> Isolation:
     """The isolation :class:`Jail` gives here, found once per process.
 
     Bubblewrap counts only when ``bwrap`` is on ``PATH`` and a quick probe (the interpreter
-    started jailed, as :class:`Jail` would) succeeds.
+    started jailed, as :class:`Jail` would) succeeds. Without it, a grader running as root on
+    Linux runs each jail as a user of its own (:data:`SEPARATE_USER`). The environment
+    variable :data:`ISOLATION_VARIABLE` can ask for a weaker mode than the best available.
 
     Returns:
         The isolation; when it is not complete its ``warning`` says why and what to do.
     """
+    forced = _forced()
+    if forced in (SEPARATE_USER, LIMITS_ONLY):
+        return _fallback(
+            f"{ISOLATION_VARIABLE} asks for '{forced}'",
+            remedy=f"unset {ISOLATION_VARIABLE} for the best isolation available",
+        )
     if sys.platform == "win32":
         return _fallback(
             "bubblewrap (bwrap) does not exist on Windows",
@@ -168,7 +243,37 @@ def detect_isolation() -> Isolation:
             remedy="allow it to create namespaces (see docs/teachers/grading.md) for full"
             " isolation",
         )
-    return Isolation("bubblewrap", True, "")
+    return Isolation(BUBBLEWRAP, True, "")
+
+
+def _probe_user() -> str:
+    """Start the interpreter as a jail's own user once; what went wrong, or ``""``.
+
+    Without bubblewrap that user must reach the interpreter and roboscript itself: an
+    interpreter under a folder only root may enter (``/root``) cannot start.
+    """
+    user = _jail_uid()
+    try:
+        done = subprocess.run(
+            [sys.executable, "-I", "-c", "import roboscript.grading.jail_server"],
+            stdin=subprocess.DEVNULL,
+            capture_output=True,
+            cwd="/",
+            env=dict(_BASE_ENV),
+            user=user,
+            group=user,
+            extra_groups=[],
+            timeout=_START_TIMEOUT_S * 6,
+            check=False,
+        )
+    except (OSError, subprocess.SubprocessError) as exc:
+        return f"{sys.executable}: {exc.strerror or exc}" if isinstance(exc, OSError) else str(exc)
+    finally:
+        kill_user_processes(user)
+    if done.returncode == 0:
+        return ""
+    lines = done.stderr.decode("utf-8", "replace").strip().splitlines()
+    return (lines[-1] if lines else f"exit status {done.returncode}")[:120]
 
 
 def _probe() -> str:
@@ -192,6 +297,25 @@ def _probe() -> str:
         return ""
     lines = done.stderr.decode("utf-8", "replace").strip().splitlines()
     return (lines[0] if lines else f"exit status {done.returncode}")[:120]
+
+
+@functools.cache
+def byte_compile_package() -> bool:
+    """Write the roboscript package's compiled modules beside it, once per grader process.
+
+    A jail cannot write ``.pyc`` files (and ``PYTHONDONTWRITEBYTECODE`` forbids it anyway), so
+    an install that was never compiled (an editable install, ``pip install --no-compile``)
+    would compile every module from source at the start of every run, on the student's time.
+    Installs from a wheel are compiled by pip already; then this only checks timestamps.
+
+    Returns:
+        True when every module has an up-to-date compiled file (False: the package folder is
+        not writable here and some are missing; runs still work, each compiling what it
+        imports).
+    """
+    import compileall
+
+    return bool(compileall.compile_dir(str(_PACKAGE), quiet=2, workers=1))
 
 
 # ----------------------------------------------------------------------------------- output
@@ -344,14 +468,49 @@ def _mount_points(paths: Iterable[str]) -> list[str]:
 
 def _check_readable_by_others(paths: Iterable[str]) -> None:
     """As root the jail runs as a uid with no rights of its own: it reads what others may."""
+    _check_readable_by_jail(paths, None)
+
+
+_JAIL_GID_BASE = 0x7800_0000
+"""A student's files are given group ``base + 4096 * grader pid + n`` in separate-user mode
+(:func:`private_class`): the student's jails run in that group, and read them through it."""
+_GIDS_PER_PROCESS = 4096
+_JAIL_GID_END = _JAIL_GID_BASE + (1 << 28)
+
+
+def _jail_group(paths: Sequence[str]) -> int | None:
+    """The student's group the files were given (:func:`private_class`), if any."""
     for path in paths:
-        mode = os.stat(path).st_mode
-        need = 0o005 if os.path.isdir(path) else 0o004
-        if mode & need != need:
+        gid = os.stat(path).st_gid
+        if _JAIL_GID_BASE <= gid < _JAIL_GID_END:
+            return gid
+    return None
+
+
+def _check_readable_by_jail(paths: Iterable[str], group: int | None, reach: bool = False) -> None:
+    """A jail run as a user of its own reads what others may, or what its student's
+    ``group`` may; with ``reach`` (no bubblewrap to show it the path) it must also be able
+    to pass through every folder above."""
+    for path in paths:
+        info = os.stat(path)
+        need = 0o5 if os.path.isdir(path) else 0o4
+        if info.st_mode & need != need and not (
+            info.st_gid == group and (info.st_mode >> 3) & need == need
+        ):
             raise PermissionError(
-                f"{path} is not readable by other users (mode {mode & 0o777:o}): a jail started"
-                " by root reads only what any user may; chmod o+rX it"
+                f"{path} is not readable by other users (mode {info.st_mode & 0o777:o}): a"
+                " jail started by root reads only what any user may; chmod o+rX it"
             )
+        folder = os.path.dirname(path)
+        while reach and folder != os.path.dirname(folder):
+            mode = os.stat(folder).st_mode
+            if mode & 0o1 == 0 and not (os.stat(folder).st_gid == group and mode & 0o10):
+                raise PermissionError(
+                    f"{folder} cannot be passed through by other users (mode"
+                    f" {mode & 0o777:o}): a run as a user of its own could not reach {path};"
+                    " chmod o+x it"
+                )
+            folder = os.path.dirname(folder)
 
 
 def check_visible(visible: Sequence[Path], isolation: Isolation | None = None) -> None:
@@ -367,8 +526,85 @@ def check_visible(visible: Sequence[Path], isolation: Isolation | None = None) -
         ValueError: A path would show the whole disk or the roboscript checkout.
     """
     shown = _visible_paths(visible)
-    if (isolation or detect_isolation()).complete and os.geteuid() == 0:
+    isolation = isolation or detect_isolation()
+    if isolation.complete and os.geteuid() == 0:
         _check_readable_by_others(shown)
+    elif isolation.separate_user and os.geteuid() == 0:
+        _check_readable_by_jail(shown, _jail_group(shown), reach=True)
+
+
+@contextlib.contextmanager
+def private_class(
+    students: Sequence[Sequence[Path]],
+    teacher: Sequence[Path],
+    isolation: Isolation | None = None,
+) -> Iterator[None]:
+    """While grading in separate-user mode, make the class's files readable only where needed.
+
+    Without bubblewrap a run sees the whole disk as a user of its own, so what it may read is
+    what the file modes say. For the time of the block: each student's files and folders get
+    a group of that student's (readable by the group, not by others), which that student's
+    jails run in; a folder holding students' files can be passed through but not listed; the
+    teacher's files (the tests) are unreadable to others; and files the grader writes
+    (reports, results) are private to it (umask 077). Modes and groups are put back
+    afterwards. In any other mode nothing changes.
+
+    Args:
+        students: Each student's visible files and folders.
+        teacher: The tests' files.
+        isolation: Defaults to :func:`detect_isolation`.
+    """
+    isolation = isolation or detect_isolation()
+    if not (isolation.separate_user and os.geteuid() == 0):
+        yield
+        return
+    saved: dict[str, tuple[int, int]] = {}
+
+    def change(path: str, mode: int, group: int = -1) -> None:
+        info = os.lstat(path)
+        saved.setdefault(path, (stat.S_IMODE(info.st_mode), info.st_gid))
+        os.chown(path, -1, group, follow_symlinks=False)
+        os.chmod(path, mode)
+
+    tops = {os.path.realpath(p) for paths in students for p in paths}
+    umask = os.umask(0o077)
+    try:
+        for index, paths in enumerate(students):
+            group = (
+                _JAIL_GID_BASE
+                + (os.getpid() % (1 << 16)) * _GIDS_PER_PROCESS
+                + index % _GIDS_PER_PROCESS
+            )
+            for top in map(os.path.realpath, paths):
+                for path in _tree(top):
+                    mode = stat.S_IMODE(os.lstat(path).st_mode) & ~0o007
+                    change(path, mode | (0o050 if os.path.isdir(path) else 0o040), group)
+                folder = os.path.dirname(top)
+                if folder not in tops:
+                    mode = saved.get(folder, (stat.S_IMODE(os.stat(folder).st_mode), 0))[0]
+                    change(folder, (mode & ~0o007) | 0o001)
+        for path in map(os.path.realpath, teacher):
+            change(path, stat.S_IMODE(os.stat(path).st_mode) & ~0o007)
+        yield
+    finally:
+        os.umask(umask)
+        for path, (mode, group) in reversed(saved.items()):
+            with contextlib.suppress(OSError):
+                os.chown(path, -1, group, follow_symlinks=False)
+                os.chmod(path, mode)
+
+
+def _tree(top: str) -> Iterator[str]:
+    """``top`` and, for a folder, everything in it (links are neither followed nor changed)."""
+    if os.path.islink(top):
+        return
+    yield top
+    if os.path.isdir(top):
+        for folder, dirs, files in os.walk(top):
+            for name in [*dirs, *files]:
+                path = os.path.join(folder, name)
+                if not os.path.islink(path):
+                    yield path
 
 
 _uid_counter = 0
@@ -390,6 +626,7 @@ def _bubblewrap_plan(
     env: Mapping[str, str],
     limits: Limits,
     info_fd: int | None,
+    reserve: int = 0,
 ) -> _Plan:
     """The ``bwrap`` command line for one jail (see the module docstring for the layout)."""
     bwrap = shutil.which("bwrap")
@@ -452,7 +689,7 @@ def _bubblewrap_plan(
         args += [bwrap, "--unshare-user", "--disable-userns", "--die-with-parent"]
         args += ["--cap-drop", "ALL", "--bind", "/", "/", "--dev-bind", "/dev", "/dev", "--"]
         # The uid is the jail's alone: its own processes plus the inner bwrap.
-        preexec = _rlimit_setter(limits, limits.processes + 1)
+        preexec = _rlimit_setter(limits, limits.processes + 1 + reserve)
         owner = None
     else:
         preexec = None  # completed by Jail once it has counted the user's processes
@@ -466,22 +703,11 @@ def _bubblewrap_plan(
 def _tasks_of(uid: int) -> int | None:
     """How many processes and threads ``uid`` has (what RLIMIT_NPROC counts), or None."""
     if os.path.isdir("/proc/self/task"):
-        total = 0
-        for name in os.listdir("/proc"):
-            if not name.isdigit():
-                continue
-            try:
-                with open(f"/proc/{name}/status", "rb") as handle:
-                    status = handle.read()
-            except OSError:
-                continue  # it ended meanwhile
-            uid_at = status.find(b"\nUid:\t")
-            threads_at = status.find(b"\nThreads:\t")
-            if uid_at < 0 or threads_at < 0:
-                continue
-            if int(status[uid_at + 6 :].split(None, 1)[0]) == uid:
-                total += int(status[threads_at + 10 :].split(None, 1)[0])
-        return total
+        return sum(
+            int(fields.get(b"Threads", b"0"))
+            for _pid, fields in _statuses()
+            if _uid_of(fields) == uid
+        )
     try:  # macOS and the BSDs: processes, which is what their RLIMIT_NPROC counts
         listing = subprocess.run(
             ["ps", "-A", "-o", "uid="], capture_output=True, text=True, timeout=10, check=True
@@ -491,141 +717,23 @@ def _tasks_of(uid: int) -> int | None:
     return sum(1 for line in listing.split() if line == str(uid))
 
 
-# ------------------------------------------------------------------------------------- jail
+class _Output:
+    """Standard output and error of a jailed process: pipes read without blocking, capped."""
 
-
-class Jail:
-    """One untrusted process tree, started sandboxed.
-
-    The process starts at once. The caller's loop waits on :meth:`fileno_list` and calls
-    :meth:`drain` (a student who floods its output never blocks and never bloats the caller),
-    then :meth:`poll` or :meth:`wait`, and :meth:`kill` (or leaves the ``with`` block) to end
-    it. Once :meth:`poll` or :meth:`wait` returns a status, every process of the tree is gone.
-
-    Under bubblewrap the jail also dies with the *thread* that created it (Linux's parent-death
-    signal follows the creating thread): create jails from a thread that outlives them.
-
-    Attributes:
-        pid: The process the caller started (under bubblewrap, ``bwrap`` itself).
-        isolation: The isolation in force.
-        limits: The limits in force.
-    """
-
-    def __init__(
-        self,
-        argv: Sequence[str],
-        *,
-        visible: Sequence[Path],
-        workdir: Path,
-        pass_fds: Sequence[int] = (),
-        limits: Limits = Limits(),
-        env: Mapping[str, str] | None = None,
-        isolation: Isolation | None = None,
-    ) -> None:
-        """Start ``argv`` jailed.
-
-        Args:
-            argv: The command; ``argv[0]`` is the interpreter (usually ``sys.executable``).
-            visible: Files and folders the process may read, shown read-only at their own
-                absolute paths. Nothing else of the disk is visible but the system, the
-                interpreter and the roboscript package, read-only. When the grader runs as
-                root, each must be readable by other users (else :class:`PermissionError`).
-            workdir: The process's working folder: a visible folder, or a folder holding
-                visible files (it then shows only those).
-            pass_fds: Descriptors the process inherits (e.g. the socket to the grader).
-            limits: The resource limits.
-            env: Variables added to the jail's small environment (``HOME=/tmp``, ``PATH``,
-                ``LANG=C.UTF-8``, ``PYTHONDONTWRITEBYTECODE=1``); nothing else is inherited.
-            isolation: Defaults to :func:`detect_isolation`.
-
-        Raises:
-            FileNotFoundError: A visible path does not exist.
-            ValueError: ``workdir`` is not visible, or a visible path holds the roboscript
-                checkout.
-            PermissionError: As root, a visible path is not readable by other users.
-        """
-        self.isolation = isolation or detect_isolation()
-        self.limits = limits
+    def __init__(self, limits: Limits) -> None:
         self._out = _Capped(limits.output_bytes)
         self._err = _Capped(limits.output_bytes)
-        self._status: int | None = None
-        self._tree_fd: int | None = None  # pidfd of the jail's PID 1 (bubblewrap)
-        self._exit_fd: int | None = None  # pidfd of our own child
         self._idle: tuple[int, int] | None = None
         self._closed = False
-        jailed = self.isolation.complete
-        shown = _visible_paths(visible)
-        workdir_real = os.path.realpath(workdir)
-        if not any(
-            _is_within(workdir_real, path) or _is_within(path, workdir_real) for path in shown
-        ):
-            raise ValueError(f"the working folder {workdir} is not visible to the jail")
-        if jailed and os.geteuid() == 0:
-            _check_readable_by_others(shown)
-        full_env = {**_BASE_ENV, **(env or {})}
-        out_r, out_w = os.pipe()
-        err_r, err_w = os.pipe()
-        info_r = info_w = -1
-        try:
-            if jailed:
-                info_r, info_w = os.pipe()
-                plan = _bubblewrap_plan(argv, shown, Path(workdir_real), full_env, limits, info_w)
-                fds = (*pass_fds, info_w)
-                child_env: dict[str, str] | None = dict(_BASE_ENV)
-                cwd = "/"
-            else:
-                plan = _Plan(list(argv), None, os.getuid() if hasattr(os, "getuid") else None)
-                fds = tuple(pass_fds)
-                child_env = _host_env(full_env)
-                cwd = workdir_real
-            if plan.nproc_owner is not None and sys.platform != "win32":
-                count = _tasks_of(plan.nproc_owner)
-                # bwrap's monitor and PID 1 run as the user too, outside the student's share.
-                overhead = 2 if jailed else 0
-                nproc = None if count is None else count + overhead + limits.processes
-                plan.preexec = _rlimit_setter(limits, nproc)
-            elif plan.preexec is None:
-                plan.preexec = _rlimit_setter(limits, None)
-            self._proc = subprocess.Popen(
-                plan.argv,
-                stdin=subprocess.DEVNULL,
-                stdout=out_w,
-                stderr=err_w,
-                pass_fds=fds,
-                cwd=cwd,
-                env=child_env,
-                start_new_session=sys.platform != "win32",
-                # Only setrlimit runs in the child (3.11's subprocess has no rlimit option).
-                preexec_fn=plan.preexec,  # noqa: PLW1509
-                creationflags=getattr(subprocess, "CREATE_NEW_PROCESS_GROUP", 0),
-            )
-        except BaseException:
-            for fd in (out_r, err_r, info_r):
-                if fd >= 0:
-                    os.close(fd)
-            raise
-        finally:
-            for fd in (out_w, err_w, info_w):
-                if fd >= 0:
-                    os.close(fd)
-        self.pid = self._proc.pid
+        self._streams: dict[int, _Capped] = {}
+        self._open: list[int] = []
+
+    def _attach(self, out_r: int, err_r: int) -> None:
         self._streams = {out_r: self._out, err_r: self._err}
         self._open = [out_r, err_r]
-        if sys.platform == "win32":
-            self._start_readers()
-            return
-        for fd in self._open:
-            os.set_blocking(fd, False)
-        if sys.platform == "linux":
-            with contextlib.suppress(OSError):
-                self._exit_fd = os.pidfd_open(self.pid)
-        if info_r >= 0:
-            try:
-                self._tree_fd = _jail_init_fd(info_r)
-            finally:
-                os.close(info_r)
-
-    # ------------------------------------------------------------------------------ output
+        if sys.platform != "win32":
+            for fd in self._open:
+                os.set_blocking(fd, False)
 
     def fileno_list(self) -> list[int]:
         """The descriptors of standard output and error, to wait on with select or poll.
@@ -678,6 +786,183 @@ class Jail:
     def stderr(self) -> str:
         """Standard error kept so far, with a ``… (cut: N more bytes)`` line if any was cut."""
         return self._err.text()
+
+    def _close_output(self, also: Sequence[int] = ()) -> None:
+        self._closed = True
+        for fd in [*self._open, *(self._idle or ()), *also]:
+            with contextlib.suppress(OSError):
+                os.close(fd)
+        self._streams.clear()
+        self._open = []
+        self._idle = None
+
+
+# ------------------------------------------------------------------------------------- jail
+
+
+class Jail(_Output):
+    """One untrusted process tree, started sandboxed.
+
+    The process starts at once. The caller's loop waits on :meth:`fileno_list` and calls
+    :meth:`drain` (a student who floods its output never blocks and never bloats the caller),
+    then :meth:`poll` or :meth:`wait`, and :meth:`kill` (or leaves the ``with`` block) to end
+    it. Once :meth:`poll` or :meth:`wait` returns a status, every process of the tree is gone.
+
+    Under bubblewrap the jail also dies with the *thread* that created it (Linux's parent-death
+    signal follows the creating thread): create jails from a thread that outlives them.
+
+    Attributes:
+        pid: The process the caller started (under bubblewrap, ``bwrap`` itself).
+        isolation: The isolation in force.
+        limits: The limits in force.
+    """
+
+    def __init__(
+        self,
+        argv: Sequence[str],
+        *,
+        visible: Sequence[Path],
+        workdir: Path,
+        pass_fds: Sequence[int] = (),
+        limits: Limits = Limits(),
+        env: Mapping[str, str] | None = None,
+        isolation: Isolation | None = None,
+        reserve: int = 0,
+    ) -> None:
+        """Start ``argv`` jailed.
+
+        Args:
+            argv: The command; ``argv[0]`` is the interpreter (usually ``sys.executable``).
+            visible: Files and folders the process may read, shown read-only at their own
+                absolute paths. Nothing else of the disk is visible but the system, the
+                interpreter and the roboscript package, read-only. When the grader runs as
+                root, each must be readable by other users (else :class:`PermissionError`).
+            workdir: The process's working folder: a visible folder, or a folder holding
+                visible files (it then shows only those).
+            pass_fds: Descriptors the process inherits (e.g. the socket to the grader).
+            limits: The resource limits.
+            env: Variables added to the jail's small environment (``HOME=/tmp``, ``PATH``,
+                ``LANG=C.UTF-8``, ``PYTHONDONTWRITEBYTECODE=1``); nothing else is inherited.
+            isolation: Defaults to :func:`detect_isolation`.
+            reserve: Processes ``argv`` itself keeps beside the student's (a fork server),
+                added to the process limit.
+
+        Raises:
+            FileNotFoundError: A visible path does not exist.
+            ValueError: ``workdir`` is not visible, or a visible path holds the roboscript
+                checkout.
+            PermissionError: As root, a visible path is not readable by other users.
+        """
+        super().__init__(limits)
+        self.isolation = isolation or detect_isolation()
+        self.limits = limits
+        self._status: int | None = None
+        self._tree_fd: int | None = None  # pidfd of the jail's PID 1 (bubblewrap)
+        self._exit_fd: int | None = None  # pidfd of our own child
+        jailed = self.isolation.complete
+        shown = _visible_paths(visible)
+        workdir_real = os.path.realpath(workdir)
+        if not any(
+            _is_within(workdir_real, path) or _is_within(path, workdir_real) for path in shown
+        ):
+            raise ValueError(f"the working folder {workdir} is not visible to the jail")
+        if jailed and os.geteuid() == 0:
+            _check_readable_by_others(shown)
+        full_env = {**_BASE_ENV, **(env or {})}
+        self.user: int | None = None  # the jail's own user and group (separate-user mode)
+        self.group: int | None = None
+        self._scratch: str | None = None
+        user_kwargs: dict[str, Any] = {}
+        if not jailed and sys.platform != "win32":
+            # Its own writable folder, never the shared /tmp (a fork server empties it).
+            self._scratch = tempfile.mkdtemp(prefix="roboscript-run-")
+            full_env.update(HOME=self._scratch, TMPDIR=self._scratch)
+            if self.isolation.separate_user and os.geteuid() == 0:
+                self.user = _jail_uid()
+                group = _jail_group(shown) or self.user
+                _check_readable_by_jail(shown, group, reach=True)
+                self.group = group
+                os.chown(self._scratch, self.user, group)
+                user_kwargs = {
+                    "user": self.user,
+                    "group": group,
+                    "extra_groups": [],
+                    "umask": 0o077,
+                }
+        out_r, out_w = os.pipe()
+        err_r, err_w = os.pipe()
+        info_r = info_w = -1
+        try:
+            if jailed:
+                info_r, info_w = os.pipe()
+                plan = _bubblewrap_plan(
+                    argv, shown, Path(workdir_real), full_env, limits, info_w, reserve
+                )
+                fds = (*pass_fds, info_w)
+                child_env: dict[str, str] | None = dict(_BASE_ENV)
+                cwd = "/"
+            else:
+                plan = _Plan(list(argv), None, os.getuid() if hasattr(os, "getuid") else None)
+                fds = tuple(pass_fds)
+                child_env = _host_env(full_env)
+                cwd = workdir_real
+            if self.user is not None:  # the user is the jail's alone: an absolute limit
+                plan.nproc_owner = None
+                plan.preexec = _rlimit_setter(limits, limits.processes + reserve)
+            if plan.nproc_owner is not None and sys.platform != "win32":
+                count = _tasks_of(plan.nproc_owner)
+                # bwrap's monitor and PID 1 run as the user too, outside the student's share.
+                overhead = 2 if jailed else 0
+                nproc = None if count is None else count + overhead + limits.processes + reserve
+                plan.preexec = _rlimit_setter(limits, nproc)
+            elif plan.preexec is None:
+                plan.preexec = _rlimit_setter(limits, None)
+            self._proc = subprocess.Popen(
+                plan.argv,
+                stdin=subprocess.DEVNULL,
+                stdout=out_w,
+                stderr=err_w,
+                pass_fds=fds,
+                cwd=cwd,
+                env=child_env,
+                start_new_session=sys.platform != "win32",
+                # Only setrlimit runs in the child (3.11's subprocess has no rlimit option).
+                preexec_fn=plan.preexec,  # noqa: PLW1509
+                creationflags=getattr(subprocess, "CREATE_NEW_PROCESS_GROUP", 0),
+                **user_kwargs,
+            )
+        except BaseException:
+            for fd in (out_r, err_r, info_r):
+                if fd >= 0:
+                    os.close(fd)
+            if self._scratch is not None:
+                shutil.rmtree(self._scratch, ignore_errors=True)
+            raise
+        finally:
+            for fd in (out_w, err_w, info_w):
+                if fd >= 0:
+                    os.close(fd)
+        self.pid = self._proc.pid
+        self._attach(out_r, err_r)
+        if sys.platform == "win32":
+            self._start_readers()
+            return
+        if sys.platform == "linux":
+            with contextlib.suppress(OSError):
+                self._exit_fd = os.pidfd_open(self.pid)
+        if info_r >= 0:
+            try:
+                self._tree_fd = _jail_init_fd(info_r)
+            finally:
+                os.close(info_r)
+
+    def cpu_time_s(self) -> float | None:
+        """CPU seconds the started process has used so far, where this process can see it
+        (not under bubblewrap, whose first process is ``bwrap``: use a :class:`WarmJail`,
+        whose runs name their own process)."""
+        if self.isolation.complete or sys.platform != "linux" or self._status is not None:
+            return None
+        return process_cpu_time_s(self.pid)
 
     # -------------------------------------------------------------------------- lifecycle
 
@@ -761,6 +1046,8 @@ class Jail:
             with contextlib.suppress(OSError):
                 signal.pidfd_send_signal(self._tree_fd, signal.SIGKILL)
         code = self._proc.wait()
+        if self.user is not None:  # what it started, wherever it went: the user is its own
+            kill_user_processes(self.user)
         if self.isolation.complete and 128 < code <= 128 + 64:
             code = 128 - code  # bwrap reports a child killed by signal N as 128 + N
         self._status = code
@@ -780,15 +1067,13 @@ class Jail:
             self._read(fd, 4 * _READS_PER_DRAIN)
 
     def _close(self) -> None:
-        self._closed = True
-        pidfd = [self._exit_fd] if self._exit_fd is not None else []
-        for fd in [*self._open, *(self._idle or ()), *pidfd]:
-            with contextlib.suppress(OSError):
-                os.close(fd)
-        self._streams.clear()
-        self._open = []
-        self._idle = None
+        self._close_output([self._exit_fd] if self._exit_fd is not None else [])
         self._exit_fd = None
+        if self._scratch is not None:
+            shutil.rmtree(self._scratch, ignore_errors=True)
+            self._scratch = None
+        if self.user is not None:
+            _remove_files_of(self.user)
 
     def _start_readers(self) -> None:
         """Windows has no non-blocking pipes for select: a thread per stream, capped alike."""
@@ -815,6 +1100,390 @@ class Jail:
 
     def __exit__(self, *exc_info: object) -> None:
         self.kill()
+
+
+def kill_user_processes(uid: int, keep: Collection[int] = ()) -> bool:
+    """Kill every live process of ``uid`` but those in ``keep``, until none is left.
+
+    For a user that is one jail's alone: what it runs is exactly what its runs left. A fork
+    bomb runs out of processes (its limit is small) before this runs out of rounds.
+
+    Returns:
+        True when none is left.
+    """
+    for _ in range(_SWEEP_ROUNDS):
+        victims = [pid for pid in _live_processes(uid) if pid not in keep]
+        if not victims:
+            return True
+        for pid in victims:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
+        reap_children()
+    return False
+
+
+_SHARED_SCRATCH = ("/tmp", "/var/tmp", "/dev/shm")
+
+
+def _remove_files_of(uid: int) -> None:
+    """Delete what ``uid`` (a jail's own user) left in the computer's shared scratch folders."""
+    for folder in _SHARED_SCRATCH:
+        try:
+            entries = list(os.scandir(folder))
+        except OSError:
+            continue
+        for entry in entries:
+            try:
+                if entry.stat(follow_symlinks=False).st_uid != uid:
+                    continue
+                if entry.is_dir(follow_symlinks=False):
+                    shutil.rmtree(entry.path, ignore_errors=True)
+                else:
+                    os.unlink(entry.path)
+            except OSError:
+                continue
+
+
+def _live_processes(uid: int) -> list[int]:
+    """The processes of ``uid`` that have not ended (zombies excluded)."""
+    return [
+        pid
+        for pid, fields in _statuses()
+        if _uid_of(fields) == uid and not fields.get(b"State", b"Z").startswith((b"Z", b"X"))
+    ]
+
+
+def _statuses() -> Iterator[tuple[int, dict[bytes, bytes]]]:
+    """Every process in ``/proc`` with the fields of its ``status`` file (Linux)."""
+    for name in os.listdir("/proc"):
+        if not name.isdigit():
+            continue
+        try:
+            with open(f"/proc/{name}/status", "rb") as handle:
+                status = handle.read()
+        except OSError:
+            continue  # it ended meanwhile
+        lines = status.splitlines()
+        yield int(name), dict(line.split(b":\t", 1) for line in lines if b":\t" in line)
+
+
+def _uid_of(fields: dict[bytes, bytes]) -> int:
+    """The real user id in a ``status`` file's fields (-1 if missing)."""
+    return int(fields.get(b"Uid", b"-1").split()[0])
+
+
+def reap_children() -> None:
+    """Reap this process's ended children, without waiting for any."""
+    while True:
+        try:
+            pid, _status = os.waitpid(-1, os.WNOHANG)
+        except ChildProcessError:
+            return
+        if pid == 0:
+            return
+
+
+# ------------------------------------------------------------------------------- warm jail
+
+_SERVER_READY_TIMEOUT_S = 120.0
+"""How long a fork server may take to import roboscript (a loaded machine; never a student's
+time: no student code has run yet)."""
+_SERVER_MODULE = "roboscript.grading.jail_server"
+
+
+def warm_jails_supported() -> bool:
+    """True where :class:`WarmJail` works (Linux: it needs ``fork`` and kernel-checked pids)."""
+    return sys.platform == "linux"
+
+
+class WarmJail:
+    """One jail, started once, whose pre-imported interpreter forks a process per run.
+
+    The runs of one student's mission see the same files under the same limits, so they can
+    share one jail: the interpreter starts and imports roboscript once
+    (:mod:`roboscript.grading.jail_server`), and each :meth:`start` costs a ``fork``. Between
+    two runs every process the first left is killed and its scratch files are deleted, so a
+    run never meets another's leftovers. Isolation is that of :class:`Jail`, per jail; hidden
+    and visible runs must not share one (a run could keep what it saw for the next).
+
+    Linux only (:func:`warm_jails_supported`); create it, like a :class:`Jail`, from a thread
+    that outlives it.
+
+    Attributes:
+        exchange: A folder the jail reads, for files given to one run (:meth:`share`).
+        isolation: The isolation in force.
+    """
+
+    def __init__(
+        self,
+        module: str,
+        warm_args: Sequence[str] = (),
+        *,
+        visible: Sequence[Path],
+        workdir: Path,
+        limits: Limits = Limits(),
+        env: Mapping[str, str] | None = None,
+        isolation: Isolation | None = None,
+    ) -> None:
+        """Start the jail and its server.
+
+        Args:
+            module: What each run runs: ``module.main(argv)``, after ``module.warm_up(*
+                warm_args)`` once in the server (imports, so that runs start warm).
+            warm_args: Passed to ``warm_up``.
+            visible: As for :class:`Jail`.
+            workdir: As for :class:`Jail`.
+            limits: As for :class:`Jail`, per run (each run is a process of its own).
+            env: As for :class:`Jail`.
+            isolation: Defaults to :func:`detect_isolation`.
+
+        Raises:
+            As :class:`Jail`.
+        """
+        self.isolation = isolation or detect_isolation()
+        self.limits = limits
+        self._folder = tempfile.mkdtemp(prefix="roboscript-jail-")
+        self.exchange = Path(self._folder) / "shared"
+        self.exchange.mkdir()
+        # Only the jail reads it: the folder above it stays the grader's own (bubblewrap
+        # shows the exchange alone, at its own path).
+        self.exchange.chmod(0o755)
+        if self.isolation.separate_user and os.geteuid() == 0:
+            os.chmod(self._folder, 0o711)  # passed through by the jail's user, never listed
+        self._count = 0
+        self._ready = False
+        self._running: JailedRun | None = None
+        ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+        ours.setsockopt(socket.SOL_SOCKET, socket.SO_PASSCRED, 1)
+        self._control = ours
+        try:
+            self._jail = Jail(
+                [
+                    sys.executable,
+                    "-I",
+                    "-m",
+                    _SERVER_MODULE,
+                    str(theirs.fileno()),
+                    "group" if self.isolation.name == LIMITS_ONLY else "uid",
+                    module,
+                    *warm_args,
+                ],
+                visible=[*visible, self.exchange],
+                workdir=workdir,
+                pass_fds=(theirs.fileno(),),
+                limits=limits,
+                env=env,
+                isolation=self.isolation,
+                reserve=1,
+            )
+        except BaseException:
+            ours.close()
+            shutil.rmtree(self._folder, ignore_errors=True)
+            raise
+        finally:
+            theirs.close()
+        self._group = self._jail.group
+        if self._group is not None:  # a user of its own, no bubblewrap: only it may read
+            os.chown(self.exchange, -1, self._group)
+            self.exchange.chmod(0o750)
+
+    @property
+    def alive(self) -> bool:
+        """False once the server has ended (a run killed it, or :meth:`close`)."""
+        return self._jail.poll() is None
+
+    @property
+    def server_output(self) -> str:
+        """What the server itself wrote (its start-up errors), capped."""
+        self._jail.drain()
+        return self._jail.stderr
+
+    def share(self, name: str, text: str) -> Path:
+        """Write ``text`` to a file of the exchange folder that the jail can read."""
+        path = self.exchange / name
+        path.write_text(text, encoding="utf-8")
+        if self._group is not None:
+            os.chown(path, -1, self._group)
+            path.chmod(0o640)
+        else:
+            path.chmod(0o644)
+        return path
+
+    def start(self, argv: Sequence[str], *, pass_fds: Sequence[int] = (), cwd: Path) -> JailedRun:
+        """Fork a run of ``module.main(argv)`` in the jail.
+
+        Args:
+            argv: The run's arguments; the i-th of ``pass_fds`` is its descriptor ``3 + i``.
+            pass_fds: Descriptors the run inherits.
+            cwd: The run's working folder (visible to the jail).
+
+        Returns:
+            The run, with the interface of :class:`Jail`.
+
+        Raises:
+            OSError: The server is gone or did not answer (start a new :class:`WarmJail`).
+        """
+        if self._running is not None and self._running.poll() is None:
+            raise RuntimeError("a WarmJail runs one run at a time")
+        self._wait_ready()
+        out_r, out_w = os.pipe()
+        err_r, err_w = os.pipe()
+        try:
+            request = json.dumps({"argv": list(argv), "cwd": str(cwd)}).encode()
+            fds = array.array("i", [out_w, err_w, *pass_fds])
+            self._control.sendmsg(
+                [request], [(socket.SOL_SOCKET, socket.SCM_RIGHTS, fds.tobytes())]
+            )
+        except BaseException:
+            for fd in (out_r, err_r):
+                os.close(fd)
+            raise
+        finally:
+            os.close(out_w)
+            os.close(err_w)
+        reply, pid = self._receive(_START_TIMEOUT_S)
+        run = JailedRun(self, pid, out_r, err_r)
+        if "status" in reply:  # it ended before it could say it started
+            run._ended(int(reply["status"]))
+        elif pid is None:
+            run.kill()
+            raise OSError("the jail's server sent no process id for its run")
+        self._running = run
+        return run
+
+    def _wait_ready(self) -> None:
+        if self._ready:
+            return
+        reply, _pid = self._receive(_SERVER_READY_TIMEOUT_S)
+        if "ready" not in reply:
+            raise OSError(f"the jail's server did not start: {self.server_output[-500:]}")
+        self._ready = True
+
+    def _receive(self, timeout_s: float) -> tuple[dict[str, Any], int | None]:
+        """The server's next message, and the pid it carries as credentials (if any)."""
+        if not _wait_readable([self._control.fileno()], timeout_s):
+            raise OSError(f"the jail's server did not answer within {timeout_s:g} s")
+        data, ancillary, _flags, _addr = self._control.recvmsg(
+            4096, socket.CMSG_SPACE(struct.calcsize("3i"))
+        )
+        if not data:
+            raise OSError(f"the jail's server ended: {self.server_output[-500:]}")
+        pid = None
+        for level, kind, payload in ancillary:
+            if level == socket.SOL_SOCKET and kind == socket.SCM_CREDENTIALS:
+                pid = struct.unpack("3i", payload[: struct.calcsize("3i")])[0]
+        try:
+            reply = json.loads(data)
+        except ValueError:
+            reply = None
+        if not isinstance(reply, dict):
+            raise OSError("the jail's server broke its protocol")
+        return reply, pid
+
+    def close(self) -> None:
+        """End the server and the jail (and a run still going)."""
+        if self._running is not None:
+            self._running.kill()
+        self._control.close()
+        self._jail.kill()
+        shutil.rmtree(self._folder, ignore_errors=True)
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.close()
+
+
+class JailedRun(_Output):
+    """One run forked by a :class:`WarmJail`; used as a :class:`Jail` is.
+
+    Once :meth:`poll` or :meth:`wait` returns a status, every process of the run is gone.
+
+    Attributes:
+        pid: The run's process, as this process sees it (to measure its CPU time).
+    """
+
+    def __init__(self, server: WarmJail, pid: int | None, out_r: int, err_r: int) -> None:
+        super().__init__(server.limits)
+        self.isolation = server.isolation
+        self.limits = server.limits
+        self.pid = pid
+        self._server = server
+        self._status: int | None = None
+        self._attach(out_r, err_r)
+
+    def _ended(self, status: int) -> None:
+        self._status = status
+        self._finish_output()
+
+    def cpu_time_s(self) -> float | None:
+        """CPU seconds the run's process has used so far (None once it is gone)."""
+        return process_cpu_time_s(self.pid) if self.pid is not None else None
+
+    def poll(self) -> int | None:
+        """The run's exit status once it and everything it started are gone, else None."""
+        if self._status is not None:
+            return self._status
+        if not _wait_readable([self._server._control.fileno()], 0):
+            if self._server.alive:
+                return None
+            self._ended(-signal.SIGKILL)  # its server (and jail) ended under it
+            return self._status
+        try:
+            reply, _pid = self._server._receive(0)
+        except OSError:
+            self._server._jail.kill()
+            self._ended(-signal.SIGKILL)
+            return self._status
+        self._ended(int(reply.get("status", -signal.SIGKILL)))
+        return self._status
+
+    def wait(self, timeout_s: float) -> int | None:
+        """Wait up to ``timeout_s`` seconds for the run to end, draining its output."""
+        deadline = time.monotonic() + max(0.0, timeout_s)
+        while True:
+            status = self.poll()
+            if status is not None:
+                return status
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return None
+            _wait_readable([*self._streams, self._server._control.fileno()], min(left, 1.0))
+            self.drain()
+
+    def kill(self) -> None:
+        """End the run now (and what it started); the jail stays for the next run."""
+        if self._closed:
+            return
+        if self._status is None and self.pid is not None:
+            with contextlib.suppress(OSError):
+                os.kill(self.pid, signal.SIGKILL)
+        if self.wait(_TEARDOWN_TIMEOUT_S) is None:
+            self._server._jail.kill()  # the server is stuck: the whole jail goes
+            self._ended(-signal.SIGKILL)
+        self._close_output()
+
+    def _finish_output(self) -> None:
+        for fd in list(self._streams):
+            self._read(fd, 4 * _READS_PER_DRAIN)
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.kill()
+
+
+def process_cpu_time_s(pid: int) -> float | None:
+    """CPU seconds (user + system) process ``pid`` has used, from ``/proc``; None if gone."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as handle:
+            fields = handle.read().rsplit(b")", 1)[1].split()
+    except (OSError, IndexError):
+        return None
+    ticks = os.sysconf("SC_CLK_TCK")
+    return (int(fields[11]) + int(fields[12])) / ticks
 
 
 def _wait_readable(fds: Sequence[int], timeout_s: float) -> bool:

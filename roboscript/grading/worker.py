@@ -11,12 +11,16 @@ from __future__ import annotations
 
 import importlib
 import logging
+import signal
+from collections.abc import Sequence
 from multiprocessing.connection import Connection
 
+from roboscript.grading.record import RunResult
 from roboscript.grading.run import grade_run
-from roboscript.grading.sandbox import detect_isolation
+from roboscript.grading.sandbox import WarmJail, detect_isolation, warm_jails_supported
 from roboscript.grading.task import RunTask, crash_result
 from roboscript.grading.text import cap_result
+from roboscript.grading.world_host import warm_jail
 
 __all__ = ["work"]
 
@@ -35,23 +39,66 @@ for _name in _WARM_MODULES:
 detect_isolation()
 
 
-def work(connection: Connection, task: RunTask) -> None:
-    """Grade one run and send its result dictionary to the parent."""
+def work(connection: Connection, tasks: Sequence[tuple[int, RunTask]]) -> None:
+    """Grade runs of one student's mission in turn; send ``(index, result)`` for each.
+
+    The runs share one warm jail (:class:`~roboscript.grading.sandbox.WarmJail`) where the
+    platform allows: its interpreter imports roboscript once and forks each run. The parent
+    gives one worker only runs that may share a jail (the same mission and files, all hidden
+    or all visible).
+    """
     logging.disable(logging.WARNING)
+    # Stopped by the parent (its runs are known already): clean up on the way out, so no
+    # jail's folder or world map outlives the worker.
+    signal.signal(signal.SIGTERM, _exit_on_term)
+    server: WarmJail | None = None
     try:
-        graded = grade_run(
-            task.spec,
-            task.mission,
-            task.variant,
-            task.student,
-            visible=task.visible,
-            hang_after_s=task.hang_after_s,
-        )
-        # Capped here, so a student's flood never crosses the pipe or reaches --results.
-        result = cap_result(graded).to_dict(replay=True)
-    except Exception as exc:  # noqa: BLE001 - a bug of ours: report it for this run only
-        result = crash_result(task, exc)
-    try:
-        connection.send(result)
+        for index, task in tasks:
+            if warm_jails_supported() and (server is None or not server.alive):
+                if server is not None:
+                    server.close()
+                server = _warm_jail(task)
+            try:
+                try:
+                    graded = _grade(task, server)
+                except OSError:
+                    if server is None or server.alive:
+                        raise
+                    # The previous run killed its jail's server as it ended: a new jail.
+                    server.close()
+                    server = _warm_jail(task)
+                    graded = _grade(task, server)
+                # Capped here, so a student's flood never crosses the pipe or reaches --results.
+                result = cap_result(graded).to_dict(replay=True)
+            except Exception as exc:  # noqa: BLE001 - a bug of ours: report it for this run only
+                result = crash_result(task, exc)
+            connection.send((index, result))
     finally:
+        if server is not None:
+            server.close()
         connection.close()
+
+
+def _exit_on_term(signum: int, _frame: object) -> None:
+    raise SystemExit(128 + signum)
+
+
+def _grade(task: RunTask, server: WarmJail | None) -> RunResult:
+    return grade_run(
+        task.spec,
+        task.mission,
+        task.variant,
+        task.student,
+        visible=task.visible,
+        hang_after_s=task.hang_after_s,
+        server=server,
+    )
+
+
+def _warm_jail(task: RunTask) -> WarmJail | None:
+    """The student's warm jail, or None (each run then gets a jail of its own, which reports
+    the same problem as a run result)."""
+    try:
+        return warm_jail(task.spec, task.mission, visible=task.visible)
+    except (OSError, ValueError):
+        return None

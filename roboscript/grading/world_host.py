@@ -39,7 +39,7 @@ from pathlib import Path
 from typing import Any, Literal
 
 from roboscript.grading.record import Collision, RunRecord, RunStatus, Tone
-from roboscript.grading.sandbox import Jail, Limits
+from roboscript.grading.sandbox import Jail, JailedRun, Limits, WarmJail
 from roboscript.grading.spec import TestSpec, Variant
 from roboscript.grading.submissions import named_files
 from roboscript.mission.runner import MISSION_OUTCOMES
@@ -62,6 +62,7 @@ __all__ = [
     "MISSION_OUTCOMES",
     "WorldRun",
     "run_world",
+    "warm_jail",
 ]
 
 DEFAULT_HANG_AFTER_S = 2.0
@@ -134,6 +135,7 @@ def run_world(
     visible: tuple[Path, ...] | None = None,
     hang_after_s: float = DEFAULT_HANG_AFTER_S,
     limits: Limits | None = None,
+    server: WarmJail | None = None,
 ) -> WorldRun:
     """Run ``mission_path`` sandboxed against this process's simulation of ``variant``.
 
@@ -145,6 +147,8 @@ def run_world(
             and the files beside it that it names, see :func:`submission_files`).
         hang_after_s: Wall seconds without simulated progress that make a run ``hung``.
         limits: The sandbox's resource limits.
+        server: A warm jail of this student's to fork the run in (its own files, limits and
+            visibility apply); by default the run gets a new jail of its own.
 
     Returns:
         What the world saw.
@@ -154,38 +158,43 @@ def run_world(
     world = spec.worlds[variant.world]
     start = Pose(*variant.start) if variant.start is not None else None
     sim = Simulation(world, profile, variant.seed, start=start)
-    readable = list(visible if visible is not None else submission_files(mission))
-    robot_file = Path(spec.robot)
-    if robot_file.suffix.lower() in (".yaml", ".yml") and robot_file.is_file():
-        readable.append(robot_file.resolve())  # a teacher's own profile: that file only
-        robot_arg = str(robot_file.resolve())
-    else:
-        robot_arg = spec.robot
+    readable, robot_arg = _jail_files(spec, mission, visible)
     # A file, not an argument: a world's regions can outgrow the 128 KiB an argument may hold.
     with tempfile.TemporaryDirectory(prefix="roboscript-world-") as folder:
-        world_map = Path(folder) / "world-map.json"
-        world_map.write_text(WorldMap.of(sim).to_json(), encoding="utf-8")
+        map_text = WorldMap.of(sim).to_json()
+        if server is None:
+            world_map = Path(folder) / "world-map.json"
+            world_map.write_text(map_text, encoding="utf-8")
+        else:
+            world_map = server.share(Path(folder).name + ".json", map_text)
         ours, theirs = socket.socketpair()
         try:
-            jail = Jail(
-                [
-                    sys.executable,
-                    "-I",
-                    "-m",
-                    "roboscript.grading.mission_host",
-                    str(theirs.fileno()),
-                    str(mission),
-                    robot_arg,
-                    repr(spec.max_time_s),
-                    repr(hang_after_s),
-                    # the regions and the start, so in_region reads as it does in-process
-                    str(world_map),
-                ],
-                visible=tuple(dict.fromkeys([*readable, world_map])),
-                workdir=mission.parent,
-                pass_fds=(theirs.fileno(),),
-                limits=limits or Limits(),
-            )
+            args = [
+                str(mission),
+                robot_arg,
+                repr(spec.max_time_s),
+                repr(hang_after_s),
+                # the regions and the start, so in_region reads as it does in-process
+                str(world_map),
+            ]
+            jail: Jail | JailedRun
+            if server is None:
+                jail = Jail(
+                    [
+                        sys.executable,
+                        "-I",
+                        "-m",
+                        "roboscript.grading.mission_host",
+                        str(theirs.fileno()),
+                        *args,
+                    ],
+                    visible=tuple(dict.fromkeys([*readable, world_map])),
+                    workdir=mission.parent,
+                    pass_fds=(theirs.fileno(),),
+                    limits=limits or Limits(),
+                )
+            else:  # the same student's jail, already warm: the run is a fork (fd 3 is ours)
+                jail = server.start(["3", *args], pass_fds=(theirs.fileno(),), cwd=mission.parent)
         finally:
             theirs.close()
         with jail:
@@ -195,6 +204,45 @@ def run_world(
                 return session.run()
             finally:
                 ours.close()
+                if server is not None:  # a later run of the same jail must not see it
+                    world_map.unlink(missing_ok=True)
+
+
+def _jail_files(
+    spec: TestSpec, mission: Path, visible: tuple[Path, ...] | None
+) -> tuple[list[Path], str]:
+    """What a run's jail shows (the student's files, a teacher's robot file), and the robot
+    argument of its mission process."""
+    readable = list(visible if visible is not None else submission_files(mission))
+    robot_file = Path(spec.robot)
+    if robot_file.suffix.lower() in (".yaml", ".yml") and robot_file.is_file():
+        readable.append(robot_file.resolve())  # a teacher's own profile: that file only
+        return readable, str(robot_file.resolve())
+    return readable, spec.robot
+
+
+def warm_jail(
+    spec: TestSpec,
+    mission_path: str,
+    *,
+    visible: tuple[Path, ...] | None = None,
+    limits: Limits | None = None,
+) -> WarmJail:
+    """A jail for several runs of ``mission_path`` on ``spec``'s robot (pass it to
+    :func:`run_world` as ``server``): it shows what :func:`run_world` would show each run.
+
+    Raises:
+        As :class:`~roboscript.grading.sandbox.WarmJail`.
+    """
+    mission = Path(mission_path).resolve()
+    readable, robot_arg = _jail_files(spec, mission, visible)
+    return WarmJail(
+        "roboscript.grading.mission_host",
+        [robot_arg],
+        visible=tuple(dict.fromkeys(readable)),
+        workdir=mission.parent,
+        limits=limits or Limits(),
+    )
 
 
 class _WorldSession:
@@ -206,7 +254,7 @@ class _WorldSession:
         spec: TestSpec,
         handshake_s: float,
         sock: socket.socket,
-        jail: Jail,
+        jail: Jail | JailedRun,
         hang_after_s: float,
     ) -> None:
         self.sim = sim

@@ -21,6 +21,8 @@ submissions), and the aggregate real-time factor.
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
+import multiprocessing
 import shutil
 import sys
 import tempfile
@@ -37,7 +39,13 @@ for _path in (str(HERE), str(HERE.parent.parent)):
 from benchlib import Row, at_most, format_table, info, machine_header  # noqa: E402
 
 from roboscript.grading.batch import find_specs, find_submissions, grade_class  # noqa: E402
+from roboscript.grading.expectations import evaluate  # noqa: E402
 from roboscript.grading.pool import default_jobs  # noqa: E402
+from roboscript.grading.run import record_from_session  # noqa: E402
+from roboscript.grading.sandbox import detect_isolation  # noqa: E402
+from roboscript.grading.spec import TestSpec, Variant  # noqa: E402
+from roboscript.mission import mission_for_robot  # noqa: E402
+from roboscript.session import run_session  # noqa: E402
 
 __all__ = ["CLASS_WALL_GOAL_S", "measure"]
 
@@ -46,6 +54,8 @@ STUDENTS = 30
 SEEDS = 3
 CLASS_WALL_GOAL_S = 60.0
 """The issue's goal: 30 missions x 3 seeds of about 60 s each, graded in under a minute."""
+ISOLATION_COST_GOAL = 1.5
+"""Sandboxed grading may take at most this multiple of the same runs done in-process."""
 
 SPEC = """\
 test: patrol-minute
@@ -142,10 +152,55 @@ def _grade(students: int, troubled: bool, jobs: int | None) -> tuple[float, Any]
         return time.perf_counter() - started, report
 
 
+def _in_process_run(spec: TestSpec, mission: str, variant: Variant) -> float:
+    """One run as it went before the sandbox: mission and world in this process, judged.
+
+    Returns:
+        Simulated seconds the mission ran.
+    """
+    mission_spec, profile, _warnings = mission_for_robot(mission, spec.robot)
+    session = run_session(
+        mission_spec,
+        profile,
+        world=spec.worlds[variant.world].name,
+        seed=variant.seed,
+        start=variant.start,
+        max_time_s=spec.max_time_s,
+    )
+    record = record_from_session(session)
+    for expectation in spec.expectations:
+        evaluate(expectation, record)
+    return record.duration_s
+
+
+def _grade_in_process(students: int, jobs: int | None) -> float:
+    """Wall seconds to do the honest class's runs in-process, ``jobs`` warm workers at a time.
+
+    The baseline the sandbox is measured against: the same missions, variants and judging,
+    with no second process, no wire and no jail (workers are reused, which only flatters it).
+    """
+    with tempfile.TemporaryDirectory(prefix="bench-grading-") as tmp:
+        spec_file, submissions = _make_class(Path(tmp), students, SEEDS)
+        spec = find_specs([str(spec_file)])[0]
+        runs = [
+            (spec, mission, variant)
+            for submission in find_submissions([str(submissions)])
+            for mission in submission.missions
+            for variant in spec.variants
+        ]
+        context = multiprocessing.get_context("forkserver")
+        context.set_forkserver_preload(["roboscript.grading.worker"])
+        started = time.perf_counter()
+        with concurrent.futures.ProcessPoolExecutor(jobs or default_jobs(), context) as pool:
+            list(pool.map(_in_process_run, *zip(*runs, strict=True)))
+        return time.perf_counter() - started
+
+
 def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
     """Grade the benchmark class once; return the rows (wall time against the goal, RTF)."""
     students = 12 if quick else STUDENTS
     wall_s, report = _grade(students, False, jobs)
+    in_process_s = _grade_in_process(students, jobs)
     troubled_s, troubled = _grade(students, True, jobs)
     statuses = Counter(r.status for r in troubled.results)
     simulated_s = sum(r.record.duration_s for r in report.results if r.record is not None)
@@ -181,6 +236,14 @@ def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
             CLASS_WALL_GOAL_S,
             trouble_detail,
             unit="s",
+        ),
+        at_most(
+            KEY,
+            "grading: sandboxed class time / the same runs in-process",
+            wall_s / in_process_s,
+            ISOLATION_COST_GOAL,
+            f"{wall_s:.1f} s sandboxed ({detect_isolation().name}), {in_process_s:.1f} s"
+            f" in-process, {runs} runs, {workers} workers",
         ),
         info(
             KEY,

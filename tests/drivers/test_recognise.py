@@ -6,7 +6,10 @@ codec. The end-to-end tests connect to the real served simulators on loopback TC
 
 from __future__ import annotations
 
+import ast
 import re
+import subprocess
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -105,3 +108,27 @@ def test_a_served_spike_hub_that_stays_silent_is_told_what_was_tried(served_spik
         line,
     )
     assert "A SPIKE hub or a StackMod bridge says nothing until asked" in line
+
+
+@pytest.mark.parametrize(
+    ("robot", "protocol"),
+    [("mirto", "asip"), ("spike-prime", "spike"), ("stackmod-rover", "stackmod")],
+)
+def test_a_handshake_with_the_robot_asked_for_loads_no_other_protocols_codec(
+    robot: str, protocol: str
+) -> None:
+    # A graded run's mission process connects once per run: every codec it imports on the
+    # way is start-up time charged to the student, so only the robot's own may be loaded.
+    code = (
+        "import sys\n"
+        "from roboscript.robot import Robot\n"
+        f"with Robot.connect({robot!r}) as bot:\n"
+        "    bot.scheduler.run(until=lambda: False, max_duration_s=1.0)\n"
+        "print(sorted(m for m in sys.modules if m.startswith('roboscript.drivers.')"
+        " and m.endswith('.codec')))\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+    )
+    codecs = ast.literal_eval(done.stdout.strip().splitlines()[-1])
+    assert codecs == [f"roboscript.drivers.{protocol}.codec"]

@@ -5,17 +5,23 @@ grader. The whole class is graded once, through ``roboscript grade`` in a subpro
 as a teacher runs it, with every report written; then each test checks one promise. The
 honest student's result must come out right whatever the others did.
 
-The cheats need the sandbox's full isolation (bubblewrap); where it is missing the grader
-warns and these tests are skipped (see the teachers' guide for what each platform guarantees).
+The class is graded in each isolation that keeps students apart: bubblewrap's full jail,
+and (where the grader is root, as in LMS containers where bubblewrap cannot run) each run as
+a user of its own. A mode this computer cannot give is skipped (see the teachers' guide for
+what each platform guarantees).
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
+import html
 import json
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 from typing import Any
@@ -23,11 +29,13 @@ from typing import Any
 import pytest
 from helpers import FORWARD_50CM, FORWARD_50CM_EXPECT
 
-from roboscript.grading.sandbox import detect_isolation
-
-pytestmark = pytest.mark.skipif(
-    not detect_isolation().complete, reason="needs bubblewrap's full isolation"
+from roboscript.grading.sandbox import (
+    BUBBLEWRAP,
+    ISOLATION_VARIABLE,
+    SEPARATE_USER,
 )
+
+MODES = {"bubblewrap": BUBBLEWRAP, "user": SEPARATE_USER}
 
 SPEC = """\
 test: forward
@@ -117,11 +125,15 @@ for path in [{spec!r}, {classmate!r}] + glob.glob("/proc/*/cmdline"):
             text = handle.read(4000)
     except OSError:
         continue
-    if b"forward" in text or b"grade" in text:
+    # the spec's name, or the grader's command line ("roboscript grade ...")
+    if b"forward" in text or b"\\x00grade\\x00" in text:
         seen.append(path)
 print("SNOOPED", seen)
 folder = os.path.dirname({classmate!r})
-print("SIBLINGS", sorted(os.listdir(folder)) if os.path.isdir(folder) else "none")
+try:
+    print("SIBLINGS", sorted(os.listdir(folder)))
+except OSError:
+    print("SIBLINGS none")
 """
 
 PLANTER = """\
@@ -218,10 +230,21 @@ with open("/tmp/fill", "wb") as handle:
 """
 
 
-@pytest.fixture(scope="module")
-def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
-    """The class, graded once by the real command line."""
+@pytest.fixture(scope="module", params=sorted(MODES))
+def graded(
+    request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory
+) -> dict[str, Any]:
+    """The class, graded once per isolation mode by the real command line."""
+    mode = request.param
+    environment = {**os.environ, ISOLATION_VARIABLE: mode}
+    if _isolation_for(mode)["name"] != MODES[mode]:
+        # bubblewrap missing; or not root, or an interpreter other users cannot run
+        pytest.skip(f"this computer cannot give the '{mode}' isolation")
     root = tmp_path_factory.mktemp("cheats")
+    if mode == "user":  # without bubblewrap a run must pass through the folders above its own
+        root = Path(tempfile.mkdtemp(prefix="roboscript-cheats-"))
+        root.chmod(0o711)
+        request.addfinalizer(lambda: shutil.rmtree(root, ignore_errors=True))
     teacher = root / "teacher"
     teacher.mkdir()
     spec = teacher / "forward.yaml"
@@ -276,7 +299,9 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
         "--results",
         str(results),
     ]
-    done = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
+    done = subprocess.run(
+        command, capture_output=True, text=True, timeout=600, check=False, env=environment
+    )
     time.sleep(2.5)  # give a daemon that escaped time to act: none may have
     return {
         "exit": done.returncode,
@@ -288,6 +313,8 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
         "spec": spec,
         "package_hash": (before, hashlib.sha256(package_file.read_bytes()).hexdigest()),
         "results": results,
+        "mode": mode,
+        "class": subs,
     }
 
 
@@ -325,8 +352,19 @@ def test_a_forged_result_on_any_descriptor_changes_nothing(graded: dict[str, Any
 
 def test_the_spec_and_classmates_files_are_out_of_reach(graded: dict[str, Any]) -> None:
     output = _runs(graded, "snoop")[0]["debug"]
-    assert "SNOOPED []" in output
+    snooped = output.split("SNOOPED ", 1)[1].splitlines()[0]
+    if graded["mode"] == "bubblewrap":
+        assert snooped == "[]"  # not even the grader's command line is in sight
+    else:  # a user of its own sees other processes, but reads neither file
+        assert "forward.yaml" not in snooped and "ada" not in snooped
     assert "ada" not in output.split("SIBLINGS", 1)[1].splitlines()[0]
+
+
+def test_every_report_says_how_the_runs_were_isolated(graded: dict[str, Any]) -> None:
+    statement = graded["report"]["isolation"]
+    assert statement == _isolation_for(graded["mode"])["statement"]
+    index = (Path(graded["html"]) / "index.html").read_text(encoding="utf-8")
+    assert html.escape(statement) in index
 
 
 def test_nothing_is_planted_in_the_reports_or_the_spec(graded: dict[str, Any]) -> None:
@@ -391,15 +429,32 @@ def test_every_finished_run_is_in_the_results_file(graded: dict[str, Any]) -> No
 
 
 def test_no_student_process_outlives_the_grader(graded: dict[str, Any]) -> None:
-    marker = b"roboscript.grading.mission_host"
+    markers = (b"roboscript.grading.mission_host", b"roboscript.grading.jail_server")
     alive = []
     for pid in os.listdir("/proc"):
         if not pid.isdigit():
             continue
         try:
             cmdline = Path(f"/proc/{pid}/cmdline").read_bytes()
+            folder = os.readlink(f"/proc/{pid}/cwd")
         except OSError:
             continue
-        if marker in cmdline and str(graded["spec"].parent.parent).encode() in cmdline:
+        if any(m in cmdline for m in markers) and folder.startswith(str(graded["class"])):
             alive.append(pid)
     assert alive == []
+
+
+@functools.cache
+def _isolation_for(mode: str) -> dict[str, str]:
+    """The isolation (name, statement) a grader started with ``ROBOSCRIPT_ISOLATION=mode``
+    has on this computer, asked of a fresh interpreter as ``roboscript grade`` would be."""
+    code = "from roboscript.grading.sandbox import detect_isolation as d; import json;"
+    code += " print(json.dumps({'name': d().name, 'statement': d().statement}))"
+    done = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        check=True,
+        env={**os.environ, ISOLATION_VARIABLE: mode},
+    )
+    return dict(json.loads(done.stdout))

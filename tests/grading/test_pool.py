@@ -14,6 +14,7 @@ from helpers import MISSIONS
 
 from roboscript.grading.batch import find_specs, find_submissions, grade_class
 from roboscript.grading.run import grade_run
+from roboscript.grading.sandbox import warm_jails_supported
 from roboscript.grading.spec import load_test_spec
 
 SPEC = """\
@@ -219,18 +220,58 @@ def test_a_mission_that_hangs_while_loading_is_run_once_for_all_its_variants(
     started: list[str] = []
     real_start = pool._start
 
-    def counting(context: Any, index: int, task: pool.RunTask) -> Any:
-        started.append(Path(task.mission).stem)
-        return real_start(context, index, task)
+    def counting(context: Any, batch: list[tuple[int, pool.RunTask]]) -> Any:
+        started.extend(Path(task.mission).stem for _index, task in batch)
+        return real_start(context, batch)
 
     monkeypatch.setattr(pool, "_start", counting)
     report = grade_class(find_specs([str(spec)]), find_submissions([str(folder)]), jobs=2)
-    assert started.count("zed") == 1
     assert started.count("amy") == 4  # it loads: each variant runs (and crashes) on its own
     zed = report.cell("zed", "t").results
     assert [r.status for r in zed] == ["hung"] * 4
     assert all(r.during_load and "while loading" in r.message for r in zed)
     assert [r.variant for r in zed] == [0, 1, 2, 3]
+    # Only the first was run: the others are its result, given without a run of their own.
+    assert [r.wall_time_s > 0 for r in zed] == [True, False, False, False]
+    amy = report.cell("amy", "t").results
+    assert all(r.status == "crashed" and r.wall_time_s > 0 for r in amy)
+
+
+SAYS_ITS_JAIL = """\
+import os, sys
+from roboscript import Mission, Wait, state
+
+# The world's map is handed to the run in a folder of its jail's own.
+print("JAIL", os.path.dirname(sys.argv[-1]))
+
+
+class Idle(Mission):
+    go = state(Wait(duration_s=0.2), initial=True, on_done="end")
+    end = state(final="success")
+"""
+
+
+@pytest.mark.skipif(not warm_jails_supported(), reason="warm jails are Linux only")
+def test_a_students_runs_share_a_jail_but_hidden_runs_get_their_own(tmp_path: Path) -> None:
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(
+        "test: t\nruns:\n  - {seed: 1}\n  - {seed: 2}\n  - {seed: 3, hidden: true}\n"
+        "expect:\n  - outcome: success\n",
+        encoding="utf-8",
+    )
+    folder = tmp_path / "class"
+    folder.mkdir()
+    (folder / "ann.py").write_text(SAYS_ITS_JAIL, encoding="utf-8")
+    (folder / "bob.py").write_text(SAYS_ITS_JAIL, encoding="utf-8")
+    report = grade_class(find_specs([str(spec)]), find_submissions([str(folder)]), jobs=2)
+    jails = {
+        (r.student, r.variant): re.search(r"JAIL (\S+)", r.debug)[1]  # type: ignore[index]
+        for r in report.results
+    }
+    assert report.passed
+    assert jails["ann", 0] == jails["ann", 1]  # one jail, imported once, for both
+    assert jails["ann", 2] != jails["ann", 0]  # what a hidden run saw stays in its own
+    assert jails["bob", 0] not in (jails["ann", 0], jails["ann", 2])
 
 
 def test_a_killed_grader_keeps_every_finished_run(tmp_path: Path) -> None:

@@ -9,8 +9,10 @@ with the reason, where it is not available (macOS, Windows, a container without 
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
+import re
 import select
 import shutil
 import signal
@@ -22,12 +24,21 @@ import textwrap
 import uuid
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 import roboscript
 from roboscript.grading import sandbox
-from roboscript.grading.sandbox import Isolation, Jail, Limits, detect_isolation
+from roboscript.grading.sandbox import (
+    Isolation,
+    Jail,
+    Limits,
+    byte_compile_package,
+    detect_isolation,
+    private_class,
+    warm_jails_supported,
+)
 
 PACKAGE = Path(roboscript.__file__).resolve().parent
 HERE = Path(__file__).resolve().parent
@@ -212,6 +223,8 @@ def without_bwrap(monkeypatch: pytest.MonkeyPatch) -> Iterator[Isolation]:
     monkeypatch.setattr(
         shutil, "which", lambda name, *a, **k: None if name == "bwrap" else real_which(name)
     )
+    # As root, the fallback would first try a user of its own per run: tested below.
+    monkeypatch.setattr(sandbox, "_probe_user", lambda: "not tried in this test")
     detect_isolation.cache_clear()
     yield detect_isolation()
     detect_isolation.cache_clear()
@@ -429,6 +442,23 @@ def test_the_roboscript_package_is_read_only(box: Path) -> None:
     assert out.splitlines() in (["refused 30", "refused 30"], ["refused 13", "refused 30"])
     assert target.read_bytes() == before
     assert not (PACKAGE / "planted.py").exists()
+
+
+def test_a_jail_never_compiles_the_package_it_imports(box: Path) -> None:
+    # A jail cannot write .pyc files: an uncompiled install would be compiled from source at
+    # the start of every run, on the student's time. The grader compiles it first.
+    cached = Path(importlib.util.cache_from_source(str(PACKAGE / "grading" / "mission_host.py")))
+    cached.unlink(missing_ok=True)
+    assert byte_compile_package.__wrapped__()
+    code = "import roboscript.grading.mission_host, roboscript.session, roboscript.mission"
+    with Jail([sys.executable, "-I", "-v", "-c", code], visible=[box], workdir=box) as j:
+        assert j.wait(60) == 0, j.stderr
+        trace = j.stderr
+    package = re.escape(str(PACKAGE))
+    loaded = re.findall(rf"^# \S+\.pyc matches ({package}/\S+\.py)$", trace, re.MULTILINE)
+    compiled = re.findall(rf"^# code object from '?({package}/\S+\.py)'?$", trace, re.MULTILINE)
+    assert str(PACKAGE / "grading" / "mission_host.py") in loaded
+    assert compiled == []
 
 
 @needs_bwrap
@@ -682,3 +712,245 @@ def test_a_grader_run_by_an_ordinary_user_gets_the_same_isolation() -> None:
     assert int(pids) <= 3  # bwrap's PID 1 and the student's process: nothing of the grader's
     assert 0 < int(forked) < 6
     assert alive_with(marker) == []
+
+
+# ----------------------------------------------------------------------- warm jails (fork server)
+
+needs_warm = pytest.mark.skipif(not warm_jails_supported(), reason="warm jails are Linux only")
+
+WARM_SPEC = """\
+test: still
+world: empty
+runs:
+  - {seed: 1}
+  - {seed: 2}
+  - {seed: 3}
+max_time: 5 s
+expect:
+  - outcome: success
+"""
+
+# Loaded once per run: what this run finds of the run before it, then leftovers of its own.
+LEFTOVERS = """\
+import os, time
+from roboscript import Mission, Wait, state
+
+me = os.getpid()
+alive = []
+for name in filter(str.isdigit, os.listdir("/proc")):
+    try:
+        with open(f"/proc/{{name}}/stat") as handle:
+            fields = handle.read().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        continue
+    mine = os.stat(f"/proc/{{name}}").st_uid == os.getuid()
+    if int(name) != me and fields[0] not in "ZX" and mine:
+        alive.append(int(name))
+print("FOUND", sorted(os.listdir({scratch!r})), len(alive), os.getppid(), flush=True)
+with open(os.path.join({scratch!r}, "left-behind"), "w") as handle:
+    handle.write("x")
+if os.fork() == 0:
+    os.setsid()
+    if os.fork() == 0:
+        time.sleep(60)
+    os._exit(0)
+{extra}
+
+class Idle(Mission):
+    go = state(Wait(duration_s=0.2), initial=True, on_done="end")
+    end = state(final="success")
+"""
+
+
+def _warm_runs(box: Path, extra: str = "", scratch: str = "/tmp") -> list[Any]:
+    """The three runs of WARM_SPEC in one warm jail, with LEFTOVERS as the mission."""
+    from roboscript.grading.run import grade_run
+    from roboscript.grading.spec import load_test_spec
+    from roboscript.grading.world_host import warm_jail
+
+    spec_file = box.parent / "still.yaml"
+    spec_file.write_text(WARM_SPEC, encoding="utf-8")
+    mission = box / "still.py"
+    mission.write_text(LEFTOVERS.format(scratch=scratch, extra=extra), encoding="utf-8")
+    spec = load_test_spec(spec_file)
+    results = []
+    with warm_jail(spec, str(mission)) as server:
+        for variant in spec.variants:
+            results.append(grade_run(spec, str(mission), variant, server=server))
+    return results
+
+
+def _found(result: Any) -> list[str]:
+    line = next(x for x in result.debug.splitlines() if x.startswith("FOUND"))
+    return line.split(" ", 1)[1].rsplit(" ", 2)
+
+
+@needs_warm
+@needs_bwrap
+def test_a_warm_jails_runs_never_meet_each_others_leftovers(box: Path) -> None:
+    first, second, third = _warm_runs(box)
+    assert [r.status for r in (first, second, third)] == ["passed"] * 3, first.debug
+    files, alive, server = _found(first)
+    # The first run left a file and a daemon: neither is there for the next two.
+    assert _found(second) == _found(third) == [files, alive, server]
+    assert "left-behind" not in files
+
+
+@needs_warm
+@needs_bwrap
+def test_a_run_that_kills_its_warm_jail_ends_alone_and_the_next_gets_a_new_jail(
+    box: Path,
+) -> None:
+    kill_server = "import signal\nos.kill(os.getppid(), signal.SIGKILL)\ntime.sleep(1)\n"
+    from roboscript.grading.run import grade_run
+    from roboscript.grading.spec import load_test_spec
+    from roboscript.grading.world_host import warm_jail
+
+    spec_file = box.parent / "still.yaml"
+    spec_file.write_text(WARM_SPEC, encoding="utf-8")
+    mission = box / "still.py"
+    mission.write_text(LEFTOVERS.format(scratch="/tmp", extra=kill_server), encoding="utf-8")
+    spec = load_test_spec(spec_file)
+    with warm_jail(spec, str(mission)) as server:
+        result = grade_run(spec, str(mission), spec.variants[0], server=server)
+        assert result.status == "crashed"
+        assert not server.alive
+
+
+@needs_warm
+def test_a_warm_run_names_its_own_process_so_its_cpu_time_can_be_read(box: Path) -> None:
+    from roboscript.grading.spec import load_test_spec
+    from roboscript.grading.world_host import warm_jail
+
+    spec_file = box.parent / "still.yaml"
+    spec_file.write_text(WARM_SPEC, encoding="utf-8")
+    mission = box / "still.py"
+    # Loading it burns 0.3 s of CPU: the grader must see that much on the run's own process.
+    spin = "t = time.process_time()\nwhile time.process_time() - t < 0.3:\n    pass\n"
+    mission.write_text(LEFTOVERS.format(scratch="/tmp", extra=spin), encoding="utf-8")
+    spec = load_test_spec(spec_file)
+    ours, theirs = socket.socketpair()
+    with warm_jail(spec, str(mission)) as server:
+        args = ["3", str(mission), "mirto", "5.0", "2.0"]
+        with server.start(args, pass_fds=(theirs.fileno(),), cwd=box) as run_:
+            theirs.close()
+            ours.settimeout(60)
+            assert ours.recv(1)  # it loaded its mission and speaks: the spin is done
+            assert run_.pid is not None and run_.pid != os.getpid()
+            cmdline = Path(f"/proc/{run_.pid}/cmdline").read_bytes()
+            assert b"roboscript.grading.jail_server" in cmdline
+            cpu_s = run_.cpu_time_s()
+            assert cpu_s is not None and cpu_s >= 0.25
+            run_.kill()
+            assert run_.poll() is not None
+            assert run_.cpu_time_s() is None  # gone, with everything it started
+    ours.close()
+
+
+# ------------------------------------------------------------- a user of its own (no bubblewrap)
+
+
+def _separate_user() -> Isolation | None:
+    """The separate-user isolation, where this computer can give it (root, an interpreter
+    other users may run), else None."""
+    if sys.platform != "linux" or os.geteuid() != 0 or sandbox._probe_user():
+        return None
+    return Isolation(sandbox.SEPARATE_USER, False, "no bubblewrap in this test")
+
+
+needs_separate_user = pytest.mark.skipif(
+    _separate_user() is None,
+    reason="needs root and an interpreter other users may run (a user of its own per run)",
+)
+
+
+@pytest.fixture
+def reachable(tmp_path: Path) -> Iterator[Path]:
+    """A folder every user may pass through to (pytest's own are private to their user, and
+    a run as a user of its own sees the real disk)."""
+    folder = Path(tempfile.mkdtemp(prefix="roboscript-user-test-"))
+    folder.chmod(0o711)
+    yield folder
+    shutil.rmtree(folder, ignore_errors=True)
+
+
+@needs_separate_user
+def test_as_a_user_of_its_own_a_run_reads_only_its_students_files(reachable: Path) -> None:
+    tmp_path = reachable
+    tests = tmp_path / "tests"
+    tests.mkdir()
+    spec = tests / "hidden.yaml"
+    spec.write_text("secret", encoding="utf-8")
+    classroom = tmp_path / "class"
+    ada, ben = classroom / "ada", classroom / "ben"
+    for folder in (ada, ben):
+        folder.mkdir(parents=True)
+        (folder / "mission.yaml").write_text(folder.name, encoding="utf-8")
+    before = {p: p.stat().st_mode for p in (spec, classroom, ada, ada / "mission.yaml")}
+    isolation = _separate_user()
+    code = textwrap.dedent(
+        f"""
+        import os, resource
+        def read(path):
+            try:
+                with open(path) as handle:
+                    return handle.read()
+            except OSError as exc:
+                return type(exc).__name__
+        def listing(path):
+            try:
+                return len(os.listdir(path))
+            except OSError as exc:
+                return type(exc).__name__
+        print(os.getuid() != 0, resource.getrlimit(resource.RLIMIT_NPROC))
+        print(read({str(ada / "mission.yaml")!r}), read({str(ben / "mission.yaml")!r}))
+        print(read({str(spec)!r}), listing({str(classroom)!r}), listing({str(ben)!r}))
+        """
+    )
+    with private_class([[ada], [ben]], [spec], isolation):
+        with Jail(
+            [sys.executable, "-I", "-c", code],
+            visible=[ada],
+            workdir=ada,
+            limits=Limits(processes=5),
+            isolation=isolation,
+        ) as j:
+            assert j.wait(60) == 0, j.stderr
+            out = j.stdout.splitlines()
+        written = tmp_path / "grades.csv"
+        written.write_text("x", encoding="utf-8")
+    assert out[0] == "True (5, 5)"
+    assert out[1] == "ada PermissionError"
+    assert out[2] == "PermissionError PermissionError PermissionError"
+    # Afterwards every mode is as it was, and what the grader wrote meanwhile is its own.
+    assert {p: p.stat().st_mode for p in before} == before
+    assert written.stat().st_mode & 0o077 == 0
+
+
+@needs_separate_user
+def test_as_a_user_of_its_own_a_daemon_and_its_tmp_files_die_with_its_jail(reachable: Path) -> None:
+    box = reachable / "student"
+    box.mkdir()
+    box.chmod(0o755)
+    isolation = _separate_user()
+    code = textwrap.dedent(
+        """
+        import os, time
+        with open("/tmp/left-by-" + str(os.getuid()), "w") as handle:
+            handle.write("the computer's /tmp is shared without bubblewrap")
+        if os.fork() == 0:
+            os.setsid()
+            if os.fork() == 0:
+                print("daemon up as", os.getuid(), flush=True)
+                time.sleep(300)
+            os._exit(0)
+        time.sleep(300)
+        """
+    )
+    with Jail(
+        [sys.executable, "-I", "-c", code], visible=[box], workdir=box, isolation=isolation
+    ) as j:
+        uid = int(read_until(j, "\n").split()[-1])
+        assert j.user == uid and sandbox._live_processes(uid)
+    assert sandbox._live_processes(uid) == []
+    assert not Path(f"/tmp/left-by-{uid}").exists()  # nor does what it left in /tmp
