@@ -157,6 +157,7 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
         on_connected=on_connected,
         on_tick=show if status.live else None,
         recording=recording,
+        on_slow_tick=status.warn,
     )
     status.close()
     result = session.result

@@ -11,7 +11,7 @@ import contextlib
 import json
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from roboscript.errors import LinkError
 from roboscript.interrupts import exit_status_for, reason_for
@@ -23,7 +23,7 @@ from roboscript.mission.student_code import stuck_at
 from roboscript.profiles import RobotProfile
 from roboscript.robot import Robot
 from roboscript.sim.world import Region
-from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
+from roboscript.watchdog import DEFAULT_LIMIT_S, TICK_BUDGET, RunawayCode, TooSlow, Watchdog
 
 if TYPE_CHECKING:
     from roboscript.replay.session_tap import RunRecording
@@ -85,6 +85,9 @@ class Session:
         start_time_s: Scheduler time at which the mission started; the mission clock's zero.
         interrupted: The exit status a signal asks for (130 Ctrl-C, 143 SIGTERM, 129 SIGHUP)
             when one ended the run, else 0.
+        code_stopped: ``"hung"`` when the mission's code did not return and was stopped,
+            ``"too slow"`` when it took too long per tick too often (:mod:`roboscript.watchdog`),
+            else ``""``.
     """
 
     result: MissionResult
@@ -92,6 +95,7 @@ class Session:
     profile: RobotProfile
     start_time_s: float
     interrupted: int = 0
+    code_stopped: Literal["", "hung", "too slow"] = ""
 
     @property
     def simulation(self) -> Any:
@@ -141,6 +145,7 @@ def run_session(
     runaway_after_s: float | None = DEFAULT_LIMIT_S,
     recording: RunRecording | None = None,
     world_map: WorldMap | None = None,
+    on_slow_tick: Callable[[str], None] | None = None,
 ) -> Session:
     """Connect the robot, run ``spec`` on it until it ends or ``max_time_s`` passes, stop it.
 
@@ -157,14 +162,20 @@ def run_session(
         on_state: Called with ``(mission time s, state, cause)`` whenever a state is entered.
         on_connected: Called with the robot once the handshake is done, before the mission.
         on_tick: Called after every scheduler tick with the runner and the robot (progress).
-        runaway_after_s: Wall seconds one tick's code (a behaviour, a condition) may run
-            before the mission ends in error at the line where it is stuck
-            (:mod:`roboscript.watchdog`); ``None`` turns the watchdog off.
+        runaway_after_s: Seconds of its own time (not the machine's load, not the wire) one
+            tick's code (a behaviour, a condition) may run before the mission ends in error at
+            the line where it is stuck (:mod:`roboscript.watchdog`); ``None`` turns the
+            watchdog off, and with it the per-tick rule below.
         recording: Records the run tick by tick (``run --record``, the live view); it is
             closed with the result once the robot is stopped.
         world_map: The world's regions and the start pose, for ``in_region`` when the world
             is not in this process (a graded run's mission); by default the in-process
             simulator's.
+        on_slow_tick: Called once, with a one-line warning naming the line and the time it
+            took, the first time a tick's code takes longer than
+            :attr:`~roboscript.watchdog.TickBudget.slow_tick_s`. On a simulated robot, once
+            slow ticks add up to :attr:`~roboscript.watchdog.TickBudget.too_slow_after_s`
+            the mission ends in error as too slow, exactly as a graded run does.
 
     Returns:
         The finished run. A lost link ends the mission with outcome ``error``; so do Ctrl-C,
@@ -200,7 +211,23 @@ def run_session(
         regions=world_map.regions if world_map is not None else None,
         origin=world_map.start if world_map is not None else None,
     )
-    robot.scheduler.add(runner, "think")
+    watchdog = (
+        Watchdog(
+            runaway_after_s,
+            stuck_at,
+            budget=TICK_BUDGET,
+            on_slow=(
+                None
+                if on_slow_tick is None
+                else (lambda spent_s, where: on_slow_tick(TICK_BUDGET.slow_message(spent_s, where)))
+            ),
+            # A real robot's driver may wait on its port inside a tick: warn only.
+            end_when_too_slow=sim is not None,
+        )
+        if runaway_after_s is not None
+        else None
+    )
+    robot.scheduler.add(runner if watchdog is None else watchdog.timed(runner.tick), "think")
     if on_tick is not None:
 
         def after_tick(now_s: float, dt_s: float) -> None:
@@ -213,10 +240,8 @@ def run_session(
             recording.tick(runner)
 
         robot.scheduler.add(record_tick, "after")
-    watchdog = Watchdog(runaway_after_s, stuck_at) if runaway_after_s is not None else None
-    if watchdog is not None:
-        robot.scheduler.add(lambda now_s, dt_s: watchdog.pet(), "after")
     interrupted = 0
+    code_stopped: Literal["", "hung", "too slow"] = ""
     try:
         with robot:
             try:
@@ -229,6 +254,7 @@ def run_session(
                     robot.scheduler.run(until=lambda: runner.finished, max_duration_s=max_time_s)
             except RunawayCode as exc:
                 robot.stop()
+                code_stopped = "too slow" if isinstance(exc, TooSlow) else "hung"
                 runner.finish("error", exc.reason)
             except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM, SIGHUP (roboscript.interrupts)
                 robot.stop()
@@ -243,7 +269,7 @@ def run_session(
         runner.finish("error", str(exc))
     if recording is not None:
         recording.finish(runner.result)
-    return Session(runner.result, robot, profile, runner.start_time_s, interrupted)
+    return Session(runner.result, robot, profile, runner.start_time_s, interrupted, code_stopped)
 
 
 def session_summary(session: Session) -> dict[str, Any]:

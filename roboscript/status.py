@@ -39,6 +39,12 @@ class StatusLine:
         self.stream.write(f"{time_s:8.2f} s  {name}{because}\n")
         self.stream.flush()
 
+    def warn(self, text: str) -> None:
+        """Print a warning as its own line (even with ``--quiet``: it is about the code)."""
+        self._clear()
+        self.stream.write(text + "\n")
+        self.stream.flush()
+
     def update(self, time_s: float, state: str, feedback: str, extra: str) -> None:
         """Redraw the status line if it is due."""
         if not self.live:

@@ -1,11 +1,23 @@
-"""Code that never returns: a watchdog that ends it at the line where it is stuck.
+"""Student code that never returns, or takes too long per tick: the one rule, and its watchdog.
 
 A behaviour or a Python mission's condition with a loop that never ends would keep the
 scheduler from ever ticking again: the mission's time limit never comes, the robot keeps doing
-what it was last told, and Ctrl-C is the only way out. The scheduler pets the
-:class:`Watchdog` after every tick; if one tick's code runs longer than the limit (wall
-seconds: honest ticks take milliseconds), the watchdog raises :class:`RunawayCode` inside the
-stuck code, naming the file, line and function it was in, and the session stops the robot.
+what it was last told, and Ctrl-C is the only way out. The session times every tick's student
+code with a :class:`Watchdog`; if one tick's code runs longer than the limit, the watchdog
+raises :class:`RunawayCode` inside the stuck code, naming the file, line and function it was
+in, and the session stops the robot.
+
+Code that returns, but slowly (``time.sleep`` in a condition), makes a tick late: the robot
+keeps doing what it was last told while the code sleeps. :class:`TickBudget` is the one rule for
+how long student code may take per tick, shared by ``roboscript run`` (which warns about the
+first slow tick, naming its line and the time it took) and the grader (whose mission process
+runs the same session): once slow ticks add up to :attr:`TickBudget.too_slow_after_s`, the run
+ends as *too slow* (:class:`TooSlow`), at home exactly as in class.
+
+Every time here is the code's *own* time (:class:`CodeClock`): wall time minus the time the
+thread waited for a CPU (a busy machine) and for the robot or the grader's world (the wire).
+So a verdict never depends on the machine's load: on Linux the wait for a CPU comes from the
+kernel's per-thread scheduler statistics; elsewhere it cannot be told apart and counts.
 
 :class:`RunawayCode` is a :class:`BaseException`, like :class:`KeyboardInterrupt`, so a
 student's ``except Exception:`` cannot swallow it; it is raised again every
@@ -17,25 +29,150 @@ debug log.
 
 from __future__ import annotations
 
+import contextlib
 import logging
+import os
 import signal
 import threading
+import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from types import FrameType, TracebackType
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from typing_extensions import Self  # annotations only: not a dependency
 
-__all__ = ["DEFAULT_LIMIT_S", "REPEAT_S", "RunawayCode", "Watchdog"]
+__all__ = [
+    "DEFAULT_LIMIT_S",
+    "REPEAT_S",
+    "TICK_BUDGET",
+    "CodeClock",
+    "RunawayCode",
+    "TickBudget",
+    "TooSlow",
+    "Watchdog",
+    "wire_wait",
+]
 
 logger = logging.getLogger(__name__)
 
 DEFAULT_LIMIT_S = 5.0
-"""How long one tick's code may run before it counts as stuck, seconds of wall time."""
+"""How long one tick's code may run before it counts as stuck, seconds of its own time."""
 
 REPEAT_S = 0.25
 """After the first alarm, how often it is raised again until the stuck code lets it out."""
+
+
+@dataclass(frozen=True)
+class TickBudget:
+    """How long student code may take per tick: the rule ``run`` and ``grade`` share.
+
+    Attributes:
+        slow_tick_s: Own time one tick's student code may take, seconds: one tick of the
+            50 Hz loop. Slower code cannot keep up with the robot (it keeps doing what it
+            was last told meanwhile). Honest code takes well under a millisecond.
+        too_slow_after_s: Once the slow ticks' own time adds up to this many seconds, the
+            run ends as too slow (a single slow tick, such as a first import, is forgiven).
+        cpu_margin_s: The grader's outer bound, for a mission process that does not end
+            itself: it may use this many CPU seconds more than the simulated time it advanced.
+    """
+
+    slow_tick_s: float = 0.02
+    too_slow_after_s: float = 1.0
+    cpu_margin_s: float = 5.0
+
+    def cpu_allowance_s(self, simulated_s: float) -> float:
+        """CPU seconds a mission process may use while advancing ``simulated_s`` seconds.
+
+        A mission that keeps up with its robot uses less than one CPU second per simulated
+        second (honest ones use a few hundredths); this bound sits past where the tick rule
+        has already ended a slow one.
+        """
+        return max(0.0, simulated_s) + self.cpu_margin_s
+
+    def slow_message(self, spent_s: float, where: str) -> str:
+        """The warning for a slow tick: where, how long, and what a graded run does about it."""
+        at = f" at {where}" if where else ""
+        return (
+            f"warning: the mission's code{at} took {spent_s:.2f} s in one tick (a tick is"
+            f" {self.slow_tick_s:g} s; meanwhile the robot keeps doing what it was last told):"
+            f" once slow ticks add up to {self.too_slow_after_s:g} s the run ends as too slow,"
+            " here and when graded (a condition or update() must return at once; wait with a"
+            " state's action or timeout, never time.sleep)"
+        )
+
+
+TICK_BUDGET = TickBudget()
+"""The rule in force (``run`` and the grader's mission process both use it)."""
+
+
+# ------------------------------------------------------------------------------ own time
+
+
+class _WireWait:
+    """Seconds this process's threads spent blocked on the wire (the robot, the grader)."""
+
+    def __init__(self) -> None:
+        self.total_s = 0.0
+
+
+_WIRE = _WireWait()
+
+
+@contextlib.contextmanager
+def wire_wait() -> Any:
+    """Time spent in here is the robot's (or the grader's world's), never the code's own.
+
+    The transport wraps every blocking wait for an answer in it.
+    """
+    started = time.perf_counter()
+    try:
+        yield
+    finally:
+        _WIRE.total_s += time.perf_counter() - started
+
+
+def _schedstat_reader() -> Callable[[], float] | None:
+    """Seconds this thread has waited for a CPU so far, from Linux's scheduler statistics."""
+    try:
+        fd = os.open("/proc/thread-self/schedstat", os.O_RDONLY)
+        os.pread(fd, 64, 0)
+    except (OSError, AttributeError):
+        return None
+
+    def read() -> float:
+        try:
+            return int(os.pread(fd, 64, 0).split()[1]) / 1e9
+        except (OSError, ValueError, IndexError):
+            return 0.0
+
+    return read
+
+
+class CodeClock:
+    """The own time of the code this thread runs: wall time, less the time spent waiting.
+
+    Waiting for a CPU (another program had it: the machine is busy) and waiting on the wire
+    (the robot or the grader's world answering) are not the code's own; sleeping, computing
+    and blocking on anything else are. Create it on the thread it measures.
+    """
+
+    def __init__(self) -> None:
+        self._queued = _schedstat_reader()
+
+    @property
+    def load_independent(self) -> bool:
+        """True where waiting for a CPU is known and left out (Linux)."""
+        return self._queued is not None
+
+    def now(self) -> float:
+        """Own seconds, from an arbitrary origin."""
+        queued = self._queued() if self._queued is not None else 0.0
+        return time.perf_counter() - queued - _WIRE.total_s
+
+
+# ---------------------------------------------------------------------------- exceptions
 
 
 class RunawayCode(BaseException):
@@ -63,23 +200,78 @@ class RunawayCode(BaseException):
         )
 
 
-class Watchdog:
-    """Raises :class:`RunawayCode` in code that runs ``limit_s`` without a :meth:`pet`.
-
-    Use as a context manager around the loop, and call :meth:`pet` once per tick.
+class TooSlow(RunawayCode):
+    """The mission's code took longer than a tick in so many ticks that the run was ended.
 
     Args:
-        limit_s: Wall seconds one tick's code may take.
-        locate: Where a frame is stuck, in the student's terms (``""`` if unknown).
+        spent_s: Own time of the slow ticks, in all, seconds.
+        where: Where the first slow tick was caught (``wait.py:12 in near_wall``), or ``""``.
+        slowest_s: Own time of the slowest tick, seconds.
+        budget: The rule it broke.
     """
 
-    def __init__(self, limit_s: float, locate: Callable[[FrameType | None], str]) -> None:
+    def __init__(self, spent_s: float, where: str, slowest_s: float, budget: TickBudget) -> None:
+        super().__init__(spent_s, where)
+        self.slowest_s = slowest_s
+        self.budget = budget
+
+    @property
+    def reason(self) -> str:
+        """One sentence for the student."""
+        at = f" at {self.where}" if self.where else ""
+        return (
+            f"the mission was too slow: its code{at} took up to {self.slowest_s:.2f} s per tick"
+            f" (a tick is {self.budget.slow_tick_s:g} s) and was stopped once slow ticks added up"
+            f" to {self.budget.too_slow_after_s:g} s (a condition or update() must return at"
+            " once; wait with a state's action or timeout, never time.sleep)"
+        )
+
+
+class Watchdog:
+    """Raises :class:`RunawayCode` in code that runs ``limit_s`` of its own time unchecked.
+
+    Use as a context manager around the loop. Either call :meth:`pet` once per tick (the time
+    between two pets is timed), or wrap the call that runs the student's code each tick with
+    :meth:`timed`: its calls are timed, and slow ones are held against ``budget``. Times are
+    the code's own (:class:`CodeClock`): a busy machine never makes code look slow.
+
+    Args:
+        limit_s: Own seconds one tick's code may take.
+        locate: Where a frame is stuck, in the student's terms (``""`` if unknown).
+        budget: The per-tick rule for timed calls (None: slow ticks are not looked for).
+        on_slow: Called once, for the first slow tick, with its own time in seconds and where
+            it was caught (``wait.py:12 in near_wall``, or ``""``).
+        end_when_too_slow: Raise :class:`TooSlow` once slow ticks add up to the budget.
+    """
+
+    def __init__(
+        self,
+        limit_s: float,
+        locate: Callable[[FrameType | None], str],
+        *,
+        budget: TickBudget | None = None,
+        on_slow: Callable[[float, str], None] | None = None,
+        end_when_too_slow: bool = True,
+    ) -> None:
         if not limit_s > 0:
             raise ValueError(f"a watchdog limit must be more than 0 s (got {limit_s})")
         self.limit_s = limit_s
+        self.budget = budget
         self._locate = locate
+        self._on_slow = on_slow
+        self._end_when_too_slow = end_when_too_slow
+        self._clock = CodeClock()
         self._armed = False
         self._previous: Any = None
+        self._began_s = 0.0
+        self._timing = False
+        self._where = ""  # where the current timed call was caught past the tick budget
+        self.slow_ticks = 0
+        """Timed calls that took longer than the budget's tick."""
+        self.slow_total_s = 0.0
+        """Their own time, in all, seconds."""
+        self.slowest_s = 0.0
+        self._first_where = ""
 
     @property
     def supported(self) -> bool:
@@ -90,13 +282,72 @@ class Watchdog:
 
     def pet(self) -> None:
         """The loop is alive: start the limit again."""
+        self._began_s = self._clock.now()
         if self._armed:
-            signal.setitimer(signal.ITIMER_REAL, self.limit_s, REPEAT_S)
+            self._arm(self.limit_s)
+
+    def timed(self, call: Callable[[float, float], None]) -> Callable[[float, float], None]:
+        """``call`` (a scheduler task running student code), timed against the budget.
+
+        Raises (from the returned task):
+            TooSlow: Slow ticks added up to the budget (when ``end_when_too_slow``).
+        """
+
+        def task(now_s: float, dt_s: float) -> None:
+            self._begin()
+            try:
+                call(now_s, dt_s)
+            except BaseException:
+                self._timing = False
+                raise
+            self._end()
+
+        return task
+
+    def _begin(self) -> None:
+        self._timing = True
+        self._where = ""
+        self._began_s = self._clock.now()
+        if self._armed:
+            first = self.limit_s if self.budget is None else self.budget.slow_tick_s
+            self._arm(min(self.limit_s, first))
+
+    def _end(self) -> None:
+        spent_s = self._clock.now() - self._began_s
+        self._timing = False
+        budget = self.budget
+        if budget is not None and spent_s > budget.slow_tick_s:
+            self.slow_ticks += 1
+            self.slow_total_s += spent_s
+            self.slowest_s = max(self.slowest_s, spent_s)
+            self._first_where = self._first_where or self._where
+            if self.slow_ticks == 1 and self._on_slow is not None:
+                self._on_slow(spent_s, self._where)
+            if self._end_when_too_slow and self.slow_total_s >= budget.too_slow_after_s:
+                raise TooSlow(self.slow_total_s, self._first_where, self.slowest_s, budget)
+        self.pet()  # code outside the timed calls (the loop's own) keeps the plain limit
+
+    def _arm(self, after_s: float, repeat_s: float = 0.0) -> None:
+        signal.setitimer(signal.ITIMER_REAL, max(after_s, 1e-3), repeat_s)
 
     def _alarm(self, signum: int, frame: FrameType | None) -> None:
         del signum
-        if self._armed:  # an alarm already on its way when the block ended is ignored
+        if not self._armed:  # an alarm already on its way when the block ended is ignored
+            return
+        own_s = self._clock.now() - self._began_s
+        budget = self.budget
+        watching_tick = self._timing and budget is not None and not self._where
+        if watching_tick and budget is not None and own_s >= budget.slow_tick_s:
+            self._where = self._locate(frame)
+            watching_tick = False
+        if own_s >= self.limit_s:
+            self._arm(REPEAT_S, REPEAT_S)  # again and again, until it gets out
             raise RunawayCode(self.limit_s, self._locate(frame))
+        # Not yet: the machine was busy, or the code waited on the wire. Wait for what is left.
+        left_s = self.limit_s - own_s
+        if watching_tick and budget is not None:
+            left_s = min(left_s, budget.slow_tick_s - own_s)
+        self._arm(left_s)
 
     def __enter__(self) -> Self:
         if not self.supported:

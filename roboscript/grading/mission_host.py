@@ -13,28 +13,33 @@ grader's process, :mod:`roboscript.grading.world_host`), runs the mission exactl
 state it entered, and how it ended. The world timestamps every report itself and trusts none
 of them with a name, a score or a verdict.
 
-If the mission's own code stops returning, a watchdog thread writes where every thread was to
-standard error (:mod:`faulthandler`) before the grader's hang limit ends the process, so the
-teacher's report can say where it was stuck. The watchdog is re-armed as the mission makes
-progress, so it fires only in a process that is stuck: reading another thread's frames while
-that thread runs is not safe, and on a busy machine a timer that fired in healthy runs crashed
-some of them.
+The mission's code is timed here exactly as ``roboscript run`` times it
+(:class:`roboscript.watchdog.Watchdog`, on the code's own time, never the machine's load): code
+that does not return for ``HANG_AFTER_S`` is stopped at its line, and code that takes too long
+per tick too often ends the run as too slow (:class:`roboscript.watchdog.TickBudget`). The final
+report says which, so the world can name it; a report can only make the student's own run
+worse, and the world bounds the process's CPU time itself for a process that does not report.
+No diagnostic runs on another thread: reading a running thread's frames from elsewhere is not
+safe, and a stack-dumping timer once crashed healthy runs on a busy machine.
 """
 
 from __future__ import annotations
 
-import faulthandler
 import logging
 import sys
-import time
 from collections.abc import Sequence
 from pathlib import Path
 
 from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError
+from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
 
-__all__ = ["main", "warm_up"]
+__all__ = ["LOAD_LIMIT_S", "main", "warm_up"]
 
 _REASON_CHARS = 500
+
+LOAD_LIMIT_S = 20.0
+"""Own seconds loading the mission (its file, and the modules it imports) may take: far
+outside what the hang limit allows a tick, since loading is not the student's code's pace."""
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -50,14 +55,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     world_map = args[5] if len(args) > 5 else None
     logging.disable(logging.WARNING)
     channel = WorldChannel.for_fd(fd)
-    watchdog = _StuckWatch(max(0.2, hang_after_s * 0.6))
-    watchdog.arm()
     try:
-        return _run(channel, mission_path, robot, max_time_s, world_map, watchdog)
+        return _run(channel, mission_path, robot, max_time_s, world_map, hang_after_s)
     except WorldStoppedError:
         return 3
-    finally:
-        faulthandler.cancel_dump_traceback_later()
 
 
 def warm_up(robot: str = "") -> None:
@@ -76,49 +77,30 @@ def warm_up(robot: str = "") -> None:
         driver_class(get_profile(robot).protocol)
 
 
-class _StuckWatch:
-    """Writes every thread's stack to stderr once the mission has made no progress for a while.
-
-    Args:
-        after_s: Wall seconds without :meth:`progress` before the stacks are written.
-    """
-
-    def __init__(self, after_s: float) -> None:
-        self.after_s = after_s
-        self._armed_at = 0.0
-
-    def arm(self) -> None:
-        """Start (or restart) the countdown."""
-        faulthandler.dump_traceback_later(self.after_s, repeat=True, file=sys.stderr)
-        self._armed_at = time.monotonic()
-
-    def progress(self) -> None:
-        """The mission moved on: restart the countdown (at most a few times per countdown,
-        since each restart starts a new timer thread)."""
-        if time.monotonic() - self._armed_at > self.after_s / 4:
-            self.arm()
-
-
 def _run(
     channel: WorldChannel,
     mission_path: str,
     robot: str,
     max_time_s: float,
     world_map: str | None = None,
-    watchdog: _StuckWatch | None = None,
+    hang_after_s: float = DEFAULT_LIMIT_S,
 ) -> int:
     from roboscript.errors import CapabilityError, InputError
     from roboscript.mission import mission_for_robot
+    from roboscript.mission.student_code import stuck_at
 
     try:
-        mission, profile, _warnings = mission_for_robot(mission_path, robot)
+        # a Python mission runs when imported: a loop there is stopped at its line
+        with Watchdog(LOAD_LIMIT_S, stuck_at):
+            mission, profile, _warnings = mission_for_robot(mission_path, robot)
+    except RunawayCode as exc:
+        channel.send_json(Kind.LOAD_ERROR, {"message": exc.reason, "code_stopped": "hung"})
+        return 2
     except InputError as exc:
         problems = [p.format() for p in getattr(exc, "problems", None) or [exc]]
         channel.send_json(Kind.LOAD_ERROR, {"message": problems[0], "more": len(problems) - 1})
         return 2
     channel.send_json(Kind.LOADED, {"mission": mission.name})
-    if watchdog is not None:
-        watchdog.arm()
 
     from roboscript.session import WorldMap, run_session
 
@@ -135,8 +117,7 @@ def _run(
             world_map=None
             if world_map is None
             else WorldMap.from_json(Path(world_map).read_text(encoding="utf-8")),
-            on_connected=None if watchdog is None else (lambda _robot: watchdog.arm()),
-            on_tick=None if watchdog is None else (lambda _runner, _robot: watchdog.progress()),
+            runaway_after_s=hang_after_s,
         )
     except CapabilityError as exc:
         channel.send_json(Kind.LOAD_ERROR, {"message": f"it does not fit the robot: {exc}"})
@@ -149,6 +130,7 @@ def _run(
             "final_state": result.final_state,
             "reason": (result.reason or "")[:_REASON_CHARS] or None,
             "code_error": result.code_error,
+            "code_stopped": session.code_stopped,
         },
     )
     return 0

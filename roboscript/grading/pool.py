@@ -36,6 +36,7 @@ from multiprocessing.connection import Connection, wait
 from multiprocessing.process import BaseProcess
 from typing import Any
 
+from roboscript.grading.cpu_time import process_tree_waited_s
 from roboscript.grading.record import RunResult, RunStatus
 from roboscript.grading.sandbox import byte_compile_package
 from roboscript.grading.task import RunTask, crash_result
@@ -248,7 +249,7 @@ def _collect(run: _Running, ready: set[Any]) -> list[tuple[int, RunResult]]:
         if run.batch:
             found.append(_lost(run, f"world worker exit code {code}; no result was sent", code))
         return found
-    if now >= run.deadline and run.batch:
+    if now >= run.deadline and run.batch and not _busy_machine_delayed(run):
         _stop(run.process)
         wall = round(now - run.started, 3)
         index, task = run.batch.pop(0)
@@ -266,6 +267,17 @@ def _collect(run: _Running, ready: set[Any]) -> list[tuple[int, RunResult]]:
             )
         )
     return found
+
+
+def _busy_machine_delayed(run: _Running) -> bool:
+    """True (and the deadline moved) when the worker's tree waited for a CPU long enough that
+    its limits are not yet used up: a busy machine's time is not the run's."""
+    waited_s = process_tree_waited_s(run.process.pid or 0) or 0.0
+    left_s = run.deadline - (time.monotonic() - waited_s)
+    if left_s <= 0:
+        return False
+    run.deadline = time.monotonic() + left_s
+    return True
 
 
 def _lost(run: _Running, debug: str, code: int | None = None) -> tuple[int, RunResult]:

@@ -18,15 +18,29 @@ A run ends, in the order they can happen:
 * ``invalid``: the mission did not load (its first problem is quoted);
 * ``crashed``: the process ended before the mission finished, or its own code raised (the
   exception and the student's file and line are quoted from its standard error);
-* ``hung``: simulated time stopped advancing for ``hang_after_s`` of wall time (the
-  watchdog's dump of where it was stuck is quoted);
-* ``timeout``: the run passed the test's wall-clock limit although time kept advancing;
+* ``hung``: the mission's code did not return: the mission process stopped it after
+  ``hang_after_s`` of its own time at the line it was stuck on, or the process used that much
+  CPU time, and more, without simulated time advancing;
+* ``timeout``: the mission was too slow: its code took longer than a tick in too many ticks
+  (:class:`roboscript.watchdog.TickBudget`, named at its line), or the process used far more CPU
+  time than the simulated time it advanced, or (a last resort) the run passed the test's
+  wall-clock limit;
 * otherwise the run is judged on the record: ``passed`` or ``failed``.
+
+Every rule counts what the student's process consumed, never wall time, so a busy machine gives
+the same verdicts as an idle one: the mission process times its own code's ticks exactly as
+``roboscript run`` does, and this side reads the process tree's CPU time
+(:mod:`roboscript.grading.cpu_time`). Starting the interpreter, imports and the robot's
+handshake are outside the hang allowance (loading has an allowance of its own).
+
+The world never blocks on the student: the socket is non-blocking, answers wait in a bounded
+backlog, and a mission that floods the wire, stops reading its answers or lets the board's
+output pile up past what a serial line holds is ended at once, as its own fault, in one
+sentence.
 """
 
 from __future__ import annotations
 
-import contextlib
 import math
 import re
 import select
@@ -38,6 +52,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
+from roboscript.grading.cpu_time import process_tree_cpu_s, process_tree_waited_s
+from roboscript.grading.mission_host import LOAD_LIMIT_S
 from roboscript.grading.record import Collision, RunRecord, RunStatus, Tone
 from roboscript.grading.sandbox import Jail, JailedRun, Limits, WarmJail
 from roboscript.grading.spec import TestSpec, Variant
@@ -49,6 +65,7 @@ from roboscript.session import WorldMap
 from roboscript.sim.simulation import Simulation
 from roboscript.sim.world import Pose
 from roboscript.transport.lockstep import (
+    MAX_PAYLOAD_BYTES,
     FrameDecoder,
     FrameError,
     Kind,
@@ -56,6 +73,7 @@ from roboscript.transport.lockstep import (
     decode_time,
     encode_frame,
 )
+from roboscript.watchdog import TICK_BUDGET, CodeClock
 
 __all__ = [
     "DEFAULT_HANG_AFTER_S",
@@ -66,11 +84,26 @@ __all__ = [
 ]
 
 DEFAULT_HANG_AFTER_S = 2.0
-"""Wall seconds without simulated progress after which a run is ``hung``. An honest run
-advances simulated time many times a millisecond; only code stuck in a loop stops it."""
+"""Seconds of its own time one tick's code may run before the run is ``hung``. An honest tick
+takes well under a millisecond; only code stuck in a loop (or asleep) comes near it."""
 
-_LOAD_ALLOWANCE = 2.0
-"""Loading (interpreter start, imports, the mission file) may take this many hang limits."""
+_LOAD_CPU_S = LOAD_LIMIT_S + 10.0
+"""CPU seconds starting the interpreter and loading the mission may use (the mission process
+stops a mission file stuck while loading after :data:`LOAD_LIMIT_S` of its own time)."""
+
+_CHECK_EVERY_S = 0.25
+"""How often the process's CPU time is read while simulated time stands still (a sampling
+step, not a limit: every verdict is on CPU time)."""
+
+_SLOW_CHECK_EVERY_S = 2.0
+"""How often the CPU time is compared with the simulated time advanced."""
+
+_MAX_BACKLOG_BYTES = 2 * MAX_PAYLOAD_BYTES
+"""Answers the mission has not read yet: an honest mission reads each answer before it asks
+again, so the backlog is one frame at most."""
+
+_MAX_BOARD_QUEUE_BYTES = MAX_PAYLOAD_BYTES // 2
+"""Bytes the simulated board may hold for the host between two answers."""
 
 _NAME_CHARS = 100
 _REASON_CHARS = 500
@@ -270,6 +303,7 @@ class _WorldSession:
         self.opened = False
         self.loaded = False
         self.host_bytes = 0
+        self.backlog = bytearray()  # answers the mission has not taken yet
         self.start_pose = (sim.body.x_mm, sim.body.y_mm)
         # Frames come from this process's simulation only, never from the mission's process.
         self.replay = WorldReplay(sim, sim.profile)
@@ -279,49 +313,77 @@ class _WorldSession:
     def run(self) -> WorldRun:
         started = time.monotonic()
         wall_deadline = started + self.spec.wall_time_limit_s
-        last_progress = started
+        self.sock.setblocking(False)
         poller = select.poll()
         poller.register(self.sock, select.POLLIN)
         for fd in self.jail.fileno_list():
             poller.register(fd, select.POLLIN)
         sock_fd = self.sock.fileno()
+        writing = False
+        stall = _Stall(self.jail.pid)
+        next_slow_check = started + _SLOW_CHECK_EVERY_S
+        # The wall-clock limit counts only time when neither side waited for a CPU.
+        own = CodeClock()
+        own_start_s = own.now()
+        waited_start_s = _waited_s(self.jail.pid) or 0.0
         while True:
-            allowance = self.hang_after_s * (1.0 if self.loaded else _LOAD_ALLOWANCE)
-            now = time.monotonic()
-            wait_s = min(last_progress + allowance, wall_deadline) - now
+            if bool(self.backlog) != writing:
+                writing = bool(self.backlog)
+                poller.modify(sock_fd, select.POLLIN | (select.POLLOUT if writing else 0))
+            wait_s = min(stall.next_check, wall_deadline) - time.monotonic()
             events = poller.poll(max(0.0, wait_s) * 1000) if wait_s > 0 else []
-            socket_ready = False
-            for fd, _mask in events:
+            socket_ready = socket_writable = False
+            for fd, mask in events:
                 if fd == sock_fd:
-                    socket_ready = True
+                    socket_ready = bool(mask & (select.POLLIN | select.POLLHUP | select.POLLERR))
+                    socket_writable = bool(mask & select.POLLOUT)
                 else:
                     self.jail.drain()
+            if socket_writable:
+                self._flush()
             if socket_ready:
                 try:
                     data = self.sock.recv(_READ_CHUNK)
+                except BlockingIOError:
+                    data = None
                 except OSError:
                     data = b""
-                if not data:
-                    return self._ended()
-                before = (self.now_s, self.loaded)
-                try:
-                    self._handle(data)
-                except _LoadFailedError as exc:
-                    return self._invalid(str(exc))
-                except _ViolationError as exc:
-                    return self._broken(str(exc))
-                if self.claims.finish is not None:
-                    return self._finished()
-                if self.time_up:
-                    return self._out_of_time()
-                if (self.now_s, self.loaded) != before:
-                    last_progress = time.monotonic()
-                continue
+                if data is not None:
+                    if not data:
+                        return self._ended()
+                    before = (self.now_s, self.loaded)
+                    try:
+                        self._handle(data)
+                    except _HungWhileLoadingError as exc:
+                        return self._stopped("hung", f"the mission did not load: {exc}")
+                    except _LoadFailedError as exc:
+                        return self._invalid(str(exc))
+                    except _ViolationError as exc:
+                        return self._broken(str(exc))
+                    if self.claims.finish is not None:
+                        return self._finished()
+                    if self.time_up:
+                        return self._out_of_time()
+                    if (self.now_s, self.loaded) != before:
+                        stall.progress(self.now_s, self.loaded)
             now = time.monotonic()
             if now >= wall_deadline:
-                return self._stopped("timeout", self._timeout_message())
-            if now - last_progress >= allowance:
-                return self._stopped("hung", self._hung_message(now - last_progress))
+                waited_s = (_waited_s(self.jail.pid) or waited_start_s) - waited_start_s
+                elapsed_s = own.now() - own_start_s - waited_s
+                if elapsed_s >= self.spec.wall_time_limit_s:
+                    return self._stopped("timeout", self._timeout_message())
+                wall_deadline = now + max(self.spec.wall_time_limit_s - elapsed_s, _CHECK_EVERY_S)
+            if now >= stall.next_check:
+                allowance = 2 * self.hang_after_s + 1.0 if self.loaded else _LOAD_CPU_S
+                stalled_s = stall.check(now, allowance)
+                if stalled_s is not None:
+                    return self._stopped("hung", self._hung_message(stalled_s, stall.measured))
+            if self.loaded and now >= next_slow_check:
+                next_slow_check = now + _SLOW_CHECK_EVERY_S
+                used_s = stall.used_since_loaded()
+                advanced_s = self.now_s - stall.loaded_at_s
+                if used_s is not None and used_s > TICK_BUDGET.cpu_allowance_s(advanced_s):
+                    return self._stopped("timeout", _cpu_hog_message(used_s, advanced_s))
 
     # ----------------------------------------------------------------------------- frames
 
@@ -347,6 +409,10 @@ class _WorldSession:
             if self.host_bytes > _MAX_HOST_BYTES:
                 raise _ViolationError("it sent the robot far more bytes than any mission needs")
             sim.write(payload)
+            if sim.in_waiting > _MAX_BOARD_QUEUE_BYTES:
+                raise _ViolationError(
+                    "it sent the robot commands far faster than it read the answers"
+                )
         elif kind == Kind.SYNC:
             self._answer()
         elif kind == Kind.TICK:
@@ -363,6 +429,8 @@ class _WorldSession:
             text = _text(message if isinstance(message, str) else "", _REASON_CHARS)
             if isinstance(more, int) and more > 0:
                 text += f" (and {more} more)"
+            if isinstance(info, dict) and info.get("code_stopped") == "hung":
+                raise _HungWhileLoadingError(text)
             raise _LoadFailedError(text)
         elif kind == Kind.START:
             if self.claims.started_s is not None:
@@ -381,11 +449,26 @@ class _WorldSession:
             self.claims.finish = info
 
     def _answer(self) -> None:
-        self._reply(Kind.OUTPUT, self.sim.read(self.sim.in_waiting))
+        # Never more than a frame holds; the rest waits for the next answer.
+        self._reply(Kind.OUTPUT, self.sim.read(min(self.sim.in_waiting, MAX_PAYLOAD_BYTES)))
 
     def _reply(self, kind: bytes, payload: bytes = b"") -> None:
-        with contextlib.suppress(OSError):  # the process is gone; the next read sees its end
-            self.sock.sendall(encode_frame(kind, payload))
+        """Queue an answer and send what the socket takes now; never wait for the mission."""
+        self.backlog += encode_frame(kind, payload)
+        self._flush()
+        if len(self.backlog) > _MAX_BACKLOG_BYTES:
+            raise _ViolationError("it stopped reading the robot's answers")
+
+    def _flush(self) -> None:
+        while self.backlog:
+            try:
+                sent = self.sock.send(self.backlog)
+            except BlockingIOError:
+                return
+            except OSError:  # the process is gone; the next read sees its end
+                self.backlog.clear()
+                return
+            del self.backlog[:sent]
 
     def _advance(self, now_s: float) -> None:
         if now_s < self.now_s:
@@ -422,6 +505,7 @@ class _WorldSession:
     def _finished(self) -> WorldRun:
         info = self.claims.finish or {}
         outcome = info.get("outcome")
+        stopped = info.get("code_stopped")
         if outcome not in MISSION_OUTCOMES:
             return self._broken(f"it reported an unknown outcome {_text(str(outcome), 40)!r}")
         if self.claims.started_s is None or not self.claims.states:
@@ -436,6 +520,12 @@ class _WorldSession:
         record = self._record(
             outcome, last, _text(reason, _REASON_CHARS) if isinstance(reason, str) else None
         )
+        if stopped in ("hung", "too slow"):
+            # The mission process ended its own code (it may only make its own run worse).
+            run = self._judged_record(record, ended_normally=False)
+            run.status = "hung" if stopped == "hung" else "timeout"
+            run.message = record.reason or f"the mission's code was stopped ({stopped})"
+            return run
         if code_error:
             run = self._judged_record(record, ended_normally=False)
             run.status = "crashed"
@@ -525,18 +615,19 @@ class _WorldSession:
         self.jail.kill()
         return WorldRun(status=status, message=message, debug=self._output(), loaded=self.loaded)
 
-    def _hung_message(self, stalled_s: float) -> str:
-        where = stuck_at(self.jail.stderr)
-        place = f" at {where}" if where else ""
+    def _hung_message(self, stalled_s: float, measured: str) -> str:
         phase = "while loading" if not self.loaded else f"at {self.now_s:.2f} s of simulated time"
         return (
-            f"the mission stopped advancing {phase}: its code did not return for"
-            f" {stalled_s:.1f} s{place} (an endless loop?)"
+            f"the mission stopped advancing {phase}: its code ran for {stalled_s:.1f} s of"
+            f" {measured} without returning (an endless loop?)"
         )
 
     def _timeout_message(self) -> str:
         limit = self.spec.wall_time_limit_s
-        return f"timed out after {limit:g} s of wall time (the simulation ran too slowly)"
+        return (
+            f"the mission did not finish within the test's limit of {limit:g} s of real time:"
+            " is its code waiting (time.sleep, input()) instead of returning at once?"
+        )
 
     def _output(self) -> str:
         parts = []
@@ -591,6 +682,74 @@ class _LoadFailedError(_ViolationError):
     """The mission process reported that the mission did not load."""
 
 
+class _HungWhileLoadingError(_LoadFailedError):
+    """The mission process stopped a mission file that did not return while loading."""
+
+
+class _Stall:
+    """CPU time the mission's process tree used since simulated time last advanced.
+
+    Where the system does not tell a process's CPU time (no ``/proc``), wall time stands in
+    for it, and the teachers' guide says verdicts there depend on the machine's load.
+
+    Args:
+        pid: The jail's first process.
+    """
+
+    def __init__(self, pid: int | None) -> None:
+        self.pid = pid
+        self.measured = "CPU time"
+        self.next_check = time.monotonic() + _CHECK_EVERY_S
+        self._progressed = True
+        self._at_progress_s = 0.0
+        self._at_load_s: float | None = None
+        self.loaded_at_s = 0.0
+
+    def _used_s(self) -> float:
+        used = process_tree_cpu_s(self.pid) if self.pid is not None else None
+        if used is None:
+            self.measured = "wall time"
+            return time.monotonic()
+        return used
+
+    def progress(self, now_s: float, loaded: bool) -> None:
+        """Simulated time advanced (or the mission loaded)."""
+        self._progressed = True
+        if loaded and self._at_load_s is None:
+            self._at_load_s = self._used_s()
+            self.loaded_at_s = now_s
+
+    def check(self, now: float, allowance_s: float) -> float | None:
+        """The seconds used without progress, once they pass ``allowance_s``; else None."""
+        self.next_check = now + _CHECK_EVERY_S
+        used = self._used_s()
+        if self._progressed:
+            self._progressed = False
+            self._at_progress_s = used
+            return None
+        stalled = used - self._at_progress_s
+        return stalled if stalled >= allowance_s else None
+
+    def used_since_loaded(self) -> float | None:
+        """CPU seconds used since the mission loaded (None before, or where unknown)."""
+        if self._at_load_s is None or self.measured != "CPU time" or self.pid is None:
+            return None
+        used = process_tree_cpu_s(self.pid)
+        return None if used is None else used - self._at_load_s
+
+
+def _waited_s(pid: int | None) -> float | None:
+    """Seconds the run's processes waited for a CPU (None where unknown)."""
+    return process_tree_waited_s(pid) if pid is not None else None
+
+
+def _cpu_hog_message(used_s: float, advanced_s: float) -> str:
+    return (
+        f"the mission was too slow: its process used {used_s:.1f} s of CPU time while the robot's"
+        f" time advanced {advanced_s:.1f} s (a condition or update() must return at once)"
+    )
+
+
 def decode_time_checked(payload: bytes) -> float:
     """A ``T`` frame's time, which must be a finite number."""
     try:
@@ -628,23 +787,6 @@ _EXCEPTION_LINE = re.compile(
 def _is_ours(path: str) -> bool:
     package = str(Path(__file__).resolve().parents[1])
     return path.startswith((package, sys.prefix, sys.base_prefix, "<"))
-
-
-def stuck_at(stderr: str) -> str:
-    """Where the last watchdog dump in ``stderr`` says the main thread was, in student code.
-
-    Returns:
-        ``file.py:12 in check`` (the innermost frame in a student's file), or ``""``.
-    """
-    dump = stderr.rsplit("Timeout (", 1)
-    if len(dump) < 2:
-        return ""
-    for line in dump[1].splitlines():
-        match = _TRACE_LINE.match(line)
-        if match and not _is_ours(match["file"]):
-            func = match["func"].strip()
-            return f"{Path(match['file']).name}:{match['line']} in {func}"
-    return ""
 
 
 def crash_message(stderr: str, exit_status: int | None, loaded: bool) -> str:

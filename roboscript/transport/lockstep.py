@@ -45,6 +45,8 @@ import struct
 from collections.abc import Iterator
 from typing import Any, Final
 
+from roboscript.watchdog import wire_wait
+
 __all__ = [
     "MAX_PAYLOAD_BYTES",
     "FrameDecoder",
@@ -202,7 +204,8 @@ class WorldChannel:
             WorldStoppedError: The world has hung up.
         """
         try:
-            self._sock.sendall(encode_frame(kind, payload))
+            with wire_wait():  # a busy world's time, never the mission's own
+                self._sock.sendall(encode_frame(kind, payload))
         except OSError as exc:
             raise WorldStoppedError(f"the simulated world hung up: {exc}") from None
 
@@ -228,7 +231,8 @@ class WorldChannel:
     def _next_frame(self) -> tuple[bytes, bytes]:
         while not self._frames:
             try:
-                data = self._sock.recv(MAX_PAYLOAD_BYTES)
+                with wire_wait():
+                    data = self._sock.recv(MAX_PAYLOAD_BYTES)
             except OSError as exc:
                 raise WorldStoppedError(f"the simulated world hung up: {exc}") from None
             if not data:

@@ -8,10 +8,13 @@ that whatever the mission process sends, it cannot make the world record what di
 
 from __future__ import annotations
 
+import json
+import re
 from pathlib import Path
+from typing import Any
 
 import pytest
-from helpers import MISSIONS
+from helpers import MISSIONS, run_cli
 
 from roboscript.grading.run import grade_run, record_from_session
 from roboscript.grading.spec import TestSpec, load_test_spec
@@ -191,3 +194,115 @@ def test_a_student_who_is_a_file_sees_only_the_files_it_names(tmp_path: Path) ->
     bob = students["bob"]
     seen = visible_files(bob, bob.missions[0], private - {(folder / "bob.yaml").resolve()})
     assert [p.name for p in seen] == ["bob.yaml"]  # naming alice.yaml does not reveal it
+
+
+# ----------------------------------------------------------------- through `roboscript grade`
+
+ONE_RUN = """\
+test: one-run
+world: empty
+robot: mirto
+runs:
+  - {seed: 1}
+max_time: 60 s
+wall_time_limit: 300 s   # far past every rule below: none of them may need it
+expect:
+  - outcome: success
+"""
+
+
+def _graded(tmp_path: Path, name: str, code: str) -> dict[str, Any]:
+    """Grade one student's ``name`` through the command line; the one run's JSON."""
+    spec = tmp_path / "test.yaml"
+    spec.write_text(ONE_RUN, encoding="utf-8")
+    folder = tmp_path / "class"
+    folder.mkdir()
+    (folder / name).write_text(code, encoding="utf-8")
+    done = run_cli("grade", str(spec), "--mission", str(folder), "--json", timeout=600)
+    assert "Traceback" not in done.stderr, done.stderr
+    runs = json.loads(done.stdout)["runs"]
+    assert len(runs) == 1
+    run: dict[str, Any] = runs[0]
+    return run
+
+
+FLOODER = FORGER.format(
+    body='frame(b"C")\nfor _ in range(40):\n    os.write(FD, b"Y\\0\\0\\0\\0" * 100_000)'
+    "\ntime.sleep(600)"
+)
+
+
+def test_a_mission_that_floods_the_wire_and_never_reads_is_ended_as_its_own_fault(
+    tmp_path: Path,
+) -> None:
+    run = _graded(tmp_path, "flood.py", FLOODER)
+    assert run["status"] == "crashed"
+    assert run["message"] == "the run was stopped: it stopped reading the robot's answers"
+    assert "roboscript problem" not in run["message"]
+
+
+NON_READER = FORGER.format(
+    body='frame(b"C")\nfor _ in range(20):\n    frame(b"W", b"I,v\\n" * 5000)\ntime.sleep(600)'
+)
+
+
+def test_a_mission_that_lets_the_robots_answers_pile_up_is_ended_as_its_own_fault(
+    tmp_path: Path,
+) -> None:
+    run = _graded(tmp_path, "deaf.py", NON_READER)
+    assert run["status"] == "crashed"
+    assert run["message"] == (
+        "the run was stopped: it sent the robot commands far faster than it read the answers"
+    )
+
+
+SLEEPER = '''\
+"""Drive, checking a condition that naps every tick."""
+
+import time
+
+from roboscript import Drive, Mission, state
+
+
+class Sleeper(Mission):
+    """Drive two metres unless the condition fires."""
+
+    go = state(
+        Drive(distance_mm=2000, speed_mm_s=150),
+        initial=True,
+        on_done="done",
+        on_failed="done",
+        when=[("tired", "done")],
+    )
+    done = state(final="success")
+
+    def tired(self) -> bool:
+        """Wait a little, a beginner's way."""
+        time.sleep(0.05)
+        return False
+'''
+
+
+def test_a_mission_that_sleeps_each_tick_is_ended_early_as_too_slow_at_its_line(
+    tmp_path: Path,
+) -> None:
+    run = _graded(tmp_path, "sleepy.py", SLEEPER)
+    assert run["status"] == "timeout"
+    assert run["message"].startswith("the mission was too slow: its code at sleepy.py:22 in tired")
+    assert "never time.sleep" in run["message"]
+    # ended early: about a second of slow ticks, not the 13 s of robot time the drive takes
+    assert run["record"]["duration_s"] < 5
+
+
+def test_run_warns_about_the_same_code_once_and_ends_it_as_grade_does(tmp_path: Path) -> None:
+    mission = tmp_path / "sleepy.py"
+    mission.write_text(SLEEPER, encoding="utf-8")
+    done = run_cli("run", str(mission), "--quiet", timeout=600)
+    assert done.returncode == 1
+    warnings = [line for line in done.stderr.splitlines() if line.startswith("warning:")]
+    assert len(warnings) == 1
+    assert re.match(
+        r"warning: the mission's code at \S*sleepy\.py:22 in tired took 0\.\d\d s", warnings[0]
+    )
+    last = done.stderr.strip().splitlines()[-1]
+    assert re.match(r"error: the mission was too slow: its code at \S*sleepy\.py:22 in tired", last)

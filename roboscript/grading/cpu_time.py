@@ -1,0 +1,97 @@
+"""CPU time a process tree has used: what a student's code consumed, whatever the machine's load.
+
+The grader judges a mission process by the CPU time it used, never by wall time: on a busy
+machine an honest process waits for a CPU, and that wait is not its own. Linux tells every
+process's CPU time in ``/proc/PID/stat``; the tree is found by following parent links from the
+jail's first process (the interpreter under ``bwrap``, ``setpriv`` and the student's own
+children all count), and the time of children already reaped is in their parent's total.
+"""
+
+from __future__ import annotations
+
+import os
+
+__all__ = ["process_tree_cpu_s", "process_tree_waited_s"]
+
+_TICKS_PER_S = float(os.sysconf("SC_CLK_TCK")) if hasattr(os, "sysconf") else 100.0
+
+
+def _stat(pid: str) -> tuple[int, float] | None:
+    """A process's parent and its CPU seconds (its own and its reaped children's), or None."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as handle:
+            text = handle.read()
+    except OSError:
+        return None  # it ended meanwhile
+    # The name (field 2) may hold spaces and parentheses: fields follow the last ")".
+    fields = text[text.rfind(b")") + 2 :].split()
+    try:
+        parent = int(fields[1])
+        ticks = int(fields[11]) + int(fields[12]) + int(fields[13]) + int(fields[14])
+    except (IndexError, ValueError):
+        return None
+    return parent, ticks / _TICKS_PER_S
+
+
+def process_tree_cpu_s(root_pid: int) -> float | None:
+    """CPU seconds (user and system) used by ``root_pid`` and every process below it.
+
+    Returns:
+        The seconds, or None where the system does not tell (no ``/proc``: macOS, Windows) or
+        the process is gone.
+    """
+    found = _scan(root_pid)
+    return None if found is None else sum(found.values())
+
+
+def _tree(root_pid: int) -> list[int]:
+    found = _scan(root_pid)
+    return [] if found is None else list(found)
+
+
+def _scan(root_pid: int) -> dict[int, float] | None:
+    """Each process of the tree and its CPU seconds, or None."""
+    if not os.path.isdir("/proc/self"):
+        return None
+    children: dict[int, list[int]] = {}
+    cpu: dict[int, float] = {}
+    try:
+        names = os.listdir("/proc")
+    except OSError:
+        return None
+    for name in names:
+        if not name.isdigit():
+            continue
+        found = _stat(name)
+        if found is None:
+            continue
+        pid = int(name)
+        cpu[pid] = found[1]
+        children.setdefault(found[0], []).append(pid)
+    if root_pid not in cpu:
+        return None
+    tree: dict[int, float] = {}
+    queue = [root_pid]
+    while queue:
+        pid = queue.pop()
+        if pid in tree:
+            continue
+        tree[pid] = cpu.get(pid, 0.0)
+        queue.extend(children.get(pid, ()))
+    return tree
+
+
+def process_tree_waited_s(root_pid: int) -> float | None:
+    """Seconds the main threads of ``root_pid``'s tree spent waiting for a CPU (runnable, but
+    another program had it), from Linux's scheduler statistics; None where unknown."""
+    pids = _tree(root_pid)
+    if not pids:
+        return None
+    total = 0.0
+    for pid in pids:
+        try:
+            with open(f"/proc/{pid}/schedstat", "rb") as handle:
+                total += int(handle.read().split()[1]) / 1e9
+        except (OSError, ValueError, IndexError):
+            continue  # it ended meanwhile
+    return total
