@@ -755,7 +755,10 @@ def _parser() -> argparse.ArgumentParser:
         "--hang-after",
         type=float,
         metavar="SECONDS",
-        help="end a run as hung when its simulated time stops for this long (default: 2)",
+        help=(
+            "end a run as hung when its code does not return for this many seconds of its"
+            " own time (default: 2)"
+        ),
     )
     grade.add_argument(
         "--shard",

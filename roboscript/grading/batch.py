@@ -291,7 +291,7 @@ def grade_class(
         on_result: Called with each result the moment it is known: first those of runs that
             are not started (``missing``, and ``invalid`` for a submission with a problem),
             then the others in the order they end.
-        hang_after_s: Wall seconds without simulated progress that end a run as ``hung``.
+        hang_after_s: Own seconds one tick's code may run before the run is ``hung``.
 
     Returns:
         The report; its results are in a fixed order (test, student, variant) whatever

@@ -37,7 +37,7 @@ __all__ = ["LOAD_LIMIT_S", "main", "warm_up"]
 
 _REASON_CHARS = 500
 
-LOAD_LIMIT_S = 20.0
+LOAD_LIMIT_S = 10.0
 """Own seconds loading the mission (its file, and the modules it imports) may take: far
 outside what the hang limit allows a tick, since loading is not the student's code's pace."""
 

@@ -31,8 +31,9 @@ RunStatus = Literal["passed", "failed", "timeout", "hung", "crashed", "invalid",
 
 RUN_STATUSES: tuple[RunStatus, ...] = get_args(RunStatus)
 """How a run can end for the grader: ``passed`` (every expectation held), ``failed`` (one did
-not), ``timeout`` (the wall-clock limit ended it while simulated time still advanced),
-``hung`` (simulated time stopped advancing: the mission's code did not return), ``crashed``
+not), ``timeout`` (too slow: its code took longer than a tick too often, or the wall-clock
+limit ended it while simulated time still advanced), ``hung`` (the mission's code did not
+return), ``crashed``
 (the mission's process died, its own code raised, or it broke the grading wire),
 ``invalid`` (the student's mission did not load), ``missing`` (no mission for this test)."""
 

@@ -43,8 +43,9 @@ def grade_run(
     """Run ``mission_path`` on ``variant`` of ``spec`` in the simulator and judge it.
 
     The spec's robot and world are used whatever the mission names; the run ends when the
-    mission does, after the spec's ``max_time`` of simulated time, when simulated time stops
-    advancing for ``hang_after_s`` of wall time, or at the spec's wall-clock limit.
+    mission does, after the spec's ``max_time`` of simulated time, when its code does not
+    return for ``hang_after_s`` of its own time or is too slow per tick too often
+    (:mod:`roboscript.grading.world_host`), or at the spec's wall-clock limit.
 
     Args:
         spec: The test.
@@ -53,7 +54,8 @@ def grade_run(
         student: The student's name, for the result (never seen by the mission).
         visible: Files and folders the mission may read (default: the mission file and the
             files beside it that it names).
-        hang_after_s: Wall seconds without simulated progress that end a run as ``hung``.
+        hang_after_s: Seconds of its own time one tick's code may run before the run is
+            ``hung`` (never wall time: a busy machine changes no verdict).
         limits: The sandbox's resource limits (default :class:`~roboscript.grading.sandbox.Limits`).
         server: A warm jail of this student's to fork the mission's process in (see
             :class:`~roboscript.grading.sandbox.WarmJail`); by default a jail of its own.

@@ -29,7 +29,7 @@ class RunTask:
         variant: The run variant.
         student: The student (never passed to the mission).
         visible: What the mission may read (default: the file and the files it names).
-        hang_after_s: Wall seconds without simulated progress that end the run as ``hung``.
+        hang_after_s: Own seconds one tick's code may run before the run is ``hung``.
     """
 
     spec: TestSpec

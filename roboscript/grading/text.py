@@ -194,8 +194,8 @@ def advice(status: str) -> str:
     """What a student can do about a run that did not finish, in one sentence."""
     if status in ("timeout", "hung"):
         return (
-            "Try the mission with 'roboscript run' at home: if it never finishes, look for a"
-            " condition or behaviour with a loop that never ends."
+            "Try the mission with 'roboscript run' at home: it stops code that never returns"
+            " and warns about code that takes too long per tick, at its line, as the grader does."
         )
     if status == "invalid":
         return "Run 'roboscript check' on the mission to see every problem with its line."

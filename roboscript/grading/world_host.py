@@ -178,7 +178,8 @@ def run_world(
         variant: Which of the spec's runs.
         visible: Files and folders the mission process may read (default: the mission file
             and the files beside it that it names, see :func:`submission_files`).
-        hang_after_s: Wall seconds without simulated progress that make a run ``hung``.
+        hang_after_s: Seconds of its own time one tick's code may run before the run is
+            ``hung``.
         limits: The sandbox's resource limits.
         server: A warm jail of this student's to fork the run in (its own files, limits and
             visibility apply); by default the run gets a new jail of its own.
@@ -355,7 +356,7 @@ class _WorldSession:
                     try:
                         self._handle(data)
                     except _HungWhileLoadingError as exc:
-                        return self._stopped("hung", f"the mission did not load: {exc}")
+                        return self._stopped("hung", f"the mission stopped while loading: {exc}")
                     except _LoadFailedError as exc:
                         return self._invalid(str(exc))
                     except _ViolationError as exc:

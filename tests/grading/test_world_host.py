@@ -8,8 +8,14 @@ that whatever the mission process sends, it cannot make the world record what di
 
 from __future__ import annotations
 
+import contextlib
 import json
+import os
 import re
+import shutil
+import subprocess
+import sys
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -306,3 +312,40 @@ def test_run_warns_about_the_same_code_once_and_ends_it_as_grade_does(tmp_path: 
     )
     last = done.stderr.strip().splitlines()[-1]
     assert re.match(r"error: the mission was too slow: its code at \S*sleepy\.py:22 in tired", last)
+
+
+@contextlib.contextmanager
+def _every_core_busy() -> Iterator[None]:
+    """A process spinning on every core (each ends itself after ten minutes, whatever happens)."""
+    spin = "import time\nend = time.monotonic() + 600\nwhile time.monotonic() < end:\n    pass"
+    hogs = [subprocess.Popen([sys.executable, "-c", spin]) for _ in range(os.cpu_count() or 1)]
+    try:
+        yield
+    finally:
+        for hog in hogs:
+            hog.kill()
+            hog.wait()
+
+
+@pytest.mark.timeout(1800)  # a bound, not a measure: a saturated machine is slow
+def test_honest_missions_graded_on_a_saturated_machine_never_hang_or_crash(
+    tmp_path: Path,
+) -> None:
+    folder = tmp_path / "class"
+    folder.mkdir()
+    square = MISSIONS / "teacher" / "square"
+    shutil.copy(square / "good.yaml", folder / "amy.yaml")
+    shutil.copy(square / "good.yaml", folder / "ben.yaml")
+    shutil.copy(square / "bad.yaml", folder / "cy.yaml")  # honest, but off by one
+    shutil.copy(MISSIONS / "square.py", folder / "dee.py")  # Python: more to import
+    with _every_core_busy():
+        done = run_cli(
+            "grade", str(square / "test.yaml"), "--mission", str(folder), "--json", timeout=1800
+        )
+    runs = json.loads(done.stdout)["runs"]
+    assert len(runs) == 12
+    statuses = {(run["student"], run["status"]) for run in runs}
+    assert statuses <= {(s, "passed") for s in ("amy", "ben", "dee")} | {("cy", "failed")}, [
+        (run["student"], run["status"], run["message"]) for run in runs
+    ]
+    assert ("amy", "passed") in statuses and ("ben", "passed") in statuses
