@@ -115,6 +115,12 @@ class _WireWait:
 
     def __init__(self) -> None:
         self.total_s = 0.0
+        self.since: float | None = None  # a wait under way (an alarm may land inside it)
+
+    def so_far_s(self) -> float:
+        """Every wait so far, the one under way included."""
+        since = self.since
+        return self.total_s + (time.perf_counter() - since if since is not None else 0.0)
 
 
 _WIRE = _WireWait()
@@ -126,10 +132,11 @@ def wire_wait() -> Any:
 
     The transport wraps every blocking wait for an answer in it.
     """
-    started = time.perf_counter()
+    started = _WIRE.since = time.perf_counter()
     try:
         yield
     finally:
+        _WIRE.since = None
         _WIRE.total_s += time.perf_counter() - started
 
 
@@ -169,7 +176,7 @@ class CodeClock:
     def now(self) -> float:
         """Own seconds, from an arbitrary origin."""
         queued = self._queued() if self._queued is not None else 0.0
-        return time.perf_counter() - queued - _WIRE.total_s
+        return time.perf_counter() - queued - _WIRE.so_far_s()
 
 
 # ---------------------------------------------------------------------------- exceptions
@@ -272,6 +279,8 @@ class Watchdog:
         """Their own time, in all, seconds."""
         self.slowest_s = 0.0
         self._first_where = ""
+        self._unreported_s: float | None = None  # a slow tick not yet warned about
+        self._warned = False
 
     @property
     def supported(self) -> bool:
@@ -309,8 +318,11 @@ class Watchdog:
         self._where = ""
         self._began_s = self._clock.now()
         if self._armed:
-            first = self.limit_s if self.budget is None else self.budget.slow_tick_s
-            self._arm(min(self.limit_s, first))
+            # Only once a tick has been slow is the next one interrupted to see where it is:
+            # an alarm that wakes a sleeping tick lets the machine's load hide in its sleep.
+            locating = self.slow_ticks > 0 and not self._first_where and self.budget is not None
+            first = self.budget.slow_tick_s if locating and self.budget is not None else None
+            self._arm(min(self.limit_s, first or self.limit_s))
 
     def _end(self) -> None:
         spent_s = self._clock.now() - self._began_s
@@ -321,11 +333,22 @@ class Watchdog:
             self.slow_total_s += spent_s
             self.slowest_s = max(self.slowest_s, spent_s)
             self._first_where = self._first_where or self._where
-            if self.slow_ticks == 1 and self._on_slow is not None:
-                self._on_slow(spent_s, self._where)
+            if self._where or not self._armed:
+                self._report_slow(max(spent_s, self._unreported_s or 0.0), self._where)
+            else:  # the next tick, if slow too, says where
+                self._unreported_s = max(spent_s, self._unreported_s or 0.0)
             if self._end_when_too_slow and self.slow_total_s >= budget.too_slow_after_s:
                 raise TooSlow(self.slow_total_s, self._first_where, self.slowest_s, budget)
+        elif self._unreported_s is not None:
+            self._report_slow(self._unreported_s, "")  # one slow tick alone: no line to name
         self.pet()  # code outside the timed calls (the loop's own) keeps the plain limit
+
+    def _report_slow(self, spent_s: float, where: str) -> None:
+        """Warn about the first slow tick (once)."""
+        self._unreported_s = None
+        if not self._warned and self._on_slow is not None:
+            self._warned = True
+            self._on_slow(spent_s, where)
 
     def _arm(self, after_s: float, repeat_s: float = 0.0) -> None:
         signal.setitimer(signal.ITIMER_REAL, max(after_s, 1e-3), repeat_s)
