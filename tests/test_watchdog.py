@@ -2,10 +2,15 @@
 
 from __future__ import annotations
 
+import contextlib
 import itertools
+import os
 import re
+import subprocess
 import sys
 import threading
+import time
+from collections.abc import Iterator
 from pathlib import Path
 from types import FrameType
 
@@ -14,7 +19,7 @@ from helpers import run_cli
 
 from roboscript.sim.simulation import make_simulation
 from roboscript.transport.wirelog import read_wire_log
-from roboscript.watchdog import RunawayCode, Watchdog
+from roboscript.watchdog import CodeClock, RunawayCode, TickBudget, TooSlow, Watchdog, wire_wait
 
 
 def _where(frame: FrameType | None) -> str:
@@ -138,3 +143,90 @@ def test_check_ends_a_file_that_hangs_when_imported(tmp_path: Path) -> None:
     assert result.returncode == 1
     assert "did not return for 5 s and was stopped at" in result.stderr
     assert re.search(r"hang\.py:[34] in <module>:", result.stderr)
+
+
+# ------------------------------------------------------------------ the per-tick rule
+
+BUDGET = TickBudget(slow_tick_s=0.02, too_slow_after_s=0.3)
+
+
+def _napping_tick(now_s: float, dt_s: float) -> None:
+    time.sleep(0.05)
+
+
+def _quick_tick(now_s: float, dt_s: float) -> None:
+    sum(range(1000))
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="the watchdog needs SIGALRM")
+def test_ticks_that_sleep_are_reported_once_at_their_line_then_ended_as_too_slow() -> None:
+    seen: list[tuple[float, str]] = []
+    dog = Watchdog(5.0, _where, budget=BUDGET, on_slow=lambda s, w: seen.append((s, w)))
+    tick = dog.timed(_napping_tick)
+    ticks = 0
+    with pytest.raises(TooSlow) as raised, dog:
+        for ticks in range(1, 100):  # noqa: B007 (ticks is read after the loop)
+            tick(0.0, 0.02)
+    assert ticks == 6  # 0.3 s of slow ticks at 0.05 s each
+    assert len(seen) == 1
+    spent_s, where = seen[0]
+    assert spent_s >= 0.05 and where.startswith("_napping_tick:")
+    assert raised.value.where.startswith("_napping_tick:")
+    assert raised.value.reason.startswith("the mission was too slow: its code at _napping_tick:")
+    assert "never time.sleep" in raised.value.reason
+
+
+def test_one_slow_tick_alone_is_forgiven_and_warned_about_without_a_line() -> None:
+    seen: list[tuple[float, str]] = []
+    dog = Watchdog(5.0, _where, budget=BUDGET, on_slow=lambda s, w: seen.append((s, w)))
+    with dog:
+        dog.timed(_napping_tick)(0.0, 0.02)
+        for _ in range(20):
+            dog.timed(_quick_tick)(0.0, 0.02)
+    assert dog.slow_ticks == 1
+    assert len(seen) == 1 and seen[0][0] >= 0.05
+    assert seen[0][1] == ""  # the tick was not interrupted to see where: it was the first
+
+
+def test_a_warning_only_watchdog_never_ends_the_run() -> None:
+    dog = Watchdog(5.0, _where, budget=BUDGET, end_when_too_slow=False)
+    with dog:
+        for _ in range(10):
+            dog.timed(_napping_tick)(0.0, 0.02)
+    assert dog.slow_ticks == 10
+
+
+@contextlib.contextmanager
+def _every_core_busy() -> Iterator[None]:
+    """A process spinning on every core, and one more (each ends itself after five minutes)."""
+    spin = "import time\nend = time.monotonic() + 300\nwhile time.monotonic() < end:\n    pass"
+    count = (os.cpu_count() or 1) + 1
+    hogs = [subprocess.Popen([sys.executable, "-c", spin]) for _ in range(count)]
+    try:
+        yield
+    finally:
+        for hog in hogs:
+            hog.kill()
+            hog.wait()
+
+
+@pytest.mark.skipif(not CodeClock().load_independent, reason="needs Linux's scheduler statistics")
+def test_honest_ticks_are_never_slow_on_a_saturated_machine() -> None:
+    def honest(now_s: float, dt_s: float) -> None:
+        sum(range(20_000))  # about a millisecond of work
+
+    dog = Watchdog(0.5, _where, budget=BUDGET)
+    with _every_core_busy(), dog:
+        for _ in range(300):
+            dog.timed(honest)(0.0, 0.02)
+    assert dog.slow_ticks == 0
+
+
+def test_time_waiting_on_the_wire_is_not_the_codes_own() -> None:
+    clock = CodeClock()
+    before = clock.now()
+    with wire_wait():
+        time.sleep(0.2)
+        during = clock.now() - before  # a wait under way is left out too
+    assert during < 0.1
+    assert clock.now() - before < 0.1

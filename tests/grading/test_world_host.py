@@ -224,7 +224,7 @@ def _graded(tmp_path: Path, name: str, code: str) -> dict[str, Any]:
     folder = tmp_path / "class"
     folder.mkdir()
     (folder / name).write_text(code, encoding="utf-8")
-    done = run_cli("grade", str(spec), "--mission", str(folder), "--json", timeout=600)
+    done = run_cli("grade", str(spec), "--mission", str(folder), "--json")
     assert "Traceback" not in done.stderr, done.stderr
     runs = json.loads(done.stdout)["runs"]
     assert len(runs) == 1
@@ -303,7 +303,7 @@ def test_a_mission_that_sleeps_each_tick_is_ended_early_as_too_slow_at_its_line(
 def test_run_warns_about_the_same_code_once_and_ends_it_as_grade_does(tmp_path: Path) -> None:
     mission = tmp_path / "sleepy.py"
     mission.write_text(SLEEPER, encoding="utf-8")
-    done = run_cli("run", str(mission), "--quiet", timeout=600)
+    done = run_cli("run", str(mission), "--quiet")
     assert done.returncode == 1
     warnings = [line for line in done.stderr.splitlines() if line.startswith("warning:")]
     assert len(warnings) == 1
@@ -327,7 +327,6 @@ def _every_core_busy() -> Iterator[None]:
             hog.wait()
 
 
-@pytest.mark.timeout(1800)  # a bound, not a measure: a saturated machine is slow
 def test_honest_missions_graded_on_a_saturated_machine_never_hang_or_crash(
     tmp_path: Path,
 ) -> None:
@@ -339,9 +338,7 @@ def test_honest_missions_graded_on_a_saturated_machine_never_hang_or_crash(
     shutil.copy(square / "bad.yaml", folder / "cy.yaml")  # honest, but off by one
     shutil.copy(MISSIONS / "square.py", folder / "dee.py")  # Python: more to import
     with _every_core_busy():
-        done = run_cli(
-            "grade", str(square / "test.yaml"), "--mission", str(folder), "--json", timeout=1800
-        )
+        done = run_cli("grade", str(square / "test.yaml"), "--mission", str(folder), "--json")
     runs = json.loads(done.stdout)["runs"]
     assert len(runs) == 12
     statuses = {(run["student"], run["status"]) for run in runs}
