@@ -188,3 +188,20 @@ class Logged(Mission):
             print("one second in")
         return False
 """
+
+
+@contextlib.contextmanager
+def every_core_busy(extra: int = 0) -> Iterator[None]:
+    """A process spinning on every core (and ``extra`` more) for the block: a saturated machine.
+
+    Each spinner also ends itself after ten minutes, whatever happens to the test.
+    """
+    spin = "import time\nend = time.monotonic() + 600\nwhile time.monotonic() < end:\n    pass"
+    count = (os.cpu_count() or 1) + extra
+    hogs = [subprocess.Popen([sys.executable, "-c", spin]) for _ in range(count)]
+    try:
+        yield
+    finally:
+        for hog in hogs:
+            hog.kill()
+            hog.wait()

@@ -2,20 +2,16 @@
 
 from __future__ import annotations
 
-import contextlib
 import itertools
-import os
 import re
-import subprocess
 import sys
 import threading
 import time
-from collections.abc import Iterator
 from pathlib import Path
 from types import FrameType
 
 import pytest
-from helpers import run_cli
+from helpers import every_core_busy, run_cli
 
 from roboscript.sim.simulation import make_simulation
 from roboscript.transport.wirelog import read_wire_log
@@ -196,27 +192,13 @@ def test_a_warning_only_watchdog_never_ends_the_run() -> None:
     assert dog.slow_ticks == 10
 
 
-@contextlib.contextmanager
-def _every_core_busy() -> Iterator[None]:
-    """A process spinning on every core, and one more (each ends itself after five minutes)."""
-    spin = "import time\nend = time.monotonic() + 300\nwhile time.monotonic() < end:\n    pass"
-    count = (os.cpu_count() or 1) + 1
-    hogs = [subprocess.Popen([sys.executable, "-c", spin]) for _ in range(count)]
-    try:
-        yield
-    finally:
-        for hog in hogs:
-            hog.kill()
-            hog.wait()
-
-
 @pytest.mark.skipif(not CodeClock().load_independent, reason="needs Linux's scheduler statistics")
 def test_honest_ticks_are_never_slow_on_a_saturated_machine() -> None:
     def honest(now_s: float, dt_s: float) -> None:
         sum(range(20_000))  # about a millisecond of work
 
     dog = Watchdog(0.5, _where, budget=BUDGET)
-    with _every_core_busy(), dog:
+    with every_core_busy(extra=1), dog:
         for _ in range(300):
             dog.timed(honest)(0.0, 0.02)
     assert dog.slow_ticks == 0

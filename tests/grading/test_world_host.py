@@ -8,19 +8,14 @@ that whatever the mission process sends, it cannot make the world record what di
 
 from __future__ import annotations
 
-import contextlib
 import json
-import os
 import re
 import shutil
-import subprocess
-import sys
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import MISSIONS, run_cli
+from helpers import MISSIONS, every_core_busy, run_cli
 
 from roboscript.grading.run import grade_run, record_from_session
 from roboscript.grading.spec import TestSpec, load_test_spec
@@ -314,19 +309,6 @@ def test_run_warns_about_the_same_code_once_and_ends_it_as_grade_does(tmp_path: 
     assert re.match(r"error: the mission was too slow: its code at \S*sleepy\.py:22 in tired", last)
 
 
-@contextlib.contextmanager
-def _every_core_busy() -> Iterator[None]:
-    """A process spinning on every core (each ends itself after ten minutes, whatever happens)."""
-    spin = "import time\nend = time.monotonic() + 600\nwhile time.monotonic() < end:\n    pass"
-    hogs = [subprocess.Popen([sys.executable, "-c", spin]) for _ in range(os.cpu_count() or 1)]
-    try:
-        yield
-    finally:
-        for hog in hogs:
-            hog.kill()
-            hog.wait()
-
-
 def test_honest_missions_graded_on_a_saturated_machine_never_hang_or_crash(
     tmp_path: Path,
 ) -> None:
@@ -337,7 +319,7 @@ def test_honest_missions_graded_on_a_saturated_machine_never_hang_or_crash(
     shutil.copy(square / "good.yaml", folder / "ben.yaml")
     shutil.copy(square / "bad.yaml", folder / "cy.yaml")  # honest, but off by one
     shutil.copy(MISSIONS / "square.py", folder / "dee.py")  # Python: more to import
-    with _every_core_busy():
+    with every_core_busy():
         done = run_cli("grade", str(square / "test.yaml"), "--mission", str(folder), "--json")
     runs = json.loads(done.stdout)["runs"]
     assert len(runs) == 12
