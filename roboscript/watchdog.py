@@ -140,10 +140,25 @@ def wire_wait() -> Any:
         _WIRE.total_s += time.perf_counter() - started
 
 
+_READERS = threading.local()
+
+
 def _schedstat_reader() -> Callable[[], float] | None:
-    """Seconds this thread has waited for a CPU so far, from Linux's scheduler statistics."""
+    """Seconds this thread has waited for a CPU so far, from Linux's scheduler statistics.
+
+    One open file per thread, kept for the thread's life (a clock per run must not leak one),
+    and opened again in a forked child (whose thread it is not).
+    """
+    if getattr(_READERS, "pid", None) != os.getpid():
+        _READERS.pid = os.getpid()
+        _READERS.read = _open_schedstat()
+    read: Callable[[], float] | None = _READERS.read
+    return read
+
+
+def _open_schedstat() -> Callable[[], float] | None:
     try:
-        fd = os.open("/proc/thread-self/schedstat", os.O_RDONLY)
+        fd = os.open("/proc/thread-self/schedstat", os.O_RDONLY | getattr(os, "O_CLOEXEC", 0))
         os.pread(fd, 64, 0)
     except (OSError, AttributeError):
         return None

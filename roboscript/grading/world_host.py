@@ -702,7 +702,7 @@ class _Stall:
         self.measured = "CPU time"
         self.next_check = time.monotonic() + _CHECK_EVERY_S
         self._progressed = True
-        self._at_progress_s = 0.0
+        self._at_progress_s: float | None = None
         self._at_load_s: float | None = None
         self.loaded_at_s = 0.0
 
@@ -723,9 +723,12 @@ class _Stall:
     def check(self, now: float, allowance_s: float) -> float | None:
         """The seconds used without progress, once they pass ``allowance_s``; else None."""
         self.next_check = now + _CHECK_EVERY_S
-        used = self._used_s()
-        if self._progressed:
+        if self._progressed:  # an honest run: never a reading of /proc
             self._progressed = False
+            self._at_progress_s = None
+            return None
+        used = self._used_s()
+        if self._at_progress_s is None:  # the first check since time stood still
             self._at_progress_s = used
             return None
         stalled = used - self._at_progress_s
