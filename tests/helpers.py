@@ -64,7 +64,7 @@ def served_simulator(robot: str, *options: str) -> Iterator[int]:
         yield int(match.group(1))
     finally:
         proc.terminate()
-        proc.wait(timeout=10)
+        proc.wait(timeout=HANG_BOUND_S)
 
 
 def run_action(bot: object, action: object, limit_s: float = 30.0) -> object:

@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import MISSIONS, ROOT, run_cli
+from helpers import HANG_BOUND_S, MISSIONS, ROOT, run_cli
 
 import roboscript
 from roboscript import Drive, Mission, api, state
@@ -60,7 +60,7 @@ def _python(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
         text=True,
         cwd=cwd,
         env=env,
-        timeout=60,
+        timeout=HANG_BOUND_S,
         check=False,
     )
 

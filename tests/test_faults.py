@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 from fake_asip import FakeAsipBoard
-from helpers import ROOT, run_cli
+from helpers import HANG_BOUND_S, ROOT, run_cli
 
 from roboscript.transport.wirelog import read_wire_log
 
@@ -141,7 +141,7 @@ def test_ctrl_c_stops_the_robot_before_exiting_130(tmp_path: Path) -> None:
     proc = _start_realtime(ROOT / "missions" / "square.yaml", log)
     time.sleep(2.0)  # well into the first side: the wheels are turning
     proc.send_signal(signal.SIGINT)
-    _, stderr = proc.communicate(timeout=20)
+    _, stderr = proc.communicate(timeout=HANG_BOUND_S)
     assert proc.returncode == 130
     assert "Traceback" not in stderr
     sent = [data for _, d, data in read_wire_log(log) if d == ">"]
@@ -154,7 +154,7 @@ def test_a_second_ctrl_c_still_exits(tmp_path: Path) -> None:
     time.sleep(1.5)
     proc.send_signal(signal.SIGINT)
     proc.send_signal(signal.SIGINT)
-    proc.communicate(timeout=20)
+    proc.communicate(timeout=HANG_BOUND_S)
     assert proc.returncode == 130
 
 

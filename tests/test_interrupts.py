@@ -17,7 +17,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from helpers import ROOT
+from helpers import HANG_BOUND_S, ROOT
 
 from roboscript.interrupts import (
     HANDLED_SIGNALS,
@@ -88,7 +88,7 @@ def test_a_signal_mid_mission_stops_the_robot_then_exits_with_its_status(
             break
     time.sleep(1.0)  # the mission is under way: the wheels are turning
     proc.send_signal(signum)
-    _, stderr = proc.communicate(timeout=30)
+    _, stderr = proc.communicate(timeout=HANG_BOUND_S)
     assert proc.returncode == 128 + signum, stderr
     assert "Traceback" not in stderr
     assert stderr.strip().splitlines()[-1] == f"error: {Interrupted(signum).reason}"

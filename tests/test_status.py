@@ -7,7 +7,7 @@ import pty
 import subprocess
 import sys
 
-from helpers import ROOT, run_cli
+from helpers import HANG_BOUND_S, ROOT, run_cli
 
 
 def _run_on_a_terminal(*args: str) -> str:
@@ -31,7 +31,7 @@ def _run_on_a_terminal(*args: str) -> str:
         if not data:
             break
         chunks.append(data)
-    proc.wait(timeout=60)
+    proc.wait(timeout=HANG_BOUND_S)
     os.close(master)
     return b"".join(chunks).decode("utf-8", "replace")
 

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 from hand_graded import HIDDEN_SECRETS, hand_report
-from helpers import MISSIONS, run_cli
+from helpers import HANG_BOUND_S, MISSIONS, run_cli
 
 from roboscript.grading.html_report import write_html
 
@@ -152,7 +152,7 @@ def _screenshot(browser: str, page: Path, png: Path, profile: Path, height: int)
             page.resolve().as_uri(),
         ],
         capture_output=True,
-        timeout=120,
+        timeout=HANG_BOUND_S,
         check=False,
     )
 

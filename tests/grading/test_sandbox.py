@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers import HANG_BOUND_S
 
 import roboscript
 from roboscript.grading import sandbox
@@ -699,7 +700,7 @@ def test_a_grader_run_by_an_ordinary_user_gets_the_same_isolation() -> None:
                 cwd="/",
                 capture_output=True,
                 text=True,
-                timeout=120,
+                timeout=HANG_BOUND_S,
                 check=False,
             )
     finally:

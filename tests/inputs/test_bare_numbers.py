@@ -9,6 +9,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+from helpers import HANG_BOUND_S
 
 from roboscript.errors import InputError, WorldError
 from roboscript.inputs.fields import FieldReader
@@ -150,7 +151,7 @@ def run_check(*args: str) -> subprocess.CompletedProcess[str]:
         [sys.executable, "-m", "roboscript", "check", *args],
         capture_output=True,
         text=True,
-        timeout=120,
+        timeout=HANG_BOUND_S,
         check=False,
     )
 

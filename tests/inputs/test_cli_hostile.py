@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from helpers import HANG_BOUND_S
 
 LAUGHS = """\
 mission: laughs
@@ -32,7 +33,7 @@ def check(path: Path) -> list[str]:
         [sys.executable, "-m", "roboscript", "check", str(path)],
         capture_output=True,
         text=True,
-        timeout=120,  # a hang is a failure, not a stuck test run; never a pass threshold
+        timeout=HANG_BOUND_S,  # a hang is a failure, not a stuck test run; never a pass threshold
         check=False,
     )
     assert done.returncode == 2

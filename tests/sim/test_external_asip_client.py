@@ -13,7 +13,7 @@ import re
 import subprocess
 import sys
 
-from helpers import ROOT
+from helpers import HANG_BOUND_S, ROOT
 
 CLIENT = r"""
 import json, sys, time
@@ -54,13 +54,13 @@ def test_python_asip_client_moves_motors_and_reads_sensors() -> None:
             [sys.executable, "-c", CLIENT, match.group(1)],
             capture_output=True,
             text=True,
-            timeout=60,
+            timeout=HANG_BOUND_S,
             env=env,
             check=False,
         )
     finally:
         server.terminate()
-        server.wait(timeout=10)
+        server.wait(timeout=HANG_BOUND_S)
     line = next((row for row in client.stdout.splitlines() if row.startswith("RESULT ")), None)
     assert line is not None, client.stdout + client.stderr
     result = json.loads(line[len("RESULT ") :])

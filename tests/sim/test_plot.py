@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from helpers import ROOT, run_cli
+from helpers import HANG_BOUND_S, ROOT, run_cli
 
 from roboscript.sim.body import Contact, SimLog
 from roboscript.sim.world import load_world
@@ -71,7 +71,7 @@ def test_without_matplotlib_run_plot_says_how_to_get_it_before_running(tmp_path:
         text=True,
         cwd=ROOT,
         env={"PYTHONPATH": str(ROOT), "PATH": ""},
-        timeout=60,
+        timeout=HANG_BOUND_S,
         check=False,
     )
     assert result.returncode == 1

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 import serial
-from helpers import ROOT
+from helpers import HANG_BOUND_S, ROOT
 
 from roboscript.codec import Role, drain
 from roboscript.drivers.asip import messages as m
@@ -44,7 +44,7 @@ def tcp_sim() -> Iterator[int]:
         yield int(match.group(1))
     finally:
         proc.terminate()
-        proc.wait(timeout=10)
+        proc.wait(timeout=HANG_BOUND_S)
 
 
 def _read_until(sock: socket.socket, codec: AsipCodec, want: type, limit_s: float = 5.0) -> object:
@@ -114,7 +114,7 @@ def test_pty_path_is_the_first_line_and_speaks_asip() -> None:
             assert found is not None
     finally:
         proc.terminate()
-        proc.wait(timeout=10)
+        proc.wait(timeout=HANG_BOUND_S)
 
 
 def test_bad_tcp_address_is_invalid_input() -> None:
@@ -124,7 +124,7 @@ def test_bad_tcp_address_is_invalid_input() -> None:
         text=True,
         env=dict(os.environ, PYTHONPATH=str(ROOT)),
         cwd=ROOT,
-        timeout=30,
+        timeout=HANG_BOUND_S,
         check=False,
     )
     assert result.returncode == 2

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers import HANG_BOUND_S
 from serial import SerialException
 
 from roboscript.clock import SimClock
@@ -191,7 +192,7 @@ def test_a_disconnect_fails_the_next_read_after_the_bytes_already_received(
     assert port._loop is not None
     port._loop.call_soon_threadsafe(drop)
     assert port._thread is not None
-    port._thread.join(timeout=10)
+    port._thread.join(timeout=HANG_BOUND_S)
     link = Link(port, SpikeCodec(Role.DEVICE), clock=SimClock(), name="ble://SPIKE-7")
     assert link.poll() == [m.InfoRequest()]
     with pytest.raises(LinkClosedError):
@@ -238,7 +239,7 @@ def test_roboscript_loads_without_bleak() -> None:
         "with Robot.connect('spike-prime') as robot:\n"
         "    assert robot.has('drive_base')\n"
     )
-    subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT, timeout=60)
+    subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT, timeout=HANG_BOUND_S)
 
 
 @pytest.mark.parametrize(
