@@ -78,7 +78,7 @@ def test_motors_move_encoders_over_tcp_and_stop_on_disconnect(tcp_sim: int) -> N
     with socket.create_connection(("127.0.0.1", tcp_sim)) as sock:
         _read_until(sock, codec, m.StartupLine)
         sock.sendall(codec.send(m.EnableEncoderEvents(True)) + codec.send(m.SetMotorsPower(50, 50)))
-        deadline = time.monotonic() + 5
+        deadline = time.monotonic() + HANG_BOUND_S  # a bound: the loop ends once it is seen
         total = 0
         while time.monotonic() < deadline and total < 500:
             event = _read_until(sock, codec, m.EncoderEvent)
@@ -106,7 +106,7 @@ def test_pty_path_is_the_first_line_and_speaks_asip() -> None:
         with serial.Serial(first, 57600, timeout=0.2) as port:
             codec = AsipCodec(Role.HOST)
             port.write(codec.send(m.VersionRequest()))
-            deadline = time.monotonic() + 5
+            deadline = time.monotonic() + HANG_BOUND_S  # a bound: the loop ends once it is seen
             found = None
             while time.monotonic() < deadline and found is None:
                 codec.receive_data(port.read(4096))

@@ -15,7 +15,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 
 import pytest
-from helpers import served_simulator
+from helpers import HANG_BOUND_S, served_simulator
 
 from roboscript.codec import Role, drain
 from roboscript.drivers.stackmod.codec import StackModCodec
@@ -23,7 +23,7 @@ from roboscript.drivers.stackmod.messages import Command, Get, GetReply
 from roboscript.sim.server import BUSY_LINE, DEFAULT_HANDSHAKE_WAIT_S, SimServer
 from roboscript.sim.simulation import make_simulation
 
-_SAFETY_S = 20.0
+_SAFETY_S = HANG_BOUND_S
 """How long a test waits for the server before calling it hung (never reached when it works)."""
 
 
