@@ -173,7 +173,8 @@ def run_session(
             simulator's.
         on_slow_tick: Called once, with a one-line warning naming the line and the time it
             took, the first time a tick's code takes longer than
-            :attr:`~roboscript.watchdog.TickBudget.slow_tick_s`. On a simulated robot, once
+            :attr:`~roboscript.watchdog.TickBudget.slow_tick_s`. On a simulated robot not paced
+            to the wall clock (as every graded run), once
             slow ticks add up to :attr:`~roboscript.watchdog.TickBudget.too_slow_after_s`
             the mission ends in error as too slow, exactly as a graded run does.
 
@@ -221,8 +222,10 @@ def run_session(
                 if on_slow_tick is None
                 else (lambda spent_s, where: on_slow_tick(TICK_BUDGET.slow_message(spent_s, where)))
             ),
-            # A real robot's driver may wait on its port inside a tick: warn only.
-            end_when_too_slow=sim is not None,
+            # A real robot's driver may wait on its port inside a tick, and a run paced to the
+            # wall clock shares its process with the live view's threads (a wait for the
+            # interpreter's lock is not told apart from the code's own time): warn only.
+            end_when_too_slow=sim is not None and not realtime,
         )
         if runaway_after_s is not None
         else None
