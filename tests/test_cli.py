@@ -12,6 +12,8 @@ from pathlib import Path
 
 from helpers import ROOT, run_cli
 
+from roboscript.profiles import get_profile
+
 
 def test_square_succeeds_with_four_tones_and_returns_home() -> None:
     result = run_cli("run", "missions/square.yaml", "--json")
@@ -129,7 +131,8 @@ def test_port_where_nothing_answers_fails_in_a_few_seconds_with_one_sentence() -
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1, result.stderr
     assert "did not answer" in lines[0]
-    assert f"did not answer on socket://127.0.0.1:{port} within 3 s:" in lines[0]
+    limit_s = get_profile("mirto").handshake_timeout_s
+    assert f"did not answer on socket://127.0.0.1:{port} within {limit_s:g} s:" in lines[0]
     assert "Traceback" not in result.stderr
 
 
