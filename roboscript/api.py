@@ -20,7 +20,6 @@ Jupyter notebook the result displays as the replay viewer (:mod:`roboscript.repl
 from __future__ import annotations
 
 import html
-import inspect
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -29,7 +28,7 @@ from typing import Any, NoReturn
 
 from roboscript.errors import InputError, RoboscriptError
 from roboscript.mission import fit_to_robot, mission_for_robot
-from roboscript.mission.python_api import Mission, note_mission_run
+from roboscript.mission.python_api import Mission, mission_file, note_mission_run
 from roboscript.mission.spec import MissionSpec
 from roboscript.mission.student_code import stuck_at
 from roboscript.replay.recording import Recording
@@ -309,11 +308,8 @@ def _result(
 def _mission_file(mission: type[Mission] | str | Path) -> str:
     if isinstance(mission, str | Path):
         return str(mission)
-    try:
-        source = inspect.getsourcefile(mission)
-    except (TypeError, OSError):  # a class typed into a REPL or a notebook has no file
-        source = None
-    if source is None or not Path(source).is_file():
+    source = mission_file(mission)
+    if source is None:
         raise RoboscriptError(
             f"{mission.__name__}.main() runs a mission written in a .py file; here, use"
             f" roboscript.run({mission.__name__})"

@@ -33,7 +33,8 @@ file (``roboscript run square.py``) holds one such class.
 from __future__ import annotations
 
 import atexit
-import importlib
+import inspect
+import os
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -57,7 +58,9 @@ __all__ = [
     "RangeReading",
     "Route",
     "StateDef",
+    "mission_file",
     "note_mission_run",
+    "run_command",
     "state",
 ]
 
@@ -381,10 +384,15 @@ class Mission:
             argv: ``roboscript run``'s options (``--robot``, ``--world``, ``--seed``,
                 ``--port``, ``--view``, ...); default: the command line's.
         """
-        # The command line sits above missions: it is loaded by name, only when a mission
-        # file asks to run itself (as the root package loads its attributes).
-        importlib.import_module("roboscript.api").main(cls, argv)
-        raise SystemExit(0)  # not reached: main() exits
+        note_mission_run()
+        path = mission_file(cls)
+        if path is None:
+            sys.stderr.write(
+                f"error: {cls.__name__}.main() runs a mission written in a .py file; here, use"
+                f" roboscript.run({cls.__name__})\n"
+            )
+            raise SystemExit(2)
+        run_command(["run", path, *(sys.argv[1:] if argv is None else argv)])
 
     def __init__(self) -> None:
         self._env: GuardEnv | None = None
@@ -478,7 +486,47 @@ class Mission:
         return ButtonsReading(self._values())
 
 
-# ------------------------------------------------------------ python my_mission.py, unrun
+# ------------------------------------------------------------ python my_mission.py
+
+
+def mission_file(cls: type[Mission]) -> str | None:
+    """The ``.py`` file that defines ``cls``, or ``None`` (a class typed into a notebook)."""
+    holder: object = sys.modules.get(cls.__module__)
+    for name in cls.__qualname__.split("."):
+        holder = getattr(holder, name, None)
+    if holder is not cls:  # made in a namespace of its own (a notebook cell), not its module
+        return None
+    try:
+        source = inspect.getsourcefile(cls)
+    except (TypeError, OSError):  # a class typed into a REPL or a notebook has no file
+        return None
+    return source if source is not None and Path(source).is_file() else None
+
+
+def run_command(args: Sequence[str]) -> NoReturn:
+    """Hand this process over to ``roboscript ARGS``, and exit with its status.
+
+    The command line sits above missions, so a mission file that runs itself
+    (:meth:`Mission.main`) runs the command as its user would: the same process on POSIX
+    (its exit status, its Ctrl-C), a child process it waits for elsewhere.
+    """
+    command = [sys.executable, "-m", "roboscript", *args]
+    env = dict(os.environ)
+    # wherever this roboscript was imported from, the command imports the same one
+    home = str(Path(__file__).resolve().parents[2])
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (home, env.get("PYTHONPATH")) if p)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    if os.name == "posix":
+        os.execve(sys.executable, command, env)
+    import subprocess  # only where exec is not how a process hands over (Windows)
+
+    with subprocess.Popen(command, env=env) as child:
+        while True:
+            try:
+                raise SystemExit(child.wait())
+            except KeyboardInterrupt:
+                continue  # the command stops the robot on Ctrl-C, then exits: wait for it
 
 
 class _Script:

@@ -9,15 +9,16 @@ under mutation testing.
 from __future__ import annotations
 
 import atexit
+import os
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import ModuleType
-from typing import Any
+from typing import Any, NoReturn
 
 import pytest
 
-import roboscript.api
+from roboscript.mission import python_api
 from roboscript import Drive, Mission, Wait, state
 from roboscript.capabilities import COLOR
 from roboscript.clock import SimClock
@@ -116,13 +117,41 @@ def test_no_reminder_in_a_notebook_or_the_repl(
 def test_main_runs_the_mission_with_the_options_given_and_exits(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    seen: list[tuple[type[Mission], Sequence[str] | None]] = []
-    monkeypatch.setattr(roboscript.api, "main", lambda cls, argv: seen.append((cls, argv)))
+    seen: list[Sequence[str]] = []
+
+    def run_command(args: Sequence[str]) -> NoReturn:
+        seen.append(args)
+        raise SystemExit(0)
+
+    monkeypatch.setattr(python_api, "run_command", run_command)
     square = _define("Square", module="square", end=state(final=True, initial=True))
+    monkeypatch.setattr(python_api, "mission_file", lambda cls: "square.py")
     with pytest.raises(SystemExit) as info:
         square.main(["--robot", "mirto"])
-    assert seen == [(square, ["--robot", "mirto"])]
+    assert seen == [["run", "square.py", "--robot", "mirto"]]
     assert info.value.code == 0
+
+
+def test_a_mission_runs_itself_through_the_command_line_in_the_same_process(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # the command line sits above missions: the process becomes `python -m roboscript ...`
+    seen: list[tuple[str, list[str], dict[str, str]]] = []
+
+    def execve(path: str, argv: list[str], env: dict[str, str]) -> NoReturn:
+        seen.append((path, argv, env))
+        raise SystemExit(0)
+
+    monkeypatch.setattr(python_api.os, "name", "posix")
+    monkeypatch.setattr(python_api.os, "execve", execve)
+    monkeypatch.setenv("PYTHONPATH", "elsewhere")
+    with pytest.raises(SystemExit):
+        python_api.run_command(["run", "square.py", "--seed", "3"])
+    [(path, argv, env)] = seen
+    assert path == sys.executable
+    assert argv == [sys.executable, "-m", "roboscript", "run", "square.py", "--seed", "3"]
+    home = str(Path(python_api.__file__).resolve().parents[2])
+    assert env["PYTHONPATH"].split(os.pathsep) == [home, "elsewhere"]
 
 
 class _Lost(Mission):
