@@ -27,11 +27,15 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from roboscript.errors import InputError, RoboscriptError
+from roboscript.interrupts import Interrupted
 from roboscript.mission import fit_to_robot, mission_for_robot
+from roboscript.mission.builder import MissionProblemsError
+from roboscript.mission.checks import check_world_regions
 from roboscript.mission.python_api import Mission, mission_file, note_mission_run
+from roboscript.mission.python_compiler import compile_mission
 from roboscript.mission.spec import MissionSpec
 from roboscript.mission.student_code import stuck_at
-from roboscript.replay.recording import Recording
+from roboscript.replay.recording import Recorder, Recording
 from roboscript.replay.session_tap import RunRecording
 from roboscript.session import Session, run_session, session_summary
 from roboscript.watchdog import DEFAULT_LIMIT_S, Watchdog
@@ -135,6 +139,7 @@ class RunResult:
         """Jupyter's rich display: the replay viewer, in a frame of its own."""
         if self.recording is None:
             return f"<p>{html.escape(str(self))} (run with record=True to replay it)</p>"
+        # only a notebook draws the replay page: its script and style load with it
         from roboscript.replay.viewer import recording_title, viewer_block, viewer_page
 
         page = viewer_page(
@@ -158,7 +163,6 @@ class RunResult:
         """
         if self.recording is None:
             raise ValueError("this run was not recorded: run it with record=True")
-        from roboscript.replay.recording import Recorder
 
         recorder = Recorder(self.recording.header, max_frames=len(self.recording.frames) + 1)
         for frame in self.recording.frames:
@@ -176,8 +180,6 @@ def _spec_and_robot(
     if isinstance(mission, MissionSpec):
         return fit_to_robot(mission, [], robot)
     if isinstance(mission, type) and issubclass(mission, Mission):
-        from roboscript.mission.python_compiler import compile_mission
-
         spec, warnings = compile_mission(mission)
         return fit_to_robot(spec, warnings, robot)
     if isinstance(mission, str | Path):
@@ -246,16 +248,11 @@ def run(
         recording=recording,
     )
     if session.interrupted:
-        from roboscript.interrupts import Interrupted
-
         raise Interrupted(session.interrupted - 128)  # the robot is stopped by now
     return _result(session, recording, warnings)
 
 
 def _check_world_regions(spec: MissionSpec, world: str | None) -> None:
-    from roboscript.mission.builder import MissionProblemsError
-    from roboscript.mission.checks import check_world_regions
-
     problems = check_world_regions(spec, world)
     if problems:
         raise MissionProblemsError(problems)
@@ -334,6 +331,7 @@ def main(mission: type[Mission] | str | Path, argv: Sequence[str] | None = None)
     except RoboscriptError as exc:
         sys.stderr.write(f"error: {exc}\n")
         raise SystemExit(2) from None
+    # the command line's parsers load only for a program run as a command
     from roboscript.cli import main as cli_main
 
     options = list(sys.argv[1:] if argv is None else argv)

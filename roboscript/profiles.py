@@ -246,6 +246,7 @@ _NUMBER_FIELDS = {
 
 
 def _load_profile_file(path: Path) -> RobotProfile:
+    # YAML loads only for a profile file, so codecs and drivers import profiles without it
     from roboscript.inputs.fields import FieldReader
     from roboscript.inputs.source import YamlMap, load_yaml
 

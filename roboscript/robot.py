@@ -22,10 +22,14 @@ from typing import TYPE_CHECKING, Any, cast
 
 from roboscript import capabilities as cap
 from roboscript.clock import Clock, MonotonicClock, SimClock
+from roboscript.drivers import driver_class
+from roboscript.drivers.recognise import handshake_failure, wrong_robot_hint
 from roboscript.errors import CapabilityError, LinkError, LinkTimeoutError
 from roboscript.interrupts import deferred
 from roboscript.profiles import RobotProfile, get_profile, register_profile
 from roboscript.scheduler import Scheduler
+from roboscript.transport import Link, open_port
+from roboscript.transport.wirelog import WireLog
 
 if TYPE_CHECKING:
     # typing_extensions is not a dependency: Self (Python 3.11+) is only an annotation here
@@ -104,11 +108,6 @@ class Robot:
             LinkError: The port cannot be opened.
             LinkTimeoutError: The robot did not answer within the profile's handshake time.
         """
-        from roboscript.drivers import driver_class
-        from roboscript.drivers.recognise import handshake_failure, wrong_robot_hint
-        from roboscript.transport import Link, open_port
-        from roboscript.transport.wirelog import WireLog
-
         profile = robot if isinstance(robot, RobotProfile) else get_profile(robot)
         register_profile(profile)
         url = port or _sim_url(profile.name, world, seed, start)
@@ -270,7 +269,6 @@ class _OtherProtocol:
         if len(data) == self._checked:
             return False
         self._checked = len(data)
-        from roboscript.drivers.recognise import wrong_robot_hint
 
         return wrong_robot_hint(bytes(data), self.protocol) is not None
 

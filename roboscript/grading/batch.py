@@ -20,7 +20,7 @@ from pathlib import Path
 from roboscript.errors import InputError
 from roboscript.grading.pool import RunTask, run_tasks
 from roboscript.grading.record import RunResult, Verdict
-from roboscript.grading.sandbox import detect_isolation, private_class
+from roboscript.grading.sandbox import check_visible, detect_isolation, private_class
 from roboscript.grading.spec import TestSpec, Variant, is_test_spec, load_test_spec
 from roboscript.grading.submissions import Submission, find_submissions, visible_files
 from roboscript.grading.text import cap_result, public_reason, student_text
@@ -365,8 +365,6 @@ def _check_setup(
     Raises:
         InputError: Naming a student and what to fix, when no submission can be shown.
     """
-    from roboscript.grading.sandbox import check_visible
-
     blocked: dict[str, str] = {}
     checked: set[tuple[Path, ...]] = set()
     for task in tasks:

@@ -85,6 +85,7 @@ def _run(
     world_map: str | None = None,
     hang_after_s: float = DEFAULT_LIMIT_S,
 ) -> int:
+    # the mission side loads after main() arms the stuck-watch, so a slow start is seen too
     from roboscript.errors import CapabilityError, InputError
     from roboscript.mission import mission_for_robot
     from roboscript.mission.student_code import stuck_at
@@ -102,6 +103,7 @@ def _run(
         return 2
     channel.send_json(Kind.LOADED, {"mission": mission.name})
 
+    # the run machinery loads only for a mission that loaded: a broken one is answered at once
     from roboscript.session import WorldMap, run_session
 
     def on_state(_t_s: float, name: str, _cause: object) -> None:

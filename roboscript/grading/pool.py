@@ -217,6 +217,7 @@ def _deadline(started: float, task: RunTask) -> float:
 
 
 def _worker_entry(connection: Connection, batch: list[tuple[int, RunTask]]) -> None:
+    # the worker warms every simulated device when imported: only its process needs them
     from roboscript.grading.worker import work
 
     work(connection, batch)

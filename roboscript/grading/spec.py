@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from roboscript.errors import InputError, SpecError, did_you_mean
+from roboscript.errors import InputError, ProfileError, SpecError, did_you_mean
 from roboscript.grading.expectations import (
     Expectation,
     RunOverride,
@@ -49,6 +49,7 @@ from roboscript.inputs.source import (
     load_yaml,
     read_source,
 )
+from roboscript.profiles import BUILTIN_PROFILES, get_profile
 from roboscript.sim.world import World, builtin_worlds, load_world
 
 __all__ = [
@@ -285,9 +286,6 @@ def _points(reader: FieldReader, top: YamlMap) -> float | None:
 
 
 def _robot(reader: FieldReader, top: YamlMap) -> str:
-    from roboscript.errors import ProfileError
-    from roboscript.profiles import BUILTIN_PROFILES, get_profile
-
     if "robot" not in top:
         return "mirto"
     robot = reader.text(top, "robot")

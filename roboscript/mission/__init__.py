@@ -35,10 +35,12 @@ def load_mission(
     """
     suffix = Path(path).suffix.lower()
     if suffix in (".yaml", ".yml"):
+        # this package loads with every mission module (`from roboscript import Mission`): YAML only for YAML
         from roboscript.mission.yaml_loader import load_yaml_mission
 
         return load_yaml_mission(path, profile)
     if suffix == ".py":
+        # the Python loader (and its compiler) only for a .py mission
         from roboscript.mission.python_loader import load_python_mission
 
         return load_python_mission(path, profile)
@@ -75,6 +77,7 @@ def fit_to_robot(
 ) -> tuple[Any, Any, list[InputError]]:
     """The second half of :func:`mission_for_robot`, for a mission already loaded (a Python
     mission class run from Python): choose the robot and check that the two fit."""
+    # checking against a robot loads the builder, only when a mission is fitted to one
     from roboscript.mission.builder import MissionProblemsError
     from roboscript.mission.checks import check_capabilities
     from roboscript.mission.limits import profile_problems

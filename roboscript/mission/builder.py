@@ -19,7 +19,10 @@ import re
 from collections.abc import Callable, Mapping
 from typing import Any
 
+from roboscript.actions import ACTIONS
 from roboscript.actions.base import Action, Param
+from roboscript.actions.composite import Parallel, Repeat
+from roboscript.actions.output import parse_color
 from roboscript.errors import InputError, MissionError, did_you_mean
 from roboscript.inputs.quantities import (
     DIMENSIONS,
@@ -28,9 +31,12 @@ from roboscript.inputs.quantities import (
     parse_quantity,
 )
 from roboscript.inputs.source import Location
+from roboscript.mission.checks import check_mission
 from roboscript.mission.guards import GuardError, compile_guard
 from roboscript.mission.limits import a_noun, example, param_problems, shown, time_problem
+from roboscript.mission.nested import SubMission
 from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec, TransitionSpec
+from roboscript.mission.student_code import StudentCodeError
 
 __all__ = ["MissionBuilder", "MissionProblemsError", "ParamProblem", "action_params"]
 
@@ -149,8 +155,6 @@ def _convert(param: Param, value: Any, state_names: frozenset[str] | None = None
             )
         return compile_guard(value, state_names)
     if param.kind == "color":
-        from roboscript.actions.output import parse_color
-
         return parse_color(value)
     if param.kind == "text":
         if not isinstance(value, str | int | float):
@@ -266,8 +270,6 @@ class MissionBuilder:
         label = name or cls.name
         kwargs, problems = action_params(cls, values, state_names, written=instance is None)
         if not problems:
-            from roboscript.actions import ACTIONS
-
             for param_name, message, range_hint in param_problems(
                 label, cls.params, kwargs, built_in=ACTIONS.get(cls.name) is cls
             ):
@@ -298,8 +300,6 @@ class MissionBuilder:
                 self.problem(f"{label}: {exc}", where)
                 return None
             except Exception as exc:  # noqa: BLE001 - a student's behaviour may raise anything
-                from roboscript.mission.student_code import StudentCodeError
-
                 self.problem(StudentCodeError(f"behaviour '{label}'", exc).reason(None), where)
                 return None
         frozen = dict(kwargs)
@@ -318,8 +318,6 @@ class MissionBuilder:
 
     def parallel(self, mode: str, children: list[ActionSpec], where: Location) -> ActionSpec:
         """``parallel``: run ``children`` together, ``all`` or ``any`` of them to finish."""
-        from roboscript.actions.composite import Parallel
-
         factories = [child.factory for child in children]
         return ActionSpec(
             name="parallel",
@@ -335,8 +333,6 @@ class MissionBuilder:
 
     def repeat(self, times: Any, child: ActionSpec, where: Location) -> ActionSpec | None:
         """``repeat``: run ``child`` ``times`` times in a row."""
-        from roboscript.actions.composite import Repeat
-
         if isinstance(times, bool) or not isinstance(times, int) or times < 1:
             self.problem("repeat times must be a whole number of at least 1", where)
             return None
@@ -353,8 +349,6 @@ class MissionBuilder:
 
     def machine(self, spec: MissionSpec, label: str, where: Location) -> ActionSpec:
         """A state whose action is a whole inner machine (nested states, another mission)."""
-        from roboscript.mission.nested import SubMission
-
         return ActionSpec(
             name="states",
             kwargs={"mission": spec.name, "states": tuple(spec.states)},
@@ -531,8 +525,6 @@ class MissionBuilder:
         Raises:
             MissionProblemsError: The first error, with every problem in ``problems``.
         """
-        from roboscript.mission.checks import check_mission
-
         if spec is not None and not self.failed:
             self.problems.extend(check_mission(spec, profile))
         if spec is None or self.failed:
@@ -544,8 +536,6 @@ class MissionBuilder:
 
     def check_inner(self, spec: MissionSpec | None, inner: MissionBuilder) -> MissionSpec | None:
         """Take an inner machine's problems (checking it if it built), and the spec if sound."""
-        from roboscript.mission.checks import check_mission
-
         if spec is not None and not inner.failed:
             inner.problems.extend(check_mission(spec))
         self.problems.extend(inner.problems)

@@ -383,6 +383,7 @@ def check_world_regions(spec: MissionSpec, world: str | None) -> list[InputError
         return []
     if world is None:
         return check_regions(spec, None)
+    # the simulator's worlds load only for a mission whose conditions read in_region
     from roboscript.sim.world import load_world
 
     loaded = load_world(world)

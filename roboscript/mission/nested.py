@@ -34,6 +34,7 @@ class SubMission(Action):
         self._runner: Any = None
 
     def start(self, ctx: ActionContext) -> None:
+        # transitions loads when a mission runs, never when one is only checked
         from roboscript.mission.runner import MissionRunner
 
         outer = ctx.env

@@ -312,6 +312,7 @@ class ColorReading:
     @property
     def rgb(self) -> tuple[int, int, int]:
         """Raw red, green and blue, each 0-1023 (zeros before the first reading)."""
+        # the guards module pulls in YAML, which `import roboscript` avoids
         from roboscript.mission.guards import RGB_NAMES
 
         red, green, blue = (int(self._env.sensor("color", channel)) for channel in RGB_NAMES)

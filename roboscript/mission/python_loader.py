@@ -11,10 +11,11 @@ import ast
 from pathlib import Path
 from typing import Any
 
+from roboscript.actions.base import Action
 from roboscript.errors import InputError, MissionError
 from roboscript.inputs.source import read_source
 from roboscript.mission.python_api import Mission
-from roboscript.mission.python_compiler import mission_states, nested_missions
+from roboscript.mission.python_compiler import compile_mission, mission_states, nested_missions
 from roboscript.mission.python_source import PythonSource
 from roboscript.mission.spec import MissionSpec
 from roboscript.mission.student_code import import_student_file
@@ -50,8 +51,6 @@ def find_mission_class(module: Any, path: str) -> type[Mission]:
     }
     leaves = [c for c in leaves if id(c) not in nested] or leaves
     if not leaves:
-        from roboscript.actions.base import Action
-
         behaviours = sorted(
             str(getattr(value, "name", value.__name__))
             for value in vars(module).values()
@@ -97,8 +96,6 @@ def load_python_mission(
         MissionError: The file does not import, or holds no mission or several.
         MissionProblemsError: The mission is invalid (every problem is in ``problems``).
     """
-    from roboscript.mission.python_compiler import compile_mission
-
     module = import_student_file(path, kind="mission")
     cls = find_mission_class(module, str(path))
     return compile_mission(cls, profile, path=str(path))

@@ -16,6 +16,7 @@ from roboscript.errors import InputError, MissionError, did_you_mean
 from roboscript.inputs.source import Location
 from roboscript.mission.files import FileReferenceError, beside_mission, nearby_files
 from roboscript.mission.spec import MissionSpec
+from roboscript.profiles import BUILTIN_PROFILES, get_profile
 
 __all__ = ["mission_robot", "with_world_checked"]
 
@@ -54,8 +55,6 @@ def mission_robot(spec: MissionSpec, robot: str | None = None) -> Any:
             that is not beside the mission (located at the ``robot:`` value).
         ProfileError: ``--robot`` is unknown, or the profile file is invalid (located in it).
     """
-    from roboscript.profiles import BUILTIN_PROFILES, get_profile
-
     if robot is not None or spec.robot is None:
         return get_profile(robot or "mirto")
     name, where = spec.robot, spec.robot_location
@@ -88,6 +87,7 @@ def with_world_checked(spec: MissionSpec) -> tuple[MissionSpec, list[InputError]
         so a run from another folder finds it), and the problems: an unknown world name or a
         world file that is missing or outside the mission's folder, at the ``world:`` value.
     """
+    # the simulator's worlds load only for a mission that names one
     from roboscript.sim.world import builtin_worlds
 
     name = spec.world

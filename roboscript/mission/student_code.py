@@ -30,7 +30,10 @@ from pathlib import Path
 from types import FrameType, ModuleType, TracebackType
 from typing import Any
 
+import roboscript
+from roboscript.actions.base import Action
 from roboscript.errors import LinkError, MissionError, RoboscriptError, did_you_mean
+from roboscript.mission.python_api import state
 
 __all__ = [
     "StudentCodeError",
@@ -160,8 +163,6 @@ def _student_action(tb: TracebackType | None) -> Any:
     Outermost, so that a behaviour calling its own helpers is named, and a built-in
     composite action running a student's behaviour blames the behaviour, not itself.
     """
-    from roboscript.actions.base import Action
-
     for frame, _ in traceback.walk_tb(tb):
         owner = frame.f_locals.get("self")
         if isinstance(owner, Action) and is_student_class(type(owner)):
@@ -364,8 +365,6 @@ def _class_members(module: ModuleType) -> dict[str, str]:
 
 
 def _roboscript_names() -> list[str]:
-    import roboscript
-
     return list(getattr(roboscript, "__all__", []))
 
 
@@ -374,12 +373,8 @@ def _parameters(callee: str, module: ModuleType) -> list[str]:
 
     target = getattr(module, callee, None)
     if target is None:
-        import roboscript
-
         target = getattr(roboscript, callee, None) if callee[:1].isupper() else None
         if callee == "state":
-            from roboscript.mission.python_api import state
-
             target = state
     try:
         return list(inspect.signature(target).parameters) if callable(target) else []

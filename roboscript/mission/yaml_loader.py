@@ -16,6 +16,7 @@ from roboscript.errors import InputError, MissionError, did_you_mean
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.quantities import QuantityError, bare_number_warning, parse_quantity
 from roboscript.inputs.source import Location, Mark, YamlList, YamlMap, load_yaml, load_yaml_text
+from roboscript.mission.behaviours import behaviours_from_yaml
 from roboscript.mission.builder import MissionBuilder
 from roboscript.mission.channels import MAX_CHANNELS
 from roboscript.mission.files import FileReferenceError, beside_mission
@@ -82,8 +83,6 @@ class _Reader:
         if inner_of is None:
             self.unknown_keys(data, _TOP_KEYS, "a mission")
         if inner_of is None and "behaviours" in data:
-            from roboscript.mission.behaviours import behaviours_from_yaml
-
             extra, problems, self.broken = behaviours_from_yaml(
                 data["behaviours"], data.value_mark("behaviours"), self.path
             )

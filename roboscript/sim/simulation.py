@@ -12,6 +12,7 @@ import random
 from collections.abc import Callable
 
 from roboscript.angles import wrap_deg
+from roboscript.drivers import protocol_unit
 from roboscript.profiles import RobotProfile, get_profile
 from roboscript.sim.body import Body, BodySpec, SimLog
 from roboscript.sim.device import SimDevice
@@ -200,9 +201,6 @@ def build_device(profile: RobotProfile, body: Body) -> SimDevice:
         NotImplementedError: No protocol unit has that name.
         ProfileError: The profile's options are invalid.
     """
-    # Imported here: the units' registry is only needed once a device is built.
-    from roboscript.drivers import protocol_unit
-
     try:
         unit = protocol_unit(profile.protocol)
     except NotImplementedError:
