@@ -16,7 +16,9 @@ Actions see only capabilities (:mod:`roboscript.capabilities`), never drivers or
 from __future__ import annotations
 
 import abc
+import dataclasses
 import enum
+import inspect
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal, cast, get_args
@@ -209,8 +211,26 @@ class Action(abc.ABC):
     """Base class of every action (built-in or student-written).
 
     Subclasses set :attr:`name`, :attr:`params` and :attr:`requires`, take their parameters
-    as keyword arguments named with units, and implement :meth:`update`.
+    as keyword arguments named with units, and implement :meth:`update`. What is true of an
+    action lives here, on its class (how it can fail, whether it can time out, which of its
+    parameters are speeds and turn rates), so the load-time checks read the class and a
+    subclass inherits every one of them. A parameter's default is written once, in
+    ``__init__``: a :class:`Param` written without one takes it from there.
     """
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if "params" not in vars(cls) or "__init__" not in vars(cls):
+            return
+        signature = inspect.signature(cls.__init__)
+        cls.params = tuple(
+            dataclasses.replace(param, default=signature.parameters[param.kwarg].default)
+            if param.required
+            and param.kwarg in signature.parameters
+            and signature.parameters[param.kwarg].default is not inspect.Parameter.empty
+            else param
+            for param in cls.params
+        )
 
     name: ClassVar[str]
     """The word missions use (``drive``)."""
@@ -223,6 +243,18 @@ class Action(abc.ABC):
     bounded_by: ClassVar[tuple[str, ...]] = ()
     """Parameters that end an otherwise endless action; without one of them, its state
     needs a ``timeout`` or a ``when`` (checked at load time)."""
+    failure: ClassVar[str | None] = None
+    """Why the action may end ``failed`` on any robot that has what it needs (``"stalled"``),
+    or ``None``: a state running it with no ``on: {failed: ...}`` is warned at load time."""
+    can_time_out: ClassVar[bool] = False
+    """True if the action can end ``timeout`` by its own bound (``wait_until``): a state
+    running it with neither a timeout nor ``on: {timeout: ...}`` is warned at load time."""
+    drive_speeds: ClassVar[tuple[str, ...]] = ()
+    """Parameters (mission names) that set the robot's speed over the floor, mm/s: checked
+    against the robot's top speed and the slowest speed that moves it."""
+    turn_rates: ClassVar[tuple[str, ...]] = ()
+    """Parameters (mission names) that set the robot's turning rate in place, deg/s: checked
+    against the fastest and slowest turn its wheels can make."""
 
     feedback: str = ""
     """A short progress text for status lines (``"driving 230/500 mm"``)."""

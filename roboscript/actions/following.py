@@ -53,14 +53,16 @@ class FollowWall(WheelAction):
     name = "follow_wall"
     summary = "Drive along a wall at a set distance."
     params = (
-        Param("side", "side", "choice", "where the wall is", "right", ("left", "right")),
-        Param("distance", "distance_mm", "distance", "gap to keep to the wall", 200.0),
-        Param("speed", "speed_mm_s", "speed", "forward speed", 120.0),
-        Param("until", "until", "guard", "stop when this condition holds", None),
-        Param("duration", "duration_s", "time", "stop after this long", None),
+        Param("side", "side", "choice", "where the wall is", choices=("left", "right")),
+        Param("distance", "distance_mm", "distance", "gap to keep to the wall"),
+        Param("speed", "speed_mm_s", "speed", "forward speed"),
+        Param("until", "until", "guard", "stop when this condition holds"),
+        Param("duration", "duration_s", "time", "stop after this long"),
     )
     requires = frozenset({cap.DRIVE_BASE, cap.SIDE_RANGE})
     bounded_by = ("until", "duration")
+    failure = "lost wall or stalled"
+    drive_speeds = ("speed",)
 
     def __init__(
         self,
@@ -135,20 +137,21 @@ class FollowLine(WheelAction):
     name = "follow_line"
     summary = "Drive along a dark line on the floor."
     params = (
-        Param("speed", "speed_mm_s", "speed", "forward speed on straights", 100.0),
+        Param("speed", "speed_mm_s", "speed", "forward speed on straights"),
         Param(
             "edge",
             "edge",
             "choice",
             "which part of the line to follow",
-            "center",
-            ("center", "left", "right"),
+            choices=("center", "left", "right"),
         ),
-        Param("until", "until", "guard", "stop when this condition holds", None),
-        Param("duration", "duration_s", "time", "stop after this long", None),
+        Param("until", "until", "guard", "stop when this condition holds"),
+        Param("duration", "duration_s", "time", "stop after this long"),
     )
     requires = frozenset({cap.DRIVE_BASE, cap.LINE})
     bounded_by = ("until", "duration")
+    failure = "lost line or stalled"
+    drive_speeds = ("speed",)
 
     _EDGE_TARGET: ClassVar[dict[str, float]] = {"center": 0.0, "left": 0.35, "right": -0.35}
 

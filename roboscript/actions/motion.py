@@ -38,11 +38,13 @@ class Drive(WheelAction):
     name = "drive"
     summary = "Drive straight for a distance or a time."
     params = (
-        Param("distance", "distance_mm", "distance", "how far (negative = backward)", None),
-        Param("speed", "speed_mm_s", "speed", "cruise speed", 150.0),
-        Param("duration", "duration_s", "time", "drive for this long instead", None),
+        Param("distance", "distance_mm", "distance", "how far (negative = backward)"),
+        Param("speed", "speed_mm_s", "speed", "cruise speed"),
+        Param("duration", "duration_s", "time", "drive for this long instead"),
     )
     requires = frozenset({cap.DRIVE_BASE})
+    failure = "stalled"
+    drive_speeds = ("speed",)
 
     CRAWL_MM_S = 40.0
 
@@ -134,9 +136,11 @@ class Rotate(WheelAction):
     summary = "Turn in place by an angle (positive = right)."
     params = (
         Param("angle", "angle_deg", "angle", "how far to turn (positive = right)"),
-        Param("turn_rate", "turn_rate_deg_s", "turn_rate", "turning speed", 90.0),
+        Param("turn_rate", "turn_rate_deg_s", "turn_rate", "turning speed"),
     )
     requires = frozenset({cap.DRIVE_BASE})
+    failure = "stalled"
+    turn_rates = ("turn_rate",)
 
     CRAWL_DEG_S = 20.0
     TOLERANCE_DEG = 1.0

@@ -14,7 +14,7 @@ motor brakes whenever the state is left.
 from __future__ import annotations
 
 from roboscript import capabilities as cap
-from roboscript.actions.base import REQUIRED, Action, ActionContext, Param, Result
+from roboscript.actions.base import Action, ActionContext, Param, Result
 
 __all__ = ["Motor"]
 
@@ -40,17 +40,16 @@ class Motor(Action):
     name = "motor"
     summary = "Turn a motor that is not a wheel (an arm, a claw) by an angle or for a time."
     params = (
-        Param("port", "port", "choice", "the motor's port", REQUIRED, _PORTS),
-        Param("angle", "angle_deg", "angle", "turn by this angle (negative: back)", None),
-        Param("speed", "speed_deg_s", "turn_rate", "motor speed", 360.0),
-        Param("duration", "duration_s", "time", "with no angle: run this long", None),
+        Param("port", "port", "choice", "the motor's port", choices=_PORTS),
+        Param("angle", "angle_deg", "angle", "turn by this angle (negative: back)"),
+        Param("speed", "speed_deg_s", "turn_rate", "motor speed"),
+        Param("duration", "duration_s", "time", "with no angle: run this long"),
         Param(
             "direction",
             "direction",
             "choice",
             "which way the motor turns",
-            "clockwise",
-            ("clockwise", "counterclockwise"),
+            choices=("clockwise", "counterclockwise"),
         ),
     )
     requires = frozenset({cap.MOTORS})

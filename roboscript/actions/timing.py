@@ -52,7 +52,7 @@ class PlayTone(Action):
     summary = "Play a tone and wait until it ends."
     params = (
         Param("frequency", "frequency_hz", "frequency", "pitch"),
-        Param("duration", "duration_s", "time", "length", 0.2),
+        Param("duration", "duration_s", "time", "length"),
     )
     requires = frozenset({cap.SPEAKER})
 
@@ -90,6 +90,7 @@ class WaitUntil(Action):
         Param("condition", "condition", "guard", "what to wait for"),
         Param("timeout", "timeout_s", "time", "the most it waits (every wait has a bound)"),
     )
+    can_time_out = True
 
     def __init__(self, condition: Any, timeout_s: float) -> None:
         if timeout_s <= 0:

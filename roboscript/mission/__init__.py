@@ -35,7 +35,7 @@ def load_mission(
     """
     suffix = Path(path).suffix.lower()
     if suffix in (".yaml", ".yml"):
-        # this package loads with every mission module (`from roboscript import Mission`): YAML only for YAML
+        # this package loads with every mission module: YAML only for a YAML mission
         from roboscript.mission.yaml_loader import load_yaml_mission
 
         return load_yaml_mission(path, profile)

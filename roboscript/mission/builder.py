@@ -314,6 +314,7 @@ class MissionBuilder:
             bounded=not cls.bounded_by
             or any(frozen.get(p.kwarg) is not None for p in cls.params if p.name in cls.bounded_by),
             param_locations=param_locations,
+            action_class=cls,
         )
 
     def parallel(self, mode: str, children: list[ActionSpec], where: Location) -> ActionSpec:

@@ -25,17 +25,6 @@ __all__ = [
     "regions_read",
 ]
 
-_CAN_FAIL = {
-    "drive": "stalled",
-    "rotate": "stalled",
-    "follow_wall": "lost wall or stalled",
-    "follow_line": "lost line or stalled",
-}
-"""Built-in actions that can end ``failed`` on any robot that has what they need, and why."""
-
-_CAN_TIME_OUT = frozenset({"wait_until"})
-"""Built-in actions that can end ``timeout``."""
-
 _INSTEAD = {
     cap.DRIVE_BASE: "use walk/turn on a walking robot",
     cap.LINE: "use follow_wall or drive with a range condition",
@@ -108,9 +97,10 @@ def _can_finish(spec: MissionSpec) -> set[str]:
 
 
 def _failure(action: ActionSpec) -> str | None:
-    """Why ``action`` may end ``failed`` whatever the robot, or ``None`` if it cannot."""
-    if action.name in _CAN_FAIL and not action.children and action.inner is None:
-        return _CAN_FAIL[action.name]
+    """Why ``action`` may end ``failed`` whatever the robot, or ``None`` if it cannot (as its
+    class says: :attr:`Action.failure <roboscript.actions.base.Action.failure>`)."""
+    if action.action_class is not None and not action.children and action.inner is None:
+        return action.action_class.failure
     if action.inner is not None:
         inner = action.inner
         reachable = _reachable(inner)
@@ -122,7 +112,8 @@ def _failure(action: ActionSpec) -> str | None:
 
 
 def _times_out(action: ActionSpec) -> bool:
-    return action.name in _CAN_TIME_OUT or any(_times_out(c) for c in action.children)
+    can = action.action_class is not None and action.action_class.can_time_out
+    return can or any(_times_out(c) for c in action.children)
 
 
 def _waits_on(state: StateSpec) -> bool:

@@ -64,7 +64,6 @@ SERVO_DEG = (0.0, 180.0)
 GUARD_NUMBER_LIMIT = 1e9
 """Largest number a condition may compare with: no sensor, time or count comes near it."""
 
-_SPEED_ACTIONS = ("drive", "follow_wall", "follow_line")
 _Problem = tuple[str, str, str | None]  # (param name, message, hint)
 
 
@@ -245,6 +244,22 @@ def _warning(message: str, where: Location | None, hint: str) -> InputError:
     )
 
 
+def _speeds(spec: MissionSpec) -> Iterator[tuple[ActionSpec, str, Any, bool]]:
+    """``(action, parameter, value, True for a speed / False for a turn rate)`` for each
+    speed and turn rate of the mission's actions, as their classes name them
+    (:attr:`Action.drive_speeds <roboscript.actions.base.Action.drive_speeds>`,
+    :attr:`~roboscript.actions.base.Action.turn_rates`)."""
+    for action in _actions(spec):
+        cls = action.action_class
+        if cls is None:
+            continue
+        kwargs = {p.name: p.kwarg for p in cls.params}
+        for name in cls.drive_speeds:
+            yield action, name, action.kwargs.get(kwargs[name]), True
+        for name in cls.turn_rates:
+            yield action, name, action.kwargs.get(kwargs[name]), False
+
+
 def profile_problems(spec: MissionSpec, profile: Any) -> list[InputError]:
     """Warnings for speeds and turn rates the robot of ``profile`` cannot hold.
 
@@ -266,15 +281,11 @@ def profile_problems(spec: MissionSpec, profile: Any) -> list[InputError]:
     top_deg_s = math.degrees(2.0 * top_mm_s / track_mm)
     low_deg_s = math.degrees(2.0 * MIN_SPEED_MM_S / track_mm)
     problems: list[InputError] = []
-    for action in _actions(spec):
-        if action.name in _SPEED_ACTIONS:
-            value, param, unit = action.kwargs.get("speed_mm_s"), "speed", "mm/s"
-            top, low, verb = top_mm_s, MIN_SPEED_MM_S, "drive"
-        elif action.name == "rotate":
-            value, param, unit = action.kwargs.get("turn_rate_deg_s"), "turn_rate", "deg/s"
-            top, low, verb = top_deg_s, low_deg_s, "turn"
+    for action, param, value, speed in _speeds(spec):
+        if speed:
+            unit, top, low, verb = "mm/s", top_mm_s, MIN_SPEED_MM_S, "drive"
         else:
-            continue
+            unit, top, low, verb = "deg/s", top_deg_s, low_deg_s, "turn"
         if not isinstance(value, int | float) or not math.isfinite(value) or value <= 0:
             continue  # the parameter checks reported it
         where = action.param_locations.get(param, action.location)

@@ -8,9 +8,12 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from roboscript.inputs.source import Location
+
+if TYPE_CHECKING:
+    from roboscript.actions.base import Action
 
 __all__ = [
     "OUTCOMES",
@@ -40,6 +43,10 @@ class ActionSpec:
         children: For ``parallel`` and ``repeat``, the actions they run.
         param_locations: Where each parameter was written, by its mission name (a parameter
             not found here was not written, or not located: use ``location``).
+        action_class: The :class:`~roboscript.actions.base.Action` class, whose facts (how
+            it can fail, whether it can time out, which parameters are speeds and turn
+            rates) the load-time checks read; ``None`` for ``parallel``, ``repeat`` and
+            inner states, which are judged by what they hold.
     """
 
     name: str
@@ -51,6 +58,7 @@ class ActionSpec:
     inner: MissionSpec | None = field(default=None, compare=False, repr=False)
     children: tuple[ActionSpec, ...] = field(default=(), compare=False, repr=False)
     param_locations: Mapping[str, Location] = field(default_factory=dict, compare=False, repr=False)
+    action_class: type[Action] | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass(frozen=True)

@@ -7,13 +7,15 @@ refuses it before the robot moves (missions.md, "Checks before the robot moves")
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
+from roboscript.actions import ACTIONS, REQUIRED, Drive
 from roboscript.errors import MissionError
-from roboscript.mission import load_mission
+from roboscript.mission import load_mission, mission_for_robot
 
 FOREVER = """\
 from roboscript import FollowLine, FollowWall, Mission, state
@@ -67,3 +69,57 @@ def test_a_bound_in_the_action_or_the_state_is_enough(
 ) -> None:
     spec, _ = load_mission(_write(write_mission, action, extra))
     assert spec.states["go"].action is not None
+
+
+RENAMED = """\
+from roboscript import Drive, Mission, Rotate, WaitUntil, state
+
+
+class Cruise(Drive):
+    \"\"\"Drive in all but name.\"\"\"
+
+    name = "cruise"
+
+
+class Spin(Rotate):
+    name = "spin"
+
+
+class Hold(WaitUntil):
+    name = "hold"
+
+
+class Lap(Mission):
+    go = state(Cruise(distance_mm=500, speed_mm_s=5000), initial=True, on_done="turn")
+    turn = state(Spin(angle_deg=90, turn_rate_deg_s=5000), on_done="wait")
+    wait = state(Hold(condition=lambda m: m.elapsed > 1, timeout_s=3), on_done="end")
+    end = state(final="success")
+"""
+
+
+def test_an_action_that_is_drive_in_all_but_name_gets_every_warning_drive_gets(
+    write_mission: Callable[..., Path],
+) -> None:
+    # what is true of an action lives on its class, so a subclass needs no table edited
+    _, _, warnings = mission_for_robot(write_mission(RENAMED, "lap.py"), "mirto")
+    found = [w.message for w in warnings]
+    assert "if 'cruise' fails (stalled) in state 'go', the mission ends in failure" in found
+    assert "if 'spin' fails (stalled) in state 'turn', the mission ends in failure" in found
+    assert "if 'hold' times out in state 'wait', the mission ends in failure" in found
+    assert any(
+        m.startswith("cruise speed: 5000 mm/s is faster than mirto can drive") for m in found
+    )
+    assert any(
+        m.startswith("spin turn_rate: 5000 deg/s is faster than mirto can turn") for m in found
+    )
+
+
+def test_a_parameter_default_is_written_once_on_the_action() -> None:
+    # a Param written without a default takes the one of __init__
+    for cls in ACTIONS.values():
+        signature = inspect.signature(cls.__init__)
+        for param in cls.params:
+            written = signature.parameters[param.kwarg].default
+            expected = REQUIRED if written is inspect.Parameter.empty else written
+            assert param.default == expected or param.default is expected, (cls.name, param)
+    assert Drive.params[1].default == 150.0
