@@ -39,14 +39,15 @@ def _protocol(module: str) -> str | None:
 
 
 def _is_codec(tree: Tree, module: str) -> bool:
-    """A protocol's sans-IO code: all of its folder but the driver, device and descriptor."""
+    """A protocol's sans-IO code: all of its folder but the driver, the device, the built-in
+    robots (``profiles.py``, data) and the descriptor."""
     if _protocol(module) is None:
         return False
     leaf = module.split(".")[-1]
     is_package = tree.is_package(module) if module in tree.paths else False
     return (
         not is_package
-        and leaf not in {"driver", "device"}
+        and leaf not in {"driver", "device", "profiles"}
         and not leaf.startswith(("agent", "ble"))
     )
 
@@ -88,7 +89,8 @@ def shared_codec_helpers_import_only_the_standard_library(tree: Tree) -> list[st
         f"{imp}: standard library only"
         for module in SHARED_STDLIB_MODULES
         for imp in tree.imports(module)
-        if not (
+        if imp.runtime  # a type named for annotations loads nothing
+        and not (
             imp.target in ("roboscript.errors", "?")  # "?": a unit's references, imported late
             or (imp.top in STDLIB and imp.top not in IO_MODULES)
         )
@@ -234,12 +236,14 @@ LAYERS: tuple[tuple[str, ...], ...] = (
         "roboscript.codec",
         "roboscript.interrupts",
         "roboscript.watchdog",
+        "roboscript.robot_profile",
     ),
     ("roboscript.inputs",),
-    ("roboscript.profiles", "roboscript.scheduler"),
+    ("roboscript.scheduler",),
     ("roboscript.control",),
     ("roboscript.transport",),
     ("roboscript.drivers",),
+    ("roboscript.profiles",),
     ("roboscript.sim",),
     ("roboscript.actions",),
     ("roboscript.mission",),
@@ -252,11 +256,12 @@ LAYERS: tuple[tuple[str, ...], ...] = (
 )
 """The one-way flow, lowest first: a module imports only from its own layer or below.
 
-The root package and the stdlib-only basics at the bottom; the inputs (YAML and quantities)
-and robot profiles; host control loops; transport; drivers (and the device side of each
-protocol); the simulator; actions; missions; the robot; recording a run (the replay format,
-its taps and its viewer); one mission run; grading; the command line
-(docs/development/architecture.md).
+The root package and the stdlib-only basics at the bottom (the robot profile type among
+them); the inputs (YAML and quantities); the scheduler; host control loops; transport;
+drivers (each protocol's folder: codec, host driver, device side and built-in robots); the
+profiles found through them (and profile files); the simulator; actions; missions; the robot;
+recording a run (the replay format, its taps and its viewer); one mission run; grading; the
+command line (docs/development/architecture.md).
 
 The root package is the one face above them all: ``import roboscript`` loads nothing, and its
 attributes (``roboscript.run``, ``roboscript.Drive``) load their modules when first used. So
@@ -374,7 +379,6 @@ def dynamic_imports_are_resolved(tree: Tree) -> list[str]:
 FUNCTION_LEVEL_IMPORTS: dict[str, int] = {
     "roboscript.api": 2,
     "roboscript.cli": 38,
-    "roboscript.drivers.recognise": 3,
     "roboscript.grading.mission_host": 3,
     "roboscript.grading.pool": 1,
     "roboscript.mission": 6,
@@ -572,7 +576,11 @@ PLANTED = [
     (
         "in a function",
         "roboscript.mission.spec",
-        "def go():\n    from roboscript.session import run_session  # planted\n    return run_session",
+        (
+            "def go():\n"
+            "    from roboscript.session import run_session  # planted\n"
+            "    return run_session"
+        ),
         imports_flow_one_way_down_the_layers,
     ),
     (
@@ -664,7 +672,9 @@ def test_an_import_for_annotations_only_is_not_an_edge() -> None:
     # under `if TYPE_CHECKING:` nothing is imported when the program runs
     planted = TREE.planted(
         "roboscript.mission.spec",
-        "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from roboscript.api import RunResult",
+        "from typing import TYPE_CHECKING\n"
+        "if TYPE_CHECKING:\n"
+        "    from roboscript.api import RunResult",
     )
     assert imports_flow_one_way_down_the_layers(planted) == []
     assert no_import_cycles_between_modules(planted) == []

@@ -1,22 +1,23 @@
 """Protocol drivers, one folder per protocol (``asip``, ``spike``, ``stackmod``, ``plen``).
 
 Each folder holds ``codec.py`` (sans-IO, both roles, standard library only), ``driver.py`` (the
-host side) and ``device.py`` (the simulated robot's side), and its ``__init__.py`` exports one
-:class:`~roboscript.drivers.unit.ProtocolUnit`, ``PROTOCOL``, that names them. :data:`UNITS`
-lists the units; the driver registry here, the simulator's device table and the driver
-contract tests are derived from it. Nothing of a protocol is imported until it is asked for,
-so importing a codec never pulls in pyserial and the simulator never imports a host driver.
+host side), ``device.py`` (the simulated robot's side) and ``profiles.py`` (its built-in
+robots), and its ``__init__.py`` exports one :class:`~roboscript.drivers.unit.ProtocolUnit`,
+``PROTOCOL``, that names them. The units are found by looking in this folder
+(:func:`discover_units`), so a new protocol is a new folder and nothing else; the built-in
+profiles, the driver registry here, the simulator's device table, the protocol recogniser and
+the driver contract tests are derived from them. Nothing of a protocol's code is imported
+until it is asked for, so importing a codec never pulls in pyserial and the simulator never
+imports a host driver.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+import importlib
+import pkgutil
+from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING
 
-from roboscript.drivers.asip import PROTOCOL as ASIP
-from roboscript.drivers.plen import PROTOCOL as PLEN
-from roboscript.drivers.spike import PROTOCOL as SPIKE
-from roboscript.drivers.stackmod import PROTOCOL as STACKMOD
 from roboscript.drivers.unit import ContractCases, ProtocolUnit
 
 if TYPE_CHECKING:
@@ -26,6 +27,7 @@ __all__ = [
     "DRIVERS",
     "UNITS",
     "contract_cases",
+    "discover_units",
     "driver_class",
     "protocol_unit",
     "register_unit",
@@ -33,8 +35,30 @@ __all__ = [
     "unregister_unit",
 ]
 
-UNITS: tuple[ProtocolUnit, ...] = (ASIP, STACKMOD, SPIKE, PLEN)
-"""The built-in protocols. Adding a protocol: its folder, and its unit here."""
+
+def discover_units(folders: Sequence[str] | None = None) -> tuple[ProtocolUnit, ...]:
+    """Every protocol unit in a folder of this package: each subpackage's ``PROTOCOL``.
+
+    Args:
+        folders: Where to look (default: this package's own ``__path__``, the folders
+            ``roboscript.drivers.<name>`` is imported from).
+
+    Returns:
+        The units, in :attr:`~roboscript.drivers.unit.ProtocolUnit.listed` order.
+    """
+    found = []
+    for info in pkgutil.iter_modules(list(__path__ if folders is None else folders)):
+        if not info.ispkg:
+            continue
+        # found by name, like any plug-in: the folder is the whole of a protocol
+        unit = getattr(importlib.import_module(f"{__name__}.{info.name}"), "PROTOCOL", None)
+        if isinstance(unit, ProtocolUnit):
+            found.append(unit)
+    return tuple(sorted(found, key=lambda unit: (unit.listed, unit.name)))
+
+
+UNITS: tuple[ProtocolUnit, ...] = discover_units()
+"""The built-in protocols: one folder each in this package."""
 
 _REGISTERED: dict[str, ProtocolUnit] = {unit.name: unit for unit in UNITS}
 

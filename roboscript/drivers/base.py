@@ -43,7 +43,7 @@ from roboscript.clock import Clock
 from roboscript.codec import Codec, Role
 from roboscript.drivers import protocol_unit
 from roboscript.errors import LinkClosedError, LinkError, LinkTimeoutError, LocalProtocolError
-from roboscript.profiles import RobotProfile
+from roboscript.robot_profile import RobotProfile
 from roboscript.transport.link import Link
 
 __all__ = ["OUT_OF_RANGE", "STOPPED_RESPONDING", "Driver", "PendingRequest", "WheelDriveBase"]

@@ -6,8 +6,10 @@ sent before the handshake gave up (kept by the link, :attr:`Link.heard
 <roboscript.transport.link.Link.heard>`); the protocol whose codec reads the most whole
 messages from them, more than it refuses, is the one the port speaks. The signatures are the
 codecs' own framing: ASIP's ``@``/``~``/``!`` lines, SPIKE's COBS frames ending ``0x02``,
-StackMod's ``{…}`` frames with their checksum, PLEN2's replies. Sans-IO, standard library
-only.
+StackMod's ``{…}`` frames with their checksum, PLEN2's replies. Each protocol's unit says how
+it is named (:attr:`~roboscript.drivers.unit.ProtocolUnit.title`), who speaks it, and which of
+its messages prove nothing, so a new protocol is recognised with no edit here. Sans-IO,
+standard library only.
 """
 
 from __future__ import annotations
@@ -15,33 +17,19 @@ from __future__ import annotations
 import contextlib
 
 from roboscript.codec import Role
+from roboscript.drivers import protocol_unit, units
 from roboscript.drivers.unit import ProtocolUnit
 from roboscript.errors import RemoteProtocolError
 
-__all__ = ["PROTOCOL_TITLES", "handshake_failure", "recognise_protocol", "wrong_robot_hint"]
-
-PROTOCOL_TITLES = {"asip": "ASIP", "spike": "SPIKE hub", "stackmod": "StackMod", "plen": "PLEN2"}
-"""How a protocol is named to a user."""
-
-_SPOKEN_BY = {
-    "asip": "a MIRTO or another ASIP board",
-    "spike": "a LEGO SPIKE Prime hub",
-    "stackmod": "a StackMod bridge",
-    "plen": "a PLEN2",
-}
-
-_NOT_PROOF = frozenset({"DebugLine"})
-"""Message types any text reads as (an ASIP board's free-text line): they prove nothing."""
+__all__ = ["handshake_failure", "protocol_title", "recognise_protocol", "wrong_robot_hint"]
 
 _MOST_MESSAGES = 64  # a handful is proof enough; the bytes kept are bounded anyway
 
 
 def _messages_read(unit: ProtocolUnit, data: bytes) -> tuple[int, int]:
     """(messages read, frames refused) when ``unit``'s host codec reads ``data``."""
-    from roboscript.profiles import get_profile
-
     try:
-        codec = unit.make_codec(Role.HOST, get_profile(unit.profiles[0]))
+        codec = unit.make_codec(Role.HOST, unit.profiles[0])
     except Exception:  # noqa: BLE001 - a unit that cannot even build its codec proves nothing
         return 0, 0
     read = refused = 0
@@ -55,31 +43,35 @@ def _messages_read(unit: ProtocolUnit, data: bytes) -> tuple[int, int]:
                 continue
             if message is None:
                 break
-            if type(message).__name__ not in _NOT_PROOF:
+            if type(message).__name__ not in unit.proves_nothing:
                 read += 1
     except Exception:  # noqa: BLE001 - bytes of another protocol may upset a codec anyhow
         return 0, refused + 1
     return read, refused
 
 
-def recognise_protocol(data: bytes, units: tuple[ProtocolUnit, ...] | None = None) -> str | None:
+def protocol_title(protocol: str) -> str:
+    """How ``protocol`` is named to a user (``"SPIKE hub"``), or its name if unknown."""
+    try:
+        return protocol_unit(protocol).title
+    except NotImplementedError:
+        return protocol
+
+
+def recognise_protocol(data: bytes, among: tuple[ProtocolUnit, ...] | None = None) -> str | None:
     """The protocol ``data`` is written in, or ``None`` if none reads it clearly.
 
     Args:
         data: Bytes a port sent.
-        units: The protocols to try (default: every protocol roboscript has).
+        among: The protocols to try (default: every protocol roboscript has).
 
     Returns:
         The protocol's name (``"spike"``), as in a profile's ``protocol``.
     """
     if not data:
         return None
-    if units is None:
-        from roboscript.drivers import UNITS
-
-        units = UNITS
     scores = []
-    for unit in units:
+    for unit in units() if among is None else among:
         read, refused = _messages_read(unit, data)
         if read > 0 and read > refused:
             scores.append((read - refused, unit.name))
@@ -98,8 +90,6 @@ def wrong_robot_hint(heard: bytes, expected_protocol: str) -> str | None:
         heard: The bytes the port sent.
         expected_protocol: The protocol of the robot that was asked for.
     """
-    from roboscript.drivers import UNITS, protocol_unit
-
     # The robot asked for is the usual speaker: when its own codec reads the bytes cleanly,
     # no other codec is imported (a graded run's handshake then loads one protocol, not all).
     with contextlib.suppress(NotImplementedError):
@@ -109,10 +99,11 @@ def wrong_robot_hint(heard: bytes, expected_protocol: str) -> str | None:
     found = recognise_protocol(heard)
     if found is None or found == expected_protocol:
         return None
-    unit = next(u for u in UNITS if u.name == found)
-    title = PROTOCOL_TITLES.get(found, found)
-    robot = _SPOKEN_BY.get(found, "another robot")
-    return f"this port speaks the {title} protocol ({robot}): use --robot {unit.profiles[0]}"
+    unit = protocol_unit(found)
+    return (
+        f"this port speaks the {unit.title} protocol ({unit.speakers}): "
+        f"use --robot {unit.profile_names[0]}"
+    )
 
 
 def handshake_failure(
@@ -128,7 +119,7 @@ def handshake_failure(
         bytes_sent: How many bytes of the handshake were sent.
         waited: How long it was waited for, as text (``within 3 s``).
     """
-    title = PROTOCOL_TITLES.get(protocol, protocol)
+    title = protocol_title(protocol)
     hint = wrong_robot_hint(heard, protocol)
     if hint is not None:
         return f"{robot} did not answer on {url}: {hint}"

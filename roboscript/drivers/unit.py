@@ -1,11 +1,14 @@
 """A protocol is one unit: the descriptor each ``drivers/<protocol>/__init__.py`` exports.
 
-A :class:`ProtocolUnit` names everything roboscript has for one protocol: its codec, its host
-driver, its simulated device, the built-in profiles that speak it, and the profiles the
-driver contract tests run. The driver registry (:func:`roboscript.drivers.driver_class`), the
-simulator's device table (:func:`roboscript.sim.simulation.build_device`) and the contract
-tests' parameters are all derived from the units, so adding a protocol is one folder and one
-line in :data:`roboscript.drivers.UNITS`.
+A :class:`ProtocolUnit` holds everything roboscript has for one protocol: its title, its
+codec, its host driver, its simulated device, the built-in profiles that speak it, what
+recognises its bytes on a port, and the profiles the driver contract tests run. The units are
+found by looking in the ``drivers`` folder (:func:`roboscript.drivers.discover_units`); the
+built-in profiles (:mod:`roboscript.profiles`), the driver registry
+(:func:`roboscript.drivers.driver_class`), the simulator's device table
+(:func:`roboscript.sim.simulation.build_device`), the protocol a port speaks
+(:mod:`roboscript.drivers.recognise`) and the contract tests' parameters are all derived from
+them, so adding a protocol is one folder.
 
 The code is named by *reference* (``"module:attribute"`` strings), imported only when asked
 for: importing a unit imports nothing of its protocol, so a codec never pulls in pyserial, and
@@ -17,7 +20,10 @@ from __future__ import annotations
 
 import importlib
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from roboscript.robot_profile import RobotProfile
 
 __all__ = ["ContractCases", "ProtocolUnit", "resolve"]
 
@@ -60,7 +66,10 @@ class ProtocolUnit:
 
     Attributes:
         name: The protocol's name, as in :attr:`RobotProfile.protocol
-            <roboscript.profiles.RobotProfile.protocol>` (``"asip"``).
+            <roboscript.robot_profile.RobotProfile.protocol>` (``"asip"``).
+        title: How the protocol is named to a user (``"SPIKE hub"``).
+        speakers: Who speaks it, for a user told what a port speaks (``"a LEGO SPIKE Prime
+            hub"``).
         codec: Reference to the codec factory ``(role, profile) -> codec``: the protocol's
             sans-IO codec (:class:`roboscript.codec.Codec`) in either role, set up from the
             profile's options.
@@ -69,17 +78,25 @@ class ProtocolUnit:
             it checks the profile's options at once (before any body exists, so a bad option
             fails like a bad profile), then builds a :class:`roboscript.sim.device.SimDevice`
             on a body.
-        profiles: The built-in profiles (:data:`roboscript.profiles.BUILTIN_PROFILES`) that
-            speak this protocol.
+        profiles: The built-in profiles that speak this protocol, the first the one a user
+            is told to name (``--robot mirto``).
         contract: The profiles the driver contract tests run.
+        proves_nothing: Names of message types any bytes read as (ASIP's free-text
+            ``DebugLine``): reading them does not show that a port speaks this protocol.
+        listed: Where the unit's robots come in lists (lower first), so that ``roboscript
+            robots`` reads the same whatever the folders are called.
     """
 
     name: str
+    title: str
+    speakers: str
     codec: str
     driver: str
     device: str
-    profiles: tuple[str, ...]
+    profiles: tuple[RobotProfile, ...]
     contract: ContractCases = ContractCases()
+    proves_nothing: frozenset[str] = frozenset()
+    listed: int = 100
 
     def __post_init__(self) -> None:
         for field_name in ("codec", "driver", "device"):
@@ -90,7 +107,13 @@ class ProtocolUnit:
                     f"protocol {self.name}: {field_name} must be 'package.module:attribute', "
                     f"not {reference!r}"
                 )
-        listed = set(self.profiles)
+        listed = set(self.profile_names)
+        strays = [p.name for p in self.profiles if p.protocol != self.name]
+        if strays or not self.profiles:
+            raise ValueError(
+                f"protocol {self.name}: its profiles must speak it, and there must be one "
+                f"(not: {strays})"
+            )
         contract = self.contract
         cases = (*contract.wheeled, *contract.walking, *contract.open_loop)
         stray = [p for p in cases if p not in listed]
@@ -98,6 +121,11 @@ class ProtocolUnit:
             raise ValueError(
                 f"protocol {self.name}: contract profiles {stray} are not among its profiles"
             )
+
+    @property
+    def profile_names(self) -> tuple[str, ...]:
+        """The names of :attr:`profiles`, in order (``("mirto", "asip-basic")``)."""
+        return tuple(profile.name for profile in self.profiles)
 
     def driver_class(self) -> Any:
         """Import and return the host driver class."""

@@ -15,6 +15,7 @@ import signal
 from collections.abc import Sequence
 from multiprocessing.connection import Connection
 
+from roboscript.drivers import units
 from roboscript.grading.record import RunResult
 from roboscript.grading.run import grade_run
 from roboscript.grading.sandbox import WarmJail, detect_isolation, warm_jails_supported
@@ -26,10 +27,7 @@ __all__ = ["work"]
 
 # Imported here, once, in the fork server: every worker forked from it starts warm.
 _WARM_MODULES = (
-    "roboscript.drivers.asip.device",
-    "roboscript.drivers.spike.device",
-    "roboscript.drivers.stackmod.device",
-    "roboscript.drivers.plen.device",
+    *(unit.device.partition(":")[0] for unit in units()),  # each protocol's simulated device
     "roboscript.sim.simulation",
     "roboscript.grading.world_host",
 )

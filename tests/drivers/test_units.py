@@ -37,11 +37,11 @@ ROOT = Path(__file__).resolve().parents[2]
 def test_every_builtin_profile_has_exactly_one_unit_that_lists_it() -> None:
     for name, profile in BUILTIN_PROFILES.items():
         unit = protocol_unit(profile.protocol)
-        assert name in unit.profiles, f"{unit.name} does not list {name}"
-    listed = [name for unit in UNITS for name in unit.profiles]
-    assert sorted(listed) == sorted(BUILTIN_PROFILES)
+        assert profile in unit.profiles, f"{unit.name} does not list {name}"
+    listed = [name for unit in UNITS for name in unit.profile_names]
+    assert listed == list(BUILTIN_PROFILES)  # in the units' order
     for unit in UNITS:
-        assert {BUILTIN_PROFILES[name].protocol for name in unit.profiles} == {unit.name}
+        assert {profile.protocol for profile in unit.profiles} == {unit.name}
 
 
 def test_every_builtin_profile_runs_a_driver_contract() -> None:
@@ -56,7 +56,7 @@ def test_each_unit_names_its_driver_device_and_codec(unit: ProtocolUnit) -> None
     assert cls.protocol == unit.name
     assert DRIVERS[unit.name] == tuple(unit.driver.split(":"))
     assert f"roboscript.drivers.{unit.name}." in unit.device
-    profile = BUILTIN_PROFILES[unit.profiles[0]]
+    profile = unit.profiles[0]
     for role in Role:
         codec = unit.make_codec(role, profile)
         assert codec.role is role
@@ -85,7 +85,8 @@ def test_importing_the_units_imports_no_protocol_code() -> None:
         "import sys\n"
         "import roboscript.drivers\n"
         "loaded = [n for n in sys.modules if n.startswith('roboscript.drivers.')]\n"
-        "extra = [n for n in loaded if n.count('.') > 2 or n.endswith(('base', 'codec'))]\n"
+        "code = [n for n in loaded if not n.endswith(('.profiles', '.unit'))]\n"
+        "extra = [n for n in code if n.count('.') > 2 or n.endswith(('base', 'codec'))]\n"
         "assert not extra, extra\n"
         "assert 'serial' not in sys.modules\n"
     )
@@ -140,15 +141,17 @@ class FakeDriver(Driver):
         pass
 
 
+FAKE_PROFILE = dataclasses.replace(BUILTIN_PROFILES["mirto"], name="fake-rover", protocol="fake")
 FAKE = ProtocolUnit(
     name="fake",
+    title="Fake",
+    speakers="a fake robot",
     codec=f"{__name__}:FakeCodec",
     driver=f"{__name__}:FakeDriver",
     device=f"{__name__}:fake_device",
-    profiles=("fake-rover", "fake-walker"),
+    profiles=(FAKE_PROFILE, dataclasses.replace(FAKE_PROFILE, name="fake-walker")),
     contract=ContractCases(wheeled=("fake-rover",), walking=("fake-walker",)),
 )
-FAKE_PROFILE = dataclasses.replace(BUILTIN_PROFILES["mirto"], name="fake-rover", protocol="fake")
 
 
 @pytest.fixture
@@ -192,7 +195,8 @@ def test_an_unregistered_unit_is_gone_everywhere(fake: ProtocolUnit) -> None:
 def test_units_cannot_clash_or_remove_builtins(fake: ProtocolUnit) -> None:
     register_unit(fake)  # the same unit again is harmless
     with pytest.raises(ValueError, match="registered already"):
-        register_unit(dataclasses.replace(fake, profiles=("other",), contract=ContractCases()))
+        other = dataclasses.replace(FAKE_PROFILE, name="other")
+        register_unit(dataclasses.replace(fake, profiles=(other,), contract=ContractCases()))
     with pytest.raises(ValueError, match="built-in"):
         unregister_unit("asip")
 
@@ -202,5 +206,147 @@ def test_a_unit_is_checked_when_it_is_written() -> None:
         dataclasses.replace(FAKE, driver="roboscript.drivers.fake.driver.FakeDriver")
     with pytest.raises(ValueError, match="not among its profiles"):
         dataclasses.replace(FAKE, contract=ContractCases(wheeled=("mirto",)))
+    with pytest.raises(ValueError, match="its profiles must speak it"):
+        dataclasses.replace(FAKE, profiles=(BUILTIN_PROFILES["mirto"],), contract=ContractCases())
     with pytest.raises(ValueError):
         resolve("no-colon")
+
+
+# ------------------------------------------------------- a new robot is one folder, whole
+
+TOY = {
+    "__init__.py": """\
+from roboscript.drivers.toy.profiles import PROFILES
+from roboscript.drivers.unit import ProtocolUnit
+
+PROTOCOL = ProtocolUnit(
+    name="toy",
+    title="Toy",
+    speakers="a toy robot",
+    codec="roboscript.drivers.toy.codec:codec_for",
+    driver="roboscript.drivers.toy.driver:ToyDriver",
+    device="roboscript.drivers.toy.device:simulated_device",
+    profiles=PROFILES,
+)
+""",
+    "profiles.py": """\
+from roboscript import capabilities as cap
+from roboscript.robot_profile import RobotProfile
+
+PROFILES = (
+    RobotProfile(
+        name="toy-bot",
+        protocol="toy",
+        description="a robot made up for a test",
+        baudrate=9600,
+        capabilities=frozenset({cap.DRIVE_BASE}),
+        firmware_pid=True,
+    ),
+)
+""",
+    "codec.py": """\
+from roboscript.codec import CodecStats
+
+
+class ToyCodec:
+    # one message per line: TOY <number>
+    def __init__(self, role, profile):
+        self.role = role
+        self.stats = CodecStats()
+        self._buffer = b""
+
+    def receive_data(self, data):
+        self._buffer += data
+
+    def next_message(self):
+        line, sep, rest = self._buffer.partition(b"\\n")
+        if not sep:
+            return None
+        self._buffer = rest
+        if not line.startswith(b"TOY "):
+            from roboscript.errors import RemoteProtocolError
+
+            raise RemoteProtocolError("not a toy line", kind="garbage")
+        return int(line[4:])
+
+
+def codec_for(role, profile):
+    return ToyCodec(role, profile)
+""",
+    "driver.py": """\
+from roboscript.drivers.base import Driver
+
+
+class ToyDriver(Driver):
+    protocol = "toy"
+
+    def start(self):
+        pass
+
+    def tick(self, now_s, dt_s):
+        pass
+
+    def flush(self, now_s, dt_s):
+        pass
+
+    def send_stop(self):
+        pass
+""",
+    "device.py": """\
+class ToyDevice:
+    def __init__(self, body, profile):
+        self.body = body
+        self.profile = profile
+
+
+def simulated_device(profile):
+    return lambda body: ToyDevice(body, profile)
+""",
+}
+
+
+@pytest.fixture
+def toy_folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
+    """A protocol folder beside the built-in ones, where the package looks for units."""
+    from roboscript import drivers
+
+    folder = tmp_path / "toy"
+    folder.mkdir()
+    for name, text in TOY.items():
+        (folder / name).write_text(text, encoding="utf-8")
+    monkeypatch.setattr(drivers, "__path__", [*drivers.__path__, str(tmp_path)])
+    try:
+        yield folder
+    finally:
+        unregister_unit("toy")
+        for name in [n for n in sys.modules if n.startswith("roboscript.drivers.toy")]:
+            del sys.modules[name]
+
+
+def test_a_new_protocol_is_one_folder_and_every_registry_follows(toy_folder: Path) -> None:
+    from roboscript.drivers import discover_units
+    from roboscript.drivers.recognise import handshake_failure, recognise_protocol, wrong_robot_hint
+    from roboscript.profiles import get_profile
+
+    [toy] = [unit for unit in discover_units() if unit.name == "toy"]
+    assert [unit.name for unit in discover_units() if unit in UNITS] == [u.name for u in UNITS]
+    register_unit(toy)
+    # its robots are built-in robots
+    profile = get_profile("toy-bot")
+    assert (profile.protocol, BUILTIN_PROFILES["toy-bot"]) == ("toy", profile)
+    # its driver, codec and simulated device
+    cls = driver_class("toy")
+    assert cls.__module__ == "roboscript.drivers.toy.driver" and issubclass(cls, Driver)
+    body = cast(Body, object())
+    device = cast(Any, build_device(profile, body))
+    assert (type(device).__name__, device.body, device.profile) == ("ToyDevice", body, profile)
+    # a port that speaks it is recognised, and named by the unit's own words
+    heard = b"TOY 1\nTOY 2\nTOY 3\n"
+    assert recognise_protocol(heard) == "toy"
+    hint = "this port speaks the Toy protocol (a toy robot): use --robot toy-bot"
+    assert wrong_robot_hint(heard, "asip") == hint
+    assert handshake_failure("mirto", "asip", "sim://x", heard, 10, "within 3 s") == (
+        f"mirto did not answer on sim://x: {hint}"
+    )
+    silent = handshake_failure("toy-bot", "toy", "sim://x", b"", 10, "within 3 s")
+    assert "nothing came back to 10 bytes of the Toy handshake" in silent

@@ -18,12 +18,11 @@ from typing import Any, NoReturn
 
 import pytest
 
-from roboscript.mission import python_api
 from roboscript import Drive, Mission, Wait, state
 from roboscript.capabilities import COLOR
 from roboscript.clock import SimClock
 from roboscript.errors import MissionError
-from roboscript.mission import load_mission
+from roboscript.mission import load_mission, python_api
 from roboscript.mission.python_api import _remind, _Script, note_mission_run
 from roboscript.mission.python_compiler import compile_mission
 from roboscript.mission.runner import MissionRunner

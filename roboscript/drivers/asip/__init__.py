@@ -9,16 +9,21 @@ names them for the registries; importing this package imports none of them.
 
 from __future__ import annotations
 
+from roboscript.drivers.asip.profiles import PROFILES
 from roboscript.drivers.unit import ContractCases, ProtocolUnit
 
 __all__ = ["PROTOCOL"]
 
 PROTOCOL = ProtocolUnit(
     name="asip",
+    title="ASIP",
+    speakers="a MIRTO or another ASIP board",
     codec="roboscript.drivers.asip.codec:codec_for",
     driver="roboscript.drivers.asip.driver:AsipDriver",
     device="roboscript.drivers.asip.device:simulated_device",
-    profiles=("mirto", "asip-basic"),
+    profiles=PROFILES,
+    proves_nothing=frozenset({"DebugLine"}),
+    listed=10,
     contract=ContractCases(wheeled=("mirto", "asip-basic")),
 )
 """The asip protocol unit."""

@@ -41,7 +41,7 @@ from roboscript.drivers.asip.codec import AsipCodec
 from roboscript.drivers.asip.options import AsipOptions
 
 if TYPE_CHECKING:
-    from roboscript.profiles import RobotProfile
+    from roboscript.robot_profile import RobotProfile
     from roboscript.sim.body import Body
 
 __all__ = ["BoardConfig", "MirtoBoard", "simulated_device"]

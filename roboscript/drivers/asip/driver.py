@@ -43,7 +43,7 @@ from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.options import AsipOptions
 from roboscript.drivers.base import Driver, PendingRequest, WheelDriveBase
 from roboscript.errors import LinkTimeoutError
-from roboscript.profiles import RobotProfile
+from roboscript.robot_profile import RobotProfile
 from roboscript.transport.link import Link
 
 __all__ = ["AsipDriver"]

@@ -7,16 +7,20 @@ imports none of them.
 
 from __future__ import annotations
 
+from roboscript.drivers.plen.profiles import PROFILES
 from roboscript.drivers.unit import ContractCases, ProtocolUnit
 
 __all__ = ["PROTOCOL"]
 
 PROTOCOL = ProtocolUnit(
     name="plen",
+    title="PLEN2",
+    speakers="a PLEN2",
     codec="roboscript.drivers.plen.codec:codec_for",
     driver="roboscript.drivers.plen.driver:PlenDriver",
     device="roboscript.drivers.plen.device:simulated_device",
-    profiles=("plen2",),
+    profiles=PROFILES,
+    listed=40,
     contract=ContractCases(walking=("plen2",)),
 )
 """The plen protocol unit."""

@@ -51,7 +51,7 @@ from roboscript.drivers.plen import messages as m
 from roboscript.drivers.plen.codec import PlenCodec
 
 if TYPE_CHECKING:
-    from roboscript.profiles import RobotProfile
+    from roboscript.robot_profile import RobotProfile
     from roboscript.sim.body import Body
 
 __all__ = ["HIP_WIDTH_MM", "LEG_SEGMENT_MM", "UPDATE_INTERVAL_S", "Plen2Board", "simulated_device"]

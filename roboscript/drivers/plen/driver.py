@@ -51,7 +51,7 @@ from roboscript.drivers.plen.codec import PlenCodec
 from roboscript.drivers.plen.gaits import Gait, load_gaits
 from roboscript.drivers.plen.playback import UPDATE_INTERVAL_MS, Schedule
 from roboscript.errors import DeviceError, LinkError, LinkTimeoutError
-from roboscript.profiles import RobotProfile
+from roboscript.robot_profile import RobotProfile
 from roboscript.transport.link import Link
 
 __all__ = ["PlenDriver"]

@@ -7,16 +7,20 @@ imports none of them.
 
 from __future__ import annotations
 
+from roboscript.drivers.spike.profiles import PROFILES
 from roboscript.drivers.unit import ContractCases, ProtocolUnit
 
 __all__ = ["PROTOCOL"]
 
 PROTOCOL = ProtocolUnit(
     name="spike",
+    title="SPIKE hub",
+    speakers="a LEGO SPIKE Prime hub",
     codec="roboscript.drivers.spike.codec:codec_for",
     driver="roboscript.drivers.spike.driver:SpikeDriver",
     device="roboscript.drivers.spike.device:simulated_device",
-    profiles=("spike-prime",),
+    profiles=PROFILES,
+    listed=30,
     contract=ContractCases(wheeled=("spike-prime",)),
 )
 """The spike protocol unit."""

@@ -57,7 +57,7 @@ from roboscript.drivers.spike.options import SpikeOptions
 from roboscript.errors import RemoteProtocolError
 
 if TYPE_CHECKING:
-    from roboscript.profiles import RobotProfile
+    from roboscript.robot_profile import RobotProfile
     from roboscript.sim.body import Body
     from roboscript.sim.floor import FloorReading
 

@@ -64,7 +64,7 @@ from roboscript.drivers.spike import tunnel as t
 from roboscript.drivers.spike.crc import crc32
 from roboscript.drivers.spike.options import SpikeOptions, port_name
 from roboscript.errors import DeviceError, LinkClosedError, LinkTimeoutError
-from roboscript.profiles import RobotProfile
+from roboscript.robot_profile import RobotProfile
 from roboscript.transport.link import Link
 
 __all__ = ["AGENT_FILE_NAME", "SpikeDriver", "agent_source"]

@@ -7,16 +7,20 @@ names them for the registries; importing this package imports none of them.
 
 from __future__ import annotations
 
+from roboscript.drivers.stackmod.profiles import PROFILES
 from roboscript.drivers.unit import ContractCases, ProtocolUnit
 
 __all__ = ["PROTOCOL"]
 
 PROTOCOL = ProtocolUnit(
     name="stackmod",
+    title="StackMod",
+    speakers="a StackMod bridge",
     codec="roboscript.drivers.stackmod.options:codec_for",
     driver="roboscript.drivers.stackmod.driver:StackModDriver",
     device="roboscript.drivers.stackmod.device:simulated_device",
-    profiles=("stackmod-rover", "stackmod-reference"),
+    profiles=PROFILES,
+    listed=20,
     contract=ContractCases(wheeled=("stackmod-rover",), open_loop=("stackmod-reference",)),
 )
 """The stackmod protocol unit."""

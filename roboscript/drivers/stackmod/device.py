@@ -44,7 +44,7 @@ from roboscript.drivers.stackmod.options import StackModOptions, address_name
 from roboscript.drivers.stackmod.reference_device import ReferenceModule
 
 if TYPE_CHECKING:
-    from roboscript.profiles import RobotProfile
+    from roboscript.robot_profile import RobotProfile
     from roboscript.sim.body import Body
 
 __all__ = ["BATTERY_ADC", "SERVO_HOME_DEG", "StackModRover", "simulated_device"]

@@ -52,7 +52,7 @@ from roboscript.drivers.stackmod.messages import (
 )
 from roboscript.drivers.stackmod.options import StackModOptions
 from roboscript.errors import DeviceError, LinkTimeoutError, ProfileError
-from roboscript.profiles import RobotProfile
+from roboscript.robot_profile import RobotProfile
 from roboscript.transport.link import Link
 
 __all__ = ["StackModDriver", "get_poller"]
