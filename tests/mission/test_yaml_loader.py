@@ -4,11 +4,15 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from roboscript.errors import MissionError
 from roboscript.mission import load_mission
+from roboscript.mission.runner import MissionRunner
+from roboscript.mission.spec import ActionSpec, MissionSpec, TransitionSpec
+from roboscript.mission.yaml_loader import load_yaml_mission, parse_yaml_mission
 from roboscript.profiles import RobotProfile, get_profile
 
 GOOD = """\
@@ -321,3 +325,1125 @@ def test_a_state_called_final_with_a_states_keys_is_a_state(
     text = text.replace("  end:\n    final: success\n", "  final:\n    final: success\n")
     spec, _ = load_mission(write_mission(text))
     assert spec.states["final"].final == "success"
+
+
+# -------- Every message for a YAML mistake, and the whole spec a sound mission builds
+#
+# YAML missions: every message a student reads for a mistake, whole, and the whole spec a
+# sound mission builds, nested parts included.
+#
+# Each case writes the mission (and any file it uses) to ``tmp_path`` and compares every
+# problem the loader collects, with its ``file:line:col`` and hint, so a message, a position or
+# a hint that changes, or a problem that goes missing or is reported twice, fails here. The
+# spec is compared as an outline that includes what ``ActionSpec`` leaves out of ``==`` (the
+# children of ``parallel``/``repeat``, inner machines, where each parameter was written).
+
+
+def write(tmp_path: Path, files: dict[str, str]) -> Path:
+    """Write the files; the first is the mission to load."""
+    for name, text in files.items():
+        (tmp_path / name).write_text(text, encoding="utf-8")
+    return tmp_path / next(iter(files))
+
+
+def report(path: Path) -> list[str]:
+    """Every problem a student reads, with the folder left out; ``OK`` then the warnings for a
+    mission that loads."""
+    try:
+        _, warnings = load_yaml_mission(path)
+    except MissionError as exc:
+        found = getattr(exc, "problems", [exc])
+        # `roboscript check` and the grader catch MissionError, whichever problem comes first
+        assert all(isinstance(p, MissionError) for p in found)
+        return [p.format().replace(f"{path.parent}/", "") for p in found]
+    return ["OK"] + [w.format().replace(f"{path.parent}/", "") for w in warnings]
+
+
+def _where(location: Any) -> str:
+    return str(location).rsplit("/", 1)[-1]
+
+
+def _action(spec: ActionSpec, indent: str) -> list[str]:
+    kwargs = " ".join(f"{k}={getattr(v, 'source', v)!r}" for k, v in spec.kwargs.items())
+    params = " ".join(f"{k}@{_where(v)}" for k, v in spec.param_locations.items())
+    lines = [
+        (
+            f"{indent}{spec.name} @{_where(spec.location)} bounded={spec.bounded}"
+            f" requires={','.join(sorted(spec.requires))}"
+        ),
+        f"{indent}  with {kwargs}",
+    ]
+    if params:
+        lines.append(f"{indent}  params at {params}")
+    for child in spec.children:
+        lines += _action(child, indent + "  ")
+    if spec.inner is not None:
+        lines += _mission(spec.inner, indent + "  ")
+    return lines
+
+
+def _transition(t: TransitionSpec) -> str:
+    guard = "" if t.guard is None else f" if {t.guard_text!r}"
+    assert (t.guard is None) == (t.guard_text is None)  # a guard always shows as written
+    return f"{t.target}{guard} @{_where(t.location)}"
+
+
+def _mission(spec: MissionSpec, indent: str = "") -> list[str]:
+    lines = [
+        (
+            f"{indent}mission {spec.name!r} initial={spec.initial} @{_where(spec.location)}"
+            f" path={_where(spec.path)} description={spec.description!r}"
+        ),
+        (
+            f"{indent}robot={spec.robot} @{_where(spec.robot_location)}"
+            f" world={spec.world} @{_where(spec.world_location)}"
+        ),
+    ]
+    for state in spec.states.values():
+        lines.append(
+            f"{indent}- {state.name} @{_where(state.location)} timeout={state.timeout_s}"
+            f" final={state.final} description={state.description!r}"
+        )
+        if state.action is not None:
+            lines += _action(state.action, indent + "  do: ")
+        for extra in state.during:
+            lines += _action(extra, indent + "  during: ")
+        for outcome, transitions in state.on.items():
+            lines.append(f"{indent}  on {outcome}: " + ", ".join(map(_transition, transitions)))
+        if state.when:
+            lines.append(f"{indent}  when: " + ", ".join(map(_transition, state.when)))
+    return lines
+
+
+def outline(spec: MissionSpec) -> str:
+    return "\n".join(_mission(spec))
+
+
+MISTAKES = [
+    pytest.param(
+        {
+            "m.yaml": ("- go\n"),
+        },
+        [
+            (
+                "m.yaml:1:1: error: a mission file is a mapping with 'mission:', 'initial:'"
+                " and 'states:'"
+            ),
+        ],
+        id="not_a_mapping",
+    ),
+    pytest.param(
+        {
+            "m.yaml": ("mision: x\ninitial: go\nstates: {go: {final: success}}\n"),
+        },
+        [
+            "m.yaml:1:1: error: unknown key 'mision' in a mission (did you mean 'mission'?)",
+        ],
+        id="misspelt_top_key",
+    ),
+    pytest.param(
+        {
+            "m.yaml": ("# a mission\nmission: x\nstatse: 3\n"),
+        },
+        [
+            "m.yaml:2:1: error: a mission needs 'states:', a mapping of state names to states",
+            "m.yaml:3:1: error: unknown key 'statse' in a mission (did you mean 'states'?)",
+        ],
+        id="no_states_after_comment",
+    ),
+    pytest.param(
+        {
+            "m.yaml": ("robot: [a]\nworld: 3\nstates:\n  s: 5\n  e:\n    final: sucess\n"),
+        },
+        [
+            "m.yaml:1:8: error: 'robot' names a robot, e.g. robot: mirto",
+            "m.yaml:2:8: error: 'world' names a world, e.g. world: square-room",
+            "m.yaml:4:6: error: state 's' must be a mapping (do:, on:, when:, final:)",
+            "m.yaml:6:12: error: state 'e': final is 'success' or 'failure', got 'sucess'",
+        ],
+        id="robot_world_not_names",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "behaviours: moves.py\n"
+                "states:\n"
+                "  go:\n"
+                "    do: spin\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "m.yaml:1:13: error: there is no behaviour file 'moves.py' beside the mission",
+            "m.yaml:4:9: error: unknown action 'spin' (did you mean 'stop'?)",
+        ],
+        id="behaviours_file_missing",
+    ),
+    pytest.param(
+        {
+            "m.yaml": ("states:\n  go:\n  end:\n    final: success\n"),
+        },
+        [
+            (
+                "m.yaml:2:3: error: state 'go' has no way out (add 'on: {done: NEXT}', a"
+                " 'when' condition, or 'final: success')"
+            ),
+            (
+                "m.yaml:3:3: error: state 'end' can never be reached from 'go' (add a"
+                " transition to it, or remove it)"
+            ),
+        ],
+        id="empty_state",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {wait_until: {condition: visits.og > 1, timeout: 2 s}}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "m.yaml:3:41: error: wait_until condition: 'visits.og': there is no state 'og'",
+        ],
+        id="visits_typo_in_do",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {drive: {distance: 30 cm}}\n"
+                "    during: {beep: {}}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "m.yaml:4:13: error: 'during' is a list of actions run alongside 'do'",
+        ],
+        id="during_not_a_list",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {drive: {distance: 30 cm}}\n"
+                "    during:\n"
+                "      - {wait_until: {condition: visits.og > 1, timeout: 2 s}}\n"
+                "      - {dirve: {}}\n"
+                "      - {intial: a, states: {a: {final: success}}}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "m.yaml:5:41: error: wait_until condition: 'visits.og': there is no state 'og'",
+            "m.yaml:6:10: error: unknown action 'dirve' (did you mean 'drive'?)",
+            (
+                "m.yaml:7:10: error: unknown key 'intial' in the inner states of 'go' (did"
+                " you mean 'initial'?)"
+            ),
+        ],
+        id="during_items",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {drive: {distance: 30 cm}}\n"
+                "    on: end\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            (
+                "m.yaml:4:9: error: 'on' maps outcomes to states, e.g. on: {done: next,"
+                " timeout: stuck}"
+            ),
+        ],
+        id="on_not_a_mapping",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {drive: {distance: 30 cm}}\n"
+                "    when: {if: done, goto: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "m.yaml:4:11: error: 'when' is a list of {if: CONDITION, goto: STATE}",
+        ],
+        id="when_not_a_list",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {drive: {distance: 30 cm}}\n"
+                "    timeout: 5 cm\n"
+                "    on: {done: end, timeout: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            (
+                "m.yaml:4:14: error: state 'go': timeout: 'cm' is a unit of distance, but"
+                " this is a time (use s, sec, ms, min)"
+            ),
+        ],
+        id="timeout_wrong_unit",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {drive: {distance: 30 cm}}\n"
+                "    timeout: 5\n"
+                "    on: {done: end, timeout: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "OK",
+            "m.yaml:4:14: warning: state 'go': timeout: 5 taken as 5 s; write `5 s`",
+            (
+                "m.yaml:3:10: warning: if 'drive' fails (stalled) in state 'go', the mission"
+                " ends in failure (add 'on: {failed: STATE}' to handle it)"
+            ),
+        ],
+        id="timeout_bare_number",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {drive: {distance: 30 cm}}\n"
+                "    timeout: 500\n"
+                "    on: {done: end, failed: end, timeout: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "OK",
+            (
+                "m.yaml:4:14: warning: state 'go': timeout: 500 taken as 500 s; write `500"
+                " s` (or did you mean 500 ms?)"
+            ),
+        ],
+        id="timeout_bare_number_likely_ms",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {drive: {distance: 30 cm}}\n"
+                "    timeout: -2 s\n"
+                "    on: {done: end, timeout: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            ("m.yaml:4:14: error: state 'go': timeout is a positive number of seconds, got '-2 s'"),
+        ],
+        id="timeout_negative",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n  go:\n    do: [drive]\n    on: {done: end}\n  end:\n    final: success\n"
+            ),
+        },
+        [
+            "m.yaml:3:9: error: 'do' names one action, e.g. do: {drive: {distance: 50 cm}}",
+        ],
+        id="do_a_list",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n  go:\n    do: 5\n    on: {done: end}\n  end:\n    final: success\n"
+            ),
+        },
+        [
+            "m.yaml:3:9: error: 'do' names one action, e.g. do: {drive: {distance: 50 cm}}",
+        ],
+        id="do_a_number",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {drive: {distance: 3 cm}, turn: {angle: 90 deg}}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "m.yaml:3:9: error: 'do' names one action, e.g. do: {drive: {distance: 50 cm}}",
+        ],
+        id="do_two_actions",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {drive: 30 cm}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            (
+                "m.yaml:3:17: error: the parameters of 'drive' must be a mapping, e.g."
+                " {drive: {...}}"
+            ),
+        ],
+        id="params_not_a_mapping",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do:\n"
+                "      turn:\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            ("m.yaml:4:7: error: 'turn' needs 'steps' (how many turning steps (positive = right))"),
+        ],
+        id="params_empty",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n  go:\n    do: turn\n    on: {done: end}\n  end:\n    final: success\n"
+            ),
+        },
+        [
+            ("m.yaml:3:9: error: 'turn' needs 'steps' (how many turning steps (positive = right))"),
+        ],
+        id="bare_action_missing_param",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  a:\n"
+                "    do: {parallel: [stop]}\n"
+                "    on: {done: b}\n"
+                "  b:\n"
+                "    do: {parallel: {all: [stop], any: [stop]}}\n"
+                "    on: {done: c}\n"
+                "  c:\n"
+                "    do: {parallel: {some: [stop]}}\n"
+                "    on: {done: d}\n"
+                "  d:\n"
+                "    do: {parallel: {any: [stop]}}\n"
+                "    on: {done: e}\n"
+                "  e:\n"
+                "    do: {parallel: {all: []}}\n"
+                "    on: {done: f}\n"
+                "  f:\n"
+                "    do: {parallel: {any: stop}}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            ("m.yaml:3:10: error: write parallel: {all: [ACTIONS]} or parallel: {any: [ACTIONS]}"),
+            ("m.yaml:6:10: error: write parallel: {all: [ACTIONS]} or parallel: {any: [ACTIONS]}"),
+            ("m.yaml:9:10: error: write parallel: {all: [ACTIONS]} or parallel: {any: [ACTIONS]}"),
+            "m.yaml:15:26: error: parallel all: needs a list of actions",
+            "m.yaml:18:26: error: parallel any: needs a list of actions",
+        ],
+        id="parallel_wrong",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do:\n"
+                "      parallel:\n"
+                "        all:\n"
+                "          - {drive: {distance: 30 cm}}\n"
+                "          - {wait_until: {condition: visits.og > 1, timeout: 2 s}}\n"
+                "          - {dirve: {}}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "m.yaml:7:45: error: wait_until condition: 'visits.og': there is no state 'og'",
+            "m.yaml:8:14: error: unknown action 'dirve' (did you mean 'drive'?)",
+        ],
+        id="parallel_bad_children",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  a:\n"
+                "    do: {repeat: {times: 2}}\n"
+                "    on: {done: b}\n"
+                "  b:\n"
+                "    do: {repeat: [stop]}\n"
+                "    on: {done: c}\n"
+                "  c:\n"
+                "    do: {repeat: {times: 0, do: stop}}\n"
+                "    on: {done: d}\n"
+                "  d:\n"
+                "    do: {repeat: {times: true, do: stop}}\n"
+                "    on: {done: e}\n"
+                "  e:\n"
+                "    do: {repeat: {times: 1.5, do: stop}}\n"
+                "    on: {done: f}\n"
+                "  f:\n"
+                "    do: {repeat: {times: 2, do: {dirve: {}}}}\n"
+                "    on: {done: g}\n"
+                "  g:\n"
+                "    do:\n"
+                "      repeat:\n"
+                "        times: 3\n"
+                "        do: {wait_until: {condition: visits.og > 1, timeout: 2 s}}\n"
+                "    on: {done: h}\n"
+                "  h:\n"
+                "    do: {repeat: {times: 2, do: 5}}\n"
+                "    on: {done: i}\n"
+                "  i:\n"
+                "    do: {repeat: {times: 2, do: {intial: a, states: {a: {final: success}}}}}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "m.yaml:3:10: error: write repeat: {times: N, do: ACTION}",
+            "m.yaml:6:10: error: write repeat: {times: N, do: ACTION}",
+            "m.yaml:9:26: error: repeat times must be a whole number of at least 1",
+            "m.yaml:12:26: error: repeat times must be a whole number of at least 1",
+            "m.yaml:15:26: error: repeat times must be a whole number of at least 1",
+            "m.yaml:18:34: error: unknown action 'dirve' (did you mean 'drive'?)",
+            (
+                "m.yaml:24:45: error: wait_until condition: 'visits.og': there is no state"
+                " 'og' (did you mean 'visits.g'?)"
+            ),
+            "m.yaml:27:33: error: 'do' names one action, e.g. do: {drive: {distance: 50 cm}}",
+            (
+                "m.yaml:30:34: error: unknown key 'intial' in the inner states of 'i' (did"
+                " you mean 'initial'?)"
+            ),
+        ],
+        id="repeat_wrong",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do:\n"
+                "      intial: a\n"
+                "      states:\n"
+                "        a:\n"
+                "          do: {drvie: {}}\n"
+                "          on: {done: b}\n"
+                "        b:\n"
+                "          final: success\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            (
+                "m.yaml:4:7: error: unknown key 'intial' in the inner states of 'go' (did"
+                " you mean 'initial'?)"
+            ),
+            "m.yaml:7:16: error: unknown action 'drvie' (did you mean 'drive'?)",
+        ],
+        id="inner_machine_mistakes",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do:\n"
+                "      states:\n"
+                "        a:\n"
+                "          do: {drive: {distance: 3 cm}}\n"
+                "          on: {done: a}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            (
+                "m.yaml:5:9: error: mission 'go' can never finish: no final state can be"
+                " reached from 'a' (add a state with 'final: success' and a transition to"
+                " it, e.g. on: {done: finished})"
+            ),
+            (
+                "m.yaml:6:16: warning: if 'drive' fails (stalled) in state 'a', the mission"
+                " ends in failure (add 'on: {failed: STATE}' to handle it)"
+            ),
+        ],
+        id="inner_machine_no_ending",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {mission: [a.yaml]}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "m.yaml:3:19: error: mission: names a mission file, e.g. mission: patrol.yaml",
+        ],
+        id="mission_not_a_name",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {mission: patorl.yaml}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+            "patrol.yaml": ("states:\n  p:\n    final: success\n"),
+        },
+        [
+            (
+                "m.yaml:3:19: error: there is no mission file 'patorl.yaml' beside the"
+                " mission (did you mean 'patrol.yaml'?)"
+            ),
+        ],
+        id="mission_file_missing",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {mission: bad.yaml}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+            "bad.yaml": ("states: [\n"),
+        },
+        [
+            "bad.yaml:2:1: error: expected the node content, but found '<stream end>'",
+        ],
+        id="mission_file_not_yaml",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {mission: patorl.yml}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+            "patrol.yml": ("states:\n  p:\n    final: success\n"),
+        },
+        [
+            (
+                "m.yaml:3:19: error: there is no mission file 'patorl.yml' beside the"
+                " mission (did you mean 'patrol.yml'?)"
+            ),
+        ],
+        id="mission_file_yml_misspelt",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {mission: bad.yaml}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+            "bad.yaml": (
+                "states:\n  p:\n    do: {dirve: {}}\n    on: {done: q}\n  q:\n    final: sucess\n"
+            ),
+        },
+        [
+            "bad.yaml:3:10: error: unknown action 'dirve' (did you mean 'drive'?)",
+            "bad.yaml:6:12: error: state 'q': final is 'success' or 'failure', got 'sucess'",
+        ],
+        id="mission_file_with_two_errors",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {mission: m.yaml}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "m.yaml:3:19: error: 'm.yaml' includes itself (directly or through another file)",
+        ],
+        id="mission_includes_itself",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {mission: bad.yaml}\n"
+                "    on: {done: two}\n"
+                "  two:\n"
+                "    do: {mission: bad.yaml}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+            "bad.yaml": (
+                "states:\n  p:\n    do: {dirve: {}}\n    on: {done: q}\n  q:\n    final: success\n"
+            ),
+        },
+        [
+            "bad.yaml:3:10: error: unknown action 'dirve' (did you mean 'drive'?)",
+        ],
+        id="mission_file_with_errors_used_twice",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {mission: warn.yml}\n"
+                "    on: {done: two}\n"
+                "  two:\n"
+                "    do: {mission: warn.yml}\n"
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    do: {drive: {distance: 30 cm}}\n"
+                "    timeout: 3\n"
+                "    on: {done: fin, timeout: fin}\n"
+                "  fin:\n"
+                "    final: failure\n"
+            ),
+            "warn.yml": (
+                "states:\n"
+                "  p:\n"
+                "    do: {drive: {distance: 3 cm}}\n"
+                "    timeout: 4\n"
+                "    on: {done: q, timeout: q}\n"
+                "  q:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "OK",
+            "warn.yml:4:14: warning: state 'p': timeout: 4 taken as 4 s; write `4 s`",
+            (
+                "warn.yml:3:10: warning: if 'drive' fails (stalled) in state 'p', the"
+                " mission ends in failure (add 'on: {failed: STATE}' to handle it)"
+            ),
+            "m.yaml:10:14: warning: state 'end': timeout: 3 taken as 3 s; write `3 s`",
+            (
+                "m.yaml:9:10: warning: if 'drive' fails (stalled) in state 'end', the"
+                " mission ends in failure (add 'on: {failed: STATE}' to handle it)"
+            ),
+        ],
+        id="mission_file_with_warning_used_twice",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {drive: {distance: 30 cm}}\n"
+                '    on: {dnoe: end, faild: end, done: [ned, {if: "distance < 5", goto:'
+                " end}, 7, {goto: go, iff: x}, {if: bump}], timeout: end}\n"
+                "    timeout: 2 s\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            (
+                "m.yaml:4:10: error: unknown outcome 'dnoe' (outcomes: done, failed,"
+                " timeout) (did you mean 'done'?)"
+            ),
+            (
+                "m.yaml:4:21: error: unknown outcome 'faild' (outcomes: done, failed,"
+                " timeout) (did you mean 'failed'?)"
+            ),
+            "m.yaml:4:40: error: there is no state 'ned' (did you mean 'end'?)",
+            (
+                "m.yaml:4:51: error: unknown name 'distance' in a condition (names:"
+                " heading_deg, elapsed, state_time, range.distance_mm, range.distance_cm,"
+                " side_range.distance_mm, side_range.distance_cm, bumper.left, ...)"
+            ),
+            "m.yaml:4:78: error: expected {if: CONDITION, goto: STATE}",
+            "m.yaml:4:92: error: unknown key 'iff' in a choice (did you mean 'if'?)",
+            "m.yaml:4:101: error: this choice needs 'goto: STATE'",
+        ],
+        id="on_mistakes",
+    ),
+    pytest.param(
+        {
+            "m.yaml": (
+                "states:\n"
+                "  go:\n"
+                "    do: {drive: {distance: 30 cm}}\n"
+                '    when: [end, {goto: end}, {if: "visits.og > 1", goto: end}, {if:'
+                ' "distance <", goto: end}, {if: bump, goto: ned}]\n'
+                "    on: {done: end}\n"
+                "  end:\n"
+                "    final: success\n"
+            ),
+        },
+        [
+            "m.yaml:4:12: error: expected {if: CONDITION, goto: STATE}",
+            "m.yaml:4:17: error: each 'when' entry needs 'if: CONDITION'",
+            "m.yaml:4:43: error: 'visits.og': there is no state 'og'",
+            "m.yaml:4:70: error: cannot read the condition 'distance <'",
+            "m.yaml:4:100: error: unknown name 'bump' in a condition (did you mean 'bumper'?)",
+            "m.yaml:4:112: error: there is no state 'ned' (did you mean 'end'?)",
+        ],
+        id="when_mistakes",
+    ),
+]
+
+
+@pytest.mark.parametrize(("files", "expected"), MISTAKES)
+def test_every_problem_in_a_mission_file(
+    tmp_path: Path, files: dict[str, str], expected: list[str]
+) -> None:
+    assert report(write(tmp_path, files)) == expected
+
+
+PATROL = """\
+states:
+  look:
+    do: {wait: {duration: 1 s}}
+    on: {done: back}
+  back:
+    final: success
+"""
+
+TOUR = """\
+mission: tour
+description: Round the room.
+robot: mirto
+world: square-room
+states:
+  go:
+    description: Off we go.
+    do: {drive: {distance: 30 cm}}
+    during:
+      - stop
+      - {play_tone: {frequency: 440 Hz, duration: 0.2 s}}
+    timeout: 8 s
+    on:
+      done: [{if: " visits.go > 2", goto: end}, {goto: both}]
+      failed: end
+      timeout: end
+    when:
+      - {if: bumper.left, goto: end}
+      - {if: true, goto: both}
+  both:
+    do:
+      parallel:
+        any:
+          - {drive: {distance: 20 cm}}
+          - {wait_until: {condition: visits.both > 1, timeout: 2 s}}
+    on: {done: loop, failed: end}
+  loop:
+    do:
+      repeat:
+        times: 1
+        do: {wait_until: {condition: visits.loop > 1, timeout: 2 s}}
+    on: {done: inner, failed: end}
+  inner:
+    do:
+      initial: b
+      states:
+        a:
+          final: success
+        b:
+          do:
+            parallel:
+              all: [stop, {states: {c: {final: failure}}}]
+          on: {done: a}
+    on: {done: patrol, failed: end}
+  patrol:
+    do: {mission: patrol.yaml}
+    on: {done: end, failed: end}
+  end:
+    final: true
+"""
+
+
+TOUR_OUTLINE = """\
+mission 'tour' initial=go @m.yaml:1:1 path=m.yaml description='Round the room.'
+robot=mirto @m.yaml:3:8 world=square-room @m.yaml:4:8
+- go @m.yaml:6:3 timeout=8.0 final=None description='Off we go.'
+  do: drive @m.yaml:8:10 bounded=True requires=drive_base
+  do:   with distance_mm=300.0 speed_mm_s=150.0 duration_s=None
+  do:   params at distance@m.yaml:8:28
+  during: stop @m.yaml:10:9 bounded=True requires=drive_base
+  during:   with 
+  during: play_tone @m.yaml:11:10 bounded=True requires=speaker
+  during:   with frequency_hz=440.0 duration_s=0.2
+  during:   params at frequency@m.yaml:11:33 duration@m.yaml:11:51
+  on done: end if ' visits.go > 2' @m.yaml:14:14, both @m.yaml:14:49
+  on failed: end @m.yaml:15:15
+  on timeout: end @m.yaml:16:16
+  when: end if 'bumper.left' @m.yaml:18:9, both if 'true' @m.yaml:19:9
+- both @m.yaml:20:3 timeout=None final=None description=''
+  do: parallel @m.yaml:22:7 bounded=True requires=drive_base
+  do:   with mode='any' actions=('drive', 'wait_until')
+  do:   drive @m.yaml:24:14 bounded=True requires=drive_base
+  do:     with distance_mm=200.0 speed_mm_s=150.0 duration_s=None
+  do:     params at distance@m.yaml:24:32
+  do:   wait_until @m.yaml:25:14 bounded=True requires=
+  do:     with condition='visits.both > 1' timeout_s=2.0
+  do:     params at condition@m.yaml:25:38 timeout@m.yaml:25:64
+  on done: loop @m.yaml:26:16
+  on failed: end @m.yaml:26:30
+- loop @m.yaml:27:3 timeout=None final=None description=''
+  do: repeat @m.yaml:29:7 bounded=True requires=
+  do:   with times=1 action='wait_until'
+  do:   wait_until @m.yaml:31:14 bounded=True requires=
+  do:     with condition='visits.loop > 1' timeout_s=2.0
+  do:     params at condition@m.yaml:31:38 timeout@m.yaml:31:64
+  on done: inner @m.yaml:32:16
+  on failed: end @m.yaml:32:31
+- inner @m.yaml:33:3 timeout=None final=None description=''
+  do: states @m.yaml:35:7 bounded=True requires=drive_base
+  do:   with mission='inner' states=('a', 'b')
+  do:   mission 'inner' initial=b @m.yaml:35:7 path=m.yaml description=''
+  do:   robot=None @None world=None @None
+  do:   - a @m.yaml:37:9 timeout=None final=success description=''
+  do:   - b @m.yaml:39:9 timeout=None final=None description=''
+  do:     do: parallel @m.yaml:41:13 bounded=True requires=drive_base
+  do:     do:   with mode='all' actions=('stop', 'states')
+  do:     do:   stop @m.yaml:42:21 bounded=True requires=drive_base
+  do:     do:     with 
+  do:     do:   states @m.yaml:42:27 bounded=True requires=
+  do:     do:     with mission='b' states=('c',)
+  do:     do:     mission 'b' initial=c @m.yaml:42:27 path=m.yaml description=''
+  do:     do:     robot=None @None world=None @None
+  do:     do:     - c @m.yaml:42:37 timeout=None final=failure description=''
+  do:     on done: a @m.yaml:43:22
+  on done: patrol @m.yaml:44:16
+  on failed: end @m.yaml:44:32
+- patrol @m.yaml:45:3 timeout=None final=None description=''
+  do: states @m.yaml:46:19 bounded=True requires=
+  do:   with mission='patrol' states=('look', 'back')
+  do:   mission 'patrol' initial=look @patrol.yaml:1:1 path=patrol.yaml description=''
+  do:   robot=None @None world=None @None
+  do:   - look @patrol.yaml:2:3 timeout=None final=None description=''
+  do:     do: wait @patrol.yaml:3:10 bounded=True requires=
+  do:     do:   with duration_s=1.0
+  do:     do:   params at duration@patrol.yaml:3:27
+  do:     on done: back @patrol.yaml:4:16
+  do:   - back @patrol.yaml:5:3 timeout=None final=success description=''
+  on done: end @m.yaml:47:16
+  on failed: end @m.yaml:47:29
+- end @m.yaml:48:3 timeout=None final=success description=''
+"""
+
+
+def test_a_sound_mission_builds_every_part_where_it_was_written(tmp_path: Path) -> None:
+    path = write(tmp_path, {"m.yaml": TOUR, "patrol.yaml": PATROL})
+    spec, warnings = load_yaml_mission(path)
+    assert outline(spec) + "\n" == TOUR_OUTLINE
+    assert [w.format().replace(f"{tmp_path}/", "") for w in warnings] == [
+        (
+            "m.yaml:41:13: warning: if 'parallel' fails (its inner states reach a failure) in"
+            " state 'b', the mission ends in failure (add 'on: {failed: STATE}' to handle it)"
+        ),
+        (
+            "m.yaml:22:7: warning: if 'parallel' times out in state 'both', the mission ends in"
+            " failure (add 'on: {timeout: STATE}' to handle it)"
+        ),
+        (
+            "m.yaml:29:7: warning: if 'repeat' times out in state 'loop', the mission ends in"
+            " failure (add 'on: {timeout: STATE}' to handle it)"
+        ),
+    ]
+
+
+def test_a_mission_without_a_name_or_initial_takes_its_file_name_and_first_state(
+    tmp_path: Path,
+) -> None:
+    path = write(tmp_path, {"square_dance.yaml": "states:\n  go:\n    final: success\n"})
+    spec, warnings = load_yaml_mission(path)
+    assert outline(spec) == (
+        "mission 'square_dance' initial=go @square_dance.yaml:1:1 path=square_dance.yaml"
+        " description=''\n"
+        "robot=None @None world=None @None\n"
+        "- go @square_dance.yaml:2:3 timeout=None final=success description=''"
+    )
+    assert warnings == []
+
+
+SHORT = """\
+states:
+  go:
+    do: {play_tone: {frequency: 440 Hz, duration: 1 s}}
+    on: {done: end, failed: end}
+  end:
+    final: success
+"""
+
+
+def test_mission_text_is_placed_in_a_file_named_mission() -> None:
+    spec, warnings = parse_yaml_mission(SHORT)
+    assert (spec.name, spec.path, warnings) == ("<mission>", "<mission>", [])
+    with pytest.raises(MissionError) as info:
+        parse_yaml_mission(SHORT.replace("play_tone", "play_tnoe"))
+    assert info.value.format() == (
+        "<mission>:3:10: error: unknown action 'play_tnoe' (did you mean 'play_tone'?)"
+    )
+
+
+def test_mission_text_that_is_not_yaml_is_a_mission_error() -> None:
+    with pytest.raises(MissionError) as info:
+        parse_yaml_mission("states: [\n", "m.yaml")
+    assert info.value.format() == (
+        "m.yaml:2:1: error: expected the node content, but found '<stream end>'"
+    )
+
+
+def test_mission_text_is_checked_against_the_robot() -> None:
+    from dataclasses import replace
+
+    quiet = replace(get_profile("mirto"), name="quiet", capabilities=frozenset({"drive_base"}))
+    with pytest.raises(MissionError) as info:
+        parse_yaml_mission(SHORT, "m.yaml", quiet)
+    assert info.value.format() == (
+        "m.yaml:3:10: error: 'play_tone' needs speaker (a tone generator),"
+        " which quiet does not have"
+    )
+
+
+def test_a_mission_file_loaded_before_can_be_used_by_another(tmp_path: Path) -> None:
+    # A file is only "being loaded" while it loads: using it afterwards is no loop.
+    path = write(
+        tmp_path,
+        {
+            "m.yaml": "states:\n  go:\n    do: {mission: patrol.yaml}\n"
+            "    on: {done: end, failed: end}\n  end:\n    final: success\n",
+            "patrol.yaml": PATROL,
+        },
+    )
+    load_yaml_mission(tmp_path / "patrol.yaml")
+    assert report(path) == ["OK"]
+
+
+def test_a_loop_through_another_file_is_named(tmp_path: Path) -> None:
+    path = write(
+        tmp_path,
+        {
+            "a.yaml": "states:\n  go:\n    do: {mission: b.yaml}\n"
+            "    on: {done: end, failed: end}\n  end:\n    final: success\n",
+            "b.yaml": "states:\n  go:\n    do: {mission: a.yaml}\n"
+            "    on: {done: end, failed: end}\n  end:\n    final: success\n",
+        },
+    )
+    assert report(path) == [
+        "b.yaml:3:19: error: 'a.yaml' includes itself (directly or through another file)"
+    ]
+
+
+NESTED = """\
+states:
+  first:
+    do: {mission: quick.yaml}
+    on: {done: again}
+  again:
+    do: {mission: quick.yaml}
+    on: {done: both}
+  both:
+    do: {parallel: {all: [{states: {a: {final: success}}}]}}
+    on: {done: loop}
+  loop:
+    do: {repeat: {times: 1, do: {states: {r: {final: success}}}}}
+    on: {done: nest}
+  nest:
+    do:
+      states:
+        n: {final: success}
+    on: {done: end}
+  end:
+    final: success
+"""
+
+
+def test_inner_states_show_in_the_timeline_under_their_outer_state(tmp_path: Path) -> None:
+    # The outer state's name is the prefix a student sees for each inner state, however the
+    # inner machine was written: another file (twice: read once, used by both states),
+    # inside parallel or repeat, or inline.
+    path = write(tmp_path, {"m.yaml": NESTED, "quick.yaml": "states:\n  q:\n    final: success\n"})
+    spec, warnings = load_yaml_mission(path)
+    runner = MissionRunner(spec, {})
+    for n in range(20):
+        runner.tick(round(n * 0.1, 6), 0.1)
+    assert (runner.finished, runner.result.outcome, warnings) == (True, "success", [])
+    assert runner.result.states == [
+        (0.0, "first"),
+        (0.0, "first.q"),
+        (0.0, "again"),
+        (0.1, "again.q"),
+        (0.1, "both"),
+        (0.2, "both.a"),
+        (0.2, "loop"),
+        (0.3, "loop.r"),
+        (0.3, "nest"),
+        (0.4, "nest.n"),
+        (0.4, "end"),
+    ]

@@ -1,8 +1,8 @@
-"""A mission run as one state of another (issue 16), in process.
+"""A mission run as one state of another, in process.
 
-The nested-state tests in ``test_composition.py`` run ``roboscript`` in a child process, which
-mutation testing cannot see into; these run the outer machine here, with a behaviour that
-records what its inner machine gives it and when it is stopped.
+The nested-state tests in ``test_composition.py`` run ``roboscript`` in a child process; these
+run the outer machine here, with a behaviour that records what its inner machine gives it and
+when it is stopped.
 """
 
 from __future__ import annotations

@@ -1,8 +1,7 @@
 """How a Python mission class's states, actions and nested missions compile; where mistakes show.
 
-Written against the survivors of mutation testing (issue 16) in ``python_compiler.py``: each
-test pins what a student reads (the whole message with its ``file:line:col`` and hint), the
-actions a state builds, or which state a run goes through.
+Each test pins what a student reads (the whole message with its ``file:line:col`` and
+hint), the actions a state builds, or which state a run goes through.
 """
 
 from __future__ import annotations

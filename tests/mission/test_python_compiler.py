@@ -1,10 +1,8 @@
 """How a Python mission class compiles: its transitions, conditions, ``requires`` and mistakes.
 
-Written against the survivors of a mutation run of ``roboscript/mission/python_compiler.py``
-(``compile_mission``, ``_Compiler.compile``, ``requires``, ``choices``, ``choice``,
-``condition``, ``conditions_in``, ``method_guard``, ``function_guard``, ``scan``): each test
-pins what a student sees, the whole message with its ``file:line:col`` and hint, the condition
-a robot lacks a sensor for, or the reason a run fails, so a change to any of them is noticed.
+Each test pins what a student sees, the whole message with its ``file:line:col`` and hint,
+the condition a robot lacks a sensor for, or the reason a run fails, so a change to any of
+them is noticed.
 The missions are files in ``tmp_path`` (their line numbers do not move when this file is
 edited), compiled as ``roboscript`` compiles them and named ``lesson.py`` in messages.
 """
