@@ -220,16 +220,22 @@ class Action(abc.ABC):
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        if "params" not in vars(cls) or "__init__" not in vars(cls):
+        params = vars(cls).get("params")
+        if "__init__" not in vars(cls) or not isinstance(params, tuple):
             return
-        signature = inspect.signature(cls.__init__)
+        if not all(isinstance(param, Param) for param in params):
+            return  # a student's mistake, which the mission builder explains
+        try:
+            signature = inspect.signature(cls.__init__)
+        except (TypeError, ValueError):  # no signature to read: the params say it all
+            return
         cls.params = tuple(
             dataclasses.replace(param, default=signature.parameters[param.kwarg].default)
             if param.required
             and param.kwarg in signature.parameters
             and signature.parameters[param.kwarg].default is not inspect.Parameter.empty
             else param
-            for param in cls.params
+            for param in params
         )
 
     name: ClassVar[str]
