@@ -28,6 +28,7 @@ from roboscript.errors import CapabilityError
 
 __all__ = [
     "ACTION_OUTCOMES",
+    "FROM_INIT",
     "PARAM_KINDS",
     "REQUIRED",
     "Action",
@@ -103,6 +104,16 @@ class _Required:
 
 REQUIRED: Any = _Required()
 """Marks a parameter with no default."""
+
+
+class _FromInit:
+    def __repr__(self) -> str:
+        return "FROM_INIT"
+
+
+FROM_INIT: Any = _FromInit()
+"""Marks a parameter whose default is the one its action's ``__init__`` gives its keyword, so
+the value is written once (the class fills it in when it is defined)."""
 
 
 @dataclass(frozen=True)
@@ -215,28 +226,8 @@ class Action(abc.ABC):
     action lives here, on its class (how it can fail, whether it can time out, which of its
     parameters are speeds and turn rates), so the load-time checks read the class and a
     subclass inherits every one of them. A parameter's default is written once, in
-    ``__init__``: a :class:`Param` written without one takes it from there.
+    ``__init__``: a :class:`Param` whose default is :data:`FROM_INIT` takes it from there.
     """
-
-    def __init_subclass__(cls, **kwargs: Any) -> None:
-        super().__init_subclass__(**kwargs)
-        params = vars(cls).get("params")
-        if "__init__" not in vars(cls) or not isinstance(params, tuple):
-            return
-        if not all(isinstance(param, Param) for param in params):
-            return  # a student's mistake, which the mission builder explains
-        try:
-            signature = inspect.signature(cls.__init__)
-        except (TypeError, ValueError):  # no signature to read: the params say it all
-            return
-        cls.params = tuple(
-            dataclasses.replace(param, default=signature.parameters[param.kwarg].default)
-            if param.required
-            and param.kwarg in signature.parameters
-            and signature.parameters[param.kwarg].default is not inspect.Parameter.empty
-            else param
-            for param in params
-        )
 
     name: ClassVar[str]
     """The word missions use (``drive``)."""
@@ -261,6 +252,29 @@ class Action(abc.ABC):
     turn_rates: ClassVar[tuple[str, ...]] = ()
     """Parameters (mission names) that set the robot's turning rate in place, deg/s: checked
     against the fastest and slowest turn its wheels can make."""
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        params = vars(cls).get("params")
+        if "__init__" not in vars(cls) or not isinstance(params, tuple):
+            return
+        if not all(isinstance(param, Param) for param in params):
+            return  # a student's mistake, which the mission builder explains
+        if not any(param.default is FROM_INIT for param in params):
+            return
+        signature = inspect.signature(cls.__init__)
+        filled = []
+        for param in params:
+            if param.default is FROM_INIT:
+                given = signature.parameters.get(param.kwarg)
+                if given is None or given.default is inspect.Parameter.empty:
+                    raise TypeError(
+                        f"{cls.__name__} parameter {param.name!r}: FROM_INIT needs a default"
+                        f" for {param.kwarg} in __init__"
+                    )
+                param = dataclasses.replace(param, default=given.default)
+            filled.append(param)
+        cls.params = tuple(filled)
 
     feedback: str = ""
     """A short progress text for status lines (``"driving 230/500 mm"``)."""

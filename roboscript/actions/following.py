@@ -12,7 +12,7 @@ import math
 from typing import Any, ClassVar
 
 from roboscript import capabilities as cap
-from roboscript.actions.base import ActionContext, Param, Result
+from roboscript.actions.base import FROM_INIT, ActionContext, Param, Result
 from roboscript.actions.sensing import heading_deg
 from roboscript.actions.wheels import WheelAction
 from roboscript.control import LineFollower, WallFollower, wheel_speeds
@@ -53,11 +53,11 @@ class FollowWall(WheelAction):
     name = "follow_wall"
     summary = "Drive along a wall at a set distance."
     params = (
-        Param("side", "side", "choice", "where the wall is", choices=("left", "right")),
-        Param("distance", "distance_mm", "distance", "gap to keep to the wall"),
-        Param("speed", "speed_mm_s", "speed", "forward speed"),
-        Param("until", "until", "guard", "stop when this condition holds"),
-        Param("duration", "duration_s", "time", "stop after this long"),
+        Param("side", "side", "choice", "where the wall is", FROM_INIT, ("left", "right")),
+        Param("distance", "distance_mm", "distance", "gap to keep to the wall", FROM_INIT),
+        Param("speed", "speed_mm_s", "speed", "forward speed", FROM_INIT),
+        Param("until", "until", "guard", "stop when this condition holds", FROM_INIT),
+        Param("duration", "duration_s", "time", "stop after this long", FROM_INIT),
     )
     requires = frozenset({cap.DRIVE_BASE, cap.SIDE_RANGE})
     bounded_by = ("until", "duration")
@@ -137,16 +137,17 @@ class FollowLine(WheelAction):
     name = "follow_line"
     summary = "Drive along a dark line on the floor."
     params = (
-        Param("speed", "speed_mm_s", "speed", "forward speed on straights"),
+        Param("speed", "speed_mm_s", "speed", "forward speed on straights", FROM_INIT),
         Param(
             "edge",
             "edge",
             "choice",
             "which part of the line to follow",
-            choices=("center", "left", "right"),
+            FROM_INIT,
+            ("center", "left", "right"),
         ),
-        Param("until", "until", "guard", "stop when this condition holds"),
-        Param("duration", "duration_s", "time", "stop after this long"),
+        Param("until", "until", "guard", "stop when this condition holds", FROM_INIT),
+        Param("duration", "duration_s", "time", "stop after this long", FROM_INIT),
     )
     requires = frozenset({cap.DRIVE_BASE, cap.LINE})
     bounded_by = ("until", "duration")

@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 
 from roboscript import capabilities as cap
-from roboscript.actions.base import Action, ActionContext, Param, Result
+from roboscript.actions.base import FROM_INIT, Action, ActionContext, Param, Result
 from roboscript.actions.sensing import imu_heading_deg
 from roboscript.actions.wheels import WheelAction
 from roboscript.angles import turned_deg
@@ -38,9 +38,9 @@ class Drive(WheelAction):
     name = "drive"
     summary = "Drive straight for a distance or a time."
     params = (
-        Param("distance", "distance_mm", "distance", "how far (negative = backward)"),
-        Param("speed", "speed_mm_s", "speed", "cruise speed"),
-        Param("duration", "duration_s", "time", "drive for this long instead"),
+        Param("distance", "distance_mm", "distance", "how far (negative = backward)", FROM_INIT),
+        Param("speed", "speed_mm_s", "speed", "cruise speed", FROM_INIT),
+        Param("duration", "duration_s", "time", "drive for this long instead", FROM_INIT),
     )
     requires = frozenset({cap.DRIVE_BASE})
     failure = "stalled"
@@ -136,7 +136,7 @@ class Rotate(WheelAction):
     summary = "Turn in place by an angle (positive = right)."
     params = (
         Param("angle", "angle_deg", "angle", "how far to turn (positive = right)"),
-        Param("turn_rate", "turn_rate_deg_s", "turn_rate", "turning speed"),
+        Param("turn_rate", "turn_rate_deg_s", "turn_rate", "turning speed", FROM_INIT),
     )
     requires = frozenset({cap.DRIVE_BASE})
     failure = "stalled"

@@ -14,7 +14,7 @@ motor brakes whenever the state is left.
 from __future__ import annotations
 
 from roboscript import capabilities as cap
-from roboscript.actions.base import Action, ActionContext, Param, Result
+from roboscript.actions.base import FROM_INIT, Action, ActionContext, Param, Result
 
 __all__ = ["Motor"]
 
@@ -41,15 +41,16 @@ class Motor(Action):
     summary = "Turn a motor that is not a wheel (an arm, a claw) by an angle or for a time."
     params = (
         Param("port", "port", "choice", "the motor's port", choices=_PORTS),
-        Param("angle", "angle_deg", "angle", "turn by this angle (negative: back)"),
-        Param("speed", "speed_deg_s", "turn_rate", "motor speed"),
-        Param("duration", "duration_s", "time", "with no angle: run this long"),
+        Param("angle", "angle_deg", "angle", "turn by this angle (negative: back)", FROM_INIT),
+        Param("speed", "speed_deg_s", "turn_rate", "motor speed", FROM_INIT),
+        Param("duration", "duration_s", "time", "with no angle: run this long", FROM_INIT),
         Param(
             "direction",
             "direction",
             "choice",
             "which way the motor turns",
-            choices=("clockwise", "counterclockwise"),
+            FROM_INIT,
+            ("clockwise", "counterclockwise"),
         ),
     )
     requires = frozenset({cap.MOTORS})

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from roboscript import capabilities as cap
-from roboscript.actions.base import Action, ActionContext, Param, Result
+from roboscript.actions.base import FROM_INIT, Action, ActionContext, Param, Result
 
 __all__ = ["COLORS", "Display", "Servo", "SetLed"]
 
@@ -84,7 +84,7 @@ class SetLed(Action):
     name = "set_led"
     summary = "Set an LED's colour."
     params = (
-        Param("index", "index", "count", "which LED, from 0"),
+        Param("index", "index", "count", "which LED, from 0", FROM_INIT),
         Param("color", "color", "color", "a colour name, '#RRGGBB' or [r, g, b]"),
     )
     requires = frozenset({cap.LEDS})
@@ -118,9 +118,9 @@ class Servo(Action):
     name = "servo"
     summary = "Move a servo to an angle."
     params = (
-        Param("index", "index", "count", "which servo, from 0"),
+        Param("index", "index", "count", "which servo, from 0", FROM_INIT),
         Param("angle", "angle_deg", "angle", "target angle, 0-180 deg"),
-        Param("duration", "duration_s", "time", "time allowed for the move"),
+        Param("duration", "duration_s", "time", "time allowed for the move", FROM_INIT),
     )
     requires = frozenset({cap.SERVOS})
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from roboscript import capabilities as cap
-from roboscript.actions.base import Action, ActionContext, Param, Result
+from roboscript.actions.base import FROM_INIT, Action, ActionContext, Param, Result
 
 __all__ = ["PlayTone", "Wait", "WaitUntil"]
 
@@ -52,7 +52,7 @@ class PlayTone(Action):
     summary = "Play a tone and wait until it ends."
     params = (
         Param("frequency", "frequency_hz", "frequency", "pitch"),
-        Param("duration", "duration_s", "time", "length"),
+        Param("duration", "duration_s", "time", "length", FROM_INIT),
     )
     requires = frozenset({cap.SPEAKER})
 

@@ -13,7 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from roboscript.actions import ACTIONS, REQUIRED, Drive
+from roboscript.actions import ACTIONS, REQUIRED, Drive, Param
+from roboscript.actions.base import FROM_INIT
 from roboscript.errors import MissionError
 from roboscript.mission import load_mission, mission_for_robot
 
@@ -123,3 +124,13 @@ def test_a_parameter_default_is_written_once_on_the_action() -> None:
             expected = REQUIRED if written is inspect.Parameter.empty else written
             assert param.default == expected or param.default is expected, (cls.name, param)
     assert Drive.params[1].default == 150.0
+
+
+def test_a_default_taken_from_init_must_be_there() -> None:
+    with pytest.raises(TypeError, match="FROM_INIT needs a default for speed_mm_s in __init__"):
+
+        class Hurry(Drive):
+            params = (Param("speed", "speed_mm_s", "speed", "how fast", FROM_INIT),)
+
+            def __init__(self, speed_mm_s: float) -> None:
+                super().__init__(distance_mm=100.0, speed_mm_s=speed_mm_s)
