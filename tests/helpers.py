@@ -7,9 +7,14 @@ import os
 import re
 import subprocess
 import sys
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
+
+import pytest
+
+from roboscript.errors import MissionError
+from roboscript.mission import load_mission
 
 ROOT = Path(__file__).resolve().parent.parent
 MISSIONS = ROOT / "missions"
@@ -19,6 +24,29 @@ HANG_BOUND_S = 900.0
 """How long a child process may take before the test calls it stuck: a bound for a hang, never
 a measure of speed. A test must pass on a machine whose every core is busy, where a run that
 takes a second on an idle machine can take a minute."""
+
+
+def refusal(
+    path: Path, profile: Any = None, *, shown: Mapping[str, str] | None = None
+) -> list[str]:
+    """Every problem a mission file is refused with, as ``roboscript check`` prints them.
+
+    Args:
+        path: The mission file; loading it must fail.
+        profile: The robot it is checked against, if any.
+        shown: Texts to write otherwise, in order (default: ``path`` is written ``M``).
+    """
+    with pytest.raises(MissionError) as info:
+        load_mission(path, profile)
+    found = getattr(info.value, "problems", [info.value])
+    replacements = {str(path): "M"} if shown is None else shown
+    printed = []
+    for problem in found:
+        text = problem.format()
+        for old, new in replacements.items():
+            text = text.replace(old, new)
+        printed.append(text)
+    return printed
 
 
 def run_cli(

@@ -7,10 +7,9 @@ import shutil
 from pathlib import Path
 
 import pytest
-from helpers import MISSIONS, run_cli
+from helpers import MISSIONS, refusal, run_cli
 
 from roboscript.clock import SimClock
-from roboscript.errors import MissionError
 from roboscript.mission import load_mission
 from roboscript.mission.behaviours import load_behaviour_file
 from roboscript.mission.runner import MissionRunner
@@ -63,11 +62,7 @@ def write(folder: Path, behaviour: str = SPIN, mission: str = MISSION) -> Path:
 
 
 def messages(path: Path) -> list[str]:
-    with pytest.raises(MissionError) as info:
-        load_mission(path)
-    found = getattr(info.value, "problems", [info.value])
-    text = [p.format() for p in found]
-    return [t.replace(str(path), "M").replace(str(path.parent / "spin.py"), "B") for t in text]
+    return refusal(path, shown={str(path): "M", str(path.parent / "spin.py"): "B"})
 
 
 class FakeBase:

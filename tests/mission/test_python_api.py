@@ -13,6 +13,7 @@ from typing import Any, NoReturn
 
 import pytest
 from helpers import ROOT
+from helpers import refusal as messages
 
 from roboscript import Drive, Mission, PlayTone, Rotate, Wait, WaitUntil, state
 from roboscript.capabilities import COLOR
@@ -348,13 +349,6 @@ class Bad(Mission):
     def bumped(self) -> bool:
         return self.bumper.any
 """
-
-
-def messages(path: Path) -> list[str]:
-    with pytest.raises(MissionError) as info:
-        load_mission(path)
-    found = getattr(info.value, "problems", [info.value])
-    return [p.format().replace(str(path), "M") for p in found]
 
 
 def test_golden_messages_for_a_bad_python_mission(write_mission: Callable[..., Path]) -> None:

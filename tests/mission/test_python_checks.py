@@ -12,10 +12,10 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+from helpers import refusal as _problems
 
 from roboscript.actions import ACTIONS, REQUIRED, Drive, Param
 from roboscript.actions.base import FROM_INIT
-from roboscript.errors import MissionError
 from roboscript.mission import load_mission, mission_for_robot
 
 FOREVER = """\
@@ -26,13 +26,6 @@ class Forever(Mission):
     go = state(ACTION, initial=True, on_done="end", on_failed="end"EXTRA)
     end = state(final="success")
 """
-
-
-def _problems(path: Path) -> list[str]:
-    with pytest.raises(MissionError) as info:
-        load_mission(path)
-    found = getattr(info.value, "problems", [info.value])
-    return [p.format().replace(str(path), "M") for p in found]
 
 
 def _write(write_mission: Callable[..., Path], action: str, extra: str = "") -> Path:

@@ -9,7 +9,8 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import MISSIONS, run_cli
+from helpers import MISSIONS, refusal, run_cli
+from helpers import refusal as messages
 
 from roboscript import Mission
 from roboscript.errors import MissionError
@@ -28,13 +29,6 @@ class Hello(Mission):
     go = state(Drive(distance_mm=300), initial=True, on_done="end", on_failed="end")
     end = state(final="success")
 """
-
-
-def messages(path: Path) -> list[str]:
-    with pytest.raises(MissionError) as info:
-        load_mission(path)
-    found = getattr(info.value, "problems", [info.value])
-    return [p.format().replace(str(path), "M") for p in found]
 
 
 def test_a_python_mission_file_loads_by_path(write_mission: Callable[..., Path]) -> None:
@@ -278,10 +272,7 @@ class Wiggle(Action):
 
 def messages_in_folder(path: Path, profile: object = None) -> list[str]:
     """What ``roboscript check`` prints for the file, its folder written as ``T``."""
-    with pytest.raises(MissionError) as info:
-        load_mission(path, profile)  # type: ignore[arg-type]
-    found = getattr(info.value, "problems", [info.value])
-    return [p.format().replace(str(path.parent), "T") for p in found]
+    return refusal(path, profile, shown={str(path.parent): "T"})
 
 
 # ------------------------------------------------------------------- not one mission

@@ -7,13 +7,14 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers import refusal as problems
 
 from roboscript.errors import MissionError
 from roboscript.mission import load_mission
 from roboscript.mission.runner import MissionRunner
 from roboscript.mission.spec import ActionSpec, MissionSpec, TransitionSpec
 from roboscript.mission.yaml_loader import load_yaml_mission, parse_yaml_mission
-from roboscript.profiles import RobotProfile, get_profile
+from roboscript.profiles import get_profile
 
 GOOD = """\
 mission: ok
@@ -25,13 +26,6 @@ states:
   end:
     final: success
 """
-
-
-def problems(path: Path, profile: RobotProfile | None = None) -> list[str]:
-    with pytest.raises(MissionError) as info:
-        load_mission(path, profile)
-    found = getattr(info.value, "problems", [info.value])
-    return [p.format().replace(str(path), "M") for p in found]
 
 
 def test_valid_mission_loads_with_units_converted(write_mission: Callable[..., Path]) -> None:
