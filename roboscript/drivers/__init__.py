@@ -33,6 +33,7 @@ __all__ = [
     "register_unit",
     "units",
     "unregister_unit",
+    "usb_hints",
 ]
 
 
@@ -111,6 +112,21 @@ def contract_cases() -> ContractCases:
         walking=tuple(profile for unit in known for profile in unit.contract.walking),
         open_loop=tuple(profile for unit in known for profile in unit.contract.open_loop),
     )
+
+
+def usb_hints() -> dict[tuple[int, int | None], str]:
+    """What a USB-serial port probably is, from every unit's boards: ``(vendor id, product id
+    or None for any of the vendor's) -> "Arduino Uno: a MIRTO or another ASIP board (--robot
+    mirto)"``; a board several protocols use names each of them."""
+    boards: dict[tuple[int, int | None], str] = {}
+    robots: dict[tuple[int, int | None], list[str]] = {}
+    for unit in units():
+        for vendor, product, board in unit.usb:
+            boards.setdefault((vendor, product), board)
+            robots.setdefault((vendor, product), []).append(
+                f"{unit.speakers} (--robot {unit.profile_names[0]})"
+            )
+    return {key: f"{boards[key]}: {' or '.join(robots[key])}" for key in boards}
 
 
 class _DriverTable(Mapping[str, tuple[str, str]]):

@@ -85,6 +85,9 @@ class ProtocolUnit:
             ``DebugLine``): reading them does not show that a port speaks this protocol.
         listed: Where the unit's robots come in lists (lower first), so that ``roboscript
             robots`` reads the same whatever the folders are called.
+        usb: The USB-serial boards its robots are reached through, each ``(vendor id,
+            product id or None for any of the vendor's, what the board is)``, so that
+            ``roboscript ports`` can say which robot a port may be.
     """
 
     name: str
@@ -97,6 +100,7 @@ class ProtocolUnit:
     contract: ContractCases = ContractCases()
     proves_nothing: frozenset[str] = frozenset()
     listed: int = 100
+    usb: tuple[tuple[int, int | None, str], ...] = ()
 
     def __post_init__(self) -> None:
         for field_name in ("codec", "driver", "device"):

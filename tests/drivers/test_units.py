@@ -227,6 +227,7 @@ PROTOCOL = ProtocolUnit(
     driver="roboscript.drivers.toy.driver:ToyDriver",
     device="roboscript.drivers.toy.device:simulated_device",
     profiles=PROFILES,
+    usb=((0x1234, 0x0001, "Toy board"),),
 )
 """,
     "profiles.py": """\
@@ -324,7 +325,7 @@ def toy_folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path
 
 
 def test_a_new_protocol_is_one_folder_and_every_registry_follows(toy_folder: Path) -> None:
-    from roboscript.drivers import discover_units
+    from roboscript.drivers import discover_units, usb_hints
     from roboscript.drivers.recognise import handshake_failure, recognise_protocol, wrong_robot_hint
     from roboscript.profiles import get_profile
 
@@ -348,5 +349,7 @@ def test_a_new_protocol_is_one_folder_and_every_registry_follows(toy_folder: Pat
     assert handshake_failure("mirto", "asip", "sim://x", heard, 10, "within 3 s") == (
         f"mirto did not answer on sim://x: {hint}"
     )
+    # a port on its USB board is named as one of its robots
+    assert usb_hints()[(0x1234, 0x0001)] == "Toy board: a toy robot (--robot toy-bot)"
     silent = handshake_failure("toy-bot", "toy", "sim://x", b"", 10, "within 3 s")
     assert "nothing came back to 10 bytes of the Toy handshake" in silent

@@ -6,6 +6,7 @@ from types import SimpleNamespace
 
 import pytest
 
+from roboscript.drivers import usb_hints
 from roboscript.transport import discovery
 
 
@@ -20,14 +21,25 @@ def test_ports_are_hinted_and_robots_listed_first(monkeypatch: pytest.MonkeyPatc
         _port("/dev/ttyUSB0", 0x1A86, 0x7523, "USB Serial"),
     ]
     monkeypatch.setattr(discovery.list_ports, "comports", lambda: ports)
-    found = discovery.list_robot_ports()
+    found = discovery.list_robot_ports(usb_hints())
     assert [p.device for p in found] == ["/dev/ttyACM0", "/dev/ttyUSB0", "/dev/ttyS0"]
     assert found[0].usb_id == "2341:8037"
     assert found[0].hint is not None and "plen2" in found[0].hint
-    assert found[1].hint is not None and "CH340" in found[1].hint
+    assert found[1].hint == (
+        "CH340 USB-serial (an Arduino clone): a MIRTO or another ASIP board (--robot mirto)"
+        " or a StackMod bridge (--robot stackmod-rover)"
+    )
     assert found[2].hint is None and found[2].description == ""
 
 
 def test_unknown_product_of_a_known_vendor_gets_the_vendor_hint() -> None:
-    assert discovery._hint(0x2341, 0x9999) == discovery.USB_HINTS[(0x2341, None)]
-    assert discovery._hint(0x1234, 0x5678) is None
+    hints = usb_hints()
+    assert discovery._hint(0x2341, 0x9999, hints) == hints[(0x2341, None)]
+    assert hints[(0x2341, None)] == "Arduino: a MIRTO or another ASIP board (--robot mirto)"
+    assert discovery._hint(0x1234, 0x5678, hints) is None
+
+
+def test_without_hints_a_port_is_only_listed(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(discovery.list_ports, "comports", lambda: [_port("COM3", 0x2341, 1, "")])
+    [found] = discovery.list_robot_ports()
+    assert (found.device, found.usb_id, found.hint) == ("COM3", "2341:0001", None)

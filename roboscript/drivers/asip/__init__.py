@@ -24,6 +24,17 @@ PROTOCOL = ProtocolUnit(
     profiles=PROFILES,
     proves_nothing=frozenset({"DebugLine"}),
     listed=10,
+    usb=(
+        (0x2341, 0x0043, "Arduino Uno"),
+        (0x2341, 0x0001, "Arduino Uno"),
+        (0x2341, 0x0042, "Arduino Mega"),
+        (0x2341, None, "Arduino"),
+        (0x16C0, 0x0483, "Teensy"),
+        (0x0403, 0x6001, "FTDI USB-serial"),
+        (0x0403, 0x6015, "FTDI USB-serial"),
+        (0x1A86, 0x7523, "CH340 USB-serial (an Arduino clone)"),
+        (0x10C4, 0xEA60, "CP210x USB-serial"),
+    ),
     contract=ContractCases(wheeled=("mirto", "asip-basic")),
 )
 """The asip protocol unit."""

@@ -21,6 +21,10 @@ PROTOCOL = ProtocolUnit(
     device="roboscript.drivers.plen.device:simulated_device",
     profiles=PROFILES,
     listed=40,
+    usb=(
+        (0x2341, 0x8037, "Arduino Micro"),
+        (0x2341, 0x0037, "Arduino Micro bootloader (being flashed)"),
+    ),
     contract=ContractCases(walking=("plen2",)),
 )
 """The plen protocol unit."""

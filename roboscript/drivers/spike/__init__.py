@@ -21,6 +21,7 @@ PROTOCOL = ProtocolUnit(
     device="roboscript.drivers.spike.device:simulated_device",
     profiles=PROFILES,
     listed=30,
+    usb=((0x0694, None, "LEGO hub (SPIKE Prime connects over Bluetooth: --port ble://NAME)"),),
     contract=ContractCases(wheeled=("spike-prime",)),
 )
 """The spike protocol unit."""

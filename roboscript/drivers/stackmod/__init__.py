@@ -21,6 +21,12 @@ PROTOCOL = ProtocolUnit(
     device="roboscript.drivers.stackmod.device:simulated_device",
     profiles=PROFILES,
     listed=20,
+    usb=(
+        (0x0403, 0x6001, "FTDI USB-serial"),
+        (0x0403, 0x6015, "FTDI USB-serial"),
+        (0x1A86, 0x7523, "CH340 USB-serial (an Arduino clone)"),
+        (0x10C4, 0xEA60, "CP210x USB-serial"),
+    ),
     contract=ContractCases(wheeled=("stackmod-rover",), open_loop=("stackmod-reference",)),
 )
 """The stackmod protocol unit."""
