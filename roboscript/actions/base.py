@@ -276,6 +276,18 @@ class Action(abc.ABC):
             filled.append(param)
         cls.params = tuple(filled)
 
+    @classmethod
+    def conflicts(cls, values: Mapping[str, Any]) -> list[tuple[str, str, str | None]]:
+        """Parameters given together that the action cannot both follow (none by default).
+
+        Args:
+            values: The converted keyword arguments (``distance_mm=500.0``).
+
+        Returns:
+            ``(parameter, message, hint)`` for each, located at the parameter by the loader.
+        """
+        return []
+
     feedback: str = ""
     """A short progress text for status lines (``"driving 230/500 mm"``)."""
 

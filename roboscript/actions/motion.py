@@ -12,6 +12,8 @@ or host) already keep both wheels rolling alike, which is all odometry could che
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
+from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.actions.base import FROM_INIT, Action, ActionContext, Param, Result
@@ -47,6 +49,21 @@ class Drive(WheelAction):
     drive_speeds = ("speed",)
 
     CRAWL_MM_S = 40.0
+
+    @classmethod
+    def conflicts(cls, values: Mapping[str, Any]) -> list[tuple[str, str, str | None]]:
+        if values.get("distance_mm") is None or values.get("duration_s") is None:
+            return []
+        return [
+            (
+                "duration",
+                (
+                    f"{cls.name} takes a distance or a duration, not both: it would drive the "
+                    "distance and ignore the duration"
+                ),
+                "remove 'duration' to drive the distance, or 'distance' to drive for the time",
+            )
+        ]
 
     def __init__(
         self,

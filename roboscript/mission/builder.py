@@ -269,11 +269,19 @@ class MissionBuilder:
         """
         label = name or cls.name
         kwargs, problems = action_params(cls, values, state_names, written=instance is None)
+        refused = False
         if not problems:
             for param_name, message, range_hint in param_problems(
                 label, cls.params, kwargs, built_in=ACTIONS.get(cls.name) is cls
             ):
                 problems.append((param_name, message, range_hint, None))
+            try:
+                conflicts = cls.conflicts(kwargs)
+            except Exception as exc:  # noqa: BLE001 - a student's behaviour may raise anything
+                conflicts = []
+                self.problem(StudentCodeError(f"behaviour '{label}'", exc).reason(None), where)
+                refused = True
+            problems.extend((name_, message, hint, None) for name_, message, hint in conflicts)
         for param_name, message, hint, offset in problems:
             at = param_where(param_name, message, offset) if param_where else where
             self.problem(message, at, hint)
@@ -283,7 +291,7 @@ class MissionBuilder:
                 if note is not None:
                     at = param_where(param.name, "", None) if param_where else where
                     self.problem(f"{label} {param.name}: {note[0]}", at, note[1], "warning")
-        if problems:
+        if problems or refused:
             return None
         param_locations = {
             p.name: param_where(p.name, "", None) if param_where else where

@@ -4,8 +4,9 @@ Two kinds of check:
 
 * :func:`param_problems`, on their own: every quantity is a finite number, times are positive,
   and each built-in action's values are within what any robot could do (a ``drive`` of at most
-  100 m, a ``walk`` of at most 1000 steps, a tone a buzzer can play); ``drive`` takes a
-  distance or a duration, not both. These are errors, located at the parameter.
+  100 m, a ``walk`` of at most 1000 steps, a tone a buzzer can play). These are errors,
+  located at the parameter; parameters that cannot be given together are the action's own
+  rule (:meth:`Action.conflicts <roboscript.actions.base.Action.conflicts>`).
 * :func:`profile_problems`, against the robot a mission runs on: speeds and turn rates above
   what the robot can do are held at its top speed, and those too slow to overcome the wheels'
   static friction may not move it at all. These are warnings that say what will happen.
@@ -142,22 +143,6 @@ def param_problems(
         found = _one(action, param, value, built_in)
         if found is not None:
             problems.append((param.name, *found))
-    if (
-        built_in
-        and action == "drive"
-        and kwargs.get("distance_mm") is not None
-        and kwargs.get("duration_s") is not None
-    ):
-        problems.append(
-            (
-                "duration",
-                (
-                    "drive takes a distance or a duration, not both: it would drive the "
-                    "distance and ignore the duration"
-                ),
-                "remove 'duration' to drive the distance, or 'distance' to drive for the time",
-            )
-        )
     return problems
 
 

@@ -127,3 +127,15 @@ def test_a_default_taken_from_init_must_be_there() -> None:
 
             def __init__(self, speed_mm_s: float) -> None:
                 super().__init__(distance_mm=100.0, speed_mm_s=speed_mm_s)
+
+
+def test_an_action_that_is_drive_in_all_but_name_refuses_what_drive_refuses(
+    write_mission: Callable[..., Path],
+) -> None:
+    both = RENAMED.replace("Cruise(distance_mm=500, speed_mm_s=5000)", "Cruise(500, duration_s=2)")
+    found = _problems(write_mission(both, "lap.py"))
+    assert any(
+        "error: cruise takes a distance or a duration, not both: it would drive the distance"
+        " and ignore the duration (remove 'duration' to drive the distance" in p
+        for p in found
+    ), found
