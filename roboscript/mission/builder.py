@@ -204,6 +204,12 @@ def _guard_capabilities(kwargs: Mapping[str, Any]) -> frozenset[str]:
 # --------------------------------------------------------------------------------- builder
 
 
+def _is_built_in(cls: type[Action]) -> bool:
+    """True for roboscript's own actions and those made from them (``class Cruise(Drive)``),
+    whose values are bounded as the built-in's are."""
+    return any(issubclass(cls, known) for known in ACTIONS.values())
+
+
 class MissionBuilder:
     """Builds one mission's spec from values and where they were written, collecting problems.
 
@@ -272,7 +278,7 @@ class MissionBuilder:
         refused = False
         if not problems:
             for param_name, message, range_hint in param_problems(
-                label, cls.params, kwargs, built_in=ACTIONS.get(cls.name) is cls
+                label, cls.params, kwargs, built_in=_is_built_in(cls)
             ):
                 problems.append((param_name, message, range_hint, None))
             try:

@@ -139,3 +139,8 @@ def test_an_action_that_is_drive_in_all_but_name_refuses_what_drive_refuses(
         " and ignore the duration (remove 'duration' to drive the distance" in p
         for p in found
     ), found
+    far = RENAMED.replace("Cruise(distance_mm=500,", "Cruise(distance_mm=1e6,")
+    assert any(
+        "error: cruise distance: 1e+06 mm is farther than any room (at most 100 m)" in p
+        for p in _problems(write_mission(far, "far.py"))
+    )
