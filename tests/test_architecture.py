@@ -681,6 +681,8 @@ def test_an_import_for_annotations_only_is_not_an_edge() -> None:
 
 
 def test_the_root_package_resolves_to_the_module_of_its_attribute() -> None:
-    planted = TREE.planted("roboscript.actions.timing", "from roboscript import Mission, Drive")
-    targets = {imp.target for imp in planted.imports("roboscript.actions.timing") if imp.line > 100}
-    assert {"roboscript.mission.python_api", "roboscript.actions"} <= targets
+    module = "roboscript.actions.timing"
+    planted = TREE.planted(module, "from roboscript import Mission, Drive")
+    line = len(TREE.sources[module].splitlines()) + 2
+    targets = {imp.target for imp in planted.imports(module) if imp.line == line}
+    assert targets == {"roboscript.mission.python_api", "roboscript.actions"}
