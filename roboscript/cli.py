@@ -56,6 +56,7 @@ def _print_problems(error: InputError) -> None:
 
 
 def _load_mission(path: str, robot: str | None, strict: bool = False) -> tuple[Any, Any]:
+    # YAML loads only for the commands that read a file
     from roboscript.inputs.kinds import file_kind, not_a_mission
     from roboscript.mission import mission_for_robot
     from roboscript.mission.student_code import stuck_at
@@ -67,6 +68,7 @@ def _load_mission(path: str, robot: str | None, strict: bool = False) -> tuple[A
     with Watchdog(DEFAULT_LIMIT_S, stuck_at):
         spec, profile, warnings = mission_for_robot(path, robot)
     if strict and warnings:  # check --strict: each warning is an error
+        # missions load only for the commands that read one
         from roboscript.mission.builder import MissionProblemsError
 
         raise MissionProblemsError(
@@ -79,6 +81,7 @@ def _load_mission(path: str, robot: str | None, strict: bool = False) -> tuple[A
 
 def _check_regions(spec: Any, world: str | None) -> None:
     """Refuse ``in_region.NAME`` the world has no region for, before the robot moves."""
+    # missions load only for the commands that read one
     from roboscript.mission.builder import MissionProblemsError
     from roboscript.mission.checks import check_world_regions
 
@@ -105,6 +108,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
+    # the run machinery loads only for `run`
     from roboscript.session import run_session, session_summary
 
     spec, profile = _load_mission(args.mission, args.robot)
@@ -112,10 +116,12 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
     _check_regions(spec, world if args.port is None or args.port.startswith("sim:") else None)
     quiet = args.json or args.quiet
     if args.plot:
+        # the simulator loads only for a simulated robot or a world
         from roboscript.sim.plot import require_matplotlib
 
         require_matplotlib()  # say so before the run, not after it
 
+    # the run machinery loads only for `run`
     from roboscript.status import StatusLine, describe_robot
 
     status = StatusLine(sys.stderr, live=not quiet and sys.stderr.isatty())
@@ -134,10 +140,12 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
 
     recording = live = None
     if args.record or args.view:
+        # recording and the replay page load only when a run is recorded or viewed
         from roboscript.replay.session_tap import RunRecording
 
         recording = RunRecording(path=args.record)  # written as the run goes
     if args.view:  # the page is served from its own thread; the ticks only hand it frames
+        # recording and the replay page load only when a run is recorded or viewed
         from roboscript.replay.live import LiveView
 
         live = LiveView(spec.name, port=args.view_port)
@@ -177,6 +185,7 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
         _err(f"error: {session.wire_log_error}")
         outputs_ok = False
     if recording is not None and args.record:
+        # recording and the replay page load only when a run is recorded or viewed
         from roboscript.replay.session_tap import save_recording
 
         problem = save_recording(recording, args.record)
@@ -196,6 +205,7 @@ def _write_plot(path: str, result: Any, sim: Any) -> bool:
     if sim is None:
         _err("error: --plot draws simulated runs only (this robot was reached on a port)")
         return False
+    # the simulator loads only for a simulated robot or a world
     from roboscript.sim.plot import plot_run
 
     ended = f"{result.outcome} in '{result.final_state}'" if result.final_state else result.outcome
@@ -212,6 +222,7 @@ def _write_plot(path: str, result: Any, sim: Any) -> bool:
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
+    # missions load only for the commands that read one
     from roboscript.mission.python_loader import is_python_mission
 
     files: list[Path] = []
@@ -226,6 +237,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
     if not files:
         _err("nothing to check: no mission files found")
         return EXIT_INPUT
+    # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.spec import load_test_spec
     from roboscript.inputs.kinds import file_kind
     from roboscript.profiles import get_profile
@@ -257,6 +269,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
 
 
 def _cmd_grade(args: argparse.Namespace) -> int:
+    # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.batch import find_specs, grade_class
 
     if args.jobs is not None and args.jobs < 1:
@@ -278,6 +291,7 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     if args.hang_after is not None and args.hang_after <= 0:
         _err("error: --hang-after must be more than 0 seconds")
         return EXIT_INPUT
+    # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.sandbox import detect_isolation
     from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S
 
@@ -327,10 +341,12 @@ def _cmd_grade(args: argparse.Namespace) -> int:
 def _report_class(args: argparse.Namespace, report: Any) -> int:
     """Print the table (or --json) and write the reports asked for; the exit status."""
     if args.json:
+        # grading (sandbox, reports, worlds) loads only for the grading commands
         from roboscript.grading.json_report import report_dict
 
         print(json.dumps(report_dict(report), indent=2, ensure_ascii=False))
     else:
+        # grading (sandbox, reports, worlds) loads only for the grading commands
         from roboscript.grading.table import format_table
 
         print(format_table(report, sys.stdout.encoding))
@@ -371,10 +387,12 @@ def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
     When that is not one student's submission (no mission in it, or a class), the platform's
     ``results.json`` still tells the student why (every run failed), before the error exits 2.
     """
+    # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.batch import find_submissions
 
     if not (args.gradescope or args.prairielearn):
         return find_submissions(args.missions)
+    # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.gradescope import (
         no_submission_results,
         one_submission,
@@ -415,6 +433,7 @@ def _write_platform_results(args: argparse.Namespace, results: dict[str, Any]) -
 def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
     """Write --junit, --csv, --html and --gradescope; False (after saying why) if one cannot be
     written."""
+    # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.gradebook import write_gradebook
     from roboscript.grading.gradescope import write_gradescope
     from roboscript.grading.html_report import write_html
@@ -480,6 +499,7 @@ _GRAPH_SUFFIXES = {".svg": "svg", ".png": "png", ".dot": "dot", ".gv": "dot"}
 
 
 def _cmd_graph(args: argparse.Namespace) -> int:
+    # missions load only for the commands that read one
     from roboscript.mission import load_mission
     from roboscript.mission.graph import to_dot, to_mermaid
     from roboscript.mission.graph_picture import RunMarks, require_matplotlib, to_svg, write_png
@@ -497,6 +517,7 @@ def _cmd_graph(args: argparse.Namespace) -> int:
     spec, _ = load_mission(args.mission)
     marks = None
     if args.run:
+        # recording and the replay page load only when a run is recorded or viewed
         from roboscript.replay.recording import load_recording
 
         recording = load_recording(args.run)
@@ -528,6 +549,7 @@ def _cmd_graph(args: argparse.Namespace) -> int:
 
 
 def _cmd_view(args: argparse.Namespace) -> int:
+    # recording and the replay page load only when a run is recorded or viewed
     from roboscript.replay.viewer import view_recording
 
     page, problem = view_recording(
@@ -544,6 +566,7 @@ def _cmd_view(args: argparse.Namespace) -> int:
 
 
 def _cmd_sim(args: argparse.Namespace) -> int:
+    # the simulator loads only for a simulated robot or a world
     from roboscript.sim.server import SimServer, parse_host_port
     from roboscript.sim.simulation import make_simulation
 
@@ -581,9 +604,11 @@ def _cmd_sim(args: argparse.Namespace) -> int:
 
 
 def _cmd_ports(args: argparse.Namespace) -> int:
+    # pyserial's port listing and the robots' USB boards load only for `ports`
+    from roboscript.drivers import usb_hints
     from roboscript.transport.discovery import list_robot_ports
 
-    ports = list_robot_ports()
+    ports = list_robot_ports(usb_hints())
     if not ports:
         _err("no serial ports found (is the robot plugged in and switched on?)")
         return EXIT_OK
@@ -616,6 +641,7 @@ def _cmd_web(args: argparse.Namespace) -> int:
 
 
 def _cmd_robots(args: argparse.Namespace) -> int:
+    # the robots load only for the commands that name one
     from roboscript.profiles import BUILTIN_PROFILES
 
     width = max(len(name) for name in BUILTIN_PROFILES) + 2

@@ -378,7 +378,8 @@ def dynamic_imports_are_resolved(tree: Tree) -> list[str]:
 
 FUNCTION_LEVEL_IMPORTS: dict[str, int] = {
     "roboscript.api": 2,
-    "roboscript.cli": 38,
+    "roboscript.__main__": 1,
+    "roboscript.cli": 39,
     "roboscript.grading.mission_host": 3,
     "roboscript.grading.pool": 1,
     "roboscript.mission": 6,
