@@ -109,6 +109,7 @@ class RunResult:
         """
         if self.recording is None:
             raise ValueError("this run was not recorded: run it with record=True")
+        # the columns load only when a run is asked for them
         from roboscript.replay.columns import run_columns
 
         return run_columns(self.recording)

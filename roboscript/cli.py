@@ -275,6 +275,7 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     if args.jobs is not None and args.jobs < 1:
         _err("error: --jobs must be 1 or more")
         return EXIT_INPUT
+    # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.shards import Shard
 
     try:
@@ -307,6 +308,7 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     if journal is False:
         return EXIT_INPUT
     if journal:
+        # grading (sandbox, reports, worlds) loads only for the grading commands
         from roboscript.grading.shards import results_header
 
         journal.write(json.dumps(results_header(specs, submissions, shard)) + "\n")
@@ -357,6 +359,7 @@ def _report_class(args: argparse.Namespace, report: Any) -> int:
 
 
 def _cmd_gradebook(args: argparse.Namespace) -> int:
+    # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.shards import read_results
 
     report = read_results(args.parts)
@@ -415,6 +418,7 @@ def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
 
 def _write_platform_results(args: argparse.Namespace, results: dict[str, Any]) -> None:
     """Write ready Gradescope-shaped results to --gradescope and --prairielearn."""
+    # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.gradescope import write_gradescope
     from roboscript.grading.prairielearn import write_prairielearn
 
@@ -465,6 +469,7 @@ def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
 
 
 def _cmd_autograder(args: argparse.Namespace) -> int:
+    # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading import autograder
     from roboscript.grading.batch import find_specs
     from roboscript.grading.wheels import dependency_wheels

@@ -63,6 +63,7 @@ def spec_files(specs: Sequence[TestSpec]) -> dict[str, Path]:
     missions (its ``check:`` functions); paths are relative to the folder holding them all,
     so a spec's ``world: ../worlds/maze.yaml`` still finds it.
     """
+    # the mission loader loads only when a folder is searched for missions
     from roboscript.mission.python_loader import is_python_mission
 
     needed: set[Path] = set()

@@ -67,10 +67,12 @@ def warm_up(robot: str = "") -> None:
     Args:
         robot: The robot the runs connect to (its driver is imported too), or ``""``.
     """
+    # warmed in the fork server before any run, not when this module is imported
     import roboscript.mission
     import roboscript.session  # noqa: F401 - imported to be inherited by every run
 
     if robot:
+        # only the robot the runs connect to is warmed
         from roboscript.drivers import driver_class
         from roboscript.profiles import get_profile
 

@@ -268,6 +268,7 @@ def view_recording(
     except OSError as exc:
         return out, f"error: cannot write the page {out}: {exc.strerror or exc}"
     if csv_path is not None:
+        # the CSV writer loads only when one is asked for
         from roboscript.replay.columns import write_csv
 
         try:  # the page streamed the file; the columns need it whole (bounded by the reader)
