@@ -383,7 +383,7 @@ FUNCTION_LEVEL_IMPORTS: dict[str, int] = {
     "roboscript.__main__": 1,
     "roboscript.cli": 49,
     "roboscript.grading.autograder": 1,
-    "roboscript.grading.mission_host": 7,
+    "roboscript.grading.mission_host": 8,
     "roboscript.grading.pool": 1,
     "roboscript.mission": 6,
     "roboscript.mission.checks": 1,
