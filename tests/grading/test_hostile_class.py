@@ -191,7 +191,8 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
     ]  # fmt: skip
     out.mkdir()
     done = subprocess.run(command, capture_output=True, text=True, timeout=900, check=False)
-    runs = [json.loads(line) for line in (out / "results.jsonl").read_text().splitlines()]
+    lines = (out / "results.jsonl").read_text().splitlines()
+    runs = [json.loads(line) for line in lines[1:]]  # line 1 is the file's header
     return {
         "root": root,
         "exit": done.returncode,
