@@ -311,7 +311,8 @@ def _cmd_grade(args: argparse.Namespace) -> int:
         # grading (sandbox, reports, worlds) loads only for the grading commands
         from roboscript.grading.shards import results_header
 
-        journal.write(json.dumps(results_header(specs, submissions, shard)) + "\n")
+        header = results_header(specs, submissions, shard, isolation.statement)
+        journal.write(json.dumps(header) + "\n")
         journal.flush()
 
     def progress(result: Any) -> None:

@@ -10,8 +10,8 @@ run would have written it.
 A results file (``--results``) is JSON Lines:
 
 * line 1, the header: ``{"roboscript_results": 1, "roboscript": VERSION, "shard": [I, N] or
-  null, "specs": [{"path", "sha256"}], "students": [{"name", "missions", "folder", "problem",
-  "root", "own"}]}``: the
+  null, "isolation": how the runs were isolated, "specs": [{"path", "sha256"}], "students":
+  [{"name", "missions", "folder", "problem", "root", "own"}]}``: the
   specs by the path they were given (relative to the folder ``grade`` ran in) and a hash of
   their files (the spec, and the world files it names), and the students of this part;
 * one line per finished run, written the moment it ends: the run as in ``--json``'s ``runs``
@@ -101,13 +101,18 @@ def spec_hash(spec: TestSpec) -> str:
 
 
 def results_header(
-    specs: Sequence[TestSpec], submissions: Sequence[Submission], shard: Shard | None
+    specs: Sequence[TestSpec],
+    submissions: Sequence[Submission],
+    shard: Shard | None,
+    isolation: str = "",
 ) -> dict[str, Any]:
-    """The first line of a results file (see the module docstring)."""
+    """The first line of a results file (see the module docstring); ``isolation`` says how
+    this part's runs were isolated, as every report does."""
     return {
         "roboscript_results": RESULTS_FORMAT,
         "roboscript": __version__,
         "shard": [shard.index, shard.count] if shard is not None else None,
+        "isolation": isolation,
         "specs": [{"path": spec.path, "sha256": spec_hash(spec)} for spec in specs],
         "students": [
             {
@@ -255,7 +260,9 @@ def read_results(paths: Sequence[str]) -> ClassReport:
                     )
                 ordered.append(found)
     worlds = {name: world for spec in specs for name, world in spec.worlds.items()}
-    return ClassReport(specs, submissions, ordered, worlds)
+    # parts graded on different machines may have been isolated differently: say each way
+    isolation = "; ".join(dict.fromkeys(str(p.header.get("isolation") or "") for p in parts))
+    return ClassReport(specs, submissions, ordered, worlds, isolation.strip("; "))
 
 
 def _students(header: dict[str, Any]) -> set[str]:

@@ -23,7 +23,7 @@ FileKind = Literal["mission", "world", "profile", "test spec"]
 KINDS: tuple[FileKind, ...] = ("mission", "world", "profile", "test spec")
 
 OWN_KEYS: dict[FileKind, frozenset[str]] = {
-    "mission": frozenset({"mission", "behaviours", "initial", "states"}),
+    "mission": frozenset({"mission", "behaviours", "initial", "states", "plot"}),
     "world": frozenset({"start", "walls", "lines", "regions"}),
     "profile": frozenset(
         {
