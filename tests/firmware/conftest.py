@@ -6,7 +6,8 @@ import pytest
 from firmware.avr import missing_prerequisite
 
 
-@pytest.fixture(autouse=True)
+# session scope: checked before any module's own fixtures, which build and run firmware
+@pytest.fixture(autouse=True, scope="session")
 def _firmware_toolchain() -> None:
     reason = missing_prerequisite()
     if reason is not None:
