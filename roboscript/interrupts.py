@@ -45,16 +45,21 @@ class Interrupted(KeyboardInterrupt):
 
     Args:
         signum: The signal's number.
+        reason: What asked, when it was not a signal but acts as Ctrl-C does (the browser
+            app's Stop button, its tab closing); by default the signal's own sentence.
     """
 
-    def __init__(self, signum: int = signal.SIGINT) -> None:
+    def __init__(self, signum: int = signal.SIGINT, reason: str | None = None) -> None:
         super().__init__(signum)
         self.signum = signum
+        self._reason = reason
 
     @property
     def reason(self) -> str:
         """One plain sentence: what ended the run."""
-        return reason_for(self)
+        if self._reason is not None:
+            return self._reason
+        return _WHY.get(signal.Signals(self.signum).name, f"stopped by signal {int(self.signum)}")
 
     @property
     def exit_status(self) -> int:
@@ -64,8 +69,7 @@ class Interrupted(KeyboardInterrupt):
 
 def reason_for(exc: KeyboardInterrupt) -> str:
     """What ended the run, for any :class:`KeyboardInterrupt` (a bare one is Ctrl-C)."""
-    signum = getattr(exc, "signum", signal.SIGINT)
-    return _WHY.get(signal.Signals(signum).name, f"stopped by signal {int(signum)}")
+    return exc.reason if isinstance(exc, Interrupted) else Interrupted().reason
 
 
 def exit_status_for(exc: KeyboardInterrupt) -> int:

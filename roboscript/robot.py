@@ -114,7 +114,11 @@ class Robot:
         driver_cls = driver_class(profile.protocol)
         serial_port = open_port(url, baudrate=profile.baudrate)
         simulation = getattr(serial_port, "simulation", None)
-        clock: Clock = SimClock() if simulation is not None and not realtime else MonotonicClock()
+        # A port in a browser tab brings the page's clock: waiting there must let the page
+        # run (its port reads, its Stop button), which only the page's clock can do.
+        clock: Clock = getattr(serial_port, "clock", None) or (
+            SimClock() if simulation is not None and not realtime else MonotonicClock()
+        )
         scheduler = Scheduler(clock, period_s)
         log = WireLog(wire_log) if wire_log else None
         link = Link(

@@ -100,6 +100,8 @@ class Browser:
         self._buffer = b""
         self.errors: list[str] = []
         """Uncaught exceptions the page's scripts threw, as Chromium describes them."""
+        self.bindings: list[tuple[str, str]] = []
+        """``(name, payload)`` of each call the page made to a binding (``add_binding``)."""
         self._next_id = 0
         self._session: str | None = None
         target = self._call("Target.createTarget", {"url": "about:blank"}, session=False)
@@ -123,11 +125,7 @@ class Browser:
         deadline = time.monotonic() + self.timeout_s
         while True:
             reply = self._read(deadline)
-            if reply.get("method") == "Runtime.exceptionThrown":
-                details = reply["params"]["exceptionDetails"]
-                self.errors.append(
-                    details.get("exception", {}).get("description") or details.get("text", "")
-                )
+            self._note(reply)
             if reply.get("id") != self._next_id:
                 continue  # an event, or a reply to nobody
             if "error" in reply:
@@ -135,10 +133,23 @@ class Browser:
             result: dict[str, Any] = reply.get("result", {})
             return result
 
-    def _read(self, deadline: float) -> dict[str, Any]:
+    def _note(self, message: dict[str, Any]) -> None:
+        """Keep what an event says that a test may ask for later."""
+        method = message.get("method")
+        if method == "Runtime.exceptionThrown":
+            details = message["params"]["exceptionDetails"]
+            self.errors.append(
+                details.get("exception", {}).get("description") or details.get("text", "")
+            )
+        elif method == "Runtime.bindingCalled":
+            self.bindings.append((message["params"]["name"], message["params"]["payload"]))
+
+    def _read(self, deadline: float, *, quiet: bool = False) -> dict[str, Any]:
         while b"\0" not in self._buffer:
             left = deadline - time.monotonic()
             if left <= 0:
+                if quiet:
+                    return {}
                 raise BrowserError("Chromium did not answer in time")
             ready, _, _ = select.select([self._from_browser], [], [], left)
             if ready:
@@ -174,6 +185,23 @@ class Browser:
             text = details.get("exception", {}).get("description") or details.get("text")
             raise BrowserError(f"{expression!r} threw: {text}")
         return reply["result"].get("value")
+
+    def add_binding(self, name: str) -> None:
+        """Give every page a function ``window[name](text)`` whose calls :meth:`take_bindings`
+        returns, in order (the page's way to hand bytes to the test as they happen)."""
+        self._call("Runtime.addBinding", {"name": name})
+
+    def take_bindings(self, wait_s: float) -> list[tuple[str, str]]:
+        """The binding calls the page made since the last time, waiting up to ``wait_s``
+        for events to arrive."""
+        deadline = time.monotonic() + wait_s
+        while True:
+            message = self._read(deadline, quiet=True)
+            self._note(message)
+            if not message or time.monotonic() > deadline:
+                break
+        taken, self.bindings = self.bindings, []
+        return taken
 
     def wait_for(self, condition: str, timeout_s: float = 20.0) -> Any:
         """Wait until a JavaScript expression is truthy; return its value.

@@ -432,6 +432,9 @@ def function_level_imports_are_counted_and_explained(tree: Tree) -> list[str]:
 
 DECLARED = {"serial", "simple_pid", "transitions", "yaml"}
 OPTIONAL = {"bleak", "matplotlib"}  # extras: imported inside the functions that need them
+BROWSER = {"js", "pyodide"}
+"""Pyodide's own modules, which exist only in a browser tab: imported inside the functions of
+the web ports (``roboscript.transport.webport``) and nowhere else."""
 
 
 def only_declared_dependencies_are_imported_at_run_time(tree: Tree) -> list[str]:
@@ -444,6 +447,9 @@ def only_declared_dependencies_are_imported_at_run_time(tree: Tree) -> list[str]
         and not imp.own
         and imp.target != "?"
         and imp.top not in STDLIB | DECLARED | (OPTIONAL if imp.in_function else set())
+        and not (
+            imp.top in BROWSER and imp.in_function and imp.source == "roboscript.transport.webport"
+        )
     ]
 
 

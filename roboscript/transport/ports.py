@@ -9,6 +9,7 @@ import serial
 from roboscript.errors import InputError, LinkError
 from roboscript.transport.link import PortLike
 from roboscript.transport.socketport import SocketPort, parse_socket_url
+from roboscript.transport.webport import WEB_SCHEMES, open_web_port
 
 __all__ = ["HANDLER_PACKAGES", "open_port"]
 
@@ -25,7 +26,8 @@ def open_port(url: str, *, baudrate: int = 115200) -> PortLike:
     """Open a serial port or URL for non-blocking reads.
 
     Args:
-        url: A device path or a pyserial URL, or ``sim://ROBOT?world=W&seed=N``.
+        url: A device path or a pyserial URL, ``sim://ROBOT?world=W&seed=N``, or in the browser
+            app a port the student chose there (``webserial://1``, ``webbluetooth://1``).
         baudrate: Line speed in bits per second (ignored by sockets and ``sim://``).
 
     Raises:
@@ -34,6 +36,8 @@ def open_port(url: str, *, baudrate: int = 115200) -> PortLike:
         InputError: A ``sim://`` URL names a world or profile file that is invalid
             (``file:line:col``), which is the user's input, not a port problem.
     """
+    if url.partition("://")[0].lower() in WEB_SCHEMES:
+        return open_web_port(url, baudrate=baudrate)
     if url[:9].lower() == "socket://":
         try:
             address = parse_socket_url(url)

@@ -89,7 +89,8 @@
     });
     var errors = problems.filter(function (p) { return p.severity === "error"; }).length;
     list.setAttribute("data-errors", String(errors));
-    button("run").disabled = py === null || errors > 0;
+    button("run").disabled = py === null || errors > 0 || robotRunning;
+    button("run-robot").disabled = !robotPort || errors > 0 || robotRunning;
     return errors;
   }
 
@@ -124,26 +125,125 @@
       var answer = call("run_text", $("name").value, editor.getValue(), $("robot").value,
                         $("world").value, seed);
       var wallS = (performance.now() - started) / 1000;
-      showProblems(answer.problems);
-      var result = $("result"), box = $("viewer");
-      box.textContent = "";
-      if (!answer.summary) {
-        result.textContent = answer.error || "The mission has errors: see above.";
-        say("Not run");
-        return;
-      }
-      var s = answer.summary;
-      result.textContent = s.outcome + ": " + s.mission + " ended in '" + s.final_state +
-        "' after " + s.duration_s.toFixed(2) + " s" + (s.reason ? " (" + s.reason + ")" : "");
-      result.setAttribute("data-outcome", s.outcome);
-      result.setAttribute("data-json", JSON.stringify(s));
-      box.innerHTML = answer.viewer;  // roboscript's own block: the run as JSON in a script
-      window.roboscriptViewer.mount(box.querySelector(".rs-viewer"));
+      var s = showRun(answer);
+      if (!s) return;
       var factor = wallS > 0 ? s.duration_s / wallS : Infinity;
       document.body.setAttribute("data-real-time-factor", String(factor));
       say("Done: " + s.duration_s.toFixed(1) + " s of robot time in " + wallS.toFixed(1) +
           " s");
     }, 20);
+  }
+
+  /* A run's answer in the page (on the simulator or a robot); its summary, or null. */
+  function showRun(answer) {
+    showProblems(answer.problems);
+    var result = $("result"), box = $("viewer");
+    box.textContent = "";
+    result.removeAttribute("data-outcome");
+    if (!answer.summary) {
+      result.textContent = answer.error || "The mission has errors: see above.";
+      result.setAttribute("data-error", result.textContent);
+      say("Not run");
+      return null;
+    }
+    var s = answer.summary;
+    result.textContent = s.outcome + ": " + s.mission + " ended in '" + s.final_state +
+      "' after " + s.duration_s.toFixed(2) + " s" + (s.reason ? " (" + s.reason + ")" : "");
+    result.setAttribute("data-outcome", s.outcome);
+    result.setAttribute("data-json", JSON.stringify(s));
+    box.innerHTML = answer.viewer;  // roboscript's own block: the run as JSON in a script
+    window.roboscriptViewer.mount(box.querySelector(".rs-viewer"));
+    return s;
+  }
+
+  /* ---- a real robot: the browser's chooser, a run on it, and its stop (roboscript.web.connect).
+   * The run waits on the robot with Pyodide's run_sync, so it is called with callPromising;
+   * while it waits the page stays alive, and Stop or closing the tab send the stop at once. */
+  var robotPort = null, robotRunning = false, connectPy = null;
+
+  function connectRobot(choice) {
+    var robot = choice.getAttribute("data-robot"), via = choice.getAttribute("data-via");
+    var asked = via === "bluetooth" ?
+      navigator.bluetooth.requestDevice(JSON.parse(connectPy.bluetooth_options())) :
+      navigator.serial.requestPort({ filters: JSON.parse(connectPy.serial_filters(robot)) });
+    asked.then(function (device) {
+      robotPort = connectPy.remember(via === "bluetooth" ? "webbluetooth" : "webserial", device);
+      if (!$("robot").value) $("robot").value = robot;
+      $("connected").textContent = "Connected: " + choice.textContent + ".";
+      document.body.setAttribute("data-robot-port", robotPort);
+      check();
+    }).catch(function (error) {
+      $("connected").textContent = error && error.name === "NotFoundError" ?
+        "No robot chosen. Is it plugged in (or switched on, for Bluetooth)? Then try again." :
+        "The browser could not connect: " + error;
+    });
+  }
+
+  function runOnRobot() {
+    if (!robotPort) return;
+    robotRunning = true;
+    button("run-robot").disabled = true;
+    button("run").disabled = true;
+    button("stop").disabled = false;
+    say("Connecting to the robot… (Stop stops it at once)");
+    var seed = parseInt($("seed").value, 10) || 0;
+    var watch = window.setInterval(function () {  // the handshake done: the mission runs
+      if (!connectPy.robot_ready()) return;
+      document.body.setAttribute("data-robot-ready", "1");
+      say("Running the mission on the robot… (Stop stops it at once)");
+      window.clearInterval(watch);
+    }, 200);
+    document.body.removeAttribute("data-robot-ready");
+    bridge.run_text.callPromising($("name").value, editor.getValue(), $("robot").value,
+                                  $("world").value, seed, robotPort)
+      .then(function (text) {
+        var answer = JSON.parse(text);
+        var s = showRun(answer);
+        var log = $("wire-log");
+        if (answer.wire_log) {
+          log.href = URL.createObjectURL(new Blob([answer.wire_log], { type: "text/plain" }));
+          log.hidden = false;
+          document.body.setAttribute("data-wire-log", answer.wire_log);
+        }
+        if (s) say("Done on the robot: " + s.duration_s.toFixed(1) + " s");
+      })
+      .catch(function (error) {
+        $("result").textContent = "roboscript stopped unexpectedly: " + error;
+        say("Not run");
+      })
+      .then(function () {
+        window.clearInterval(watch);
+        robotRunning = false;
+        button("stop").disabled = true;
+        check();
+      });
+  }
+
+  function stopRobot(reason) {
+    if (robotRunning && connectPy) connectPy.stop_robot(reason);
+  }
+
+  function connectPanel() {
+    connectPy = py.pyimport("roboscript.web.connect");
+    var serial = "serial" in navigator, bluetooth = "bluetooth" in navigator;
+    var waits = typeof WebAssembly.Suspending === "function";  // JSPI: a run can wait
+    Array.prototype.forEach.call(document.querySelectorAll("[data-action=connect]"),
+      function (choice) {
+        var via = choice.getAttribute("data-via");
+        choice.disabled = !waits || !(via === "bluetooth" ? bluetooth : serial);
+        choice.addEventListener("click", function () { connectRobot(choice); });
+      });
+    if (!waits && (serial || bluetooth)) {
+      $("connected").textContent = "This browser is too old to drive a robot from a page: " +
+        "update Chrome or Edge.";
+    }
+    button("run-robot").addEventListener("click", runOnRobot);
+    button("stop").addEventListener("click", function () {
+      stopRobot("stopped with the Stop button");
+    });
+    // Never leave a robot running: a closing or reloading tab sends the stop first.
+    window.addEventListener("beforeunload", function () { stopRobot("the page was closed"); });
+    window.addEventListener("pagehide", function () { stopRobot("the page was closed"); });
   }
 
   function save() {
@@ -172,8 +272,8 @@
     var has = serial && bluetooth ? "USB (Web Serial) and Bluetooth (Web Bluetooth)" :
       serial ? "USB (Web Serial) but not Bluetooth" : bluetooth ? "Bluetooth but not USB" : "";
     $("hardware").textContent = has ?
-      "This browser can reach robots over " + has + ". Driving a real robot from this page " +
-      "is not ready yet: use the roboscript command for that; the simulator works here." :
+      "This browser can reach robots over " + has + ": connect yours below, then run on " +
+      "it. The simulator works here too." :
       "This browser cannot reach a robot over USB or Bluetooth (it has no Web Serial or " +
       "Web Bluetooth). The simulator works here; for a real robot use Chrome or Edge on a " +
       "computer or a Chromebook.";
@@ -202,6 +302,7 @@
       py.unpackArchive(zip, "zip", { extractDir: "/home/pyodide/site-packages" });
       py.runPython("import sys; sys.path.insert(0, '/home/pyodide/site-packages')");
       bridge = py.pyimport("roboscript.web.bridge");
+      connectPanel();
       var readyMs = Math.round(performance.now() - started);
       document.body.setAttribute("data-ready-ms", String(readyMs));
       document.body.setAttribute("data-ready", "1");

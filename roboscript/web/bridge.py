@@ -19,11 +19,13 @@ from pathlib import Path
 from typing import Any
 
 from roboscript.errors import InputError, MissionError, RoboscriptError
+from roboscript.interrupts import Interrupted
 from roboscript.mission import mission_for_robot
 from roboscript.mission.graph_picture import to_svg
 from roboscript.replay.session_tap import RunRecording
 from roboscript.replay.viewer import viewer_block
 from roboscript.session import run_session, session_summary
+from roboscript.web.connect import on_robot
 
 __all__ = ["check_text", "diagram_text", "run_text"]
 
@@ -86,36 +88,48 @@ def check_text(name: str, text: str, robot: str = "") -> str:
     return json.dumps({"problems": problems})
 
 
-def run_text(name: str, text: str, robot: str = "", world: str = "", seed: int = 1) -> str:
-    """``roboscript run --json --record`` of one mission's text, on the simulator.
+def run_text(
+    name: str, text: str, robot: str = "", world: str = "", seed: int = 1, port: str = ""
+) -> str:
+    """``roboscript run --json --record`` of one mission's text, on the simulator or a robot.
+
+    Args:
+        port: A robot the student connected in the page (:func:`roboscript.web.connect.
+            remember`), run in real time with a wire log; ``""``: the simulator. The page
+            calls a run on a robot with Pyodide's ``callPromising``, so it can wait.
 
     Returns:
         JSON ``{"problems": [...], "summary": run --json's object or null, "viewer": the
-        replay viewer's HTML block or null}``. A mission with errors is not run.
+        replay viewer's HTML block or null}``, and ``"wire_log"`` (its text) on a robot. A
+        mission with errors is not run.
     """
     path, spec, profile, problems = _load(name, text, robot)
     if spec is None or any(p["severity"] == "error" for p in problems):
         return json.dumps({"problems": problems, "summary": None, "viewer": None})
     recording = RunRecording()
-    try:
-        session = run_session(
-            spec,
-            profile,
-            world=world or spec.world or "empty",
-            seed=seed,
-            max_time_s=_MAX_TIME_S,
-            recording=recording,
-            runaway_after_s=None,  # no thread to watch with in a browser tab
-        )
-    except RoboscriptError as exc:
-        return json.dumps(
-            {"problems": problems, "summary": None, "viewer": None, "error": str(exc)}
-        )
+    with on_robot(port, path.parent) as on:
+        try:
+            session = run_session(
+                spec,
+                profile,
+                world=world or spec.world or "empty",
+                seed=seed,
+                max_time_s=_MAX_TIME_S,
+                recording=recording,
+                runaway_after_s=None,  # no thread to watch with in a browser tab
+                **on.options,
+            )
+        except (RoboscriptError, Interrupted) as exc:  # Interrupted: stopped while connecting
+            error = exc.reason if isinstance(exc, Interrupted) else str(exc)
+            return json.dumps(
+                {"problems": problems, "summary": None, "viewer": None, "error": error}
+                | on.answer()
+            )
     summary = session_summary(session)
     viewer = None
     if recording.recorder is not None:
         viewer = viewer_block(recording.recorder.recording(), label=f"replay of {path.name}")
-    return json.dumps({"problems": problems, "summary": summary, "viewer": viewer})
+    return json.dumps({"problems": problems, "summary": summary, "viewer": viewer} | on.answer())
 
 
 def diagram_text(name: str, text: str) -> str:

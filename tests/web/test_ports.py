@@ -1,0 +1,345 @@
+"""A real robot from the browser app, through the page's Web Serial port layer.
+
+Headless Chromium has no serial devices, so every page gets a stand-in ``navigator.serial``
+(a script added before the page's own) whose port is bridged by this test to a simulated
+robot served by ``roboscript sim --tcp`` on loopback: what the page writes reaches the test
+through a binding as it is written, and what the robot answers is pushed back into the port's
+readable stream. The page's code is the one a student runs: its Connect button, the browser's
+chooser, the run on the robot, its Stop button.
+
+A PLEN2 mission is used because its conversation does not depend on timing (no sensor
+streams): against a fresh ``roboscript sim --tcp`` the page's wire log holds the same messages
+both ways as the command line's, but for the liveness polls, whose number follows the wall
+clock. Waits are long enough for a machine whose every core is busy; nothing here is timed.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import select
+import socket
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from browser import Browser, chromium
+from helpers import MISSIONS, run_cli, served_simulator
+
+from roboscript.codec import Role
+from roboscript.drivers.plen.codec import PlenCodec
+from roboscript.drivers.plen.messages import GetVersion, VersionReply
+from roboscript.robot import Robot
+from roboscript.transport.wirelog import read_wire_log
+from roboscript.web.build import WebBuildError, build_web_app
+
+pytestmark = pytest.mark.timeout(1800)
+
+LONG_S = 600.0  # Python in WebAssembly on a saturated machine takes its time; never a limit
+MISSION = MISSIONS / "plen_walk.yaml"
+SIM_OPTIONS = ("--handshake-wait", "600")  # the page may be slow to say its first byte
+
+STAND_IN = """
+(function () {
+  var ports = [];
+  function bytesOf(text) {
+    var raw = atob(text), out = new Uint8Array(raw.length);
+    for (var i = 0; i < raw.length; i++) out[i] = raw.charCodeAt(i);
+    return out;
+  }
+  function textOf(bytes) {
+    var raw = "";
+    for (var i = 0; i < bytes.length; i++) raw += String.fromCharCode(bytes[i]);
+    return btoa(raw);
+  }
+  function StandInPort(n) {
+    var port = this, incoming = null;
+    this.readable = null;
+    this.writable = null;
+    this.addEventListener = function () {};
+    this.removeEventListener = function () {};
+    this.getInfo = function () { return { usbVendorId: 0x2341, usbProductId: 0x8037 }; };
+    this.open = function (options) {
+      window.rsStandInOpen(JSON.stringify({ port: n, baudRate: options.baudRate }));
+      port.readable = new ReadableStream({ start: function (c) { incoming = c; } });
+      port.writable = new WritableStream({
+        write: function (chunk) {
+          window.rsStandInWrite(JSON.stringify({ port: n, data: textOf(chunk) }));
+        }
+      });
+      return Promise.resolve();
+    };
+    this.close = function () {
+      port.readable = null;
+      port.writable = null;
+      window.rsStandInClose(JSON.stringify({ port: n }));
+      return Promise.resolve();
+    };
+    this.push = function (text) { incoming.enqueue(bytesOf(text)); };
+    this.lose = function () {  // a cable pulled out: the stream fails, and no new one comes
+      incoming.error(new DOMException("The device has been lost.", "NetworkError"));
+      port.readable = null;
+    };
+  }
+  var serial = {
+    requestPort: function (options) {
+      window.rsStandInAsked(JSON.stringify(options || {}));
+      var port = new StandInPort(ports.length);
+      ports.push(port);
+      return Promise.resolve(port);
+    },
+    getPorts: function () { return Promise.resolve(ports.slice()); },
+    addEventListener: function () {},
+    removeEventListener: function () {}
+  };
+  Object.defineProperty(Navigator.prototype, "serial", {
+    get: function () { return serial; }, configurable: true
+  });
+  window.rsStandIn = ports;
+})();
+"""
+
+
+class SerialBridge:
+    """Moves bytes between the page's stand-in port and ``roboscript sim --tcp``.
+
+    Args:
+        browser: The page.
+        tcp_port: Where the simulator listens on loopback.
+    """
+
+    def __init__(self, browser: Browser, tcp_port: int) -> None:
+        self.browser = browser
+        self.tcp_port = tcp_port
+        self.sock: socket.socket | None = None
+        self.port_index: int | None = None
+        self.writes: list[bytes] = []
+        """Each chunk the page wrote, in order."""
+        self.asked: list[dict[str, object]] = []
+        self.closed = False
+
+    def _handle(self, name: str, payload: str) -> None:
+        message = json.loads(payload)
+        if name == "rsStandInAsked":
+            self.asked.append(message)
+        elif name == "rsStandInOpen":
+            self.port_index = int(message["port"])
+            self.sock = socket.create_connection(("127.0.0.1", self.tcp_port))
+        elif name == "rsStandInWrite":
+            data = base64.b64decode(message["data"])
+            self.writes.append(data)
+            if self.sock is not None:
+                self.sock.sendall(data)
+        elif name == "rsStandInClose":
+            self.closed = True
+            if self.sock is not None:
+                self.sock.close()
+                self.sock = None
+
+    def pump(self, until: str | None = None, *, timeout_s: float = LONG_S) -> None:
+        """Move bytes both ways until the page's expression ``until`` is truthy (or, with
+        ``None``, until the page closes its port)."""
+        import time
+
+        deadline = time.monotonic() + timeout_s
+        checks = 0
+        while True:
+            for name, payload in self.browser.take_bindings(0.01):
+                self._handle(name, payload)
+            if self.sock is not None:
+                ready, _, _ = select.select([self.sock], [], [], 0)
+                if ready:
+                    data = self.sock.recv(65536)
+                    if data:
+                        pushed = base64.b64encode(data).decode()
+                        self.browser.evaluate(
+                            f"rsStandIn[{self.port_index}].push({json.dumps(pushed)})"
+                        )
+            checks += 1
+            if checks % 10 == 0:
+                if until is None and self.closed:
+                    return
+                if until is not None and self.browser.evaluate(until):
+                    return
+            if time.monotonic() > deadline:
+                raise AssertionError(f"never true while bridging: {until or 'port closed'}")
+
+
+@pytest.fixture(scope="module")
+def app(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    if chromium() is None:
+        pytest.skip("Chromium is not installed (apt-get install chromium; .ci/run does it)")
+    try:
+        built = build_web_app(tmp_path_factory.mktemp("web") / "app")
+    except WebBuildError as exc:
+        pytest.skip(f"the web app cannot be built here: {exc}")
+    return built.page
+
+
+@pytest.fixture
+def page(app: Path, tmp_path: Path) -> Iterator[Browser]:
+    browser = Browser(chromium() or "", tmp_path / "profile", timeout_s=LONG_S)
+    try:
+        browser._call(
+            "Network.emulateNetworkConditions",
+            {"offline": True, "latency": 0, "downloadThroughput": -1, "uploadThroughput": -1},
+        )
+        for name in ("rsStandInAsked", "rsStandInOpen", "rsStandInWrite", "rsStandInClose"):
+            browser.add_binding(name)
+        browser._call("Page.addScriptToEvaluateOnNewDocument", {"source": STAND_IN})
+        browser._call("Page.navigate", {"url": app.as_uri()})
+        browser.wait_for("document.body && document.body.dataset.ready !== undefined", LONG_S)
+        assert browser.evaluate("document.body.dataset.ready") == "1"
+        browser.evaluate(
+            "document.querySelector('.CodeMirror').CodeMirror.setValue("
+            + json.dumps(MISSION.read_text(encoding="utf-8"))
+            + "); document.querySelector('[data-role=name]').value = 'plen_walk.yaml'"
+        )
+        browser.wait_for(
+            "document.querySelector('[data-role=problems]').dataset.errors === '0'", LONG_S
+        )
+        yield browser
+    finally:
+        browser.close()
+
+
+def _connect_and_run(page: Browser, bridge: SerialBridge) -> None:
+    page.click("[data-action=connect][data-robot=plen2]")
+    bridge.pump("document.body.dataset.robotPort", timeout_s=LONG_S)
+    page.wait_for("!document.querySelector('[data-action=run-robot]').disabled", LONG_S)
+    page.click("[data-action=run-robot]")
+
+
+def _stop_bytes(folder: Path) -> bytes:
+    """What the PLEN2 driver sends to stop, by its own path (on the in-process simulator)."""
+    log = folder / "stop-wire.log"
+    with Robot.connect("plen2", wire_log=str(log)) as robot:
+        wire_log = robot.driver.link.wire_log
+        assert wire_log is not None
+        wire_log.flush()
+        before = len(read_wire_log(log))
+        robot.stop()
+        wire_log.flush()
+        records = read_wire_log(log)[before:]
+    stop = b"".join(data for _, direction, data in records if direction == ">")
+    assert stop
+    return stop
+
+
+def _sent_and_received(wire_log: Path) -> tuple[bytes, bytes]:
+    records = read_wire_log(wire_log)
+    sent = b"".join(data for _, direction, data in records if direction == ">")
+    received = b"".join(data for _, direction, data in records if direction == "<")
+    return sent, received
+
+
+def _messages(data: bytes, role: Role) -> list[object]:
+    """The PLEN2 messages in ``data``, read as the side opposite ``role`` sent them."""
+    codec = PlenCodec(role)
+    codec.receive_data(data)
+    messages = []
+    while (message := codec.next_message()) is not None:
+        messages.append(message)
+    return messages
+
+
+def _conversation(wire_log: Path) -> tuple[list[object], list[object]]:
+    """The wire log's messages both ways, without the liveness polls.
+
+    The driver asks ``<VI`` whenever the line has been quiet for a second
+    (:mod:`roboscript.drivers.plen.driver`): how many it asks depends on the wall clock, which
+    no two real-time runs share. Every other byte depends on the mission and the robot only.
+    """
+    sent, received = _sent_and_received(wire_log)
+    requests = [m for m in _messages(sent, Role.DEVICE) if not isinstance(m, GetVersion)]
+    replies = [m for m in _messages(received, Role.HOST) if not isinstance(m, VersionReply)]
+    return requests, replies
+
+
+def test_a_mission_on_a_robot_from_the_page_puts_the_same_bytes_on_the_wire_as_the_command_line(
+    page: Browser, tmp_path: Path
+) -> None:
+    with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
+        bridge = SerialBridge(page, tcp_port)
+        _connect_and_run(page, bridge)
+        bridge.pump("document.body.dataset.wireLog", timeout_s=LONG_S)
+    summary = json.loads(page.evaluate("document.querySelector('[data-role=result]').dataset.json"))
+    assert (summary["outcome"], summary["final_state"]) == ("success", "rest")
+    in_page = tmp_path / "page-wire.log"
+    in_page.write_text(page.evaluate("document.body.dataset.wireLog"), encoding="utf-8")
+    assert bridge.asked == [
+        {
+            "filters": [
+                {"usbVendorId": 0x2341, "usbProductId": 0x8037},
+                {"usbVendorId": 0x2341, "usbProductId": 0x0037},
+            ]
+        }
+    ]
+
+    cli_log = tmp_path / "cli-wire.log"
+    with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
+        done = run_cli(
+            "run",
+            str(MISSION),
+            "--port",
+            f"socket://127.0.0.1:{tcp_port}",
+            "--wire-log",
+            str(cli_log),
+            "--quiet",
+        )
+    assert done.returncode == 0, done.stderr
+    in_page_conversation = _conversation(in_page)
+    assert len(in_page_conversation[0]) > 40  # motions uploaded and played, and the stop
+    assert in_page_conversation == _conversation(cli_log)
+    assert b"".join(bridge.writes) == _sent_and_received(in_page)[0]  # the log is the wire
+    assert page.errors == []
+
+
+def test_the_stop_button_sends_the_stop_first_and_ends_the_run(
+    page: Browser, tmp_path: Path
+) -> None:
+    stop = _stop_bytes(tmp_path)
+    with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
+        bridge = SerialBridge(page, tcp_port)
+        _connect_and_run(page, bridge)
+        bridge.pump("document.body.dataset.robotReady === '1'")
+        before = len(bridge.writes)
+        page.click("[data-action=stop]")
+        bridge.pump(None)
+    after = b"".join(bridge.writes[before:])
+    assert after.startswith(stop)
+    assert after.replace(stop, b"") == b""  # nothing but stops once Stop was pressed
+    result = page.wait_for("document.querySelector('[data-role=result]').textContent", LONG_S)
+    assert result.startswith("error: plen-walk ended in ")
+    assert result.endswith("(stopped with the Stop button)")
+    assert page.errors == []
+
+
+def test_a_lost_link_stops_the_mission_in_one_sentence(page: Browser, tmp_path: Path) -> None:
+    stop = _stop_bytes(tmp_path)
+    with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
+        bridge = SerialBridge(page, tcp_port)
+        _connect_and_run(page, bridge)
+        bridge.pump("document.body.dataset.robotReady === '1'")
+        before = len(bridge.writes)
+        page.evaluate(f"rsStandIn[{bridge.port_index}].lose()")
+        bridge.pump(None)
+    after = b"".join(bridge.writes[before:])
+    assert after.startswith(stop) and after.replace(stop, b"") == b""
+    result = page.wait_for("document.querySelector('[data-role=result]').textContent", LONG_S)
+    assert result.startswith("error: plen-walk ended in ")
+    assert result.endswith("(the robot's USB connection was lost (was the cable pulled out?))")
+    assert "Traceback" not in result and page.errors == []
+
+
+def test_closing_the_page_sends_the_stop(page: Browser, tmp_path: Path) -> None:
+    stop = _stop_bytes(tmp_path)
+    with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
+        bridge = SerialBridge(page, tcp_port)
+        _connect_and_run(page, bridge)
+        bridge.pump("document.body.dataset.robotReady === '1'")
+        before = len(bridge.writes)
+        page._call("Page.close")
+        for name, payload in page.take_bindings(30.0):
+            bridge._handle(name, payload)
+    assert b"".join(bridge.writes[before:]).startswith(stop)
