@@ -196,6 +196,8 @@ class PageClock:
         loop = asyncio.get_event_loop()
         waker: asyncio.Future[None] = loop.create_future()
         self._waker = waker
+        if self._reason is not None:  # asked between the call and this task's first step
+            _settle(waker)
         # a timer even when late: the browser's other tasks (port reads, clicks) get a turn
         timer = loop.call_later(max(seconds, 0.0), _settle, waker)
         try:
