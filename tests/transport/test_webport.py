@@ -16,7 +16,7 @@ from serial import SerialException
 from roboscript.errors import LinkError
 from roboscript.interrupts import Interrupted
 from roboscript.transport import open_port
-from roboscript.transport.webport import LOST_USB, PageClock, WebPort
+from roboscript.transport.webport import LOST_USB, PageClock, WebBluetoothPort, WebPort
 
 pytestmark = pytest.mark.timeout(120)  # a wait that is never woken would hang; fail instead
 
@@ -137,3 +137,27 @@ def test_closing_waits_for_the_writes_under_way_then_releases_the_port(ffi: Fake
 def test_a_page_port_outside_a_browser_is_refused_in_one_sentence() -> None:
     with pytest.raises(LinkError, match="exist only in roboscript's browser app"):
         open_port("webserial://1")
+
+
+class Characteristic:
+    """The hub's RX characteristic: the writes the browser was asked to make."""
+
+    def __init__(self) -> None:
+        self.writes: list[tuple[bytes, Promise]] = []
+
+    def writeValueWithoutResponse(self, data: bytes) -> Promise:  # noqa: N802 - the browser's name
+        promise = Promise()
+        self.writes.append((data, promise))
+        return promise
+
+
+def test_a_bluetooth_write_goes_out_in_the_hubs_packets_one_at_a_time(ffi: FakeFfi) -> None:
+    port = WebBluetoothPort(None, ffi, device=None)
+    rx = Characteristic()
+    port._rx = rx
+    port.is_open = True
+    port.set_max_packet_size(4)  # as the driver does with the hub's InfoResponse
+    port.write(b"0123456789")
+    while len(rx.writes) < 3:
+        rx.writes[-1][1].on_ok(None)
+    assert [data for data, _ in rx.writes] == [b"0123", b"4567", b"89"]

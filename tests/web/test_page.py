@@ -16,22 +16,9 @@ import pytest
 from browser import Browser, chromium
 from helpers import run_cli
 
-from roboscript.web.build import WebBuildError, build_web_app
-
 pytestmark = pytest.mark.timeout(1200)
 
 LONG_S = 600.0  # Python in WebAssembly on a saturated machine takes its time; never a limit
-
-
-@pytest.fixture(scope="module")
-def app(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    if chromium() is None:
-        pytest.skip("Chromium is not installed (apt-get install chromium; .ci/run does it)")
-    try:
-        built = build_web_app(tmp_path_factory.mktemp("web") / "app")
-    except WebBuildError as exc:
-        pytest.skip(f"the web app cannot be built here: {exc}")
-    return built.page
 
 
 @pytest.fixture(scope="module")

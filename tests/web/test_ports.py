@@ -31,7 +31,6 @@ from roboscript.drivers.plen.codec import PlenCodec
 from roboscript.drivers.plen.messages import GetVersion, VersionReply
 from roboscript.robot import Robot
 from roboscript.transport.wirelog import read_wire_log
-from roboscript.web.build import WebBuildError, build_web_app
 
 pytestmark = pytest.mark.timeout(1800)
 
@@ -165,17 +164,6 @@ class SerialBridge:
                 raise AssertionError(f"never true while bridging: {until or 'port closed'}")
 
 
-@pytest.fixture(scope="module")
-def app(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    if chromium() is None:
-        pytest.skip("Chromium is not installed (apt-get install chromium; .ci/run does it)")
-    try:
-        built = build_web_app(tmp_path_factory.mktemp("web") / "app")
-    except WebBuildError as exc:
-        pytest.skip(f"the web app cannot be built here: {exc}")
-    return built.page
-
-
 @pytest.fixture
 def page(app: Path, tmp_path: Path) -> Iterator[Browser]:
     browser = Browser(chromium() or "", tmp_path / "profile", timeout_s=LONG_S)
@@ -295,18 +283,36 @@ def test_a_mission_on_a_robot_from_the_page_puts_the_same_bytes_on_the_wire_as_t
     assert page.errors == []
 
 
-def test_the_stop_button_sends_the_stop_first_and_ends_the_run(
-    page: Browser, tmp_path: Path
-) -> None:
-    stop = _stop_bytes(tmp_path)
+def _stopped_mid_mission(page: Browser, folder: Path, how: str) -> tuple[bytes, bytes]:
+    """Run the mission on the robot, and once it runs, stop it ``how``: ``"button"``,
+    ``"lost"`` (the stand-in port's stream fails) or ``"close"`` (the page is closed).
+
+    Returns:
+        The driver's stop bytes, and every byte the page wrote from that moment on.
+    """
+    stop = _stop_bytes(folder)
     with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
         bridge = SerialBridge(page, tcp_port)
         _connect_and_run(page, bridge)
         bridge.pump("document.body.dataset.robotReady === '1'")
         before = len(bridge.writes)
-        page.click("[data-action=stop]")
-        bridge.pump(None)
-    after = b"".join(bridge.writes[before:])
+        if how == "button":
+            page.click("[data-action=stop]")
+        elif how == "lost":
+            page.evaluate(f"rsStandIn[{bridge.port_index}].lose()")
+        else:
+            page._call("Page.close")
+            for name, payload in page.take_bindings(30.0):
+                bridge._handle(name, payload)
+        if how != "close":
+            bridge.pump(None)
+    return stop, b"".join(bridge.writes[before:])
+
+
+def test_the_stop_button_sends_the_stop_first_and_ends_the_run(
+    page: Browser, tmp_path: Path
+) -> None:
+    stop, after = _stopped_mid_mission(page, tmp_path, "button")
     assert after.startswith(stop)
     assert after.replace(stop, b"") == b""  # nothing but stops once Stop was pressed
     result = page.wait_for("document.querySelector('[data-role=result]').textContent", LONG_S)
@@ -316,15 +322,7 @@ def test_the_stop_button_sends_the_stop_first_and_ends_the_run(
 
 
 def test_a_lost_link_stops_the_mission_in_one_sentence(page: Browser, tmp_path: Path) -> None:
-    stop = _stop_bytes(tmp_path)
-    with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
-        bridge = SerialBridge(page, tcp_port)
-        _connect_and_run(page, bridge)
-        bridge.pump("document.body.dataset.robotReady === '1'")
-        before = len(bridge.writes)
-        page.evaluate(f"rsStandIn[{bridge.port_index}].lose()")
-        bridge.pump(None)
-    after = b"".join(bridge.writes[before:])
+    stop, after = _stopped_mid_mission(page, tmp_path, "lost")
     assert after.startswith(stop) and after.replace(stop, b"") == b""
     result = page.wait_for("document.querySelector('[data-role=result]').textContent", LONG_S)
     assert result.startswith("error: plen-walk ended in ")
@@ -333,13 +331,5 @@ def test_a_lost_link_stops_the_mission_in_one_sentence(page: Browser, tmp_path: 
 
 
 def test_closing_the_page_sends_the_stop(page: Browser, tmp_path: Path) -> None:
-    stop = _stop_bytes(tmp_path)
-    with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
-        bridge = SerialBridge(page, tcp_port)
-        _connect_and_run(page, bridge)
-        bridge.pump("document.body.dataset.robotReady === '1'")
-        before = len(bridge.writes)
-        page._call("Page.close")
-        for name, payload in page.take_bindings(30.0):
-            bridge._handle(name, payload)
-    assert b"".join(bridge.writes[before:]).startswith(stop)
+    stop, after = _stopped_mid_mission(page, tmp_path, "close")
+    assert after.startswith(stop)
