@@ -66,6 +66,10 @@ LOST_BLUETOOTH = (
     "the Bluetooth connection to the hub was lost (is it still on, and near the computer?)"
 )
 
+CLOSE_WAIT_S = 2.0
+"""How long closing a port waits for its queued writes (the stop) to be taken, seconds: a
+device that takes nothing more must not keep the page from saying how the run ended."""
+
 _chosen: dict[str, Any] = {}
 """URL -> the JavaScript ``SerialPort`` or ``BluetoothDevice`` the student chose."""
 _open_ports: list[WebPort] = []
@@ -358,7 +362,8 @@ class WebPort:
         self._link_lost()
 
     async def _close_when_sent(self) -> None:
-        while self._sending and self._failed is None:
+        give_up_s = time.monotonic() + CLOSE_WAIT_S
+        while self._sending and self._failed is None and time.monotonic() < give_up_s:
             await asyncio.sleep(0.005)
         with contextlib.suppress(Exception):  # a port already gone cannot be closed twice
             await self._shut()

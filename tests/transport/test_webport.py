@@ -161,3 +161,12 @@ def test_a_bluetooth_write_goes_out_in_the_hubs_packets_one_at_a_time(ffi: FakeF
     while len(rx.writes) < 3:
         rx.writes[-1][1].on_ok(None)
     assert [data for data, _ in rx.writes] == [b"0123", b"4567", b"89"]
+
+
+def test_a_device_that_takes_nothing_more_does_not_keep_the_port_from_closing(
+    ffi: FakeFfi,
+) -> None:
+    port = BrowserPort(ffi)
+    port.write(b"$SM")  # never taken: the promise is never settled
+    port.close()
+    assert port.shut
