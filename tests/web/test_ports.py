@@ -1,11 +1,12 @@
-"""A real robot from the browser app, through the page's Web Serial port layer.
+"""A real robot from the browser app, through the page's Web Serial and Web Bluetooth layers.
 
-Headless Chromium has no serial devices, so every page gets a stand-in ``navigator.serial``
-(a script added before the page's own) whose port is bridged by this test to a simulated
-robot served by ``roboscript sim --tcp`` on loopback: what the page writes reaches the test
-through a binding as it is written, and what the robot answers is pushed back into the port's
-readable stream. The page's code is the one a student runs: its Connect button, the browser's
-chooser, the run on the robot, its Stop button.
+Headless Chromium has no serial or Bluetooth devices, so every page gets a stand-in
+``navigator.serial`` and ``navigator.bluetooth`` (a script added before the page's own) whose
+port or hub is bridged by this test to a simulated robot served by ``roboscript sim --tcp`` on
+loopback: what the page writes reaches the test through a binding as it is written, and what
+the robot answers is pushed back into the port's readable stream (or the hub's notifications,
+20 bytes at most each). The page's code is the one a student runs: its Connect buttons, the
+browser's chooser, the run on the robot, its Stop button.
 
 A PLEN2 mission is used because its conversation does not depend on timing (no sensor
 streams): against a fresh ``roboscript sim --tcp`` the page's wire log holds the same messages
@@ -30,6 +31,7 @@ from roboscript.codec import Role
 from roboscript.drivers.plen.codec import PlenCodec
 from roboscript.drivers.plen.messages import GetVersion, VersionReply
 from roboscript.robot import Robot
+from roboscript.transport.ble import SERVICE_UUID
 from roboscript.transport.wirelog import read_wire_log
 
 pytestmark = pytest.mark.timeout(1800)
@@ -94,13 +96,67 @@ STAND_IN = """
   Object.defineProperty(Navigator.prototype, "serial", {
     get: function () { return serial; }, configurable: true
   });
+
+  // A SPIKE hub over Bluetooth: its GATT service, notifications of at most 20 bytes.
+  function StandInHub(n) {
+    var hub = this, changed = [];
+    var tx = {
+      addEventListener: function (type, f) { changed.push(f); },
+      startNotifications: function () { return Promise.resolve(tx); }
+    };
+    var rx = {
+      writeValueWithoutResponse: function (data) {
+        window.rsStandInWrite(JSON.stringify({ port: n, data: textOf(new Uint8Array(data)) }));
+        return Promise.resolve();
+      }
+    };
+    var service = {
+      getCharacteristic: function (uuid) {
+        return Promise.resolve(uuid.indexOf("fd02-0001") >= 0 ? rx : tx);
+      }
+    };
+    this.addEventListener = function () {};
+    this.gatt = {
+      connected: false,
+      connect: function () {
+        hub.gatt.connected = true;
+        window.rsStandInOpen(JSON.stringify({ port: n }));
+        return Promise.resolve({
+          getPrimaryService: function () { return Promise.resolve(service); }
+        });
+      },
+      disconnect: function () {
+        hub.gatt.connected = false;
+        window.rsStandInClose(JSON.stringify({ port: n }));
+      }
+    };
+    this.push = function (text) {
+      var bytes = bytesOf(text);
+      for (var i = 0; i < bytes.length; i += 20) {
+        var part = bytes.slice(i, i + 20);
+        var event = { target: { value: new DataView(part.buffer) } };
+        changed.forEach(function (f) { f(event); });
+      }
+    };
+  }
+  var bluetooth = {
+    requestDevice: function (options) {
+      window.rsStandInAsked(JSON.stringify(options || {}));
+      var hub = new StandInHub(ports.length);
+      ports.push(hub);
+      return Promise.resolve(hub);
+    }
+  };
+  Object.defineProperty(Navigator.prototype, "bluetooth", {
+    get: function () { return bluetooth; }, configurable: true
+  });
   window.rsStandIn = ports;
 })();
 """
 
 
-class SerialBridge:
-    """Moves bytes between the page's stand-in port and ``roboscript sim --tcp``.
+class StandInBridge:
+    """Moves bytes between the page's stand-in port or hub and ``roboscript sim --tcp``.
 
     Args:
         browser: The page.
@@ -191,8 +247,10 @@ def page(app: Path, tmp_path: Path) -> Iterator[Browser]:
         browser.close()
 
 
-def _connect_and_run(page: Browser, bridge: SerialBridge) -> None:
-    page.click("[data-action=connect][data-robot=plen2]")
+def _connect_and_run(
+    page: Browser, bridge: StandInBridge, choice: str = "[data-robot=plen2]"
+) -> None:
+    page.click(f"[data-action=connect]{choice}")
     bridge.pump("document.body.dataset.robotPort", timeout_s=LONG_S)
     page.wait_for("!document.querySelector('[data-action=run-robot]').disabled", LONG_S)
     page.click("[data-action=run-robot]")
@@ -248,7 +306,7 @@ def test_a_mission_on_a_robot_from_the_page_puts_the_same_bytes_on_the_wire_as_t
     page: Browser, tmp_path: Path
 ) -> None:
     with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
-        bridge = SerialBridge(page, tcp_port)
+        bridge = StandInBridge(page, tcp_port)
         _connect_and_run(page, bridge)
         bridge.pump("document.body.dataset.wireLog", timeout_s=LONG_S)
     summary = json.loads(page.evaluate("document.querySelector('[data-role=result]').dataset.json"))
@@ -292,7 +350,7 @@ def _stopped_mid_mission(page: Browser, folder: Path, how: str) -> tuple[bytes, 
     """
     stop = _stop_bytes(folder)
     with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
-        bridge = SerialBridge(page, tcp_port)
+        bridge = StandInBridge(page, tcp_port)
         _connect_and_run(page, bridge)
         bridge.pump("document.body.dataset.robotReady === '1'")
         before = len(bridge.writes)
@@ -333,3 +391,31 @@ def test_a_lost_link_stops_the_mission_in_one_sentence(page: Browser, tmp_path: 
 def test_closing_the_page_sends_the_stop(page: Browser, tmp_path: Path) -> None:
     stop, after = _stopped_mid_mission(page, tmp_path, "close")
     assert after.startswith(stop)
+
+
+def test_a_spike_hub_over_bluetooth_runs_its_mission_from_the_page(
+    page: Browser, tmp_path: Path
+) -> None:
+    mission = MISSIONS / "spike_square.yaml"
+    page.evaluate(
+        "document.querySelector('.CodeMirror').CodeMirror.setValue("
+        + json.dumps(mission.read_text(encoding="utf-8"))
+        + "); document.querySelector('[data-role=name]').value = 'spike_square.yaml'"
+    )
+    with served_simulator("spike-prime", *SIM_OPTIONS) as tcp_port:
+        bridge = StandInBridge(page, tcp_port)
+        _connect_and_run(page, bridge, "[data-via=bluetooth]")
+        bridge.pump("document.body.dataset.wireLog", timeout_s=LONG_S)
+    assert bridge.asked == [{"filters": [{"services": [SERVICE_UUID]}]}]
+    summary = json.loads(page.evaluate("document.querySelector('[data-role=result]').dataset.json"))
+    assert (summary["outcome"], summary["final_state"]) == ("success", "finished")
+    assert max(len(chunk) for chunk in bridge.writes) <= 20  # the hub's packets
+    in_page = tmp_path / "page-wire.log"
+    in_page.write_text(page.evaluate("document.body.dataset.wireLog"), encoding="utf-8")
+    assert b"".join(bridge.writes) == _sent_and_received(in_page)[0]  # the log is the wire
+    with served_simulator("spike-prime", *SIM_OPTIONS) as tcp_port:
+        done = run_cli("run", str(mission), "--port", f"socket://127.0.0.1:{tcp_port}", "--json")
+    assert done.returncode == 0, done.stderr
+    on_the_command_line = json.loads(done.stdout)
+    assert [s for _, s in summary["states"]] == [s for _, s in on_the_command_line["states"]]
+    assert page.errors == []
