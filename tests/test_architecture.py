@@ -392,6 +392,7 @@ FUNCTION_LEVEL_IMPORTS: dict[str, int] = {
     "roboscript.mission.references": 1,
     "roboscript.profiles": 2,
     "roboscript.replay.viewer": 1,
+    "roboscript.transport.ports": 1,
 }
 """How many of the package's own modules each module imports inside a function. Each buys
 start-up time (the command line answers ``--help`` without loading the simulator) or keeps an

@@ -9,9 +9,12 @@ import serial
 from roboscript.errors import InputError, LinkError
 from roboscript.transport.link import PortLike
 from roboscript.transport.socketport import SocketPort, parse_socket_url
-from roboscript.transport.webport import WEB_SCHEMES, open_web_port
 
 __all__ = ["HANDLER_PACKAGES", "open_port"]
+
+WEB_SCHEMES = ("webserial", "webbluetooth")
+"""The URL schemes of ports a student chose in the browser app
+(:mod:`roboscript.transport.webport`)."""
 
 HANDLER_PACKAGES = ("roboscript.transport.urlhandler", "roboscript.sim.urlhandler")
 """Where pyserial looks for ``protocol_<scheme>`` modules: transport's own (``lockstep://``,
@@ -37,6 +40,9 @@ def open_port(url: str, *, baudrate: int = 115200) -> PortLike:
             (``file:line:col``), which is the user's input, not a port problem.
     """
     if url.partition("://")[0].lower() in WEB_SCHEMES:
+        # the browser's ports (and the asyncio they use) load only for their URLs
+        from roboscript.transport.webport import open_web_port
+
         return open_web_port(url, baudrate=baudrate)
     if url[:9].lower() == "socket://":
         try:

@@ -46,7 +46,6 @@ from roboscript.transport.ble import (
 )
 
 __all__ = [
-    "WEB_SCHEMES",
     "PageClock",
     "WebBluetoothPort",
     "WebPort",
@@ -57,9 +56,6 @@ __all__ = [
 ]
 
 logger = logging.getLogger(__name__)
-
-WEB_SCHEMES = ("webserial", "webbluetooth")
-"""The URL schemes of ports chosen in a browser tab."""
 
 LOST_USB = "the robot's USB connection was lost (was the cable pulled out?)"
 LOST_BLUETOOTH = (
@@ -108,8 +104,8 @@ def remember_chosen(scheme: str, device: Any) -> str:
     Raises:
         ValueError: Another scheme.
     """
-    if scheme not in WEB_SCHEMES:
-        raise ValueError(f"expected one of {WEB_SCHEMES}, got {scheme!r}")
+    if scheme not in ("webserial", "webbluetooth"):
+        raise ValueError(f"expected webserial or webbluetooth, got {scheme!r}")
     url = f"{scheme}://{len(_chosen) + 1}"
     _chosen[url] = device
     return url
