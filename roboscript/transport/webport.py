@@ -19,8 +19,11 @@ a :class:`PageClock` (:attr:`WebPort.clock`; the robot takes it, see
 Pyodide's ``run_sync`` (JavaScript Promise Integration, in every Chromium-family browser, the
 only ones with Web Serial), and it is where the page's Stop button, the tab closing and a lost
 link land, as :class:`~roboscript.interrupts.Interrupted`, exactly where Ctrl-C lands on the
-command line; the run then stops the robot first, by its usual path. The ``js`` and
-``pyodide`` modules exist only in the browser and are imported only there.
+command line; the run then stops the robot first, by its usual path. A lost link (the stream
+ends for good, the device goes, a write fails) ends the run the same way, with
+:data:`LOST_USB` or :data:`LOST_BLUETOOTH`, rather than by failing a read: where the line
+still carries writes, the stop still reaches the robot. The ``js`` and ``pyodide`` modules
+exist only in the browser and are imported only there.
 """
 
 from __future__ import annotations
