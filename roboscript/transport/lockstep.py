@@ -11,6 +11,12 @@ simulated time, and what the device answers comes back with the next tick's answ
 host read before that tick, it first asks for what is waiting (``Y``). So a run over this wire
 is, byte for byte, the run the in-process ``sim://`` port gives, with one round trip a tick.
 
+Frames that need no answer (``W``, ``S``, ``Q``) leave with the next frame that does, in one
+write: the world handles frames in order and only a question moves simulated time, so it reads
+them at the same simulated time as if each had been sent alone, while a tick costs one write
+and one wake-up of the world instead of one per frame (what a round trip costs is mostly the
+wake-ups, on a busy machine a scheduler slice each).
+
 Frames are ``kind (1 byte) | length (4 bytes, big-endian) | payload``.
 
 Mission to world:
@@ -48,6 +54,7 @@ from typing import Any, Final
 from roboscript.watchdog import wire_wait
 
 __all__ = [
+    "MAX_HELD_BYTES",
     "MAX_PAYLOAD_BYTES",
     "FrameDecoder",
     "FrameError",
@@ -60,6 +67,9 @@ __all__ = [
 
 MAX_PAYLOAD_BYTES: Final = 256 * 1024
 """Largest payload either side accepts: a serial line's worth of bytes for many seconds."""
+
+MAX_HELD_BYTES: Final = 64 * 1024
+"""Bytes of frames that need no answer the mission side holds before it sends them anyway."""
 
 _HEADER = struct.Struct(">cI")
 _TIME = struct.Struct(">d")
@@ -82,6 +92,10 @@ class Kind:
 
     FROM_MISSION: Final = frozenset(b"CWYTLESQF")
     FROM_WORLD: Final = frozenset(b"OX")
+
+
+_HELD_KINDS: Final = frozenset((Kind.WRITE, Kind.START, Kind.STATE))
+"""Frames that need no answer and change nothing the mission can see before its next question."""
 
 
 class FrameError(ValueError):
@@ -187,6 +201,7 @@ class WorldChannel:
         self._sock = sock
         self._decoder = FrameDecoder(Kind.FROM_WORLD)
         self._frames: list[tuple[bytes, bytes]] = []
+        self._held = bytearray()  # frames that need no answer, not sent yet
         self.stopped = False
 
     @classmethod
@@ -200,12 +215,29 @@ class WorldChannel:
     def send(self, kind: bytes, payload: bytes = b"") -> None:
         """Send a frame that needs no answer.
 
+        ``W``, ``S`` and ``Q`` frames wait (up to :data:`MAX_HELD_BYTES`) and leave with the
+        next frame of another kind, in order; every other frame leaves at once.
+
         Raises:
             WorldStoppedError: The world has hung up.
         """
+        self._held += encode_frame(kind, payload)
+        if kind not in _HELD_KINDS or len(self._held) > MAX_HELD_BYTES:
+            self.flush()
+
+    def flush(self) -> None:
+        """Send the frames held back, if any.
+
+        Raises:
+            WorldStoppedError: The world has hung up.
+        """
+        if not self._held:
+            return
+        data = bytes(self._held)
+        self._held.clear()
         try:
             with wire_wait():  # a busy world's time, never the mission's own
-                self._sock.sendall(encode_frame(kind, payload))
+                self._sock.sendall(data)
         except OSError as exc:
             raise WorldStoppedError(f"the simulated world hung up: {exc}") from None
 
@@ -248,5 +280,10 @@ class WorldChannel:
         return self._sock.fileno()
 
     def close(self) -> None:
-        """Close the socket."""
-        self._sock.close()
+        """Send what is held back (if the world still listens), then close the socket."""
+        try:
+            self.flush()
+        except WorldStoppedError:
+            pass
+        finally:
+            self._sock.close()
