@@ -53,6 +53,7 @@ from pathlib import Path
 from typing import Any, Literal
 
 from roboscript.grading.cpu_time import process_tree_cpu_s, process_tree_waited_s
+from roboscript.grading.latency import ask_short_slice
 from roboscript.grading.mission_host import LOAD_LIMIT_S
 from roboscript.grading.record import Collision, RunRecord, RunStatus, Tone
 from roboscript.grading.sandbox import Jail, JailedRun, Limits, WarmJail
@@ -193,6 +194,7 @@ def run_world(
     start = Pose(*variant.start) if variant.start is not None else None
     sim = Simulation(world, profile, variant.seed, start=start)
     readable, robot_arg = _jail_files(spec, mission, visible)
+    ask_short_slice()  # this world and the jail it starts take turns twice a tick
     # A file, not an argument: a world's regions can outgrow the 128 KiB an argument may hold.
     with tempfile.TemporaryDirectory(prefix="roboscript-world-") as folder:
         map_text = WorldMap.of(sim).to_json()
@@ -270,6 +272,7 @@ def warm_jail(
     """
     mission = Path(mission_path).resolve()
     readable, robot_arg = _jail_files(spec, mission, visible)
+    ask_short_slice()  # inherited by the jail: its runs and this world take turns twice a tick
     return WarmJail(
         "roboscript.grading.mission_host",
         [robot_arg],
