@@ -73,6 +73,35 @@ def test_a_graded_run_records_exactly_the_in_process_run(
         assert graded.record.path, "the world recorded the path"
 
 
+def _graded_runs(tmp_path: Path, name: str) -> list[dict[str, Any]]:
+    """Each run of a graded class as ``--results`` writes it (the replay too), less the two
+    fields that measure the machine rather than the run."""
+    results = tmp_path / name
+    square = MISSIONS / "teacher" / "square"
+    done = run_cli(
+        "grade", str(square / "test.yaml"), "--mission", str(MISSIONS / "square.py"),
+        "--results", str(results),
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    runs = [json.loads(line) for line in results.read_text(encoding="utf-8").splitlines()[1:]]
+    for run in runs:
+        del run["wall_time_s"], run["during_load"]
+    return runs
+
+
+def test_a_seed_grades_to_the_same_results_on_an_idle_and_a_saturated_machine(
+    tmp_path: Path,
+) -> None:
+    # The wire's frames are written in batches whose size follows the machine's timing; what
+    # the world does with them, and so every byte of the results, must not.
+    idle = _graded_runs(tmp_path, "idle.jsonl")
+    with every_core_busy():
+        busy = _graded_runs(tmp_path, "busy.jsonl")
+    assert [run["status"] for run in idle] == ["passed"] * 3
+    assert idle[0]["replay"]["frames"], "the replay is compared too"
+    assert busy == idle
+
+
 def _mission(tmp_path: Path, name: str, code: str) -> str:
     path = tmp_path / name
     path.write_text(code, encoding="utf-8")

@@ -10,6 +10,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from roboscript.transport.lockstep import (
+    MAX_HELD_BYTES,
     MAX_PAYLOAD_BYTES,
     FrameDecoder,
     FrameError,
@@ -143,3 +144,64 @@ def test_a_read_right_after_a_write_sees_the_answer_as_in_process() -> None:
     mission_end.close()
     thread.join()
     assert seen == [Kind.OPEN, Kind.WRITE, Kind.SYNC, Kind.WRITE, Kind.TICK]
+
+
+def test_frames_that_need_no_answer_leave_with_the_next_question_in_one_write() -> None:
+    mission_end, world_end = socket.socketpair()
+    world_end.setblocking(False)
+    channel = WorldChannel(mission_end)
+    channel.send(Kind.START)
+    channel.send(Kind.WRITE, b"M,0,100\n")
+    channel.send(Kind.STATE, b"forward")
+    with pytest.raises(BlockingIOError):  # held: nothing to wake the world for yet
+        world_end.recv(4096)
+    world_end.sendall(encode_frame(Kind.OUTPUT, b"@E,2\n"))  # the answer, ready in advance
+    assert channel.request(Kind.TICK, encode_time(0.02)) == b"@E,2\n"
+    data = world_end.recv(4096)  # one write: everything, in the order it was sent
+    assert [kind for kind, _ in FrameDecoder(Kind.FROM_MISSION).feed(data)] == [
+        Kind.START,
+        Kind.WRITE,
+        Kind.STATE,
+        Kind.TICK,
+    ]
+    channel.close()
+    world_end.close()
+
+
+def test_a_report_leaves_at_once_with_what_was_held() -> None:
+    mission_end, world_end = socket.socketpair()
+    channel = WorldChannel(mission_end)
+    channel.send(Kind.STATE, b"done")
+    channel.send_json(Kind.FINISH, {"outcome": "success"})
+    world_end.settimeout(5)
+    frames = list(FrameDecoder(Kind.FROM_MISSION).feed(world_end.recv(4096)))
+    assert [kind for kind, _ in frames] == [Kind.STATE, Kind.FINISH]
+    channel.close()
+    world_end.close()
+
+
+def test_a_flood_of_writes_is_sent_once_it_passes_the_held_limit() -> None:
+    mission_end, world_end = socket.socketpair()
+    world_end.setblocking(False)
+    channel = WorldChannel(mission_end)
+    frame_bytes = len(encode_frame(Kind.WRITE, b"x" * 1000))
+    for _ in range(MAX_HELD_BYTES // frame_bytes):
+        channel.send(Kind.WRITE, b"x" * 1000)
+    with pytest.raises(BlockingIOError):  # all held, up to the limit
+        world_end.recv(1)
+    channel.send(Kind.WRITE, b"x" * 1000)  # past it: out it goes, without a question
+    assert len(world_end.recv(1 << 20)) > MAX_HELD_BYTES
+    channel.close()
+    world_end.close()
+
+
+def test_closing_the_channel_sends_what_was_held() -> None:
+    mission_end, world_end = socket.socketpair()
+    channel = WorldChannel(mission_end)
+    channel.send(Kind.WRITE, b"stop\n")
+    channel.close()
+    world_end.settimeout(5)
+    assert list(FrameDecoder(Kind.FROM_MISSION).feed(world_end.recv(4096))) == [
+        (Kind.WRITE, b"stop\n")
+    ]
+    world_end.close()
