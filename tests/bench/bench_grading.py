@@ -16,6 +16,12 @@ collisions, regions, a wall-distance band, duration). It grades two classes:
 It prints each class's wall time against the goal (under 60 s on the 2-core reference
 machine), the troubled class's time as a ratio to the honest class's (the cost of the broken
 submissions), and the aggregate real-time factor.
+
+The cost of isolation is the honest class graded sandboxed against the same runs done
+in-process (no second process, no wire, no jail), both in this one run, in the order
+sandboxed, in-process, in-process, sandboxed over the two halves of the class, so a load that
+rises or falls while it runs weighs on both alike. The row gives the load average before and
+after. The script exits with status 1 when that ratio is over 1.5.
 """
 
 from __future__ import annotations
@@ -23,6 +29,7 @@ from __future__ import annotations
 import argparse
 import concurrent.futures
 import multiprocessing
+import os
 import shutil
 import sys
 import tempfile
@@ -47,7 +54,7 @@ from roboscript.grading.spec import TestSpec, Variant  # noqa: E402
 from roboscript.mission import mission_for_robot  # noqa: E402
 from roboscript.session import run_session  # noqa: E402
 
-__all__ = ["CLASS_WALL_GOAL_S", "measure"]
+__all__ = ["CLASS_WALL_GOAL_S", "ISOLATION_COST_GOAL", "ISOLATION_ROW", "measure"]
 
 KEY = "7"
 STUDENTS = 30
@@ -56,6 +63,7 @@ CLASS_WALL_GOAL_S = 60.0
 """The issue's goal: 30 missions x 3 seeds of about 60 s each, graded in under a minute."""
 ISOLATION_COST_GOAL = 1.5
 """Sandboxed grading may take at most this multiple of the same runs done in-process."""
+ISOLATION_ROW = "grading: sandboxed class time / the same runs in-process"
 
 SPEC = """\
 test: patrol-minute
@@ -142,11 +150,14 @@ def _make_class(
     return spec, submissions
 
 
-def _grade(students: int, troubled: bool, jobs: int | None) -> tuple[float, Any]:
+def _grade(
+    students: int, troubled: bool, jobs: int | None, part: slice = slice(None)
+) -> tuple[float, Any]:
+    """Wall seconds to grade the class (its ``part`` of the students), and the report."""
     with tempfile.TemporaryDirectory(prefix="bench-grading-") as tmp:
         spec, submissions = _make_class(Path(tmp), students, SEEDS, troubled)
         specs = find_specs([str(spec)])
-        found = find_submissions([str(submissions)])
+        found = find_submissions([str(submissions)])[part]
         started = time.perf_counter()
         report = grade_class(specs, found, jobs)
         return time.perf_counter() - started, report
@@ -173,8 +184,9 @@ def _in_process_run(spec: TestSpec, mission: str, variant: Variant) -> float:
     return record.duration_s
 
 
-def _grade_in_process(students: int, jobs: int | None) -> float:
-    """Wall seconds to do the honest class's runs in-process, ``jobs`` warm workers at a time.
+def _grade_in_process(students: int, jobs: int | None, part: slice = slice(None)) -> float:
+    """Wall seconds to do the honest class's runs (its ``part`` of the students) in-process,
+    ``jobs`` warm workers at a time.
 
     The baseline the sandbox is measured against: the same missions, variants and judging,
     with no second process, no wire and no jail (workers are reused, which only flatters it).
@@ -184,7 +196,7 @@ def _grade_in_process(students: int, jobs: int | None) -> float:
         spec = find_specs([str(spec_file)])[0]
         runs = [
             (spec, mission, variant)
-            for submission in find_submissions([str(submissions)])
+            for submission in find_submissions([str(submissions)])[part]
             for mission in submission.missions
             for variant in spec.variants
         ]
@@ -196,18 +208,34 @@ def _grade_in_process(students: int, jobs: int | None) -> float:
         return time.perf_counter() - started
 
 
+def _isolation_cost(students: int, jobs: int | None) -> tuple[float, list[Any], float, str]:
+    """The honest class sandboxed and in-process, interleaved (see the module docstring).
+
+    Returns:
+        Sandboxed wall seconds, the sandboxed results, in-process wall seconds, and the load
+        average (one minute) before and after, as text.
+    """
+    load_before = os.getloadavg()[0]
+    halves = (slice(None, students // 2), slice(students // 2, None))
+    first_s, first = _grade(students, False, jobs, halves[0])
+    in_process_s = _grade_in_process(students, jobs, halves[0])
+    in_process_s += _grade_in_process(students, jobs, halves[1])
+    second_s, second = _grade(students, False, jobs, halves[1])
+    load = f"{load_before:.1f} -> {os.getloadavg()[0]:.1f}"
+    return first_s + second_s, [*first.results, *second.results], in_process_s, load
+
+
 def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
     """Grade the benchmark class once; return the rows (wall time against the goal, RTF)."""
     students = 12 if quick else STUDENTS
-    wall_s, report = _grade(students, False, jobs)
-    in_process_s = _grade_in_process(students, jobs)
+    wall_s, results, in_process_s, load = _isolation_cost(students, jobs)
     troubled_s, troubled = _grade(students, True, jobs)
     statuses = Counter(r.status for r in troubled.results)
-    simulated_s = sum(r.record.duration_s for r in report.results if r.record is not None)
-    unfinished = [r for r in report.results if r.record is None]
+    simulated_s = sum(r.record.duration_s for r in results if r.record is not None)
+    unfinished = [r for r in results if r.record is None]
     if unfinished:
         raise SystemExit(f"{len(unfinished)} runs did not finish: {unfinished[0].message}")
-    runs = len(report.results)
+    runs = len(results)
     workers = jobs or default_jobs()
     detail = (
         f"{runs} runs ({students} missions x {SEEDS} seeds), {simulated_s:.0f} s simulated,"
@@ -239,11 +267,11 @@ def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
         ),
         at_most(
             KEY,
-            "grading: sandboxed class time / the same runs in-process",
+            ISOLATION_ROW,
             wall_s / in_process_s,
             ISOLATION_COST_GOAL,
             f"{wall_s:.1f} s sandboxed ({detect_isolation().name}), {in_process_s:.1f} s"
-            f" in-process, {runs} runs, {workers} workers",
+            f" in-process, {runs} runs, {workers} workers, load average {load}",
         ),
         info(
             KEY,
@@ -262,7 +290,15 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, help="workers at once (default: one per core)")
     args = parser.parse_args()
     print("\n".join(machine_header("not pinned (one worker process per run)")))
-    print(format_table(measure(args.quick, args.jobs)))
+    rows = measure(args.quick, args.jobs)
+    print(format_table(rows))
+    isolation = next(row for row in rows if row.name == ISOLATION_ROW)
+    if not isolation.passed:
+        print(
+            f"the sandbox costs {isolation.ratio_text}, over {ISOLATION_COST_GOAL:g} ×",
+            file=sys.stderr,
+        )
+        sys.exit(1)
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""A graded run's processes ask for short scheduler slices, and the processes they start keep them."""
+"""A graded run's processes ask for short scheduler slices; the processes they start keep them."""
 
 from __future__ import annotations
 
@@ -35,7 +35,9 @@ def test_a_short_slice_is_granted_and_inherited_by_the_processes_started_after()
         "child = [sys.executable, '-c', 'print(open(\"/proc/self/sched\").read())']\n"
         "print(subprocess.run(child, capture_output=True, text=True, check=True).stdout)\n"
     )
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    done = subprocess.run(
+        [sys.executable, "-c", code], check=False, capture_output=True, text=True, timeout=60
+    )
     assert done.returncode == 0, done.stderr
     slices = [line.split(":")[1].strip() for line in done.stdout.splitlines() if "slice" in line]
     assert slices == [str(SLICE_NS)]
