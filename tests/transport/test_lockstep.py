@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import socket
 import threading
+from collections.abc import Iterator
 
 import pytest
 from hypothesis import given
@@ -146,10 +147,27 @@ def test_a_read_right_after_a_write_sees_the_answer_as_in_process() -> None:
     assert seen == [Kind.OPEN, Kind.WRITE, Kind.SYNC, Kind.WRITE, Kind.TICK]
 
 
-def test_frames_that_need_no_answer_leave_with_the_next_question_in_one_write() -> None:
+def _one_write(world_end: socket.socket) -> list[tuple[bytes, bytes]]:
+    """The frames that arrive together, in one read."""
+    world_end.settimeout(5)
+    return list(FrameDecoder(Kind.FROM_MISSION).feed(world_end.recv(1 << 20)))
+
+
+@pytest.fixture
+def wire() -> Iterator[tuple[WorldChannel, socket.socket]]:
+    """The mission's channel and the world's end of the socket, closed after the test."""
     mission_end, world_end = socket.socketpair()
     world_end.setblocking(False)
     channel = WorldChannel(mission_end)
+    yield channel, world_end
+    channel.close()
+    world_end.close()
+
+
+def test_frames_that_need_no_answer_leave_with_the_next_question_in_one_write(
+    wire: tuple[WorldChannel, socket.socket],
+) -> None:
+    channel, world_end = wire
     channel.send(Kind.START)
     channel.send(Kind.WRITE, b"M,0,100\n")
     channel.send(Kind.STATE, b"forward")
@@ -157,51 +175,34 @@ def test_frames_that_need_no_answer_leave_with_the_next_question_in_one_write() 
         world_end.recv(4096)
     world_end.sendall(encode_frame(Kind.OUTPUT, b"@E,2\n"))  # the answer, ready in advance
     assert channel.request(Kind.TICK, encode_time(0.02)) == b"@E,2\n"
-    data = world_end.recv(4096)  # one write: everything, in the order it was sent
-    assert [kind for kind, _ in FrameDecoder(Kind.FROM_MISSION).feed(data)] == [
-        Kind.START,
-        Kind.WRITE,
-        Kind.STATE,
-        Kind.TICK,
-    ]
-    channel.close()
-    world_end.close()
+    sent = _one_write(world_end)  # everything, in the order it was sent
+    assert [kind for kind, _ in sent] == [Kind.START, Kind.WRITE, Kind.STATE, Kind.TICK]
 
 
-def test_a_report_leaves_at_once_with_what_was_held() -> None:
-    mission_end, world_end = socket.socketpair()
-    channel = WorldChannel(mission_end)
+def test_a_report_leaves_at_once_with_what_was_held(
+    wire: tuple[WorldChannel, socket.socket],
+) -> None:
+    channel, world_end = wire
     channel.send(Kind.STATE, b"done")
     channel.send_json(Kind.FINISH, {"outcome": "success"})
-    world_end.settimeout(5)
-    frames = list(FrameDecoder(Kind.FROM_MISSION).feed(world_end.recv(4096)))
-    assert [kind for kind, _ in frames] == [Kind.STATE, Kind.FINISH]
-    channel.close()
-    world_end.close()
+    assert [kind for kind, _ in _one_write(world_end)] == [Kind.STATE, Kind.FINISH]
 
 
-def test_a_flood_of_writes_is_sent_once_it_passes_the_held_limit() -> None:
-    mission_end, world_end = socket.socketpair()
-    world_end.setblocking(False)
-    channel = WorldChannel(mission_end)
+def test_a_flood_of_writes_is_sent_once_it_passes_the_held_limit(
+    wire: tuple[WorldChannel, socket.socket],
+) -> None:
+    channel, world_end = wire
     frame_bytes = len(encode_frame(Kind.WRITE, b"x" * 1000))
     for _ in range(MAX_HELD_BYTES // frame_bytes):
         channel.send(Kind.WRITE, b"x" * 1000)
     with pytest.raises(BlockingIOError):  # all held, up to the limit
         world_end.recv(1)
     channel.send(Kind.WRITE, b"x" * 1000)  # past it: out it goes, without a question
-    assert len(world_end.recv(1 << 20)) > MAX_HELD_BYTES
-    channel.close()
-    world_end.close()
+    assert len(_one_write(world_end)) > MAX_HELD_BYTES // frame_bytes
 
 
-def test_closing_the_channel_sends_what_was_held() -> None:
-    mission_end, world_end = socket.socketpair()
-    channel = WorldChannel(mission_end)
+def test_closing_the_channel_sends_what_was_held(wire: tuple[WorldChannel, socket.socket]) -> None:
+    channel, world_end = wire
     channel.send(Kind.WRITE, b"stop\n")
     channel.close()
-    world_end.settimeout(5)
-    assert list(FrameDecoder(Kind.FROM_MISSION).feed(world_end.recv(4096))) == [
-        (Kind.WRITE, b"stop\n")
-    ]
-    world_end.close()
+    assert _one_write(world_end) == [(Kind.WRITE, b"stop\n")]
