@@ -27,7 +27,7 @@ HERE = Path(__file__).resolve().parent
 SHIMS = HERE / "shims"
 HARNESS_SOURCE = HERE / "harness" / "avrboard.c"
 ARDUINO_AVR = Path("/usr/share/arduino/hardware/arduino/avr")
-TOOLS = ("avr-gcc", "avr-g++", "avr-ar", "cc", "pkg-config")
+TOOLS = ("avr-gcc", "avr-g++", "avr-ar", "avr-nm", "cc", "pkg-config")
 ARDUINO_VERSION = "10807"
 """The Arduino IDE version Debian's arduino-core-avr 1.8.7 comes from."""
 CORE_FILE_DEFINES = {"WString.cpp": ("DECIMAL_DIG=__DECIMAL_DIG__",)}
@@ -217,6 +217,23 @@ def build(recipe: Recipe) -> Path:
     return elf
 
 
+def symbol_address(elf: Path, name: str) -> int:
+    """The data-space address of the variable ``name`` (demangled, as ``avr-nm -C`` prints
+    it) in ``elf``.
+
+    Raises:
+        KeyError: The firmware has no such variable.
+    """
+    listing = subprocess.run(
+        ["avr-nm", "-C", str(elf)], capture_output=True, text=True, check=True
+    ).stdout
+    for line in listing.splitlines():
+        address, _, symbol = line.split(" ", 2)
+        if symbol == name:
+            return int(address, 16) & 0xFFFF  # the linker puts data space at 0x800000
+    raise KeyError(name)
+
+
 def harness() -> Path:
     """The lockstep harness (a small C program on libsimavr), compiled once per source."""
     source = HARNESS_SOURCE.read_bytes()
@@ -257,7 +274,8 @@ class Board:
         f_cpu_hz: Clock, hertz.
         uart: Which UART the host's line is wired to (``"0"``, ``"1"``).
         baud: The line's speed, bits per second (the firmware's own ``Serial.begin``).
-        eeprom: ``(i2c_addresses, bytes)``: an I2C EEPROM of that size on the TWI bus at each
+        eeprom: ``(i2c_addresses, bytes)``: an I2C EEPROM of that size (24xx-series, two
+            address bytes, 128-byte pages; the harness's own model) on the TWI bus at each
             address, or None.
     """
 
@@ -351,6 +369,24 @@ class Board:
     def peek(self, address: int, count: int = 1) -> bytes:
         """Read the board's data memory (I/O registers start at 0x20)."""
         return bytes.fromhex(self._ask(f"M {address} {count}")[2:])
+
+    def watch(self, flag: int, address: int, count: int) -> None:
+        """From now on, snapshot ``count`` bytes (at most 64) of data memory at ``address``
+        each time the byte at ``flag`` falls from non-zero to zero; see :meth:`snapshots`."""
+        self._ask(f"V {flag} {address} {count}")
+
+    def snapshots(self) -> list[tuple[int, bytes]]:
+        """The (cycle, bytes) snapshots :meth:`watch` took since the last call, oldest first."""
+        taken = []
+        for item in self._ask("G").split()[1:]:
+            cycle, data = item.split(":")
+            taken.append((int(cycle), bytes.fromhex(data)))
+        return taken
+
+    def read_eeprom(self, index: int, offset: int, count: int) -> bytes:
+        """Read ``count`` bytes at ``offset`` of the ``index``-th I2C EEPROM attached (in the
+        order of the addresses given), as the part holds them now."""
+        return bytes.fromhex(self._ask(f"R {index} {offset} {count}")[2:])
 
     def exchange(self, data: bytes, settle_s: float) -> bytes:
         """Send ``data``, run ``settle_s`` more, and return what the board sent meanwhile."""

@@ -6,10 +6,9 @@ The firmware (``plen-Firmware_Arduino`` 1.4.2) runs unchanged on an emulated ATm
 goes to it and to ``roboscript sim``'s PLEN2 the way the driver paces it (32-byte writes 50 ms
 apart), and every answer is compared byte for byte.
 
-Motions live in the board's external I2C EEPROM (a 24FC1025). The harness attaches simavr's
-``i2c_eeprom`` part where the firmware looks for it, but with simavr 1.6's TWI and Arduino's
-``Wire`` the firmware's reads come back short (a motion reads as an empty slot), so installing
-and reading back a motion is not compared here yet (docs/robots/plen2.md).
+Motions live in the board's external I2C EEPROM (a 24FC1025), attached here as the harness's
+own model of the part; installing, reading back and playing motions against the firmware is
+``test_plen2_motions.py``.
 """
 
 from __future__ import annotations

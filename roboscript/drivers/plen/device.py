@@ -10,9 +10,13 @@ driver), written from the firmware's behaviour:
   (``>HO``, ``>MA``, ``>MI``, ``>JS``); ``$AN`` and ``$AD`` are clamped to [min, max]; ``$HP``
   moves every joint home.
 * Motion memory: 90 slots of a header and up to 20 frames, written by ``>MH`` and ``>MF``.
-* Playback with the motion controller's timing: every 32 ms (``UPDATE_INTERVAL_S``, counted from
-  power-on) each joint moves one equal fixed-point step (16 fractional bits, C integer
-  division) towards the next frame, ``transition_time_ms // 32`` steps per frame. Interpolation
+* Playback with the motion controller's timing: each joint moves one equal fixed-point step
+  (16 fractional bits, C integer division) towards the next frame per update,
+  ``transition_time_ms // 32`` updates per frame. An update falls due every 32.768 ms
+  (``UPDATE_INTERVAL_S``, counted from power-on: Timer 1's 4.096 ms overflow, once per eight
+  multiplexed servos, ``JointController.cpp``) and runs at once if a motion plays, else waits
+  for one, so the first update of a motion started after a pause comes straight away
+  (``m_1cycle_finished`` stays set while nothing plays). Interpolation
   starts from the last frame the controller played, not from where ``$AD`` left a joint.
   ``$PM`` is ignored while a motion plays. A loop code ``[begin, end, count]`` jumps back after
   ``end`` ``count`` times (0 and 255: until stopped), then plays on; a jump code continues with
@@ -33,9 +37,12 @@ the knee, a positive left thigh roll leans the robot right; the right side is mi
 (negative offsets), as its home angles are; a positive thigh-yaw offset turns that foot's toes
 outward. Ankles and arms do not move the body. Walls stop the body as they stop a wheeled one.
 
-Simplifications: an erased slot dumps as a motion of no frames (a real EEPROM prints whatever
-it holds) and ``$PM`` of one does nothing; an ``>MF`` that was never written reads as an
-erased frame (65535 ms, every value −1).
+Simplifications: an erased slot dumps as a motion of no frames and ``$PM`` of one does
+nothing. The firmware prints the erased header as it reads it (slot 255, a name of 0xFF
+bytes, a loop and a jump code) and then 255 frames (``MotionController::dump`` loops to the
+header's ``frame_length``; ``Frame::get`` refuses an index of 20 or more and leaves the
+previous frame in place), about 260 KB that no host reads as a motion. An ``>MF`` that was
+never written reads as an erased frame (65535 ms, every value −1).
 """
 
 from __future__ import annotations
@@ -56,8 +63,10 @@ if TYPE_CHECKING:
 
 __all__ = ["HIP_WIDTH_MM", "LEG_SEGMENT_MM", "UPDATE_INTERVAL_S", "Plen2Board", "simulated_device"]
 
-UPDATE_INTERVAL_S = 0.032
-"""The motion controller's update period, seconds (``UPDATE_INTERVAL_MS``)."""
+UPDATE_INTERVAL_S = 8 * 1024 * 64 / 16_000_000
+"""The motion controller's update period, seconds: 32.768 ms, eight Timer 1 overflows (10-bit
+fast PWM, prescaler 64, 16 MHz), one per multiplexed servo line; ``UPDATE_INTERVAL_MS`` (32)
+is the nominal value the firmware divides transition times by."""
 LEG_SEGMENT_MM = 45.0
 """Length of the simulated thigh and of the shank, mm."""
 HIP_WIDTH_MM = 50.0
@@ -127,6 +136,9 @@ class Plen2Board:
         self._fixed = [0] * m.JOINT_COUNT
         self._step = [0] * m.JOINT_COUNT
         self._next_update_s = UPDATE_INTERVAL_S
+        self._update_due = False
+        self.update_count = 0
+        """Motion-controller updates run since power-on (one each period while playing)."""
         self._feet = self._foot_positions()
 
     # ------------------------------------------------------------------------- SimDevice API
@@ -143,11 +155,16 @@ class Plen2Board:
             self._handle(cast(m.PlenMessage, message))
 
     def step(self, now_s: float) -> None:
-        """Run the 32 ms updates due by ``now_s``."""
-        while now_s >= self._next_update_s - 1e-9:
-            self._next_update_s += UPDATE_INTERVAL_S
-            if self.playing:
+        """Run the updates due by ``now_s`` (one for each period passed while a motion plays,
+        and the one left due when a motion has just started)."""
+        while True:
+            if self.playing and self._update_due:
+                self._update_due = False
                 self._update()
+            if now_s < self._next_update_s - 1e-9:
+                return
+            self._next_update_s += UPDATE_INTERVAL_S
+            self._update_due = True
 
     def pending_input_bytes(self) -> int:
         """Request bytes received and not yet a whole message (a frame the host has not
@@ -306,6 +323,7 @@ class Plen2Board:
             self._step[joint] = _cdiv(target - self._fixed[joint], self._count)
 
     def _update(self) -> None:
+        self.update_count += 1
         self._count -= 1
         for joint in range(m.JOINT_COUNT):
             self._fixed[joint] += self._step[joint]

@@ -5,6 +5,10 @@ one roboscript is written against; another 1.4 release gets a notice, anything e
 refused). Then ``<MO`` reads each gait slot (80–83, see :mod:`~roboscript.drivers.plen.gaits`).
 A slot whose dump differs from roboscript's gait, holds nothing, or answers with bytes that are
 not a motion, is written with ``>MH`` + ``>MF`` and read back to check. Then the robot is ready.
+Bytes that are not a motion mean an erased motion memory (a robot roboscript has not set up):
+the firmware dumps an erased slot as 255 frames (``MotionController::dump`` prints the
+header's ``frame_length``, 0xFF), about 260 KB and 5 s of output each, so the gait slots not
+read yet are then written without being read first.
 
 Replies have no terminator: the codec frames one when its brackets balance, and the driver
 waits for it on the scheduler clock, giving up after 0.5 s without a byte (the wait restarts
@@ -106,6 +110,8 @@ class _Ask:
     on_reply: Callable[[m.Reply], None]
     on_garbled: Callable[[], None] | None = None
     motion: bool = False
+    checks: Gait | None = None
+    """The gait whose slot this read checks during the handshake."""
 
 
 @dataclass
@@ -223,6 +229,7 @@ class PlenDriver(Driver):
                 m.GetMotion(gait.slot),
                 self._checker(gait),
                 on_garbled=self._installer(gait),
+                checks=gait,
             )
             for gait in self.gaits.values()
         ]
@@ -236,7 +243,19 @@ class PlenDriver(Driver):
         return check
 
     def _installer(self, gait: Gait) -> Callable[[], None]:
-        return lambda: self._install(gait)
+        def install_the_rest() -> None:
+            # A slot that holds no motion at all is an erased (or failing) motion memory, and
+            # reading an erased slot dumps 255 frames (seconds of output each): the gait slots
+            # not read yet are written unread, after this one.
+            unread = [op for op in self._ops if isinstance(op, _Ask) and op.checks is not None]
+            for op in unread:
+                self._ops.remove(op)
+            for op in reversed(unread):
+                assert op.checks is not None
+                self._install(op.checks)
+            self._install(gait)
+
+        return install_the_rest
 
     def _install(self, gait: Gait) -> None:
         """Queue the paced writes of ``gait`` and a read-back, before anything else."""

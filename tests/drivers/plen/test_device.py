@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import random
 import socket
 
@@ -172,6 +173,27 @@ def test_frames_are_interpolated_in_32_ms_steps() -> None:
     assert not rig.board.playing
 
 
+def test_updates_fall_due_every_32_768_ms_and_a_motion_after_a_pause_starts_at_once() -> None:
+    # Timer 1 overflows every 4.096 ms and the update is due once per 8 (JointController.cpp);
+    # the due flag stays set while nothing plays, so the first update comes straight away.
+    assert pytest.approx(0.032768) == UPDATE_INTERVAL_S
+    rig = Rig()
+    rig.store(knee_motion(), KNEE_FRAMES)
+    rig.run(1.0)
+    rig.send(b"$pm05")
+    rig.run(0.005)
+    assert rig.knee() == 50
+    update_s = []
+    while rig.board.playing:
+        before = rig.board.update_count
+        rig.run(0.001)
+        if rig.board.update_count != before:
+            update_s.append(rig.now_s)
+    assert len(update_s) == 6
+    gaps = [later - earlier for earlier, later in itertools.pairwise(update_s)]
+    assert gaps == pytest.approx([UPDATE_INTERVAL_S] * 5, abs=0.0051)
+
+
 def test_a_play_while_playing_is_ignored() -> None:
     rig = Rig()
     rig.store(knee_motion(), KNEE_FRAMES)
@@ -249,7 +271,7 @@ def play_gait(rig: Rig, key: str, steps: int) -> None:
     rig.store(gait.header, list(gait.frames))
     codec = PlenCodec(Role.HOST)
     rig.send(codec.send(PushMotion(gait.slot, steps)) + codec.send(PopMotion()))
-    rig.run_until_idle()
+    rig.run_until_idle(limit_s=60.0)
 
 
 def test_walking_forward_moves_the_body_along_its_heading() -> None:

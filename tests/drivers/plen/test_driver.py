@@ -160,7 +160,7 @@ def test_only_the_missing_or_different_gait_is_installed() -> None:
     assert b">MH53RS Turn Left" in rig.port.sent()
 
 
-def test_a_garbled_slot_counts_as_missing() -> None:
+def test_a_garbled_slot_is_written_and_the_gait_slots_after_it_are_written_unread() -> None:
     rig = Rig(preinstalled(*GAIT_KEYS))
 
     def erased(request: bytes, reply: bytes) -> bytes | None:
@@ -171,7 +171,10 @@ def test_a_garbled_slot_counts_as_missing() -> None:
 
     rig.port.answer = erased
     rig.connect()
-    assert rig.driver.installed == ["walk_backward"]
+    # An erased slot dumps 255 frames on the real firmware: the slots after it are not read.
+    assert rig.driver.installed == ["walk_backward", "turn_right", "turn_left"]
+    assert b"<MO52" not in rig.port.sent().split(b">MH51")[0]
+    assert rig.port.sent().startswith(b"<VI<MO50<MO51>MH51")
 
 
 def test_a_reply_arriving_in_pieces_is_read_until_complete() -> None:

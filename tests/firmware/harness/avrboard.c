@@ -20,12 +20,34 @@
  *                      quadrature encoder n (0 or 1) on two input pins: make <steps> Gray-code
  *                      steps (negative: backwards) spread evenly over the next <cycles>, as a
  *                      turning wheel would                                  -> "K"
+ *   V <flag> <addr> <count>
+ *                      snapshot <count> (at most 64) bytes of data memory at <addr> each time
+ *                      the byte at <flag> falls from non-zero to zero (a firmware clearing its
+ *                      "update due" flag once the update is done)          -> "K"
+ *   G                  the snapshots taken since the last G, oldest first
+ *                      -> "G <cycle>:<hex> <cycle>:<hex> ..."
+ *   R <n> <offset> <count>
+ *                      read I2C EEPROM n's memory (n counts the addresses given at start-up)
+ *                                                                          -> "R <hex>"
  *   Q                  end
  *
  * If the AVR stops (crash, sleep with interrupts off) the answer is "X <state>".
  *
  * Usage: avrboard ELF MCU F_CPU_HZ UART_INDEX BAUD [EEPROM_I2C_ADDRESSES EEPROM_BYTES]
  * (addresses comma-separated, one I2C EEPROM of EEPROM_BYTES on the TWI bus at each)
+ *
+ * The I2C EEPROM is the harness's own model of a Microchip 24xx-series serial EEPROM with two
+ * address bytes (24LC512/24xx1025 datasheets), not simavr's example part (which holds at most
+ * 4 KiB, takes the address bytes low byte first and forgets its address pointer at STOP):
+ *   - control byte = its 7-bit address and R/W; it acknowledges it unless a write cycle runs;
+ *   - a write: address high, address low, then data bytes into a 128-byte page buffer; the
+ *     low 7 address bits wrap within the page; the page is written when the master sends
+ *     STOP after at least one data byte, and for EEPROM_WRITE_CYCLE_S (tWC, the datasheet's
+ *     maximum) the part then answers nothing (NACK: the master's "acknowledge polling");
+ *     a repeated START instead of STOP loses the page, as on the part;
+ *   - a read (after STOP or a repeated START): bytes from the address pointer, which is kept
+ *     between transactions and increments after every byte read or written, rolling over at
+ *     the end of the part; the master's NACK ends the read.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -39,7 +61,6 @@
 #include <simavr/avr_ioport.h>
 #include <simavr/avr_adc.h>
 #include <simavr/avr_twi.h>
-#include <simavr/parts/i2c_eeprom.h>
 
 #define QUEUE_BYTES (1 << 16)
 
@@ -51,7 +72,33 @@ static unsigned char in[QUEUE_BYTES];
 static size_t in_head, in_tail;
 static avr_cycle_count_t cycles_per_byte;
 static int feeding;
-static i2c_eeprom_t eeproms[4];
+#define EEPROM_PAGE_BYTES 128
+#define EEPROM_WRITE_CYCLE_S 0.005
+#define EEPROMS 4
+
+struct eeprom {
+    avr_irq_t *irq;             /* [0] to the TWI's input, [1] from its output */
+    uint8_t address;            /* 7-bit I2C address */
+    uint8_t *memory;
+    uint32_t size;              /* bytes, a power of two */
+    int selected;               /* 1: addressed for writing, 2: for reading, 0: not addressed */
+    int address_bytes;          /* address bytes received in this write */
+    uint32_t pointer;           /* the internal address pointer */
+    uint8_t page[EEPROM_PAGE_BYTES];
+    uint8_t dirty[EEPROM_PAGE_BYTES];
+    uint32_t page_base;
+    int data_bytes;             /* data bytes latched since the control byte */
+    avr_cycle_count_t busy_until;
+};
+static struct eeprom eeproms[EEPROMS];
+static int eeprom_count;
+
+#define SNAPSHOT_BYTES 64
+struct snapshot { avr_cycle_count_t cycle; unsigned char data[SNAPSHOT_BYTES]; };
+static struct snapshot *snapshots;
+static size_t snapshot_count, snapshot_capacity;
+static unsigned long watch_flag, watch_address, watch_count;
+static int watch_last;
 struct encoder {
     avr_irq_t *a, *b;
     int gray;           /* 0..3: (A,B) = (0,0) (0,1) (1,1) (1,0) */
@@ -105,11 +152,98 @@ static void encoder_queue(struct encoder *e, long steps, avr_cycle_count_t span)
     }
 }
 
+static void eeprom_reply(struct eeprom *e, uint8_t msg, uint8_t data) {
+    avr_raise_irq(e->irq + TWI_IRQ_INPUT, avr_twi_irq_msg(msg, e->address << 1, data));
+}
+
+/* The page buffer goes to memory: the write cycle starts. */
+static void eeprom_commit(struct eeprom *e) {
+    for (int i = 0; i < EEPROM_PAGE_BYTES; i++)
+        if (e->dirty[i]) e->memory[(e->page_base + i) & (e->size - 1)] = e->page[i];
+    memset(e->dirty, 0, sizeof e->dirty);
+    e->busy_until = avr->cycle + (avr_cycle_count_t)(EEPROM_WRITE_CYCLE_S * avr->frequency);
+}
+
+static void eeprom_on_bus(struct avr_irq_t *irq, uint32_t value, void *param) {
+    (void)irq;
+    struct eeprom *e = param;
+    avr_twi_msg_irq_t m;
+    m.u.v = value;
+    uint8_t msg = m.u.twi.msg;
+    if (msg & TWI_COND_STOP) {
+        if (e->selected == 1 && e->data_bytes > 0) eeprom_commit(e);
+        e->selected = 0;
+        return;
+    }
+    if (msg & TWI_COND_START) {  /* a control byte, after START or a repeated START */
+        if (e->selected == 1) memset(e->dirty, 0, sizeof e->dirty);  /* no STOP: no write */
+        e->selected = 0;
+        if ((m.u.twi.addr >> 1) != e->address) return;
+        if (avr->cycle < e->busy_until) return;  /* busy writing: no acknowledge */
+        e->selected = (m.u.twi.addr & 1) ? 2 : 1;
+        e->address_bytes = 0;
+        e->data_bytes = 0;
+        eeprom_reply(e, TWI_COND_ACK, 1);
+        return;
+    }
+    if (e->selected == 1 && (msg & TWI_COND_WRITE)) {
+        uint8_t data = m.u.twi.data;
+        if (e->address_bytes < 2) {
+            e->pointer = e->address_bytes == 0 ? (uint32_t)data << 8 : (e->pointer | data);
+            e->pointer &= e->size - 1;
+            e->address_bytes++;
+            e->page_base = e->pointer & ~(uint32_t)(EEPROM_PAGE_BYTES - 1);
+        } else {
+            uint32_t in_page = e->pointer & (EEPROM_PAGE_BYTES - 1);
+            e->page[in_page] = data;
+            e->dirty[in_page] = 1;
+            e->data_bytes++;
+            e->pointer = e->page_base | ((in_page + 1) & (EEPROM_PAGE_BYTES - 1));
+        }
+        eeprom_reply(e, TWI_COND_ACK, 1);
+        return;
+    }
+    if (e->selected == 2 && (msg & TWI_COND_READ)) {
+        eeprom_reply(e, TWI_COND_READ, e->memory[e->pointer]);
+        e->pointer = (e->pointer + 1) & (e->size - 1);
+        if (!(msg & TWI_COND_ACK)) e->selected = 0;  /* the master's NACK: the read is over */
+    }
+}
+
+static void eeprom_attach(uint8_t address, uint32_t size) {
+    static const char *names[2] = {"8>eeprom.out", "32<eeprom.in"};
+    struct eeprom *e = &eeproms[eeprom_count++];
+    memset(e, 0, sizeof *e);
+    e->address = address;
+    e->size = size;
+    e->memory = malloc(size);
+    memset(e->memory, 0xff, size);  /* erased, as delivered */
+    e->irq = avr_alloc_irq(&avr->irq_pool, 0, 2, names);
+    avr_irq_register_notify(e->irq + TWI_IRQ_OUTPUT, eeprom_on_bus, e);
+    avr_connect_irq(e->irq + TWI_IRQ_INPUT, avr_io_getirq(avr, AVR_IOCTL_TWI_GETIRQ(0), TWI_IRQ_INPUT));
+    avr_connect_irq(avr_io_getirq(avr, AVR_IOCTL_TWI_GETIRQ(0), TWI_IRQ_OUTPUT), e->irq + TWI_IRQ_OUTPUT);
+}
+
+static void watch(void) {
+    int level = avr->data[watch_flag] != 0;
+    if (watch_last && !level) {
+        if (snapshot_count == snapshot_capacity) {
+            snapshot_capacity = snapshot_capacity ? 2 * snapshot_capacity : 256;
+            snapshots = realloc(snapshots, snapshot_capacity * sizeof *snapshots);
+        }
+        snapshots[snapshot_count].cycle = avr->cycle;
+        memcpy(snapshots[snapshot_count].data, avr->data + watch_address, watch_count);
+        snapshot_count++;
+    }
+    watch_last = level;
+}
+
 static int run_to(avr_cycle_count_t target) {
     int state = avr->state;
     while (avr->cycle < target) {
         state = avr_run(avr);
         if (state == cpu_Done || state == cpu_Crashed) return state;
+        if (watch_count) watch();
     }
     return -1;
 }
@@ -168,13 +302,11 @@ int main(int argc, char **argv) {
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(uart), UART_IRQ_OUTPUT),
                             on_uart_output, NULL);
 
-    if (argc == 8) {  /* I2C EEPROMs (24LC-class, two address bytes) on the TWI bus */
-        size_t size = strtoul(argv[7], NULL, 0);
+    if (argc == 8) {  /* I2C EEPROMs (24xx-series, two address bytes) on the TWI bus */
+        uint32_t size = strtoul(argv[7], NULL, 0);
         char *next = argv[6];
-        for (int i = 0; i < 4 && *next; i++) {
-            unsigned long address = strtoul(next, &next, 0);
-            i2c_eeprom_init(avr, &eeproms[i], (uint8_t)(address << 1), 0x01, NULL, size);
-            i2c_eeprom_attach(avr, &eeproms[i], AVR_IOCTL_TWI_GETIRQ(0));
+        while (eeprom_count < EEPROMS && *next) {
+            eeprom_attach((uint8_t)strtoul(next, &next, 0), size);
             if (*next == ',') next++;
         }
     }
@@ -264,6 +396,32 @@ int main(int argc, char **argv) {
             encoder_queue(e, steps, span);
             fputs("K\n", answers);
             fflush(answers);
+        } else if (kind == 'V') {
+            sscanf(line + 2, "%lu %lu %lu", &watch_flag, &watch_address, &watch_count);
+            if (watch_count > SNAPSHOT_BYTES || watch_flag > avr->ramend
+                || watch_address + watch_count > avr->ramend + 1UL) watch_count = 0;
+            watch_last = watch_count ? avr->data[watch_flag] != 0 : 0;
+            fputs("K\n", answers);
+            fflush(answers);
+        } else if (kind == 'G') {
+            static const char digits[] = "0123456789abcdef";
+            fputc('G', answers);
+            for (size_t i = 0; i < snapshot_count; i++) {
+                fprintf(answers, " %llu:", (unsigned long long)snapshots[i].cycle);
+                for (unsigned long j = 0; j < watch_count; j++) {
+                    fputc(digits[snapshots[i].data[j] >> 4], answers);
+                    fputc(digits[snapshots[i].data[j] & 15], answers);
+                }
+            }
+            fputc('\n', answers);
+            fflush(answers);
+            snapshot_count = 0;
+        } else if (kind == 'R') {
+            int n = 0;
+            unsigned long offset = 0, count = 0;
+            sscanf(line + 2, "%d %lu %lu", &n, &offset, &count);
+            if (n < 0 || n >= eeprom_count || offset + count > eeproms[n].size) count = 0;
+            answer_hex('R', count ? eeproms[n].memory + offset : NULL, count);
         } else if (kind == 'M') {
             unsigned long address = 0, count = 0;
             sscanf(line + 2, "%lu %lu", &address, &count);
