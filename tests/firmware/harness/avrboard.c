@@ -100,7 +100,8 @@ static size_t snapshot_count, snapshot_capacity;
 static unsigned long watch_flag, watch_address, watch_count;
 static int watch_last;
 struct encoder {
-    avr_irq_t *a, *b;
+    char port;
+    int bit_a, bit_b, wired;
     int gray;           /* 0..3: (A,B) = (0,0) (0,1) (1,1) (1,0) */
     long pending;       /* steps still to make; the sign is the direction */
     avr_cycle_count_t period;
@@ -123,10 +124,27 @@ static avr_cycle_count_t feed_next(avr_t *board, avr_cycle_count_t when, void *p
     return when + cycles_per_byte;
 }
 
+/* The level the host drives each input pin to, by port. simavr 1.6 re-applies an input's
+ * pull-up (PORT bit set) to its pin every time the firmware writes that port (any bit:
+ * digitalWrite of a motor line on PORTD), which would pull an encoder line the host holds low
+ * back high for a moment: a pin the host drives is declared externally driven instead, so
+ * the port keeps the host's level whatever the firmware writes. */
+static uint8_t driven_mask[26], driven_value[26];
+
+static void drive_pin(char port, int bit, int level) {
+    int n = (port - 'A') % 26;
+    driven_mask[n] |= (uint8_t)(1 << bit);
+    if (level) driven_value[n] |= (uint8_t)(1 << bit);
+    else driven_value[n] &= (uint8_t)~(1 << bit);
+    avr_ioport_external_t external = {.name = port, .mask = driven_mask[n], .value = driven_value[n]};
+    avr_ioctl(avr, AVR_IOCTL_IOPORT_SET_EXTERNAL(port), &external);
+    avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), bit), level);
+}
+
 static void encoder_set_pins(struct encoder *e) {
     static const int a[4] = {0, 0, 1, 1}, b[4] = {0, 1, 1, 0};
-    avr_raise_irq(e->a, a[e->gray]);
-    avr_raise_irq(e->b, b[e->gray]);
+    drive_pin(e->port, e->bit_a, a[e->gray]);
+    drive_pin(e->port, e->bit_b, b[e->gray]);
 }
 
 static avr_cycle_count_t encoder_step(avr_t *board, avr_cycle_count_t when, void *param) {
@@ -324,8 +342,8 @@ int main(int argc, char **argv) {
             } else {
                 sscanf(line + 2, "%llu %ld %ld %lu %lu", &target, &steps0, &steps1, &address, &count);
                 avr_cycle_count_t span = target > avr->cycle ? target - avr->cycle : 1;
-                if (encoders[0].a) encoder_queue(&encoders[0], steps0, span);
-                if (encoders[1].a) encoder_queue(&encoders[1], steps1, span);
+                if (encoders[0].wired) encoder_queue(&encoders[0], steps0, span);
+                if (encoders[1].wired) encoder_queue(&encoders[1], steps1, span);
             }
             int state = run_to(target);
             if (state >= 0) {
@@ -369,7 +387,7 @@ int main(int argc, char **argv) {
             char port = 0;
             int bit = 0, level = 0;
             sscanf(line + 2, "%c %d %d", &port, &bit, &level);
-            avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), bit), level);
+            drive_pin(port, bit, level);
             fputs("K\n", answers);
             fflush(answers);
         } else if (kind == 'A') {
@@ -385,11 +403,11 @@ int main(int argc, char **argv) {
             unsigned long long span = 0;
             sscanf(line + 2, "%d %c %d %d %ld %llu", &n, &port, &bit_a, &bit_b, &steps, &span);
             struct encoder *e = &encoders[n & 1];
-            avr_irq_t *a = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), bit_a);
-            avr_irq_t *b = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), bit_b);
-            if (e->a != a || e->b != b) {  /* first use: both pins low */
-                e->a = a;
-                e->b = b;
+            if (!e->wired || e->port != port || e->bit_a != bit_a || e->bit_b != bit_b) {
+                e->wired = 1;  /* first use: both pins low */
+                e->port = port;
+                e->bit_a = bit_a;
+                e->bit_b = bit_b;
                 e->gray = 0;
                 encoder_set_pins(e);
             }
