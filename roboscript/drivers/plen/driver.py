@@ -23,7 +23,8 @@ Walking N steps sends ``#PU`` (slot, N) and ``#PO``: the firmware's interpreter 
 gait's loop, one step per pass, exactly N times, with no EEPROM write and no host timing (more
 than 255 steps go as several plays). Nothing reports when a motion ends, so :meth:`busy` is
 predicted from the frames with :class:`~roboscript.drivers.plen.playback.Schedule`, stretched
-by 3 % plus 0.1 s: the 32 ms update runs a little long on a real board, and a ``$PM`` or
+by 3 % plus 0.1 s: the firmware's update comes every 32.768 ms (eight 4.096 ms Timer 1
+overflows), 2.4 % more than the 32 ms its transition times are counted in, and a ``$PM`` or
 ``#PO`` sent while a motion still plays is ignored by the firmware.
 
 Liveness: every command but the getters is silent, so once the robot is ready the driver asks
@@ -73,7 +74,8 @@ CHUNK_GAP_S = 0.05
 CONTROL_GAP_S = 0.01
 """Quiet time after a control command, seconds."""
 PLAYBACK_STRETCH = 1.03
-"""How much longer than 32 ms a real board's update may take (busy() errs late)."""
+"""How much longer than 32 ms a real board's update takes, with room (32.768 ms; busy() errs
+late)."""
 PLAYBACK_MARGIN_S = 0.1
 """Extra time busy() stays true after the predicted end of a motion, seconds."""
 MAX_PLAYS_PER_PUSH = 255
