@@ -9,7 +9,9 @@
  *   W <hex>            queue bytes for the board's UART receiver; they arrive one byte time
  *                      apart (10 bits at the line's baud rate), as on a real serial line
  *                      -> "K"
- *   P <port> <bit> <0|1>  drive an input pin (e.g. "P D 3 1")             -> "K"
+ *   P <port> <bit> <0|1>  drive an input pin (e.g. "P D 3 1"); from then on the pin holds
+ *                      the level the host drives (and encoder pins theirs), whatever the
+ *                      firmware writes to its port's pull-up bit            -> "K"
  *   M <addr> <count>   read data memory (I/O registers, RAM)               -> "M <hex>"
  *   S <cycle> <steps0> <steps1> <addr> <count>
  *                      one simulation step in one round trip: queue the encoders' steps
