@@ -63,6 +63,21 @@ class Run:
     board: EmulatedPlen2
     motion_memory: dict[int, bytes]
     """Each gait slot's chunks as the EEPROM held them at the end, by slot."""
+    pwms: tuple[int, ...]
+    """The servo outputs at the end."""
+    timer_samples: list[tuple[int, int, int, int]]
+    """(multiplexer line selected, OCR1C, OCR1B, OCR1A) sampled every millisecond at the end."""
+
+
+# ATmega32u4 data addresses; Pin.h: multiplexer select lines on pins 5, 6, 12 (PC6, PD7, PD6)
+_PORTC, _PORTD, _OCR1A = 0x28, 0x2B, 0x88
+
+
+def _timer_sample(board: EmulatedPlen2) -> tuple[int, int, int, int]:
+    portc, portd = board.board.peek(_PORTC)[0], board.board.peek(_PORTD)[0]
+    line = (portc >> 6 & 1) | (portd >> 7 & 1) << 1 | (portd >> 6 & 1) << 2
+    ocr1a, ocr1b, ocr1c = struct.unpack("<3H", board.board.peek(_OCR1A, 6))
+    return line, ocr1c, ocr1b, ocr1a
 
 
 def _motion_memory(board: EmulatedPlen2, slot: int) -> bytes:
@@ -82,7 +97,11 @@ def run(tmp_path_factory: pytest.TempPathFactory) -> Run:
         memory = {
             load_gait(key).slot: _motion_memory(board, load_gait(key).slot) for key in GAIT_KEYS
         }
-        return Run(session, board, memory)
+        samples = []
+        for _ in range(40):
+            board.board.advance(0.001)
+            samples.append(_timer_sample(board))
+        return Run(session, board, memory, board.servo_pwms(), samples)
 
 
 def _chunk_data(run: Run, slot: int, chunk: int, count: int) -> bytes:
@@ -166,6 +185,17 @@ def test_the_walk_moves_the_firmwares_servos_frame_by_frame_as_the_gait_says(run
     moved = {j for j in range(m.JOINT_COUNT) if len({u.pwms[j] for u in updates}) > 1}
     used = {j for _, offsets in ends for j, value in enumerate(offsets) if value}
     assert used and used <= moved
+
+
+@LOCKSTEP_TIMEOUT
+def test_timer_1_sends_each_servo_output_to_its_multiplexer_line(run: Run) -> None:
+    # JointController.cpp, ISR(TIMER1_OVF_vect): each 4.096 ms overflow selects line n and
+    # loads line n + 1's widths (OCR1C: joints 0-7, OCR1B: 8-15, OCR1A: 16-23), which the
+    # double-buffered compare registers take at the next period, when line n + 1 is selected.
+    assert {line for line, *_ in run.timer_samples} == set(range(8))
+    for line, ocr1c, ocr1b, ocr1a in run.timer_samples:
+        ahead = (line + 1) % 8
+        assert (ocr1c, ocr1b, ocr1a) == (run.pwms[ahead], run.pwms[8 + ahead], run.pwms[16 + ahead])
 
 
 def _gaps(updates: list[ServoUpdate]) -> list[float]:
