@@ -302,6 +302,11 @@ class Board:
         """Every byte the board has sent, in order."""
 
     @property
+    def pid(self) -> int:
+        """The emulator's process id."""
+        return self._process.pid
+
+    @property
     def time_s(self) -> float:
         """The board's simulated time since power-on, seconds."""
         return self.cycle / self.f_cpu_hz
