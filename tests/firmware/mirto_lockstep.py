@@ -13,22 +13,20 @@ the machine is.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import TYPE_CHECKING
 
+from firmware.as_device import firmware_as_device
 from firmware.avr import Board, build
 from firmware.recipes import MIRTLE_BAUD, MIRTLE_F_CPU_HZ, MIRTLE_MCU, mirtle_328p
 
-import roboscript.sim.simulation as simulation_module
 from roboscript.robot import DEFAULT_PERIOD_S
 
 if TYPE_CHECKING:
     import pytest
 
-    from roboscript.profiles import RobotProfile
     from roboscript.sim.body import Body
-    from roboscript.sim.device import SimDevice
 
 # ATmega328P data-space addresses (datasheet, register summary)
 _PORTB, _PORTD, _TCCR0A, _OCR0A, _OCR0B = 0x25, 0x2B, 0x44, 0x47, 0x48
@@ -113,20 +111,9 @@ def motor_power(regs: bytes) -> tuple[float, float]:
 def firmware_as_mirto(monkeypatch: pytest.MonkeyPatch) -> Iterator[list[EmulatedMirto]]:
     """Make every simulated ``mirto`` in this test the emulated firmware; yields the boards."""
     elf = build(mirtle_328p())
-    built: list[EmulatedMirto] = []
-    original: Callable[[RobotProfile, Body], SimDevice] = simulation_module.build_device
 
-    def build_device(profile: RobotProfile, body: Body) -> SimDevice:
-        if profile.name != "mirto":
-            return original(profile, body)
-        board = Board(elf, MIRTLE_MCU, MIRTLE_F_CPU_HZ, baud=MIRTLE_BAUD)
-        device = EmulatedMirto(body, board)
-        built.append(device)
-        return device
+    def make(body: Body) -> EmulatedMirto:
+        return EmulatedMirto(body, Board(elf, MIRTLE_MCU, MIRTLE_F_CPU_HZ, baud=MIRTLE_BAUD))
 
-    monkeypatch.setattr(simulation_module, "build_device", build_device)
-    try:
+    with firmware_as_device(monkeypatch, lambda profile: profile.name == "mirto", make) as built:
         yield built
-    finally:
-        for device in built:
-            device.board.close()

@@ -18,11 +18,12 @@ simulated PLEN2's walking model is checked separately against these servo output
 from __future__ import annotations
 
 import struct
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from firmware.as_device import firmware_as_device
 from firmware.avr import Board, build, symbol_address
 from firmware.recipes import PLEN2_BAUD, PLEN2_EEPROM, PLEN2_F_CPU_HZ, PLEN2_MCU, plen2_32u4
 
@@ -36,9 +37,7 @@ if TYPE_CHECKING:
 
     import pytest
 
-    from roboscript.profiles import RobotProfile
     from roboscript.sim.body import Body
-    from roboscript.sim.device import SimDevice
 
 PWMS = "PLEN2::JointController::m_pwms"
 UPDATE_DUE = "PLEN2::JointController::m_1cycle_finished"
@@ -152,24 +151,15 @@ def twin_updates(
 
 @contextmanager
 def firmware_as_plen2(monkeypatch: pytest.MonkeyPatch) -> Iterator[list[EmulatedPlen2]]:
-    """Make every simulated ``plen2`` in this test the emulated firmware; yields the boards."""
+    """Make every simulated PLEN2 in this test the emulated firmware; yields the boards."""
     elf = build(plen2_32u4())
-    built: list[EmulatedPlen2] = []
-    original: Callable[[RobotProfile, Body], SimDevice] = simulation_module.build_device
 
-    def build_device(profile: RobotProfile, body: Body) -> SimDevice:
-        if profile.protocol != "plen":
-            return original(profile, body)
+    def make(body: Body) -> EmulatedPlen2:
+        del body  # the firmware has no model of the legs: the body stays where it is
         board = Board(
             elf, PLEN2_MCU, PLEN2_F_CPU_HZ, uart="1", baud=PLEN2_BAUD, eeprom=PLEN2_EEPROM
         )
-        device = EmulatedPlen2(board, elf)
-        built.append(device)
-        return device
+        return EmulatedPlen2(board, elf)
 
-    monkeypatch.setattr(simulation_module, "build_device", build_device)
-    try:
+    with firmware_as_device(monkeypatch, lambda profile: profile.protocol == "plen", make) as built:
         yield built
-    finally:
-        for device in built:
-            device.board.close()
