@@ -23,8 +23,8 @@ The rows, numbered as in the README's "Performance" section:
    replay page's open time in headless Chromium (``bench_replay.py``);
 9. the live view (``run --view``): the p99 lateness it adds to the 100 Hz scheduler while a
    browser streams the run (``bench_live.py``);
-10. the robots' real firmware on the emulated AVR: simulated seconds per wall second in
-    lockstep, and the firmware tier's set-up cost (``bench_firmware.py``).
+10. the robots' real firmware on the emulated AVR: simulated seconds per CPU second in
+    lockstep, and the firmware tier's CI cost, cold and warm (``bench_firmware.py``).
 """
 
 from __future__ import annotations
