@@ -25,17 +25,27 @@ safe, and a stack-dumping timer once crashed healthy runs on a busy machine.
 
 from __future__ import annotations
 
+import json
 import logging
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError
 from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
 
-__all__ = ["LOAD_LIMIT_S", "main", "warm_up"]
+if TYPE_CHECKING:
+    from roboscript.mission.cause import TransitionCause
+
+__all__ = ["LOAD_LIMIT_S", "STATE_CLAIM_BYTES", "main", "state_payload", "warm_up"]
 
 _REASON_CHARS = 500
+_NAME_BYTES = 256
+
+STATE_CLAIM_BYTES = 4096
+"""Most bytes of the account that follows a state's name in a ``Q`` frame: a cause is a few
+hundred; a longer one is not sent (and the world ignores one that is)."""
 
 LOAD_LIMIT_S = 10.0
 """Own seconds loading the mission (its file, and the modules it imports) may take: far
@@ -108,8 +118,10 @@ def _run(
     # the run machinery loads only for a mission that loaded: a broken one is answered at once
     from roboscript.session import WorldMap, run_session
 
-    def on_state(_t_s: float, name: str, _cause: object) -> None:
-        channel.send(Kind.STATE, name.encode("utf-8", "replace")[:256])
+    actions = {name: state.action_name for name, state in mission.states.items()}
+
+    def on_state(_t_s: float, name: str, cause: TransitionCause) -> None:
+        channel.send(Kind.STATE, state_payload(name, actions.get(name), cause))
 
     try:
         session = run_session(
@@ -138,6 +150,21 @@ def _run(
         },
     )
     return 0
+
+
+def state_payload(name: str, action: str | None, cause: TransitionCause) -> bytes:
+    """A ``Q`` frame's payload: the state's name, then (after a newline) the mission's account
+    of it as JSON, ``{"action", "why"}``, for the replay to show as the mission's own words.
+
+    The account is left out when it would be longer than :data:`STATE_CLAIM_BYTES`.
+    """
+    head = name.replace("\n", " ").encode("utf-8", "replace")[:_NAME_BYTES]
+    try:
+        claim = json.dumps({"action": action, "why": cause.to_json()}, allow_nan=False)
+    except ValueError:  # a condition read NaN: the name alone
+        return head
+    data = claim.encode("utf-8", "replace")
+    return head if len(data) > STATE_CLAIM_BYTES else head + b"\n" + data
 
 
 def channel_fd(channel: WorldChannel) -> int:

@@ -9,9 +9,11 @@ protocol bytes and the mission's scheduler time, exactly what a real robot would
 Pose, path, tones, collisions and every time come from this side. The mission process can
 report only that it loaded, which states it entered (timed here, on arrival) and how it ended;
 each report is checked (known outcome, printable and short names, the final state is the last
-state entered) and labelled as the mission's own in the record. A mission process that breaks
-the wire's rules, moves the robot before its mission starts, or asks for more time than the
-test allows has its run ended here.
+state entered) and labelled as the mission's own in the record. With each state it may say
+which action it runs and why it entered it: the replay shows that account as the mission's
+words, checked and cut to size (``TransitionCause.from_claim``), and nothing is judged on it.
+A mission process that breaks the wire's rules, moves the robot before its mission starts, or
+asks for more time than the test allows has its run ended here.
 
 A run ends, in the order they can happen:
 
@@ -54,11 +56,12 @@ from typing import Any, Literal
 
 from roboscript.grading.cpu_time import process_tree_cpu_s, process_tree_waited_s
 from roboscript.grading.latency import ask_short_slice
-from roboscript.grading.mission_host import LOAD_LIMIT_S
+from roboscript.grading.mission_host import LOAD_LIMIT_S, STATE_CLAIM_BYTES
 from roboscript.grading.record import Collision, RunRecord, RunStatus, Tone
 from roboscript.grading.sandbox import Jail, JailedRun, Limits, WarmJail
 from roboscript.grading.spec import TestSpec, Variant
 from roboscript.grading.submissions import named_files
+from roboscript.mission.cause import TransitionCause
 from roboscript.mission.runner import MISSION_OUTCOMES
 from roboscript.profiles import get_profile
 from roboscript.replay.world_tap import WorldReplay
@@ -495,14 +498,17 @@ class _WorldSession:
             raise _ViolationError(f"the robot moved {moved:.0f} mm before its mission started")
 
     def _state(self, payload: bytes) -> None:
-        name = _name(payload.decode("utf-8", "replace"))
+        head, _, account = payload.partition(b"\n")
+        name = _name(head.decode("utf-8", "replace"))
         if not name:
             raise _ViolationError("it reported a state with no name")
         if len(self.claims.states) >= _MAX_STATES:
             self.claims.dropped_states += 1
             return
+        before = self.claims.states[-1][1] if self.claims.states else None
         start = self.claims.started_s if self.claims.started_s is not None else self.now_s
         self.claims.states.append((round(self.now_s - start, 3), name))
+        self.replay.enter(self.now_s, name, *_state_account(account, before))
 
     # ----------------------------------------------------------------------------- endings
 
@@ -783,6 +789,28 @@ def _text(value: str, limit: int) -> str:
 
 def _name(value: str) -> str:
     return _text(value.strip(), _NAME_CHARS)
+
+
+def _state_account(account: bytes, before: str | None) -> tuple[str | None, dict[str, Any] | None]:
+    """The action and the cause a state's report claims, made safe to show (display only).
+
+    ``before`` is the state the world itself recorded last: the cause's ``from``. An account
+    that is too long or not JSON is shown as nothing, and never ends the run: it judges nothing.
+    """
+    if not account or len(account) > STATE_CLAIM_BYTES:
+        return None, None
+    try:
+        info = decode_json(account)
+    except FrameError:
+        return None, None
+    if not isinstance(info, dict):
+        return None, None
+    action = info.get("action")
+    cause = TransitionCause.from_claim(info.get("why"), source=before)
+    return (
+        _name(action) if isinstance(action, str) else None,
+        None if cause is None else cause.to_json(),
+    )
 
 
 _TRACE_LINE = re.compile(r'^\s*File "(?P<file>[^"]+)", line (?P<line>\d+)(?:,| in) (?P<func>.*)$')

@@ -11,9 +11,9 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, Literal, cast, get_args
 
-__all__ = ["CauseKind", "TransitionCause"]
+__all__ = ["CLAIM_TEXT_CHARS", "CauseKind", "TransitionCause"]
 
 CauseKind = Literal["start", "done", "failed", "timeout", "when"]
 """What moved the mission on: ``start`` (the first state), an action's outcome (``done``,
@@ -21,6 +21,49 @@ CauseKind = Literal["start", "done", "failed", "timeout", "when"]
 condition that held."""
 
 _MAX_VALUES = 8  # a condition reads a handful of names; a huge Python one is cut here
+
+_WHOLE_LIMIT = 2**53  # the largest whole number a float (and a page's script) holds exactly
+
+CLAIM_TEXT_CHARS = 200
+"""Longest text (an action, a reason, a condition, a value's name) a claimed cause keeps."""
+
+
+def _claimed_text(value: object) -> str | None:
+    """Untrusted text as a claim keeps it: printable, at most :data:`CLAIM_TEXT_CHARS`."""
+    if not isinstance(value, str):
+        return None
+    clean = "".join(c if c.isprintable() else " " for c in value[: CLAIM_TEXT_CHARS + 1])
+    return clean[:CLAIM_TEXT_CHARS] + "…" if len(clean) > CLAIM_TEXT_CHARS else clean
+
+
+def _claimed_number(value: object) -> float | None:
+    """A finite number as it was (a whole number stays whole, as it is shown), else None."""
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, int):  # JSON's whole numbers have no bound: a float's are kept
+        return value if abs(value) <= _WHOLE_LIMIT else None
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    return None
+
+
+def _claimed_values(value: object) -> dict[str, float | bool]:
+    if not isinstance(value, Mapping):
+        return {}
+    kept: dict[str, float | bool] = {}
+    for name, read in list(value.items())[:_MAX_VALUES]:
+        key = _claimed_text(name)
+        if not key:
+            continue
+        if isinstance(read, bool):
+            kept[key] = read
+        elif read is None:  # how to_json writes a range sensor that saw nothing
+            kept[key] = math.inf
+        else:
+            number = _claimed_number(read)
+            if number is not None:
+                kept[key] = number if isinstance(number, int) else round(number, 3)
+    return kept
 
 
 def _shown(value: float | bool) -> str:
@@ -108,6 +151,36 @@ class TransitionCause:
             "timeout_s": self.timeout_s,
             "text": self.text(),
         }
+
+    @classmethod
+    def from_claim(cls, data: object, *, source: str | None) -> TransitionCause | None:
+        """A cause another process says happened (a graded mission's), made safe to show.
+
+        The inverse of :meth:`to_json` for a writer that is not trusted: an unknown ``kind``
+        gives ``None``; text is made printable and cut at :data:`CLAIM_TEXT_CHARS`; at most
+        a few values are kept, each ``true``/``false`` or a finite number (``null``: nothing
+        seen); a ``text`` in ``data`` is ignored, as :meth:`text` is rebuilt from the rest.
+        The result is for display only: nothing judges a run on it.
+
+        Args:
+            data: The claimed cause (``to_json``'s shape).
+            source: The state left, as the caller itself recorded it (never the claim's).
+        """
+        if not isinstance(data, Mapping):
+            return None
+        kind = data.get("kind")
+        if not isinstance(kind, str) or kind not in get_args(CauseKind):
+            return None
+        timeout_s = _claimed_number(data.get("timeout_s"))
+        return cls(
+            cast("CauseKind", kind),
+            None if kind == "start" else source,
+            action=_claimed_text(data.get("action")),
+            reason=_claimed_text(data.get("reason")),
+            condition=_claimed_text(data.get("condition")),
+            values=_claimed_values(data.get("values")),
+            timeout_s=None if timeout_s is None or timeout_s < 0 else timeout_s,
+        )
 
     @staticmethod
     def kept_values(reads: Mapping[str, float | bool]) -> dict[str, float | bool]:

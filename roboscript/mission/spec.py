@@ -105,6 +105,11 @@ class StateSpec:
     description: str = ""
     location: Location | None = None
 
+    @property
+    def action_name(self) -> str | None:
+        """The name of the state's action (``drive``), or ``None`` for a state without one."""
+        return self.action.name if self.action is not None else None
+
     def actions(self) -> list[ActionSpec]:
         """The state's action, then its ``during`` actions."""
         return ([] if self.action is None else [self.action]) + list(self.during)

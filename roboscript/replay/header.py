@@ -61,7 +61,7 @@ def mission_header(spec: MissionSpec) -> dict[str, Any]:
         "states": [
             {
                 "name": state.name,
-                "action": state.action.name if state.action is not None else None,
+                "action": state.action_name,
                 "final": state.final,
             }
             for state in spec.states.values()

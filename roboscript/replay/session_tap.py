@@ -192,10 +192,7 @@ class RunRecording:
         sim = robot.simulation if isinstance(robot.simulation, Simulation) else None
         caps = robot.capabilities
         self.add_sensors(sensor_readers(caps))
-        self._actions = {
-            name: state.action.name if state.action is not None else None
-            for name, state in spec.states.items()
-        }
+        self._actions = {name: state.action_name for name, state in spec.states.items()}
         if sim is not None:
             body = sim.body
             pose_source = "simulator"

@@ -41,10 +41,12 @@
     return String(value);
   }
 
-  /* Why the mission entered the frame's state, in the student's words (the record's text). */
+  /* Why the mission entered the frame's state, in the student's words (the record's text);
+     a graded run's cause is the mission's own account, and says so. */
   function whyText(why) {
     if (!why) return "—";
-    return typeof why.text === "string" ? why.text : String(why.kind || "—");
+    var text = typeof why.text === "string" ? why.text : String(why.kind || "—");
+    return why.claimed === true ? "the mission says: " + text : text;
   }
 
   /* Full snapshots from frames holding only changes. */

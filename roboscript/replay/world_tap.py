@@ -62,9 +62,29 @@ class WorldReplay:
         self.recorder = Recorder(header)
         self._start_s: float | None = None
         self._next_s = 0.0
+        self._last_t: float | None = None  # the last kept frame's t, s
         self._state: str | None = None
         self._tones = 0
         self._states: list[str] = []
+        self._actions: dict[str, str | None] = {}
+        self._action: str | None = None
+        self._why: dict[str, Any] | None = None  # the last claimed cause, not yet in a frame
+
+    def enter(
+        self, now_s: float, state: str, action: str | None, why: dict[str, Any] | None
+    ) -> None:
+        """The mission says it entered ``state`` at ``now_s``, running ``action``, because of
+        ``why``: a frame is kept for it at once (even for a state entered again).
+
+        ``action`` and ``why`` are the mission's own account (checked and cut to size by the
+        caller; ``why`` in :meth:`~roboscript.mission.cause.TransitionCause.to_json`'s shape):
+        they are recorded for the page to show, ``why`` marked ``"claimed": true``, and judge
+        nothing.
+        """
+        self._action = action
+        self._why = None if why is None else {**why, "claimed": True}
+        self._next_s = 0.0
+        self.tick(now_s, state)
 
     def start(self, now_s: float) -> None:
         """The mission started at simulated time ``now_s`` (its clock's zero)."""
@@ -77,12 +97,19 @@ class WorldReplay:
             return
         if state not in self._states:
             self._states.append(state)
-        t = now_s - self._start_s
-        if state == self._state and t < self._next_s - 1e-9:
-            return
+            self._actions[state] = self._action
+        t = round(now_s - self._start_s, 3)
+        if state == self._state and (t < self._next_s - 1e-9 or t == self._last_t):
+            return  # (a state entered again on a kept tick shows its cause on the next one)
         self._state = state
         self._next_s = t + self.period_s
-        self.recorder.add(self._sample(round(t, 3), state))
+        self._last_t = t
+        frame = self.recorder.add(self._sample(t, state))
+        if frame is not None and self._why is not None:
+            # written on its transition's frame only, as run --record does (the reader
+            # carries it on): equal causes one after another are still two transitions
+            frame["why"] = self._why
+            self._why = None
 
     def _sample(self, t: float, state: str) -> dict[str, Any]:
         body = self.sim.body
@@ -91,6 +118,7 @@ class WorldReplay:
             "t": t,
             "pose": written_pose(body.x_mm, body.y_mm, body.heading_deg),
             "state": state,
+            "action": self._action,
             "sensors": self._sensors(),
             "motors": {
                 "left_mm_s": round(body.wheel_speed_mm_s[0], 1) + 0.0,
@@ -145,7 +173,10 @@ class WorldReplay:
         header["mission"] = {
             "name": mission,
             "initial": states[0][1] if states else None,
-            "states": [{"name": name, "action": None, "final": None} for name in self._states],
+            "states": [
+                {"name": name, "action": self._actions.get(name), "final": None}
+                for name in self._states
+            ],
         }
         result = self.recorder.finish(
             {

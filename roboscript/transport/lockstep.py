@@ -32,6 +32,8 @@ kind   payload                                     answer
 ``E``  UTF-8 JSON ``{"message": ...}``: load error none; the mission process ends
 ``S``  (none): the mission starts now              none
 ``Q``  UTF-8 state name: a state was entered now   none
+       (then a newline and UTF-8 JSON
+       ``{"action", "why"}``, its account)
 ``F``  UTF-8 JSON outcome, final state, reason     none; the mission process ends
 =====  ==========================================  ======================================
 

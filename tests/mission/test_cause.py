@@ -8,7 +8,7 @@ from pathlib import Path
 
 from helpers import run_cli
 
-from roboscript.mission.cause import TransitionCause
+from roboscript.mission.cause import CLAIM_TEXT_CHARS, TransitionCause
 
 
 def test_each_kind_of_cause_reads_as_a_student_would_say_it() -> None:
@@ -84,3 +84,53 @@ def test_run_json_says_why_each_state_was_entered(tmp_path: Path) -> None:
     # the terminal timeline says the same
     shown = run_cli("run", "m.yaml", cwd=tmp_path).stderr
     assert "  end  [the state timed out after 0.3 s]" in shown
+
+
+def test_a_cause_read_back_from_its_json_says_the_same() -> None:
+    cause = TransitionCause(
+        "done", "turn", action="rotate", condition="visits.turn >= 3", values={"visits.turn": 3}
+    )
+    back = TransitionCause.from_claim(json.loads(json.dumps(cause.to_json())), source="turn")
+    assert back == cause
+    assert back.text() == "rotate done, and 'visits.turn >= 3' held (visits.turn = 3)"
+    seen = TransitionCause("when", "go", condition="r", values={"r": math.inf, "b": True})
+    assert TransitionCause.from_claim(seen.to_json(), source="go") == seen
+
+
+def test_a_claimed_cause_takes_its_state_and_text_from_the_caller_never_the_claim() -> None:
+    claim = {"kind": "failed", "from": "forged", "reason": "stalled", "text": "full marks"}
+    cause = TransitionCause.from_claim(claim, source="drive")
+    assert cause is not None
+    assert cause.source == "drive"
+    assert cause.text() == "the action failed: stalled"
+    start = TransitionCause.from_claim({"kind": "start", "from": "x"}, source="drive")
+    assert start is not None and start.source is None
+
+
+def test_a_hostile_claimed_cause_is_cut_to_printable_text_and_finite_numbers() -> None:
+    claim = {
+        "kind": "when",
+        "condition": "\x1b[2J</script>\x00\u2028" + "x" * 100_000,
+        "values": {
+            "<b>\n": 1,
+            "huge": 10**400,
+            "list": [1, 2],
+            "nan": float("nan"),
+            **{f"v{i}": i for i in range(50)},
+        },
+        "timeout_s": -5,
+        "action": {"not": "text"},
+    }
+    cause = TransitionCause.from_claim(claim, source="s")
+    assert cause is not None
+    assert cause.condition is not None
+    assert len(cause.condition) == CLAIM_TEXT_CHARS + 1  # and an ellipsis
+    assert cause.condition.isprintable() and cause.condition.startswith(" [2J</script>  x")
+    assert dict(cause.values) == {"<b> ": 1} | {f"v{i}": i for i in range(4)}
+    assert (cause.action, cause.timeout_s) == (None, None)
+    assert json.dumps(cause.to_json(), allow_nan=False)  # JSON a page can hold
+
+
+def test_a_claim_of_an_unknown_kind_or_shape_is_no_cause() -> None:
+    for claim in (None, "done", [], {"kind": "passed"}, {"kind": ["done"]}, {}):
+        assert TransitionCause.from_claim(claim, source="s") is None

@@ -174,3 +174,96 @@ def test_a_line_follower_is_seen_over_the_tape() -> None:
     centre = [f["sensors"]["line"][1] for f in frames]
     assert sum(v > 500 for v in centre) > 0.8 * len(centre)  # following: over the tape
     assert all(90 <= v <= 850 for f in frames for v in f["sensors"]["line"])
+
+
+# What a graded recording has that run --record's has not, and the reverse: each on purpose.
+GRADED_ONLY = {
+    "header": {"frame_rate_hz"},  # a graded run keeps at most 10 frames a second
+    "frame": set(),
+    "why": {"claimed"},  # the cause is the mission's own account, and the page says so
+}
+RUN_ONLY = {
+    "header": set(),
+    "mission": {"path"},  # the student's file stays the grader's business
+    # the action's outcome is known only in the mission's process (``why.kind`` says it at
+    # each transition); log/print too, and they are absent here as this mission has none
+    "frame": {"outcome"},
+    "why": set(),
+}
+
+
+def _keys(items: list[dict[str, Any]], part: str | None = None) -> set[str]:
+    found: set[str] = set()
+    for item in items:
+        found |= set(item if part is None else item.get(part) or {})
+    return found
+
+
+def _transitions(frames: list[dict[str, Any]]) -> list[tuple[float, str, str]]:
+    """(t, state, why's text) at each transition."""
+    seen: list[tuple[float, str, str]] = []
+    last = None
+    for frame in frames:
+        if frame.get("why") is not last:
+            last = frame["why"]
+            seen.append((frame["t"], frame["state"], last["text"]))
+    return seen
+
+
+def test_run_and_grade_record_the_same_fields_in_the_same_units(tmp_path: Path) -> None:
+    from helpers import run_cli
+
+    from roboscript.replay.recording import load_recording
+
+    mission = tmp_path / "bump.yaml"
+    mission.write_text((MISSIONS / "bump_and_turn.yaml").read_text(encoding="utf-8"))
+    spec = tmp_path / "test.yaml"
+    spec.write_text(
+        "test: same\nworld: square-room\nrobot: mirto\nruns:\n  - {seed: 3}\nmax_time: 40 s\n"
+        "expect:\n  - outcome: success\n",
+        encoding="utf-8",
+    )
+    run = tmp_path / "run.jsonl"
+    done = run_cli(
+        "run", str(mission), "--world", "square-room", "--seed", "3", "--max-time", "40",
+        "--record", str(run), "--quiet",
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    done = run_cli(
+        "grade", str(spec), "--mission", str(mission), "--html", str(tmp_path / "html"),
+        "--quiet",
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    ran = load_recording(run)
+    graded = _embedded((tmp_path / "html" / "runs" / "bump--same--1.html").read_text("utf-8"))
+    header, frames = graded["header"], fill_frames(graded["frames"])
+
+    assert set(header) - set(ran.header) == GRADED_ONLY["header"]
+    assert set(ran.header) - set(header) == RUN_ONLY["header"]
+    assert set(ran.header["mission"]) - set(header["mission"]) == RUN_ONLY["mission"]
+    assert (header["robot"], header["world"], header["seed"], header["tick_s"]) == (
+        ran.header["robot"],
+        ran.header["world"],
+        ran.header["seed"],
+        ran.header["tick_s"],
+    )
+    # the states it entered, with their actions (whether a state is final is not told)
+    actions = {s["name"]: s["action"] for s in ran.header["mission"]["states"]}
+    assert [(s["name"], s["action"]) for s in header["mission"]["states"]] == [
+        (name, actions[name]) for name in dict.fromkeys(n for _, n in ran.result["states"])
+    ]
+    assert _keys(frames) - _keys(ran.frames) == GRADED_ONLY["frame"]
+    assert _keys(ran.frames) - _keys(frames) == RUN_ONLY["frame"]
+    for part in ("sensors", "motors"):
+        assert _keys(frames, part) == _keys(ran.frames, part)
+    assert _keys(frames, "why") - _keys(ran.frames, "why") == GRADED_ONLY["why"]
+    assert _keys(ran.frames, "why") - _keys(frames, "why") == RUN_ONLY["why"]
+    # the same units: every transition at the same time, in the same words, and the pose
+    # (mm, degrees) where the run ended
+    assert _transitions(frames) == _transitions(ran.frames)
+    assert frames[-1]["pose"] == ran.frames[-1]["pose"]
+    assert frames[-1]["t"] == ran.frames[-1]["t"]
+    for key in ("range_mm", "bumper"):
+        graded_types = {type(f["sensors"][key]).__name__ for f in frames}
+        assert graded_types <= {type(f["sensors"][key]).__name__ for f in ran.frames}
+    assert {type(f["action"]) for f in frames} == {type(f["action"]) for f in ran.frames}
