@@ -27,6 +27,7 @@ __all__ = [
     "QuantityError",
     "bare_number_warning",
     "parse_quantity",
+    "radians_warning",
 ]
 
 
@@ -200,16 +201,48 @@ def bare_number_warning(
     return f"{written} taken as {written} {unit}; write `{written} {unit}`", hint
 
 
+def radians_warning(angle_deg: object, keyword: str | None = None) -> tuple[str, str] | None:
+    """The warning for an angle in degrees that looks like radians (1.57 deg, ``math.pi``).
+
+    Args:
+        angle_deg: The angle, degrees.
+        keyword: The Python keyword it was given as (``angle_deg``), to write the fix that
+            way; ``None`` for a mission file.
+
+    Returns:
+        ``(message, hint)`` for a fraction of a degree, up to 2π degrees, that is not a
+        whole number; else ``None`` (a whole number of degrees is meant as written).
+
+    Example:
+        >>> radians_warning(1.5708)
+        ('1.5708 deg is a very small angle', 'if you meant radians, that is 90 deg: write 90 deg')
+    """
+    if isinstance(angle_deg, bool) or not isinstance(angle_deg, int | float):
+        return None
+    if not math.isfinite(angle_deg) or angle_deg == 0 or float(angle_deg).is_integer():
+        return None
+    if abs(angle_deg) > 2 * math.pi + 0.01:
+        return None
+    degrees = f"{math.degrees(angle_deg):.0f}"
+    fix = f"{keyword}={degrees}" if keyword else f"{degrees} deg"
+    return (
+        f"{angle_deg:g} deg is a very small angle",
+        f"if you meant radians, that is {degrees} deg: write {fix}",
+    )
+
+
 def _likely_unit(dimension: str, number: float) -> str | None:
     """The unit a beginner more likely meant: centimetres for a length or a speed (the unit
     the examples and most rulers use), milliseconds for a time of 50 or more (a beep of
-    200, not a wait of over three minutes)."""
+    200, not a wait of over three minutes), radians for a fraction of a degree up to 2π."""
     if dimension == "distance":
         return "cm"
     if dimension == "speed":
         return "cm/s"
     if dimension == "time" and abs(number) >= 50:
         return "ms"
+    if dimension == "angle" and not number.is_integer() and abs(number) <= 2 * math.pi + 0.01:
+        return "rad"  # 1.57, 3.14: a quarter, a half turn in radians (maths lessons use them)
     return None
 
 

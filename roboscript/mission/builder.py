@@ -29,6 +29,7 @@ from roboscript.inputs.quantities import (
     QuantityError,
     bare_number_warning,
     parse_quantity,
+    radians_warning,
 )
 from roboscript.inputs.source import Location
 from roboscript.mission.checks import check_mission
@@ -93,6 +94,11 @@ def action_params(
     params = {p.name: p for p in cls.params}
     for name in values:
         if name not in params:
+            key, colon, value = str(name).partition(":")
+            if colon and key.strip() in params:  # YAML reads "distance:50 cm" as one word
+                spaced = f"put a space after the ':': {key.strip()}: {value.strip()}"
+                problems.append((name, f"'{cls.name}' has no parameter '{name}'", spaced, None))
+                continue
             hint = did_you_mean(name, params) or (
                 f"'{cls.name}' takes {', '.join(params)}" if params else None
             )
@@ -291,12 +297,18 @@ class MissionBuilder:
         for param_name, message, hint, offset in problems:
             at = param_where(param_name, message, offset) if param_where else where
             self.problem(message, at, hint)
-        if instance is None:  # written in a file: a bare number's unit may not be the one meant
-            for param in cls.params:
+        for param in cls.params:
+            # written in a file, a bare number's unit may not be the one meant; and degrees
+            # that look like radians (1.57) were most likely radians
+            note = None
+            if instance is None:
                 note = bare_number_warning(values.get(param.name), param.kind)
-                if note is not None:
-                    at = param_where(param.name, "", None) if param_where else where
-                    self.problem(f"{label} {param.name}: {note[0]}", at, note[1], "warning")
+            if note is None and param.kind == "angle":
+                keyword = param.kwarg if instance is not None else None
+                note = radians_warning(kwargs.get(param.kwarg), keyword)
+            if note is not None:
+                at = param_where(param.name, "", None) if param_where else where
+                self.problem(f"{label} {param.name}: {note[0]}", at, note[1], "warning")
         if problems or refused:
             return None
         param_locations = {
@@ -445,7 +457,11 @@ class MissionBuilder:
         if value == "failure":
             return "failure"
         if value not in (None, False):
-            self.problem(f"state '{state}': final is 'success' or 'failure', got {value!r}", where)
+            self.problem(
+                f"state '{state}': final is 'success' or 'failure', got {value!r}",
+                where,
+                did_you_mean(value, ("success", "failure")) if isinstance(value, str) else None,
+            )
         return None
 
     def state(

@@ -466,6 +466,16 @@ class _Compiler:
                 raise self.fail(f"'{node.id}' needs a '.' and a name after it", node)
             raise self.unknown(node.id, node)
         value = node.value
+        if (
+            isinstance(value, ast.Attribute)
+            and isinstance(value.value, ast.Name)
+            and value.value.id == "self"
+        ):
+            raise self.fail(
+                "a condition written as text names the sensors without 'self.'",
+                value.value,
+                f"write {value.attr}.{node.attr}",
+            )
         if not isinstance(value, ast.Name):
             raise self.fail("a name has at most one '.'", node)
         root, attr = value.id, node.attr
@@ -531,6 +541,11 @@ def _with_unit_suffix(node: ast.expr) -> ast.expr:
 
 
 _MISTAKES: tuple[tuple[re.Pattern[str], str, str], ...] = (
+    (
+        re.compile("[\u201c\u201d\u2018\u2019]"),
+        "'{found}' is a curly quote, as a word processor writes it",
+        'type straight quotes around the condition, or none: "{fixed}"',
+    ),
     (re.compile(r"&&"), "'&&' is not a condition word", "write 'and': {fixed}"),
     (re.compile(r"\|\|"), "'||' is not a condition word", "write 'or': {fixed}"),
     (re.compile(r"!(?!=)"), "'!' is not a condition word", "write 'not': {fixed}"),
@@ -559,6 +574,7 @@ _MISTAKES: tuple[tuple[re.Pattern[str], str, str], ...] = (
     ),
 )
 _FIXES = {"&&": " and ", "||": " or ", "!": "not ", "=<": "<=", "=>": ">=", "=": "=="}
+_FIXES.update(dict.fromkeys("\u201c\u201d\u2018\u2019", ""))
 
 
 def _syntax_mistake(source: str) -> GuardError | None:

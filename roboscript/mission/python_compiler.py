@@ -63,6 +63,16 @@ def nested_missions(action: object) -> Iterator[type[Mission]]:
             yield from nested_missions(child)
 
 
+def _calls_state(node: ast.expr) -> bool:
+    """True for ``state(...)`` (or ``roboscript.state(...)``)."""
+    if not isinstance(node, ast.Call):
+        return False
+    func = node.func
+    return (isinstance(func, ast.Name) and func.id == "state") or (
+        isinstance(func, ast.Attribute) and func.attr == "state"
+    )
+
+
 def mission_states(cls: type[Mission]) -> dict[str, StateDef]:
     """The states of a mission class by name, in the order written (base classes first)."""
     found: dict[str, StateDef] = {}
@@ -145,6 +155,12 @@ class MethodGuard:
                 problem="returned None instead of True or False (is 'return' missing?)",
                 where=self.where,
             )
+        if isinstance(value, str):
+            raise StudentCodeError(
+                f"condition '{self.source}'",
+                problem=f"returned the text {value[:40]!r} instead of True or False",
+                where=self.where,
+            )
         return bool(value)
 
 
@@ -155,6 +171,7 @@ class _Scan:
     capabilities: set[str] = field(default_factory=set)
     states: dict[str, ast.Constant] = field(default_factory=dict)
     returns_value: bool = False
+    returns_text: ast.Constant | None = None  # the first ``return "..."``
 
 
 def _walk_own(node: ast.AST) -> Iterator[ast.AST]:
@@ -230,6 +247,8 @@ class _Compiler:
 
     def compile(self) -> MissionSpec | None:
         cls = self.cls
+        if self.replaced_states():
+            return None
         if not self.states:
             self.problem(
                 f"mission {cls.__name__} has no states",
@@ -265,6 +284,29 @@ class _Compiler:
             robot_where=self.attribute_loc("robot"),
             world_where=self.attribute_loc("world"),
         )
+
+    def replaced_states(self) -> bool:
+        """Say so of each state that a later ``def`` of the same name in the class replaces
+        (Python keeps the last of the two: the state is gone); True if there was one."""
+        written: dict[str, ast.stmt] = {}
+        found = False
+        for statement in self.class_node.body if self.class_node is not None else []:
+            if isinstance(statement, ast.Assign) and _calls_state(statement.value):
+                for target in statement.targets:
+                    if isinstance(target, ast.Name):
+                        written[target.id] = statement
+            elif isinstance(statement, ast.FunctionDef) and statement.name in written:
+                name = statement.name
+                found = True
+                self.problem(
+                    f"'{name}' is a state (line {written[name].lineno}) and a method: this def"
+                    " replaces the state, so the mission has no state called"
+                    f" '{name}'",
+                    self.source.loc(statement),
+                    "give the method another name; a state's action goes inside state(...),"
+                    f" e.g. {name} = state(Drive(distance_mm=500), ...)",
+                )
+        return found
 
     def requires(self) -> frozenset[str]:
         raw = getattr(self.cls, "requires", ())
@@ -616,6 +658,13 @@ class _Compiler:
                     self.source_of(value.__code__.co_filename).loc(constant),
                     did_you_mean(state_name, self.names),
                 )
+        if scan.returns_text is not None:
+            self.problem(
+                f"condition method '{name}' returns the text {scan.returns_text.value!r},"
+                " and any text but '' counts as true",
+                self.source_of(value.__code__.co_filename).loc(scan.returns_text),
+                "return True or False, e.g. return self.range.distance_cm < 20",
+            )
         if not scan.returns_value:
             self.problem(
                 f"condition method '{name}' never returns a value, so it never holds",
@@ -665,6 +714,9 @@ class _Compiler:
         for child in _walk_own(node):
             if isinstance(child, ast.Return) and child.value is not None:
                 result.returns_value = True
+                value = child.value
+                if isinstance(value, ast.Constant) and isinstance(value.value, str):
+                    result.returns_text = result.returns_text or value
             if not isinstance(child, ast.Attribute):
                 continue
             if not (isinstance(child.value, ast.Name) and child.value.id == "self"):

@@ -28,12 +28,15 @@ import sysconfig
 import traceback
 from pathlib import Path
 from types import FrameType, ModuleType, TracebackType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import roboscript
 from roboscript.actions.base import Action
 from roboscript.errors import LinkError, MissionError, RoboscriptError, did_you_mean
 from roboscript.mission.python_api import state
+
+if TYPE_CHECKING:
+    import ast
 
 __all__ = [
     "StudentCodeError",
@@ -258,7 +261,16 @@ def _syntax_problem(exc: SyntaxError, path: str | Path) -> MissionError:
     message = exc.msg or "invalid syntax"
     if not message.startswith(("invalid syntax", "expected", "unexpected")):
         message = f"syntax error: {message}"
-    return MissionError(message, path=where, line=exc.lineno, col=exc.offset)
+    hint = None
+    if any(quote in message for quote in _CURLY_QUOTES):
+        hint = "a curly quote, as a word processor writes it: type straight quotes, \" or '"
+    elif isinstance(exc, TabError):
+        hint = "indent with spaces only: a tab looks like spaces but Python counts it apart"
+    return MissionError(message, path=where, line=exc.lineno, col=exc.offset, hint=hint)
+
+
+_CURLY_QUOTES = "\u201c\u201d\u2018\u2019"
+"""“ ” ‘ ’: what a word processor or a web page turns typed quotes into."""
 
 
 _UNEXPECTED_KEYWORD = re.compile(
@@ -316,8 +328,16 @@ def _explain(
         what = _class_members(module).get(name)
         if what is not None:
             return f"NameError: {text}", f"a {what} is named in quotes: write '{name}'"
+        below = _defined_at(module).get(name)
+        if below is not None:
+            return f"NameError: {text}", (
+                f"'{name}' is defined further down, on line {below}, but Python runs a file"
+                " from the top: define it above, or make it a method and name it in quotes:"
+                f" '{name}'"
+            )
         known = [*vars(module), *dir(builtins)]
-        return f"NameError: {text}", did_you_mean(name, [*known, *_roboscript_names()])
+        # only a close look-alike: "near" is not a misspelt "setattr"
+        return f"NameError: {text}", did_you_mean(name, [*known, *_roboscript_names()], cutoff=0.7)
     if isinstance(exc, ModuleNotFoundError) and exc.name and "." not in exc.name:
         file = Path(getattr(module, "__file__", None) or f"{kind}.py")
         return f"ModuleNotFoundError: {text}", (
@@ -340,9 +360,8 @@ def _class_members(module: ModuleType) -> dict[str, str]:
     state refers to a later one without quotes."""
     import ast
 
-    try:
-        tree = ast.parse(Path(module.__file__ or "").read_bytes())
-    except (OSError, SyntaxError, ValueError, RecursionError, MemoryError):
+    tree = _tree(module)
+    if tree is None:
         return {}
     members: dict[str, str] = {}
     for node in ast.walk(tree):
@@ -362,6 +381,32 @@ def _class_members(module: ModuleType) -> dict[str, str]:
                 if isinstance(target, ast.Name):
                     members[target.id] = "state"
     return members
+
+
+def _tree(module: ModuleType) -> ast.Module | None:
+    """The student's file parsed, or ``None`` if it cannot be read."""
+    import ast
+
+    try:
+        return ast.parse(Path(module.__file__ or "").read_bytes())
+    except (OSError, SyntaxError, ValueError, RecursionError, MemoryError):
+        return None
+
+
+def _defined_at(module: ModuleType) -> dict[str, int]:
+    """The line of each function, class or variable the file defines at its top level."""
+    import ast
+
+    tree = _tree(module)
+    lines: dict[str, int] = {}
+    for statement in tree.body if tree is not None else []:
+        if isinstance(statement, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
+            lines.setdefault(statement.name, statement.lineno)
+        elif isinstance(statement, ast.Assign):
+            for target in statement.targets:
+                if isinstance(target, ast.Name):
+                    lines.setdefault(target.id, statement.lineno)
+    return lines
 
 
 def _roboscript_names() -> list[str]:

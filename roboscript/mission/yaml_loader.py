@@ -43,6 +43,12 @@ _CHOICE_KEYS = ("if", "goto")
 _COMPOSITES = ("parallel", "repeat", "states", "mission")
 
 
+def _first_key(items: YamlList) -> str:
+    """The name of a list's first mapping's first key (a state written as ``- go:``)."""
+    first = items[0] if items else None
+    return str(next(iter(first))) if isinstance(first, YamlMap) and first else "go"
+
+
 _LOADING: set[str] = set()  # mission files being loaded, to refuse a file that includes itself
 
 
@@ -89,6 +95,15 @@ class _Reader:
             self.problems.extend(problems)
             self.actions = {**ACTIONS, **extra}
         states_raw = data.get("states")
+        if isinstance(states_raw, YamlList):
+            self.problem(
+                "'states:' is written as a list (its lines start with '- '), but it maps"
+                " each state's name to the state",
+                data.value_mark("states"),
+                "take away the '- ' and line the names up: write"
+                f" {_first_key(states_raw)}: rather than - {_first_key(states_raw)}:",
+            )
+            return None
         if not isinstance(states_raw, YamlMap) or not states_raw:
             self.problem(
                 "a mission needs 'states:', a mapping of state names to states",
@@ -186,7 +201,15 @@ class _Reader:
                 raw.key_mark(key),
                 f"write do: {{{key}: {{...}}}}",
             )
-        self.unknown_keys(raw, (*_STATE_KEYS, *misplaced), f"state '{name}'")
+        mission_keys = [key for key in raw if key not in _STATE_KEYS and key in _TOP_KEYS]
+        for key in mission_keys:
+            self.problem(
+                f"'{key}' is written once for the whole mission, not in a state",
+                raw.key_mark(key),
+                "move it to the top, beside 'states:'"
+                + (f": initial: {name}" if key == "initial" else ""),
+            )
+        self.unknown_keys(raw, (*_STATE_KEYS, *misplaced, *mission_keys), f"state '{name}'")
         action = None
         if "do" in raw:
             action = self.action(raw["do"], raw.value_mark("do"), names, label=name)
@@ -242,6 +265,16 @@ class _Reader:
             return self.inline_machine(raw, mark, label)
         if isinstance(raw, YamlMap) and len(raw) == 1 and next(iter(raw)) in _COMPOSITES:
             return self.composite(raw, names, label)
+        words = raw.split() if isinstance(raw, str) else []
+        if len(words) > 1 and words[0] in self.actions:
+            first = words[0]
+            self.problem(
+                f"'do: {raw}' gives '{first}' its settings as plain text",
+                mark,
+                f"write them as a mapping: do: {{{first}: {{...}}}},"
+                " e.g. do: {drive: {distance: 50 cm}}",
+            )
+            return None
         if isinstance(raw, str):
             name, params, name_mark = raw, YamlMap.at(mark), mark
         elif isinstance(raw, YamlMap) and len(raw) == 1:
@@ -258,7 +291,14 @@ class _Reader:
                 )
                 return None
         else:
-            self.problem("'do' names one action, e.g. do: {drive: {distance: 50 cm}}", mark)
+            self.problem(
+                "'do' names one action, e.g. do: {drive: {distance: 50 cm}}",
+                mark,
+                "to do one thing after another, give each its own state and go on with"
+                " on: {done: NEXT}"
+                if isinstance(raw, YamlList)
+                else None,
+            )
             return None
         cls = self.actions.get(name)
         if cls is None:
