@@ -340,8 +340,21 @@ _COLON_HINT = (
 )
 
 
+_PYTHON_LINE = re.compile(
+    r"^(?:from [\w.]+ import |import [\w.]+$|class \w+\(|def \w+\()", re.MULTILINE
+)
+"""A line only Python starts so (YAML would read it as text, or refuse it)."""
+
+
 def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, str | None]:
     """A PyYAML syntax error in a beginner's terms: ``(message, where, hint)``."""
+    python = _PYTHON_LINE.search(text)
+    if python is not None:  # a Python mission saved with a .yaml ending
+        return (
+            "this file holds Python, not YAML",
+            _offset_mark(text, python.start()),
+            "a Python mission's file name ends in .py",
+        )
     problem = str(exc.problem or "invalid YAML")
     context = str(exc.context or "")
     at = _at(exc.problem_mark) if exc.problem_mark else None

@@ -41,6 +41,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar, NoReturn, TypeAlias
 
 from roboscript.actions.base import Action
+from roboscript.errors import RoboscriptError
 
 if TYPE_CHECKING:
     from roboscript.mission.guards import GuardEnv
@@ -63,6 +64,9 @@ __all__ = [
     "run_command",
     "state",
 ]
+
+LOADED_PREFIX = "_roboscript_"
+"""How the names of the modules roboscript loads a student's file as begin."""
 
 Condition: TypeAlias = "str | Callable[[Any], object]"
 """A guard method's name, a condition expression, or a function taking the mission."""
@@ -385,6 +389,12 @@ class Mission:
             argv: ``roboscript run``'s options (``--robot``, ``--world``, ``--seed``,
                 ``--port``, ``--view``, ...); default: the command line's.
         """
+        if cls.__module__.startswith(LOADED_PREFIX):
+            # roboscript is loading the file (run, check, grade): it runs the mission itself
+            raise RoboscriptError(
+                f"{cls.__name__}.main() runs the mission when Python runs this file, not while"
+                f' roboscript loads it (put it under if __name__ == "__main__":)'
+            )
         note_mission_run()
         path = mission_file(cls)
         if path is None:

@@ -63,14 +63,16 @@ def nested_missions(action: object) -> Iterator[type[Mission]]:
             yield from nested_missions(child)
 
 
+def _names_state(node: ast.expr) -> bool:
+    """True for ``state`` (or ``roboscript.state``)."""
+    return (isinstance(node, ast.Name) and node.id == "state") or (
+        isinstance(node, ast.Attribute) and node.attr == "state"
+    )
+
+
 def _calls_state(node: ast.expr) -> bool:
     """True for ``state(...)`` (or ``roboscript.state(...)``)."""
-    if not isinstance(node, ast.Call):
-        return False
-    func = node.func
-    return (isinstance(func, ast.Name) and func.id == "state") or (
-        isinstance(func, ast.Attribute) and func.attr == "state"
-    )
+    return isinstance(node, ast.Call) and _names_state(node.func)
 
 
 def mission_states(cls: type[Mission]) -> dict[str, StateDef]:
@@ -250,10 +252,14 @@ class _Compiler:
         if self.replaced_states():
             return None
         if not self.states:
+            inside = self.states_in_methods()
             self.problem(
                 f"mission {cls.__name__} has no states",
-                self.class_loc,
-                "add one, e.g. go = state(Drive(distance_mm=300), initial=True, on_done='end')",
+                self.source.loc(inside) if inside is not None else self.class_loc,
+                "write each state in the class body, not in a method: go = state(...)"
+                if inside is not None
+                else "add one, e.g. go = state(Drive(distance_mm=300), initial=True,"
+                " on_done='end')",
             )
             return None
         self.declared = self.requires()
@@ -285,9 +291,20 @@ class _Compiler:
             world_where=self.attribute_loc("world"),
         )
 
+    def states_in_methods(self) -> ast.AST | None:
+        """The first ``self.NAME = state(...)`` in a method of the class, if any."""
+        for statement in self.class_node.body if self.class_node is not None else []:
+            if not isinstance(statement, ast.FunctionDef):
+                continue
+            for node in ast.walk(statement):
+                if isinstance(node, ast.Assign) and _calls_state(node.value):
+                    return node
+        return None
+
     def replaced_states(self) -> bool:
         """Say so of each state that a later ``def`` of the same name in the class replaces
-        (Python keeps the last of the two: the state is gone); True if there was one."""
+        (Python keeps the last of the two: the state is gone), and of ``NAME = state``
+        without its call; True if there was one."""
         written: dict[str, ast.stmt] = {}
         found = False
         for statement in self.class_node.body if self.class_node is not None else []:
@@ -295,6 +312,14 @@ class _Compiler:
                 for target in statement.targets:
                     if isinstance(target, ast.Name):
                         written[target.id] = statement
+            elif isinstance(statement, ast.Assign) and _names_state(statement.value):
+                found = True
+                name = ", ".join(ast.unparse(t) for t in statement.targets)
+                self.problem(
+                    f"'{name} = state' names the state function without calling it",
+                    self.source.loc(statement.value),
+                    f'call it: {name} = state(...), e.g. {name} = state(final="success")',
+                )
             elif isinstance(statement, ast.FunctionDef) and statement.name in written:
                 name = statement.name
                 found = True
@@ -617,6 +642,13 @@ class _Compiler:
         if name in self.method_guards:
             return self.method_guards[name]
         value = inspect.getattr_static(self.cls, name, None)
+        if isinstance(value, property) and inspect.isfunction(value.fget):
+            self.problem(
+                f"condition '{name}' is a property, and a condition is a plain method",
+                self.def_of(value.fget)[0],
+                f"take away the @property above def {name}(self)",
+            )
+            return None
         if isinstance(value, StateDef):
             self.problem(
                 f"'{name}' is a state, not a condition",

@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, Any
 import roboscript
 from roboscript.actions.base import Action
 from roboscript.errors import LinkError, MissionError, RoboscriptError, did_you_mean
-from roboscript.mission.python_api import state
+from roboscript.mission.python_api import LOADED_PREFIX, state
 
 if TYPE_CHECKING:
     import ast
@@ -231,7 +231,7 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
         return _IMPORTED[key]
     digest = hashlib.sha1(key[0].encode("utf-8")).hexdigest()[:10]  # a module name, not security
     stem = re.sub(r"\W", "_", file.stem)
-    name = f"_roboscript_{kind}_{stem}_{digest}"
+    name = f"{LOADED_PREFIX}{kind}_{stem}_{digest}"
     spec = importlib.util.spec_from_file_location(name, file.resolve())
     if spec is None or spec.loader is None:
         raise MissionError(f"a {kind} file is a Python file ending in .py", path=str(path))
@@ -266,8 +266,13 @@ def _syntax_problem(exc: SyntaxError, path: str | Path) -> MissionError:
         hint = "a curly quote, as a word processor writes it: type straight quotes, \" or '"
     elif isinstance(exc, TabError):
         hint = "indent with spaces only: a tab looks like spaces but Python counts it apart"
+    elif _YAML_MISSION.match(exc.text or "") and exc.lineno is not None and exc.lineno <= 3:
+        hint = "this is a YAML mission: a YAML mission's file name ends in .yaml"
     return MissionError(message, path=where, line=exc.lineno, col=exc.offset, hint=hint)
 
+
+_YAML_MISSION = re.compile(r"\s*(?:mission|states|initial|robot|world)\s*:")
+"""The first lines of a YAML mission (saved by mistake with a .py ending)."""
 
 _CURLY_QUOTES = "\u201c\u201d\u2018\u2019"
 """“ ” ‘ ’: what a word processor or a web page turns typed quotes into."""
