@@ -24,6 +24,7 @@ import copy
 import inspect
 import keyword as pykeyword
 import re
+import typing
 import weakref
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -61,6 +62,21 @@ def nested_missions(action: object) -> Iterator[type[Mission]]:
     elif isinstance(action, Parallel):
         for child in action.actions:
             yield from nested_missions(child)
+
+
+def _reading_names(sensor: str) -> list[str]:
+    """What ``self.SENSOR`` of a mission has (``distance_cm``, ...), or ``[]`` when ``SENSOR``
+    is not one of the Mission's sensor readings."""
+    prop = inspect.getattr_static(Mission, sensor, None)
+    if not isinstance(prop, property) or prop.fget is None:
+        return []
+    try:
+        reading = typing.get_type_hints(prop.fget).get("return")
+    except (NameError, TypeError):
+        return []
+    if not isinstance(reading, type) or not reading.__name__.endswith("Reading"):
+        return []
+    return [name for name in vars(reading) if not name.startswith("_")]
 
 
 def _names_state(node: ast.expr) -> bool:
@@ -174,6 +190,8 @@ class _Scan:
     states: dict[str, ast.Constant] = field(default_factory=dict)
     returns_value: bool = False
     returns_text: ast.Constant | None = None  # the first ``return "..."``
+    # ``self.range.distnce``: (the node, the sensor, the names it has), in the method's file
+    misread: list[tuple[ast.Attribute, str, list[str]]] = field(default_factory=list)
 
 
 def _walk_own(node: ast.AST) -> Iterator[ast.AST]:
@@ -690,6 +708,12 @@ class _Compiler:
                     self.source_of(value.__code__.co_filename).loc(constant),
                     did_you_mean(state_name, self.names),
                 )
+        for node, sensor, names in scan.misread:
+            self.problem(
+                f"self.{sensor} has no '{node.attr}' (it has {', '.join(names)})",
+                self.source_of(value.__code__.co_filename).loc(node),
+                did_you_mean(node.attr, names),
+            )
         if scan.returns_text is not None:
             self.problem(
                 f"condition method '{name}' returns the text {scan.returns_text.value!r},"
@@ -751,6 +775,15 @@ class _Compiler:
                     result.returns_text = result.returns_text or value
             if not isinstance(child, ast.Attribute):
                 continue
+            sensor = child.value
+            if (
+                isinstance(sensor, ast.Attribute)
+                and isinstance(sensor.value, ast.Name)
+                and sensor.value.id == "self"
+            ):
+                names = _reading_names(sensor.attr)
+                if names and child.attr not in names:
+                    result.misread.append((child, sensor.attr, names))
             if not (isinstance(child.value, ast.Name) and child.value.id == "self"):
                 continue
             if child.attr in _SENSOR_CAPABILITY:
