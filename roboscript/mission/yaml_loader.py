@@ -95,7 +95,7 @@ class _Reader:
             self.problems.extend(problems)
             self.actions = {**ACTIONS, **extra}
         states_raw = data.get("states")
-        if isinstance(states_raw, YamlList):
+        if isinstance(states_raw, YamlList) and states_raw:
             self.problem(
                 "'states:' is written as a list (its lines start with '- '), but it maps"
                 " each state's name to the state",

@@ -367,7 +367,10 @@ def test_golden_messages_for_a_bad_python_mission(write_mission: Callable[..., P
         ),
         "M:8:28: error: state 'wait': timeout_s is a positive number of seconds, got -1",
         "M:8:58: error: states 'side' and 'wait' are both initial; a mission starts in one",
-        "M:9:23: error: state 'end': final is 'success' or 'failure', got 'sucess'",
+        (
+            "M:9:23: error: state 'end': final is 'success' or 'failure', got 'sucess'"
+            " (did you mean 'success'?)"
+        ),
         (
             "M:10:5: error: a state cannot be called 'range': Mission uses that name"
             " (choose another name)"

@@ -212,7 +212,10 @@ def test_mistakes_in_inherited_states_are_shown_in_the_file_that_wrote_them(writ
     )
     assert messages(path) == [
         "pc2_template.py:7: error: state 'slow': timeout_s is a positive number of seconds, got -1",
-        "pc2_template.py:8: error: state 'end': final is 'success' or 'failure', got 'sucess'",
+        (
+            "pc2_template.py:8: error: state 'end': final is 'success' or 'failure', got 'sucess'"
+            " (did you mean 'success'?)"
+        ),
         (
             "pc2_template.py:9: error: Child has no method 'nothing'"
             " (define it: def nothing(self) -> bool: ... (return True or False))"
@@ -235,7 +238,10 @@ def test_a_subclass_without_states_of_its_own_is_checked_like_its_base(write: Wr
             "pc2_template2.py:7: error: state 'slow':"
             " timeout_s is a positive number of seconds, got -1"
         ),
-        "pc2_template2.py:8: error: state 'end': final is 'success' or 'failure', got 'sucess'",
+        (
+            "pc2_template2.py:8: error: state 'end': final is 'success' or 'failure', got 'sucess'"
+            " (did you mean 'success'?)"
+        ),
         (
             "pc2_template2.py:9: error: Bare has no method 'nothing'"
             " (define it: def nothing(self) -> bool: ... (return True or False))"
@@ -277,7 +283,10 @@ class Hop(Base):  # noqa: F811 - a second class of the same name, the mission
     )
     assert messages(path) == [
         "twins.py:14:49: error: state 'own': timeout_s is a positive number of seconds, got -2",
-        "twins.py:15:23: error: state 'end': final is 'success' or 'failure', got 'sucess'",
+        (
+            "twins.py:15:23: error: state 'end': final is 'success' or 'failure', got 'sucess'"
+            " (did you mean 'success'?)"
+        ),
     ]
 
 
@@ -361,14 +370,20 @@ def test_messages_name_the_file_as_the_caller_names_it(write: Write) -> None:
         compile_mission(twice, path="lesson.py")
     assert [p.format() for p in info.value.problems] == [
         "lesson.py:5:64: error: state 'hop': timeout_s is a positive number of seconds, got -1",
-        "lesson.py:12:23: error: state 'end': final is 'success' or 'failure', got 'sucess'",
+        (
+            "lesson.py:12:23: error: state 'end': final is 'success' or 'failure', got 'sucess'"
+            " (did you mean 'success'?)"
+        ),
     ]
     # Without a name given, the file is shown as it is (relative to the working folder).
     with pytest.raises(MissionError) as info:
         compile_mission(twice)
     assert [p.format() for p in info.value.problems] == [
         f"{path}:5:64: error: state 'hop': timeout_s is a positive number of seconds, got -1",
-        f"{path}:12:23: error: state 'end': final is 'success' or 'failure', got 'sucess'",
+        (
+            f"{path}:12:23: error: state 'end': final is 'success' or 'failure', got 'sucess'"
+            " (did you mean 'success'?)"
+        ),
     ]
 
 

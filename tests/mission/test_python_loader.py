@@ -482,7 +482,7 @@ class Hello(Mission):
         + ' final="sucess")\n',
         (
             "T/rewritten_on_one_line.py:9:78: error: state 'go': final is 'success' or 'failure',"
-            " got 'sucess'"
+            " got 'sucess' (did you mean 'success'?)"
         ),
     ),
     "rewritten": (
@@ -494,7 +494,10 @@ class Hello(Mission):
 
     go = state(Drive(distance_mm=300), initial=True, final="sucess")
 ''',
-        "T/rewritten.py:12:60: error: state 'go': final is 'success' or 'failure', got 'sucess'",
+        (
+            "T/rewritten.py:12:60: error: state 'go': final is 'success' or 'failure', got 'sucess'"
+            " (did you mean 'success'?)"
+        ),
     ),
 }
 

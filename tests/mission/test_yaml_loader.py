@@ -453,7 +453,10 @@ MISTAKES = [
             "m.yaml:1:8: error: 'robot' names a robot, e.g. robot: mirto",
             "m.yaml:2:8: error: 'world' names a world, e.g. world: square-room",
             "m.yaml:4:6: error: state 's' must be a mapping (do:, on:, when:, final:)",
-            "m.yaml:6:12: error: state 'e': final is 'success' or 'failure', got 'sucess'",
+            (
+                "m.yaml:6:12: error: state 'e': final is 'success' or 'failure', got 'sucess'"
+                " (did you mean 'success'?)"
+            ),
         ],
         id="robot_world_not_names",
     ),
@@ -671,7 +674,11 @@ MISTAKES = [
             ),
         },
         [
-            "m.yaml:3:9: error: 'do' names one action, e.g. do: {drive: {distance: 50 cm}}",
+            (
+                "m.yaml:3:9: error: 'do' names one action, e.g. do: {drive: {distance: 50 cm}}"
+                " (to do one thing after another, give each its own state and go on with"
+                " on: {done: NEXT})"
+            ),
         ],
         id="do_a_list",
     ),
@@ -1007,7 +1014,10 @@ MISTAKES = [
         },
         [
             "bad.yaml:3:10: error: unknown action 'dirve' (did you mean 'drive'?)",
-            "bad.yaml:6:12: error: state 'q': final is 'success' or 'failure', got 'sucess'",
+            (
+                "bad.yaml:6:12: error: state 'q': final is 'success' or 'failure', got 'sucess'"
+                " (did you mean 'success'?)"
+            ),
         ],
         id="mission_file_with_two_errors",
     ),
