@@ -772,7 +772,9 @@ class _Compiler:
                 result.returns_value = True
                 value = child.value
                 if isinstance(value, ast.Constant) and isinstance(value.value, str):
-                    result.returns_text = result.returns_text or value
+                    first = result.returns_text
+                    if first is None or value.lineno < first.lineno:
+                        result.returns_text = value
             if not isinstance(child, ast.Attribute):
                 continue
             sensor = child.value
