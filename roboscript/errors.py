@@ -33,7 +33,9 @@ Example scenarios:
 from __future__ import annotations
 
 import difflib
+import os
 from collections.abc import Iterable
+from pathlib import Path
 
 __all__ = [
     "FAULT_SAMPLE_BYTES",
@@ -52,6 +54,7 @@ __all__ = [
     "SpecError",
     "WorldError",
     "did_you_mean",
+    "nearby_file",
 ]
 
 FAULT_SAMPLE_BYTES = 64
@@ -73,6 +76,26 @@ def did_you_mean(word: str, choices: Iterable[str], *, cutoff: float = 0.5) -> s
         return f"did you mean '{min(started, key=len)}'?"
     close = difflib.get_close_matches(word, options, n=1, cutoff=cutoff)
     return f"did you mean '{close[0]}'?" if close else None
+
+
+def nearby_file(path: str | Path) -> str | None:
+    """For a file that is not there: ``did you mean 'good.yaml'?`` when its folder holds a
+    file of a like name (another case, ``.yml`` for ``.yaml``, no ending); else ``None``."""
+    wanted = Path(path)
+    try:
+        if wanted.exists():
+            return None
+        names = [entry.name for entry in os.scandir(wanted.parent or ".") if entry.is_file()]
+    except OSError:
+        return None
+    same = [n for n in names if n.lower() == wanted.name.lower()]
+    if same:
+        return f"capitals count: did you mean '{same[0]}'?"
+    stem = wanted.name.rsplit(".", 1)[0].lower()
+    endings = [n for n in names if n.rsplit(".", 1)[0].lower() == stem]
+    if endings:
+        return f"did you mean '{min(endings)}'?"
+    return did_you_mean(wanted.name, names[:1000], cutoff=0.8)
 
 
 class RoboscriptError(Exception):

@@ -25,7 +25,7 @@ from typing import Any
 
 import yaml
 
-from roboscript.errors import InputError
+from roboscript.errors import InputError, nearby_file
 from roboscript.inputs.limits import (
     MAX_DEPTH,
     MAX_FILE_BYTES,
@@ -512,7 +512,9 @@ def read_source(path: str | Path, *, error: type[InputError] = InputError) -> st
             _refuse_unless_regular(os.fstat(fd).st_mode, shown, error)
             data = file.read(MAX_FILE_BYTES + 1)
     except OSError as exc:
-        raise error(f"cannot read the file: {exc.strerror or exc}", path=shown) from None
+        raise error(
+            f"cannot read the file: {exc.strerror or exc}", path=shown, hint=nearby_file(path)
+        ) from None
     if len(data) > MAX_FILE_BYTES:
         raise error(_too_big(len(data), "bytes or more"), path=shown)
     try:

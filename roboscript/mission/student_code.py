@@ -32,7 +32,13 @@ from typing import TYPE_CHECKING, Any
 
 import roboscript
 from roboscript.actions.base import Action
-from roboscript.errors import LinkError, MissionError, RoboscriptError, did_you_mean
+from roboscript.errors import (
+    LinkError,
+    MissionError,
+    RoboscriptError,
+    did_you_mean,
+    nearby_file,
+)
 from roboscript.mission.python_api import LOADED_PREFIX, state
 
 if TYPE_CHECKING:
@@ -225,7 +231,9 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
     try:
         stat = file.resolve().stat()
     except OSError as exc:
-        raise MissionError(f"cannot read the file: {exc.strerror}", path=str(path)) from None
+        raise MissionError(
+            f"cannot read the file: {exc.strerror}", path=str(path), hint=nearby_file(path)
+        ) from None
     key = (str(file.resolve()), stat.st_mtime_ns, stat.st_size)
     if key in _IMPORTED:
         return _IMPORTED[key]

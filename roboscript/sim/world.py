@@ -32,7 +32,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from roboscript.errors import WorldError
+from roboscript.errors import WorldError, did_you_mean, nearby_file
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.source import Mark, YamlList, YamlMap, load_yaml, load_yaml_text
 from roboscript.sim.geometry import Segment, point_in_polygon
@@ -141,7 +141,8 @@ def load_world(name_or_path: str) -> World:
     if not path.exists():
         known = ", ".join(builtin_worlds())
         raise WorldError(
-            f"no world called '{name_or_path}' (built-in worlds: {known}; or give a file path)"
+            f"no world called '{name_or_path}' (built-in worlds: {known}; or give a file path)",
+            hint=did_you_mean(name_or_path, builtin_worlds()) or nearby_file(path),
         )
     return _WorldReader(str(path)).read(load_yaml(path, error=WorldError))
 
