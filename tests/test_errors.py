@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
-from roboscript.errors import FAULT_SAMPLE_BYTES, RemoteProtocolError, did_you_mean
+from pathlib import Path
+
+from helpers import ROOT, run_cli
+
+from roboscript.errors import FAULT_SAMPLE_BYTES, RemoteProtocolError, did_you_mean, nearby_file
 
 
 def test_a_fault_keeps_only_the_start_of_a_long_bad_frame() -> None:
@@ -18,3 +22,26 @@ def test_did_you_mean_names_the_closest_choice_or_nothing() -> None:
         "did you mean 'final_pose_within'?"
     )
     assert did_you_mean("xyzzy", ["drive", "rotate"]) is None
+
+
+def test_a_missing_file_suggests_the_file_of_a_like_name_beside_it(tmp_path: Path) -> None:
+    (tmp_path / "square.yaml").write_text("", encoding="utf-8")
+    assert nearby_file(tmp_path / "square.yml") == "did you mean 'square.yaml'?"
+    assert nearby_file(tmp_path / "square") == "did you mean 'square.yaml'?"
+    assert nearby_file(tmp_path / "Square.yaml") == "capitals count: did you mean 'square.yaml'?"
+    assert nearby_file(tmp_path / "sqaure.yaml") == "did you mean 'square.yaml'?"
+    assert nearby_file(tmp_path / "zigzag.yaml") is None
+    assert nearby_file(tmp_path / "square.yaml") is None  # it is there: nothing to suggest
+    assert nearby_file(tmp_path / "no-folder" / "square.yaml") is None
+
+
+def test_running_a_misspelt_mission_file_names_the_one_beside_it(tmp_path: Path) -> None:
+    (tmp_path / "square.yaml").write_text(
+        (ROOT / "missions" / "square.yaml").read_text(encoding="utf-8"), encoding="utf-8"
+    )
+    for written in ("square.yml", "square"):
+        done = run_cli("run", written, cwd=tmp_path)
+        assert done.returncode == 2
+        assert done.stderr.rstrip().endswith("(did you mean 'square.yaml'?)"), done.stderr
+    done = run_cli("run", "square.yaml", "--world", "squareroom", cwd=tmp_path)
+    assert "(did you mean 'square-room'?)" in done.stderr

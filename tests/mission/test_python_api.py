@@ -314,6 +314,31 @@ def test_a_guard_method_without_return_is_a_warning_and_a_failure_when_run() -> 
     )
 
 
+def test_a_guard_method_returning_text_is_refused_at_load_and_when_run() -> None:
+    class Says(Mission):
+        go = state(Wait(duration_s=5), initial=True, on_done="end", when=[("says", "end")])
+        end = state(final=True)
+
+        def says(self) -> bool:
+            return "no"  # type: ignore[return-value] - the mistake under test
+
+    with pytest.raises(MissionError, match="returns the text 'no', and any text but"):
+        compile_mission(Says)
+
+    class Computes(Mission):  # text the check cannot see: refused when the run reads it
+        go = state(Wait(duration_s=5), initial=True, on_done="end", when=[("says", "end")])
+        end = state(final=True)
+
+        def says(self) -> bool:
+            return str(self.elapsed > 1)  # type: ignore[return-value]
+
+    runner = run(Computes)
+    assert runner.result.outcome == "failure"
+    assert (runner.result.reason or "").startswith(
+        "your condition 'says' returned the text 'False' instead of True or False"
+    )
+
+
 def test_mission_values_are_read_only_and_only_there_while_running() -> None:
     with pytest.raises(RuntimeError, match="only be read while the mission runs"):
         _ = Square().elapsed
