@@ -83,7 +83,11 @@ class _Reader:
     def read(self, data: Any, inner_of: str | None = None) -> MissionSpec | None:
         if not isinstance(data, YamlMap):
             self.problem(
-                "a mission file is a mapping with 'mission:', 'initial:' and 'states:'", (1, 1)
+                "a mission file is a mapping with 'mission:', 'initial:' and 'states:'",
+                (1, 1),
+                "this file is empty, or holds only comments: is it saved?"
+                if data is None
+                else None,
             )
             return None
         if inner_of is None:
