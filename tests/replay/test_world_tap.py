@@ -267,3 +267,23 @@ def test_run_and_grade_record_the_same_fields_in_the_same_units(tmp_path: Path) 
         graded_types = {type(f["sensors"][key]).__name__ for f in frames}
         assert graded_types <= {type(f["sensors"][key]).__name__ for f in ran.frames}
     assert {type(f["action"]) for f in frames} == {type(f["action"]) for f in ran.frames}
+
+
+def test_a_runs_claimed_causes_are_kept_up_to_a_bound_and_its_states_all() -> None:
+    from roboscript.mission.cause import TransitionCause
+    from roboscript.profiles import get_profile
+    from roboscript.replay.recording import encode_line
+    from roboscript.replay.world_tap import CLAIMED_CHARS
+    from roboscript.sim.simulation import Simulation
+    from roboscript.sim.world import load_world
+
+    tap = WorldReplay(Simulation(load_world("empty"), get_profile("mirto")), get_profile("mirto"))
+    tap.start(0.0)
+    big = TransitionCause("when", "a", condition="x" * 200, values={"y" * 200: 1}).to_json()
+    for tick in range(2 * CLAIMED_CHARS // len(encode_line(big))):
+        tap.enter(tick * 0.02, "a" if tick % 2 else "b", "drive", big)
+    frames = tap.recorder.frames
+    kept = [f["why"] for f in frames if "why" in f]
+    assert 0 < len(kept) < len(frames)
+    assert len(kept) == -(-CLAIMED_CHARS // len(encode_line(big)))  # up to the bound, then none
+    assert len({f["t"] for f in frames}) == len(frames)  # every state entered has its frame
