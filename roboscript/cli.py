@@ -664,11 +664,19 @@ def _cmd_robots(args: argparse.Namespace) -> int:
 
 
 def _positive_seconds(text: str) -> float:
-    """An argparse type: a time limit in seconds, greater than 0."""
+    """An argparse type: a time limit in seconds (``60``, or ``60s`` as a mission writes it),
+    greater than 0."""
+    number = text.strip()
+    for unit in ("sec", "s"):  # 60s, 60 s, 60 sec
+        if number.endswith(unit):
+            number = number.removesuffix(unit).rstrip()
+            break
     try:
-        value = float(text)
+        value = float(number)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a number of seconds") from None
+        raise argparse.ArgumentTypeError(
+            f"'{text}' is not a number of seconds (write it in seconds, e.g. --max-time 60)"
+        ) from None
     if not value > 0:  # also refuses nan
         raise argparse.ArgumentTypeError(f"a time limit must be more than 0 s (got {text})")
     return value

@@ -171,6 +171,15 @@ def test_a_time_limit_must_be_positive() -> None:
     assert "a time limit must be more than 0 s (got -5)" in result.stderr
 
 
+def test_a_time_limit_may_be_written_with_seconds_as_a_mission_writes_it() -> None:
+    result = run_cli("run", "missions/square.yaml", "--max-time", "2s", "--json")
+    assert result.returncode == 1  # the square takes longer than 2 s
+    assert "did not finish within 2 s" in result.stdout
+    result = run_cli("run", "missions/square.yaml", "--max-time", "2 min")
+    assert result.returncode == 2
+    assert "'2 min' is not a number of seconds (write it in seconds" in result.stderr
+
+
 def test_debug_is_accepted_after_the_command_too(tmp_path: Path) -> None:
     missing = str(tmp_path / "nope.yaml")
     plain = run_cli("run", missing)
