@@ -173,6 +173,12 @@ class MethodGuard:
                 problem="returned None instead of True or False (is 'return' missing?)",
                 where=self.where,
             )
+        if inspect.isgenerator(value):
+            raise StudentCodeError(
+                f"condition '{self.source}'",
+                problem="returned a generator (it uses yield) instead of True or False",
+                where=self.where,
+            )
         if isinstance(value, str):
             raise StudentCodeError(
                 f"condition '{self.source}'",
@@ -192,6 +198,9 @@ class _Scan:
     returns_text: ast.Constant | None = None  # the first ``return "..."``
     # ``self.range.distnce``: (the node, the sensor, the names it has), in the method's file
     misread: list[tuple[ast.Attribute, str, list[str]]] = field(default_factory=list)
+    yields: ast.expr | None = None  # the first ``yield``: the method makes a generator
+    # ``Rotate(...)`` made in the method: (the call, the action's class name)
+    actions: list[tuple[ast.Call, str]] = field(default_factory=list)
 
 
 def _walk_own(node: ast.AST) -> Iterator[ast.AST]:
@@ -714,6 +723,23 @@ class _Compiler:
                 self.source_of(value.__code__.co_filename).loc(node),
                 did_you_mean(node.attr, names),
             )
+        where_in = self.source_of(value.__code__.co_filename).loc
+        if scan.yields is not None:
+            self.problem(
+                f"condition method '{name}' uses yield, so it returns a generator, which"
+                " counts as true at once",
+                where_in(scan.yields),
+                "write return, not yield: a condition returns True or False; an action runs"
+                " in a state of its own",
+            )
+        for call, action in scan.actions:
+            self.problem(
+                f"{action}(...) in condition method '{name}' is made and thrown away: a"
+                " condition cannot run an action",
+                where_in(call),
+                f"run it in a state of its own, e.g. turn = state({action}(...), ...), and go"
+                f" there when the condition holds: when=[('{name}', 'turn')]",
+            )
         if scan.returns_text is not None:
             self.problem(
                 f"condition method '{name}' returns the text {scan.returns_text.value!r},"
@@ -721,7 +747,7 @@ class _Compiler:
                 self.source_of(value.__code__.co_filename).loc(scan.returns_text),
                 "return True or False, e.g. return self.range.distance_cm < 20",
             )
-        if not scan.returns_value:
+        if not scan.returns_value and scan.yields is None:
             self.problem(
                 f"condition method '{name}' never returns a value, so it never holds",
                 def_loc,
@@ -767,7 +793,14 @@ class _Compiler:
             result.returns_value = True  # cannot tell; do not warn
             return result
         seen.add(getattr(func, "__name__", ""))
+        namespace = getattr(func, "__globals__", {})
         for child in _walk_own(node):
+            if isinstance(child, ast.Yield | ast.YieldFrom) and result.yields is None:
+                result.yields = child
+            if isinstance(child, ast.Call) and isinstance(child.func, ast.Name):
+                made = namespace.get(child.func.id)
+                if isinstance(made, type) and issubclass(made, Action):
+                    result.actions.append((child, child.func.id))
             if isinstance(child, ast.Return) and child.value is not None:
                 result.returns_value = True
                 value = child.value

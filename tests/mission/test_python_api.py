@@ -339,6 +339,31 @@ def test_a_guard_method_returning_text_is_refused_at_load_and_when_run() -> None
     )
 
 
+def test_a_condition_that_yields_is_refused_at_load_and_when_run() -> None:
+    class Yields(Mission):
+        go = state(Wait(duration_s=5), initial=True, on_done="end", when=[("near", "end")])
+        end = state(final=True)
+
+        def near(self) -> Any:
+            yield self.elapsed > 1
+
+    with pytest.raises(MissionError, match="uses yield, so it returns a generator"):
+        compile_mission(Yields)
+
+    def later(mission: Mission) -> Any:  # a function the check does not read
+        yield mission.elapsed > 1
+
+    class Passes(Mission):
+        go = state(Wait(duration_s=5), initial=True, on_done="end", when=[(later, "end")])
+        end = state(final=True)
+
+    runner = run(Passes)
+    assert runner.result.outcome == "failure"
+    assert "returned a generator (it uses yield) instead of True or False" in (
+        runner.result.reason or ""
+    )
+
+
 def test_mission_values_are_read_only_and_only_there_while_running() -> None:
     with pytest.raises(RuntimeError, match="only be read while the mission runs"):
         _ = Square().elapsed
