@@ -79,6 +79,33 @@ def _reading_names(sensor: str) -> list[str]:
     return [name for name in vars(reading) if not name.startswith("_")]
 
 
+def _always_returns(body: list[ast.stmt]) -> bool:
+    """True if running ``body`` always ends in a ``return`` or a ``raise`` (as far as plain
+    ``if``/``else``, ``with`` and ``try`` show; a loop is taken to end, except
+    ``while True``)."""
+    if not body:
+        return False
+    last = body[-1]
+    if isinstance(last, ast.Return | ast.Raise):
+        return True
+    if isinstance(last, ast.If):
+        return _always_returns(last.body) and _always_returns(last.orelse)
+    if isinstance(last, ast.With | ast.AsyncWith):
+        return _always_returns(last.body)
+    if isinstance(last, ast.Try):
+        ends = [last.body + last.orelse, *(h.body for h in last.handlers)]
+        return _always_returns(last.finalbody) or all(_always_returns(b) for b in ends)
+    if isinstance(last, ast.While):
+        return isinstance(last.test, ast.Constant) and last.test.value is True
+    if isinstance(last, ast.Match):
+        return any(
+            isinstance(case.pattern, ast.MatchAs) and case.pattern.pattern is None
+            for case in last.cases
+        ) and all(_always_returns(case.body) for case in last.cases)
+    # an earlier statement may return at every turn: any return in the body counts then
+    return any(isinstance(statement, ast.Return | ast.Raise) for statement in body[:-1])
+
+
 def _names_state(node: ast.expr) -> bool:
     """True for ``state`` (or ``roboscript.state``)."""
     return (isinstance(node, ast.Name) and node.id == "state") or (
@@ -199,6 +226,7 @@ class _Scan:
     # ``self.range.distnce``: (the node, the sensor, the names it has), in the method's file
     misread: list[tuple[ast.Attribute, str, list[str]]] = field(default_factory=list)
     yields: ast.expr | None = None  # the first ``yield``: the method makes a generator
+    falls_off: ast.stmt | None = None  # the last statement, when the code can run past it
     # ``Rotate(...)`` made in the method: (the call, the action's class name)
     actions: list[tuple[ast.Call, str]] = field(default_factory=list)
 
@@ -754,6 +782,15 @@ class _Compiler:
                 "return True or False, e.g. return self.bumper.any",
                 "warning",
             )
+        elif scan.falls_off is not None and scan.yields is None:
+            self.problem(
+                f"condition method '{name}' can end without returning, and then gives None:"
+                " the run stops with a failure the first time it does",
+                self.source_of(value.__code__.co_filename).loc(scan.falls_off),
+                "end it with return False, or return the comparison itself:"
+                " return self.range.distance_cm < 20",
+                "warning",
+            )
         guard = MethodGuard(
             source=name,
             _read=lambda mission: getattr(mission, name)(),
@@ -793,6 +830,8 @@ class _Compiler:
             result.returns_value = True  # cannot tell; do not warn
             return result
         seen.add(getattr(func, "__name__", ""))
+        if isinstance(node, ast.FunctionDef) and node.body and not _always_returns(node.body):
+            result.falls_off = node.body[-1]
         namespace = getattr(func, "__globals__", {})
         for child in _walk_own(node):
             if isinstance(child, ast.Yield | ast.YieldFrom) and result.yields is None:
