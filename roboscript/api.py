@@ -22,7 +22,7 @@ from __future__ import annotations
 import html
 import sys
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, NoReturn
 
@@ -37,7 +37,8 @@ from roboscript.mission.spec import MissionSpec
 from roboscript.mission.student_code import stuck_at
 from roboscript.replay.recording import Recorder, Recording
 from roboscript.replay.session_tap import RunRecording
-from roboscript.session import Session, run_session, session_summary
+from roboscript.run_record import NOT_SERIALISED, Pose, RunRecord, Tone
+from roboscript.session import Session, run_session, session_record
 from roboscript.watchdog import DEFAULT_LIMIT_S, Watchdog
 
 __all__ = ["RunResult", "main", "run"]
@@ -48,56 +49,67 @@ small enough for the notebook file."""
 NOTEBOOK_VIEWER_HEIGHT_PX = 900
 """The viewer's height in a notebook cell."""
 
-Pose = tuple[float, float, float]
-"""``(x mm east, y mm north, heading deg clockwise from north)``."""
-
 
 @dataclass(frozen=True)
-class RunResult:
-    """One finished mission run, as :func:`run` returns it.
+class RunResult(RunRecord):
+    """One finished mission run, as :func:`run` returns it: its record and its replay.
+
+    The record's fields (:class:`~roboscript.run_record.RunRecord`: ``mission``, ``robot``,
+    ``outcome``, ``final_state``, ``reason``, ``duration_s``, ``states``, ``transitions``,
+    ``sim``) are ``roboscript run --json``'s, and :attr:`summary` is that object.
 
     Attributes:
-        mission: The mission's name.
-        robot: The robot profile's name.
-        outcome: ``success``, ``failure`` or ``error`` (the robot or link failed, the code got
-            stuck, or the run was interrupted).
-        final_state: The state the mission ended in, or ``None``.
-        reason: One sentence when the outcome is not ``success``, else ``None``.
-        duration_s: Mission time, seconds.
-        states: Every state entered, as ``(mission time s, name)``.
-        final_pose: Where the robot ended: the simulator's true pose, or on a real robot the
-            pose its wheels estimate (``None`` without wheels or without a recording).
-        path: The pose over time as ``(t s, x mm, y mm, heading deg)``: every 0.1 s from the
-            simulator, or each recorded tick's estimate on a real robot.
-        tones: Tones the simulator heard, as ``(t s, frequency Hz, duration s)``.
-        world: The simulator world's name, or ``None`` on a real robot.
-        seed: The simulator seed, or ``None`` on a real robot.
         warnings: The mission's warnings, each as ``file:line:col: warning: ...``.
         recording: The run tick by tick (:class:`~roboscript.replay.recording.Recording`), or
             ``None`` when run with ``record=False``.
-        summary: The ``roboscript run --json`` object of this run.
     """
 
-    mission: str
-    robot: str
-    outcome: str
-    final_state: str | None
-    reason: str | None
-    duration_s: float
-    states: tuple[tuple[float, str], ...]
-    final_pose: Pose | None
-    path: tuple[tuple[float, float, float, float], ...]
-    tones: tuple[tuple[float, float, float], ...]
-    world: str | None
-    seed: int | None
-    warnings: tuple[str, ...] = ()
-    recording: Recording | None = field(default=None, repr=False)
-    summary: dict[str, Any] = field(default_factory=dict, repr=False)
+    warnings: tuple[str, ...] = field(default=(), metadata=NOT_SERIALISED)
+    recording: Recording | None = field(
+        default=None, repr=False, compare=False, metadata=NOT_SERIALISED
+    )
 
     @property
-    def transitions(self) -> list[dict[str, Any]]:
-        """Each state entered with why (``run --json``'s ``transitions``)."""
-        return list(self.summary.get("transitions", []))
+    def summary(self) -> dict[str, Any]:
+        """The ``roboscript run --json`` object of this run."""
+        return self.to_dict()
+
+    @property
+    def world(self) -> str | None:
+        """The simulator world's name, or ``None`` on a real robot."""
+        return self.sim.world if self.sim is not None else None
+
+    @property
+    def seed(self) -> int | None:
+        """The simulator seed, or ``None`` on a real robot."""
+        return self.sim.seed if self.sim is not None else None
+
+    @property
+    def tones(self) -> tuple[Tone, ...]:
+        """Tones the simulator heard, as ``(t s, frequency Hz, duration s)``."""
+        return self.sim.tones if self.sim is not None else ()
+
+    @property
+    def path(self) -> tuple[tuple[float, float, float, float], ...]:
+        """The pose over time as ``(t s, x mm, y mm, heading deg)``: every 0.1 s from the
+        simulator, or each recorded tick's estimate on a real robot (``()`` without one)."""
+        if self.sim is not None:
+            return self.sim.path
+        frames = self.recording.frames if self.recording is not None else []
+        return tuple(
+            (float(f["t"]), float(f["pose"][0]), float(f["pose"][1]), float(f["pose"][2]))
+            for f in frames
+            if isinstance(f.get("pose"), list) and len(f["pose"]) == 3
+        )
+
+    @property
+    def final_pose(self) -> Pose | None:
+        """Where the robot ended: the simulator's true pose, or on a real robot the pose its
+        wheels estimate (``None`` without wheels or without a recording)."""
+        if self.sim is not None:
+            return self.sim.final_pose
+        path = self.path
+        return Pose(*path[-1][1:]) if path else None
 
     def columns(self) -> dict[str, list[Any]]:
         """The run tick by tick as columns: ``t_s``, ``state``, ``why``, the pose, the
@@ -262,44 +274,14 @@ def _check_world_regions(spec: MissionSpec, world: str | None) -> None:
 def _result(
     session: Session, recording: RunRecording | None, warnings: Sequence[InputError]
 ) -> RunResult:
-    summary = session_summary(session)
-    result = session.result
     recorded = None
     if recording is not None and recording.recorder is not None:
         recorded = recording.recorder.recording()
-    sim = summary.get("sim")
-    if sim is not None:
-        pose = sim["final_pose"]
-        final_pose: Pose | None = (pose["x_mm"], pose["y_mm"], pose["heading_deg"])
-        path = tuple(
-            (float(t), float(x), float(y), float(h)) for t, x, y, h in session.mission_path()
-        )
-        tones = tuple(session.mission_tones())
-    else:  # a real robot: the pose its wheels estimate, if the run was recorded
-        poses = [
-            (float(f["t"]), *(float(v) for v in f["pose"]))
-            for f in (recorded.frames if recorded is not None else [])
-            if isinstance(f.get("pose"), list) and len(f["pose"]) == 3
-        ]
-        path = tuple((t, x, y, h) for t, x, y, h in poses)
-        final_pose = path[-1][1:] if path else None
-        tones = ()
+    record = session_record(session)
     return RunResult(
-        mission=result.mission,
-        robot=session.profile.name,
-        outcome=result.outcome,
-        final_state=result.final_state,
-        reason=result.reason,
-        duration_s=round(result.duration_s, 3),
-        states=tuple((round(t, 3), name) for t, name in result.states),
-        final_pose=final_pose,
-        path=path,
-        tones=tones,
-        world=sim["world"] if sim is not None else None,
-        seed=sim["seed"] if sim is not None else None,
+        **{item.name: getattr(record, item.name) for item in fields(record)},
         warnings=tuple(w.format() for w in warnings),
         recording=recorded,
-        summary=summary,
     )
 
 

@@ -109,7 +109,7 @@ def _run(args: argparse.Namespace) -> int:
 
 def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
     # the run machinery loads only for `run`
-    from roboscript.session import run_session, session_summary
+    from roboscript.session import run_session, session_record
 
     spec, profile = _load_mission(args.mission, args.robot)
     world = args.world or spec.world or "empty"
@@ -171,7 +171,7 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
     result = session.result
     sim = session.simulation
     interrupted = session.interrupted
-    summary = session_summary(session)
+    summary = session_record(session).to_dict()
     if not args.json:
         if result.outcome == "success":
             _err(

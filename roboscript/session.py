@@ -2,7 +2,8 @@
 
 ``roboscript run`` and the grader (:mod:`roboscript.grading.run`) both run missions through
 :func:`run_session`, so a graded run is exactly the run a student gets at home with the same
-robot, world and seed. :func:`session_summary` builds the ``run --json`` object.
+robot, world and seed. :func:`session_record` tells what happened
+(:class:`~roboscript.run_record.RunRecord`, whose JSON is the ``run --json`` object).
 """
 
 from __future__ import annotations
@@ -22,13 +23,14 @@ from roboscript.mission.spec import MissionSpec
 from roboscript.mission.student_code import stuck_at
 from roboscript.profiles import RobotProfile
 from roboscript.robot import Robot
+from roboscript.run_record import Pose, RunRecord, SimulatedRun, Tone
 from roboscript.sim.world import Region
 from roboscript.watchdog import DEFAULT_LIMIT_S, TICK_BUDGET, RunawayCode, TooSlow, Watchdog
 
 if TYPE_CHECKING:
     from roboscript.replay.session_tap import RunRecording
 
-__all__ = ["Session", "WorldMap", "run_session", "session_summary"]
+__all__ = ["Session", "WorldMap", "run_session", "session_record"]
 
 
 @dataclass(frozen=True)
@@ -275,36 +277,33 @@ def run_session(
     return Session(runner.result, robot, profile, runner.start_time_s, interrupted, code_stopped)
 
 
-def session_summary(session: Session) -> dict[str, Any]:
-    """The ``run --json`` object; simulator times are on the mission clock, like ``states``."""
+def session_record(session: Session) -> RunRecord:
+    """The run's record (``run --json``); simulator times are on the mission clock."""
     result = session.result
-    summary: dict[str, Any] = {
-        "mission": result.mission,
-        "robot": session.profile.name,
-        "outcome": result.outcome,
-        "final_state": result.final_state,
-        "reason": result.reason,
-        "duration_s": round(result.duration_s, 3),
-        "states": [[round(t, 3), name] for t, name in result.states],
-        "transitions": result.transitions(),
-    }
-    if result.states_dropped:  # a long loop: only the first and last states are listed
-        summary["states_dropped"] = result.states_dropped
     sim = session.simulation
+    simulated = None
     if sim is not None:
-        x_mm, y_mm, heading_deg = session.final_pose()
-        summary["sim"] = {
-            "seed": sim.seed,
-            "world": sim.world.name,
-            "final_pose": {"x_mm": x_mm, "y_mm": y_mm, "heading_deg": heading_deg},
-            "distance_travelled_mm": round(sim.log.distance_travelled_mm, 1),
-            "collisions": sim.log.contacts.total,
-            "tones": [
-                {"t_s": t, "frequency_hz": f, "duration_s": d}
-                for t, f, d in session.mission_tones()
-            ],
-            "path": [list(sample) for sample in session.mission_path()],
-        }
-        if sim.log.tones.more:  # a run of hours: the first tones are listed, the rest counted
-            summary["sim"]["tones_not_listed"] = sim.log.tones.more
-    return summary
+        simulated = SimulatedRun(
+            seed=sim.seed,
+            world=sim.world.name,
+            final_pose=Pose(*session.final_pose()),
+            distance_travelled_mm=round(sim.log.distance_travelled_mm, 1),
+            collisions=sim.log.contacts.total,
+            tones=tuple(Tone(*tone) for tone in session.mission_tones()),
+            path=tuple(session.mission_path()),
+            # a run of hours: the first tones are listed, the rest counted
+            tones_not_listed=sim.log.tones.more,
+        )
+    return RunRecord(
+        mission=result.mission,
+        robot=session.profile.name,
+        outcome=result.outcome,
+        final_state=result.final_state,
+        reason=result.reason,
+        duration_s=round(result.duration_s, 3),
+        states=tuple((round(t, 3), name) for t, name in result.states),
+        transitions=tuple(result.transitions()),
+        # a long loop: only the first and last states are listed
+        states_dropped=result.states_dropped,
+        sim=simulated,
+    )

@@ -45,7 +45,7 @@ def _record(seed: int, start: tuple[float, float, float], end: tuple[float, floa
     path = tuple(
         (t * 0.5, x0 + (end[0] - x0) * t / 20, y0 + (end[1] - y0) * t / 20, h0) for t in range(21)
     )
-    return RunRecord(
+    return RunRecord.simulated(
         mission="square",
         robot="mirto",
         world_name="empty",

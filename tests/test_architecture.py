@@ -237,6 +237,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
         "roboscript.interrupts",
         "roboscript.watchdog",
         "roboscript.robot_profile",
+        "roboscript.run_record",
     ),
     ("roboscript.inputs",),
     ("roboscript.scheduler",),

@@ -1,7 +1,9 @@
 """What a graded run leaves behind: the record of what happened, verdicts, and the run's result.
 
 Everything here is plain frozen data that turns into JSON-ready dictionaries and back
-(:meth:`RunResult.to_dict`, :meth:`RunResult.from_dict`), so a run can be computed in another
+(:meth:`RunResult.to_dict`, :meth:`RunResult.from_dict`); the record of a run is ``run
+--json``'s (:class:`~roboscript.run_record.RunRecord`) with what grading adds
+(:class:`GradedRecord`). So a run can be computed in another
 process (or, later, on another machine) and reported anywhere. Times are on the mission clock:
 0 is the moment the mission started.
 """
@@ -10,15 +12,22 @@ from __future__ import annotations
 
 import bisect
 import math
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
-from typing import Any, Literal, get_args
+from typing import TYPE_CHECKING, Any, Literal, get_args
 
+from roboscript import run_record
+from roboscript.run_record import NOT_SERIALISED, Pose, SimulatedRun, Tone
 from roboscript.sim.world import World
+
+if TYPE_CHECKING:
+    from typing_extensions import Self  # annotations only: not a dependency
 
 __all__ = [
     "MISSION_REPORTED",
     "RUN_STATUSES",
     "Collision",
+    "GradedRecord",
     "RunRecord",
     "RunResult",
     "RunStatus",
@@ -38,17 +47,8 @@ return), ``crashed``
 ``invalid`` (the student's mission did not load), ``missing`` (no mission for this test)."""
 
 MISSION_REPORTED = ("outcome", "final_state", "reason", "state names", "mission name")
-"""What in a :class:`RunRecord` is the mission process's own account (checked, never trusted
+"""What in a :class:`GradedRecord` is the mission process's own account (checked, never trusted
 with a name, a score or a verdict); everything else, times included, is the world's."""
-
-
-@dataclass(frozen=True)
-class Tone:
-    """A tone the robot started: when, how high, how long."""
-
-    t_s: float
-    frequency_hz: float
-    duration_s: float
 
 
 @dataclass(frozen=True)
@@ -62,50 +62,134 @@ class Collision:
 
 
 @dataclass(frozen=True)
-class RunRecord:
-    """What happened in one simulated run, read-only (a teacher's ``check`` gets this).
+class GradedRecord(run_record.RunRecord):
+    """What happened in one graded (always simulated) run, read-only (a teacher's ``check``
+    gets this).
 
-    In a graded run the grader's own simulation records it; only the fields named in
-    :data:`MISSION_REPORTED` come from the mission's process.
+    The run's :class:`~roboscript.run_record.RunRecord` (the fields and JSON of ``run
+    --json``), plus what the expectations measure against. In a graded run the grader's own
+    simulation records it; only the fields named in :data:`MISSION_REPORTED` come from the
+    mission's process.
 
     Attributes:
-        mission: The mission's name.
-        robot: The robot profile's name.
-        world_name: The world's name.
-        seed: The simulator seed.
-        outcome: ``success``, ``failure`` or ``error``.
-        final_state: The state the mission ended in.
-        reason: Why, when the outcome is not success.
-        duration_s: Mission time when it ended, seconds.
-        states: Every state entered, as ``(time_s, name)``.
-        path: Samples ``(time_s, x_mm, y_mm, heading_deg)`` every 0.1 s; heading clockwise
-            from north.
-        tones: Every tone started.
-        collisions: Every collision with a wall.
-        final_pose: ``(x_mm, y_mm, heading_deg)`` when the mission ended.
-        distance_travelled_mm: Path length of the body centre.
+        collisions: Every collision with a wall, where and when (the first 1000; ``sim``'s
+            ``collisions`` counts them all).
         body_radius_mm: Radius of the robot's round body.
         side_sensor_offset_mm: How far the side distance sensor sits from the body centre.
-        world: The world the run happened in (walls, tape, regions); not serialised.
+        world: The world the run happened in (walls, tape, regions); not serialised (the
+            record names it: :attr:`world_name`).
     """
 
-    mission: str
-    robot: str
-    world_name: str
-    seed: int
-    outcome: str
-    final_state: str | None
-    reason: str | None
-    duration_s: float
-    states: tuple[tuple[float, str], ...]
-    path: tuple[tuple[float, float, float, float], ...]
-    tones: tuple[Tone, ...] = ()
     collisions: tuple[Collision, ...] = ()
-    final_pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    distance_travelled_mm: float = 0.0
     body_radius_mm: float = 100.0
     side_sensor_offset_mm: float = 80.0
-    world: World | None = field(default=None, compare=False, repr=False)
+    world: World | None = field(default=None, compare=False, repr=False, metadata=NOT_SERIALISED)
+
+    @classmethod
+    def simulated(
+        cls,
+        *,
+        mission: str,
+        robot: str,
+        world_name: str,
+        seed: int,
+        outcome: str,
+        final_state: str | None,
+        reason: str | None,
+        duration_s: float,
+        states: tuple[tuple[float, str], ...],
+        path: tuple[tuple[float, float, float, float], ...],
+        tones: tuple[tuple[float, float, float], ...] = (),
+        collisions: tuple[Collision, ...] = (),
+        final_pose: tuple[float, float, float] = (0.0, 0.0, 0.0),
+        distance_travelled_mm: float = 0.0,
+        collision_count: int | None = None,
+        tones_not_listed: int = 0,
+        body_radius_mm: float = 100.0,
+        side_sensor_offset_mm: float = 80.0,
+        world: World | None = None,
+    ) -> Self:
+        """The record of a simulated run, told field by field (``collision_count``: all the
+        collisions, by default as many as are listed)."""
+        return cls(
+            mission=mission,
+            robot=robot,
+            outcome=outcome,
+            final_state=final_state,
+            reason=reason,
+            duration_s=duration_s,
+            states=states,
+            sim=SimulatedRun(
+                seed=seed,
+                world=world_name,
+                final_pose=Pose(*final_pose),
+                distance_travelled_mm=distance_travelled_mm,
+                collisions=len(collisions) if collision_count is None else collision_count,
+                tones=tuple(Tone(*tone) for tone in tones),
+                path=path,
+                tones_not_listed=tones_not_listed,
+            ),
+            collisions=collisions,
+            body_radius_mm=body_radius_mm,
+            side_sensor_offset_mm=side_sensor_offset_mm,
+            world=world,
+        )
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], **kept: Any) -> Self:
+        """The record :meth:`to_dict` made (``kept``: ``world``); also reads a record in the
+        layout of results files of format 1 (``world_name``, ``seed`` and the simulator's
+        values beside the outcome), so a gradebook still merges them."""
+        if "world_name" not in data:
+            return super().from_dict(data, **kept)
+        old = dict(data)
+        return cls.simulated(
+            **{key: old.pop(key) for key in _FORMAT_1_AS_IS},
+            states=tuple((t, name) for t, name in old.pop("states")),
+            path=tuple((t, x, y, h) for t, x, y, h in old.pop("path")),
+            tones=tuple(Tone(**tone) for tone in old.pop("tones")),
+            collisions=tuple(Collision(**c) for c in old.pop("collisions")),
+            final_pose=Pose(*old.pop("final_pose")),
+            **kept,
+        )
+
+    @property
+    def simulation(self) -> SimulatedRun:
+        """What the simulator saw (a graded run is always simulated)."""
+        if self.sim is None:
+            raise ValueError(f"the record of {self.mission} has no simulated run")
+        return self.sim
+
+    @property
+    def world_name(self) -> str:
+        """The world's name."""
+        return self.simulation.world
+
+    @property
+    def seed(self) -> int:
+        """The simulator seed."""
+        return self.simulation.seed
+
+    @property
+    def path(self) -> tuple[tuple[float, float, float, float], ...]:
+        """Samples ``(time_s, x_mm, y_mm, heading_deg)`` every 0.1 s; heading clockwise from
+        north."""
+        return self.simulation.path
+
+    @property
+    def tones(self) -> tuple[Tone, ...]:
+        """Every tone started (``t_s``, ``frequency_hz``, ``duration_s``)."""
+        return self.simulation.tones
+
+    @property
+    def final_pose(self) -> Pose:
+        """``(x_mm, y_mm, heading_deg)`` when the mission ended."""
+        return self.simulation.final_pose
+
+    @property
+    def distance_travelled_mm(self) -> float:
+        """Path length of the body centre."""
+        return self.simulation.distance_travelled_mm
 
     @property
     def start_pose(self) -> tuple[float, float, float]:
@@ -138,37 +222,24 @@ class RunRecord:
         _, x, y, h = self.path[i]
         return x, y, h
 
-    def to_dict(self) -> dict[str, Any]:
-        """A JSON-ready dictionary (the world is left out: it is named by ``world_name``)."""
-        data = asdict(self)
-        data.pop("world")
-        data["states"] = [list(s) for s in self.states]
-        data["path"] = [list(p) for p in self.path]
-        data["final_pose"] = list(self.final_pose)
-        return data
 
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], world: World | None = None) -> RunRecord:
-        """The record :meth:`to_dict` made."""
-        return cls(
-            mission=data["mission"],
-            robot=data["robot"],
-            world_name=data["world_name"],
-            seed=data["seed"],
-            outcome=data["outcome"],
-            final_state=data["final_state"],
-            reason=data["reason"],
-            duration_s=data["duration_s"],
-            states=tuple((t, n) for t, n in data["states"]),
-            path=tuple((t, x, y, h) for t, x, y, h in data["path"]),
-            tones=tuple(Tone(**t) for t in data["tones"]),
-            collisions=tuple(Collision(**c) for c in data["collisions"]),
-            final_pose=(data["final_pose"][0], data["final_pose"][1], data["final_pose"][2]),
-            distance_travelled_mm=data["distance_travelled_mm"],
-            body_radius_mm=data["body_radius_mm"],
-            side_sensor_offset_mm=data["side_sensor_offset_mm"],
-            world=world,
-        )
+RunRecord = GradedRecord
+"""The name a teacher's ``check`` function imports the record by."""
+
+_FORMAT_1_AS_IS = (
+    "mission",
+    "robot",
+    "world_name",
+    "seed",
+    "outcome",
+    "final_state",
+    "reason",
+    "duration_s",
+    "distance_travelled_mm",
+    "body_radius_mm",
+    "side_sensor_offset_mm",
+)
+"""A format-1 record's values that :meth:`GradedRecord.simulated` takes as they are."""
 
 
 @dataclass(frozen=True)
@@ -260,7 +331,7 @@ class RunResult:
     message: str = ""
     score: float = 0.0
     verdicts: tuple[Verdict, ...] = ()
-    record: RunRecord | None = None
+    record: GradedRecord | None = None
     wall_time_s: float = 0.0
     debug: str = ""
     during_load: bool = False
@@ -309,7 +380,7 @@ class RunResult:
             message=data["message"],
             score=data["score"],
             verdicts=tuple(Verdict.from_dict(v) for v in data["verdicts"]),
-            record=RunRecord.from_dict(record, world) if record is not None else None,
+            record=GradedRecord.from_dict(record, world=world) if record is not None else None,
             wall_time_s=data["wall_time_s"],
             debug=data["debug"],
             during_load=bool(data.get("during_load", False)),

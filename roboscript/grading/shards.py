@@ -9,7 +9,7 @@ run would have written it.
 
 A results file (``--results``) is JSON Lines:
 
-* line 1, the header: ``{"roboscript_results": 1, "roboscript": VERSION, "shard": [I, N] or
+* line 1, the header: ``{"roboscript_results": 2, "roboscript": VERSION, "shard": [I, N] or
   null, "isolation": how the runs were isolated, "specs": [{"path", "sha256"}], "students":
   [{"name", "missions", "folder", "problem", "root", "own"}]}``: the
   specs by the path they were given (relative to the folder ``grade`` ran in) and a hash of
@@ -49,8 +49,13 @@ __all__ = [
     "spec_hash",
 ]
 
-RESULTS_FORMAT = 1
-"""The version of the results file's layout (the header's ``roboscript_results``)."""
+RESULTS_FORMAT = 2
+"""The version of the results file's layout (the header's ``roboscript_results``): 2 since a
+run's ``record`` is ``run --json``'s object (format 1's is still read, so parts graded by
+the roboscript before merge)."""
+
+READABLE_RESULTS_FORMATS = (1, RESULTS_FORMAT)
+"""The results files' layouts the gradebook reads."""
 
 
 def shard_number(student: str, count: int) -> int:
@@ -142,7 +147,10 @@ def _read_part(path: str) -> _Part:
         raise InputError(f"cannot read {path}: {getattr(exc, 'strerror', None) or exc}") from None
     try:
         header = json.loads(lines[0]) if lines else None
-        if not isinstance(header, dict) or header.get("roboscript_results") != RESULTS_FORMAT:
+        if (
+            not isinstance(header, dict)
+            or header.get("roboscript_results") not in READABLE_RESULTS_FORMATS
+        ):
             raise InputError(
                 f"{path} is not a results file of this roboscript"
                 " (written by `roboscript grade --results FILE`)"

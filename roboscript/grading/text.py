@@ -127,7 +127,9 @@ def _cap_record(record: RunRecord) -> RunRecord:
     return replace(
         record,
         mission=cap(record.mission, NAME_CHARS),
-        world_name=cap(record.world_name, NAME_CHARS),
+        sim=None
+        if record.sim is None
+        else replace(record.sim, world=cap(record.sim.world, NAME_CHARS)),
         final_state=cap(record.final_state, NAME_CHARS) if record.final_state else None,
         reason=cap(record.reason, MESSAGE_CHARS) if record.reason else record.reason,
         states=tuple((t, cap(name, NAME_CHARS)) for t, name in record.states),

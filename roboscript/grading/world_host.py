@@ -664,7 +664,7 @@ def simulation_record(
     Everything physical comes from ``sim``; ``mission``, ``outcome``, ``final_state``,
     ``reason`` and the state names are the mission's own account.
     """
-    return RunRecord(
+    return RunRecord.simulated(
         mission=mission,
         robot=sim.profile.name,
         world_name=sim.world.name,
@@ -682,6 +682,8 @@ def simulation_record(
         ),
         final_pose=sim.final_pose(),
         distance_travelled_mm=round(sim.log.distance_travelled_mm, 1),
+        collision_count=sim.log.contacts.total,
+        tones_not_listed=sim.log.tones.more,
         body_radius_mm=sim.body.spec.body_radius_mm,
         side_sensor_offset_mm=sim.body.spec.side_range_offset_mm,
         world=sim.world,

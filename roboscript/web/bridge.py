@@ -24,7 +24,7 @@ from roboscript.mission import mission_for_robot
 from roboscript.mission.graph_picture import to_svg
 from roboscript.replay.session_tap import RunRecording
 from roboscript.replay.viewer import viewer_block
-from roboscript.session import run_session, session_summary
+from roboscript.session import run_session, session_record
 from roboscript.web.connect import on_robot
 
 __all__ = ["check_text", "diagram_text", "run_text"]
@@ -125,7 +125,7 @@ def run_text(
                 {"problems": problems, "summary": None, "viewer": None, "error": error}
                 | on.answer()
             )
-    summary = session_summary(session)
+    summary = session_record(session).to_dict()
     viewer = None
     if recording.recorder is not None:
         viewer = viewer_block(recording.recorder.recording(), label=f"replay of {path.name}")

@@ -70,7 +70,7 @@ def test_the_guide_and_the_code_agree_on_defaults(pattern: str, value: float) ->
 
 
 def _record(*frequencies_hz: float) -> RunRecord:
-    return RunRecord(
+    return RunRecord.simulated(
         mission="m",
         robot="mirto",
         world_name="empty",

@@ -17,7 +17,7 @@ from roboscript.mission.checks import check_capabilities, check_world_regions
 from roboscript.mission.guards import GuardError, compile_guard
 from roboscript.mission.yaml_loader import parse_yaml_mission
 from roboscript.profiles import get_profile
-from roboscript.session import run_session, session_summary
+from roboscript.session import run_session, session_record
 
 SIDE = """
 mission: side
@@ -44,7 +44,7 @@ states:
 def _run(text: str, robot: str = "mirto", world: str = "empty") -> dict[str, object]:
     spec, _ = parse_yaml_mission(text)
     session = run_session(spec, get_profile(robot), world=world, max_time_s=30.0)
-    return session_summary(session)
+    return session_record(session).to_dict()
 
 
 def test_driven_in_a_state_stops_the_drive_after_that_distance() -> None:

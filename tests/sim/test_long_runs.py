@@ -9,7 +9,7 @@ import pytest
 
 from roboscript.mission import load_mission
 from roboscript.profiles import get_profile
-from roboscript.session import run_session, session_summary
+from roboscript.session import run_session, session_record
 from roboscript.sim import body as body_module
 from roboscript.sim import simulation as simulation_module
 from roboscript.sim.body import FirstOf
@@ -103,7 +103,7 @@ def test_an_endless_mission_reports_a_bounded_summary(
     profile = get_profile("mirto")
     spec, _ = load_mission(mission, profile)
     session = run_session(spec, profile, max_time_s=180.0)
-    summary = session_summary(session)["sim"]
+    summary = session_record(session).to_dict()["sim"]
     assert len(summary["path"]) <= 200
     assert summary["path"][0][0] == 0.0  # still from the mission's start
     assert len(summary["tones"]) == 4
@@ -115,7 +115,7 @@ def test_an_endless_mission_reports_a_bounded_summary(
 def test_a_normal_summary_lists_every_tone_and_says_nothing_more() -> None:
     profile = get_profile("mirto")
     spec, _ = load_mission(Path(__file__).parents[2] / "missions" / "square.yaml", profile)
-    summary = session_summary(run_session(spec, profile))["sim"]
+    summary = session_record(run_session(spec, profile)).to_dict()["sim"]
     assert len(summary["tones"]) == 4
     assert "tones_not_listed" not in summary
     path = [tuple(p) for p in summary["path"]]

@@ -50,7 +50,7 @@ def _record(
     """A run of the mission ``m`` along ``path`` in ``world`` (the room: walls 30 cm either
     side of x = 0, regions 'a', 'b', 'pit' and 'dot'), ending at the path's last sample."""
     last = path[-1]
-    return RunRecord(
+    return RunRecord.simulated(
         mission="m",
         robot="mirto",
         world_name=ROOM.name,
@@ -66,6 +66,11 @@ def _record(
         final_pose=(last[1], last[2], last[3]),
         world=world,
     )
+
+
+def _sim_changed(record: RunRecord, **changes: object) -> RunRecord:
+    """``record`` with what the simulator saw changed (``path``, ``seed``...)."""
+    return replace(record, sim=replace(record.simulation, **changes))
 
 
 def _north(t_end: float, x: float = 0.0, speed_mm_s: float = 100.0) -> list[tuple[float, ...]]:
@@ -283,7 +288,7 @@ def _same(got: Verdict, wanted: Verdict) -> None:
         assert got.relative_margin == pytest.approx(wanted.relative_margin)
 
 
-NO_PATH = replace(_record(_north(1.0)), path=())
+NO_PATH = _sim_changed(_record(_north(1.0)), path=())
 
 
 RIGHT_90_FROM_EAST = [90.0] * 3 + [90.0 + 9.0 * i for i in range(1, 11)] + [180.0] * 4

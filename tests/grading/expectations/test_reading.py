@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -12,6 +11,7 @@ from grading.expectations.runs import (
     _north,
     _record,
     _rules_and_weights,
+    _sim_changed,
     _spec,
     _stopped,
     _targets,
@@ -52,12 +52,12 @@ def test_run_targets_are_chosen_by_seed_and_start() -> None:
     expectation = Expectation(WallAhead(200.0), targets=targets)
     record = _stopped(100.0, 500.0, 90.0)  # started at (0, 0) facing north, seed 1
     assert expectation.for_record(record) == WallAhead(200.0)
-    assert expectation.for_record(replace(record, seed=2)) == WallAhead(300.0)
-    turned = replace(record, seed=2, path=((0.0, 102.0, 1.0, 90.0), *record.path[1:]))
+    assert expectation.for_record(_sim_changed(record, seed=2)) == WallAhead(300.0)
+    turned = _sim_changed(record, seed=2, path=((0.0, 102.0, 1.0, 90.0), *record.path[1:]))
     assert expectation.for_record(turned) == WallAhead(100.0)
-    assert expectation.for_record(replace(record, seed=9)) == WallAhead(200.0)
+    assert expectation.for_record(_sim_changed(record, seed=9)) == WallAhead(200.0)
     assert evaluate(expectation, turned).passed  # 10 cm from the front to the wall
-    assert not evaluate(expectation, replace(record, seed=2)).passed
+    assert not evaluate(expectation, _sim_changed(record, seed=2)).passed
 
 
 def test_a_run_changes_only_the_targets_it_names(tmp_path: Path) -> None:
@@ -609,10 +609,10 @@ def test_a_record_gets_the_targets_of_the_run_whose_start_is_nearest() -> None:
         (("room", 2, (105.0, 0.0, 10.0)), WallAhead(400.0)),
     )
     expectation = Expectation(WallAhead(1.0), targets=RunTargets(WallAhead(1.0), runs))
-    base = replace(_stopped(0.0, 500.0, 90.0), seed=2)
+    base = _sim_changed(_stopped(0.0, 500.0, 90.0), seed=2)
     chosen = []
     for start in ((290.0, 5.0, 0.0), (5.0, 290.0, 0.0), (0.0, 0.0, 10.0), (0.0, 0.0, 0.0)):
-        record = replace(base, path=((0.0, *start), *base.path[1:]))
+        record = _sim_changed(base, path=((0.0, *start), *base.path[1:]))
         rule = expectation.for_record(record)
         assert isinstance(rule, WallAhead)
         chosen.append(rule.distance_mm)

@@ -5,7 +5,15 @@ from __future__ import annotations
 from dataclasses import replace
 
 import pytest
-from grading.expectations.runs import YARD, _judge, _north, _record, _same, _verdict
+from grading.expectations.runs import (
+    YARD,
+    _judge,
+    _north,
+    _record,
+    _same,
+    _sim_changed,
+    _verdict,
+)
 
 from roboscript.grading.expectations import (
     NeverEnter,
@@ -82,7 +90,7 @@ def test_never_enter_passes_by_the_closest_approach_to_any_of_its_regions() -> N
 
 
 def test_a_record_without_a_path_never_moved_and_so_never_entered() -> None:
-    record = replace(_record(_north(1.0), world=YARD), path=())
+    record = _sim_changed(_record(_north(1.0), world=YARD), path=())
     assert _judge(NeverEnter(("pit",)), record) == Verdict(
         "never_enter", True, "", None, "the robot never moved"
     )
@@ -135,7 +143,7 @@ def test_a_record_without_a_path_never_moved_and_so_never_entered() -> None:
         ),
         pytest.param(
             ("a", "b"),
-            replace(_record(_north(1.0)), path=()),
+            _sim_changed(_record(_north(1.0)), path=()),
             _verdict("regions_in_order", False, detail="never reached 'a'"),
             id="no path",
         ),

@@ -35,7 +35,18 @@ def test_required_is_read_beside_the_kind_and_weight(tmp_path: Path) -> None:
 
 
 def test_a_required_verdict_carries_it() -> None:
-    record = RunRecord("m", "mirto", "empty", 1, "failure", "x", None, 1.0, (), ())
+    record = RunRecord.simulated(
+        mission="m",
+        robot="mirto",
+        world_name="empty",
+        seed=1,
+        outcome="failure",
+        final_state="x",
+        reason=None,
+        duration_s=1.0,
+        states=(),
+        path=(),
+    )
     verdict = evaluate(Expectation(Outcome("success"), 2.0, required=True), record)
     assert (verdict.name, verdict.passed, verdict.weight, verdict.required) == (
         "outcome",

@@ -1,0 +1,235 @@
+"""What happened in one mission run: the record ``run``, ``grade``, the API and the page share.
+
+:class:`RunRecord` holds what every run reports (how the mission ended, its states and why it
+entered each, and on a simulated robot what the simulator saw, :class:`SimulatedRun`). Its
+JSON is derived from its fields, in their order, by one rule (:func:`to_json_value`): a field
+is a key of the same name; a record or a named tuple (:class:`Pose`, :class:`Tone`) is an
+object of its fields; any other tuple is a list. So ``roboscript run --json``, the Python
+API's :attr:`~roboscript.api.RunResult.summary`, the record of each graded run and the
+browser page's summary are one object, and a field added here shows up in all of them.
+
+A run's wider result extends the record by subclassing it (the API's
+:class:`~roboscript.api.RunResult` adds the recording and the warnings; the grader's
+:class:`~roboscript.grading.record.GradedRecord` adds where each collision was and the body's
+size); its own fields are serialised by the same rule unless marked :data:`NOT_SERIALISED`.
+
+Times are on the mission clock: 0 is the moment the mission started. Poses are
+``(x mm east, y mm north, heading deg clockwise from north)``.
+"""
+
+from __future__ import annotations
+
+import json
+import types
+from collections.abc import Mapping
+from dataclasses import MISSING, Field, dataclass, field, fields, is_dataclass
+from typing import (
+    TYPE_CHECKING,
+    Any,
+    NamedTuple,
+    Union,
+    cast,
+    get_args,
+    get_origin,
+    get_type_hints,
+)
+
+if TYPE_CHECKING:
+    from typing_extensions import Self  # annotations only: not a dependency
+
+__all__ = [
+    "NOT_SERIALISED",
+    "OMITTED_WHEN_DEFAULT",
+    "Pose",
+    "RunRecord",
+    "SimulatedRun",
+    "Tone",
+    "from_json_value",
+    "to_json_value",
+]
+
+NOT_SERIALISED: Mapping[str, bool] = types.MappingProxyType({"json": False})
+"""A field's ``metadata`` for a value that stays in the process (a world, a recording)."""
+
+OMITTED_WHEN_DEFAULT: Mapping[str, bool] = types.MappingProxyType({"omit_default": True})
+"""A field's ``metadata`` for a count that is written only when it is not its default (0)."""
+
+
+class Pose(NamedTuple):
+    """Where the robot is: mm east and north of the world's origin, heading deg clockwise from
+    north. A tuple (``x, y, heading = pose``); in JSON ``{"x_mm", "y_mm", "heading_deg"}``."""
+
+    x_mm: float
+    y_mm: float
+    heading_deg: float
+
+
+class Tone(NamedTuple):
+    """A tone the robot started: when (s on the mission clock), how high (Hz), how long (s).
+    A tuple (``t, hz, s = tone``); in JSON ``{"t_s", "frequency_hz", "duration_s"}``."""
+
+    t_s: float
+    frequency_hz: float
+    duration_s: float
+
+
+@dataclass(frozen=True)
+class SimulatedRun:
+    """What the simulator saw of a run (``run --json``'s ``sim``).
+
+    Attributes:
+        seed: The simulator seed.
+        world: The world's name.
+        final_pose: Where the robot ended (the simulated body's true pose).
+        distance_travelled_mm: Path length of the body centre since the mission started, mm.
+        collisions: How many times the body hit a wall.
+        tones: Every tone started (a run of hours lists the first ones only).
+        path: Samples ``(t s, x mm, y mm, heading deg)`` every 0.1 s from the mission's start.
+        tones_not_listed: Tones heard but not listed in ``tones`` (written only when not 0).
+    """
+
+    seed: int
+    world: str
+    final_pose: Pose
+    distance_travelled_mm: float
+    collisions: int
+    tones: tuple[Tone, ...]
+    path: tuple[tuple[float, float, float, float], ...]
+    tones_not_listed: int = field(default=0, metadata=OMITTED_WHEN_DEFAULT)
+
+
+@dataclass(frozen=True)
+class RunRecord:
+    """One finished mission run: how it ended, its states, and what the simulator saw.
+
+    Attributes:
+        mission: The mission's name.
+        robot: The robot profile's name.
+        outcome: ``success``, ``failure`` or ``error`` (the robot or link failed, the code got
+            stuck, or the run was interrupted).
+        final_state: The state the mission ended in, or ``None``.
+        reason: One sentence when the outcome is not ``success``, else ``None``.
+        duration_s: Mission time when it ended, s (to the ms).
+        states: Every state entered, as ``(t s, name)`` (a long loop keeps the first and last
+            ones only: ``states_dropped`` counts the rest).
+        transitions: The same states with why each was entered: ``{"t_s", "state",
+            "cause"}`` objects, ``cause`` as a recording's ``why``; empty when the run's
+            causes are not known (a graded run).
+        states_dropped: States entered but left out of ``states`` (written only when not 0).
+        sim: What the simulator saw, or ``None`` on a real robot.
+    """
+
+    mission: str
+    robot: str
+    outcome: str
+    final_state: str | None
+    reason: str | None
+    duration_s: float
+    states: tuple[tuple[float, str], ...]
+    transitions: tuple[Mapping[str, Any], ...] = ()
+    states_dropped: int = field(default=0, metadata=OMITTED_WHEN_DEFAULT)
+    sim: SimulatedRun | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The record as a JSON object (``run --json``'s), derived from the fields."""
+        return _record_dict(self)
+
+    def to_json(self, indent: int | None = None) -> str:
+        """The record as JSON text (``roboscript run --json`` prints it with ``indent=2``)."""
+        return json.dumps(self.to_dict(), indent=indent)
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], **kept: Any) -> Self:
+        """The record :meth:`to_dict` made; ``kept`` gives the fields that are not serialised.
+
+        Raises:
+            KeyError: A field without a default is missing.
+            TypeError, ValueError: A value does not fit its field.
+        """
+        return cast("Self", _from_dict(cls, data, kept))
+
+    @classmethod
+    def from_json(cls, text: str, **kept: Any) -> Self:
+        """The record :meth:`to_json` wrote (see :meth:`from_dict`)."""
+        return cls.from_dict(json.loads(text), **kept)
+
+
+def _serialised(item: Field[Any]) -> bool:
+    return bool(item.metadata.get("json", True))
+
+
+def _record_dict(record: Any) -> dict[str, Any]:
+    data: dict[str, Any] = {}
+    for item in fields(record):
+        if not _serialised(item):
+            continue
+        value = getattr(record, item.name)
+        if item.metadata.get("omit_default") and value == item.default:
+            continue
+        data[item.name] = to_json_value(value)
+    return data
+
+
+def to_json_value(value: Any) -> Any:
+    """``value`` as JSON-ready data: a dataclass or a named tuple becomes an object of its
+    fields (in their order), any other tuple or list a list, a mapping an object."""
+    if is_dataclass(value) and not isinstance(value, type):
+        return _record_dict(value)
+    if isinstance(value, tuple) and hasattr(value, "_fields"):
+        return {name: to_json_value(v) for name, v in zip(value._fields, value, strict=True)}
+    if isinstance(value, tuple | list):
+        return [to_json_value(v) for v in value]
+    if isinstance(value, Mapping):
+        return {key: to_json_value(v) for key, v in value.items()}
+    return value
+
+
+def _from_dict(cls: type[Any], data: Mapping[str, Any], kept: Mapping[str, Any]) -> Any:
+    hints = get_type_hints(cls)
+    values: dict[str, Any] = dict(kept)
+    for item in fields(cls):
+        if not _serialised(item) or item.name in values:
+            continue
+        if item.name in data:
+            values[item.name] = from_json_value(hints[item.name], data[item.name])
+        elif item.default is MISSING and item.default_factory is MISSING:
+            raise KeyError(item.name)
+    return cls(**values)
+
+
+def from_json_value(kind: Any, value: Any) -> Any:
+    """The value of type ``kind`` that :func:`to_json_value` turned into ``value``.
+
+    Raises:
+        TypeError, ValueError: ``value`` does not have the shape of ``kind``.
+    """
+    origin = get_origin(kind)
+    if origin in (Union, types.UnionType):
+        if value is None:
+            return None
+        (inner,) = [arg for arg in get_args(kind) if arg is not type(None)]
+        return from_json_value(inner, value)
+    if isinstance(kind, type) and is_dataclass(kind):
+        return _from_dict(kind, _object(value, kind), {})
+    if isinstance(kind, type) and issubclass(kind, tuple) and hasattr(kind, "_fields"):
+        hints = get_type_hints(kind)
+        data = _object(value, kind)
+        return kind(**{name: from_json_value(hints[name], data[name]) for name in kind._fields})
+    if origin is tuple:
+        args = get_args(kind)
+        if not isinstance(value, list):
+            raise TypeError(f"expected a list, got {type(value).__name__}")
+        if len(args) == 2 and args[1] is Ellipsis:
+            return tuple(from_json_value(args[0], v) for v in value)
+        if len(args) != len(value):
+            raise ValueError(f"expected {len(args)} values, got {len(value)}")
+        return tuple(from_json_value(a, v) for a, v in zip(args, value, strict=True))
+    if origin is not None and issubclass(origin, Mapping):
+        return dict(_object(value, origin))
+    return value
+
+
+def _object(value: Any, kind: type[Any]) -> Mapping[str, Any]:
+    if not isinstance(value, Mapping):
+        raise TypeError(f"expected an object for {kind.__name__}, got {type(value).__name__}")
+    return value
