@@ -272,9 +272,10 @@ def run_session(
                 runner.finish("failure", f"the mission did not finish within {max_time_s:g} s")
     except LinkError as exc:
         runner.finish("error", str(exc))
+    session = Session(runner.result, robot, profile, runner.start_time_s, interrupted, code_stopped)
     if recording is not None:
-        recording.finish(runner.result)
-    return Session(runner.result, robot, profile, runner.start_time_s, interrupted, code_stopped)
+        recording.finish(session_record(session))
+    return session
 
 
 def session_record(session: Session) -> RunRecord:

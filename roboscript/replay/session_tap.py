@@ -17,17 +17,19 @@ from typing import Any
 from roboscript import capabilities as cap
 from roboscript.angles import wrap_deg
 from roboscript.mission.channels import MAX_PRINTED_LINES
-from roboscript.mission.runner import MissionResult, MissionRunner
+from roboscript.mission.runner import MissionRunner
 from roboscript.mission.spec import MissionSpec
 from roboscript.profiles import RobotProfile
 from roboscript.replay.header import mission_header, run_header
 from roboscript.replay.recording import MAX_FRAMES, Listener, Recorder, RecordingFile
 from roboscript.robot import Robot
+from roboscript.run_record import RunRecord
 from roboscript.sim.simulation import Simulation
 
 _PRINTED_CHARS = 500  # of one printed line in the record (a terminal shows it whole)
 
 __all__ = [
+    "RESULT_FIELDS",
     "SHOWN",
     "CommandTap",
     "OdometryPose",
@@ -359,13 +361,13 @@ class RunRecording:
             frame["contact"] = self._last_contact = contact
         return frame
 
-    def finish(self, result: MissionResult, **extra: Any) -> dict[str, Any] | None:
-        """Close the recording with the mission's result (and ``extra`` keys)."""
+    def finish(self, record: RunRecord, **extra: Any) -> dict[str, Any] | None:
+        """Close the recording with the run's record (and ``extra`` keys)."""
         if self.recorder is None:
             return None
         if self._printed_total > MAX_PRINTED_LINES:
             extra["prints_not_recorded"] = self._printed_total - MAX_PRINTED_LINES
-        return self.recorder.finish({**result_line(result), **extra})
+        return self.recorder.finish({**result_line(record), **extra})
 
 
 def sensor_readers(capabilities: Mapping[str, object]) -> list[tuple[str, Callable[[], Any]]]:
@@ -430,15 +432,15 @@ def written_pose(x_mm: float, y_mm: float, heading_deg: float) -> list[float]:
     return [round(x_mm, 1) + 0.0, round(y_mm, 1) + 0.0, round(heading, 1) + 0.0]
 
 
-def result_line(result: MissionResult) -> dict[str, Any]:
-    """The result line's object for a mission result."""
-    return {
-        "outcome": result.outcome,
-        "final_state": result.final_state,
-        "reason": result.reason,
-        "duration_s": round(result.duration_s, 3),
-        "states": [[round(t, 3), name] for t, name in result.states],
-    }
+RESULT_FIELDS = ("outcome", "final_state", "reason", "duration_s", "states")
+"""The run record's fields a recording's result line holds, as the record writes them
+(docs/reference/recording.md: the rest of the line is the recording's own)."""
+
+
+def result_line(record: RunRecord) -> dict[str, Any]:
+    """The result line's object for a run's record."""
+    data = record.to_dict()
+    return {name: data[name] for name in RESULT_FIELDS}
 
 
 def save_recording(recording: RunRecording, path: str) -> str | None:

@@ -73,8 +73,8 @@ def test_json_holds_specs_students_results_and_runs_with_verdicts(
     assert pose["passed"] is False
     assert pose["margin"].startswith("failed by ")
     assert pose["first_violation_s"] == run["record"]["duration_s"]
-    assert run["record"]["path"][0][:3] == [0.0, 0.0, 0.0]
-    assert len(run["record"]["tones"]) == 3
+    assert run["record"]["sim"]["path"][0][:3] == [0.0, 0.0, 0.0]
+    assert len(run["record"]["sim"]["tones"]) == 3
     assert (run["points"], run["max_points"], run["hidden"]) == (run["score"], 1.0, False)
     for cell in report["results"]:
         assert cell["points"] == pytest.approx(3 * cell["score"], abs=1e-3)

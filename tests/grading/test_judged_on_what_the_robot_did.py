@@ -212,7 +212,7 @@ def test_tones_played_before_the_start_do_not_count(tmp_path: Path) -> None:
     [run] = _runs(report, "early", "four-beeps")
     tones = _verdict(run, "tones")
     assert (tones["passed"], tones["detail"]) == (False, "4 tones too few: 0 tones played")
-    assert run["record"]["tones"] == []
+    assert run["record"]["sim"]["tones"] == []
 
 
 def test_corners_of_two_45_degree_rotations_are_four_turns(tmp_path: Path) -> None:
