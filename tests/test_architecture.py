@@ -257,10 +257,11 @@ LAYERS: tuple[tuple[str, ...], ...] = (
 )
 """The one-way flow, lowest first: a module imports only from its own layer or below.
 
-The root package and the stdlib-only basics at the bottom (the robot profile type among
-them); the inputs (YAML and quantities); the scheduler; host control loops; transport;
-drivers (each protocol's folder: codec, host driver, device side and built-in robots); the
-profiles found through them (and profile files); the simulator; actions; missions; the robot;
+The root package and the stdlib-only basics at the bottom (the robot profile type and the
+run record among them); the inputs (YAML and quantities); the scheduler; host control loops;
+transport; drivers (each protocol's folder: codec, host driver, device side and built-in
+robots); the profiles found through them (and profile files); the simulator; actions;
+missions; the robot;
 recording a run (the replay format, its taps and its viewer); one mission run; grading; the
 command line (docs/development/architecture.md).
 
