@@ -19,9 +19,10 @@ Times are on the mission clock: 0 is the moment the mission started. Poses are
 
 from __future__ import annotations
 
+import functools
 import json
 import types
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import MISSING, Field, dataclass, field, fields, is_dataclass
 from typing import (
     TYPE_CHECKING,
@@ -173,6 +174,8 @@ def _record_dict(record: Any) -> dict[str, Any]:
 def to_json_value(value: Any) -> Any:
     """``value`` as JSON-ready data: a dataclass or a named tuple becomes an object of its
     fields (in their order), any other tuple or list a list, a mapping an object."""
+    if value is None or isinstance(value, str | int | float):
+        return value  # most values of a run (every path sample's numbers): answered first
     if is_dataclass(value) and not isinstance(value, type):
         return _record_dict(value)
     if isinstance(value, tuple) and hasattr(value, "_fields"):
@@ -184,14 +187,20 @@ def to_json_value(value: Any) -> Any:
     return value
 
 
-def _from_dict(cls: type[Any], data: Mapping[str, Any], kept: Mapping[str, Any]) -> Any:
-    hints = get_type_hints(cls)
+@functools.cache
+def _hints(kind: Any) -> dict[str, Any]:
+    """A record's field types, resolved once per class (the annotations are strings)."""
+    return get_type_hints(kind)
+
+
+def _from_dict(cls: Any, data: Mapping[str, Any], kept: Mapping[str, Any]) -> Any:
+    hints = _hints(cls)
     values: dict[str, Any] = dict(kept)
     for item in fields(cls):
         if not _serialised(item) or item.name in values:
             continue
         if item.name in data:
-            values[item.name] = from_json_value(hints[item.name], data[item.name])
+            values[item.name] = _reader(hints[item.name])(data[item.name])
         elif item.default is MISSING and item.default_factory is MISSING:
             raise KeyError(item.name)
     return cls(**values)
@@ -203,29 +212,54 @@ def from_json_value(kind: Any, value: Any) -> Any:
     Raises:
         TypeError, ValueError: ``value`` does not have the shape of ``kind``.
     """
+    return _reader(kind)(value)
+
+
+def _as_is(value: Any) -> Any:
+    return value
+
+
+@functools.cache
+def _reader(kind: Any) -> Callable[[Any], Any]:
+    """How to read a JSON value of type ``kind``, worked out once per type (a run's path has
+    thousands of samples of one type)."""
     origin = get_origin(kind)
     if origin in (Union, types.UnionType):
-        if value is None:
-            return None
         (inner,) = [arg for arg in get_args(kind) if arg is not type(None)]
-        return from_json_value(inner, value)
+        read_inner = _reader(inner)
+        return lambda value: None if value is None else read_inner(value)
     if isinstance(kind, type) and is_dataclass(kind):
-        return _from_dict(kind, _object(value, kind), {})
+        return lambda value: _from_dict(kind, _object(value, kind), {})
     if isinstance(kind, type) and issubclass(kind, tuple) and hasattr(kind, "_fields"):
-        hints = get_type_hints(kind)
-        data = _object(value, kind)
-        return kind(**{name: from_json_value(hints[name], data[name]) for name in kind._fields})
+        hints = _hints(kind)
+        readers = {name: _reader(hints[name]) for name in kind._fields}
+        return lambda value: kind(
+            **{name: read(_object(value, kind)[name]) for name, read in readers.items()}
+        )
     if origin is tuple:
-        args = get_args(kind)
-        if not isinstance(value, list):
-            raise TypeError(f"expected a list, got {type(value).__name__}")
-        if len(args) == 2 and args[1] is Ellipsis:
-            return tuple(from_json_value(args[0], v) for v in value)
-        if len(args) != len(value):
-            raise ValueError(f"expected {len(args)} values, got {len(value)}")
-        return tuple(from_json_value(a, v) for a, v in zip(args, value, strict=True))
+        return _tuple_reader(get_args(kind))
     if origin is not None and issubclass(origin, Mapping):
-        return dict(_object(value, origin))
+        return lambda value: dict(_object(value, origin))
+    return _as_is
+
+
+def _tuple_reader(args: tuple[Any, ...]) -> Callable[[Any], Any]:
+    if len(args) == 2 and args[1] is Ellipsis:
+        read_item = _reader(args[0])
+        return lambda value: tuple(read_item(v) for v in _list(value, None))
+    readers = [_reader(arg) for arg in args]
+    if all(read is _as_is for read in readers):
+        return lambda value: tuple(_list(value, len(readers)))
+    return lambda value: tuple(
+        read(v) for read, v in zip(readers, _list(value, len(readers)), strict=True)
+    )
+
+
+def _list(value: Any, length: int | None) -> list[Any]:
+    if not isinstance(value, list):
+        raise TypeError(f"expected a list, got {type(value).__name__}")
+    if length is not None and len(value) != length:
+        raise ValueError(f"expected {length} values, got {len(value)}")
     return value
 
 

@@ -240,3 +240,14 @@ def test_a_results_file_of_format_1_still_merges(
         assert record.sim.collisions == len(old["collisions"]) == 0
         assert record.body_radius_mm == old["body_radius_mm"]
         assert isinstance(result, RunResult) and result.to_dict()["record"] == record.to_dict()
+
+
+def test_a_value_of_the_wrong_shape_is_refused() -> None:
+    data = _every_field_set().to_dict()
+    data["sim"]["final_pose"] = [10.0, 420.5, -90.0]  # format 1's shape, not run --json's
+    with pytest.raises(TypeError, match="expected an object for Pose"):
+        RunRecord.from_dict(data)
+    data = _every_field_set().to_dict()
+    data["sim"]["path"][0] = [0.0, 0.0, 0.0]
+    with pytest.raises(ValueError, match="expected 4 values, got 3"):
+        RunRecord.from_dict(data)
