@@ -142,14 +142,13 @@ class GradedRecord(run_record.RunRecord):
         values beside the outcome), so a gradebook still merges them."""
         if "world_name" not in data:
             return super().from_dict(data, **kept)
-        old = dict(data)
         return cls.simulated(
-            **{key: old.pop(key) for key in _FORMAT_1_AS_IS},
-            states=tuple((t, name) for t, name in old.pop("states")),
-            path=tuple((t, x, y, h) for t, x, y, h in old.pop("path")),
-            tones=tuple(Tone(**tone) for tone in old.pop("tones")),
-            collisions=tuple(Collision(**c) for c in old.pop("collisions")),
-            final_pose=Pose(*old.pop("final_pose")),
+            **{key: data[key] for key in _FORMAT_1_AS_IS},
+            states=tuple((t, name) for t, name in data["states"]),
+            path=tuple((t, x, y, h) for t, x, y, h in data["path"]),
+            tones=tuple(Tone(**tone) for tone in data["tones"]),
+            collisions=tuple(Collision(**c) for c in data["collisions"]),
+            final_pose=Pose(*data["final_pose"]),
             **kept,
         )
 
