@@ -53,7 +53,8 @@ NOT_SERIALISED: Mapping[str, bool] = types.MappingProxyType({"json": False})
 """A field's ``metadata`` for a value that stays in the process (a world, a recording)."""
 
 OMITTED_WHEN_DEFAULT: Mapping[str, bool] = types.MappingProxyType({"omit_default": True})
-"""A field's ``metadata`` for a count that is written only when it is not its default (0)."""
+"""A field's ``metadata`` for a value written only when it is not its default: a count of
+what was left out (0), the simulator's part on a real robot (``None``)."""
 
 
 class Pose(NamedTuple):
@@ -117,7 +118,7 @@ class RunRecord:
             "cause"}`` objects, ``cause`` as a recording's ``why``; empty when the run's
             causes are not known (a graded run).
         states_dropped: States entered but left out of ``states`` (written only when not 0).
-        sim: What the simulator saw, or ``None`` on a real robot.
+        sim: What the simulator saw, or ``None`` on a real robot (then not written).
     """
 
     mission: str
@@ -129,7 +130,7 @@ class RunRecord:
     states: tuple[tuple[float, str], ...]
     transitions: tuple[Mapping[str, Any], ...] = ()
     states_dropped: int = field(default=0, metadata=OMITTED_WHEN_DEFAULT)
-    sim: SimulatedRun | None = None
+    sim: SimulatedRun | None = field(default=None, metadata=OMITTED_WHEN_DEFAULT)
 
     def to_dict(self) -> dict[str, Any]:
         """The record as a JSON object (``run --json``'s), derived from the fields."""

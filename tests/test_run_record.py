@@ -80,6 +80,11 @@ def test_a_record_read_back_from_its_json_is_the_same_record() -> None:
     assert RunRecord.from_json(on_a_real_robot.to_json()) == on_a_real_robot
 
 
+def test_a_real_robots_record_has_no_sim_key() -> None:
+    # run --json on a port: there is no simulator to tell of, not a null one
+    assert "sim" not in replace(_every_field_set(), sim=None).to_dict()
+
+
 def test_the_json_has_one_key_per_field_in_the_fields_order() -> None:
     data = _every_field_set().to_dict()
     assert list(data) == [item.name for item in fields(RunRecord)]
@@ -181,7 +186,9 @@ def test_a_field_added_to_the_record_shows_in_every_output(tmp_path: Path) -> No
     shutil.copytree(ROOT / "roboscript", package, ignore=shutil.ignore_patterns("__pycache__"))
     module = package / "run_record.py"
     source = module.read_text(encoding="utf-8")
-    last_field = "    sim: SimulatedRun | None = None\n"
+    last_field = (
+        "    sim: SimulatedRun | None = field(default=None, metadata=OMITTED_WHEN_DEFAULT)\n"
+    )
     assert source.count(last_field) == 1
     module.write_text(source.replace(last_field, last_field + ADDED_FIELD), encoding="utf-8")
     env = dict(os.environ, PYTHONPATH=str(tmp_path))
