@@ -7,11 +7,8 @@ cannot reach. The same spec, mission file and variant always give the same
 :class:`~roboscript.grading.record.RunResult` (but for ``wall_time_s``): the simulator is
 deterministic and runs on its own clock, and the wire is lockstep.
 
-Scores (written in the teachers' guide): a run that passed scores 1; a run that failed after
-ending normally (its mission reached a final state by itself, within the test's simulated
-time, without its own code raising) scores the weighted share of expectations that held, or 0
-if it failed one the spec marks ``required``; every other run (out of simulated time, crashed,
-hung, timed out, invalid, missing) scores 0.
+The run is judged by :mod:`roboscript.grading.judge`, the rules the browser page's practice
+grade uses too (its scores are written there and in the teachers' guide).
 """
 
 from __future__ import annotations
@@ -19,12 +16,11 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from roboscript.grading.expectations import evaluate
-from roboscript.grading.record import RunRecord, RunResult, Verdict
+from roboscript.grading.judge import judge, record_from_session, run_message, run_score
+from roboscript.grading.record import RunResult
 from roboscript.grading.sandbox import Limits, WarmJail
 from roboscript.grading.spec import TestSpec, Variant
-from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S, run_world, simulation_record
-from roboscript.session import Session
+from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S, run_world
 
 __all__ = ["grade_run", "record_from_session", "run_message", "run_score"]
 
@@ -85,19 +81,20 @@ def grade_run(
             during_load=not world.loaded,
         )
     record = world.record
-    verdicts = tuple(evaluate(expectation, record) for expectation in spec.expectations)
-    passed = all(v.passed for v in verdicts) and not world.status
-    status = world.status or ("passed" if passed else "failed")
-    message = world.message or run_message(verdicts)
-    if not message and not passed:
-        message = record.reason or "the mission did not end normally"
+    judged = judge(
+        spec,
+        record,
+        ended_normally=world.ended_normally,
+        status=world.status,
+        message=world.message,
+    )
     return _finish(
         base,
         started,
-        status=status,
-        message=message,
-        score=run_score(verdicts) if status == "passed" or world.ended_normally else 0.0,
-        verdicts=verdicts,
+        status=judged.status,
+        message=judged.message,
+        score=judged.score,
+        verdicts=judged.verdicts,
         record=record,
         debug=world.debug,
         replay=world.replay,
@@ -109,52 +106,3 @@ def _finish(base: RunResult, started: float, **changes: object) -> RunResult:
 
     wall = round(time.perf_counter() - started, 3)
     return replace(base, wall_time_s=wall, **changes)  # type: ignore[arg-type]
-
-
-def run_score(verdicts: tuple[Verdict, ...]) -> float:
-    """The weighted share of verdicts that passed, 0 to 1 (0 with no verdicts, and 0 when a
-    required one failed)."""
-    if any(v.required and not v.passed for v in verdicts):
-        return 0.0
-    total = sum(v.weight for v in verdicts)
-    if total <= 0:
-        return 0.0
-    return round(sum(v.weight for v in verdicts if v.passed) / total, 4)
-
-
-def run_message(verdicts: tuple[Verdict, ...]) -> str:
-    """One sentence for the student: the first expectation that failed (empty if none did)."""
-    failed = [v for v in verdicts if not v.passed]
-    if not failed:
-        return ""
-    first = next((v for v in failed if v.required), failed[0])
-    text = first.text
-    if first.required:
-        text += " (required: without it the run scores 0)"
-    if len(failed) > 1:
-        text += f" (and {len(failed) - 1} more check{'s' if len(failed) > 2 else ''} failed)"
-    return text
-
-
-def record_from_session(session: Session) -> RunRecord:
-    """What a finished in-process simulated run did, on the mission clock.
-
-    The grader never uses this (it records from its own world, :func:`grade_run`); it is the
-    reference a graded run is compared with: the same mission, robot, world and seed give the
-    same record either way.
-    """
-    sim = session.simulation
-    if sim is None:
-        raise ValueError("only simulated runs can be recorded")
-    result = session.result
-    start_s = session.start_time_s
-    return simulation_record(
-        sim,
-        start_s,
-        start_s + result.duration_s,
-        mission=result.mission,
-        outcome=result.outcome,
-        final_state=result.final_state,
-        reason=result.reason,
-        states=tuple((round(t, 3), name) for t, name in result.states),
-    )

@@ -55,9 +55,10 @@ from pathlib import Path
 from typing import Any, Literal
 
 from roboscript.grading.cpu_time import process_tree_cpu_s, process_tree_waited_s
+from roboscript.grading.judge import ended_in_time, simulation_record
 from roboscript.grading.latency import ask_short_slice
 from roboscript.grading.mission_host import LOAD_LIMIT_S, STATE_CLAIM_BYTES
-from roboscript.grading.record import Collision, RunRecord, RunStatus, Tone
+from roboscript.grading.record import RunRecord, RunStatus
 from roboscript.grading.sandbox import Jail, JailedRun, Limits, WarmJail
 from roboscript.grading.spec import TestSpec, Variant
 from roboscript.grading.submissions import named_files
@@ -119,7 +120,6 @@ _EXIT_GRACE_S = 1.0
 _READ_CHUNK = 1 << 16
 _HANDSHAKE_SLACK_S = 2.0
 _MAX_CANDIDATES = 2000
-_OUT_OF_TIME_MARGIN_S = 0.05
 
 
 @dataclass
@@ -542,8 +542,7 @@ class _WorldSession:
             run.message = f"the run crashed: {record.reason or 'the mission raised an exception'}"
             return run
         # The mission's own limit stops it on the last tick before max_time.
-        out_of_time = record.duration_s >= self.spec.max_time_s - _OUT_OF_TIME_MARGIN_S
-        return self._judged_record(record, ended_normally=not out_of_time)
+        return self._judged_record(record, ended_normally=ended_in_time(record, self.spec))
 
     def _out_of_time(self) -> WorldRun:
         """The run ran out of simulated time (the world stopped it)."""
@@ -646,48 +645,6 @@ class _WorldSession:
         if self.jail.stderr:
             parts.append("standard error:\n" + self.jail.stderr)
         return "\n".join(parts)
-
-
-def simulation_record(
-    sim: Simulation,
-    start_s: float,
-    end_s: float,
-    *,
-    mission: str,
-    outcome: str,
-    final_state: str | None,
-    reason: str | None,
-    states: tuple[tuple[float, str], ...],
-) -> RunRecord:
-    """The record of a simulated run whose mission started at ``start_s`` and ended at ``end_s``.
-
-    Everything physical comes from ``sim``; ``mission``, ``outcome``, ``final_state``,
-    ``reason`` and the state names are the mission's own account.
-    """
-    return RunRecord.simulated(
-        mission=mission,
-        robot=sim.profile.name,
-        world_name=sim.world.name,
-        seed=sim.seed,
-        outcome=outcome,
-        final_state=final_state,
-        reason=reason,
-        duration_s=round(end_s - start_s, 3),
-        states=states,
-        path=tuple(sim.path_since(start_s)),
-        tones=tuple(Tone(t, float(f), d) for t, f, d in sim.tones_since(start_s)),
-        collisions=tuple(
-            Collision(round(c.start_s - start_s, 3), round(c.x_mm, 1), round(c.y_mm, 1), c.side)
-            for c in sim.log.contacts
-        ),
-        final_pose=sim.final_pose(),
-        distance_travelled_mm=round(sim.log.distance_travelled_mm, 1),
-        collision_count=sim.log.contacts.total,
-        tones_not_listed=sim.log.tones.more,
-        body_radius_mm=sim.body.spec.body_radius_mm,
-        side_sensor_offset_mm=sim.body.spec.side_range_offset_mm,
-        world=sim.world,
-    )
 
 
 class _LoadFailedError(_ViolationError):
