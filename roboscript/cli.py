@@ -634,11 +634,18 @@ def _cmd_web(args: argparse.Namespace) -> int:
     # loaded here: building the app reads packages no other command needs
     from roboscript.web.build import WebBuildError, build_web_app
 
-    try:
-        built = build_web_app(args.dir, pyodide=args.pyodide, codemirror=args.codemirror)
+    try:  # a spec's SpecError prints file:line:col and exits 2
+        built = build_web_app(
+            args.dir, pyodide=args.pyodide, codemirror=args.codemirror, specs=args.spec or ()
+        )
     except WebBuildError as exc:
         _err(f"error: {exc}")
         return EXIT_FAILED
+    for test in built.hidden_tests:
+        _err(
+            f"warning: {test} has hidden runs: the page carries the spec, so a student who"
+            " reads the page's files can see them; ship a practice spec without hidden runs"
+        )
     _err(
         f"web app: {built.page} ({built.size_bytes / 1e6:.1f} MB; open it in a web browser, "
         "or copy the folder anywhere: it needs no network)"
@@ -905,6 +912,13 @@ def _parser() -> argparse.ArgumentParser:
     )
     web_build.add_argument(
         "--codemirror", metavar="DIR", help="an unpacked npm 'codemirror' 5 package"
+    )
+    web_build.add_argument(
+        "--spec",
+        metavar="SPEC",
+        nargs="+",
+        action="extend",
+        help="test specs (or folders of them) to practise against in the page",
     )
     web_build.set_defaults(func=_cmd_web)
     for command in sub.choices.values():

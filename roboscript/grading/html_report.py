@@ -31,6 +31,7 @@ from pathlib import Path
 
 from roboscript import __version__
 from roboscript.grading.batch import Cell, ClassReport
+from roboscript.grading.judge import failure_marks
 from roboscript.grading.record import RunResult, Verdict
 from roboscript.grading.spec import TestSpec
 from roboscript.grading.svg import (
@@ -117,9 +118,8 @@ def _replay(result: RunResult, heading: str) -> list[str]:
     data = result.replay
     if not data or not data.get("frames"):
         return []
-    failed = [(v.first_violation_s, v.name) for v in result.verdicts if not v.passed]
-    marks = [{"t": t, "label": name} for t, name in failed if t is not None]
-    open_at = min((t for t, _ in failed if t is not None), default=None)
+    marks = failure_marks(result.verdicts)
+    open_at = min((mark["t"] for mark in marks), default=None)
     recording = Recording(data["header"], fill_frames(data["frames"]), data.get("result"))
     where = (
         f" It opens at {open_at:.2f} s, where an expectation first failed (the red dashed line"

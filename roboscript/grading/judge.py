@@ -15,7 +15,7 @@ hung, timed out, invalid, missing) scores 0.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 from roboscript.grading.expectations import evaluate
 from roboscript.grading.record import Collision, RunRecord, RunStatus, Tone, Verdict
@@ -26,6 +26,7 @@ from roboscript.sim.simulation import Simulation
 __all__ = [
     "Judgement",
     "ended_in_time",
+    "failure_marks",
     "judge",
     "record_from_session",
     "run_message",
@@ -87,6 +88,16 @@ def judge(
 def ended_in_time(record: RunRecord, spec: TestSpec) -> bool:
     """False when the run lasted the test's whole simulated time (its limit stopped it)."""
     return record.duration_s < spec.max_time_s - OUT_OF_TIME_MARGIN_S
+
+
+def failure_marks(verdicts: tuple[Verdict, ...]) -> list[dict[str, Any]]:
+    """Where a replay marks the run: ``{"t": s, "label": name}`` at each failed verdict's
+    first violation (mission clock), in the spec's order; a replay opens at the earliest."""
+    return [
+        {"t": v.first_violation_s, "label": v.name}
+        for v in verdicts
+        if not v.passed and v.first_violation_s is not None
+    ]
 
 
 def run_score(verdicts: tuple[Verdict, ...]) -> float:

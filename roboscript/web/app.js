@@ -307,6 +307,12 @@
       document.body.setAttribute("data-ready-ms", String(readyMs));
       document.body.setAttribute("data-ready", "1");
       check();
+      // the practice grade (grade.js) starts now, with what it needs of the editor
+      document.dispatchEvent(new CustomEvent("roboscript-ready", { detail: {
+        bridge: bridge, say: say,
+        name: function () { return $("name").value; },
+        text: function () { return editor.getValue(); }
+      } }));
     }).catch(function (error) {
       say("roboscript could not start in this browser: " + error);
       document.body.setAttribute("data-ready", "error");

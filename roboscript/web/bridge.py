@@ -5,6 +5,10 @@ functions with the editor's text; each answers a JSON string, so the page needs 
 objects. They are ordinary functions: the tests call them in CPython too, and a mission
 gives the same JSON for a seed in either runtime.
 
+A teacher's test spec (shipped in the page by ``web build --spec``, or opened by the student)
+is written under ``/home/pyodide/specs`` and :func:`grade_text` gives the practice grade
+(:mod:`roboscript.grading.practice`): the grader's runs and judging, in the page's one process.
+
 A mission in the editor is written to a scratch folder (``/home/pyodide/missions`` in the
 browser) under the name the student gave it, so messages name the file as on the command
 line: ``hello.yaml:4:28: error: ...``.
@@ -14,11 +18,16 @@ from __future__ import annotations
 
 import json
 import re
+import shutil
 import tempfile
 from pathlib import Path
 from typing import Any
 
 from roboscript.errors import InputError, MissionError, RoboscriptError
+from roboscript.grading.judge import failure_marks
+from roboscript.grading.practice import practice_grade
+from roboscript.grading.spec import TestSpec, is_test_spec, load_test_spec
+from roboscript.grading.text import advice, format_points, public_reason, student_text
 from roboscript.interrupts import Interrupted
 from roboscript.mission import mission_for_robot
 from roboscript.mission.graph_picture import to_svg
@@ -27,7 +36,7 @@ from roboscript.replay.viewer import viewer_block
 from roboscript.session import run_session, session_record
 from roboscript.web.connect import on_robot
 
-__all__ = ["check_text", "diagram_text", "run_text"]
+__all__ = ["check_text", "diagram_text", "grade_text", "load_specs", "run_text"]
 
 _SAFE_NAME = re.compile(r"[^\w.-]")
 _MAX_TIME_S = 300.0
@@ -139,3 +148,155 @@ def diagram_text(name: str, text: str) -> str:
     except MissionError:
         return ""
     return "" if spec is None else to_svg(spec)
+
+
+# ------------------------------------------------------------------------- practice grade
+
+
+def _specs_folder(slot: str) -> Path:
+    return _folder().parent / "specs" / (_SAFE_NAME.sub("_", slot) or "specs")
+
+
+def _spec_summary(spec: TestSpec) -> dict[str, Any]:
+    """What the page shows of a spec before grading: no seed, start or world of a hidden run."""
+    return {
+        "path": spec.path,
+        "test": spec.name,
+        "description": spec.description,
+        "robot": spec.robot,
+        "points": spec.max_points,
+        "runs": [{"label": v.public_label, "hidden": v.hidden} for v in spec.variants],
+        "expect": [
+            {"name": e.name, "weight": e.weight, "required": e.required} for e in spec.expectations
+        ],
+    }
+
+
+def _spec_problem(problem: InputError, root: Path) -> dict[str, Any]:
+    return {
+        "line": problem.line,
+        "col": problem.col,
+        "severity": problem.severity,
+        "message": problem.message,
+        "hint": problem.hint,
+        "text": student_text(problem.format(), root),
+    }
+
+
+def load_specs(files: str, slot: str = "shipped") -> str:
+    """Write a teacher's spec files into the page's folder and read every test spec among them.
+
+    Args:
+        files: JSON ``{path: text}``: test specs and the world and ``check`` files they name,
+            each path relative to one folder (as ``web build --spec`` ships them, or the
+            names of the files the student opened).
+        slot: A folder of its own for this set (``shipped``, ``opened``): loading a set
+            replaces the files loaded before in that folder.
+
+    Returns:
+        JSON ``{"specs": [{path, test, description, robot, points, runs: [{label,
+        hidden}], expect: [{name, weight, required}]}, ...], "problems": [...]}``: a spec
+        with a mistake is left out, and its mistake is a problem (``test.yaml:3:5: error:
+        ...``).
+    """
+    folder = _specs_folder(slot)
+    shutil.rmtree(folder, ignore_errors=True)
+    written: list[Path] = []
+    for name, text in json.loads(files).items():
+        parts = [
+            _SAFE_NAME.sub("_", part)
+            for part in Path(name).parts
+            if part not in ("", ".", "..", "/")
+        ]
+        if not parts:
+            continue
+        path = folder.joinpath(*parts)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8")
+        written.append(path)
+    specs: list[dict[str, Any]] = []
+    problems: list[dict[str, Any]] = []
+    for path in sorted(p for p in written if p.suffix in (".yaml", ".yml") and is_test_spec(p)):
+        try:
+            specs.append(_spec_summary(load_test_spec(path)))
+        except InputError as exc:
+            problems += [_spec_problem(p, folder) for p in getattr(exc, "problems", None) or [exc]]
+    return json.dumps({"specs": specs, "problems": problems})
+
+
+def grade_text(name: str, text: str, spec_path: str) -> str:
+    """The practice grade of one mission's text against a spec :func:`load_specs` wrote.
+
+    Runs every run of the spec in this process and judges it as ``roboscript grade`` does
+    (:mod:`roboscript.grading.practice`): the student's practice, never the teacher's record.
+    A hidden run is named ``hidden run N``, with pass or fail and the grader's words for a
+    student; its margins, seed, start and replay are not shown.
+
+    Returns:
+        JSON ``{"problems": [...], "spec": the spec's summary or null, "grade": {passed,
+        score, points, max_points, points_text, max_points_text, passed_runs, total_runs,
+        runs: [{label, hidden, status, passed, score, points, max_points, message, advice,
+        verdicts: [{name, passed, required, weight, text, margin, first_violation_s}],
+        viewer}]} or null}``.
+    """
+    path = _write(name, text)
+    root = _folder()
+    try:
+        spec = load_test_spec(spec_path)
+    except InputError as exc:
+        problems = [
+            _spec_problem(p, Path(spec_path).parent)
+            for p in getattr(exc, "problems", None) or [exc]
+        ]
+        return json.dumps({"problems": problems, "spec": None, "grade": None})
+    cell, runs = practice_grade(spec, str(path))
+    shown = []
+    for variant, run in zip(spec.variants, runs, strict=True):
+        result = run.result
+        hidden = variant.hidden
+        verdicts = [
+            {"name": v.name, "passed": v.passed, "required": v.required, "weight": v.weight}
+            | (
+                {}
+                if hidden
+                else {"text": v.text, "margin": v.margin, "first_violation_s": v.first_violation_s}
+            )
+            for v in result.verdicts
+        ]
+        viewer = None
+        if run.recording is not None and not hidden:
+            marks = failure_marks(result.verdicts)
+            viewer = viewer_block(
+                run.recording,
+                open_at_s=min((m["t"] for m in marks), default=None),
+                marks=marks,
+                label=f"{spec.name}, {variant.public_label}",
+            )
+        finished = result.status in ("passed", "failed")
+        shown.append(
+            {
+                "label": variant.public_label,
+                "hidden": hidden,
+                "status": result.status,
+                "passed": result.passed,
+                "score": result.score,
+                "points": cell.run_points(result),
+                "max_points": cell.run_max_points,
+                "message": student_text(public_reason(result, hidden), root),
+                "advice": "" if finished else advice(result.status),
+                "verdicts": verdicts,
+                "viewer": viewer,
+            }
+        )
+    grade = {
+        "passed": cell.passed,
+        "score": cell.score,
+        "points": cell.points,
+        "max_points": cell.max_points,
+        "points_text": format_points(cell.points),
+        "max_points_text": format_points(cell.max_points),
+        "passed_runs": cell.passed_runs,
+        "total_runs": cell.total_runs,
+        "runs": shown,
+    }
+    return json.dumps({"problems": [], "spec": _spec_summary(spec), "grade": grade})

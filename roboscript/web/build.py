@@ -23,11 +23,14 @@ import shutil
 import subprocess
 import tarfile
 import zipfile
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from roboscript.errors import RoboscriptError
+from roboscript.grading.autograder import spec_files
+from roboscript.grading.batch import find_specs
+from roboscript.grading.spec import TestSpec
 
 __all__ = [
     "CODEMIRROR_VERSION",
@@ -67,10 +70,13 @@ class BuiltApp:
     Attributes:
         page: The page to open (``DIR/index.html``).
         size_bytes: The whole folder's size.
+        hidden_tests: The shipped tests that have hidden runs (which a page cannot keep from
+            a student who reads its files).
     """
 
     page: Path
     size_bytes: int
+    hidden_tests: tuple[str, ...] = ()
 
 
 # ----------------------------------------------------------------------------- npm packages
@@ -164,6 +170,17 @@ def _classic_runtime(module_text: str) -> str:
     return text.replace("import.meta.url", "document.baseURI")
 
 
+def _specs_script(specs: Sequence[TestSpec]) -> str:
+    """The teacher's practice specs and the world and ``check`` files they name, as text by
+    path (relative to one folder, so ``world: ../worlds/maze.yaml`` still finds its file)."""
+    files = (
+        {name: path.read_text(encoding="utf-8") for name, path in spec_files(specs).items()}
+        if specs
+        else {}
+    )
+    return f"window.rsSpecs = {json.dumps(files, sort_keys=True)};\n"
+
+
 def _examples() -> dict[str, str]:
     """The example missions offered in the page, by file name (shipped with roboscript)."""
     folder = Path(__file__).resolve().parent / "examples"
@@ -174,7 +191,11 @@ def _examples() -> dict[str, str]:
 
 
 def build_web_app(
-    out: str | Path, *, pyodide: str | None = None, codemirror: str | None = None
+    out: str | Path,
+    *,
+    pyodide: str | None = None,
+    codemirror: str | None = None,
+    specs: Sequence[str | Path] = (),
 ) -> BuiltApp:
     """Write the browser app into the folder ``out`` (made if needed; files replaced).
 
@@ -182,10 +203,14 @@ def build_web_app(
         out: The folder; open ``out/index.html`` in a browser.
         pyodide: An unpacked npm ``pyodide`` package; default: fetched once with npm.
         codemirror: An unpacked npm ``codemirror`` 5 package; default: fetched once with npm.
+        specs: Test spec files (or folders of them) to practise against in the page: the
+            grading panel offers them, with the world and ``check`` files they name.
 
     Raises:
         WebBuildError: A package could not be had, or the folder cannot be written.
+        SpecError: A spec is invalid (at ``file:line:col``).
     """
+    tests = find_specs([str(spec) for spec in specs]) if specs else []
     runtime = _package_dir(pyodide, "pyodide", PYODIDE_VERSION, "pyodide.asm.wasm")
     editor = _package_dir(codemirror, "codemirror", CODEMIRROR_VERSION, "lib/codemirror.js")
     root = Path(out)
@@ -210,9 +235,11 @@ def build_web_app(
             ),
             "site-packages.js": _asset_script("site-packages.zip", site_packages_zip()),
             "examples.js": f"window.rsExamples = {json.dumps(_examples())};\n",
+            "specs.js": _specs_script(tests),
             "viewer.js": (replay / "viewer.js").read_text(encoding="utf-8"),
             "viewer.css": (replay / "viewer.css").read_text(encoding="utf-8"),
             "app.js": (here / "app.js").read_text(encoding="utf-8"),
+            "grade.js": (here / "grade.js").read_text(encoding="utf-8"),
             "app.css": (here / "app.css").read_text(encoding="utf-8"),
         }
         for part in _CODEMIRROR_FILES:
@@ -224,4 +251,5 @@ def build_web_app(
     except OSError as exc:
         raise WebBuildError(f"cannot write the web app to {root}: {exc.strerror or exc}") from None
     size = sum(path.stat().st_size for path in root.rglob("*") if path.is_file())
-    return BuiltApp(page, size)
+    hidden = tuple(spec.name for spec in tests if any(v.hidden for v in spec.variants))
+    return BuiltApp(page, size, hidden)

@@ -6,7 +6,7 @@ import json
 
 from helpers import MISSIONS, run_cli
 
-from roboscript.web.bridge import check_text, diagram_text, run_text
+from roboscript.web.bridge import check_text, diagram_text, grade_text, load_specs, run_text
 
 
 def test_check_finds_a_mistake_at_its_line_and_column() -> None:
@@ -56,3 +56,53 @@ def test_a_file_name_cannot_leave_the_scratch_folder() -> None:
     text = (MISSIONS / "square.yaml").read_text(encoding="utf-8").replace("drive:", "drvie:")
     problems = json.loads(check_text("../../etc/x.yaml", text))["problems"]
     assert problems[0]["text"].startswith("x.yaml:6:10: error:")
+
+
+def _square_spec(hidden_first: bool = False) -> dict[str, str]:
+    text = (MISSIONS / "teacher" / "square" / "test.yaml").read_text(encoding="utf-8")
+    if hidden_first:
+        text = text.replace("- {seed: 1}", "- {seed: 1, hidden: true}")
+    return {"square/test.yaml": text}
+
+
+def test_a_shipped_spec_is_read_and_a_hidden_run_named_only_by_number() -> None:
+    answer = json.loads(load_specs(json.dumps(_square_spec(hidden_first=True))))
+    assert answer["problems"] == []
+    (spec,) = answer["specs"]
+    assert spec["test"] == "square-50cm" and spec["points"] == 3.0
+    assert [r["label"] for r in spec["runs"]] == [
+        "hidden run 1",
+        "seed 2, start (300, -200) mm 0°",
+        "seed 3, start (0, 0) mm 30°",
+    ]
+
+
+def test_a_spec_with_a_mistake_is_a_problem_at_its_line() -> None:
+    files = _square_spec()
+    files["square/test.yaml"] = files["square/test.yaml"].replace("tones:", "tonez:")
+    answer = json.loads(load_specs(json.dumps(files), "opened"))
+    assert answer["specs"] == []
+    assert answer["problems"][0]["text"].startswith("square/test.yaml:")
+    assert "tonez" in answer["problems"][0]["text"]
+
+
+def test_a_spec_file_name_cannot_leave_the_specs_folder() -> None:
+    answer = json.loads(
+        load_specs(json.dumps({"../../../test.yaml": _square_spec()["square/test.yaml"]}))
+    )
+    assert answer["specs"][0]["path"].endswith("/specs/shipped/test.yaml")
+
+
+def test_the_practice_grade_shows_each_run_but_no_detail_of_a_hidden_one() -> None:
+    spec = json.loads(load_specs(json.dumps(_square_spec(hidden_first=True))))["specs"][0]
+    bad = (MISSIONS / "teacher" / "square" / "bad.yaml").read_text(encoding="utf-8")
+    grade = json.loads(grade_text("square.yaml", bad, spec["path"]))["grade"]
+    assert (grade["points"], grade["max_points"], grade["passed_runs"]) == (0.0, 3.0, 0)
+    hidden, shown = grade["runs"][0], grade["runs"][1]
+    assert hidden["label"] == "hidden run 1" and hidden["viewer"] is None
+    assert all(set(v) == {"name", "passed", "required", "weight"} for v in hidden["verdicts"])
+    assert hidden["message"].startswith("final_pose_within failed by ")  # margin, no place
+    assert shown["viewer"].startswith('<div class="rs-viewer"')
+    failed = [v for v in shown["verdicts"] if not v["passed"]]
+    assert [v["name"] for v in failed] == ["path_visits"]
+    assert failed[0]["text"].startswith("path_visits failed by ")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import json
 import re
 import zipfile
 from pathlib import Path
@@ -110,3 +111,58 @@ def test_without_npm_the_command_says_what_to_do(
         "error: building the web app needs pyodide 314.0.7 from npm, and npm is not installed:"
         " install node.js (it brings npm), or give an unpacked package with --pyodide DIR\n"
     )
+
+
+def _built_specs(folder: Path) -> dict[str, str]:
+    script = (folder / "roboscript-web" / "specs.js").read_text(encoding="utf-8")
+    prefix = "window.rsSpecs = "
+    assert script.startswith(prefix)
+    return json.loads(script[len(prefix) :].rstrip().rstrip(";"))  # type: ignore[no-any-return]
+
+
+def test_a_shipped_spec_comes_with_the_files_it_names_and_no_mission(tmp_path: Path) -> None:
+    build_web_app(
+        tmp_path / "app",
+        pyodide=str(_fake_pyodide(tmp_path / "pyodide")),
+        codemirror=str(_fake_codemirror(tmp_path / "cm")),
+        specs=[MISSIONS / "teacher" / "line-track"],
+    )
+    shipped = _built_specs(tmp_path / "app")
+    assert sorted(shipped) == ["line_checks.py", "test.yaml"]  # not good.yaml, not bad.yaml
+    folder = MISSIONS / "teacher" / "line-track"
+    assert shipped["test.yaml"] == (folder / "test.yaml").read_text(encoding="utf-8")
+
+
+def test_without_specs_the_page_ships_none(tmp_path: Path) -> None:
+    build_web_app(
+        tmp_path / "app",
+        pyodide=str(_fake_pyodide(tmp_path / "pyodide")),
+        codemirror=str(_fake_codemirror(tmp_path / "cm")),
+    )
+    assert _built_specs(tmp_path / "app") == {}
+
+
+def test_a_spec_with_a_mistake_stops_the_build_at_its_line(tmp_path: Path) -> None:
+    spec = tmp_path / "test.yaml"
+    text = (MISSIONS / "teacher" / "square" / "test.yaml").read_text(encoding="utf-8")
+    spec.write_text(text.replace("tones:", "tonez:"), encoding="utf-8")
+    result = run_cli("web", "build", str(tmp_path / "app"), "--spec", str(spec))
+    assert result.returncode == 2
+    assert result.stderr.startswith(f"{spec}:")
+    assert "tonez" in result.stderr and not (tmp_path / "app").exists()
+
+
+def test_a_spec_with_hidden_runs_is_shipped_with_a_warning(tmp_path: Path) -> None:
+    spec = tmp_path / "test.yaml"
+    text = (MISSIONS / "teacher" / "square" / "test.yaml").read_text(encoding="utf-8")
+    spec.write_text(text.replace("- {seed: 1}", "- {seed: 1, hidden: true}"), encoding="utf-8")
+    pyodide, codemirror = _fake_pyodide(tmp_path / "p"), _fake_codemirror(tmp_path / "c")
+    result = run_cli(
+        "web", "build", str(tmp_path / "app"), "--spec", str(spec),
+        "--pyodide", str(pyodide), "--codemirror", str(codemirror),
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert (
+        "warning: square-50cm has hidden runs: the page carries the spec, so a student who"
+        " reads the page's files can see them; ship a practice spec without hidden runs\n"
+    ) in result.stderr
