@@ -104,5 +104,6 @@ def test_the_practice_grade_shows_each_run_but_no_detail_of_a_hidden_one() -> No
     assert hidden["message"].startswith("final_pose_within failed by ")  # margin, no place
     assert shown["viewer"].startswith('<div class="rs-viewer"')
     failed = [v for v in shown["verdicts"] if not v["passed"]]
-    assert [v["name"] for v in failed] == ["path_visits"]
-    assert failed[0]["text"].startswith("path_visits failed by ")
+    assert [v["name"] for v in failed] == ["final_pose_within", "path_visits", "turns", "tones"]
+    assert failed[1]["text"].startswith("path_visits failed by ") and failed[1]["required"]
+    assert shown["message"].startswith("path_visits failed by ")  # the required one first
