@@ -240,6 +240,7 @@ def build_web_app(
             "viewer.css": (replay / "viewer.css").read_text(encoding="utf-8"),
             "app.js": (here / "app.js").read_text(encoding="utf-8"),
             "grade.js": (here / "grade.js").read_text(encoding="utf-8"),
+            "platform.js": (here / "platform.js").read_text(encoding="utf-8"),
             "app.css": (here / "app.css").read_text(encoding="utf-8"),
         }
         for part in _CODEMIRROR_FILES:
