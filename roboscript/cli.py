@@ -641,6 +641,11 @@ def _cmd_web(args: argparse.Namespace) -> int:
     except WebBuildError as exc:
         _err(f"error: {exc}")
         return EXIT_FAILED
+    if not built.compiled:
+        _err(
+            "note: node is not installed, so the page compiles roboscript's Python each time"
+            " it opens (some seconds slower to start); install node.js and build again"
+        )
     for test in built.hidden_tests:
         _err(
             f"warning: {test} has hidden runs: the page carries the spec, so a student who"

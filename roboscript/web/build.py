@@ -15,6 +15,7 @@ neither.
 from __future__ import annotations
 
 import base64
+import hashlib
 import importlib
 import io
 import json
@@ -22,6 +23,7 @@ import os
 import shutil
 import subprocess
 import tarfile
+import tempfile
 import zipfile
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
@@ -72,11 +74,14 @@ class BuiltApp:
         size_bytes: The whole folder's size.
         hidden_tests: The shipped tests that have hidden runs (which a page cannot keep from
             a student who reads its files).
+        compiled: True when the Python the page imports was compiled to bytecode at build
+            time (it needs node); otherwise the page compiles it each time it opens.
     """
 
     page: Path
     size_bytes: int
     hidden_tests: tuple[str, ...] = ()
+    compiled: bool = False
 
 
 # ----------------------------------------------------------------------------- npm packages
@@ -153,6 +158,56 @@ def site_packages_zip() -> bytes:
     return buffer.getvalue()
 
 
+_COMPILE_TIMEOUT_S = 900.0  # loading Pyodide in node and compiling takes a minute when busy
+
+
+def _bytecode(runtime: Path, zips: dict[str, tuple[bytes, bool]]) -> dict[str, bytes]:
+    """Each zip of Python files compiled to bytecode by the Pyodide in ``runtime``.
+
+    Args:
+        runtime: The unpacked Pyodide package.
+        zips: ``{name: (zip, beside_source)}`` (see :func:`roboscript.web.bytecode.compile_zip`).
+
+    Returns:
+        The compiled zips by name: each is made once, with node, and kept in the cache; none
+        when node is not installed or the compiling fails (the page then compiles at start).
+    """
+    here = Path(__file__).resolve().parent
+    module = here / "bytecode.py"
+    salt = PYODIDE_VERSION.encode() + module.read_bytes()
+    cached: dict[str, Path] = {}
+    for name, (data, beside) in zips.items():
+        key = hashlib.sha256(salt + bytes([beside]) + data).hexdigest()[:24]
+        cached[name] = _cache() / "bytecode" / f"{key}.zip"
+    missing = [name for name, path in cached.items() if not path.is_file()]
+    node = shutil.which("node")
+    if missing and (node is None or not (runtime / "pyodide.mjs").is_file()):
+        return {}
+    if missing:
+        with tempfile.TemporaryDirectory(prefix="roboscript-web-") as scratch:
+            jobs: list[str] = []
+            for name in missing:
+                data, beside = zips[name]
+                source = Path(scratch) / f"{name}.in.zip"
+                source.write_bytes(data)
+                jobs += [str(source), str(Path(scratch) / name), "beside" if beside else "alone"]
+            try:
+                done = subprocess.run(
+                    [str(node), str(here / "compile.mjs"), str(runtime), str(module), *jobs],
+                    capture_output=True,
+                    timeout=_COMPILE_TIMEOUT_S,
+                    check=False,
+                )
+            except (OSError, subprocess.TimeoutExpired):
+                return {}
+            if done.returncode != 0:
+                return {}
+            for name in missing:
+                cached[name].parent.mkdir(parents=True, exist_ok=True)
+                shutil.move(Path(scratch) / name, cached[name])
+    return {name: path.read_bytes() for name, path in cached.items()}
+
+
 def _asset_script(name: str, data: bytes) -> str:
     """A classic script that stores ``data`` as base64 under ``name`` for the page."""
     encoded = base64.b64encode(data).decode("ascii")
@@ -210,8 +265,12 @@ def build_web_app(
         WebBuildError: A package could not be had, or the folder cannot be written.
         SpecError: A spec is invalid (at ``file:line:col``).
     """
+    # read before anything is written: a spec's mistake leaves no half-built folder
     tests = find_specs([str(spec) for spec in specs]) if specs else []
     runtime = _package_dir(pyodide, "pyodide", PYODIDE_VERSION, "pyodide.asm.wasm")
+    stdlib = (runtime / "python_stdlib.zip").read_bytes()
+    packages = site_packages_zip()
+    compiled = _bytecode(runtime, {"stdlib": (stdlib, False), "packages": (packages, True)})
     editor = _package_dir(codemirror, "codemirror", CODEMIRROR_VERSION, "lib/codemirror.js")
     root = Path(out)
     assets = root / _ASSET_DIR
@@ -230,10 +289,10 @@ def build_web_app(
             "pyodide-wasm.js": _asset_script(
                 "pyodide.asm.wasm", (runtime / "pyodide.asm.wasm").read_bytes()
             ),
-            "python-stdlib.js": _asset_script(
-                "python_stdlib.zip", (runtime / "python_stdlib.zip").read_bytes()
+            "python-stdlib.js": _asset_script("python_stdlib.zip", compiled.get("stdlib", stdlib)),
+            "site-packages.js": _asset_script(
+                "site-packages.zip", compiled.get("packages", packages)
             ),
-            "site-packages.js": _asset_script("site-packages.zip", site_packages_zip()),
             "examples.js": f"window.rsExamples = {json.dumps(_examples())};\n",
             "specs.js": _specs_script(tests),
             "viewer.js": (replay / "viewer.js").read_text(encoding="utf-8"),
@@ -253,4 +312,4 @@ def build_web_app(
         raise WebBuildError(f"cannot write the web app to {root}: {exc.strerror or exc}") from None
     size = sum(path.stat().st_size for path in root.rglob("*") if path.is_file())
     hidden = tuple(spec.name for spec in tests if any(v.hidden for v in spec.variants))
-    return BuiltApp(page, size, hidden)
+    return BuiltApp(page, size, hidden, bool(compiled))
