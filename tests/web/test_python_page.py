@@ -1,0 +1,114 @@
+"""A student's own Python in the page: it runs, and the tab keeps it from the computer.
+
+Headless Chromium from file:// with the network off. A Python mission with a behaviour the
+student wrote runs to the same JSON as on the command line; a mission that tries to read a file
+of the computer finds only the page's own (virtual) disk. Nothing here is timed.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from browser import Browser, chromium
+from helpers import MISSIONS, run_cli
+
+from roboscript.web.bridge import run_text
+from roboscript.web.build import WebBuildError, build_web_app
+
+pytestmark = pytest.mark.timeout(1200)
+
+LONG_S = 600.0  # Python in WebAssembly on a saturated machine takes its time; never a limit
+
+WEAVE = (
+    (MISSIONS / "behaviours" / "zigzag.py").read_text(encoding="utf-8")
+    + """
+
+from roboscript import Mission, state
+
+
+class Weave(Mission):
+    go = state(ZigZag(leg_mm=150, legs=2), initial=True, on_done="end", on_failed="end")
+    end = state(final="success")
+"""
+)
+
+PEEK = """from roboscript import Mission, PlayTone, state
+
+SECRET = {secret!r}
+
+
+class Peek(Mission):
+    go = state(PlayTone(frequency_hz=440, duration_s=0.1), initial=True,
+               on_done=[("read_it", "leaked"), "safe"])
+    leaked = state(final="failure")
+    safe = state(final="success")
+
+    def read_it(self) -> bool:
+        try:
+            with open(SECRET, encoding="utf-8") as f:
+                return f.read() == "top secret"
+        except OSError:
+            return False
+"""
+
+
+@pytest.fixture(scope="module")
+def page(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Browser]:
+    if chromium() is None:
+        pytest.skip("Chromium is not installed (apt-get install chromium; .ci/run does it)")
+    try:
+        built = build_web_app(tmp_path_factory.mktemp("web") / "app")
+    except WebBuildError as exc:
+        pytest.skip(f"the web app cannot be built here: {exc}")
+    browser = Browser(chromium() or "", tmp_path_factory.mktemp("profile"), timeout_s=LONG_S)
+    try:
+        browser._call("Network.enable")
+        browser._call(
+            "Network.emulateNetworkConditions",
+            {"offline": True, "latency": 0, "downloadThroughput": -1, "uploadThroughput": -1},
+        )
+        browser._call("Page.navigate", {"url": built.page.as_uri()})
+        browser.wait_for("document.body && document.body.dataset.ready === '1'", LONG_S)
+        yield browser
+    finally:
+        browser.close()
+
+
+def _run(page: Browser, name: str, text: str) -> dict[str, object]:
+    page.evaluate(
+        f"document.querySelector('[data-role=name]').value = {json.dumps(name)};"
+        "document.querySelector('[data-role=name]').dispatchEvent(new Event('change'));"
+        f"document.querySelector('.CodeMirror').CodeMirror.setValue({json.dumps(text)});"
+        "document.querySelector('[data-role=result]').removeAttribute('data-outcome');"
+    )
+    page.wait_for("document.querySelector('[data-role=problems]').dataset.errors === '0'", LONG_S)
+    page.wait_for("!document.querySelector('[data-action=run]').disabled", LONG_S)
+    page.evaluate("document.querySelector('[data-action=run]').click()")
+    page.wait_for("document.querySelector('[data-role=result]').dataset.outcome", LONG_S)
+    summary: dict[str, object] = json.loads(
+        page.evaluate("document.querySelector('[data-role=result]').dataset.json")
+    )
+    return summary
+
+
+def test_a_python_mission_with_the_students_own_behaviour_runs_as_on_the_command_line(
+    page: Browser, tmp_path: Path
+) -> None:
+    in_browser = _run(page, "weave.py", WEAVE)
+    (tmp_path / "weave.py").write_text(WEAVE, encoding="utf-8")
+    in_cpython = json.loads(run_cli("run", "weave.py", "--json", cwd=tmp_path).stdout)
+    assert in_browser == in_cpython
+    assert in_browser["outcome"] == "success"
+    assert page.errors == []
+
+
+def test_the_students_code_cannot_read_the_computers_files(page: Browser, tmp_path: Path) -> None:
+    secret = tmp_path / "secret.txt"
+    secret.write_text("top secret", encoding="utf-8")
+    mission = PEEK.format(secret=str(secret))
+    # the same code run by roboscript on the computer reads it: the tab is what keeps it out
+    assert json.loads(run_text("peek.py", mission))["summary"]["final_state"] == "leaked"
+    assert _run(page, "peek.py", mission)["final_state"] == "safe"
