@@ -8,7 +8,7 @@ Rows (issue 29), all in headless Chromium from ``file://`` with ``roboscript web
 folder:
 
 * page ready: from the start of loading to Python started and roboscript imported, against
-  5 s. Goal: at most 1.
+  5 s, the best of several opens, each in a fresh browser. Goal: at most 1.
 * real-time factor in the browser: the square mission's simulated seconds per wall second,
   run from the page, against 50. Goal: at least 1 (i.e. at least 50×). The same run in this
   CPython process is reported beside it, for information.
@@ -22,6 +22,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 HERE = Path(__file__).resolve().parent
 for _path in (str(HERE), str(HERE.parent), str(HERE.parent.parent)):
@@ -42,18 +43,39 @@ SIZE_NOTE_BYTES = 25_000_000
 MISSION = HERE.parent.parent / "missions" / "square.yaml"
 
 
-def _in_browser(page: Path, folder: Path, runs: int) -> tuple[float, float]:
-    """(ms to ready, best real-time factor over ``runs`` runs of the square)."""
-    from browser import Browser, chromium
+def _open(executable: str, page: Path, profile: Path) -> Any:
+    """A fresh browser with ``page`` open and ready (a student opening it)."""
+    from browser import Browser
+
+    browser = Browser(executable, profile, timeout_s=600)
+    browser._call("Page.navigate", {"url": page.as_uri()})
+    browser.wait_for("document.body && document.body.dataset.ready === '1'", 600)
+    return browser
+
+
+def _in_browser(page: Path, folder: Path, runs: int) -> tuple[float, float, float]:
+    """(best ms to ready over ``runs`` opens, ms of it to start the runtime, best real-time
+    factor over ``runs`` runs of the square)."""
+    from browser import chromium
 
     executable = chromium()
     if executable is None:
-        return float("nan"), float("nan")
-    browser = Browser(executable, folder / "profile", timeout_s=600)
+        return float("nan"), float("nan"), float("nan")
+    opens: list[tuple[float, float]] = []
+    for index in range(runs):
+        browser = _open(executable, page, folder / f"profile-{index}")
+        try:
+            opens.append(
+                (
+                    float(browser.evaluate("document.body.dataset.readyMs")),
+                    float(browser.evaluate("document.body.dataset.runtimeMs")),
+                )
+            )
+        finally:
+            browser.close()
+    ready_ms, runtime_ms = min(opens)
+    browser = _open(executable, page, folder / "profile")
     try:
-        browser._call("Page.navigate", {"url": page.as_uri()})
-        browser.wait_for("document.body && document.body.dataset.ready === '1'", 600)
-        ready_ms = float(browser.evaluate("document.body.dataset.readyMs"))
         text = MISSION.read_text(encoding="utf-8")
         best = 0.0
         for _ in range(runs):
@@ -66,7 +88,7 @@ def _in_browser(page: Path, folder: Path, runs: int) -> tuple[float, float]:
             browser.evaluate("document.querySelector('[data-action=run]').click()")
             browser.wait_for("document.querySelector('[data-role=result]').dataset.outcome", 600)
             best = max(best, float(browser.evaluate("document.body.dataset.realTimeFactor")))
-        return ready_ms, best
+        return ready_ms, runtime_ms, best
     finally:
         browser.close()
 
@@ -77,7 +99,7 @@ def measure(quick: bool = False) -> list[Row]:
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(scratch)
         built = build_web_app(folder / "app")
-        ready_ms, rtf_browser = _in_browser(built.page, folder, runs)
+        ready_ms, runtime_ms, rtf_browser = _in_browser(built.page, folder, runs)
         text = MISSION.read_text(encoding="utf-8")
         best_here = 0.0
         for _ in range(runs):
@@ -91,7 +113,9 @@ def measure(quick: bool = False) -> list[Row]:
             "web page ready (Python + roboscript) ÷ 5 s",
             ready_ms / 1000 / READY_LIMIT_S,
             1.0,
-            f"{ready_ms:.0f} ms from loading to ready",
+            f"{ready_ms:.0f} ms from loading to ready: {runtime_ms:.0f} ms to start Python,"
+            f" {ready_ms - runtime_ms:.0f} ms to unpack and import roboscript"
+            + ("" if built.compiled else " (not compiled at build: no node)"),
         ),
         at_least(
             KEY,
