@@ -113,7 +113,8 @@ def measure(quick: bool = False) -> list[Row]:
             "web page ready (Python + roboscript) ÷ 5 s",
             ready_ms / 1000 / READY_LIMIT_S,
             1.0,
-            f"{ready_ms:.0f} ms from loading to ready: {runtime_ms:.0f} ms to start Python,"
+            f"{ready_ms:.0f} ms from loading to ready: {runtime_ms:.0f} ms to load the page"
+            " and start Python,"
             f" {ready_ms - runtime_ms:.0f} ms to unpack and import roboscript"
             + ("" if built.compiled else " (not compiled at build: no node)"),
         ),
