@@ -173,14 +173,8 @@ def _spec_summary(spec: TestSpec) -> dict[str, Any]:
 
 
 def _spec_problem(problem: InputError, root: Path) -> dict[str, Any]:
-    return {
-        "line": problem.line,
-        "col": problem.col,
-        "severity": problem.severity,
-        "message": problem.message,
-        "hint": problem.hint,
-        "text": student_text(problem.format(), root),
-    }
+    """A spec's problem, its file named from the folder the specs were loaded in."""
+    return _problem(problem, root) | {"text": student_text(problem.format(), root)}
 
 
 def load_specs(files: str, slot: str = "shipped") -> str:

@@ -15,49 +15,24 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from browser import Browser, chromium
+from browser import Browser
 from helpers import MISSIONS, run_cli
-
-from roboscript.web.build import WebBuildError, build_web_app
+from web_app import LONG_S, build_or_skip, open_offline
 
 pytestmark = pytest.mark.timeout(1800)
 
-LONG_S = 900.0  # Python in WebAssembly on a saturated machine takes its time; never a limit
 TEACHER = MISSIONS / "teacher"
 
 
 @pytest.fixture(scope="module")
-def app(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    if chromium() is None:
-        pytest.skip("Chromium is not installed (apt-get install chromium; .ci/run does it)")
+def page(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Browser]:
     specs = [TEACHER / t / "test.yaml" for t in ("square", "line-track")]
-    try:
-        built = build_web_app(tmp_path_factory.mktemp("web") / "app", specs=specs)
-    except WebBuildError as exc:
-        pytest.skip(f"the web app cannot be built here: {exc}")
+    built = build_or_skip(tmp_path_factory.mktemp("web") / "app", specs)
     # with node at hand, the page's Python was compiled at build time (it starts faster)
     assert built.compiled or shutil.which("node") is None
-    return built.page
-
-
-def _open(app: Path, folder: Path, before: str = "") -> Browser:
-    browser = Browser(chromium() or "", folder, timeout_s=LONG_S)
-    browser._call("Network.enable")
-    browser._call(
-        "Network.emulateNetworkConditions",
-        {"offline": True, "latency": 0, "downloadThroughput": -1, "uploadThroughput": -1},
-    )
-    if before:  # a stand-in for another browser: runs before the page's own scripts
-        browser._call("Page.addScriptToEvaluateOnNewDocument", {"source": before})
-    browser._call("Page.navigate", {"url": app.as_uri()})
-    browser.wait_for("document.body && document.body.dataset.ready !== undefined", LONG_S)
-    return browser
-
-
-@pytest.fixture(scope="module")
-def page(app: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Browser]:
-    browser = _open(app, tmp_path_factory.mktemp("profile"))
+    browser = open_offline(built.page, tmp_path_factory.mktemp("profile"))
     try:
+        browser.wait_for("document.body.dataset.ready !== undefined", LONG_S)
         yield browser
     finally:
         browser.close()

@@ -12,12 +12,10 @@ from pathlib import Path
 
 import pytest
 from browser import Browser, chromium
-
-from roboscript.web.build import WebBuildError, build_web_app
+from web_app import LONG_S, build_or_skip, open_offline
 
 pytestmark = pytest.mark.timeout(1200)
 
-LONG_S = 600.0  # Python in WebAssembly on a saturated machine takes its time; never a limit
 
 FIREFOX = "Mozilla/5.0 (X11; Linux x86_64; rv:128.0) Gecko/20100101 Firefox/128.0"
 IPAD = (
@@ -29,29 +27,13 @@ NO_PORTS = "delete Navigator.prototype.serial; delete Navigator.prototype.blueto
 
 @pytest.fixture(scope="module")
 def app(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    if chromium() is None:
-        pytest.skip("Chromium is not installed (apt-get install chromium; .ci/run does it)")
-    try:
-        built = build_web_app(tmp_path_factory.mktemp("web") / "app")
-    except WebBuildError as exc:
-        pytest.skip(f"the web app cannot be built here: {exc}")
-    return built.page
+    return build_or_skip(tmp_path_factory.mktemp("web") / "app").page
 
 
 def _open(page: Path, profile: Path, *, before: str = "", agent: str = "") -> Browser:
     """The page in a browser that lacks what ``before`` deletes, with user agent ``agent``."""
-    browser = Browser(chromium() or "", profile, timeout_s=LONG_S)
-    browser._call("Network.enable")
-    browser._call(
-        "Network.emulateNetworkConditions",
-        {"offline": True, "latency": 0, "downloadThroughput": -1, "uploadThroughput": -1},
-    )
-    if agent:
-        browser._call("Emulation.setUserAgentOverride", {"userAgent": agent})
-    if before:
-        browser._call("Page.addScriptToEvaluateOnNewDocument", {"source": before})
-    browser._call("Page.navigate", {"url": page.as_uri()})
-    browser.wait_for("document.body && document.body.dataset.platformNotes !== undefined")
+    browser = open_offline(page, profile, before=before, agent=agent)
+    browser.wait_for("document.body.dataset.platformNotes !== undefined", LONG_S)
     return browser
 
 

@@ -12,15 +12,14 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from browser import Browser, chromium
+from browser import Browser
 from helpers import MISSIONS, run_cli
+from web_app import LONG_S, build_or_skip, open_offline
 
 from roboscript.web.bridge import run_text
-from roboscript.web.build import WebBuildError, build_web_app
 
 pytestmark = pytest.mark.timeout(1200)
 
-LONG_S = 600.0  # Python in WebAssembly on a saturated machine takes its time; never a limit
 
 WEAVE = (
     (MISSIONS / "behaviours" / "zigzag.py").read_text(encoding="utf-8")
@@ -57,21 +56,10 @@ class Peek(Mission):
 
 @pytest.fixture(scope="module")
 def page(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Browser]:
-    if chromium() is None:
-        pytest.skip("Chromium is not installed (apt-get install chromium; .ci/run does it)")
+    built = build_or_skip(tmp_path_factory.mktemp("web") / "app")
+    browser = open_offline(built.page, tmp_path_factory.mktemp("profile"))
     try:
-        built = build_web_app(tmp_path_factory.mktemp("web") / "app")
-    except WebBuildError as exc:
-        pytest.skip(f"the web app cannot be built here: {exc}")
-    browser = Browser(chromium() or "", tmp_path_factory.mktemp("profile"), timeout_s=LONG_S)
-    try:
-        browser._call("Network.enable")
-        browser._call(
-            "Network.emulateNetworkConditions",
-            {"offline": True, "latency": 0, "downloadThroughput": -1, "uploadThroughput": -1},
-        )
-        browser._call("Page.navigate", {"url": built.page.as_uri()})
-        browser.wait_for("document.body && document.body.dataset.ready === '1'", LONG_S)
+        browser.wait_for("document.body.dataset.ready === '1'", LONG_S)
         yield browser
     finally:
         browser.close()
