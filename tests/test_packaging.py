@@ -42,7 +42,10 @@ def test_wheel_contains_the_package_data_and_nothing_from_the_top_level(tmp_path
         str(path.relative_to(ROOT))
         for path in (ROOT / "roboscript").rglob("*")
         if path.is_file()
-        and (path.suffix in {".yaml", ".json", ".js", ".css"} or "agent" in path.parts)
+        and (
+            path.suffix in {".yaml", ".json", ".js", ".mjs", ".css", ".html"}
+            or "agent" in path.parts
+        )
         and "__pycache__" not in path.parts
     }
     assert data_files <= names, data_files - names
