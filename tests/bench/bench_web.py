@@ -44,9 +44,10 @@ SIZE_NOTE_BYTES = 25_000_000
 MISSION = HERE.parent.parent / "missions" / "square.yaml"
 
 
-def _renderer_cpu_s(root_pid: int) -> float:
-    """CPU seconds used so far by the browser's renderer processes (the page's own work: what
-    page ready would take on an idle machine with this CPU, whatever the load now)."""
+def _renderer_cpu_s(root_pid: int) -> tuple[float, float]:
+    """CPU seconds used so far by the browser's renderer: its main thread (where the page's
+    Python runs: about what page ready takes on an idle machine with this CPU, whatever the load
+    now) and all its threads (the WebAssembly compiler's too)."""
     children: dict[int, list[int]] = {}
     for stat in Path("/proc").glob("[0-9]*/stat"):
         try:
@@ -54,18 +55,23 @@ def _renderer_cpu_s(root_pid: int) -> float:
         except OSError:
             continue
         children.setdefault(int(fields[1]), []).append(int(stat.parent.name))
-    total, todo = 0.0, list(children.get(root_pid, []))
+
+    def cpu_s(stat: Path) -> float:
+        fields = stat.read_text().rpartition(")")[2].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+    main = whole = 0.0
+    todo = list(children.get(root_pid, []))
     while todo:
         pid = todo.pop()
         todo += children.get(pid, [])
         try:
-            command = Path(f"/proc/{pid}/cmdline").read_bytes()
-            fields = Path(f"/proc/{pid}/stat").read_text().rpartition(")")[2].split()
+            if b"--type=renderer" in Path(f"/proc/{pid}/cmdline").read_bytes():
+                main += cpu_s(Path(f"/proc/{pid}/task/{pid}/stat"))
+                whole += cpu_s(Path(f"/proc/{pid}/stat"))
         except OSError:
             continue
-        if b"--type=renderer" in command:
-            total += (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-    return total
+    return main, whole
 
 
 def _open(executable: str, page: Path, profile: Path) -> Any:
@@ -78,7 +84,9 @@ def _open(executable: str, page: Path, profile: Path) -> Any:
     return browser
 
 
-def _in_browser(page: Path, folder: Path, runs: int) -> tuple[float, float, float, float]:
+def _in_browser(
+    page: Path, folder: Path, runs: int
+) -> tuple[float, float, tuple[float, float], float]:
     """(best ms to ready over ``runs`` opens, ms of it to start the runtime, the renderer's
     CPU seconds to ready in that open, best real-time factor over ``runs`` runs of the
     square)."""
@@ -86,8 +94,9 @@ def _in_browser(page: Path, folder: Path, runs: int) -> tuple[float, float, floa
 
     executable = chromium()
     if executable is None:
-        return float("nan"), float("nan"), float("nan"), float("nan")
-    opens: list[tuple[float, float, float]] = []
+        nan = float("nan")
+        return nan, nan, (nan, nan), nan
+    opens: list[tuple[float, float, tuple[float, float]]] = []
     for index in range(runs):
         browser = _open(executable, page, folder / f"profile-{index}")
         try:
@@ -126,7 +135,7 @@ def measure(quick: bool = False) -> list[Row]:
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(scratch)
         built = build_web_app(folder / "app")
-        ready_ms, runtime_ms, cpu_s, rtf_browser = _in_browser(built.page, folder, runs)
+        ready_ms, runtime_ms, (main_s, cpu_s), rtf_browser = _in_browser(built.page, folder, runs)
         text = MISSION.read_text(encoding="utf-8")
         best_here = 0.0
         for _ in range(runs):
@@ -147,10 +156,10 @@ def measure(quick: bool = False) -> list[Row]:
         ),
         info(
             KEY,
-            "web page ready: the page's CPU time ÷ 5 s",
-            cpu_s / READY_LIMIT_S,
-            f"{cpu_s:.1f} s of CPU in the page's renderer to ready (what ready takes on an idle"
-            " machine like this one)",
+            "web page ready: the page's own CPU time ÷ 5 s",
+            main_s / READY_LIMIT_S,
+            f"{main_s:.1f} s of CPU on the page's main thread to ready (about what ready takes"
+            f" on an idle machine like this one); {cpu_s:.1f} s in all its threads",
         ),
         at_least(
             KEY,
