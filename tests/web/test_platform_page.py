@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 from browser import Browser, chromium
-from web_app import LONG_S, build_or_skip, open_offline
+from web_app import LONG_S, open_offline
 
 pytestmark = pytest.mark.timeout(1200)
 
@@ -23,11 +23,6 @@ IPAD = (
     " CriOS/126.0.6478.54 Mobile/15E148 Safari/604.1"
 )
 NO_PORTS = "delete Navigator.prototype.serial; delete Navigator.prototype.bluetooth;"
-
-
-@pytest.fixture(scope="module")
-def app(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    return build_or_skip(tmp_path_factory.mktemp("web") / "app").page
 
 
 def _open(page: Path, profile: Path, *, before: str = "", agent: str = "") -> Browser:

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 from browser import Browser
 from helpers import MISSIONS, run_cli
-from web_app import LONG_S, build_or_skip, open_offline
+from web_app import LONG_S, open_offline
 
 from roboscript.web.bridge import run_text
 
@@ -55,9 +55,8 @@ class Peek(Mission):
 
 
 @pytest.fixture(scope="module")
-def page(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Browser]:
-    built = build_or_skip(tmp_path_factory.mktemp("web") / "app")
-    browser = open_offline(built.page, tmp_path_factory.mktemp("profile"))
+def page(app: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Browser]:
+    browser = open_offline(app, tmp_path_factory.mktemp("profile"))
     try:
         browser.wait_for("document.body.dataset.ready === '1'", LONG_S)
         yield browser
