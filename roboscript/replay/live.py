@@ -223,17 +223,25 @@ class LiveView:
     def serve_the_end(self, say: Callable[[str], None], *, interrupted: bool = False) -> None:
         """After the run, let the pages show its end, then stop serving.
 
-        Unless the run was interrupted, waits as :meth:`linger` does, saying so first if no
-        open page has the end yet; Ctrl-C ends the wait. The robot is already stopped.
+        Unless the run was interrupted, waits as :meth:`linger` does; Ctrl-C ends the wait.
+        When no page is open (nor had the end), it first says where the page stays and for
+        how long. An open page is waited for without a word, however long a busy machine takes
+        to send it the end. The robot is already stopped.
         """
         try:
-            if not interrupted and not self.linger(0.5):
-                say(f"the live view stays at {self.url} for {LINGER_S:g} s (Ctrl-C to quit)")
+            if not interrupted:
+                if not self._watched():
+                    say(f"the live view stays at {self.url} for {LINGER_S:g} s (Ctrl-C to quit)")
                 self.linger(LINGER_S)
         except KeyboardInterrupt:  # the run is over: Ctrl-C only ends the wait
             pass
         finally:
             self.close()
+
+    def _watched(self) -> bool:
+        """Whether some page is open now, or had the end of the run."""
+        with self._changed:
+            return any(c.connected or c.ended for c in self._clients)
 
     def linger(self, timeout_s: float = LINGER_S) -> bool:
         """After the run: wait until every open page has the run's end, or ``timeout_s``.
