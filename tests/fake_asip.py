@@ -10,6 +10,7 @@ into its output, or refuse tones.
 from __future__ import annotations
 
 import contextlib
+import math
 import random
 import socket
 import threading
@@ -26,8 +27,12 @@ class FakeAsipBoard:
     """A fake board serving one client on ``127.0.0.1:port``.
 
     Args:
-        close_after_s: Close the connection this long after the client connects.
-        silent_after_s: Stop sending anything this long after the client connects.
+        close_after_s: Close the connection this long after the handshake (when the host
+            asks for encoder events, as it does once it has what it asked for).
+        silent_after_s: Stop sending anything this long after the handshake.
+
+    Both count from the handshake, not from the connection: a host that a busy machine slows
+    down gets through its handshake before the fault, whatever the load.
         garbage: Mix random bytes, non-ASCII and over-long lines into the output.
         refuse_tones: Answer ``T,P`` with ``~T,P,2{UNKNOWN_REQUEST}``.
     """
@@ -84,10 +89,11 @@ class FakeAsipBoard:
         next_event = start
         requests = AsipCodec(Role.DEVICE, services=_SERVICES)
         last_byte = start
+        shaken: float | None = None
         with conn:
             self._send(conn, b"!fake running on ATmega328P with Services: I M B R D T L \n")
             while not self._stop.is_set():
-                now = time.monotonic() - start
+                now = time.monotonic() - shaken if shaken is not None else -math.inf
                 if self.close_after_s is not None and now >= self.close_after_s:
                     return
                 try:
@@ -117,6 +123,8 @@ class FakeAsipBoard:
                         )
                     elif isinstance(request, m.EnableEncoderEvents):
                         encoders = request.enabled
+                        if shaken is None:  # the host is through its handshake
+                            shaken = time.monotonic()
                     elif isinstance(request, m.PlayTone) and self.refuse_tones:
                         self._send(conn, b"~T,P,2{UNKNOWN_REQUEST}\n")
                     elif isinstance(request, m.InvalidServiceRequest):

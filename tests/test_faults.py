@@ -63,9 +63,7 @@ def test_disconnect_mid_mission_ends_with_one_sentence_and_a_complete_wire_log(
     board = FakeAsipBoard(close_after_s=1.0)
     log = tmp_path / "wire.log"
     try:
-        started = time.monotonic()
         result = run_cli("run", str(mission), "--port", board.url, "--wire-log", str(log))
-        elapsed = time.monotonic() - started
     finally:
         board.close()
     assert result.returncode == 1
@@ -73,7 +71,6 @@ def test_disconnect_mid_mission_ends_with_one_sentence_and_a_complete_wire_log(
         f"error: the connection to {board.url} was lost "
     )
     assert _one_sentence(result.stderr).endswith(" s after connecting")
-    assert elapsed < 10
     received = b"".join(data for _, d, data in read_wire_log(log) if d == "<")
     assert received == bytes(board.sent)
 
@@ -136,10 +133,20 @@ def _start_realtime(mission: Path, log: Path) -> subprocess.Popen[str]:
     )
 
 
+def _wait_for_state(proc: subprocess.Popen[str], name: str) -> None:
+    """Read the run's progress until it enters state ``name`` (a signal sent while it still
+    starts up, as a busy machine may make it, would test something else)."""
+    assert proc.stderr is not None
+    for line in proc.stderr:  # progress lines go to stderr, flushed as states are entered
+        if name in line.split():
+            return
+    pytest.fail(f"the run ended before entering {name!r}")
+
+
 def test_ctrl_c_stops_the_robot_before_exiting_130(tmp_path: Path) -> None:
     log = tmp_path / "wire.log"
     proc = _start_realtime(ROOT / "missions" / "square.yaml", log)
-    time.sleep(2.0)  # well into the first side: the wheels are turning
+    _wait_for_state(proc, "side")  # the mission is under way: the wheels are turning
     proc.send_signal(signal.SIGINT)
     _, stderr = proc.communicate(timeout=HANG_BOUND_S)
     assert proc.returncode == 130
@@ -151,7 +158,7 @@ def test_ctrl_c_stops_the_robot_before_exiting_130(tmp_path: Path) -> None:
 
 def test_a_second_ctrl_c_still_exits(tmp_path: Path) -> None:
     proc = _start_realtime(ROOT / "missions" / "square.yaml", tmp_path / "w.log")
-    time.sleep(1.5)
+    _wait_for_state(proc, "side")
     proc.send_signal(signal.SIGINT)
     proc.send_signal(signal.SIGINT)
     proc.communicate(timeout=HANG_BOUND_S)

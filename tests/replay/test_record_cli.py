@@ -85,8 +85,12 @@ def test_a_run_on_a_port_records_the_odometry_pose(
     assert y == pytest.approx(200.0, abs=15.0)
     assert heading == pytest.approx(90.0, abs=6.0)
     assert [f["tone"] for f in recording.frames if "tone" in f] == [[660.0, 0.2]]
+    # One frame per tick of the wall-clock loop: never faster than its period on average, nor
+    # closer than a catch-up tick (half a period). How much later a busy machine makes them
+    # is the machine's business, not the recording's.
     ticks = [b["t"] - a["t"] for a, b in zip(recording.frames, recording.frames[1:], strict=False)]
-    assert sum(ticks) / len(ticks) == pytest.approx(0.02, abs=0.005)  # the tick loop's timing
+    assert sum(ticks) / len(ticks) >= 0.02 - 0.002
+    assert min(ticks) >= 0.01 - 0.001
 
 
 def _line_end_mission(folder: Path) -> Path:
