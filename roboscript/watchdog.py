@@ -52,6 +52,7 @@ __all__ = [
     "TickBudget",
     "TooSlow",
     "Watchdog",
+    "cpu_wait_s",
     "wire_wait",
 ]
 
@@ -170,6 +171,13 @@ def _open_schedstat() -> Callable[[], float] | None:
             return 0.0
 
     return read
+
+
+def cpu_wait_s() -> float:
+    """Seconds this thread has waited for a CPU so far: another program had it (a busy
+    machine). From an arbitrary origin; 0.0 where the system does not tell (not Linux)."""
+    read = _schedstat_reader()
+    return read() if read is not None else 0.0
 
 
 class CodeClock:

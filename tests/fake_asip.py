@@ -33,6 +33,8 @@ class FakeAsipBoard:
 
     Both count from the handshake, not from the connection: a host that a busy machine slows
     down gets through its handshake before the fault, whatever the load.
+        answer_after_s: Answer no request until this long after the client connects (a
+            board slow to start).
         garbage: Mix random bytes, non-ASCII and over-long lines into the output.
         refuse_tones: Answer ``T,P`` with ``~T,P,2{UNKNOWN_REQUEST}``.
     """
@@ -42,11 +44,13 @@ class FakeAsipBoard:
         *,
         close_after_s: float | None = None,
         silent_after_s: float | None = None,
+        answer_after_s: float = 0.0,
         garbage: bool = False,
         refuse_tones: bool = False,
     ) -> None:
         self.close_after_s = close_after_s
         self.silent_after_s = silent_after_s
+        self.answer_after_s = answer_after_s
         self.garbage = garbage
         self.refuse_tones = refuse_tones
         self.received = bytearray()
@@ -108,6 +112,8 @@ class FakeAsipBoard:
                 except OSError:
                     return
                 if self.silent_after_s is not None and now >= self.silent_after_s:
+                    continue
+                if time.monotonic() - start < self.answer_after_s:
                     continue
                 if requests.waiting and time.monotonic() - last_byte >= 1.0:
                     requests.parse_timeout()  # the firmware's parseInt gives up

@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
+from fake_asip import FakeAsipBoard
+from helpers import HANG_BOUND_S
 
+import roboscript.robot as robot_module
 from roboscript.errors import CapabilityError
+from roboscript.profiles import get_profile
 from roboscript.robot import Robot
 from roboscript.transport.wirelog import read_wire_log
 
@@ -80,3 +85,20 @@ def test_stopping_after_steering_leaves_the_motors_unpowered(robot: str) -> None
         bot.run_for(1.0)
         assert bot.simulation.body.power == [0.0, 0.0]
         assert max(abs(s) for s in bot.simulation.body.wheel_speed_mm_s) < 1.0
+
+
+def test_a_busy_machine_does_not_cost_a_robot_its_handshake(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # A board that answers 1.5 s after the connection, to a host with a 0.5 s handshake limit
+    # that this process spent waiting for a CPU (as the system reports it): that time was not
+    # spent listening, so the board is given it again and is heard.
+    reported = iter([0.0])
+    monkeypatch.setattr(robot_module, "cpu_wait_s", lambda: next(reported, HANG_BOUND_S))
+    profile = replace(get_profile("mirto"), handshake_timeout_s=0.5)
+    board = FakeAsipBoard(answer_after_s=1.5)
+    try:
+        with Robot.connect(profile, board.url) as robot:
+            assert robot.driver.ready
+    finally:
+        board.close()
