@@ -218,6 +218,35 @@ class Logged(Mission):
 """
 
 
+SLEEPER = '''\
+"""Drive, checking a condition that naps every tick."""
+
+import time
+
+from roboscript import Drive, Mission, state
+
+
+class Sleeper(Mission):
+    """Drive two metres unless the condition fires."""
+
+    go = state(
+        Drive(distance_mm=2000, speed_mm_s=150),
+        initial=True,
+        on_done="done",
+        on_failed="done",
+        when=[("tired", "done")],
+    )
+    done = state(final="success")
+
+    def tired(self) -> bool:
+        """Wait a little, a beginner's way."""
+        time.sleep(0.05)
+        return False
+'''
+"""A Python mission whose condition sleeps 0.05 s every tick (line 22): too slow, at home
+and in class."""
+
+
 @contextlib.contextmanager
 def every_core_busy(extra: int = 0) -> Iterator[None]:
     """A process spinning on every core (and ``extra`` more) for the block: a saturated machine.
