@@ -59,7 +59,10 @@ class RunResult(RunRecord):
     ``sim``) are ``roboscript run --json``'s, and :attr:`summary` is that object.
 
     Attributes:
-        warnings: The mission's warnings, each as ``file:line:col: warning: ...``.
+        warnings: The mission's warnings, each as ``file:line:col: warning: ...``, then the
+            run's: a tick whose code took longer than a tick (``warning: the mission's code at
+            FILE:LINE in NAME took 0.05 s in one tick ...``, printed on standard error when it
+            happens, once a run, exactly as ``roboscript run`` prints it).
         recording: The run tick by tick (:class:`~roboscript.replay.recording.Recording`), or
             ``None`` when run with ``record=False``.
     """
@@ -250,6 +253,13 @@ def run(
     world_name = world or spec.world or "empty"
     _check_world_regions(spec, world_name if port is None or port.startswith("sim:") else None)
     recording = RunRecording() if record else None
+    slow: list[str] = []
+
+    def warn_slow(text: str) -> None:  # said when it happens, as ``roboscript run`` says it
+        slow.append(text)
+        sys.stderr.write(text + "\n")
+        sys.stderr.flush()
+
     session = run_session(
         spec,
         profile,
@@ -259,10 +269,11 @@ def run(
         realtime=realtime,
         max_time_s=max_time_s,
         recording=recording,
+        on_slow_tick=warn_slow,
     )
     if session.interrupted:
         raise Interrupted(session.interrupted - 128)  # the robot is stopped by now
-    return _result(session, recording, warnings)
+    return _result(session, recording, [*(w.format() for w in warnings), *slow])
 
 
 def _check_world_regions(spec: MissionSpec, world: str | None) -> None:
@@ -271,16 +282,14 @@ def _check_world_regions(spec: MissionSpec, world: str | None) -> None:
         raise MissionProblemsError(problems)
 
 
-def _result(
-    session: Session, recording: RunRecording | None, warnings: Sequence[InputError]
-) -> RunResult:
+def _result(session: Session, recording: RunRecording | None, warnings: Sequence[str]) -> RunResult:
     recorded = None
     if recording is not None and recording.recorder is not None:
         recorded = recording.recorder.recording()
     record = session_record(session)
     return RunResult(
         **{item.name: getattr(record, item.name) for item in fields(record)},
-        warnings=tuple(w.format() for w in warnings),
+        warnings=tuple(warnings),
         recording=recorded,
     )
 

@@ -118,6 +118,8 @@ class RunRecord:
             "cause"}`` objects, ``cause`` as a recording's ``why``; empty when the run's
             causes are not known (a graded run).
         states_dropped: States entered but left out of ``states`` (written only when not 0).
+        code_stopped: ``"too slow"`` or ``"hung"`` when the mission's code was stopped (the
+            outcome is then ``error``; :mod:`roboscript.watchdog`), else ``""`` (not written).
         sim: What the simulator saw, or ``None`` on a real robot (then not written).
     """
 
@@ -130,6 +132,7 @@ class RunRecord:
     states: tuple[tuple[float, str], ...]
     transitions: tuple[Mapping[str, Any], ...] = ()
     states_dropped: int = field(default=0, metadata=OMITTED_WHEN_DEFAULT)
+    code_stopped: str = field(default="", metadata=OMITTED_WHEN_DEFAULT)
     sim: SimulatedRun | None = field(default=None, metadata=OMITTED_WHEN_DEFAULT)
 
     def to_dict(self) -> dict[str, Any]:

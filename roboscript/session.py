@@ -306,5 +306,6 @@ def session_record(session: Session) -> RunRecord:
         transitions=tuple(result.transitions()),
         # a long loop: only the first and last states are listed
         states_dropped=result.states_dropped,
+        code_stopped=session.code_stopped,
         sim=simulated,
     )

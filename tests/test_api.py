@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 from html.parser import HTMLParser
@@ -11,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import HANG_BOUND_S, MISSIONS, ROOT, run_cli
+from helpers import HANG_BOUND_S, MISSIONS, ROOT, SLEEPER, run_cli
 
 import roboscript
 from roboscript import Drive, Mission, api, state
@@ -132,6 +133,39 @@ def test_the_recording_holds_every_tick_and_can_be_saved(tmp_path: Path) -> None
     assert saved.frames == recording.frames
     assert saved.result == recording.result
     assert roboscript.run(MISSIONS / "square.yaml", record=False).recording is None
+
+
+def test_code_that_blocks_a_tick_is_warned_about_once_and_ended_as_run_and_grade_do(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    mission = tmp_path / "sleepy.py"
+    mission.write_text(SLEEPER, encoding="utf-8")
+    result = roboscript.run(mission)
+    said = [line for line in capsys.readouterr().err.splitlines() if line.startswith("warning:")]
+    # once, on standard error when it happened, naming the line and the time it took
+    assert len(said) == 1
+    assert re.match(
+        rf"warning: the mission's code at {re.escape(str(mission))}:22 in tired took 0\.\d\d s in"
+        r" one tick \(a tick is 0\.02 s;",
+        said[0],
+    ), said[0]
+    assert result.warnings == tuple(said)
+    # ended early as too slow, at its line, as `roboscript run` ends it and `grade` judges it
+    assert (result.outcome, result.code_stopped) == ("error", "too slow")
+    assert result.reason is not None
+    assert result.reason.startswith(f"the mission was too slow: its code at {mission}:22 in tired")
+    assert result.duration_s < 5  # about a second of slow ticks, not the 13 s drive
+    cli = run_cli("run", str(mission), "--json")
+    summary = json.loads(cli.stdout)
+    assert (summary["outcome"], summary["code_stopped"]) == ("error", "too slow")
+    assert summary["reason"].split(" took ")[0] == result.reason.split(" took ")[0]
+    assert [line for line in cli.stderr.splitlines() if line.startswith("warning:")] != []
+
+
+def test_honest_code_is_never_warned_about_nor_stopped() -> None:
+    result = roboscript.run(MISSIONS / "square.py")
+    assert (result.outcome, result.code_stopped, result.warnings) == ("success", "", ())
+    assert "code_stopped" not in result.summary
 
 
 def test_the_robot_is_stopped_before_run_returns(sessions: list[Any]) -> None:

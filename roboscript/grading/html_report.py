@@ -146,6 +146,7 @@ def _status_words(result: RunResult) -> str:
     return {
         "passed": "✓ passed",
         "failed": "✗ failed",
+        "too slow": "✗ too slow",
         "timeout": "✗ did not finish",
         "hung": "✗ stopped responding",
         "crashed": "✗ crashed",

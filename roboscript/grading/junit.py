@@ -7,7 +7,7 @@ One ``<testsuite>`` per test spec, one ``<testcase>`` per student and run varian
 * ``failed`` (an expectation did not hold): ``<failure type="failed">``;
 * ``missing`` (no mission for the test): ``<skipped>``: nothing ran. It still scores 0 and
   makes ``grade`` exit 1, so a CI job fails on it;
-* anything else, the run did not finish (``timeout``, ``hung``, ``crashed``, ``invalid``...):
+* anything else, the run did not finish (``too slow``, ``hung``, ``crashed``, ``invalid``...):
   ``<error type="STATUS">``.
 
 ``message`` is the student's one sentence and the element's text lists every verdict. A CI

@@ -35,14 +35,17 @@ __all__ = [
     "Verdict",
 ]
 
-RunStatus = Literal["passed", "failed", "timeout", "hung", "crashed", "invalid", "missing"]
+RunStatus = Literal[
+    "passed", "failed", "too slow", "timeout", "hung", "crashed", "invalid", "missing"
+]
 """How a run can end for the grader (the values of :data:`RUN_STATUSES`)."""
 
 RUN_STATUSES: tuple[RunStatus, ...] = get_args(RunStatus)
 """How a run can end for the grader: ``passed`` (every expectation held), ``failed`` (one did
-not), ``timeout`` (too slow: its code took longer than a tick too often, or the wall-clock
-limit ended it while simulated time still advanced), ``hung`` (the mission's code did not
-return), ``crashed``
+not), ``too slow`` (its code took longer than a tick too often, as ``roboscript run`` warns,
+or its process used far more CPU time than the robot's time it advanced), ``timeout`` (a last
+resort: the test's wall-clock limit ended it, counting only time the machine was not busy),
+``hung`` (the mission's code did not return), ``crashed``
 (the mission's process died, its own code raised, or it broke the grading wire),
 ``invalid`` (the student's mission did not load), ``missing`` (no mission for this test)."""
 

@@ -57,8 +57,8 @@ def grade_run(
             :class:`~roboscript.grading.sandbox.WarmJail`); by default a jail of its own.
 
     Returns:
-        The result: ``passed`` or ``failed`` (judged), or ``invalid``, ``crashed``, ``hung``
-        or ``timeout`` with one sentence for the student.
+        The result: ``passed`` or ``failed`` (judged), or ``invalid``, ``crashed``, ``hung``,
+        ``too slow`` or ``timeout`` with one sentence for the student.
     """
     started = time.perf_counter()
     base = spec.result(variant, student=student, mission=mission_path, status="crashed")

@@ -181,6 +181,7 @@ def public_reason(result: RunResult, hidden: bool) -> str:
 _HIDDEN_ENDINGS = {
     "crashed": "the run crashed (a hidden run does not show why)",
     "hung": "the mission stopped responding (a hidden run does not show where)",
+    "too slow": "the mission was too slow (a hidden run does not show where)",
     "timeout": "the run did not finish in time (a hidden run does not show where)",
     "invalid": "the mission does not load (a visible run shows why)",
 }
@@ -194,7 +195,7 @@ def format_points(points: float) -> str:
 
 def advice(status: str) -> str:
     """What a student can do about a run that did not finish, in one sentence."""
-    if status in ("timeout", "hung"):
+    if status in ("too slow", "timeout", "hung"):
         return (
             "Try the mission with 'roboscript run' at home: it stops code that never returns"
             " and warns about code that takes too long per tick, at its line, as the grader does."

@@ -23,10 +23,11 @@ A run ends, in the order they can happen:
 * ``hung``: the mission's code did not return: the mission process stopped it after
   ``hang_after_s`` of its own time at the line it was stuck on, or the process used that much
   CPU time, and more, without simulated time advancing;
-* ``timeout``: the mission was too slow: its code took longer than a tick in too many ticks
+* ``too slow``: its code took longer than a tick in too many ticks
   (:class:`roboscript.watchdog.TickBudget`, named at its line), or the process used far more CPU
-  time than the simulated time it advanced, or (a last resort) the run passed the test's
-  wall-clock limit;
+  time than the simulated time it advanced;
+* ``timeout``: a last resort: the run passed the test's wall-clock limit (counting only time
+  when neither side waited for a CPU);
 * otherwise the run is judged on the record: ``passed`` or ``failed``.
 
 Every rule counts what the student's process consumed, never wall time, so a busy machine gives
@@ -128,7 +129,7 @@ class WorldRun:
 
     Attributes:
         status: ``""`` when the run ended and can be judged, else ``invalid``, ``crashed``,
-            ``hung`` or ``timeout``.
+            ``hung``, ``too slow`` or ``timeout``.
         message: One sentence for the student when ``status`` is set.
         debug: Detail for the teacher (the mission process's standard error, capped).
         loaded: True once the mission process reported its mission loaded; a run that ends
@@ -390,7 +391,7 @@ class _WorldSession:
                 used_s = stall.used_since_loaded()
                 advanced_s = self.now_s - stall.loaded_at_s
                 if used_s is not None and used_s > TICK_BUDGET.cpu_allowance_s(advanced_s):
-                    return self._stopped("timeout", _cpu_hog_message(used_s, advanced_s))
+                    return self._stopped("too slow", _cpu_hog_message(used_s, advanced_s))
 
     # ----------------------------------------------------------------------------- frames
 
@@ -533,7 +534,7 @@ class _WorldSession:
         if stopped in ("hung", "too slow"):
             # The mission process ended its own code (it may only make its own run worse).
             run = self._judged_record(record, ended_normally=False)
-            run.status = "hung" if stopped == "hung" else "timeout"
+            run.status = "hung" if stopped == "hung" else "too slow"
             run.message = record.reason or f"the mission's code was stopped ({stopped})"
             return run
         if code_error:

@@ -110,7 +110,7 @@ def test_a_formula_in_a_student_name_is_text_in_the_gradebook(tmp_path: Path) ->
 def test_junit_errors_for_runs_that_did_not_finish(tmp_path: Path) -> None:
     report = hand_report(tmp_path)
     crashed = report.results[1]
-    statuses = ("timeout", "hung", "invalid")
+    statuses = ("too slow", "hung", "invalid")
     extra = [
         replace(crashed, status=s, variant=0, message=f"it was {s}", student=f"S{s}")
         for s in statuses
