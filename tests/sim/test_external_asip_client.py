@@ -25,7 +25,13 @@ time.sleep(0.5)
 before = [m.get_count() for m in services["motors"]]
 for motor in services["motors"]:
     motor.set_motor(60)
-time.sleep(1.5)
+# until the wheels have turned and the IR sensors have reported (however busy the machine)
+end = time.monotonic() + float(sys.argv[2])
+while time.monotonic() < end and (
+    min(m.get_count() for m in services["motors"]) <= 500
+    or all(ir.get_ir() == 0 for ir in services["irs"])
+):
+    time.sleep(0.05)
 during = [m.get_count() for m in services["motors"]]
 for motor in services["motors"]:
     motor.stop_motor()
@@ -51,7 +57,7 @@ def test_python_asip_client_moves_motors_and_reads_sensors() -> None:
         match = re.search(r":(\d+) ", server.stdout.readline())
         assert match
         client = subprocess.run(
-            [sys.executable, "-c", CLIENT, match.group(1)],
+            [sys.executable, "-c", CLIENT, match.group(1), str(HANG_BOUND_S / 2)],
             capture_output=True,
             text=True,
             timeout=HANG_BOUND_S,

@@ -47,8 +47,10 @@ def tcp_sim() -> Iterator[int]:
         proc.wait(timeout=HANG_BOUND_S)
 
 
-def _read_until(sock: socket.socket, codec: AsipCodec, want: type, limit_s: float = 5.0) -> object:
-    deadline = time.monotonic() + limit_s
+def _read_until(
+    sock: socket.socket, codec: AsipCodec, want: type, limit_s: float = HANG_BOUND_S
+) -> object:
+    deadline = time.monotonic() + limit_s  # a bound for a hang: a busy machine takes its time
     sock.settimeout(0.2)
     while time.monotonic() < deadline:
         try:

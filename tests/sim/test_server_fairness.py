@@ -190,9 +190,9 @@ def test_a_client_that_stops_mid_message_is_dropped_after_the_same_wait(
     stalled = served.connect()
     first = served.said("client connected from ")
     stalled.sendall(StackModCodec(Role.HOST).send(Get(ord("M"), Command.ARM, 0))[:1])
-    for _ in range(2000):  # until the byte has reached the device
-        if served.server.simulation.input_pending:
-            break
+    deadline = time.monotonic() + HANG_BOUND_S  # a bound for a hang, not a speed limit
+    while not served.server.simulation.input_pending:  # until the byte has reached the device
+        assert time.monotonic() < deadline, "the byte never reached the device"
         time.sleep(0.01)
     served.clock.now_s += DEFAULT_HANDSHAKE_WAIT_S - 0.5
     other = served.connect()  # not yet: still within the wait, so the robot is busy
