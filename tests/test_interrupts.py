@@ -182,7 +182,7 @@ def test_a_signal_while_the_program_starts_ends_it_in_one_line(
             env=env,
             capture_output=True,
             text=True,
-            timeout=120,
+            timeout=HANG_BOUND_S,
             check=False,
         )
         signum = getattr(signal, name)

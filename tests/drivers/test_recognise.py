@@ -14,7 +14,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from helpers import run_cli, served_simulator
+from helpers import HANG_BOUND_S, run_cli, served_simulator
 
 from roboscript.drivers.recognise import handshake_failure, recognise_protocol, wrong_robot_hint
 from roboscript.robot import Robot
@@ -128,7 +128,11 @@ def test_a_handshake_with_the_robot_asked_for_loads_no_other_protocols_codec(
         " and m.endswith('.codec')))\n"
     )
     done = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        timeout=HANG_BOUND_S,
+        check=True,
     )
     codecs = ast.literal_eval(done.stdout.strip().splitlines()[-1])
     assert codecs == [f"roboscript.drivers.{protocol}.codec"]

