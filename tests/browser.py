@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers import HANG_BOUND_S
 
 __all__ = ["Browser", "BrowserError", "chromium", "open_browser"]
 
@@ -63,10 +64,11 @@ class Browser:
     Args:
         executable: The Chromium binary.
         profile: An empty folder for the browser's profile.
-        timeout_s: Longest wait for one reply.
+        timeout_s: Longest wait for one reply (a bound for a hang: a busy machine may make
+            Chromium slow, never a broken test pass).
     """
 
-    def __init__(self, executable: str, profile: Path, *, timeout_s: float = 30.0) -> None:
+    def __init__(self, executable: str, profile: Path, *, timeout_s: float = HANG_BOUND_S) -> None:
         self.timeout_s = timeout_s
         to_browser_r, self._to_browser = os.pipe()
         self._from_browser, from_browser_w = os.pipe()
@@ -203,7 +205,7 @@ class Browser:
         taken, self.bindings = self.bindings, []
         return taken
 
-    def wait_for(self, condition: str, timeout_s: float = 20.0) -> Any:
+    def wait_for(self, condition: str, timeout_s: float = HANG_BOUND_S) -> Any:
         """Wait until a JavaScript expression is truthy; return its value.
 
         Raises:
