@@ -162,10 +162,13 @@ def test_code_that_blocks_a_tick_is_warned_about_once_and_ended_as_run_and_grade
     assert [line for line in cli.stderr.splitlines() if line.startswith("warning:")] != []
 
 
-def test_honest_code_is_never_warned_about_nor_stopped() -> None:
+def test_honest_code_is_never_stopped_nor_warned_about_at_a_line() -> None:
     result = roboscript.run(MISSIONS / "square.py")
-    assert (result.outcome, result.code_stopped, result.warnings) == ("success", "", ())
+    assert (result.outcome, result.code_stopped) == ("success", "")
     assert "code_stopped" not in result.summary
+    # A lone slow tick (the mission's first, say, on a saturated machine) may be warned about
+    # without a line; the student's own code never is.
+    assert not any(" at " in warning.split(" took ")[0] for warning in result.warnings)
 
 
 def test_the_robot_is_stopped_before_run_returns(sessions: list[Any]) -> None:
