@@ -1,4 +1,4 @@
-"""Shared fixtures."""
+"""Shared fixtures, and Hypothesis set for any machine."""
 
 from __future__ import annotations
 
@@ -6,6 +6,15 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, settings
+
+# Hypothesis times each example (200 ms) and the generation of its data by default: wall-clock
+# limits that fail correct code on a machine whose every core is busy. The suite must pass
+# there, so neither is checked; a stuck example is still bounded by pytest's timeout.
+settings.register_profile(
+    "any-machine", deadline=None, suppress_health_check=[HealthCheck.too_slow]
+)
+settings.load_profile("any-machine")
 
 
 @pytest.fixture
