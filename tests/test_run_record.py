@@ -60,6 +60,7 @@ def _every_field_set() -> RunRecord:
         states=((0.0, "go"), (2.5, "stuck")),
         transitions=({"t_s": 2.5, "state": "stuck", "cause": CAUSE},),
         states_dropped=3,
+        code_stopped="too slow",
         sim=SimulatedRun(
             seed=4,
             world="corridor",
