@@ -198,8 +198,12 @@ class CodeClock:
 
     def now(self) -> float:
         """Own seconds, from an arbitrary origin."""
+        # The wall clock is read before the CPU wait: a preemption between the two reads
+        # then lands in the wait only, so it can shorten a measured span but never lengthen
+        # it (read the other way round, a busy machine made honest ticks look slow).
+        wall_s = time.perf_counter()
         queued = self._queued() if self._queued is not None else 0.0
-        return time.perf_counter() - queued - _WIRE.so_far_s()
+        return wall_s - queued - _WIRE.so_far_s()
 
 
 # ---------------------------------------------------------------------------- exceptions

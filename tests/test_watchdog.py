@@ -13,6 +13,7 @@ from types import FrameType
 import pytest
 from helpers import every_core_busy, run_cli
 
+from roboscript import watchdog as watchdog_module
 from roboscript.sim.simulation import make_simulation
 from roboscript.transport.wirelog import read_wire_log
 from roboscript.watchdog import CodeClock, RunawayCode, TickBudget, TooSlow, Watchdog, wire_wait
@@ -213,3 +214,26 @@ def test_time_waiting_on_the_wire_is_not_the_codes_own() -> None:
         during = clock.now() - before  # a wait under way is left out too
     assert during < 0.1
     assert clock.now() - before < 0.1
+
+
+@pytest.mark.parametrize("preempted_read", [0, 1], ids=["as-the-tick-begins", "as-it-ends"])
+def test_losing_the_cpu_while_the_clock_is_read_never_counts_as_the_codes_time(
+    monkeypatch: pytest.MonkeyPatch, preempted_read: int
+) -> None:
+    wall_s = [100.0]
+    queued_s = [0.0]
+    reads = itertools.count()
+
+    def read_queued() -> float:
+        sampled = queued_s[0]
+        if next(reads) == preempted_read:  # the CPU is lost just after the kernel's sample
+            wall_s[0] += 0.03
+            queued_s[0] += 0.03
+        return sampled
+
+    monkeypatch.setattr(watchdog_module.time, "perf_counter", lambda: wall_s[0])
+    clock = CodeClock()
+    clock._queued = read_queued
+    before = clock.now()
+    wall_s[0] += 0.001  # the code's own millisecond
+    assert clock.now() - before == pytest.approx(0.001)
