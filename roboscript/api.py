@@ -34,7 +34,7 @@ from roboscript.mission.checks import check_world_regions
 from roboscript.mission.python_api import Mission, mission_file, note_mission_run
 from roboscript.mission.python_compiler import compile_mission
 from roboscript.mission.spec import MissionSpec
-from roboscript.mission.student_code import stuck_at
+from roboscript.mission.student_code import is_student_file, stuck_at
 from roboscript.replay.recording import Recorder, Recording
 from roboscript.replay.session_tap import RunRecording
 from roboscript.run_record import NOT_SERIALISED, Pose, RunRecord, Tone
@@ -200,7 +200,7 @@ def _spec_and_robot(
         return fit_to_robot(spec, warnings, robot)
     if isinstance(mission, str | Path):
         # a Python mission file runs when imported: a loop there must not hang the caller
-        with Watchdog(DEFAULT_LIMIT_S, stuck_at):
+        with Watchdog(DEFAULT_LIMIT_S, stuck_at, watched=is_student_file):
             return mission_for_robot(mission, robot)
     raise TypeError(
         "roboscript.run() takes a mission file's path, a Mission class or a MissionSpec"

@@ -20,7 +20,7 @@ from roboscript.mission.cause import TransitionCause
 from roboscript.mission.channels import stamped_prints
 from roboscript.mission.runner import MissionResult, MissionRunner
 from roboscript.mission.spec import MissionSpec
-from roboscript.mission.student_code import stuck_at
+from roboscript.mission.student_code import is_student_file, stuck_at
 from roboscript.profiles import RobotProfile
 from roboscript.robot import Robot
 from roboscript.run_record import Pose, RunRecord, SimulatedRun, Tone
@@ -228,6 +228,7 @@ def run_session(
             # wall clock shares its process with the live view's threads (a wait for the
             # interpreter's lock is not told apart from the code's own time): warn only.
             end_when_too_slow=sim is not None and not realtime,
+            watched=is_student_file,
         )
         if runaway_after_s is not None
         else None

@@ -23,8 +23,10 @@ kernel's per-thread scheduler statistics; elsewhere it cannot be told apart and 
 student's ``except Exception:`` cannot swallow it; it is raised again every
 :data:`REPEAT_S` until it gets out, so one bare ``except:`` cannot either (code that
 catches everything in an endless loop of its own can still only be ended with Ctrl-C).
-Uses ``SIGALRM`` (POSIX, main thread); elsewhere the watchdog does nothing and says so in the
-debug log.
+Uses ``SIGALRM`` (POSIX, main thread). Elsewhere (Windows, a browser tab, another thread) it
+checks between two lines of the student's own code instead (:class:`~roboscript.line_alarm.
+LineAlarm`): a loop is stopped at its line just the same, and a single call that blocks
+(``time.sleep(60)``) is stopped when it returns.
 """
 
 from __future__ import annotations
@@ -39,6 +41,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from types import FrameType, TracebackType
 from typing import TYPE_CHECKING, Any
+
+from roboscript.line_alarm import LineAlarm
 
 if TYPE_CHECKING:
     from typing_extensions import Self  # annotations only: not a dependency
@@ -206,6 +210,10 @@ class CodeClock:
         return wall_s - queued - _WIRE.so_far_s()
 
 
+def _every_file(_filename: str) -> bool:
+    return True
+
+
 # ---------------------------------------------------------------------------- exceptions
 
 
@@ -276,6 +284,8 @@ class Watchdog:
         on_slow: Called once, for the first slow tick, with its own time in seconds and where
             it was caught (``wait.py:12 in near_wall``, or ``""``).
         end_when_too_slow: Raise :class:`TooSlow` once slow ticks add up to the budget.
+        watched: Where there is no ``SIGALRM``: whether code from a file is checked between
+            its lines (the student's files; by default every file, which is slower).
     """
 
     def __init__(
@@ -286,6 +296,7 @@ class Watchdog:
         budget: TickBudget | None = None,
         on_slow: Callable[[float, str], None] | None = None,
         end_when_too_slow: bool = True,
+        watched: Callable[[str], bool] | None = None,
     ) -> None:
         if not limit_s > 0:
             raise ValueError(f"a watchdog limit must be more than 0 s (got {limit_s})")
@@ -308,10 +319,17 @@ class Watchdog:
         self._first_where = ""
         self._unreported_s: float | None = None  # a slow tick not yet warned about
         self._warned = False
+        self._line_alarm: LineAlarm | None = None  # where there is no SIGALRM
+        self._watched = watched or _every_file
 
     @property
     def supported(self) -> bool:
-        """True where the watchdog can interrupt code (POSIX, in the main thread)."""
+        """True where the watchdog can stop code: with ``SIGALRM`` (POSIX, in the main
+        thread), else between two lines of the watched code."""
+        return self._signals or LineAlarm.available()
+
+    @property
+    def _signals(self) -> bool:
         return (
             hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
         )
@@ -378,7 +396,13 @@ class Watchdog:
             self._on_slow(spent_s, where)
 
     def _arm(self, after_s: float, repeat_s: float = 0.0) -> None:
-        signal.setitimer(signal.ITIMER_REAL, max(after_s, 1e-3), repeat_s)
+        if self._line_alarm is not None:
+            self._line_alarm.set(max(after_s, 1e-3), repeat_s)
+        else:
+            signal.setitimer(signal.ITIMER_REAL, max(after_s, 1e-3), repeat_s)
+
+    def _ring(self, frame: FrameType) -> None:
+        self._alarm(0, frame)
 
     def _alarm(self, signum: int, frame: FrameType | None) -> None:
         del signum
@@ -400,10 +424,14 @@ class Watchdog:
         self._arm(left_s)
 
     def __enter__(self) -> Self:
-        if not self.supported:
-            logger.debug("no watchdog for runaway code here (needs SIGALRM in the main thread)")
-            return self
-        self._previous = signal.signal(signal.SIGALRM, self._alarm)
+        if self._signals:
+            self._previous = signal.signal(signal.SIGALRM, self._alarm)
+        else:
+            line_alarm = LineAlarm(self._ring, self._watched)
+            if not line_alarm.start():
+                logger.debug("no watchdog for runaway code: a debugger holds Python's hooks")
+                return self
+            self._line_alarm = line_alarm
         self._armed = True
         self.pet()
         return self
@@ -417,5 +445,9 @@ class Watchdog:
         if self._armed:
             # disarm before anything else: an alarm landing in here must not raise again
             self._armed = False
+            if self._line_alarm is not None:
+                self._line_alarm.stop()
+                self._line_alarm = None
+                return
             signal.setitimer(signal.ITIMER_REAL, 0)
             signal.signal(signal.SIGALRM, self._previous)

@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import itertools
+import os
 import re
+import signal
+import subprocess
 import sys
 import threading
 import time
@@ -11,7 +14,7 @@ from pathlib import Path
 from types import FrameType
 
 import pytest
-from helpers import every_core_busy, run_cli
+from helpers import HANG_BOUND_S, ROOT, every_core_busy, run_cli
 
 from roboscript import watchdog as watchdog_module
 from roboscript.sim.simulation import make_simulation
@@ -67,12 +70,74 @@ def test_a_limit_must_be_positive() -> None:
         Watchdog(0, _where)
 
 
-def test_off_the_main_thread_it_stands_aside() -> None:
-    seen: list[bool] = []
-    thread = threading.Thread(target=lambda: seen.append(Watchdog(1, _where).supported))
+def test_off_the_main_thread_a_loop_is_stopped_between_two_of_its_lines() -> None:
+    raised: list[RunawayCode] = []
+
+    def watched_loop() -> None:
+        try:
+            with Watchdog(0.2, _where):
+                _spin_forever()
+        except RunawayCode as exc:
+            raised.append(exc)
+
+    thread = threading.Thread(target=watched_loop)
     thread.start()
     thread.join()
-    assert seen == [False]
+    assert len(raised) == 1
+    assert raised[0].where.startswith("_spin_forever:")
+
+
+def test_without_sigalrm_a_loop_is_stopped_at_its_line(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delattr(signal, "setitimer")  # as on Windows, or in a browser tab
+    dog = Watchdog(0.2, _where, watched=lambda filename: filename == __file__)
+    assert dog.supported
+    with pytest.raises(RunawayCode) as raised, dog:
+        _spin_forever()
+    assert raised.value.where.startswith("_spin_forever:")
+
+
+def test_without_sigalrm_a_loop_is_stopped_again_in_a_later_tick(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.delattr(signal, "setitimer")
+    stops = 0
+    with Watchdog(0.2, _where) as dog:
+        for _tick in range(2):
+            try:
+                _spin_forever()
+            except RunawayCode:
+                stops += 1
+            dog.pet()
+    assert stops == 2
+
+
+@pytest.mark.skipif(
+    sys.version_info < (3, 12), reason="before Python 3.12 a catch-all keeps it in (line_alarm)"
+)
+def test_without_sigalrm_one_catch_all_does_not_keep_it_in(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.delattr(signal, "setitimer")
+    caught = 0
+    with pytest.raises(RunawayCode), Watchdog(0.2, _where):
+        try:
+            _spin_forever()
+        except BaseException:  # noqa: BLE001 (a student's catch-all)
+            caught += 1
+        _spin_forever()  # the alarm comes again
+    assert caught == 1
+
+
+def test_without_sigalrm_nothing_is_watched_after_the_block(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.delattr(signal, "setitimer")
+    with Watchdog(0.05, _where):
+        pass
+    assert sys.gettrace() is None
+    deadline = time.perf_counter() + 0.15
+    while time.perf_counter() < deadline:  # a watched loop would be stopped in here
+        pass
 
 
 SPIN = '''\
@@ -102,12 +167,39 @@ class Spin(Mission):
 '''
 
 
-@pytest.mark.skipif(sys.platform == "win32", reason="the watchdog needs SIGALRM")
-def test_run_ends_a_stuck_mission_with_its_line_and_the_motors_off(tmp_path: Path) -> None:
+def _run_without_sigalrm(*args: str) -> subprocess.CompletedProcess[str]:
+    """``roboscript ARGS`` in a child process whose Python has no timer signal (as on
+    Windows, or in a browser tab)."""
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
+    program = (
+        "import runpy, signal, sys\n"
+        "del signal.setitimer\n"
+        "sys.argv = ['roboscript', *sys.argv[1:]]\n"
+        "runpy.run_module('roboscript', run_name='__main__')\n"
+    )
+    return subprocess.run(
+        [sys.executable, "-c", program, *args],
+        capture_output=True,
+        text=True,
+        timeout=HANG_BOUND_S,
+        cwd=ROOT,
+        env=env,
+        check=False,
+    )
+
+
+@pytest.mark.parametrize("timer", ["SIGALRM", "between lines"])
+def test_run_ends_a_stuck_mission_with_its_line_and_the_motors_off(
+    tmp_path: Path, timer: str
+) -> None:
+    if timer == "SIGALRM" and sys.platform == "win32":
+        pytest.skip("Windows has no SIGALRM")
     mission = tmp_path / "spin.py"
     mission.write_text(SPIN, encoding="utf-8")
     log = tmp_path / "wire.log"
-    result = run_cli("run", str(mission), "--wire-log", str(log), "--quiet")
+    run = run_cli if timer == "SIGALRM" else _run_without_sigalrm
+    result = run("run", str(mission), "--wire-log", str(log), "--quiet")
     assert result.returncode == 1
     last = result.stderr.strip().splitlines()[-1]
     assert last.startswith("error: the mission's code did not return for 5 s and was stopped at ")
@@ -132,11 +224,14 @@ while True:
 '''
 
 
-@pytest.mark.skipif(sys.platform == "win32", reason="the watchdog needs SIGALRM")
-def test_check_ends_a_file_that_hangs_when_imported(tmp_path: Path) -> None:
+@pytest.mark.parametrize("timer", ["SIGALRM", "between lines"])
+def test_check_ends_a_file_that_hangs_when_imported(tmp_path: Path, timer: str) -> None:
+    if timer == "SIGALRM" and sys.platform == "win32":
+        pytest.skip("Windows has no SIGALRM")
     mission = tmp_path / "hang.py"
     mission.write_text(LOOPING_BEHAVIOUR_FILE, encoding="utf-8")
-    result = run_cli("check", str(mission))
+    run = run_cli if timer == "SIGALRM" else _run_without_sigalrm
+    result = run("check", str(mission))
     assert result.returncode == 1
     assert "did not return for 5 s and was stopped at" in result.stderr
     assert re.search(r"hang\.py:[34] in <module>:", result.stderr)

@@ -100,11 +100,11 @@ def _run(
     # the mission side loads after main() arms the stuck-watch, so a slow start is seen too
     from roboscript.errors import CapabilityError, InputError
     from roboscript.mission import mission_for_robot
-    from roboscript.mission.student_code import stuck_at
+    from roboscript.mission.student_code import is_student_file, stuck_at
 
     try:
         # a Python mission runs when imported: a loop there is stopped at its line
-        with Watchdog(LOAD_LIMIT_S, stuck_at):
+        with Watchdog(LOAD_LIMIT_S, stuck_at, watched=is_student_file):
             mission, profile, _warnings = mission_for_robot(mission_path, robot)
     except RunawayCode as exc:
         channel.send_json(Kind.LOAD_ERROR, {"message": exc.reason, "code_stopped": "hung"})

@@ -48,6 +48,7 @@ __all__ = [
     "StudentCodeError",
     "import_student_file",
     "is_student_class",
+    "is_student_file",
     "shown_path",
     "stuck_at",
     "student_fault",
@@ -90,11 +91,17 @@ def _is_library_file(filename: str) -> bool:
     return resolved.startswith(str(_PACKAGE_DIR)) or resolved.startswith(_LIBRARY_DIRS)
 
 
+def is_student_file(filename: str) -> bool:
+    """True if code from ``filename`` (a code object's ``co_filename``) is a student's or a
+    teacher's: neither roboscript's, nor Python's, nor an installed package's."""
+    return not _is_library_file(filename)
+
+
 def _student_frame(tb: TracebackType | None) -> traceback.FrameSummary | None:
     """The innermost frame of the traceback that runs a student's file."""
     found = None
     for frame in traceback.extract_tb(tb):
-        if not _is_library_file(frame.filename):
+        if is_student_file(frame.filename):
             found = frame
     return found
 
@@ -110,7 +117,7 @@ def stuck_at(frame: FrameType | None) -> str:
     """
     while frame is not None:
         code = frame.f_code
-        if not _is_library_file(code.co_filename):
+        if is_student_file(code.co_filename):
             return f"{shown_path(code.co_filename)}:{frame.f_lineno} in {code.co_name}"
         frame = frame.f_back
     return ""

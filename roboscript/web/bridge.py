@@ -31,9 +31,11 @@ from roboscript.grading.text import advice, format_points, public_reason, studen
 from roboscript.interrupts import Interrupted
 from roboscript.mission import mission_for_robot
 from roboscript.mission.graph_picture import to_svg
+from roboscript.mission.student_code import is_student_file, shown_path, stuck_at
 from roboscript.replay.session_tap import RunRecording
 from roboscript.replay.viewer import viewer_block
 from roboscript.session import run_session, session_record
+from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
 from roboscript.web.connect import on_robot
 
 __all__ = ["check_text", "diagram_text", "grade_text", "load_specs", "run_text"]
@@ -71,10 +73,29 @@ def _problem(problem: InputError, path: Path) -> dict[str, Any]:
     }
 
 
+def _stuck_problem(exc: RunawayCode, path: Path) -> dict[str, Any]:
+    """A mission file stopped while loading, as a problem of :func:`check_text`."""
+    found = re.search(r":(\d+) in ", exc.where)
+    line = int(found.group(1)) if found else 1
+    message = exc.reason.replace(str(path), path.name)
+    return {
+        "line": line,
+        "col": 1,
+        "severity": "error",
+        "message": message,
+        "hint": "",
+        "text": f"{path.name}:{line}:1: error: {message}",
+    }
+
+
 def _load(name: str, text: str, robot: str | None) -> tuple[Path, Any, Any, list[dict[str, Any]]]:
     path = _write(name, text)
     try:
-        spec, profile, warnings = mission_for_robot(path, robot or None)
+        # a Python mission runs when imported: a loop there is stopped at its line, not the tab
+        with Watchdog(DEFAULT_LIMIT_S, stuck_at, watched=is_student_file):
+            spec, profile, warnings = mission_for_robot(path, robot or None)
+    except RunawayCode as exc:
+        return path, None, None, [_stuck_problem(exc, path)]
     except InputError as exc:
         problems = getattr(exc, "problems", None) or [exc]
         return path, None, None, [_problem(p, path) for p in problems]
@@ -125,7 +146,8 @@ def run_text(
                 seed=seed,
                 max_time_s=_MAX_TIME_S,
                 recording=recording,
-                runaway_after_s=None,  # no thread to watch with in a browser tab
+                # the tab has no timer signal: stuck code is stopped between two of its lines
+                runaway_after_s=DEFAULT_LIMIT_S,
                 **on.options,
             )
         except (RoboscriptError, Interrupted) as exc:  # Interrupted: stopped while connecting
@@ -135,6 +157,11 @@ def run_text(
                 | on.answer()
             )
     summary = session_record(session).to_dict()
+    reason = summary.get("reason")
+    if isinstance(reason, str):  # the page's scratch folder means nothing to the student
+        for shown in (str(path), shown_path(path)):
+            reason = reason.replace(shown, path.name)
+        summary["reason"] = reason
     viewer = None
     if recording.recorder is not None:
         viewer = viewer_block(recording.recorder.recording(), label=f"replay of {path.name}")

@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import json
+import signal
 
+import pytest
 from helpers import MISSIONS, run_cli
+from test_watchdog import LOOPING_BEHAVIOUR_FILE, SPIN
 
 from roboscript.web.bridge import check_text, diagram_text, grade_text, load_specs, run_text
 
@@ -44,6 +47,29 @@ def test_a_python_mission_is_checked_and_run_too() -> None:
     text = (MISSIONS / "square.py").read_text(encoding="utf-8")
     assert json.loads(check_text("square.py", text))["problems"] == []
     assert json.loads(run_text("square.py", text))["summary"]["outcome"] == "success"
+
+
+def test_a_condition_that_loops_forever_ends_the_run_at_its_line_not_the_tab(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.delattr(signal, "setitimer")  # a browser tab has no timer signal
+    summary = json.loads(run_text("spin.py", SPIN))["summary"]
+    assert summary["outcome"] == "error"
+    assert summary["reason"].startswith(
+        "the mission's code did not return for 5 s and was stopped at spin.py:2"
+    )
+    assert " in far: is there a loop that never ends?" in summary["reason"]
+
+
+def test_a_file_that_loops_forever_when_loaded_is_a_problem_at_its_line(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.delattr(signal, "setitimer")
+    problems = json.loads(check_text("hang.py", LOOPING_BEHAVIOUR_FILE))["problems"]
+    assert len(problems) == 1
+    assert problems[0]["line"] in (3, 4)  # a line of the endless loop
+    assert problems[0]["text"].startswith(f"hang.py:{problems[0]['line']}:1: error: the mission")
+    assert "did not return for 5 s" in problems[0]["message"]
 
 
 def test_the_diagram_is_svg_and_nothing_for_a_broken_mission() -> None:

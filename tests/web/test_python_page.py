@@ -1,8 +1,9 @@
 """A student's own Python in the page: it runs, and the tab keeps it from the computer.
 
 Headless Chromium from file:// with the network off. A Python mission with a behaviour the
-student wrote runs to the same JSON as on the command line; a mission that tries to read a file
-of the computer finds only the page's own (virtual) disk. Nothing here is timed.
+student wrote runs to the same JSON as on the command line; a mission whose code loops forever
+is stopped at its line while the tab lives on; a mission that tries to read a file of the
+computer finds only the page's own (virtual) disk. Nothing here is timed.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from pathlib import Path
 import pytest
 from browser import Browser
 from helpers import MISSIONS, run_cli
+from test_watchdog import SPIN
 from web_app import LONG_S, open_offline
 
 from roboscript.web.bridge import run_text
@@ -89,6 +91,21 @@ def test_a_python_mission_with_the_students_own_behaviour_runs_as_on_the_command
     in_cpython = json.loads(run_cli("run", "weave.py", "--json", cwd=tmp_path).stdout)
     assert in_browser == in_cpython
     assert in_browser["outcome"] == "success"
+    assert page.errors == []
+
+
+def test_code_that_loops_forever_is_stopped_at_its_line_and_the_tab_lives_on(
+    page: Browser,
+) -> None:
+    # a tab has no timer signal and no second thread: the watchdog checks between lines
+    summary = _run(page, "spin.py", SPIN)
+    assert summary["outcome"] == "error"
+    reason = str(summary["reason"])
+    assert reason.startswith(
+        "the mission's code did not return for 5 s and was stopped at spin.py:2"
+    ), reason
+    assert " in far: is there a loop that never ends?" in reason
+    page.wait_for("!document.querySelector('[data-action=run]').disabled", LONG_S)
     assert page.errors == []
 
 
