@@ -22,6 +22,15 @@ in-process (no second process, no wire, no jail), both in this one run, in the o
 sandboxed, in-process, in-process, sandboxed over the two halves of the class, so a load that
 rises or falls while it runs weighs on both alike. The row gives the load average before and
 after. The script exits with status 1 when that ratio is over 1.5.
+
+What one process hand-over per tick costs this machine is measured beside it, the same way:
+the same in-process runs, but with each tick waiting for one round trip to an idle process (a
+byte out, the byte back; no jail, no wire protocol, no world in the other process). A sandboxed
+run hands over twice a tick (the mission asks, the world answers), so on a machine where that
+row is far over 1 the sandboxed ratio cannot be much under it: the row says how much of the
+isolation cost is the machine's context switches rather than the grader's work. It reads so
+on an idle machine only: on a busy one a process that waits often is woken ahead of the
+programs that keep the cores busy, so the round trips can even make the runs faster.
 """
 
 from __future__ import annotations
@@ -31,6 +40,7 @@ import concurrent.futures
 import multiprocessing
 import os
 import shutil
+import socket
 import sys
 import tempfile
 import time
@@ -52,6 +62,7 @@ from roboscript.grading.run import record_from_session  # noqa: E402
 from roboscript.grading.sandbox import detect_isolation  # noqa: E402
 from roboscript.grading.spec import TestSpec, Variant  # noqa: E402
 from roboscript.mission import mission_for_robot  # noqa: E402
+from roboscript.scheduler import Scheduler  # noqa: E402
 from roboscript.session import run_session  # noqa: E402
 
 __all__ = ["CLASS_WALL_GOAL_S", "ISOLATION_COST_GOAL", "ISOLATION_ROW", "measure"]
@@ -184,12 +195,15 @@ def _in_process_run(spec: TestSpec, mission: str, variant: Variant) -> float:
     return record.duration_s
 
 
-def _grade_in_process(students: int, jobs: int | None, part: slice = slice(None)) -> float:
+def _grade_in_process(
+    students: int, jobs: int | None, part: slice = slice(None), hand_over: bool = False
+) -> float:
     """Wall seconds to do the honest class's runs (its ``part`` of the students) in-process,
     ``jobs`` warm workers at a time.
 
     The baseline the sandbox is measured against: the same missions, variants and judging,
     with no second process, no wire and no jail (workers are reused, which only flatters it).
+    With ``hand_over``, each tick first waits for one round trip to an idle process.
     """
     with tempfile.TemporaryDirectory(prefix="bench-grading-") as tmp:
         spec_file, submissions = _make_class(Path(tmp), students, SEEDS)
@@ -203,9 +217,37 @@ def _grade_in_process(students: int, jobs: int | None, part: slice = slice(None)
         context = multiprocessing.get_context("forkserver")
         context.set_forkserver_preload(["roboscript.grading.worker"])
         started = time.perf_counter()
-        with concurrent.futures.ProcessPoolExecutor(jobs or default_jobs(), context) as pool:
+        initializer = _hand_over_per_tick if hand_over else None
+        with concurrent.futures.ProcessPoolExecutor(
+            jobs or default_jobs(), context, initializer=initializer
+        ) as pool:
             list(pool.map(_in_process_run, *zip(*runs, strict=True)))
         return time.perf_counter() - started
+
+
+_PARTNER: list[socket.socket] = []
+"""The worker's end of the socket to its idle partner process (see :func:`_hand_over_per_tick`)."""
+
+
+def _hand_over_per_tick() -> None:
+    """Pool initializer: every tick of every run in this worker first waits for one round
+    trip to an idle process of its own (a byte out, the same byte back)."""
+    ours, theirs = socket.socketpair()
+    if os.fork() == 0:  # the partner: answer each byte at once, until the worker goes
+        ours.close()
+        while data := theirs.recv(64):
+            theirs.sendall(data)
+        os._exit(0)
+    theirs.close()
+    _PARTNER.append(ours)
+    step = Scheduler.step
+
+    def step_after_a_round_trip(self: Scheduler) -> None:
+        ours.sendall(b"t")
+        ours.recv(64)
+        step(self)
+
+    Scheduler.step = step_after_a_round_trip  # type: ignore[method-assign]
 
 
 def _isolation_cost(students: int, jobs: int | None) -> tuple[float, list[Any], float, str]:
@@ -225,11 +267,27 @@ def _isolation_cost(students: int, jobs: int | None) -> tuple[float, list[Any], 
     return first_s + second_s, [*first.results, *second.results], in_process_s, load
 
 
+def _hand_over_cost(students: int, jobs: int | None) -> tuple[float, float, str]:
+    """The honest class in-process with and without one round trip per tick, interleaved.
+
+    Returns:
+        Wall seconds with the round trips, without, and the load average before and after.
+    """
+    load_before = os.getloadavg()[0]
+    halves = (slice(None, students // 2), slice(students // 2, None))
+    with_s = _grade_in_process(students, jobs, halves[0], hand_over=True)
+    without_s = _grade_in_process(students, jobs, halves[0])
+    without_s += _grade_in_process(students, jobs, halves[1])
+    with_s += _grade_in_process(students, jobs, halves[1], hand_over=True)
+    return with_s, without_s, f"{load_before:.1f} -> {os.getloadavg()[0]:.1f}"
+
+
 def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
     """Grade the benchmark class once; return the rows (wall time against the goal, RTF)."""
     students = 12 if quick else STUDENTS
     wall_s, results, in_process_s, load = _isolation_cost(students, jobs)
     troubled_s, troubled = _grade(students, True, jobs)
+    hand_over_s, plain_s, hand_over_load = _hand_over_cost(students, jobs)
     statuses = Counter(r.status for r in troubled.results)
     simulated_s = sum(r.record.duration_s for r in results if r.record is not None)
     unfinished = [r for r in results if r.record is None]
@@ -272,6 +330,15 @@ def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
             ISOLATION_COST_GOAL,
             f"{wall_s:.1f} s sandboxed ({detect_isolation().name}), {in_process_s:.1f} s"
             f" in-process, {runs} runs, {workers} workers, load average {load}",
+        ),
+        info(
+            KEY,
+            "grading: in-process + one process round trip a tick / in-process",
+            hand_over_s / plain_s,
+            f"{hand_over_s:.1f} s with a round trip to an idle process before each tick,"
+            f" {plain_s:.1f} s without, {runs} runs, {workers} workers, load average"
+            f" {hand_over_load}: this machine's cost of handing the CPU over, twice a tick in"
+            " a sandboxed run (on an idle machine; see the module docstring)",
         ),
         info(
             KEY,
