@@ -163,7 +163,15 @@ FORBIDDEN: tuple[Forbidden, ...] = (
     ),
     Forbidden(
         lambda s: _is_codec(TREE, s) or s in SHARED_STDLIB_MODULES,
-        lambda _, t: t in {"roboscript.clock", "roboscript.scheduler", "roboscript.watchdog"},
+        lambda _, t: (
+            t
+            in {
+                "roboscript.clock",
+                "roboscript.scheduler",
+                "roboscript.watchdog",
+                "roboscript.line_alarm",
+            }
+        ),
         "codecs never read a clock",
     ),
     Forbidden(
@@ -235,6 +243,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
         "roboscript.status",
         "roboscript.codec",
         "roboscript.interrupts",
+        "roboscript.line_alarm",
         "roboscript.watchdog",
         "roboscript.robot_profile",
         "roboscript.run_record",
