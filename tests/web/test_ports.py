@@ -20,7 +20,9 @@ import base64
 import json
 import select
 import socket
+import time
 from collections.abc import Iterator
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
@@ -194,8 +196,6 @@ class StandInBridge:
     def pump(self, until: str | None = None, *, timeout_s: float = LONG_S) -> None:
         """Move bytes both ways until the page's expression ``until`` is truthy (or, with
         ``None``, until the page closes its port)."""
-        import time
-
         deadline = time.monotonic() + timeout_s
         checks = 0
         while True:
@@ -305,10 +305,24 @@ def _conversation(wire_log: Path) -> tuple[list[object], list[object]]:
 def test_a_mission_on_a_robot_from_the_page_puts_the_same_bytes_on_the_wire_as_the_command_line(
     page: Browser, tmp_path: Path
 ) -> None:
-    with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
-        bridge = StandInBridge(page, tcp_port)
-        _connect_and_run(page, bridge)
-        bridge.pump("document.body.dataset.wireLog", timeout_s=LONG_S)
+    cli_log = tmp_path / "cli-wire.log"
+    # Both runs mostly wait on their robot's clock, each with its own simulator: run together.
+    with served_simulator("plen2", *SIM_OPTIONS) as cli_port, ThreadPoolExecutor(1) as pool:
+        on_the_command_line = pool.submit(
+            run_cli,
+            "run",
+            str(MISSION),
+            "--port",
+            f"socket://127.0.0.1:{cli_port}",
+            "--wire-log",
+            str(cli_log),
+            "--quiet",
+        )
+        with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
+            bridge = StandInBridge(page, tcp_port)
+            _connect_and_run(page, bridge)
+            bridge.pump("document.body.dataset.wireLog", timeout_s=LONG_S)
+        done = on_the_command_line.result()
     summary = json.loads(page.evaluate("document.querySelector('[data-role=result]').dataset.json"))
     assert (summary["outcome"], summary["final_state"]) == ("success", "rest")
     in_page = tmp_path / "page-wire.log"
@@ -322,17 +336,6 @@ def test_a_mission_on_a_robot_from_the_page_puts_the_same_bytes_on_the_wire_as_t
         }
     ]
 
-    cli_log = tmp_path / "cli-wire.log"
-    with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
-        done = run_cli(
-            "run",
-            str(MISSION),
-            "--port",
-            f"socket://127.0.0.1:{tcp_port}",
-            "--wire-log",
-            str(cli_log),
-            "--quiet",
-        )
     assert done.returncode == 0, done.stderr
     in_page_conversation = _conversation(in_page)
     assert len(in_page_conversation[0]) > 40  # motions uploaded and played, and the stop
@@ -360,8 +363,14 @@ def _stopped_mid_mission(page: Browser, folder: Path, how: str) -> tuple[bytes, 
             page.evaluate(f"rsStandIn[{bridge.port_index}].lose()")
         else:
             page._call("Page.close")
-            for name, payload in page.take_bindings(30.0):
-                bridge._handle(name, payload)
+            # Its last words are the stop: wait for as many bytes (what is asserted is their
+            # start, which bytes coming after cannot change), never a fixed time.
+            deadline = time.monotonic() + LONG_S
+            while sum(map(len, bridge.writes[before:])) < len(stop):
+                if time.monotonic() > deadline:
+                    break
+                for name, payload in page.take_bindings(0.1):
+                    bridge._handle(name, payload)
         if how != "close":
             bridge.pump(None)
     return stop, b"".join(bridge.writes[before:])
@@ -402,10 +411,16 @@ def test_a_spike_hub_over_bluetooth_runs_its_mission_from_the_page(
         + json.dumps(mission.read_text(encoding="utf-8"))
         + "); document.querySelector('[data-role=name]').value = 'spike_square.yaml'"
     )
-    with served_simulator("spike-prime", *SIM_OPTIONS) as tcp_port:
-        bridge = StandInBridge(page, tcp_port)
-        _connect_and_run(page, bridge, "[data-via=bluetooth]")
-        bridge.pump("document.body.dataset.wireLog", timeout_s=LONG_S)
+    # Both runs mostly wait on their robot's clock, each with its own simulator: run together.
+    with served_simulator("spike-prime", *SIM_OPTIONS) as cli_port, ThreadPoolExecutor(1) as pool:
+        on_the_command_line = pool.submit(
+            run_cli, "run", str(mission), "--port", f"socket://127.0.0.1:{cli_port}", "--json"
+        )
+        with served_simulator("spike-prime", *SIM_OPTIONS) as tcp_port:
+            bridge = StandInBridge(page, tcp_port)
+            _connect_and_run(page, bridge, "[data-via=bluetooth]")
+            bridge.pump("document.body.dataset.wireLog", timeout_s=LONG_S)
+        done = on_the_command_line.result()
     assert bridge.asked == [{"filters": [{"services": [SERVICE_UUID]}]}]
     summary = json.loads(page.evaluate("document.querySelector('[data-role=result]').dataset.json"))
     assert (summary["outcome"], summary["final_state"]) == ("success", "finished")
@@ -413,8 +428,6 @@ def test_a_spike_hub_over_bluetooth_runs_its_mission_from_the_page(
     in_page = tmp_path / "page-wire.log"
     in_page.write_text(page.evaluate("document.body.dataset.wireLog"), encoding="utf-8")
     assert b"".join(bridge.writes) == _sent_and_received(in_page)[0]  # the log is the wire
-    with served_simulator("spike-prime", *SIM_OPTIONS) as tcp_port:
-        done = run_cli("run", str(mission), "--port", f"socket://127.0.0.1:{tcp_port}", "--json")
     assert done.returncode == 0, done.stderr
     on_the_command_line = json.loads(done.stdout)
     assert [s for _, s in summary["states"]] == [s for _, s in on_the_command_line["states"]]
