@@ -78,7 +78,9 @@ STAND_IN = """
       window.rsStandInClose(JSON.stringify({ port: n }));
       return Promise.resolve();
     };
-    this.push = function (text) { incoming.enqueue(bytesOf(text)); };
+    this.push = function (text) {
+      if (port.readable) incoming.enqueue(bytesOf(text));  // a closed port hears nothing
+    };
     this.lose = function () {  // a cable pulled out: the stream fails, and no new one comes
       incoming.error(new DOMException("The device has been lost.", "NetworkError"));
       port.readable = null;
@@ -133,6 +135,7 @@ STAND_IN = """
       }
     };
     this.push = function (text) {
+      if (!hub.gatt.connected) return;  // a disconnected hub notifies nobody
       var bytes = bytesOf(text);
       for (var i = 0; i < bytes.length; i += 20) {
         var part = bytes.slice(i, i + 20);
