@@ -247,7 +247,9 @@ def harness() -> Path:
         text=True,
         check=True,
     ).stdout.split()
-    partial = binary.with_suffix(".part")
+    # a partial file of this process's own: test processes running at once may build it
+    # together, and the one that finishes last replaces the same binary with its own
+    partial = binary.with_suffix(f".{os.getpid()}.part")
     _run(["cc", "-O2", "-o", str(partial), str(HARNESS_SOURCE), *flags, "-lelf"])
     os.replace(partial, binary)
     return binary
