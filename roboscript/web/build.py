@@ -15,6 +15,7 @@ neither.
 from __future__ import annotations
 
 import base64
+import contextlib
 import hashlib
 import importlib
 import io
@@ -105,19 +106,26 @@ def _npm_package(name: str, version: str) -> Path:
             f"install node.js (it brings npm), or give an unpacked package with --{name} DIR"
         )
     folder.mkdir(parents=True, exist_ok=True)
-    done = subprocess.run(
-        [npm, "pack", f"{name}@{version}", "--silent"],
-        cwd=folder,
-        capture_output=True,
-        text=True,
-        check=False,
-    )
-    tarballs = sorted(folder.glob("*.tgz"))
-    if done.returncode != 0 or not tarballs:
-        reason = (done.stderr.strip().splitlines() or ["no package came"])[-1]
-        raise WebBuildError(f"npm could not fetch {name}@{version}: {reason}")
-    with tarfile.open(tarballs[-1]) as archive:
-        archive.extractall(folder, filter="data")
+    # Fetched and unpacked aside, then renamed into place: two builds at once (two terminals,
+    # parallel tests) never see a half-unpacked package, and the second one's rename loses.
+    with tempfile.TemporaryDirectory(prefix="fetching-", dir=folder) as scratch:
+        done = subprocess.run(
+            [npm, "pack", f"{name}@{version}", "--silent"],
+            cwd=scratch,
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+        tarballs = sorted(Path(scratch).glob("*.tgz"))
+        if done.returncode != 0 or not tarballs:
+            reason = (done.stderr.strip().splitlines() or ["no package came"])[-1]
+            raise WebBuildError(f"npm could not fetch {name}@{version}: {reason}")
+        with tarfile.open(tarballs[-1]) as archive:
+            archive.extractall(scratch, filter="data")
+        if not (unpacked / "package.json").is_file():  # else another build got it first
+            shutil.rmtree(unpacked, ignore_errors=True)  # what an interrupted fetch left
+            with contextlib.suppress(OSError):  # another build renamed its own meanwhile
+                os.rename(Path(scratch) / "package", unpacked)
     return unpacked
 
 
@@ -204,7 +212,10 @@ def _bytecode(runtime: Path, zips: dict[str, tuple[bytes, bool]]) -> dict[str, b
                 return {}
             for name in missing:
                 cached[name].parent.mkdir(parents=True, exist_ok=True)
-                shutil.move(Path(scratch) / name, cached[name])
+                # copied beside, then renamed: another build never reads half a file
+                partial = cached[name].with_suffix(f".{os.getpid()}.part")
+                shutil.move(Path(scratch) / name, partial)
+                os.replace(partial, cached[name])
     return {name: path.read_bytes() for name, path in cached.items()}
 
 
