@@ -257,6 +257,7 @@ class WebPort:
         self._lost = False
         self._closing = False
         self._proxies: list[Any] = []
+        self._listeners: list[tuple[Any, str, Any]] = []  # (target, event, proxy)
         self._closer: asyncio.Future[None] | None = None
         self._sent_proxy = self._proxy(self._sent)
         self._send_failed_proxy = self._proxy(self._send_failed)
@@ -266,6 +267,13 @@ class WebPort:
         proxy = self._ffi.create_proxy(function)
         self._proxies.append(proxy)
         return proxy
+
+    def _listen(self, target: Any, event: str, function: Any) -> None:
+        """Call ``function`` on ``target``'s ``event`` until the port is closed (then the
+        listener is removed before its proxy goes, so a late event calls nothing)."""
+        proxy = self._proxy(function)
+        target.addEventListener(event, proxy)
+        self._listeners.append((target, event, proxy))
 
     # ------------------------------------------------------------ what a link calls
 
@@ -366,6 +374,10 @@ class WebPort:
             await asyncio.sleep(0.005)
         with contextlib.suppress(Exception):  # a port already gone cannot be closed twice
             await self._shut()
+        for target, event, proxy in self._listeners:
+            with contextlib.suppress(Exception):
+                target.removeEventListener(event, proxy)
+        self._listeners.clear()
         for proxy in self._proxies:
             with contextlib.suppress(Exception):
                 proxy.destroy()
@@ -397,7 +409,7 @@ class WebSerialPort(WebPort):
         )
         self._ffi.run_sync(self.port.open(options))
         self._writer = self.port.writable.getWriter()
-        self.port.addEventListener("disconnect", self._proxy(self._link_lost))
+        self._listen(self.port, "disconnect", self._link_lost)
         self.is_open = True
         self._pump = asyncio.ensure_future(self._read_all())
 
@@ -461,8 +473,8 @@ class WebBluetoothPort(WebPort):
         service = run_sync(server.getPrimaryService(SERVICE_UUID))
         self._rx = run_sync(service.getCharacteristic(RX_CHARACTERISTIC))
         tx = run_sync(service.getCharacteristic(TX_CHARACTERISTIC))
-        tx.addEventListener("characteristicvaluechanged", self._proxy(self._notified))
-        self.device.addEventListener("gattserverdisconnected", self._proxy(self._link_lost))
+        self._listen(tx, "characteristicvaluechanged", self._notified)
+        self._listen(self.device, "gattserverdisconnected", self._link_lost)
         run_sync(tx.startNotifications())
         self.is_open = True
 

@@ -106,8 +106,14 @@ STAND_IN = """
     var hub = this, changed = [];
     var tx = {
       addEventListener: function (type, f) { changed.push(f); },
+      removeEventListener: function (type, f) {
+        var i = changed.indexOf(f);
+        if (i >= 0) changed.splice(i, 1);
+      },
+      listeners: function () { return changed.length; },
       startNotifications: function () { return Promise.resolve(tx); }
     };
+    hub.tx = tx;
     var rx = {
       writeValueWithoutResponse: function (data) {
         window.rsStandInWrite(JSON.stringify({ port: n, data: textOf(new Uint8Array(data)) }));
@@ -434,4 +440,6 @@ def test_a_spike_hub_over_bluetooth_runs_its_mission_from_the_page(
     assert done.returncode == 0, done.stderr
     on_the_command_line = json.loads(done.stdout)
     assert [s for _, s in summary["states"]] == [s for _, s in on_the_command_line["states"]]
+    # the closed port listens no more: a notification still on its way calls nothing
+    assert page.evaluate(f"rsStandIn[{bridge.port_index}].tx.listeners()") == 0
     assert page.errors == []
