@@ -7,7 +7,7 @@ import sys
 import zipfile
 from pathlib import Path
 
-from helpers import ROOT
+from helpers import HANG_BOUND_S, ROOT
 
 from roboscript.sim.world import builtin_worlds
 
@@ -30,7 +30,7 @@ def test_wheel_contains_the_package_data_and_nothing_from_the_top_level(tmp_path
         ],
         check=True,
         capture_output=True,
-        timeout=300,
+        timeout=HANG_BOUND_S,
     )
     wheel = next(tmp_path.glob("roboscript-*.whl"))
     names = set(zipfile.ZipFile(wheel).namelist())

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from helpers import HANG_BOUND_S
 
 from roboscript.grading.latency import SLICE_NS
 
@@ -36,7 +37,11 @@ def test_a_short_slice_is_granted_and_inherited_by_the_processes_started_after()
         "print(subprocess.run(child, capture_output=True, text=True, check=True).stdout)\n"
     )
     done = subprocess.run(
-        [sys.executable, "-c", code], check=False, capture_output=True, text=True, timeout=60
+        [sys.executable, "-c", code],
+        check=False,
+        capture_output=True,
+        text=True,
+        timeout=HANG_BOUND_S,
     )
     assert done.returncode == 0, done.stderr
     slices = [line.split(":")[1].strip() for line in done.stdout.splitlines() if "slice" in line]

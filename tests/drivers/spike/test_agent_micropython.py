@@ -77,7 +77,7 @@ def run_agent(agent: Path, tmp_path: Path) -> list[str]:
         ],
         capture_output=True,
         text=True,
-        timeout=300,
+        timeout=HANG_BOUND_S,
         check=False,
     )
     assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
