@@ -146,6 +146,9 @@ def wire_wait() -> Any:
 
 
 _READERS = threading.local()
+_PAIR_TRIES = 8
+"""Reads of the wall clock to find one not split by a wait for the CPU (each try that fails
+was preempted, so a few always suffice; the last is kept if none was whole)."""
 
 
 def _schedstat_reader() -> Callable[[], float] | None:
@@ -202,11 +205,20 @@ class CodeClock:
 
     def now(self) -> float:
         """Own seconds, from an arbitrary origin."""
-        # The wall clock is read before the CPU wait: a preemption between the two reads
-        # then lands in the wait only, so it can shorten a measured span but never lengthen
-        # it (read the other way round, a busy machine made honest ticks look slow).
-        wall_s = time.perf_counter()
-        queued = self._queued() if self._queued is not None else 0.0
+        if self._queued is None:
+            return time.perf_counter() - _WIRE.so_far_s()
+        # The wall clock and the CPU wait must be read as one pair: a thread that loses the
+        # CPU between the two reads counts that wait in one and not the other, which made a
+        # span longer (an honest tick slow) or shorter (a sleeping tick quick) by as long as
+        # a busy machine kept it waiting. The CPU wait only grows when the thread gets the
+        # CPU back, so the same wait read on both sides of the wall clock is a true pair.
+        queued = self._queued()
+        for _ in range(_PAIR_TRIES):
+            wall_s = time.perf_counter()
+            again = self._queued()
+            if again == queued:
+                break
+            queued = again
         return wall_s - queued - _WIRE.so_far_s()
 
 

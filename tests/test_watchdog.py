@@ -311,20 +311,28 @@ def test_time_waiting_on_the_wire_is_not_the_codes_own() -> None:
     assert clock.now() - before < 0.1
 
 
-@pytest.mark.parametrize("preempted_read", [0, 1], ids=["as-the-tick-begins", "as-it-ends"])
-def test_losing_the_cpu_while_the_clock_is_read_never_counts_as_the_codes_time(
-    monkeypatch: pytest.MonkeyPatch, preempted_read: int
+@pytest.mark.parametrize("sampled", [True, False], ids=["after-the-sample", "before-it"])
+@pytest.mark.parametrize("preempted_read", range(4))
+def test_losing_the_cpu_while_the_clock_is_read_never_changes_the_codes_time(
+    monkeypatch: pytest.MonkeyPatch, preempted_read: int, sampled: bool
 ) -> None:
+    # The kernel's CPU wait is read twice or more per reading of the clock: whichever read
+    # loses the CPU (as a tick begins or as it ends), and whether the kernel's sample of the
+    # wait came before or after, the tick's own time is what it did, never 30 ms off.
     wall_s = [100.0]
     queued_s = [0.0]
     reads = itertools.count()
 
     def read_queued() -> float:
-        sampled = queued_s[0]
-        if next(reads) == preempted_read:  # the CPU is lost just after the kernel's sample
+        preempted = next(reads) == preempted_read
+        if preempted and not sampled:  # the wait is over before the kernel samples it
             wall_s[0] += 0.03
             queued_s[0] += 0.03
-        return sampled
+        value = queued_s[0]
+        if preempted and sampled:  # the CPU is lost just after the kernel's sample
+            wall_s[0] += 0.03
+            queued_s[0] += 0.03
+        return value
 
     monkeypatch.setattr(watchdog_module.time, "perf_counter", lambda: wall_s[0])
     clock = CodeClock()
