@@ -160,7 +160,8 @@ def run_session(
         start: Simulator start pose ``(x_mm, y_mm, heading_deg)``, or the world's.
         realtime: Pace a simulated robot to the wall clock.
         wire_log: Record every byte to this file.
-        max_time_s: Mission time limit (scheduler clock), seconds; past it the mission fails.
+        max_time_s: Mission time limit, seconds on the scheduler clock from the mission's
+            first tick; past it the mission fails.
         on_state: Called with ``(mission time s, state, cause)`` whenever a state is entered.
         on_connected: Called with the robot once the handshake is done, before the mission.
         on_tick: Called after every scheduler tick with the runner and the robot (progress).
@@ -257,7 +258,12 @@ def run_session(
                         runner.elapsed, recording.printed if recording is not None else None
                     ),
                 ):
-                    robot.scheduler.run(until=lambda: runner.finished, max_duration_s=max_time_s)
+                    # The limit is on the mission's clock (from its first tick, as its
+                    # duration is): a busy machine that starts the first tick late never
+                    # ends the mission short of its limit.
+                    robot.scheduler.run(
+                        until=lambda: runner.finished or runner.elapsed() >= max_time_s - 1e-9
+                    )
             except RunawayCode as exc:
                 robot.stop()
                 code_stopped = "too slow" if isinstance(exc, TooSlow) else "hung"

@@ -164,7 +164,7 @@ def test_closing_the_page_does_not_stop_the_run() -> None:
     finally:
         process.kill()
     summary = json.loads(stdout)
-    assert summary["duration_s"] >= 2.0 - 0.02  # to its limit (a late tick may pass it)
+    assert summary["duration_s"] >= 2.0  # its whole limit, from its first tick however late
     assert summary["reason"] == "the mission did not finish within 2 s"
     assert process.returncode == 1, stderr
 

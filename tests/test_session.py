@@ -1,0 +1,29 @@
+"""A session: one mission run on one robot, from the first tick to the stopped robot."""
+
+from __future__ import annotations
+
+import pytest
+from helpers import MISSIONS
+
+from roboscript.clock import SimClock
+from roboscript.mission import mission_for_robot
+from roboscript.session import run_session
+
+LATE_S = 0.03
+"""How late a busy machine wakes the loop for each tick (less than a tick's 20 ms apart)."""
+
+
+@pytest.mark.parametrize("max_time_s", [0.5, 2.0])
+def test_a_mission_out_of_time_ran_its_whole_limit_on_a_busy_machine(
+    monkeypatch: pytest.MonkeyPatch, max_time_s: float
+) -> None:
+    # Every wake-up comes late, the first one too: the limit is counted on the mission's own
+    # clock, from its first tick, so the run it reports is never shorter than its limit.
+    def late(clock: SimClock, deadline_s: float) -> None:
+        clock._now = max(clock._now, deadline_s + LATE_S)
+
+    monkeypatch.setattr(SimClock, "sleep_until", late)
+    spec, profile, _ = mission_for_robot(MISSIONS / "square.yaml")
+    result = run_session(spec, profile, max_time_s=max_time_s).result
+    assert result.reason == f"the mission did not finish within {max_time_s:g} s"
+    assert max_time_s <= result.duration_s < max_time_s + 0.1
