@@ -35,8 +35,8 @@ __all__ = [
 ]
 
 OUT_OF_TIME_MARGIN_S = 0.05
-"""A mission stopped by its own time limit ends on the last tick before ``max_time``: a run
-that long did not end by itself."""
+"""A mission stopped by its own time limit ends on the tick at ``max_time`` (its limit is
+counted from its first tick): a run that long did not end by itself."""
 
 
 @dataclass(frozen=True)

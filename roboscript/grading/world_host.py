@@ -542,7 +542,7 @@ class _WorldSession:
             run.status = "crashed"
             run.message = f"the run crashed: {record.reason or 'the mission raised an exception'}"
             return run
-        # The mission's own limit stops it on the last tick before max_time.
+        # The mission's own limit stops it on the tick at max_time.
         return self._judged_record(record, ended_normally=ended_in_time(record, self.spec))
 
     def _out_of_time(self) -> WorldRun:
