@@ -894,8 +894,9 @@ def _parser() -> argparse.ArgumentParser:
         type=float,
         default=5.0,
         metavar="SECONDS",
-        help="drop a TCP client that sends nothing this long after connecting, or stops this"
-        " long in the middle of a message (default: 5)",
+        help="when another TCP client connects, give it the robot if the one that has it sent"
+        " nothing this long after connecting, or stopped this long in the middle of a message"
+        " (default: 5; a quiet client is never dropped while nobody else wants the robot)",
     )
     sim.add_argument("--max-runtime", type=float, metavar="SECONDS", help=argparse.SUPPRESS)
     sim.set_defaults(func=_cmd_sim)

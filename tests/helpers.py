@@ -73,6 +73,18 @@ def served_simulator(robot: str, *options: str) -> Iterator[int]:
     Yields:
         The port it listens on (``socket://127.0.0.1:PORT``); the server is ended after.
     """
+    with serving_simulator(robot, *options) as (port, _):
+        yield port
+
+
+@contextlib.contextmanager
+def serving_simulator(robot: str, *options: str) -> Iterator[tuple[int, subprocess.Popen[str]]]:
+    """:func:`served_simulator`, with the server's process (its pid, what it printed).
+
+    Yields:
+        The port it listens on and the process; the server is ended after, and what it printed
+        after its first line stays readable from the process's ``stdout``.
+    """
     env = dict(os.environ)
     env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
     command = [sys.executable, "-m", "roboscript", "sim", "--robot", robot, *options]
@@ -89,7 +101,7 @@ def served_simulator(robot: str, *options: str) -> Iterator[int]:
         first = proc.stdout.readline()
         match = re.search(r"tcp://127\.0\.0\.1:(\d+)", first)
         assert match, first + (proc.stderr.read() if proc.stderr and not first else "")
-        yield int(match.group(1))
+        yield int(match.group(1)), proc
     finally:
         proc.terminate()
         proc.wait(timeout=HANG_BOUND_S)

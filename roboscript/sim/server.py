@@ -15,12 +15,15 @@ Fair to every client of a classroom (TCP):
 * **One client at a time.** A client that connects while another has the robot is told so in
   one line of text (:data:`BUSY_LINE`), then closed; the server prints
   ``client X refused: busy with Y``.
-* **A client that says nothing is dropped.** One that sends no byte within
-  ``handshake_wait_s`` of connecting (:data:`DEFAULT_HANDSHAKE_WAIT_S`) is closed and the
-  motors stopped, so a stray connection cannot keep the robot from the next client. So is one
-  that stops in the middle of a message (the device holds part of a frame) for as long: one
-  byte and silence is no more a claim on the robot than silence. A client that finished its
-  last message may stay quiet as long as it likes (a host waiting for sensor events).
+* **A quiet client keeps the robot until another wants it.** Nothing is dropped for silence
+  alone: on a busy machine an honest program may take seconds to say its first byte, so how
+  busy the machine is never takes the robot from a client nobody else is waiting for. When another client connects,
+  the one that has the robot gives it up if it has sent nothing since connecting, or stopped
+  in the middle of a message (the device holds part of a frame), for at least
+  ``handshake_wait_s`` (:data:`DEFAULT_HANDSHAKE_WAIT_S`): it is closed, the motors stopped,
+  and the newcomer gets the robot, so a stray connection cannot keep the robot from the next
+  client. A client that finished its last message keeps the robot however long it stays
+  quiet (a host waiting for sensor events).
 * **No client can flood the robot.** The device takes bytes no faster than the robot's line
   carries them (``baudrate / 10`` bytes a second, at least :data:`MIN_LINE_BYTES_S`, with
   :data:`LINE_BURST_S` of burst); what a client sends beyond that is dropped and counted, as
@@ -58,7 +61,7 @@ _CATCH_UP_READS = 256
 """Most reads of the current client before deciding a newcomer must be refused."""
 
 DEFAULT_HANDSHAKE_WAIT_S = 5.0
-"""A TCP client that sends nothing this long after connecting is dropped, seconds."""
+"""A TCP client quiet this long after connecting (or mid-message) yields to a newcomer, seconds."""
 LINE_BURST_S = 0.25
 """Line time a client may send at once before bytes are dropped, seconds (at the baudrate)."""
 MIN_LINE_BYTES_S = 65536
@@ -115,14 +118,15 @@ class SimServer:
         simulation: The simulated robot to serve.
         announce: Called with each line the server has to say (where it listens, who
             connected); defaults to logging.
-        handshake_wait_s: A TCP client that sends nothing this long after connecting is
-            dropped, seconds.
+        handshake_wait_s: A TCP client that sends nothing this long after connecting, or
+            stops this long in the middle of a message, gives the robot up to the next client
+            that connects, seconds (never dropped while nobody else wants the robot).
         clock: Wall-clock seconds (``time.monotonic``; tests inject their own).
 
     Attributes:
         dropped_bytes: Bytes clients sent faster than the robot's line carries, dropped.
         refused: Clients refused because another had the robot.
-        idle_drops: Clients dropped for sending nothing within ``handshake_wait_s``.
+        idle_drops: Quiet clients dropped because another client wanted the robot.
 
     Raises:
         ValueError: A wait that is not positive.
@@ -183,24 +187,15 @@ class SimServer:
                 wait = self._advance()
                 if client is not None:
                     self._send_output(client.sock)
-                    quiet_since_s = client.quiet_since_s()
-                    if quiet_since_s is not None:
-                        left = quiet_since_s + self.handshake_wait_s - self.now()
-                        wait = max(0.0, min(wait, left))
                 readable = [listener] if client is None else [client.sock, listener]
                 ready, _, _ = select.select(readable, [], [], wait)
                 # The client first: one that has just hung up frees the robot for the next.
                 if client is not None and client.sock in ready:
                     client = self._receive(client)
-                if client is not None and self._idle(client):
-                    client = None
                 if listener in ready:
                     if client is not None:
                         client = self._catch_up(client)
-                    if client is None:
-                        client = self._accept(listener)
-                    else:
-                        self._refuse(listener, client)
+                    client = self._knock(listener, client)
         finally:
             if client is not None:
                 client.sock.close()
@@ -210,21 +205,26 @@ class SimServer:
     def _expired(self, max_runtime_s: float | None) -> bool:
         return max_runtime_s is not None and self.now() >= max_runtime_s
 
-    def _accept(self, listener: socket.socket) -> _Client | None:
+    def _knock(self, listener: socket.socket, client: _Client | None) -> _Client | None:
+        """A newcomer connects: it gets the robot if it is free or its holder has been quiet
+        for the handshake wait; otherwise it is told the robot is busy. Returns the holder."""
         try:
             sock, address = listener.accept()
         except BlockingIOError:
-            return None
+            return client
+        name = f"{address[0]}:{address[1]}"
+        if client is not None and not self._yields(client, name):
+            self._refuse(sock, name, client)
+            return client
         sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         sock.setblocking(False)
-        name = f"{address[0]}:{address[1]}"
         self.announce(f"client connected from {name}")
         self.simulation.read(self.simulation.in_waiting)  # nobody heard it: a serial line drops it
         self.simulation.connect()
         now = self.now()
-        client = _Client(sock, name, now, self.burst_bytes, now)
+        newcomer = _Client(sock, name, now, self.burst_bytes, now)
         self._send_output(sock)
-        return client
+        return newcomer
 
     def _catch_up(self, client: _Client) -> _Client | None:
         """Read all ``client`` has sent so far, to learn whether it has hung up already.
@@ -243,13 +243,8 @@ class SimServer:
             current = self._receive(current)
         return current
 
-    def _refuse(self, listener: socket.socket, client: _Client) -> None:
-        """Tell a client that arrived while another has the robot that it is busy; close it."""
-        try:
-            sock, address = listener.accept()
-        except BlockingIOError:
-            return
-        name = f"{address[0]}:{address[1]}"
+    def _refuse(self, sock: socket.socket, name: str, client: _Client) -> None:
+        """Tell ``sock``, which came while ``client`` has the robot, that it is busy; close it."""
         try:
             sock.setblocking(False)
             sock.send(BUSY_LINE.format(other=client.name).encode("ascii"))
@@ -260,9 +255,9 @@ class SimServer:
         self.refused += 1
         self.announce(f"client {name} refused: busy with {client.name}")
 
-    def _idle(self, client: _Client) -> bool:
-        """Drop ``client`` if it has said nothing, or stopped mid-message, for the handshake
-        wait; True if dropped."""
+    def _yields(self, client: _Client, newcomer: str) -> bool:
+        """Drop ``client`` for ``newcomer`` if it has said nothing, or stopped mid-message,
+        for the handshake wait; True if dropped."""
         quiet_since_s = client.quiet_since_s()
         if quiet_since_s is None or self.now() - quiet_since_s < self.handshake_wait_s:
             return False
@@ -273,7 +268,10 @@ class SimServer:
             if client.heard
             else f"it sent nothing for {wait} after connecting"
         )
-        self._hang_up(client, f"client {client.name} dropped: {why}; motors stopped")
+        self._hang_up(
+            client,
+            f"client {client.name} dropped: {why} and {newcomer} wants the robot; motors stopped",
+        )
         return True
 
     def _hang_up(self, client: _Client, line: str) -> None:

@@ -9,13 +9,15 @@ from __future__ import annotations
 
 import queue
 import socket
+import subprocess
 import threading
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
+from pathlib import Path
 
 import pytest
-from helpers import HANG_BOUND_S, served_simulator
+from helpers import HANG_BOUND_S, serving_simulator
 
 from roboscript.codec import Role, drain
 from roboscript.drivers.stackmod.codec import StackModCodec
@@ -57,6 +59,17 @@ class Served:
         sock = socket.create_connection(("127.0.0.1", self.port), timeout=_SAFETY_S)
         return sock
 
+    def step_clock(self, seconds: float) -> None:
+        """Move the clock on, and return once the server has gone round its loop after that."""
+        self.clock.now_s += seconds
+        for _ in range(2):  # the turn that saw the new time, then one that began after it
+            target_s = self.server.now() - self.server.simulation.physics_dt_s
+            deadline = time.monotonic() + _SAFETY_S  # a bound for a hang, not a speed limit
+            while self.server.simulation.time_s < target_s:
+                assert time.monotonic() < deadline, "the server's loop stopped turning"
+                time.sleep(0.01)
+            self.clock.now_s += self.server.simulation.physics_dt_s
+
 
 @pytest.fixture
 def served() -> Iterator[Served]:
@@ -94,25 +107,36 @@ def _read_to_end(sock: socket.socket) -> bytes:
     return bytes(received)
 
 
-def test_a_client_that_says_nothing_is_dropped_and_the_next_one_gets_the_robot(
+def test_a_client_that_says_nothing_keeps_the_robot_while_nobody_else_wants_it(
+    served: Served,
+) -> None:
+    with served.connect() as quiet:  # a program still importing on a busy machine
+        served.said("client connected from ")
+        served.step_clock(10 * DEFAULT_HANDSHAKE_WAIT_S)
+        assert served.server.idle_drops == 0
+        assert _ask_arm(quiet).address == ord("M")  # its first words, long after connecting
+    assert served.said("client ") == "client disconnected; motors stopped"
+
+
+def test_a_client_that_says_nothing_gives_the_robot_to_the_next_one_after_the_wait(
     served: Served,
 ) -> None:
     idle = served.connect()
-    first = served.said("client connected from ")
+    first = served.said("client connected from ").split()[-1]
     served.clock.now_s += DEFAULT_HANDSHAKE_WAIT_S - 0.5
-    other = served.connect()  # while the idle client still has the robot: refused
-    assert served.said("client ").endswith(f"refused: busy with {first.split()[-1]}")
+    other = served.connect()  # while the idle client is still within the wait: refused
+    assert served.said("client ").endswith(f"refused: busy with {first}")
     assert _read_to_end(other).startswith(b"roboscript sim: busy:")
     served.clock.now_s += 0.5
-    dropped = served.said("client ")
-    assert dropped == (
-        f"client {first.split()[-1]} dropped: it sent nothing for 5 s after connecting;"
-        " motors stopped"
-    )
-    assert _read_to_end(idle) == b""
-    assert served.server.idle_drops == 1
     with served.connect() as nxt:
-        served.said("client connected from ")
+        dropped = served.said("client ")
+        newcomer = served.said("client connected from ").split()[-1]
+        assert dropped == (
+            f"client {first} dropped: it sent nothing for 5 s after connecting"
+            f" and {newcomer} wants the robot; motors stopped"
+        )
+        assert _read_to_end(idle) == b""
+        assert served.server.idle_drops == 1
         assert _ask_arm(nxt).address == ord("M")
 
 
@@ -184,11 +208,11 @@ def test_a_client_connecting_right_after_a_flood_ends_gets_the_robot(served: Ser
     assert served.server.refused == 0
 
 
-def test_a_client_that_stops_mid_message_is_dropped_after_the_same_wait(
+def test_a_client_that_stops_mid_message_gives_the_robot_up_after_the_same_wait(
     served: Served,
 ) -> None:
     stalled = served.connect()
-    first = served.said("client connected from ")
+    first = served.said("client connected from ").split()[-1]
     stalled.sendall(StackModCodec(Role.HOST).send(Get(ord("M"), Command.ARM, 0))[:1])
     deadline = time.monotonic() + HANG_BOUND_S  # a bound for a hang, not a speed limit
     while not served.server.simulation.input_pending:  # until the byte has reached the device
@@ -197,22 +221,82 @@ def test_a_client_that_stops_mid_message_is_dropped_after_the_same_wait(
     served.clock.now_s += DEFAULT_HANDSHAKE_WAIT_S - 0.5
     other = served.connect()  # not yet: still within the wait, so the robot is busy
     assert _read_to_end(other).startswith(b"roboscript sim: busy:")
-    served.clock.now_s += 0.5
-    assert served.said(f"client {first.split()[-1]} ") == (
-        f"client {first.split()[-1]} dropped: it stopped in the middle of a message and sent"
-        " nothing for 5 s; motors stopped"
-    )
-    assert _read_to_end(stalled) == b""
+    served.step_clock(0.5)  # alone, a stalled client is not dropped: someone must want the robot
+    assert served.server.idle_drops == 0
     with served.connect() as nxt:
-        served.said("client connected from ")
+        dropped = served.said(f"client {first} ")
+        newcomer = served.said("client connected from ").split()[-1]
+        assert dropped == (
+            f"client {first} dropped: it stopped in the middle of a message and sent"
+            f" nothing for 5 s and {newcomer} wants the robot; motors stopped"
+        )
+        assert _read_to_end(stalled) == b""
         assert _ask_arm(nxt).address == ord("M")
 
 
-def test_roboscript_sim_drops_a_client_that_sends_one_byte_and_goes_quiet() -> None:
-    with served_simulator("stackmod-rover", "--handshake-wait", "0.5") as port:
-        with socket.create_connection(("127.0.0.1", port), timeout=_SAFETY_S) as stalled:
-            frame = StackModCodec(Role.HOST).send(Get(ord("M"), Command.ARM, 0))
-            stalled.sendall(frame[:1])  # the first byte of a frame, and nothing more
-            assert _read_to_end(stalled) == b""  # the server hung up on it
-        with socket.create_connection(("127.0.0.1", port), timeout=_SAFETY_S) as nxt:
-            assert _ask_arm(nxt).address == ord("M")  # the robot is free for the next one
+def _ask_arm_unless_busy(port: int) -> GetReply | None:
+    """Connect and ask the motor module; ``None`` if told the robot is busy."""
+    with socket.create_connection(("127.0.0.1", port), timeout=_SAFETY_S) as sock:
+        host = StackModCodec(Role.HOST)
+        sock.sendall(host.send(Get(ord("M"), Command.ARM, 0)))
+        received = b""
+        while data := sock.recv(4096):
+            received += data
+            if received.startswith(BUSY_LINE[:20].encode("ascii")):
+                return None
+            host.receive_data(data)
+            for message in drain(host):
+                if isinstance(message, GetReply):
+                    return message
+        return None
+
+
+def _voluntary_switches(pid: int) -> int:
+    """How many times process ``pid`` has gone to sleep (Linux: each wait in its loop)."""
+    status = Path(f"/proc/{pid}/status").read_text(encoding="ascii")
+    return int(status.split("voluntary_ctxt_switches:")[1].split()[0])
+
+
+def _let_it_turn_twice(proc: subprocess.Popen[str]) -> None:
+    """Return once the server has slept and woken in its loop twice from now on: a whole turn
+    of its loop began after this call, whatever the machine's load."""
+    start = _voluntary_switches(proc.pid)
+    deadline = time.monotonic() + _SAFETY_S  # a bound for a hang, not a speed limit
+    while _voluntary_switches(proc.pid) < start + 2:
+        assert time.monotonic() < deadline, "the server's loop stopped turning"
+        time.sleep(0.01)
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads Linux's /proc")
+def test_roboscript_sim_keeps_a_client_that_is_slow_to_speak_while_nobody_else_wants_it() -> None:
+    wait_s = 0.2
+    with serving_simulator("stackmod-rover", "--handshake-wait", str(wait_s)) as (port, proc):
+        assert proc.stdout is not None
+        with socket.create_connection(("127.0.0.1", port), timeout=_SAFETY_S) as slow:
+            assert proc.stdout.readline().startswith("client connected from ")
+            time.sleep(wait_s)  # at least the wait since the server took it, on any machine
+            _let_it_turn_twice(proc)  # the server has looked at it since
+            host = StackModCodec(Role.HOST)
+            slow.sendall(host.send(Get(ord("M"), Command.ARM, 0)))
+            data = slow.recv(4096)
+            assert data, "the simulator dropped a client that was only slow to speak"
+            host.receive_data(data)
+    printed = proc.stdout.read()
+    assert "dropped" not in printed
+
+
+def test_roboscript_sim_gives_the_robot_to_a_newcomer_after_one_byte_and_silence() -> None:
+    with (
+        serving_simulator("stackmod-rover", "--handshake-wait", "0.5") as (port, proc),
+        socket.create_connection(("127.0.0.1", port), timeout=_SAFETY_S) as stalled,
+    ):
+        frame = StackModCodec(Role.HOST).send(Get(ord("M"), Command.ARM, 0))
+        stalled.sendall(frame[:1])  # the first byte of a frame, and nothing more
+        deadline = time.monotonic() + _SAFETY_S  # a bound for a hang, not a speed limit
+        while (reply := _ask_arm_unless_busy(port)) is None:  # busy within the wait
+            assert time.monotonic() < deadline, "the quiet client kept the robot"
+            time.sleep(0.05)
+        assert reply.address == ord("M")  # the robot went to the one that asked
+        assert _read_to_end(stalled) == b""  # the server hung up on the quiet one
+    assert proc.stdout is not None
+    assert "sent nothing for 0.5 s and 127.0.0.1:" in proc.stdout.read()
