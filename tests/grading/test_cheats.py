@@ -13,16 +13,18 @@ what each platform guarantees).
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import html
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
-import time
+import uuid
 from pathlib import Path
 from typing import Any
 
@@ -157,19 +159,33 @@ except OSError as exc:
     print("refused", type(exc).__name__)
 """
 
+# Leaves a process behind that outlives the run, named by a marker in its command line, and
+# keeps trying to plant in the reports for as long as it lives. The mission says "DAEMON UP"
+# only once that process has started and spoken, so the test knows it existed.
 DAEMON = """\
-import os, pathlib, time
+import os, sys
+LOOP = '''
+import os, pathlib, sys, time
+os.write(int(sys.argv[2]), b"up")
+os.close(int(sys.argv[2]))
+while True:
+    for path in {targets!r}:
+        try:
+            pathlib.Path(path).write_text("PLANTED BY A DAEMON")
+        except OSError:
+            pass
+    time.sleep(0.05)
+'''
+ready, tell = os.pipe()
 if os.fork() == 0:
+    os.close(ready)
     os.setsid()
     if os.fork() == 0:
-        time.sleep(1.5)
-        for path in {targets!r}:
-            try:
-                pathlib.Path(path).write_text("PLANTED BY A DAEMON")
-            except OSError:
-                pass
-        os._exit(0)
+        os.set_inheritable(tell, True)
+        os.execv(sys.executable, [sys.executable, "-I", "-c", LOOP, {marker!r}, str(tell)])
     os._exit(0)
+os.close(tell)
+print("DAEMON UP" if os.read(ready, 2) == b"up" else "DAEMON NEVER STARTED", flush=True)
 """
 
 KILLER = """\
@@ -205,7 +221,7 @@ children = 0
 try:
     while children < 100000:
         if os.fork() == 0:
-            import time
+            import uuid
             time.sleep(30)
             os._exit(0)
         children += 1
@@ -269,7 +285,8 @@ def graded(
     idle("snoop", SNOOP.format(spec=str(spec), classmate=str(subs / "ada" / "forward.yaml")))
     idle("planter", PLANTER.format(targets=targets))
     idle("editor", EDITOR)
-    idle("daemon", DAEMON.format(targets=targets))
+    marker = f"roboscript-cheats-daemon-{uuid.uuid4().hex}"
+    idle("daemon", DAEMON.format(targets=targets, marker=marker))
     idle("killer", KILLER)
     idle("liar", FAKE_LINES)
     idle("forker", FORK_BOMB)
@@ -302,7 +319,10 @@ def graded(
     done = subprocess.run(
         command, capture_output=True, text=True, timeout=600, check=False, env=environment
     )
-    time.sleep(2.5)  # give a daemon that escaped time to act: none may have
+    survivors = _processes_with(marker)  # the run has ended: its daemon must be gone now
+    for pid in survivors:  # one that escaped is not left running after the test
+        with contextlib.suppress(OSError):
+            os.kill(pid, signal.SIGKILL)
     return {
         "exit": done.returncode,
         "stdout": done.stdout,
@@ -315,7 +335,23 @@ def graded(
         "results": results,
         "mode": mode,
         "class": subs,
+        "daemon_survivors": survivors,
     }
+
+
+def _processes_with(marker: str) -> list[int]:
+    """The processes of this computer whose command line holds ``marker``."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            command_line = (entry / "cmdline").read_bytes()
+        except OSError:  # ended meanwhile, or not ours to read
+            continue
+        if marker.encode() in command_line.split(b"\0"):
+            found.append(int(entry.name))
+    return found
 
 
 def _runs(graded: dict[str, Any], student: str) -> list[dict[str, Any]]:
@@ -381,6 +417,8 @@ def test_the_installed_package_cannot_be_edited(graded: dict[str, Any]) -> None:
 
 
 def test_a_daemon_dies_with_its_run(graded: dict[str, Any]) -> None:
+    assert "DAEMON UP" in _runs(graded, "daemon")[0]["debug"]  # it did start, outside its run
+    assert graded["daemon_survivors"] == []  # and was gone by the time the grader returned
     assert "PLANTED BY A DAEMON" not in graded["csv"]
     assert "PLANTED" not in graded["spec"].read_text(encoding="utf-8")
 
