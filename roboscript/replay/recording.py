@@ -53,6 +53,7 @@ __all__ = [
     "MAX_FRAMES",
     "MAX_LINE_CHARS",
     "NESTED_KEYS",
+    "TRANSITION_KEY",
     "VERSION",
     "Listener",
     "Recorder",
@@ -80,6 +81,11 @@ NESTED_KEYS = ("sensors", "motors", "log")
 """Frame keys whose value is an object recorded entry by entry (only changed entries)."""
 EVENT_KEYS = ("tone", "print")
 """Frame keys that happen on one tick and do not carry over to the next."""
+TRANSITION_KEY = "why"
+"""The frame key written on each transition's frame only (why the state was entered), which
+readers carry on to later frames. A new one is a new transition even when it equals the one
+before (a state entered again for the same cause), so it is told apart by identity: each
+transition's frame holds its own object, and frames filled in from it share that object."""
 
 _NESTED = frozenset(NESTED_KEYS)
 _EVENTS = frozenset(EVENT_KEYS)
@@ -247,7 +253,12 @@ class Recorder:
                 if changed:
                     delta[key] = changed
                     before.update(changed)
-            elif key == "t" or key not in last or last[key] != value:
+            elif (
+                key == "t"
+                or key not in last
+                # a transition's cause by identity: entered again for the same cause is new
+                or (last[key] is not value if key == TRANSITION_KEY else last[key] != value)
+            ):
                 delta[key] = value
                 last[key] = value
         return delta

@@ -19,6 +19,7 @@ from typing import Any
 
 from roboscript.replay.recording import (
     EVENT_KEYS,
+    TRANSITION_KEY,
     Recorder,
     Recording,
     encode_line,
@@ -79,7 +80,7 @@ def decimate(frames: Sequence[Mapping[str, Any]], rate_hz: float) -> list[dict[s
             if key in frame:
                 pending[key] = frame[key]
         is_last = index == len(frames) - 1
-        moved = frame.get("state") != last_state or frame.get("why") != last_why
+        moved = frame.get("state") != last_state or frame.get(TRANSITION_KEY) is not last_why
         if frame["t"] >= next_t - 1e-9 or moved or is_last:
             item = {k: v for k, v in frame.items() if k not in EVENT_KEYS}
             item.update(pending)
@@ -87,7 +88,7 @@ def decimate(frames: Sequence[Mapping[str, Any]], rate_hz: float) -> list[dict[s
             kept.append(item)
             next_t = frame["t"] + period
             last_state = frame.get("state")
-            last_why = frame.get("why")
+            last_why = frame.get(TRANSITION_KEY)
     return kept
 
 

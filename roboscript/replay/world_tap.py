@@ -17,7 +17,7 @@ from typing import Any
 from roboscript import capabilities as cap
 from roboscript.profiles import RobotProfile
 from roboscript.replay.header import run_header
-from roboscript.replay.recording import Recorder, encode_line
+from roboscript.replay.recording import TRANSITION_KEY, Recorder, encode_line
 from roboscript.replay.session_tap import SHOWN, written_pose
 from roboscript.sim.simulation import Simulation
 
@@ -106,8 +106,18 @@ class WorldReplay:
             self._states.append(state)
             self._actions[state] = self._action
         t = round(now_s - self._start_s, 3)
-        if state == self._state and (t < self._next_s - 1e-9 or t == self._last_t):
-            return  # (a state entered again on a kept tick shows its cause on the next one)
+        if state == self._state and t == self._last_t and self._why is not None:
+            last = self.recorder.frames[-1]
+            if TRANSITION_KEY not in last:
+                # Entered again on a tick already kept (the mission reports after the world
+                # ticked): that tick's frame is the transition's, as in run --record.
+                last[TRANSITION_KEY] = self._why
+                self._why = None
+                return
+        if state == self._state and (
+            t < self._next_s - 1e-9 or (t == self._last_t and self._why is None)
+        ):
+            return
         self._state = state
         self._next_s = t + self.period_s
         self._last_t = t
@@ -115,7 +125,7 @@ class WorldReplay:
         if frame is not None and self._why is not None:
             # written on its transition's frame only, as run --record does (the reader
             # carries it on): equal causes one after another are still two transitions
-            frame["why"] = self._why
+            frame[TRANSITION_KEY] = self._why
             self._why = None
 
     def _sample(self, t: float, state: str) -> dict[str, Any]:

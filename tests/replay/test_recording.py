@@ -79,6 +79,23 @@ def test_a_frame_keeps_only_what_changed() -> None:
     }
 
 
+# A state entered again for the same cause: two transitions whose causes are equal.
+AGAIN = [
+    {"t": 0.0, "state": "wait", "why": {"kind": "start", "text": "the mission started"}},
+    {"t": 0.3, "why": {"kind": "done", "text": "wait done"}},
+    {"t": 0.32},
+    {"t": 0.6, "why": {"kind": "done", "text": "wait done"}},
+    {"t": 0.62},
+]
+
+
+def test_a_cause_equal_to_the_one_before_is_recorded_again_when_frames_are_recorded_anew() -> None:
+    recorder = Recorder({"mission": {"name": "again"}, "world": None})
+    for frame in fill_frames(AGAIN):  # as a saved run or a report's page re-records a run
+        recorder.add(frame)
+    assert [f["t"] for f in recorder.frames if "why" in f] == [0.0, 0.3, 0.6]
+
+
 def test_a_recording_reads_back_as_it_was_recorded(tmp_path: Path) -> None:
     path = tmp_path / "run.jsonl"
     _recorder().write(path)

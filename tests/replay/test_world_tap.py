@@ -210,22 +210,24 @@ def _transitions(frames: list[dict[str, Any]]) -> list[tuple[float, str, str]]:
     return seen
 
 
-def test_run_and_grade_record_the_same_fields_in_the_same_units(tmp_path: Path) -> None:
+def _run_and_grade(tmp_path: Path, mission_text: str, world: str) -> tuple[Any, dict[str, Any]]:
+    """``mission_text`` run with ``run --record`` and graded with ``grade --html`` (seed 3):
+    the run's recording, and the graded run's replay as its page embeds it."""
     from helpers import run_cli
 
     from roboscript.replay.recording import load_recording
 
-    mission = tmp_path / "bump.yaml"
-    mission.write_text((MISSIONS / "bump_and_turn.yaml").read_text(encoding="utf-8"))
+    mission = tmp_path / "m.yaml"
+    mission.write_text(mission_text, encoding="utf-8")
     spec = tmp_path / "test.yaml"
     spec.write_text(
-        "test: same\nworld: square-room\nrobot: mirto\nruns:\n  - {seed: 3}\nmax_time: 40 s\n"
+        f"test: same\nworld: {world}\nrobot: mirto\nruns:\n  - {{seed: 3}}\nmax_time: 40 s\n"
         "expect:\n  - outcome: success\n",
         encoding="utf-8",
     )
     run = tmp_path / "run.jsonl"
     done = run_cli(
-        "run", str(mission), "--world", "square-room", "--seed", "3", "--max-time", "40",
+        "run", str(mission), "--world", world, "--seed", "3", "--max-time", "40",
         "--record", str(run), "--quiet",
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
@@ -234,8 +236,13 @@ def test_run_and_grade_record_the_same_fields_in_the_same_units(tmp_path: Path) 
         "--quiet",
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
-    ran = load_recording(run)
-    graded = _embedded((tmp_path / "html" / "runs" / "bump--same--1.html").read_text("utf-8"))
+    page = tmp_path / "html" / "runs" / "m--same--1.html"
+    return load_recording(run), _embedded(page.read_text("utf-8"))
+
+
+def test_run_and_grade_record_the_same_fields_in_the_same_units(tmp_path: Path) -> None:
+    bump = (MISSIONS / "bump_and_turn.yaml").read_text(encoding="utf-8")
+    ran, graded = _run_and_grade(tmp_path, bump, "square-room")
     header, frames = graded["header"], fill_frames(graded["frames"])
 
     assert set(header) - set(ran.header) == GRADED_ONLY["header"]
@@ -267,6 +274,39 @@ def test_run_and_grade_record_the_same_fields_in_the_same_units(tmp_path: Path) 
         graded_types = {type(f["sensors"][key]).__name__ for f in frames}
         assert graded_types <= {type(f["sensors"][key]).__name__ for f in ran.frames}
     assert {type(f["action"]) for f in frames} == {type(f["action"]) for f in ran.frames}
+
+
+# Enters its state again every 0.3 s for the same cause: on a tick a graded run keeps anyway.
+AGAIN = """\
+mission: again
+world: empty
+initial: wait
+states:
+  wait:
+    do: {wait: {duration: 0.3 s}}
+    on:
+      done:
+        - {if: "visits.wait >= 4", goto: finish}
+        - {goto: wait}
+  finish:
+    final: success
+"""
+
+
+def test_a_state_entered_again_for_the_same_cause_shows_on_its_own_tick_when_graded(
+    tmp_path: Path,
+) -> None:
+    ran, graded = _run_and_grade(tmp_path, AGAIN, "empty")
+    transitions = _transitions(ran.frames)
+    assert [(t, state) for t, state, _ in transitions] == [
+        (0.0, "wait"),
+        (0.3, "wait"),
+        (0.6, "wait"),
+        (0.9, "wait"),
+        (1.2, "finish"),
+    ]
+    assert transitions[1][2] == transitions[2][2] == "wait done"  # equal causes, in a row
+    assert _transitions(fill_frames(graded["frames"])) == transitions
 
 
 def test_a_runs_claimed_causes_are_kept_up_to_a_bound_and_its_states_all() -> None:
