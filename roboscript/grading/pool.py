@@ -34,6 +34,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from multiprocessing.connection import Connection, wait
 from multiprocessing.process import BaseProcess
+from pathlib import Path
 from typing import Any
 
 from roboscript.grading.cpu_time import process_tree_waited_s
@@ -57,9 +58,22 @@ def _context() -> Any:
     if "forkserver" in multiprocessing.get_all_start_methods():
         context = multiprocessing.get_context("forkserver")
         # Workers fork from a server that has imported the simulator, drivers and runner once.
-        context.set_forkserver_preload(["roboscript.grading.worker"])
+        # That server looks modules up in the working folder first: one that holds a
+        # roboscript.py would give every worker that file as the package, so there each
+        # worker imports the package for itself instead.
+        hidden = _working_folder_hides_package()
+        context.set_forkserver_preload([] if hidden else ["roboscript.grading.worker"])
         return context
     return multiprocessing.get_context("spawn")
+
+
+def _working_folder_hides_package() -> bool:
+    """Whether the working folder holds a ``roboscript.py``, or a ``roboscript`` folder that
+    is not this package, which an import from that folder would take for the package."""
+    here = Path.cwd()
+    folder = here / "roboscript"
+    ours = Path(__file__).resolve().parents[1]
+    return (here / "roboscript.py").exists() or (folder.is_dir() and folder.resolve() != ours)
 
 
 @dataclass

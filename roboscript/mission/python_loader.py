@@ -20,7 +20,13 @@ from roboscript.mission.python_source import PythonSource
 from roboscript.mission.spec import MissionSpec
 from roboscript.mission.student_code import import_student_file
 
-__all__ = ["find_mission_class", "is_python_mission", "load_python_mission"]
+__all__ = [
+    "PACKAGE_FILE",
+    "find_mission_class",
+    "is_python_mission",
+    "load_python_mission",
+    "package_shadow_warning",
+]
 
 
 def find_mission_class(module: Any, path: str) -> type[Mission]:
@@ -98,7 +104,41 @@ def load_python_mission(
     """
     module = import_student_file(path, kind="mission")
     cls = find_mission_class(module, str(path))
-    return compile_mission(cls, profile, path=str(path))
+    spec, warnings = compile_mission(cls, profile, path=str(path))
+    shadow = package_shadow_warning(path)
+    return spec, warnings if shadow is None else [shadow, *warnings]
+
+
+PACKAGE_FILE = "roboscript.py"
+"""A file of this name beside a Python mission is what ``python mission.py`` imports as
+``roboscript`` (Python puts the script's folder first on its path): the package is hidden."""
+
+
+def package_shadow_warning(path: str | Path) -> MissionError | None:
+    """A warning if a file beside the Python mission ``path`` (or the mission itself) is named
+    like the package, so that ``python`` imports it instead of roboscript; else ``None``.
+
+    roboscript's own commands import the package before the mission, so they are not fooled;
+    ``python mission.py`` is, and fails with an ``ImportError`` that names neither cause nor
+    cure. The warning says both, on the mission's first line.
+    """
+    mission = Path(path)
+    shadow = mission.parent / PACKAGE_FILE
+    if not shadow.is_file():
+        return None
+    if mission.name == PACKAGE_FILE:
+        message = (
+            f"this file is named {PACKAGE_FILE}, like the package it imports: `python"
+            f" {PACKAGE_FILE}` would import this file instead of roboscript and fail"
+        )
+        hint = "rename it, for example to my_mission.py"
+    else:
+        message = (
+            f"{PACKAGE_FILE} in this folder hides the roboscript package: `python"
+            f" {mission.name}` would import that file instead of roboscript and fail"
+        )
+        hint = f"rename {PACKAGE_FILE}, for example to my_helpers.py"
+    return MissionError(message, path=str(path), line=1, col=1, hint=hint, severity="warning")
 
 
 def is_python_mission(path: str | Path) -> bool:

@@ -2,15 +2,18 @@
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
+import subprocess
+import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import HANG_BOUND_S, MISSIONS
+from helpers import FORWARD_50CM, FORWARD_50CM_EXPECT, HANG_BOUND_S, MISSIONS
 
 from roboscript.grading.batch import find_specs, find_submissions, grade_class
 from roboscript.grading.run import grade_run
@@ -317,3 +320,29 @@ def test_a_killed_grader_keeps_every_finished_run(tmp_path: Path) -> None:
     finished = [json.loads(line) for line in lines]  # every line is whole
     assert [r["student"] for r in finished[:3]] == ["ada", "ada", "ada"]
     assert all(r["status"] == "passed" for r in finished[:3])
+
+
+def test_grading_from_a_folder_holding_a_roboscript_py_grades_as_anywhere_else(
+    tmp_path: Path,
+) -> None:
+    # The teacher's own command, `roboscript grade`, started in a folder a student filled.
+    command = Path(sys.executable).with_name("roboscript")
+    if not command.exists():
+        pytest.skip("the roboscript command is not installed beside this Python")
+    spec = tmp_path / "forward.yaml"
+    spec.write_text(
+        "test: forward\nworld: empty\nrobot: mirto\nruns:\n  - {seed: 1}\n" + FORWARD_50CM_EXPECT,
+        encoding="utf-8",
+    )
+    (tmp_path / "ana.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    (tmp_path / "roboscript.py").write_text("print('a helper of my own')\n", encoding="utf-8")
+    done = subprocess.run(
+        [str(command), "grade", "forward.yaml", "--mission", "ana.yaml", "--json", "--quiet"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=HANG_BOUND_S,
+        check=False,
+    )
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
+    assert [r["status"] for r in json.loads(done.stdout)["runs"]] == ["passed"]

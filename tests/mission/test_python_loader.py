@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import json
 import linecache
+import subprocess
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import MISSIONS, refusal, run_cli
+from helpers import HANG_BOUND_S, MISSIONS, refusal, run_cli
 from helpers import refusal as messages
 
 from roboscript import Mission
@@ -554,3 +556,58 @@ def test_a_mission_run_from_a_string_is_shown_by_line() -> None:
     assert compiled(namespace["Hello"]) == [
         "<lesson>:8: error: condition method 'blocked' must take only self (def blocked(self):)"
     ]
+
+
+SHADOWED = (
+    GOOD
+    + """
+
+if __name__ == "__main__":
+    from roboscript import run
+
+    run(Hello)
+"""
+)
+
+
+@pytest.mark.parametrize("mission_name", ["hello.py", "roboscript.py"])
+def test_a_file_named_like_the_package_is_named_by_check_and_run_before_python_trips_on_it(
+    tmp_path: Path, mission_name: str
+) -> None:
+    mission = tmp_path / mission_name
+    mission.write_text(SHADOWED, encoding="utf-8")
+    (tmp_path / "roboscript.py").write_text(SHADOWED, encoding="utf-8")  # a copy, or itself
+    # what the warning foretells: `python hello.py` finds that file, not the package
+    with_python = subprocess.run(
+        [sys.executable, str(mission)],
+        capture_output=True,
+        text=True,
+        check=False,
+        timeout=HANG_BOUND_S,
+    )
+    assert with_python.returncode != 0
+    assert "ImportError: cannot import name " in with_python.stderr
+    assert f"({tmp_path / 'roboscript.py'})" in with_python.stderr
+    checked = run_cli("check", str(mission))
+    assert checked.returncode == 0  # roboscript itself is not fooled
+    warning = checked.stderr.splitlines()[0]
+    assert warning.startswith(f"{mission}:1:1: warning: ")
+    assert f"`python {mission_name}` would import" in warning
+    assert "instead of roboscript and fail" in warning
+    assert "(rename " in warning and "for example to my_" in warning
+    strict = run_cli("check", "--strict", str(mission))
+    assert strict.returncode == 2
+    assert strict.stderr.startswith(f"{mission}:1:1: error: ")
+    ran = run_cli("run", str(mission), "--quiet")
+    assert ran.returncode == 0, ran.stderr
+    assert ran.stderr.splitlines()[0] == warning
+
+
+def test_a_mission_with_no_file_named_like_the_package_beside_it_gets_no_such_warning(
+    tmp_path: Path,
+) -> None:
+    mission = tmp_path / "hello.py"
+    mission.write_text(SHADOWED, encoding="utf-8")
+    checked = run_cli("check", str(mission))
+    assert checked.returncode == 0
+    assert "roboscript.py" not in checked.stderr
