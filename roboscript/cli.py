@@ -17,7 +17,7 @@ import json
 import logging
 import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
 
@@ -289,9 +289,6 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     specs = find_specs(args.specs)  # a SpecError prints file:line:col and exits 2
     everyone = _grade_submissions(args, specs)
     submissions = [s for s in everyone if shard is None or shard.holds(s.student)]
-    if args.hang_after is not None and args.hang_after <= 0:
-        _err("error: --hang-after must be more than 0 seconds")
-        return EXIT_INPUT
     # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.sandbox import detect_isolation
     from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S
@@ -675,23 +672,45 @@ def _cmd_robots(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------------------------ main
 
 
-def _positive_seconds(text: str) -> float:
-    """An argparse type: a time limit in seconds (``60``, or ``60s`` as a mission writes it),
-    greater than 0."""
-    number = text.strip()
-    for unit in ("sec", "s"):  # 60s, 60 s, 60 sec
-        if number.endswith(unit):
-            number = number.removesuffix(unit).rstrip()
-            break
-    try:
-        value = float(number)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"'{text}' is not a number of seconds (write it in seconds, e.g. --max-time 60)"
-        ) from None
-    if not value > 0:  # also refuses nan
-        raise argparse.ArgumentTypeError(f"a time limit must be more than 0 s (got {text})")
-    return value
+def _seconds(option: str, example: str) -> Callable[[str], float]:
+    """An argparse type for ``option``: a time in seconds (``60``, or ``60s`` as a mission
+    writes it), greater than 0; a mistake is answered with ``option example`` to copy."""
+
+    def parse(text: str) -> float:
+        number = text.strip()
+        for unit in ("sec", "s"):  # 60s, 60 s, 60 sec
+            if number.endswith(unit):
+                number = number.removesuffix(unit).rstrip()
+                break
+        try:
+            value = float(number)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"'{text}' is not a number of seconds"
+                f" (write it in seconds, e.g. {option} {example})"
+            ) from None
+        if not value > 0:  # also refuses nan
+            raise argparse.ArgumentTypeError(f"a time limit must be more than 0 s (got {text})")
+        return value
+
+    parse.__name__ = "seconds"
+    return parse
+
+
+def _whole_number(option: str, example: str) -> Callable[[str], int]:
+    """An argparse type for ``option``: a whole number; a mistake is answered with
+    ``option example`` to copy, not with Python's type name."""
+
+    def parse(text: str) -> int:
+        try:
+            return int(text.strip())
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"'{text}' is not a whole number (write it in digits, e.g. {option} {example})"
+            ) from None
+
+    parse.__name__ = "whole number"
+    return parse
 
 
 def _add_class_reports(command: argparse.ArgumentParser) -> None:
@@ -726,11 +745,13 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--world", help="simulator world name or file (default: the mission's world, or empty)"
     )
-    run.add_argument("--seed", type=int, default=1, help="simulator seed (default: 1)")
+    run.add_argument(
+        "--seed", type=_whole_number("--seed", "7"), default=1, help="simulator seed (default: 1)"
+    )
     run.add_argument("--realtime", action="store_true", help="pace the simulator to the wall clock")
     run.add_argument(
         "--max-time",
-        type=_positive_seconds,
+        type=_seconds("--max-time", "60"),
         default=300.0,
         metavar="SECONDS",
         help="mission time limit",
@@ -747,7 +768,11 @@ def _parser() -> argparse.ArgumentParser:
         "--view", action="store_true", help="watch the run live in a web browser (this computer)"
     )
     run.add_argument(
-        "--view-port", type=int, default=0, metavar="N", help="the live view's port (default: any)"
+        "--view-port",
+        type=_whole_number("--view-port", "8765"),
+        default=0,
+        metavar="N",
+        help="the live view's port (default: any)",
     )
     run.add_argument("--quiet", action="store_true", help="print only the result")
     run.set_defaults(func=_cmd_run)
@@ -796,7 +821,10 @@ def _parser() -> argparse.ArgumentParser:
         help="write PrairieLearn's results.json (everything under --mission is one submission)",
     )
     grade.add_argument(
-        "--jobs", type=int, metavar="N", help="runs at once (default: one per CPU core)"
+        "--jobs",
+        type=_whole_number("--jobs", "2"),
+        metavar="N",
+        help="runs at once (default: one per CPU core)",
     )
     grade.add_argument(
         "--results",
@@ -805,7 +833,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     grade.add_argument(
         "--hang-after",
-        type=float,
+        type=_seconds("--hang-after", "2"),
         metavar="SECONDS",
         help=(
             "end a run as hung when its code does not return for this many seconds of its"
@@ -883,7 +911,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     sim.add_argument("--robot", default="mirto", help="robot profile name (default: mirto)")
     sim.add_argument("--world", default="empty", help="simulator world name or file")
-    sim.add_argument("--seed", type=int, default=1, help="simulator seed (default: 1)")
+    sim.add_argument(
+        "--seed", type=_whole_number("--seed", "7"), default=1, help="simulator seed (default: 1)"
+    )
     where = sim.add_mutually_exclusive_group(required=True)
     where.add_argument(
         "--tcp", metavar="HOST:PORT", help="listen on this TCP address (port 0: any)"
@@ -891,7 +921,7 @@ def _parser() -> argparse.ArgumentParser:
     where.add_argument("--pty", action="store_true", help="open a pseudo-terminal; print its path")
     sim.add_argument(
         "--handshake-wait",
-        type=float,
+        type=_seconds("--handshake-wait", "5"),
         default=5.0,
         metavar="SECONDS",
         help="when another TCP client connects, give it the robot if the one that has it sent"

@@ -10,6 +10,7 @@ import sys
 import threading
 from pathlib import Path
 
+import pytest
 from helpers import ROOT, run_cli
 
 from roboscript.profiles import get_profile
@@ -178,6 +179,62 @@ def test_a_time_limit_may_be_written_with_seconds_as_a_mission_writes_it() -> No
     result = run_cli("run", "missions/square.yaml", "--max-time", "2 min")
     assert result.returncode == 2
     assert "'2 min' is not a number of seconds (write it in seconds" in result.stderr
+
+
+@pytest.mark.parametrize(
+    ("args", "answer"),
+    [
+        (
+            ("run", "missions/square.yaml", "--seed", "abc"),
+            (
+                "roboscript run: error: argument --seed: 'abc' is not a whole number"
+                " (write it in digits, e.g. --seed 7)"
+            ),
+        ),
+        (
+            ("run", "missions/square.yaml", "--view", "--view-port", "web"),
+            (
+                "roboscript run: error: argument --view-port: 'web' is not a whole number"
+                " (write it in digits, e.g. --view-port 8765)"
+            ),
+        ),
+        (
+            ("grade", "missions/teacher", "--mission", "missions", "--jobs", "two"),
+            (
+                "roboscript grade: error: argument --jobs: 'two' is not a whole number"
+                " (write it in digits, e.g. --jobs 2)"
+            ),
+        ),
+        (
+            ("grade", "missions/teacher", "--mission", "missions", "--hang-after", "soon"),
+            (
+                "roboscript grade: error: argument --hang-after: 'soon' is not a number of seconds"
+                " (write it in seconds, e.g. --hang-after 2)"
+            ),
+        ),
+        (
+            ("sim", "--pty", "--seed", "1.5"),
+            (
+                "roboscript sim: error: argument --seed: '1.5' is not a whole number"
+                " (write it in digits, e.g. --seed 7)"
+            ),
+        ),
+        (
+            ("sim", "--pty", "--handshake-wait", "a while"),
+            (
+                "roboscript sim: error: argument --handshake-wait: 'a while' is not a number of"
+                " seconds (write it in seconds, e.g. --handshake-wait 5)"
+            ),
+        ),
+    ],
+)
+def test_a_number_option_given_no_number_is_answered_with_an_example(
+    args: tuple[str, ...], answer: str
+) -> None:
+    result = run_cli(*args)
+    assert result.returncode == 2
+    assert result.stderr.splitlines()[-1] == answer
+    assert "invalid" not in result.stderr  # not argparse's "invalid int value: 'abc'"
 
 
 def test_debug_is_accepted_after_the_command_too(tmp_path: Path) -> None:
