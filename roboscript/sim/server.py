@@ -17,13 +17,13 @@ Fair to every client of a classroom (TCP):
   ``client X refused: busy with Y``.
 * **A quiet client keeps the robot until another wants it.** Nothing is dropped for silence
   alone: on a busy machine an honest program may take seconds to say its first byte, so how
-  busy the machine is never takes the robot from a client nobody else is waiting for. When another client connects,
-  the one that has the robot gives it up if it has sent nothing since connecting, or stopped
-  in the middle of a message (the device holds part of a frame), for at least
-  ``handshake_wait_s`` (:data:`DEFAULT_HANDSHAKE_WAIT_S`): it is closed, the motors stopped,
-  and the newcomer gets the robot, so a stray connection cannot keep the robot from the next
-  client. A client that finished its last message keeps the robot however long it stays
-  quiet (a host waiting for sensor events).
+  busy the machine is never takes the robot from a client nobody else is waiting for. When
+  another client connects, the one that has the robot gives it up if it has sent nothing
+  since connecting, or stopped in the middle of a message (the device holds part of a
+  frame), for at least ``handshake_wait_s`` (:data:`DEFAULT_HANDSHAKE_WAIT_S`): it is
+  closed, the motors stopped, and the newcomer gets the robot, so a stray connection cannot
+  keep the robot from the next client. A client that finished its last message keeps the
+  robot however long it stays quiet (a host waiting for sensor events).
 * **No client can flood the robot.** The device takes bytes no faster than the robot's line
   carries them (``baudrate / 10`` bytes a second, at least :data:`MIN_LINE_BYTES_S`, with
   :data:`LINE_BURST_S` of burst); what a client sends beyond that is dropped and counted, as
