@@ -38,6 +38,7 @@ __all__ = [
     "Param",
     "ParamKind",
     "Result",
+    "UnderSpecifiedError",
 ]
 
 
@@ -142,6 +143,25 @@ class Param:
     def required(self) -> bool:
         """True if the parameter has no default."""
         return self.default is REQUIRED
+
+
+class UnderSpecifiedError(ValueError):
+    """An action made without a parameter it needs, told with an example to copy in the
+    student's own language: a YAML mission's ``write`` hint, or a Python one's.
+
+    ``str()`` of it is the message with the Python example, as a traceback shows it.
+
+    Attributes:
+        message: What is missing (``"drive needs a distance or a duration"``).
+        yaml: How a YAML mission writes it (``"`distance: 50 cm` or `duration: 2 s`"``).
+        python: How a Python mission writes it (``"Drive(distance_mm=500) or ..."``).
+    """
+
+    def __init__(self, message: str, *, yaml: str, python: str) -> None:
+        super().__init__(f"{message} (write {python})")
+        self.message = message
+        self.yaml = yaml
+        self.python = python
 
 
 class ActionContext:

@@ -16,7 +16,14 @@ from collections.abc import Mapping
 from typing import Any
 
 from roboscript import capabilities as cap
-from roboscript.actions.base import FROM_INIT, Action, ActionContext, Param, Result
+from roboscript.actions.base import (
+    FROM_INIT,
+    Action,
+    ActionContext,
+    Param,
+    Result,
+    UnderSpecifiedError,
+)
 from roboscript.actions.sensing import imu_heading_deg
 from roboscript.actions.wheels import WheelAction
 from roboscript.angles import turned_deg
@@ -72,7 +79,11 @@ class Drive(WheelAction):
         duration_s: float | None = None,
     ) -> None:
         if distance_mm is None and duration_s is None:
-            raise ValueError("drive needs a distance or a duration")
+            raise UnderSpecifiedError(
+                "drive needs a distance or a duration",
+                yaml="`distance: 50 cm` or `duration: 2 s`",
+                python="Drive(distance_mm=500) or Drive(duration_s=2)",
+            )
         if speed_mm_s <= 0:
             raise ValueError("drive speed must be positive (use a negative distance to reverse)")
         super().__init__()

@@ -20,7 +20,7 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 from roboscript.actions import ACTIONS
-from roboscript.actions.base import Action, Param
+from roboscript.actions.base import Action, Param, UnderSpecifiedError
 from roboscript.actions.composite import Parallel, Repeat
 from roboscript.actions.output import parse_color
 from roboscript.errors import InputError, MissionError, did_you_mean
@@ -322,6 +322,9 @@ class MissionBuilder:
         else:
             try:
                 instance = cls(**kwargs)
+            except UnderSpecifiedError as exc:  # its own sentence names the action
+                self.problem(exc.message, where, f"write {exc.yaml}")
+                return None
             except ValueError as exc:
                 self.problem(f"{label}: {exc}", where)
                 return None

@@ -31,7 +31,7 @@ from types import FrameType, ModuleType, TracebackType
 from typing import TYPE_CHECKING, Any
 
 import roboscript
-from roboscript.actions.base import Action
+from roboscript.actions.base import Action, UnderSpecifiedError
 from roboscript.errors import (
     LinkError,
     MissionError,
@@ -326,6 +326,8 @@ def _explain(
     text = str(exc)
     if isinstance(exc, SystemExit):
         return f"the {kind} file called exit() while it was loaded", None
+    if isinstance(exc, UnderSpecifiedError) and raised_by_roboscript:
+        return exc.message, f"write {exc.python}"
     if isinstance(exc, RoboscriptError | ValueError) and raised_by_roboscript:
         return text, None  # roboscript's own sentence, e.g. "drive speed must be positive"
     if isinstance(exc, TypeError):

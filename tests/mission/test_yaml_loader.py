@@ -97,7 +97,10 @@ def test_valid_mission_loads_with_units_converted(write_mission: Callable[..., P
         ),
         (
             GOOD.replace("do: {drive: {distance: 30 cm}}", "do: {drive: {speed: 10 cm/s}}"),
-            "M:5:10: error: drive: drive needs a distance or a duration",
+            (
+                "M:5:10: error: drive needs a distance or a duration"
+                " (write `distance: 50 cm` or `duration: 2 s`)"
+            ),
         ),
         (
             GOOD.replace("do: {drive: {distance: 30 cm}}", "do: {play_tone: {duration: 1 s}}"),
