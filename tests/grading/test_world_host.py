@@ -87,7 +87,8 @@ def _graded_runs(tmp_path: Path, name: str) -> list[dict[str, Any]]:
     runs = [json.loads(line) for line in results.read_text(encoding="utf-8").splitlines()[1:]]
     for run in runs:
         del run["wall_time_s"], run["during_load"]
-    return runs
+    # --results writes each run as it finishes, in an order the machine's timing decides
+    return sorted(runs, key=lambda run: (run["test"], run["variant"]))
 
 
 def test_a_seed_grades_to_the_same_results_on_an_idle_and_a_saturated_machine(
