@@ -126,25 +126,35 @@ class LineAlarm:
             known = self._known[filename] = bool(self._watched(filename))
         return known
 
-    def _check(self, frame: FrameType) -> None:
+    def _due(self) -> bool:
+        """The time set has passed, in the thread this alarm watches."""
         deadline = self._deadline_s
-        if deadline is None or time.perf_counter() < deadline:
+        return (
+            deadline is not None
+            and time.perf_counter() >= deadline
+            and threading.get_ident() == self._thread  # another thread's code is not ours
+        )
+
+    def _check(self, frame: FrameType) -> None:
+        if not self._due():
             return
-        if threading.get_ident() != self._thread:
-            return  # another thread's code: not this alarm's to stop
+        deadline = self._deadline_s or 0.0
         self._deadline_s = deadline + self._repeat_s if self._repeat_s > 0 else None
         self._ring(frame)
 
     def _on_line(self, code: CodeType, _line: int) -> object:
         if not self._is_watched(code.co_filename):
             return _MONITORING.DISABLE  # this place is never reported again
-        self._check(sys._getframe(1))
+        if self._due():  # the frame is looked up only when it rings: this runs every line
+            self._check(sys._getframe(1))
         return None
 
     def _on_jump(self, code: CodeType, _from: int, _to: int) -> object:
+        # not delegated to _on_line: the watched frame must stay one call up
         if not self._is_watched(code.co_filename):
             return _MONITORING.DISABLE
-        self._check(sys._getframe(1))
+        if self._due():
+            self._check(sys._getframe(1))
         return None
 
     def _on_call(self, frame: FrameType, event: str, _arg: object) -> Any:
