@@ -10,6 +10,10 @@ stopped on the way out exactly as for Ctrl-C (:func:`roboscript.session.run_sess
 While the stop command is being sent (:func:`deferred`), one signal waits until it has gone
 out, so pressing Ctrl-C twice cannot cut the stop in half; a further signal in that time raises
 at once, so a stop stuck on a dead port can still be ended.
+
+Code the program does not own may catch a signal's exception and drop it (the state-machine
+library logs and drops anything raised in its last step of a transition); :func:`kept` raises
+such a signal again as soon as that code returns, so it still ends the run.
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ __all__ = [
     "deferred",
     "exit_status_for",
     "install",
+    "kept",
     "reason_for",
 ]
 
@@ -81,6 +86,17 @@ _deferring = 0
 """How many :func:`deferred` blocks are open (they nest: a close inside a stop)."""
 _pending: int | None = None
 """The signal that arrived inside a :func:`deferred` block and waits for its end."""
+_raised = 0
+"""How many signals have been raised as :class:`Interrupted` (what :func:`kept` compares)."""
+_last_signum: int = signal.SIGINT
+"""The signal most recently raised."""
+
+
+def _raise_now(signum: int) -> None:
+    global _raised, _last_signum
+    _raised += 1
+    _last_signum = signum
+    raise Interrupted(signum)
 
 
 def _raise(signum: int, frame: FrameType | None) -> None:
@@ -91,7 +107,7 @@ def _raise(signum: int, frame: FrameType | None) -> None:
         return
     if _pending is not None:  # asked twice: end now, for the first reason given
         signum, _pending = _pending, None
-    raise Interrupted(signum)
+    _raise_now(signum)
 
 
 @contextmanager
@@ -109,7 +125,22 @@ def deferred() -> Iterator[None]:
         _deferring -= 1
         if not _deferring and _pending is not None:
             signum, _pending = _pending, None
-            raise Interrupted(signum)
+            _raise_now(signum)
+
+
+@contextmanager
+def kept() -> Iterator[None]:
+    """Raise again, when the block returns, a signal that code inside it caught and dropped.
+
+    For calls into libraries that catch every exception somewhere (``transitions`` logs and
+    drops whatever is raised while it finalises an event, a :class:`KeyboardInterrupt`
+    included): a signal landing there would otherwise be lost and the run go on. A signal the
+    block lets out is raised as usual; nothing is delayed.
+    """
+    before = _raised
+    yield
+    if _raised != before:
+        raise Interrupted(_last_signum)
 
 
 def install() -> None:

@@ -25,6 +25,7 @@ from roboscript.interrupts import (
     deferred,
     exit_status_for,
     install,
+    kept,
     reason_for,
 )
 from roboscript.sim.simulation import make_simulation
@@ -137,6 +138,42 @@ def test_outside_a_stop_a_signal_raises_where_the_program_is() -> None:
     with pytest.raises(Interrupted) as raised:
         os.kill(os.getpid(), signal.SIGINT)
     assert raised.value.exit_status == 130
+
+
+@pytest.mark.usefixtures("handlers")
+def test_a_signal_that_code_inside_drops_is_raised_again_when_it_returns() -> None:
+    after: list[str] = []
+    with pytest.raises(Interrupted) as raised, kept():
+        try:
+            os.kill(os.getpid(), signal.SIGTERM)
+        except BaseException:  # noqa: BLE001 - as a library that logs every error and goes on
+            pass
+        after.append("the rest of the block")
+    assert after == ["the rest of the block"]
+    assert raised.value.signum == signal.SIGTERM
+    with kept():  # nothing is left over for the next block
+        pass
+
+
+@pytest.mark.usefixtures("handlers")
+def test_a_signal_in_the_state_machines_last_step_still_ends_the_mission(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    from roboscript.mission.runner import MissionRunner
+    from roboscript.mission.yaml_loader import parse_yaml_mission
+
+    spec, _ = parse_yaml_mission(
+        "states:\n  a:\n    do: {wait: {duration: 0.1 s}}\n    on: {done: b}\n"
+        "  b: {final: success}\n"
+    )
+    runner = MissionRunner(spec, {})
+    # transitions logs and drops whatever is raised while it finalises an event
+    runner._machine.finalize_event = [lambda event: os.kill(os.getpid(), signal.SIGINT)]
+    with pytest.raises(Interrupted):
+        for step in range(100):
+            runner.tick(step * 0.02, 0.02)
+    assert not runner.finished
+    assert "Interrupted" not in caplog.text  # the run's own sentence says why, once
 
 
 # A module that makes the program signal itself the moment it starts to import MODULE: the

@@ -33,6 +33,7 @@ from roboscript import capabilities as cap
 from roboscript.actions.base import ActionContext, Outcome, Result
 from roboscript.angles import turned_deg, wrap_deg
 from roboscript.errors import CapabilityError
+from roboscript.interrupts import kept
 from roboscript.mission.cause import TransitionCause
 from roboscript.mission.channels import Channels, logging_to
 from roboscript.mission.checks import check_regions
@@ -52,14 +53,27 @@ __all__ = [
 logger = logging.getLogger(__name__)
 
 
-class _QuietModelOverride(logging.Filter):
-    """Drop transitions' note for every method it leaves off our bare model (on purpose)."""
+_RAISED_AGAIN = {"Interrupted", "KeyboardInterrupt", "RunawayCode"}
+"""What transitions may drop that is raised again (the names it logs them by)."""
+
+
+class _QuietTransitions(logging.Filter):
+    """Drop transitions' notes that are not news to a student.
+
+    Its note for every method it leaves off our bare model (on purpose), and its note that it
+    dropped a Ctrl-C or a stop of stuck code (:func:`~roboscript.interrupts.kept` and the
+    watchdog raise those again, and the run ends with its own sentence).
+    """
 
     def filter(self, record: logging.LogRecord) -> bool:
-        return "due to model override policy" not in record.getMessage()
+        if "due to model override policy" in record.getMessage():
+            return False
+        # its arguments: the machine's name, the exception's type name, its text
+        args = record.args if isinstance(record.args, tuple) else ()
+        return not ("finalize callbacks" in str(record.msg) and _RAISED_AGAIN & set(args))
 
 
-logging.getLogger("transitions.core").addFilter(_QuietModelOverride())
+logging.getLogger("transitions.core").addFilter(_QuietTransitions())
 
 
 MissionOutcome = Literal["success", "failure", "error"]
@@ -335,7 +349,8 @@ class MissionRunner(GuardEnv):
 
     def _fire(self, trigger: str) -> bool:
         try:
-            moved = bool(self._model.trigger(trigger))
+            with kept():  # the library drops a Ctrl-C that lands in its finalise step
+                moved = bool(self._model.trigger(trigger))
         finally:
             self._pending = None  # taken by the state entered, or no transition fired
         if moved:
