@@ -11,9 +11,10 @@ While the stop command is being sent (:func:`deferred`), one signal waits until 
 out, so pressing Ctrl-C twice cannot cut the stop in half; a further signal in that time raises
 at once, so a stop stuck on a dead port can still be ended.
 
-Code the program does not own may catch a signal's exception and drop it (the state-machine
-library logs and drops anything raised in its last step of a transition); :func:`kept` raises
-such a signal again as soon as that code returns, so it still ends the run.
+Code may catch a signal's exception and drop it (a student's bare ``except:``; the state-machine
+library logs and drops anything raised in the last step of a transition); :func:`kept` raises
+such a signal again as soon as that code returns (the scheduler wraps each tick in it), so it
+still ends the run.
 """
 
 from __future__ import annotations

@@ -9,6 +9,9 @@ Real-time runs sleep until absolute deadlines on a fixed grid (``next += period`
 does not drift the way ``sleep(period)`` does. A tick that starts more than one period late is
 an *overrun*: it is counted and the measured ``dt_s`` is passed on.
 
+A signal that ends the program (:mod:`roboscript.interrupts`) and that something a tick calls
+catches and drops is raised again when that tick's tasks have run.
+
 After a stall (a slow tick, or the machine pausing the process for a few milliseconds) the loop
 catches up with its grid, so a run keeps its tick rate, but never faster than two ticks per
 period: a controller's ``dt_s`` never drops below half the period, where a back-to-back burst
@@ -28,6 +31,7 @@ from dataclasses import dataclass, field
 from typing import Literal, Protocol
 
 from roboscript.clock import Clock
+from roboscript.interrupts import kept
 
 __all__ = ["Phase", "Scheduler", "SchedulerStats", "Tickable"]
 
@@ -131,9 +135,12 @@ class Scheduler:
         dt = self.period_s if last is None else max(now - last, 1e-6)
         self._last_tick_s = now
         self.stats.ticks += 1
-        for phase in _PHASES:
-            for call in self._tasks[phase]:
-                call(now, dt)
+        # What a tick calls may catch a Ctrl-C and go on (a student's bare ``except:``, a
+        # library that logs every error): the signal still ends the run, at this tick's end.
+        with kept():
+            for phase in _PHASES:
+                for call in self._tasks[phase]:
+                    call(now, dt)
 
     def run(
         self,

@@ -8,6 +8,7 @@ been driving during the run and must be off after the last byte.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -19,6 +20,7 @@ from pathlib import Path
 import pytest
 from helpers import HANG_BOUND_S, ROOT
 
+from roboscript.clock import SimClock
 from roboscript.interrupts import (
     HANDLED_SIGNALS,
     Interrupted,
@@ -28,6 +30,9 @@ from roboscript.interrupts import (
     kept,
     reason_for,
 )
+from roboscript.mission.runner import MissionRunner
+from roboscript.mission.yaml_loader import parse_yaml_mission
+from roboscript.scheduler import Scheduler
 from roboscript.sim.simulation import make_simulation
 from roboscript.transport.wirelog import read_wire_log
 
@@ -144,10 +149,9 @@ def test_outside_a_stop_a_signal_raises_where_the_program_is() -> None:
 def test_a_signal_that_code_inside_drops_is_raised_again_when_it_returns() -> None:
     after: list[str] = []
     with pytest.raises(Interrupted) as raised, kept():
-        try:
+        # as a library that logs every error and goes on
+        with contextlib.suppress(BaseException):
             os.kill(os.getpid(), signal.SIGTERM)
-        except BaseException:  # noqa: BLE001 - as a library that logs every error and goes on
-            pass
         after.append("the rest of the block")
     assert after == ["the rest of the block"]
     assert raised.value.signum == signal.SIGTERM
@@ -155,13 +159,34 @@ def test_a_signal_that_code_inside_drops_is_raised_again_when_it_returns() -> No
         pass
 
 
+def _ticking(task: object) -> Scheduler:
+    sched = Scheduler(SimClock(), 0.02)
+    sched.add(task)  # type: ignore[arg-type]
+    return sched
+
+
+@pytest.mark.usefixtures("handlers")
+def test_a_signal_a_students_bare_except_catches_still_ends_the_run_at_the_ticks_end() -> None:
+    after: list[str] = []
+
+    def student(now_s: float, dt_s: float) -> None:
+        try:  # noqa: SIM105 - as a beginner writes it
+            os.kill(os.getpid(), signal.SIGINT)
+        except:  # noqa: E722, S110
+            pass
+        after.append("rest of the tick")
+
+    sched = _ticking(student)
+    with pytest.raises(Interrupted) as raised:
+        sched.run(until=lambda: False, max_duration_s=10)
+    assert after == ["rest of the tick"]  # not one tick more
+    assert raised.value.exit_status == 130
+
+
 @pytest.mark.usefixtures("handlers")
 def test_a_signal_in_the_state_machines_last_step_still_ends_the_mission(
     caplog: pytest.LogCaptureFixture,
 ) -> None:
-    from roboscript.mission.runner import MissionRunner
-    from roboscript.mission.yaml_loader import parse_yaml_mission
-
     spec, _ = parse_yaml_mission(
         "states:\n  a:\n    do: {wait: {duration: 0.1 s}}\n    on: {done: b}\n"
         "  b: {final: success}\n"
@@ -170,9 +195,7 @@ def test_a_signal_in_the_state_machines_last_step_still_ends_the_mission(
     # transitions logs and drops whatever is raised while it finalises an event
     runner._machine.finalize_event = [lambda event: os.kill(os.getpid(), signal.SIGINT)]
     with pytest.raises(Interrupted):
-        for step in range(100):
-            runner.tick(step * 0.02, 0.02)
-    assert not runner.finished
+        _ticking(runner).run(until=lambda: runner.finished, max_duration_s=10)
     assert "Interrupted" not in caplog.text  # the run's own sentence says why, once
 
 

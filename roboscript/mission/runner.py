@@ -33,7 +33,6 @@ from roboscript import capabilities as cap
 from roboscript.actions.base import ActionContext, Outcome, Result
 from roboscript.angles import turned_deg, wrap_deg
 from roboscript.errors import CapabilityError
-from roboscript.interrupts import kept
 from roboscript.mission.cause import TransitionCause
 from roboscript.mission.channels import Channels, logging_to
 from roboscript.mission.checks import check_regions
@@ -349,8 +348,9 @@ class MissionRunner(GuardEnv):
 
     def _fire(self, trigger: str) -> bool:
         try:
-            with kept():  # the library drops a Ctrl-C that lands in its finalise step
-                moved = bool(self._model.trigger(trigger))
+            # transitions drops a Ctrl-C that lands in its finalise step: the scheduler's
+            # tick raises it again (roboscript.interrupts.kept)
+            moved = bool(self._model.trigger(trigger))
         finally:
             self._pending = None  # taken by the state entered, or no transition fired
         if moved:
