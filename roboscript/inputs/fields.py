@@ -15,7 +15,7 @@ that collect every problem (missions) keep what :meth:`FieldReader.unknown_keys`
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 from roboscript.errors import InputError, did_you_mean
@@ -94,12 +94,25 @@ class FieldReader:
 
     # ------------------------------------------------------------------------------- keys
 
-    def unknown_keys(self, data: YamlMap, keys: Sequence[str], what: str) -> list[InputError]:
+    def unknown_keys(
+        self,
+        data: YamlMap,
+        keys: Sequence[str],
+        what: str,
+        meant: Callable[[str, Any], str | None] | None = None,
+    ) -> list[InputError]:
         """One error per key of ``data`` outside ``keys``, in the one shape every file uses:
-        ``unknown key 'K' in WHAT (did you mean 'X'?)``."""
+        ``unknown key 'K' in WHAT (did you mean 'X'?)``.
+
+        ``meant(key, value)`` may give a better hint for a key known to be mixed up with
+        another (``next`` for ``on``); when it gives ``None`` the near miss is the hint.
+        """
         return [
             self.fail(
-                f"unknown key '{key}' in {what}", data.key_mark(key), unknown_key_hint(key, keys)
+                f"unknown key '{key}' in {what}",
+                data.key_mark(key),
+                (meant(key, data[key]) if meant is not None else None)
+                or unknown_key_hint(key, keys),
             )
             for key in data
             if key not in keys

@@ -39,6 +39,7 @@ from roboscript.errors import (
     did_you_mean,
     nearby_file,
 )
+from roboscript.mission.key_mistakes import meant_in_state_call
 from roboscript.mission.python_api import LOADED_PREFIX, state
 
 if TYPE_CHECKING:
@@ -335,7 +336,8 @@ def _explain(
         if match:
             owner, func, keyword = match.groups()
             callee = owner if func == "__init__" and owner else func
-            return f"{callee}() has no parameter '{keyword}'", did_you_mean(
+            meant = meant_in_state_call(keyword) if callee == "state" else None
+            return f"{callee}() has no parameter '{keyword}'", meant or did_you_mean(
                 keyword, _parameters(callee, module)
             )
         match = _MISSING_ARGUMENT.match(text)

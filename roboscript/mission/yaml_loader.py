@@ -20,6 +20,7 @@ from roboscript.mission.behaviours import behaviours_from_yaml
 from roboscript.mission.builder import MissionBuilder
 from roboscript.mission.channels import MAX_CHANNELS
 from roboscript.mission.files import FileReferenceError, beside_mission
+from roboscript.mission.key_mistakes import meant_at_top, meant_in_state
 from roboscript.mission.spec import (
     OUTCOMES,
     ActionSpec,
@@ -75,8 +76,14 @@ class _Reader:
     def loc(self, mark: Mark | None) -> Location:
         return Location.at(self.path, mark)
 
-    def unknown_keys(self, data: YamlMap, keys: tuple[str, ...], what: str) -> None:
-        self.problems.extend(self.fields.unknown_keys(data, keys, what))
+    def unknown_keys(
+        self,
+        data: YamlMap,
+        keys: tuple[str, ...],
+        what: str,
+        meant: Callable[[str, Any], str | None] | None = None,
+    ) -> None:
+        self.problems.extend(self.fields.unknown_keys(data, keys, what, meant))
 
     # ------------------------------------------------------------------------------ top
 
@@ -91,7 +98,7 @@ class _Reader:
             )
             return None
         if inner_of is None:
-            self.unknown_keys(data, _TOP_KEYS, "a mission")
+            self.unknown_keys(data, _TOP_KEYS, "a mission", meant_at_top)
         if inner_of is None and "behaviours" in data:
             extra, problems, self.broken = behaviours_from_yaml(
                 data["behaviours"], data.value_mark("behaviours"), self.path
@@ -213,7 +220,9 @@ class _Reader:
                 "move it to the top, beside 'states:'"
                 + (f": initial: {name}" if key == "initial" else ""),
             )
-        self.unknown_keys(raw, (*_STATE_KEYS, *misplaced, *mission_keys), f"state '{name}'")
+        self.unknown_keys(
+            raw, (*_STATE_KEYS, *misplaced, *mission_keys), f"state '{name}'", meant_in_state
+        )
         action = None
         if "do" in raw:
             action = self.action(raw["do"], raw.value_mark("do"), names, label=name)

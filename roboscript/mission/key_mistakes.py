@@ -1,0 +1,99 @@
+"""Keys a beginner writes for the ones a mission has, and what to write instead.
+
+A spelling slip (``stats``) is caught by "did you mean"; these are words from other tools or
+from roboscript's own Python form that look nothing like the key meant (``name`` for
+``mission``, ``next`` or ``on_done`` for ``on``, ``action`` for ``do``), so the hint names the
+key and shows the line to write, with the student's own value where it fits::
+
+    square.yaml:6:5: error: unknown key 'next' in state 'go' (where a state goes next is
+    written under 'on:', by outcome: write on: {done: end})
+
+The Python form's ``state()`` gets the same help for its keywords (:func:`meant_in_state_call`).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from roboscript.inputs.source import YamlMap
+
+__all__ = ["meant_at_top", "meant_in_state", "meant_in_state_call"]
+
+_OUTCOMES = ("done", "failed", "timeout")
+
+
+def _target(value: Any, fallback: str = "NEXT") -> str:
+    """The state a wrong key's value names, when it is one plain name."""
+    return value.strip() if isinstance(value, str) and value.strip().isidentifier() else fallback
+
+
+def _routes(value: Any) -> str:
+    """``on:``'s value as the student meant it: their own ``{done: end}`` when they wrote one."""
+    if isinstance(value, YamlMap) and value and all(key in _OUTCOMES for key in value):
+        return "{" + ", ".join(f"{key}: {_target(value[key])}" for key in value) + "}"
+    return f"{{done: {_target(value)}}}"
+
+
+def _action(value: Any) -> str:
+    """``do:``'s value as the student meant it: their action's name, when there is one."""
+    if isinstance(value, YamlMap) and len(value) == 1:
+        return f"{{{next(iter(value))}: {{...}}}}"
+    if isinstance(value, str) and value.strip().isidentifier():
+        return value.strip()
+    return "{drive: {distance: 50 cm}}"
+
+
+def meant_at_top(key: str, value: Any) -> str | None:
+    """The hint for ``key`` written at the top of a mission, or ``None`` if it is no known
+    mix-up (then "did you mean" or the list of keys is the hint)."""
+    word = key.lower()
+    if word in ("name", "title", "mission_name"):
+        return f"a mission's name goes under 'mission:': write mission: {_target(value, 'square')}"
+    if word in ("start", "first", "start_state", "initial_state", "first_state", "begin"):
+        return f"the first state is named under 'initial:': write initial: {_target(value, 'go')}"
+    return None
+
+
+def meant_in_state(key: str, value: Any) -> str | None:
+    """The hint for ``key`` written in a state, or ``None`` if it is no known mix-up."""
+    word = key.lower()
+    if word in ("action", "actions", "run", "command", "task", "does"):
+        return f"a state's action goes under 'do:': write do: {_action(value)}"
+    outcome = word.removeprefix("on_")
+    if word.startswith("on_") and outcome in (*_OUTCOMES, "fail", "failure", "timeout_s"):
+        outcome = {"fail": "failed", "failure": "failed", "timeout_s": "timeout"}.get(
+            outcome, outcome
+        )
+        return f"outcomes go under 'on:': write on: {{{outcome}: {_target(value)}}}"
+    if word in ("next", "goto", "go_to", "then", "after", "transitions", "transition"):
+        return (
+            "where a state goes next is written under 'on:', by outcome: "
+            f"write on: {_routes(value)}"
+        )
+    if word in ("if", "condition", "conditions", "until", "while", "check"):
+        return (
+            "a condition checked while in the state goes under 'when:': "
+            'write when: [{if: "range.distance_cm < 20", goto: NEXT}]'
+        )
+    if word in ("timeout_s", "time_limit", "max_time", "time", "limit"):
+        return "a state's time bound is 'timeout:': write timeout: 10 s"
+    if word in ("end", "ends", "final_state", "is_final", "outcome", "result", "finish"):
+        return "a state that ends the mission says so under 'final:': write final: success"
+    return None
+
+
+def meant_in_state_call(keyword: str) -> str | None:
+    """The hint for a keyword ``state()`` does not take, or ``None`` if it is no known mix-up
+    (then "did you mean" is the hint)."""
+    word = keyword.lower()
+    if word in ("do", "actions", "run", "command", "task"):
+        return "the action is state()'s first argument: write state(Drive(distance_mm=500), ...)"
+    if word in ("next", "goto", "go_to", "then", "after", "transitions", "transition", "on"):
+        return 'where a state goes next is named by outcome: write on_done="NEXT"'
+    if word in ("on_fail", "on_failure", "on_error"):
+        return 'write on_failed="NEXT"'
+    if word in ("if_", "condition", "conditions", "until", "while_", "check"):
+        return 'a condition checked while in the state goes in when: write when=[("cond", "NEXT")]'
+    if word in ("end", "ends", "final_state", "is_final", "outcome", "result", "finish"):
+        return 'a state that ends the mission says so with final: write final="success"'
+    return None
