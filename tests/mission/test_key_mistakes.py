@@ -11,43 +11,67 @@ from helpers import refusal, run_cli
 YAML_MIXUPS = [
     (
         "name: square\nstates:\n  go: {final: success}\n",
-        "M:1:1: error: unknown key 'name' in a mission"
-        " (a mission's name goes under 'mission:': write mission: square)",
+        (
+            "M:1:1: error: unknown key 'name' in a mission"
+            " (a mission's name goes under 'mission:': write mission: square)"
+        ),
     ),
     (
         "start: go\nstates:\n  go: {final: success}\n",
-        "M:1:1: error: unknown key 'start' in a mission"
-        " (the first state is named under 'initial:': write initial: go)",
+        (
+            "M:1:1: error: unknown key 'start' in a mission"
+            " (the first state is named under 'initial:': write initial: go)"
+        ),
     ),
     (
-        "states:\n  go:\n    action: {drive: {distance: 50 cm}}\n    on: {done: end}\n"
-        "  end: {final: success}\n",
-        "M:3:5: error: unknown key 'action' in state 'go'"
-        " (a state's action goes under 'do:': write do: {drive: {...}})",
+        (
+            "states:\n  go:\n    action: {drive: {distance: 50 cm}}\n    on: {done: end}\n"
+            "  end: {final: success}\n"
+        ),
+        (
+            "M:3:5: error: unknown key 'action' in state 'go'"
+            " (a state's action goes under 'do:': write do: {drive: {...}})"
+        ),
     ),
     (
-        "states:\n  go:\n    do: {drive: {distance: 50 cm}}\n    next: end\n"
-        "  end: {final: success}\n",
-        "M:4:5: error: unknown key 'next' in state 'go'"
-        " (where a state goes next is written under 'on:', by outcome: write on: {done: end})",
+        (
+            "states:\n  go:\n    do: {drive: {distance: 50 cm}}\n    next: end\n"
+            "  end: {final: success}\n"
+        ),
+        (
+            "M:4:5: error: unknown key 'next' in state 'go'"
+            " (where a state goes next is written under 'on:', by outcome: write on: {done: end})"
+        ),
     ),
     (
-        "states:\n  go:\n    do: {drive: {distance: 50 cm}}\n    on_failed: end\n"
-        "  end: {final: success}\n",
-        "M:4:5: error: unknown key 'on_failed' in state 'go'"
-        " (outcomes go under 'on:': write on: {failed: end})",
+        (
+            "states:\n  go:\n    do: {drive: {distance: 50 cm}}\n    on_failed: end\n"
+            "  end: {final: success}\n"
+        ),
+        (
+            "M:4:5: error: unknown key 'on_failed' in state 'go'"
+            " (outcomes go under 'on:': write on: {failed: end})"
+        ),
     ),
     (
-        "states:\n  go:\n    do: {drive: {distance: 50 cm}}\n"
-        "    transitions: {done: end, timeout: go}\n  end: {final: success}\n",
-        "M:4:5: error: unknown key 'transitions' in state 'go' (where a state goes next is"
-        " written under 'on:', by outcome: write on: {done: end, timeout: go})",
+        (
+            "states:\n  go:\n    do: {drive: {distance: 50 cm}}\n"
+            "    transitions: {done: end, timeout: go}\n  end: {final: success}\n"
+        ),
+        (
+            "M:4:5: error: unknown key 'transitions' in state 'go' (where a state goes next is"
+            " written under 'on:', by outcome: write on: {done: end, timeout: go})"
+        ),
     ),
     (
-        "states:\n  go:\n    do: {drive: {distance: 50 cm}}\n    on: {done: end}\n"
-        "  end:\n    end: success\n",
-        "M:6:5: error: unknown key 'end' in state 'end'"
-        " (a state that ends the mission says so under 'final:': write final: success)",
+        (
+            "states:\n  go:\n    do: {drive: {distance: 50 cm}}\n    on: {done: end}\n"
+            "  end:\n    end: success\n"
+        ),
+        (
+            "M:6:5: error: unknown key 'end' in state 'end'"
+            " (a state that ends the mission says so under 'final:': write final: success)"
+        ),
     ),
 ]
 
