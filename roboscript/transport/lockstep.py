@@ -162,7 +162,7 @@ class FrameDecoder:
         self._max = max_payload_bytes
         self._buffer = bytearray()
 
-    def feed(self, data: bytes) -> Iterator[tuple[bytes, bytes]]:
+    def feed(self, data: bytes | bytearray | memoryview) -> Iterator[tuple[bytes, bytes]]:
         """Add bytes; yield each complete ``(kind, payload)``.
 
         Raises:
@@ -203,6 +203,9 @@ class WorldChannel:
         self._sock = sock
         self._decoder = FrameDecoder(Kind.FROM_WORLD)
         self._frames: list[tuple[bytes, bytes]] = []
+        # One buffer for every read: a fresh one this size each tick would be mapped and
+        # unmapped by the allocator each time (three system calls a tick).
+        self._inbox = bytearray(MAX_PAYLOAD_BYTES)
         self._held = bytearray()  # frames that need no answer, not sent yet
         self.stopped = False
 
@@ -266,11 +269,12 @@ class WorldChannel:
         while not self._frames:
             try:
                 with wire_wait():
-                    data = self._sock.recv(MAX_PAYLOAD_BYTES)
+                    size = self._sock.recv_into(self._inbox)
             except OSError as exc:
                 raise WorldStoppedError(f"the simulated world hung up: {exc}") from None
-            if not data:
+            if not size:
                 raise WorldStoppedError("the simulated world hung up")
+            data = memoryview(self._inbox)[:size]  # the decoder copies what it keeps
             try:
                 self._frames.extend(self._decoder.feed(data))
             except FrameError as exc:

@@ -103,6 +103,20 @@ def test_a_request_returns_the_worlds_output_and_a_stop_ends_the_run() -> None:
     channel.close()
 
 
+def test_an_answer_stays_whole_when_the_next_read_reuses_the_buffer() -> None:
+    mission_end, world_end = socket.socketpair()
+    long, short = b"@E,2,{0:1,1:2}\n" * 40, b"@I,v,1\n"
+    answers = [encode_frame(Kind.OUTPUT, long), encode_frame(Kind.OUTPUT, short)]
+    thread = threading.Thread(target=_world, args=(world_end, answers))
+    thread.start()
+    channel = WorldChannel(mission_end)
+    first = channel.request(Kind.TICK, encode_time(0.02))
+    second = channel.request(Kind.TICK, encode_time(0.04))
+    assert (first, second) == (long, short)  # the first is the device's, not the buffer's
+    thread.join()
+    channel.close()
+
+
 def test_a_world_that_hangs_up_is_a_world_stopped() -> None:
     mission_end, world_end = socket.socketpair()
     world_end.close()
