@@ -123,14 +123,17 @@ class Submission:
 
 _CLASS = re.compile(r"^[ \t]*class[ \t]+\w+[ \t]*\(([^)]{0,2000})\)", re.MULTILINE)
 _BASE = re.compile(r"(?:\w+\s*\.\s*)*Mission")
+_ALIAS = re.compile(r"\bMission[ \t]+as[ \t]+(\w{1,100})")
 _TOP_KEY = re.compile(r"^([A-Za-z_][\w-]{0,100})[ \t]*:(?=[ \t\r]|$)", re.MULTILINE)
 
 
 def _defines_mission(text: str) -> bool:
-    """Whether Python text defines a class with a base named ``Mission``, read as text."""
+    """Whether Python text defines a class with a base named ``Mission`` (or a name it is
+    imported as: ``from roboscript import Mission as M``), read as text."""
+    aliases = set(_ALIAS.findall(text))
     for match in _CLASS.finditer(text):
         bases = (part.strip() for part in match.group(1).split(","))
-        if any(_BASE.fullmatch(base) for base in bases):
+        if any(_BASE.fullmatch(base) or base in aliases for base in bases):
             return True
     return False
 
@@ -238,7 +241,13 @@ class _Found:
 
 
 def _folder_student(folder: Path) -> _Found | None:
-    """A student who is a folder, or ``None`` when it holds no mission and nothing refused."""
+    """A student who is a folder, or ``None`` when it holds no mission, no Python file and
+    nothing refused.
+
+    A folder whose Python files show no ``Mission`` class as text is still its student's: one
+    such file is graded as the mission (loading it says what is wrong, if anything is); with
+    several, the student is refused, naming them.
+    """
     files, problems = _walk(folder)
     sources = [
         (relative, path)
@@ -258,6 +267,16 @@ def _folder_student(folder: Path) -> _Found | None:
             problems.append(problem)
         elif is_mission:
             missions.append(path)
+    python = [(relative, path) for relative, path in sources if path.suffix.lower() == ".py"]
+    if not missions and not problems and len(python) == 1:
+        missions.append(python[0][1])
+    elif not missions and not problems and python:
+        shown = ", ".join(relative for relative, _ in python[:3])
+        problems.append(
+            f"no mission in the folder: none of its Python files ({shown}"
+            f"{', ...' if len(python) > 3 else ''}) defines a class based on Mission"
+            " (hand in the mission's own file, with class NAME(Mission))"
+        )
     if not missions and not problems:
         return None
     return _Found(folder, missions, folder, problems[0] if problems else "")
