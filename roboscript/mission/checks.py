@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import difflib
 from collections.abc import Collection
+from dataclasses import dataclass
 
 from roboscript import capabilities as cap
 from roboscript.errors import InputError, MissionError
@@ -49,15 +50,31 @@ def _instead(missing: str, have: frozenset[str]) -> str | None:
     return _INSTEAD.get(missing) if needs is None or needs in have else None
 
 
+@dataclass(frozen=True)
+class _Write:
+    """What to write, in each language a state can be written in: the hint given is the one
+    of the file the problem is in (a Python mission may hold YAML missions as states)."""
+
+    yaml: str
+    python: str
+
+    def at(self, where: Location | None) -> str:
+        is_python = where is not None and str(where.path).lower().endswith(".py")
+        return self.python if is_python else self.yaml
+
+
 def _problem(
-    message: str, where: Location | None, hint: str | None = None, severity: str = "error"
+    message: str,
+    where: Location | None,
+    hint: str | _Write | None = None,
+    severity: str = "error",
 ) -> InputError:
     return MissionError(
         message,
         path=where.path if where else None,
         line=where.line if where else None,
         col=where.col if where else None,
-        hint=hint,
+        hint=hint.at(where) if isinstance(hint, _Write) else hint,
         severity=severity,
     )
 
@@ -132,11 +149,16 @@ def _routes_without_action(name: str, state: StateSpec) -> list[InputError]:
     (students meet this after deleting a state's ``do:``), so the state would wait for ever."""
     return [
         _problem(
-            f"state '{name}' moves on when its action {ends}, but it has no 'do:' action, "
-            "so it would wait for ever",
+            f"state '{name}' moves on when its action {ends}, but it has no "
+            + _Write("'do:' action", "action").at(state.location)
+            + ", so it would wait for ever",
             state.location,
-            "give it an action, e.g. do: {drive: {distance: 50 cm}}, or leave it with "
-            "'when:' or 'timeout:'",
+            _Write(
+                "give it an action, e.g. do: {drive: {distance: 50 cm}}, or leave it with "
+                "'when:' or 'timeout:'",
+                "give it an action, e.g. state(Drive(distance_mm=500), ...), or leave it with "
+                "when= or timeout_s=",
+            ),
         )
         for outcome, ends in _ACTION_OUTCOMES.items()
         if state.on.get(outcome)
@@ -164,8 +186,12 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                 f"mission '{spec.name}' can never finish: no final state can be reached "
                 f"from '{spec.initial}'",
                 first.location if first is not None else spec.location,
-                "add a state with 'final: success' and a transition to it, "
-                "e.g. on: {done: finished}",
+                _Write(
+                    "add a state with 'final: success' and a transition to it, "
+                    "e.g. on: {done: finished}",
+                    'add a state with final="success" and a transition to it, '
+                    'e.g. finished = state(final="success") and on_done="finished"',
+                ),
             )
         )
     for name, state in spec.states.items():
@@ -182,7 +208,10 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                 _problem(
                     f"state '{name}' has no way out",
                     state.location,
-                    "add 'on: {done: NEXT}', a 'when' condition, or 'final: success'",
+                    _Write(
+                        "add 'on: {done: NEXT}', a 'when' condition, or 'final: success'",
+                        'add on_done="NEXT", a when= condition, or final="success"',
+                    ),
                 )
             )
         if state.action is None and not state.final:
@@ -192,7 +221,10 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                 _problem(
                     f"final state '{name}' cannot also have transitions",
                     state.location,
-                    "remove 'final', or remove its 'on'/'when'",
+                    _Write(
+                        "remove 'final', or remove its 'on'/'when'",
+                        "remove final=, or remove its on_done=/on_failed=/on_timeout=/when=",
+                    ),
                 )
             )
         if state.final:
@@ -208,8 +240,12 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                     f"once in state '{name}' the mission can never finish: no final state "
                     "can be reached from it",
                     state.location,
-                    "add a transition from it to a final state, e.g. 'timeout: 30 s' and "
-                    "'on: {timeout: FINAL_STATE}'",
+                    _Write(
+                        "add a transition from it to a final state, e.g. 'timeout: 30 s' and "
+                        "'on: {timeout: FINAL_STATE}'",
+                        "add a transition from it to a final state, e.g. timeout_s=30 and "
+                        'on_timeout="FINAL_STATE"',
+                    ),
                     "warning",
                 )
             )
@@ -220,7 +256,10 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                     f"state '{name}' waits for '{waited}' with no timeout: if that never "
                     "holds, the mission runs until its time limit",
                     state.location,
-                    "add 'timeout: 10 s' and 'on: {timeout: STATE}' to the state",
+                    _Write(
+                        "add 'timeout: 10 s' and 'on: {timeout: STATE}' to the state",
+                        'add timeout_s=10 and on_timeout="STATE" to the state',
+                    ),
                     "warning",
                 )
             )
@@ -230,7 +269,10 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                 _problem(
                     f"'{action.name}' in state '{name}' never ends as written",
                     action.location,
-                    "give it 'until' or 'duration', or give the state a 'timeout' or a 'when'",
+                    _Write(
+                        "give it 'until' or 'duration', or give the state a 'timeout' or a 'when'",
+                        "give it until= or duration_s=, or give the state timeout_s= or when=",
+                    ),
                 )
             )
         if state.timeout_s is not None and not state.on.get("timeout"):
@@ -238,7 +280,10 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                 _problem(
                     f"if state '{name}' times out the mission ends in failure",
                     state.location,
-                    "add 'on: {timeout: STATE}' to handle it",
+                    _Write(
+                        "add 'on: {timeout: STATE}' to handle it",
+                        'add on_timeout="STATE" to handle it',
+                    ),
                     "warning",
                 )
             )
@@ -253,7 +298,10 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                 _problem(
                     f"if {what}, the mission ends in failure",
                     action.location,
-                    "add 'on: {failed: STATE}' to handle it",
+                    _Write(
+                        "add 'on: {failed: STATE}' to handle it",
+                        'add on_failed="STATE" to handle it',
+                    ),
                     "warning",
                 )
             )
@@ -267,7 +315,10 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                 _problem(
                     f"if '{action.name}' times out in state '{name}', the mission ends in failure",
                     action.location,
-                    "add 'on: {timeout: STATE}' to handle it",
+                    _Write(
+                        "add 'on: {timeout: STATE}' to handle it",
+                        'add on_timeout="STATE" to handle it',
+                    ),
                     "warning",
                 )
             )

@@ -59,9 +59,46 @@ def test_a_python_state_without_an_action_but_a_done_route_is_the_same_error(
     )
     with pytest.raises(MissionError) as info:
         load_mission(path)
-    assert "state 'w' moves on when its action is done, but it has no 'do:' action" in (
-        info.value.format()
-    )
+    assert (
+        "m.py:5:5: error: state 'w' moves on when its action is done, but it has no action, so"
+        " it would wait for ever (give it an action, e.g. state(Drive(distance_mm=500), ...),"
+        " or leave it with when= or timeout_s=)"
+    ) in info.value.format()
+
+
+@pytest.mark.parametrize(
+    ("suffix", "text", "hint"),
+    [
+        (
+            "yaml",
+            "states:\n  go:\n    do: {drive: {distance: 50 cm}}\n    on: {done: go}\n",
+            "(add a state with 'final: success' and a transition to it, e.g. on: {done: finished})",
+        ),
+        (
+            "py",
+            (
+                "from roboscript import Drive, Mission, state\n\n\nclass M(Mission):\n"
+                "    go = state(Drive(distance_mm=500), initial=True, on_done='go')\n"
+            ),
+            (
+                '(add a state with final="success" and a transition to it,'
+                ' e.g. finished = state(final="success") and on_done="finished")'
+            ),
+        ),
+    ],
+)
+def test_a_structural_hint_is_written_in_the_missions_own_language(
+    tmp_path: Path, suffix: str, text: str, hint: str
+) -> None:
+    path = tmp_path / f"m.{suffix}"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(MissionError) as info:
+        load_mission(path)
+    found = [p.format() for p in getattr(info.value, "problems", [info.value])]
+    assert any(
+        "can never finish: no final state can be reached from 'go' " + hint in line
+        for line in found
+    ), found
 
 
 # -------- Whole messages for a mission's shape, its robot and its world
