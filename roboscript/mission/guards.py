@@ -137,6 +137,28 @@ _ATTRS: dict[str, dict[str, tuple[str | None, str]]] = {
         "heading_deg": ("deg", cap.DRIVE_BASE),
     },
 }
+_DOTTED_EXAMPLES = {
+    "range": "range.distance_cm < 20",
+    "side_range": "side_range.distance_cm < 20",
+    "bumper": "bumper.left, bumper.right or bumper.any",
+    "line": "line.left, line.center, line.right or line.any",
+    "color": "color.black, color.red or color.reflection < 30",
+    "buttons": "buttons.left, buttons.right or buttons.any",
+    "driven": "driven.state_cm > 50 or driven.total_cm > 200",
+    "pose": "pose.x_mm > 500, pose.y_mm > 500 or pose.heading_deg > 90",
+}
+"""A condition for each sensor written without its value (each is compiled by a test)."""
+
+
+def _dotted_example(root: str) -> str:
+    """What a bare ``bumper`` (or ``visits``, ``in_region``) could have meant, written out."""
+    if root == "visits":
+        return "e.g. visits.STATE >= 2, with the name of one of your states"
+    if root == "in_region":
+        return "e.g. in_region.REGION, with the name of one of the world's regions"
+    return f"write {_DOTTED_EXAMPLES[root]}"
+
+
 _PLAIN: dict[str, tuple[str | None, str | None]] = {
     "heading_deg": ("deg", cap.DRIVE_BASE),
     "elapsed": ("s", None),
@@ -463,7 +485,9 @@ class _Compiler:
                 ident = node.id
                 return (lambda env: env.sensor(ident, None)), unit
             if node.id in _ATTRS or node.id in ("visits", "in_region"):
-                raise self.fail(f"'{node.id}' needs a '.' and a name after it", node)
+                raise self.fail(
+                    f"'{node.id}' needs a '.' and a name after it", node, _dotted_example(node.id)
+                )
             raise self.unknown(node.id, node)
         value = node.value
         if (

@@ -6,6 +6,7 @@ import math
 
 import pytest
 
+from roboscript.mission import guards
 from roboscript.mission.guards import (
     COLOR_NAMES,
     RGB_NAMES,
@@ -144,9 +145,19 @@ NAMES_HINT = (
             16,
             None,
         ),
-        ("range", "'range' needs a '.' and a name after it", 0, None),
-        ("visits > 1", "'visits' needs a '.' and a name after it", 0, None),
-        ("in_region", "'in_region' needs a '.' and a name after it", 0, None),
+        ("range", "'range' needs a '.' and a name after it", 0, "write range.distance_cm < 20"),
+        (
+            "visits > 1",
+            "'visits' needs a '.' and a name after it",
+            0,
+            "e.g. visits.STATE >= 2, with the name of one of your states",
+        ),
+        (
+            "in_region",
+            "'in_region' needs a '.' and a name after it",
+            0,
+            "e.g. in_region.REGION, with the name of one of the world's regions",
+        ),
         ("visits.nope > 1", "'visits.nope': there is no state 'nope'", 7, None),
         (
             "visits.fist > 1",
@@ -189,7 +200,12 @@ NAMES_HINT = (
         ("elapsed > 1 and elapsed % 2 > 0", "only + - * / are allowed in a condition", 16, None),
         ("elapsed > 1 and (elapsed, state_time)", "a condition has no ','", 16, None),
         ("elapsed > 1 and ~bumper.any", "only 'not' and '-' can stand before a value", 16, None),
-        ("elapsed > 1 and range", "'range' needs a '.' and a name after it", 16, None),
+        (
+            "elapsed > 1 and range",
+            "'range' needs a '.' and a name after it",
+            16,
+            "write range.distance_cm < 20",
+        ),
         ("elapsed > 1 and zzzzqqq", "unknown name 'zzzzqqq' in a condition", 16, NAMES_HINT),
         ("in_regon.goal", "unknown name 'in_regon' in a condition", 0, "did you mean 'in_region'?"),
         (
@@ -363,3 +379,14 @@ def test_the_names_listed_for_the_docs_are_the_names_a_condition_reads() -> None
     for name, needs in names.items():
         source = name.replace("STATE", "first").replace("NAME", "goal")
         assert compile_guard(source, STATES).capabilities == ({needs} if needs else set()), name
+
+
+@pytest.mark.parametrize("root", sorted(guards._ATTRS))
+def test_a_sensor_named_without_its_value_gets_conditions_that_compile(root: str) -> None:
+    with pytest.raises(GuardError) as info:
+        compile_guard(root)
+    hint = info.value.hint or ""
+    assert hint.startswith("write "), hint
+    for example in hint.removeprefix("write ").replace(" or ", ", ").split(", "):
+        compile_guard(example)  # every suggestion is itself a valid condition
+        assert example.startswith(f"{root}.")
