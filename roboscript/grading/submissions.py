@@ -241,13 +241,8 @@ class _Found:
 
 
 def _folder_student(folder: Path) -> _Found | None:
-    """A student who is a folder, or ``None`` when it holds no mission, no Python file and
-    nothing refused.
-
-    A folder whose Python files show no ``Mission`` class as text is still its student's: one
-    such file is graded as the mission (loading it says what is wrong, if anything is); with
-    several, the student is refused, naming them.
-    """
+    """A student who is a folder, or ``None`` when it holds no mission and nothing refused
+    (a class's shared ``behaviours/`` folder is no student)."""
     files, problems = _walk(folder)
     sources = [
         (relative, path)
@@ -267,16 +262,6 @@ def _folder_student(folder: Path) -> _Found | None:
             problems.append(problem)
         elif is_mission:
             missions.append(path)
-    python = [(relative, path) for relative, path in sources if path.suffix.lower() == ".py"]
-    if not missions and not problems and len(python) == 1:
-        missions.append(python[0][1])
-    elif not missions and not problems and python:
-        shown = ", ".join(relative for relative, _ in python[:3])
-        problems.append(
-            f"no mission in the folder: none of its Python files ({shown}"
-            f"{', ...' if len(python) > 3 else ''}) defines a class based on Mission"
-            " (hand in the mission's own file, with class NAME(Mission))"
-        )
     if not missions and not problems:
         return None
     return _Found(folder, missions, folder, problems[0] if problems else "")

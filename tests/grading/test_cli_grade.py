@@ -175,26 +175,3 @@ def test_check_accepts_test_specs_and_reports_their_mistakes(tmp_path: Path) -> 
     assert f"{spec}:3:13: error: unknown key 'cuont' in tones (did you mean 'count'?)" in (
         result.stderr
     )
-
-
-def test_a_students_folder_whose_file_defines_no_mission_is_graded_invalid_not_left_out(
-    tmp_path: Path,
-) -> None:
-    (tmp_path / "class" / "ana").mkdir(parents=True)
-    (tmp_path / "class" / "ana" / "robot_code.py").write_text("speed = 100\n", encoding="utf-8")
-    shutil.copytree(TEACHER / "square", tmp_path / "class" / "bo", ignore=_not_good)
-    result = run_cli("grade", str(SQUARE), "--mission", str(tmp_path / "class"), "--json")
-    report = json.loads(result.stdout)
-    found = {r["student"]: (r["passed"], r["summary"]) for r in report["results"]}
-    assert found["ana"] == (
-        False,
-        (
-            "the mission has an error: robot_code.py:1:1: error: this file holds no mission"
-            " (write a class that extends Mission: class MyMission(Mission): ...)"
-        ),
-    )
-    assert found["bo"][0] is True
-
-
-def _not_good(folder: str, names: list[str]) -> list[str]:
-    return [name for name in names if name != "good.yaml"]

@@ -53,26 +53,6 @@ def test_a_mission_class_whose_base_is_imported_under_another_name_is_a_student(
     assert _found(tmp_path) == {"aliased": (["aliased.py"], "")}
 
 
-def test_a_students_folder_without_a_mission_class_is_never_left_out(tmp_path: Path) -> None:
-    (tmp_path / "ana").mkdir()  # one Python file: graded as the mission, loading says the rest
-    (tmp_path / "ana" / "mine.py").write_text("x = 1\n", encoding="utf-8")
-    (tmp_path / "bo").mkdir()
-    for name in ("a.py", "b.py"):
-        (tmp_path / "bo" / name).write_text("x = 1\n", encoding="utf-8")
-    (tmp_path / "worlds").mkdir()  # no Python and no mission: nobody's
-    (tmp_path / "worlds" / "arena.yaml").write_text("world: arena\nwalls: []\n")
-    assert _found(tmp_path) == {
-        "ana": (["mine.py"], ""),
-        "bo": (
-            [],
-            (
-                "no mission in the folder: none of its Python files (a.py, b.py) defines a class"
-                " based on Mission (hand in the mission's own file, with class NAME(Mission))"
-            ),
-        ),
-    }
-
-
 def test_two_missions_with_one_name_in_one_folder_are_two_students(tmp_path: Path) -> None:
     (tmp_path / "ana.yaml").write_text(FORWARD_50CM, encoding="utf-8")
     (tmp_path / "ana.py").write_text(MISSION_PY.format(base="Mission"), encoding="utf-8")
