@@ -392,7 +392,9 @@ def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
     from roboscript.grading.batch import find_submissions
 
     if not (args.gradescope or args.prairielearn):
-        return find_submissions(args.missions)
+        found = find_submissions(args.missions)
+        _note_not_graded(args, found)
+        return found
     # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.gradescope import (
         no_submission_results,
@@ -412,6 +414,29 @@ def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
     folder = folders[0] if len(args.missions) == 1 and folders else None
     name = Path(folder).resolve().name if folder else "submission"
     return [one_submission(found, name or "submission", folder)]
+
+
+def _note_not_graded(args: argparse.Namespace, found: Any) -> None:
+    """Say which entries of a class folder are no student's work (``ana.zip``, ``notes/``):
+    a student who handed in the wrong thing is otherwise simply not in the table."""
+    # grading (sandbox, reports, worlds) loads only for the grading commands
+    from roboscript.grading.submissions import not_graded
+
+    if args.quiet:
+        return
+    names = not_graded(args.missions, found)
+    if names:
+        shown = ", ".join(names[:_NOT_GRADED_SHOWN])
+        more = len(names) - _NOT_GRADED_SHOWN
+        _err(
+            f"note: not graded, as no student's work: {shown}"
+            + (f" and {more} more" if more > 0 else "")
+            + " (a student is a .yaml or .py mission, or a folder holding one)"
+        )
+
+
+_NOT_GRADED_SHOWN = 10
+"""Most entries the note on what was not graded names."""
 
 
 def _write_platform_results(args: argparse.Namespace, results: dict[str, Any]) -> None:

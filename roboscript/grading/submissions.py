@@ -57,6 +57,7 @@ __all__ = [
     "Submission",
     "find_submissions",
     "named_files",
+    "not_graded",
     "visible_files",
 ]
 
@@ -96,6 +97,7 @@ class Submission:
             is in. No student-facing text holds a path above it.
         own: For a student who is a file: the files beside it that are theirs (named after
             their mission); what a run may read is the part of these the mission names.
+        sources: The files and folders found to be this student's (a refused one too).
     """
 
     student: str
@@ -104,6 +106,7 @@ class Submission:
     problem: str = ""
     root: str | None = None
     own: tuple[str, ...] = field(default=(), compare=False, repr=False)
+    sources: tuple[str, ...] = field(default=(), compare=False, repr=False)
 
     def __post_init__(self) -> None:
         # The one place a student's name is made safe: every report is written from this.
@@ -439,14 +442,43 @@ def _submissions(found: list[_Found]) -> list[Submission]:
         missions = tuple(dict.fromkeys(str(m) for part in parts for m in part.missions))
         problem = next((p.problem for p in parts if p.problem), "")
         first = parts[0]
+        sources = tuple(str(part.source) for part in parts)
         if first.folder is not None:
             folder = str(first.folder)
-            result.append(Submission(name, missions, folder, problem, folder))
+            result.append(Submission(name, missions, folder, problem, folder, sources=sources))
             continue
         root = first.source.parent
         own = owners.files_of(root, {Path(m).stem for m in missions})
-        result.append(Submission(name, missions, None, problem, str(root), own))
+        result.append(Submission(name, missions, None, problem, str(root), own, sources))
     return result
+
+
+def not_graded(patterns: Sequence[str], submissions: Sequence[Submission]) -> list[str]:
+    """What a class folder among ``patterns`` holds that is no student's work, by name
+    (``ana.zip``, ``notes/``): handed in in a form the grader does not take, or the teacher's.
+
+    Hidden entries (``.git``, ``__pycache__``) are left out; so are files a student who is a
+    file owns by their name (``alice_helpers.py``). Names are cleaned for a terminal.
+    """
+    taken = {Path(source).absolute() for s in submissions for source in s.sources}
+    stems = {Path(source).stem for s in submissions if s.folder is None for source in s.sources}
+    left: list[str] = []
+    for pattern in patterns:
+        folder = Path(pattern)
+        if not folder.is_dir():
+            continue
+        try:
+            children = sorted(folder.iterdir())
+        except OSError:
+            continue  # find_submissions has said why
+        for child in children:
+            if child.name.startswith((".", "__")):
+                continue
+            if child.absolute() in taken or _owner(child.name, stems) is not None:
+                continue
+            is_folder = child.is_dir() and not child.is_symlink()
+            left.append(clean_name(child.name) + ("/" if is_folder else ""))
+    return left
 
 
 # ------------------------------------------------------------------- what a run may read

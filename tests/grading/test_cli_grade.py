@@ -175,3 +175,27 @@ def test_check_accepts_test_specs_and_reports_their_mistakes(tmp_path: Path) -> 
     assert f"{spec}:3:13: error: unknown key 'cuont' in tones (did you mean 'count'?)" in (
         result.stderr
     )
+
+
+def test_what_a_class_folder_holds_that_is_no_students_work_is_named_once(
+    tmp_path: Path,
+) -> None:
+    folder = tmp_path / "class"
+    folder.mkdir()
+    shutil.copy(TEACHER / "square" / "good.yaml", folder / "alice.yaml")
+    (folder / "alice_helpers.py").write_text("X = 1\n", encoding="utf-8")  # alice's own
+    (folder / "bo.zip").write_bytes(b"PK")  # handed in in a form the grader does not take
+    (folder / "notes").mkdir()
+    (folder / "notes" / "todo.txt").write_text("", encoding="utf-8")
+    (folder / ".git").mkdir()  # hidden: nobody's business
+    (folder / "cy\n| forged | row.txt").write_text("", encoding="utf-8")
+    result = run_cli("grade", str(SQUARE), "--mission", str(folder))
+    notes = [line for line in result.stderr.splitlines() if line.startswith("note:")]
+    assert notes == [
+        (
+            "note: not graded, as no student's work: bo.zip, cy\ufffd| forged | row.txt, notes/"
+            " (a student is a .yaml or .py mission, or a folder holding one)"
+        )
+    ]
+    quiet = run_cli("grade", str(SQUARE), "--mission", str(folder), "--quiet")
+    assert "note:" not in quiet.stderr
