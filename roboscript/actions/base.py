@@ -18,17 +18,20 @@ from __future__ import annotations
 import abc
 import dataclasses
 import enum
+import functools
 import inspect
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal, cast, get_args
 
 from roboscript import capabilities as cap
 from roboscript.errors import CapabilityError
+from roboscript.inputs.quantities import DIMENSIONS, parse_quantity
 
 __all__ = [
     "ACTION_OUTCOMES",
     "FROM_INIT",
+    "PARAM_EXAMPLES",
     "PARAM_KINDS",
     "REQUIRED",
     "Action",
@@ -73,6 +76,22 @@ ParamKind = Literal[
 unit), or ``text``, ``choice`` (one of its words), ``guard`` (a condition) or ``color``."""
 
 PARAM_KINDS: tuple[ParamKind, ...] = get_args(ParamKind)
+
+PARAM_EXAMPLES: dict[str, str] = {
+    "distance": "50 cm",
+    "speed": "15 cm/s",
+    "time": "2 s",
+    "angle": "90 deg",
+    "turn_rate": "90 deg/s",
+    "frequency": "880 Hz",
+    "percent": "50 %",
+    "count": "4",
+    "text": "hello",
+    "guard": "range.distance_cm < 20",
+    "color": "red",
+}
+"""A value of each :data:`ParamKind` as a YAML mission writes it, for the examples messages
+give (a :class:`Param` may name a better one for itself)."""
 
 
 @dataclass(frozen=True)
@@ -130,6 +149,8 @@ class Param:
         doc: One line for the reference and for error messages.
         default: The value when omitted, or :data:`REQUIRED`.
         choices: Allowed words for a ``choice``.
+        example: A value as a YAML mission writes it, for messages (``"20 cm"``); empty for
+            the kind's own (:data:`PARAM_EXAMPLES`, or a ``choice``'s first word).
     """
 
     name: str
@@ -138,30 +159,62 @@ class Param:
     doc: str
     default: Any = REQUIRED
     choices: tuple[str, ...] = ()
+    example: str = ""
 
     @property
     def required(self) -> bool:
         """True if the parameter has no default."""
         return self.default is REQUIRED
 
+    @property
+    def yaml_example(self) -> str:
+        """The parameter with a value, as a YAML mission writes it (``distance: 50 cm``)."""
+        return f"{self.name}: {self._example_value()}"
+
+    @property
+    def python_example(self) -> str:
+        """The parameter with a value, as a Python mission writes it (``distance_mm=500``):
+        a quantity as a number in the keyword's unit, words in quotes."""
+        value = self._example_value()
+        if self.kind in DIMENSIONS:
+            try:
+                return f"{self.kwarg}={parse_quantity(value, self.kind):g}"
+            except ValueError:  # a count's example, or a student's Param with an odd one
+                pass
+        return f'{self.kwarg}="{value}"'
+
+    def _example_value(self) -> str:
+        if self.example:
+            return self.example
+        if self.kind == "choice" and self.choices:
+            return self.choices[0]
+        return PARAM_EXAMPLES.get(self.kind, "...")
+
 
 class UnderSpecifiedError(ValueError):
-    """An action made without a parameter it needs, told with an example to copy in the
-    student's own language: a YAML mission's ``write`` hint, or a Python one's.
+    """An action made without a parameter it needs, or with a value it cannot use where it
+    needs one (no steps, no actions), told with an example to copy in the student's own
+    language: a YAML mission's ``write`` hint, or a Python one's.
 
-    ``str()`` of it is the message with the Python example, as a traceback shows it.
+    ``str()`` of it is the Python message with the Python example, as a traceback shows it.
 
     Attributes:
-        message: What is missing (``"drive needs a distance or a duration"``).
+        message: What is missing, as a YAML mission names it
+            (``"drive needs a distance or a duration"``).
         yaml: How a YAML mission writes it (``"`distance: 50 cm` or `duration: 2 s`"``).
         python: How a Python mission writes it (``"Drive(distance_mm=500) or ..."``).
+        python_message: What is missing, as a Python mission names it (its keywords), when
+            that differs from ``message``.
     """
 
-    def __init__(self, message: str, *, yaml: str, python: str) -> None:
-        super().__init__(f"{message} (write {python})")
+    def __init__(
+        self, message: str, *, yaml: str, python: str, python_message: str | None = None
+    ) -> None:
         self.message = message
         self.yaml = yaml
         self.python = python
+        self.python_message = python_message or message
+        super().__init__(f"{self.python_message} (write {python})")
 
 
 class ActionContext:
@@ -275,6 +328,10 @@ class Action(abc.ABC):
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
+        init = vars(cls).get("__init__")
+        if inspect.isfunction(init):
+            # mypy refuses an assignment to a method, so the wrapper is set by name
+            setattr(cls, "__init__", _naming_what_is_missing(init))  # noqa: B010
         params = vars(cls).get("params")
         if "__init__" not in vars(cls) or not isinstance(params, tuple):
             return
@@ -308,6 +365,65 @@ class Action(abc.ABC):
         """
         return []
 
+    @classmethod
+    def example(cls, *names: str) -> tuple[str, str]:
+        """How a YAML mission writes this action's parameters ``names``, each with a value,
+        and a Python mission the whole call with them (every parameter without a default
+        is in both when none are named, and in the call always).
+
+        Returns:
+            ``(yaml, python)``: ``("`timeout: 10 s`",
+            "WaitUntil(condition=\"range.distance_cm < 20\", timeout_s=10)")``.
+        """
+        yaml = " and ".join(f"`{p.yaml_example}`" for p in cls._chosen(names))
+        return yaml, cls.written(*names)[1]
+
+    @classmethod
+    def written(cls, *names: str) -> tuple[str, str]:
+        """The whole action with its parameters ``names`` and every one without a default,
+        as a YAML and a Python mission write it:
+        ``("{rotate: {angle: 90 deg}}", "Rotate(angle_deg=90)")``.
+        """
+        chosen = [p for p in cls.params if p.required or p.name in names]
+        label = getattr(cls, "name", cls.__name__)
+        yaml = f"{{{label}: {{{', '.join(p.yaml_example for p in chosen)}}}}}"
+        return yaml, f"{cls.__name__}({', '.join(p.python_example for p in chosen)})"
+
+    @classmethod
+    def _chosen(cls, names: Sequence[str]) -> list[Param]:
+        by_name = {p.name: p for p in cls.params}
+        return [by_name[n] for n in names] if names else [p for p in cls.params if p.required]
+
+    @classmethod
+    def needs(cls, message: str, *names: str) -> UnderSpecifiedError:
+        """The error for this action made without a value it needs: ``message`` (a sentence
+        both syntaxes share), with the examples of :meth:`example` for ``names``."""
+        yaml, python = cls.example(*names)
+        return UnderSpecifiedError(message, yaml=yaml, python=python)
+
+    @classmethod
+    def under_specified(cls, missing: Sequence[str]) -> UnderSpecifiedError | None:
+        """The error for this action made without the parameters ``missing`` (mission
+        names), or ``None`` if they are not all parameters of it.
+
+        A YAML mission gets each missing parameter (``'rotate' needs 'angle', how far to
+        turn (positive = right)``, write `angle: 90 deg`); a Python mission its keywords and
+        the whole call (``Rotate needs 'angle_deg', ...``, write ``Rotate(angle_deg=90)``).
+        """
+        by_name = {p.name: p for p in cls.params}
+        if not missing or any(name not in by_name for name in missing):
+            return None
+        wanted = [by_name[name] for name in missing]
+        label = getattr(cls, "name", cls.__name__)
+        yaml, python = cls.example(*missing)
+        return UnderSpecifiedError(
+            f"'{label}' needs " + ", and ".join(f"'{p.name}', {p.doc}" for p in wanted),
+            yaml=yaml,
+            python=python,
+            python_message=f"{cls.__name__} needs "
+            + ", and ".join(f"'{p.kwarg}', {p.doc}" for p in wanted),
+        )
+
     feedback: str = ""
     """A short progress text for status lines (``"driving 230/500 mm"``)."""
 
@@ -320,3 +436,46 @@ class Action(abc.ABC):
 
     def stop(self, ctx: ActionContext) -> None:  # noqa: B027 - optional hook
         """Called when the state is left, whether the action ended or was interrupted."""
+
+
+def _naming_what_is_missing(init: Callable[..., None]) -> Callable[..., None]:
+    """``init``, an action's ``__init__``, answering a call without a parameter it needs
+    with :meth:`Action.under_specified` (an example to copy) instead of Python's
+    ``missing 1 required positional argument``."""
+
+    @functools.wraps(init)
+    def wrapped(self: Action, *args: Any, **kwargs: Any) -> None:
+        try:
+            init(self, *args, **kwargs)
+        except TypeError as exc:
+            if exc.__traceback__ is None or exc.__traceback__.tb_next is not None:
+                raise  # raised inside __init__, not by the call
+            missing = _missing_arguments(init, self, args, kwargs)
+            by_kwarg = {p.kwarg: p.name for p in type(self).params}
+            names = [by_kwarg.get(kwarg, kwarg) for kwarg in missing]
+            error = type(self).under_specified(names) if names else None
+            if error is None:
+                raise
+            raise error from None
+
+    return wrapped
+
+
+def _missing_arguments(
+    init: Callable[..., None], self: Action, args: tuple[Any, ...], kwargs: dict[str, Any]
+) -> list[str]:
+    """The keywords without a default that a call of ``init`` left out (none if the call
+    was wrong in another way: an unknown keyword, one argument too many)."""
+    signature = inspect.signature(init)
+    try:
+        bound = signature.bind_partial(self, *args, **kwargs)
+    except TypeError:
+        return []
+    named = (inspect.Parameter.POSITIONAL_OR_KEYWORD, inspect.Parameter.KEYWORD_ONLY)
+    return [
+        name
+        for name, parameter in signature.parameters.items()
+        if name not in bound.arguments
+        and parameter.kind in named
+        and parameter.default is inspect.Parameter.empty
+    ]

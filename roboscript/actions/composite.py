@@ -11,7 +11,9 @@ from __future__ import annotations
 import copy
 from collections.abc import Callable, Sequence
 
-from roboscript.actions.base import Action, ActionContext, Outcome, Result
+from roboscript.actions.base import Action, ActionContext, Outcome, Result, UnderSpecifiedError
+from roboscript.actions.motion import Drive, Rotate
+from roboscript.actions.timing import PlayTone
 
 __all__ = ["Parallel", "Repeat"]
 
@@ -54,11 +56,24 @@ class Parallel(Action):
     name = "parallel"
     summary = "Run actions at the same time."
 
+    @classmethod
+    def example(cls, *names: str) -> tuple[str, str]:
+        """A whole ``parallel`` of two actions, as YAML and Python write it."""
+        drive, tone = Drive.written("distance"), PlayTone.written()
+        return f"`parallel: {{all: [{drive[0]}, {tone[0]}]}}`", f"Parallel([{drive[1]}, {tone[1]}])"
+
+    @classmethod
+    def under_specified(cls, missing: Sequence[str]) -> UnderSpecifiedError:
+        """``Parallel()``: it needs its actions."""
+        return cls.needs("parallel needs the actions to run together, in a list")
+
     def __init__(self, factories: Sequence[Action | ActionFactory], mode: str = "all") -> None:
         if mode not in ("all", "any"):
             raise ValueError("parallel runs 'all' or 'any'")
+        if isinstance(factories, Action):
+            raise type(self).needs("parallel takes a list of actions, in [ ]")
         if not factories:
-            raise ValueError("parallel needs at least one action")
+            raise type(self).needs("parallel needs at least one action")
         self.child_requires = _needs(factories)
         """Capabilities the children need (the class itself needs none)."""
         self.actions = tuple(factories)
@@ -125,9 +140,24 @@ class Repeat(Action):
     name = "repeat"
     summary = "Run an action several times."
 
+    @classmethod
+    def example(cls, *names: str) -> tuple[str, str]:
+        """A whole ``repeat``, as YAML and Python write it."""
+        turn = Rotate.written()
+        return f"`repeat: {{times: 4, do: {turn[0]}}}`", f"Repeat({turn[1]}, times=4)"
+
+    @classmethod
+    def under_specified(cls, missing: Sequence[str]) -> UnderSpecifiedError:
+        """``Repeat()``: it needs an action (``factory``) and how many ``times`` to run it."""
+        if "factory" not in missing:
+            return cls.needs("repeat needs 'times', how many times to run the action")
+        if "times" not in missing:
+            return cls.needs("repeat needs the action to repeat")
+        return cls.needs("repeat needs an action and how many times to run it")
+
     def __init__(self, factory: Action | ActionFactory, times: int) -> None:
         if times < 1:
-            raise ValueError("repeat needs 'times' of at least 1")
+            raise type(self).needs("repeat needs 'times' of at least 1")
         self.child_requires = _needs([factory])
         """Capabilities the repeated action needs."""
         self.action = factory

@@ -54,10 +54,12 @@ class FollowWall(WheelAction):
     summary = "Drive along a wall at a set distance."
     params = (
         Param("side", "side", "choice", "where the wall is", FROM_INIT, ("left", "right")),
-        Param("distance", "distance_mm", "distance", "gap to keep to the wall", FROM_INIT),
-        Param("speed", "speed_mm_s", "speed", "forward speed", FROM_INIT),
+        Param(
+            "distance", "distance_mm", "distance", "gap to keep to the wall", FROM_INIT, (), "20 cm"
+        ),
+        Param("speed", "speed_mm_s", "speed", "forward speed", FROM_INIT, (), "12 cm/s"),
         Param("until", "until", "guard", "stop when this condition holds", FROM_INIT),
-        Param("duration", "duration_s", "time", "stop after this long", FROM_INIT),
+        Param("duration", "duration_s", "time", "stop after this long", FROM_INIT, (), "10 s"),
     )
     requires = frozenset({cap.DRIVE_BASE, cap.SIDE_RANGE})
     bounded_by = ("until", "duration")
@@ -74,8 +76,10 @@ class FollowWall(WheelAction):
     ) -> None:
         if side not in ("left", "right"):
             raise ValueError("side must be 'left' or 'right'")
-        if distance_mm <= 0 or speed_mm_s <= 0:
-            raise ValueError("follow_wall needs a positive distance and speed")
+        if distance_mm <= 0:
+            raise type(self).needs("follow_wall needs a positive distance to keep", "distance")
+        if speed_mm_s <= 0:
+            raise type(self).needs("follow_wall needs a positive speed", "speed")
         super().__init__()
         self.side = side
         self.distance_mm = distance_mm
@@ -137,7 +141,9 @@ class FollowLine(WheelAction):
     name = "follow_line"
     summary = "Drive along a dark line on the floor."
     params = (
-        Param("speed", "speed_mm_s", "speed", "forward speed on straights", FROM_INIT),
+        Param(
+            "speed", "speed_mm_s", "speed", "forward speed on straights", FROM_INIT, (), "10 cm/s"
+        ),
         Param(
             "edge",
             "edge",
@@ -147,7 +153,7 @@ class FollowLine(WheelAction):
             ("center", "left", "right"),
         ),
         Param("until", "until", "guard", "stop when this condition holds", FROM_INIT),
-        Param("duration", "duration_s", "time", "stop after this long", FROM_INIT),
+        Param("duration", "duration_s", "time", "stop after this long", FROM_INIT, (), "10 s"),
     )
     requires = frozenset({cap.DRIVE_BASE, cap.LINE})
     bounded_by = ("until", "duration")
@@ -166,7 +172,7 @@ class FollowLine(WheelAction):
         if edge not in self._EDGE_TARGET:
             raise ValueError("edge must be 'center', 'left' or 'right'")
         if speed_mm_s <= 0:
-            raise ValueError("follow_line needs a positive speed")
+            raise type(self).needs("follow_line needs a positive speed", "speed")
         super().__init__()
         self.speed_mm_s = speed_mm_s
         self.edge = edge

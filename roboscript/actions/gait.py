@@ -15,21 +15,17 @@ from roboscript.actions.base import Action, ActionContext, Param, Result
 __all__ = ["Turn", "Walk"]
 
 
-def _whole_steps(steps: float, action: str) -> int:
-    if steps != int(steps):
-        raise ValueError(f"{action} takes whole steps, not {steps:g}")
-    if steps == 0:
-        raise ValueError(f"{action} needs at least one step (0 does nothing)")
-    return int(steps)
-
-
 class _GaitAction(Action):
     """Start a gait on the walker, then wait until it has finished."""
 
     requires = frozenset({cap.WALKER})
 
     def __init__(self, steps: float) -> None:
-        self.steps = _whole_steps(steps, self.name)
+        if steps != int(steps):
+            raise ValueError(f"{self.name} takes whole steps, not {steps:g}")
+        if steps == 0:
+            raise type(self).needs(f"{self.name} needs at least one step (0 does nothing)", "steps")
+        self.steps = int(steps)
         self._walker: cap.Walker | None = None
 
     def _start_gait(self, walker: cap.Walker) -> None:

@@ -79,10 +79,11 @@ class Drive(WheelAction):
         duration_s: float | None = None,
     ) -> None:
         if distance_mm is None and duration_s is None:
+            by_distance, by_time = type(self).example("distance"), type(self).example("duration")
             raise UnderSpecifiedError(
                 "drive needs a distance or a duration",
-                yaml="`distance: 50 cm` or `duration: 2 s`",
-                python="Drive(distance_mm=500) or Drive(duration_s=2)",
+                yaml=f"{by_distance[0]} or {by_time[0]}",
+                python=f"{by_distance[1]} or {by_time[1]}",
             )
         if speed_mm_s <= 0:
             raise ValueError("drive speed must be positive (use a negative distance to reverse)")

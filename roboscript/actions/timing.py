@@ -88,13 +88,19 @@ class WaitUntil(Action):
     summary = "Wait until a condition holds (with a time bound)."
     params = (
         Param("condition", "condition", "guard", "what to wait for"),
-        Param("timeout", "timeout_s", "time", "the most it waits (every wait has a bound)"),
+        Param(
+            "timeout",
+            "timeout_s",
+            "time",
+            "the most it waits (every wait has a bound)",
+            example="10 s",
+        ),
     )
     can_time_out = True
 
     def __init__(self, condition: Any, timeout_s: float) -> None:
         if timeout_s <= 0:
-            raise ValueError("wait_until needs a positive timeout")
+            raise type(self).needs("wait_until needs a positive timeout", "timeout")
         self.condition = condition
         self.timeout_s = timeout_s
         self._start_s = 0.0

@@ -109,9 +109,11 @@ def action_params(
             if not param.required:
                 kwargs[param.kwarg] = param.default
             elif written:
-                problems.append(
-                    ("", f"'{cls.name}' needs '{param.name}' ({param.doc})", None, None)
-                )
+                missing = cls.under_specified([param.name])
+                if missing is not None:  # a behaviour may answer None
+                    problems.append(("", missing.message, f"write {missing.yaml}", None))
+                else:
+                    problems.append(("", f"'{cls.name}' needs '{param.name}'", None, None))
             continue
         try:
             kwargs[param.kwarg] = _convert(param, values[param.name], state_names)

@@ -128,6 +128,22 @@ def _failure(action: ActionSpec) -> str | None:
     return reasons[0] if reasons else None
 
 
+def _how_to_end(action: ActionSpec) -> str:
+    """How to give an endless action an end, written in its mission's own language: one of
+    the parameters that end it (its class's ``bounded_by``), or a time bound on its state."""
+    python = action.location is not None and action.location.path.endswith(".py")
+    state = "timeout_s=10 or a when=[...]" if python else "`timeout: 10 s` or a `when`"
+    endless = action
+    while endless.children:  # a parallel or a repeat of an endless action: that action
+        endless = next((c for c in endless.children if not c.bounded), endless.children[0])
+    cls = endless.action_class
+    if cls is None or not cls.bounded_by:
+        return f"give the state {state}"
+    ends = " or ".join(cls.example(name)[1 if python else 0] for name in cls.bounded_by)
+    inside = "" if endless is action or python else f" in '{endless.name}'"
+    return f"write {ends}{inside}, or give the state {state}"
+
+
 def _times_out(action: ActionSpec) -> bool:
     can = action.action_class is not None and action.action_class.can_time_out
     return can or any(_times_out(c) for c in action.children)
@@ -269,10 +285,7 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                 _problem(
                     f"'{action.name}' in state '{name}' never ends as written",
                     action.location,
-                    _Write(
-                        "give it 'until' or 'duration', or give the state a 'timeout' or a 'when'",
-                        "give it until= or duration_s=, or give the state timeout_s= or when=",
-                    ),
+                    _how_to_end(action),
                 )
             )
         if state.timeout_s is not None and not state.on.get("timeout"):

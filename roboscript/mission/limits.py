@@ -19,7 +19,7 @@ from collections.abc import Iterator, Mapping, Sequence
 from typing import Any
 
 from roboscript import capabilities as cap
-from roboscript.actions.base import Param
+from roboscript.actions.base import PARAM_EXAMPLES, Param
 from roboscript.errors import InputError, MissionError
 from roboscript.inputs.quantities import DIMENSIONS
 from roboscript.inputs.source import Location
@@ -88,15 +88,7 @@ def a_noun(noun: str) -> str:
 
 def example(kind: str) -> str:
     """A value of a quantity ``kind`` as a student writes it, for hints (``'50 cm'``)."""
-    return {
-        "distance": "'50 cm'",
-        "speed": "'15 cm/s'",
-        "time": "'2 s'",
-        "angle": "'90 deg'",
-        "turn_rate": "'90 deg/s'",
-        "frequency": "'880 Hz'",
-        "percent": "'50 %'",
-    }.get(kind, "a number")
+    return f"'{PARAM_EXAMPLES[kind]}'" if kind in DIMENSIONS and kind != "count" else "a number"
 
 
 def time_problem(label: str, value: float) -> tuple[str, str] | None:

@@ -328,7 +328,7 @@ def _explain(
     if isinstance(exc, SystemExit):
         return f"the {kind} file called exit() while it was loaded", None
     if isinstance(exc, UnderSpecifiedError) and raised_by_roboscript:
-        return exc.message, f"write {exc.python}"
+        return exc.python_message, f"write {exc.python}"
     if isinstance(exc, RoboscriptError | ValueError) and raised_by_roboscript:
         return text, None  # roboscript's own sentence, e.g. "drive speed must be positive"
     if isinstance(exc, TypeError):

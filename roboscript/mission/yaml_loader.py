@@ -11,7 +11,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
-from roboscript.actions import ACTIONS, Action
+from roboscript.actions import ACTIONS, Action, Parallel, Repeat
 from roboscript.errors import InputError, MissionError, did_you_mean
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.quantities import QuantityError, bare_number_warning, parse_quantity
@@ -42,6 +42,9 @@ _STATE_KEYS = ("do", "during", "on", "when", "timeout", "final", "description")
 _INNER_KEYS = ("states", "initial", "description")
 _CHOICE_KEYS = ("if", "goto")
 _COMPOSITES = ("parallel", "repeat", "states", "mission")
+
+_REPEAT = {"times": "how many times", "do": "the action to repeat"}
+"""What a ``repeat:`` holds, and what each is."""
 
 
 def _first_key(items: YamlList) -> str:
@@ -343,17 +346,27 @@ class _Reader:
         if kind == "mission":
             return self.mission_file(body, raw.value_mark(kind), label)
         if kind == "parallel":
+            together = f"write {Parallel.example()[0]}; with any: it ends when the first one does"
             if (
                 not isinstance(body, YamlMap)
                 or len(body) != 1
                 or next(iter(body)) not in ("all", "any")
             ):
-                self.problem("write parallel: {all: [ACTIONS]} or parallel: {any: [ACTIONS]}", mark)
+                both = isinstance(body, YamlMap) and {"all", "any"} <= set(body)
+                self.problem(
+                    "parallel takes 'all' or 'any', not both"
+                    if both
+                    else "parallel needs 'all' or 'any', with the list of actions to run together",
+                    mark,
+                    together,
+                )
                 return None
             mode = next(iter(body))
             items = body[mode]
             if not isinstance(items, YamlList) or not items:
-                self.problem(f"parallel {mode}: needs a list of actions", body.value_mark(mode))
+                self.problem(
+                    f"parallel {mode}: needs a list of actions", body.value_mark(mode), together
+                )
                 return None
             children = [
                 self.action(item, item_mark, names, label)
@@ -364,13 +377,22 @@ class _Reader:
                 return None
             return self.build.parallel(mode, specs, self.loc(mark))
         # repeat
+        again = f"write {Repeat.example()[0]}"
         if not isinstance(body, YamlMap) or set(body) != {"times", "do"}:
-            self.problem("write repeat: {times: N, do: ACTION}", mark)
+            given = body if isinstance(body, YamlMap) else {}
+            missing = [key for key in _REPEAT if key not in given]
+            if not any(key not in _REPEAT for key in given):
+                needs = ", and ".join(f"'{key}', {_REPEAT[key]}" for key in missing)
+                self.problem(f"repeat needs {needs}", mark, again)
+            else:
+                self.problem("repeat takes 'times' and 'do', and nothing else", mark, again)
             return None
         times = body["times"]
         if isinstance(times, bool) or not isinstance(times, int) or times < 1:
             self.problem(
-                "repeat times must be a whole number of at least 1", body.value_mark("times")
+                "repeat times must be a whole number of at least 1",
+                body.value_mark("times"),
+                "write `times: 4`",
             )
             return None
         child = self.action(body["do"], body.value_mark("do"), names, label)

@@ -502,14 +502,21 @@ def test_follow_wall_steers_away_from_a_close_wall_with_the_profiles_gains() -> 
 @pytest.mark.parametrize(
     ("value", "message"),
     [
-        ({"side": "up"}, "^side must be 'left' or 'right'$"),
-        ({"distance_mm": 0}, "^follow_wall needs a positive distance and speed$"),
-        ({"speed_mm_s": 0}, "^follow_wall needs a positive distance and speed$"),
+        ({"side": "up"}, "side must be 'left' or 'right'"),
+        (
+            {"distance_mm": 0},
+            "follow_wall needs a positive distance to keep (write FollowWall(distance_mm=200))",
+        ),
+        (
+            {"speed_mm_s": 0},
+            "follow_wall needs a positive speed (write FollowWall(speed_mm_s=120))",
+        ),
     ],
 )
 def test_follow_wall_validates_its_parameters(value: dict[str, Any], message: str) -> None:
-    with pytest.raises(ValueError, match=message):
+    with pytest.raises(ValueError) as refused:
         FollowWall(**value)
+    assert str(refused.value) == message
 
 
 def test_follow_wall_accepts_a_small_gap_and_a_slow_speed() -> None:
@@ -579,8 +586,11 @@ def test_follow_line_defaults_and_validation() -> None:
     assert (action.speed_mm_s, action.edge) == (100.0, "center")
     with pytest.raises(ValueError, match=r"^edge must be 'center', 'left' or 'right'$"):
         FollowLine(edge="middle")
-    with pytest.raises(ValueError, match=r"^follow_line needs a positive speed$"):
+    with pytest.raises(ValueError) as refused:
         FollowLine(speed_mm_s=0)
+    assert str(refused.value) == (
+        "follow_line needs a positive speed (write FollowLine(speed_mm_s=100))"
+    )
     assert FollowLine(speed_mm_s=0.5).speed_mm_s == 0.5
 
 

@@ -216,7 +216,12 @@ def test_parameter_problems_are_the_same_for_both_syntaxes() -> None:
     )
     _, problems = action_params(ACTIONS["rotate"], {})
     assert problems == [
-        ("", "'rotate' needs 'angle' (how far to turn (positive = right))", None, None)
+        (
+            "",
+            "'rotate' needs 'angle', how far to turn (positive = right)",
+            "write `angle: 90 deg`",
+            None,
+        )
     ]
     # read from an object its constructor checked, a missing parameter is not the student's
     assert action_params(ACTIONS["rotate"], {}, written=False)[1] == []
@@ -583,8 +588,9 @@ def test_parallel_any_ends_with_its_bounded_action() -> None:
 def test_parallel_all_never_ends_while_one_action_runs_on() -> None:
     assert _yaml_errors(PARALLEL.format(mode="all") + END) == [
         (
-            "m.yaml:5:7: error: 'parallel' in state 'a' never ends as written "
-            "(give it 'until' or 'duration', or give the state a 'timeout' or a 'when')"
+            "m.yaml:5:7: error: 'parallel' in state 'a' never ends as written (write"
+            " `until: range.distance_cm < 20` or `duration: 10 s` in 'follow_wall', or give the"
+            " state `timeout: 10 s` or a `when`)"
         ),
         (
             "m.yaml:5:7: warning: if 'parallel' fails (lost wall or stalled) in state 'a', "
@@ -629,8 +635,9 @@ def test_repeat_of_an_endless_action_never_ends() -> None:
         "  a:\n    do: {repeat: {times: 2, do: follow_line}}\n    on: {done: b, failed: b}\n" + END
     ) == [
         (
-            "m.yaml:4:10: error: 'repeat' in state 'a' never ends as written "
-            "(give it 'until' or 'duration', or give the state a 'timeout' or a 'when')"
+            "m.yaml:4:10: error: 'repeat' in state 'a' never ends as written (write"
+            " `until: range.distance_cm < 20` or `duration: 10 s` in 'follow_line', or give the"
+            " state `timeout: 10 s` or a `when`)"
         )
     ]
 

@@ -35,15 +35,17 @@ def _write(write_mission: Callable[..., Path], action: str, extra: str = "") -> 
 
 @pytest.mark.parametrize(
     ("action", "name"),
-    [("FollowWall(side='right')", "follow_wall"), ("FollowLine()", "follow_line")],
-)
-def test_an_action_that_never_ends_is_refused(
+    [("FollowWall(side='right')", "FollowWall"), ("FollowLine()", "FollowLine")],
+)  # the mission's own language: Python keywords, not YAML's `until:`
+def test_an_action_that_never_ends_is_refused_showing_how_to_end_it_in_python(
     write_mission: Callable[..., Path], action: str, name: str
 ) -> None:
     problems = _problems(_write(write_mission, action))
+    word = next(cls.name for cls in ACTIONS.values() if cls.__name__ == name)
     expected = (
-        f"M:5:16: error: '{name}' in state 'go' never ends as written (give it 'until' or"
-        " 'duration', or give the state a 'timeout' or a 'when')"
+        f"M:5:16: error: '{word}' in state 'go' never ends as written (write"
+        f' {name}(until="range.distance_cm < 20") or {name}(duration_s=10), or give the state'
+        " timeout_s=10 or a when=[...])"
     )
     assert problems == [expected]
 

@@ -104,22 +104,23 @@ def test_valid_mission_loads_with_units_converted(write_mission: Callable[..., P
         ),
         (
             GOOD.replace("do: {drive: {distance: 30 cm}}", "do: {play_tone: {duration: 1 s}}"),
-            "M:5:10: error: 'play_tone' needs 'frequency' (pitch)",
+            "M:5:10: error: 'play_tone' needs 'frequency', pitch (write `frequency: 880 Hz`)",
         ),
         (
             GOOD.replace(
                 "do: {drive: {distance: 30 cm}}", 'do: {wait_until: {condition: "bumper.any"}}'
             ),
             (
-                "M:5:10: error: 'wait_until' needs 'timeout' (the most it waits"
-                " (every wait has a bound))"
+                "M:5:10: error: 'wait_until' needs 'timeout', the most it waits"
+                " (every wait has a bound) (write `timeout: 10 s`)"
             ),
         ),
         (
             GOOD.replace("do: {drive: {distance: 30 cm}}", "do: {follow_wall: {side: left}}"),
             (
-                "M:5:10: error: 'follow_wall' in state 'go' never ends as written"
-                " (give it 'until' or 'duration', or give the state a 'timeout' or a 'when')"
+                "M:5:10: error: 'follow_wall' in state 'go' never ends as written (write"
+                " `until: range.distance_cm < 20` or `duration: 10 s`, or give the state"
+                " `timeout: 10 s` or a `when`)"
             ),
         ),
         (
@@ -415,6 +416,14 @@ def _mission(spec: MissionSpec, indent: str = "") -> list[str]:
 def outline(spec: MissionSpec) -> str:
     return "\n".join(_mission(spec))
 
+
+TOGETHER_HINT = (
+    "(write `parallel: {all: [{drive: {distance: 50 cm}}, {play_tone: {frequency: 880 Hz}}]}`;"
+    " with any: it ends when the first one does)"
+)
+TOGETHER = f"actions to run together {TOGETHER_HINT}"
+AGAIN = "(write `repeat: {times: 4, do: {rotate: {angle: 90 deg}}}`)"
+FOUR = "(write `times: 4`)"
 
 MISTAKES = [
     pytest.param(
@@ -744,7 +753,10 @@ MISTAKES = [
             ),
         },
         [
-            ("m.yaml:4:7: error: 'turn' needs 'steps' (how many turning steps (positive = right))"),
+            (
+                "m.yaml:4:7: error: 'turn' needs 'steps', how many turning steps"
+                " (positive = right) (write `steps: 4`)"
+            ),
         ],
         id="params_empty",
     ),
@@ -755,7 +767,10 @@ MISTAKES = [
             ),
         },
         [
-            ("m.yaml:3:9: error: 'turn' needs 'steps' (how many turning steps (positive = right))"),
+            (
+                "m.yaml:3:9: error: 'turn' needs 'steps', how many turning steps"
+                " (positive = right) (write `steps: 4`)"
+            ),
         ],
         id="bare_action_missing_param",
     ),
@@ -786,11 +801,11 @@ MISTAKES = [
             ),
         },
         [
-            ("m.yaml:3:10: error: write parallel: {all: [ACTIONS]} or parallel: {any: [ACTIONS]}"),
-            ("m.yaml:6:10: error: write parallel: {all: [ACTIONS]} or parallel: {any: [ACTIONS]}"),
-            ("m.yaml:9:10: error: write parallel: {all: [ACTIONS]} or parallel: {any: [ACTIONS]}"),
-            "m.yaml:15:26: error: parallel all: needs a list of actions",
-            "m.yaml:18:26: error: parallel any: needs a list of actions",
+            f"m.yaml:3:10: error: parallel needs 'all' or 'any', with the list of {TOGETHER}",
+            f"m.yaml:6:10: error: parallel takes 'all' or 'any', not both {TOGETHER_HINT}",
+            f"m.yaml:9:10: error: parallel needs 'all' or 'any', with the list of {TOGETHER}",
+            f"m.yaml:15:26: error: parallel all: needs a list of actions {TOGETHER_HINT}",
+            f"m.yaml:18:26: error: parallel any: needs a list of actions {TOGETHER_HINT}",
         ],
         id="parallel_wrong",
     ),
@@ -855,11 +870,14 @@ MISTAKES = [
             ),
         },
         [
-            "m.yaml:3:10: error: write repeat: {times: N, do: ACTION}",
-            "m.yaml:6:10: error: write repeat: {times: N, do: ACTION}",
-            "m.yaml:9:26: error: repeat times must be a whole number of at least 1",
-            "m.yaml:12:26: error: repeat times must be a whole number of at least 1",
-            "m.yaml:15:26: error: repeat times must be a whole number of at least 1",
+            f"m.yaml:3:10: error: repeat needs 'do', the action to repeat {AGAIN}",
+            (
+                "m.yaml:6:10: error: repeat needs 'times', how many times, and 'do', the action"
+                f" to repeat {AGAIN}"
+            ),
+            f"m.yaml:9:26: error: repeat times must be a whole number of at least 1 {FOUR}",
+            f"m.yaml:12:26: error: repeat times must be a whole number of at least 1 {FOUR}",
+            f"m.yaml:15:26: error: repeat times must be a whole number of at least 1 {FOUR}",
             "m.yaml:18:34: error: unknown action 'dirve' (did you mean 'drive'?)",
             (
                 "m.yaml:24:45: error: wait_until condition: 'visits.og': there is no state"
