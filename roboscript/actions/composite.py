@@ -68,10 +68,10 @@ class Parallel(Action):
         return cls.needs("parallel needs the actions to run together, in a list")
 
     def __init__(self, factories: Sequence[Action | ActionFactory], mode: str = "all") -> None:
+        if isinstance(factories, Action):  # Parallel(Drive(...), PlayTone(...)): no [ ]
+            raise type(self).needs("parallel takes a list of actions, in [ ]")
         if mode not in ("all", "any"):
             raise ValueError("parallel runs 'all' or 'any'")
-        if isinstance(factories, Action):
-            raise type(self).needs("parallel takes a list of actions, in [ ]")
         if not factories:
             raise type(self).needs("parallel needs at least one action")
         self.child_requires = _needs(factories)
