@@ -10,20 +10,65 @@ StackMod's ``{…}`` frames with their checksum, PLEN2's replies. Each protocol'
 it is named (:attr:`~roboscript.drivers.unit.ProtocolUnit.title`), who speaks it, and which of
 its messages prove nothing, so a new protocol is recognised with no edit here. Sans-IO,
 standard library only.
+
+The hints name the robot as the user picks one: ``--robot`` on the command line; a front end
+with its own control for it (the browser app's Robot list) names that instead, for as long as
+it runs a mission (:func:`robots_picked_with`).
 """
 
 from __future__ import annotations
 
 import contextlib
+from collections.abc import Iterator
+from typing import NamedTuple
 
 from roboscript.codec import Role
 from roboscript.drivers import protocol_unit, units
 from roboscript.drivers.unit import ProtocolUnit
 from roboscript.errors import RemoteProtocolError
 
-__all__ = ["handshake_failure", "protocol_title", "recognise_protocol", "wrong_robot_hint"]
+__all__ = [
+    "COMMAND_LINE",
+    "RobotPicker",
+    "handshake_failure",
+    "protocol_title",
+    "recognise_protocol",
+    "robots_picked_with",
+    "wrong_robot_hint",
+]
 
 _MOST_MESSAGES = 64  # a handful is proof enough; the bytes kept are bounded anyway
+
+
+class RobotPicker(NamedTuple):
+    """How a user names the robot to drive, as a failed handshake's hints say it.
+
+    Attributes:
+        use: Naming the robot the port belongs to, ``{robot}`` for its name
+            (``"use --robot {robot}"``).
+        another: Naming some robot other than the one asked for (``"name it with --robot"``).
+    """
+
+    use: str
+    another: str
+
+
+COMMAND_LINE = RobotPicker("use --robot {robot}", "name it with --robot")
+"""The command line's ``--robot`` option."""
+
+_picker = COMMAND_LINE
+
+
+@contextlib.contextmanager
+def robots_picked_with(picker: RobotPicker) -> Iterator[None]:
+    """Within the block, a failed handshake's hints name ``picker`` (a page's own control)
+    instead of ``--robot``, which a page's user cannot give."""
+    global _picker
+    before, _picker = _picker, picker
+    try:
+        yield
+    finally:
+        _picker = before
 
 
 def _messages_read(unit: ProtocolUnit, data: bytes) -> tuple[int, int]:
@@ -84,7 +129,8 @@ def recognise_protocol(data: bytes, among: tuple[ProtocolUnit, ...] | None = Non
 
 
 def wrong_robot_hint(heard: bytes, expected_protocol: str) -> str | None:
-    """``this port speaks the SPIKE hub protocol: use --robot spike-prime``, or ``None``.
+    """``this port speaks the SPIKE hub protocol: use --robot spike-prime``, or ``None`` (the
+    robot named as :func:`robots_picked_with` says).
 
     Args:
         heard: The bytes the port sent.
@@ -100,10 +146,8 @@ def wrong_robot_hint(heard: bytes, expected_protocol: str) -> str | None:
     if found is None or found == expected_protocol:
         return None
     unit = protocol_unit(found)
-    return (
-        f"this port speaks the {unit.title} protocol ({unit.speakers}): "
-        f"use --robot {unit.profile_names[0]}"
-    )
+    use = _picker.use.format(robot=unit.profile_names[0])
+    return f"this port speaks the {unit.title} protocol ({unit.speakers}): {use}"
 
 
 def handshake_failure(
@@ -133,5 +177,5 @@ def handshake_failure(
         f"{robot} did not answer on {url} {waited}: nothing came back to {bytes_sent} bytes of "
         f"the {title} handshake: is it switched on and running its firmware? (A SPIKE hub "
         "or a StackMod bridge says nothing until asked in its own protocol: if it is "
-        "another robot, name it with --robot.)"
+        f"another robot, {_picker.another}.)"
     )

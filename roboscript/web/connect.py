@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from roboscript.drivers import protocol_unit
+from roboscript.drivers.recognise import RobotPicker, robots_picked_with
 from roboscript.errors import LinkError
 from roboscript.profiles import get_profile
 from roboscript.robot import Robot
@@ -25,6 +26,7 @@ from roboscript.transport.ble import SERVICE_UUID
 from roboscript.transport.webport import interrupt_open_ports, remember_chosen
 
 __all__ = [
+    "ROBOT_LIST",
     "RobotRun",
     "bluetooth_options",
     "on_robot",
@@ -36,6 +38,12 @@ __all__ = [
 
 _running: Robot | None = None
 """The robot a run in this page is driving, while it runs."""
+
+ROBOT_LIST = RobotPicker(
+    "choose {robot} in the Robot list, and run again", "choose it in the Robot list"
+)
+"""The page's own control for the robot (its Robot list), which a failed handshake's hints
+name: a student in the page cannot give ``--robot``."""
 
 
 def remember(scheme: str, device: Any) -> str:
@@ -100,13 +108,16 @@ def _connected(robot: Robot) -> None:
 def on_robot(port: str, folder: Path) -> Iterator[RobotRun]:
     """A run on the robot at ``port`` (``""``: on the simulator); the robot is forgotten after.
 
+    A handshake that fails names the page's Robot list (:data:`ROBOT_LIST`), not ``--robot``.
+
     Args:
         port: A URL :func:`remember` gave, or ``""``.
         folder: Where the wire log is written.
     """
     global _running
     try:
-        yield RobotRun(port, folder)
+        with robots_picked_with(ROBOT_LIST):
+            yield RobotRun(port, folder)
     finally:
         _running = None
 

@@ -16,7 +16,13 @@ from pathlib import Path
 import pytest
 from helpers import HANG_BOUND_S, run_cli, served_simulator
 
-from roboscript.drivers.recognise import handshake_failure, recognise_protocol, wrong_robot_hint
+from roboscript.drivers.recognise import (
+    RobotPicker,
+    handshake_failure,
+    recognise_protocol,
+    robots_picked_with,
+    wrong_robot_hint,
+)
 from roboscript.robot import Robot
 
 
@@ -50,6 +56,22 @@ def test_an_asip_banner_names_the_robot_to_use() -> None:
     assert wrong_robot_hint(banner, "spike") == (
         "this port speaks the ASIP protocol (a MIRTO or another ASIP board): use --robot mirto"
     )
+
+
+def test_a_front_end_with_its_own_robot_control_is_named_instead_of_the_option() -> None:
+    banner = b"!Mirtle2017 running on ATmega328P\n@I,a,2,{4:578,5:615}\n"
+    picker = RobotPicker("pick {robot} in the menu", "pick it in the menu")
+    with pytest.raises(KeyError), robots_picked_with(picker):
+        assert wrong_robot_hint(banner, "spike") == (
+            "this port speaks the ASIP protocol (a MIRTO or another ASIP board): pick mirto in"
+            " the menu"
+        )
+        assert handshake_failure("mirto", "asip", "socket://h:1", b"", 48, "").endswith(
+            "if it is another robot, pick it in the menu.)"
+        )
+        raise KeyError("the run ends by an error")
+    after = wrong_robot_hint(banner, "spike")
+    assert after is not None and after.endswith(": use --robot mirto")
 
 
 def test_silence_says_what_was_tried() -> None:

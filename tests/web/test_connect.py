@@ -1,0 +1,62 @@
+"""A run on a robot from the page, through its Python bridge here in CPython: a handshake that
+fails names the page's own Robot list, since a student in the page cannot give ``--robot``.
+
+The robots are the real served simulators on loopback TCP, so the bytes the handshake hears
+are each protocol's own.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator
+
+import pytest
+from helpers import MISSIONS, served_simulator
+
+from roboscript.drivers.recognise import handshake_failure
+from roboscript.web.bridge import run_text
+
+SQUARE = (MISSIONS / "square.yaml").read_text(encoding="utf-8")
+
+
+@pytest.fixture
+def served_mirto() -> Iterator[str]:
+    with served_simulator("mirto") as port:
+        yield f"socket://127.0.0.1:{port}"
+
+
+@pytest.fixture
+def served_spike() -> Iterator[str]:
+    with served_simulator("spike-prime") as port:
+        yield f"socket://127.0.0.1:{port}"
+
+
+def test_a_mirto_run_as_a_spike_hub_from_the_page_names_the_robot_list(served_mirto: str) -> None:
+    answer = json.loads(run_text("square.yaml", SQUARE, robot="spike-prime", port=served_mirto))
+    assert answer["summary"] is None
+    assert answer["error"] == (
+        f"spike-prime did not answer on {served_mirto}: this port speaks the ASIP protocol"
+        " (a MIRTO or another ASIP board): choose mirto in the Robot list, and run again"
+    )
+
+
+def test_a_silent_spike_hub_run_as_a_mirto_from_the_page_names_the_robot_list(
+    served_spike: str,
+) -> None:
+    answer = json.loads(run_text("square.yaml", SQUARE, robot="mirto", port=served_spike))
+    assert answer["summary"] is None
+    assert answer["error"].startswith(f"mirto did not answer on {served_spike} within 5 s:")
+    assert answer["error"].endswith(
+        "(A SPIKE hub or a StackMod bridge says nothing until asked in its own protocol: if it"
+        " is another robot, choose it in the Robot list.)"
+    )
+    assert "--robot" not in answer["error"]
+
+
+def test_after_a_run_in_the_page_the_command_line_still_names_its_option(
+    served_mirto: str,
+) -> None:
+    json.loads(run_text("square.yaml", SQUARE, robot="spike-prime", port=served_mirto))
+    assert handshake_failure("mirto", "asip", "socket://h:1", b"", 48, "within 3 s").endswith(
+        "if it is another robot, name it with --robot.)"
+    )
