@@ -439,19 +439,34 @@ class Action(abc.ABC):
 
 
 def _naming_what_is_missing(init: Callable[..., None]) -> Callable[..., None]:
-    """``init``, an action's ``__init__``, answering a call without a parameter it needs
-    with :meth:`Action.under_specified` (an example to copy) instead of Python's
-    ``missing 1 required positional argument``."""
+    """``init``, an action's ``__init__``, reading what it is given as a mission would:
+
+    * a quantity written as text (``Drive(distance_mm="50 cm")``) is read in the keyword's
+      unit before ``init`` sees it, by the rule YAML's values follow (text it cannot read is
+      left for the mission's check, which names it at its keyword, unless ``init`` compares
+      it first: then that is the error, not Python's ``'<' not supported``);
+    * a call without a parameter it needs is answered by :meth:`Action.under_specified` (an
+      example to copy) instead of Python's ``missing 1 required positional argument``.
+    """
+    try:
+        signature: inspect.Signature | None = inspect.signature(init)
+    except (TypeError, ValueError):  # a student's odd __init__: taken as it is
+        signature = None
 
     @functools.wraps(init)
     def wrapped(self: Action, *args: Any, **kwargs: Any) -> None:
+        unread = None
+        if signature is not None and any(isinstance(v, str) for v in (*args, *kwargs.values())):
+            args, kwargs, unread = _quantities_read(type(self), signature, self, args, kwargs)
         try:
             init(self, *args, **kwargs)
         except TypeError as exc:
-            if exc.__traceback__ is None or exc.__traceback__.tb_next is not None:
+            if exc.__traceback__ is not None and exc.__traceback__.tb_next is not None:
+                if unread is not None:  # init compared text it could not read
+                    raise unread from None
                 raise  # raised inside __init__, not by the call
             missing = _missing_arguments(init, self, args, kwargs)
-            by_kwarg = {p.kwarg: p.name for p in type(self).params}
+            by_kwarg = {p.kwarg: p.name for p in _params(type(self))}
             names = [by_kwarg.get(kwarg, kwarg) for kwarg in missing]
             error = type(self).under_specified(names) if names else None
             if error is None:
@@ -459,6 +474,38 @@ def _naming_what_is_missing(init: Callable[..., None]) -> Callable[..., None]:
             raise error from None
 
     return wrapped
+
+
+def _params(cls: type[Action]) -> list[Param]:
+    """The parameters a class declares (nothing, for a student's ``params`` that are not)."""
+    params = vars(cls).get("params", getattr(cls, "params", ()))
+    return [p for p in params if isinstance(p, Param)] if isinstance(params, tuple) else []
+
+
+def _quantities_read(
+    cls: type[Action],
+    signature: inspect.Signature,
+    self: Action,
+    args: tuple[Any, ...],
+    kwargs: dict[str, Any],
+) -> tuple[tuple[Any, ...], dict[str, Any], ValueError | None]:
+    """``args`` and ``kwargs`` with each quantity given as text read in its keyword's unit,
+    and the error for the first text that could not be read (``None`` if all could)."""
+    try:
+        bound = signature.bind_partial(self, *args, **kwargs)
+    except TypeError:  # a wrong call, which the call itself reports
+        return args, kwargs, None
+    unread = None
+    label = getattr(cls, "name", cls.__name__)
+    for param in _params(cls):
+        value = bound.arguments.get(param.kwarg)
+        if not isinstance(value, str) or param.kind not in DIMENSIONS or param.kind == "count":
+            continue
+        try:
+            bound.arguments[param.kwarg] = parse_quantity(value, param.kind)
+        except ValueError as exc:
+            unread = unread or ValueError(f"{label} {param.name}: {exc}")
+    return bound.args[1:], bound.kwargs, unread
 
 
 def _missing_arguments(

@@ -21,6 +21,8 @@ class _GaitAction(Action):
     requires = frozenset({cap.WALKER})
 
     def __init__(self, steps: float) -> None:
+        if isinstance(steps, bool) or not isinstance(steps, int | float):
+            raise type(self).needs(f"{self.name} takes a number of steps, not {steps!r}", "steps")
         if steps != int(steps):
             raise ValueError(f"{self.name} takes whole steps, not {steps:g}")
         if steps == 0:

@@ -13,8 +13,9 @@ import pytest
 from helpers import run_cli
 
 import roboscript
-from roboscript.actions import ACTIONS, Action, Parallel, Param, Repeat, Result
-from roboscript.actions.base import UnderSpecifiedError
+from roboscript.actions import ACTIONS, Action, Parallel, Param, Repeat, Result, Wait
+from roboscript.actions.base import PARAM_EXAMPLES, UnderSpecifiedError
+from roboscript.inputs.quantities import DIMENSIONS, parse_quantity
 from roboscript.mission import load_mission
 
 NEEDING = sorted(
@@ -187,3 +188,35 @@ def test_other_mistakes_in_a_call_keep_pythons_own_message() -> None:
         Wiggle(3, 4)  # type: ignore[call-arg]
     with pytest.raises(TypeError, match=r"can only concatenate str|unsupported operand"):
         Wiggle("3")  # type: ignore[arg-type]  # raised inside __init__: not a missing value
+
+
+QUANTITIES = [
+    (cls, param)
+    for cls in sorted(ACTIONS.values(), key=lambda cls: cls.name)
+    for param in cls.params
+    if param.kind in DIMENSIONS and param.kind != "count"
+]
+
+
+@pytest.mark.parametrize(
+    ("cls", "param"), QUANTITIES, ids=[f"{cls.name}-{param.name}" for cls, param in QUANTITIES]
+)
+def test_a_quantity_written_as_text_in_python_is_read_in_its_keywords_unit(
+    cls: type[Action], param: Param
+) -> None:
+    needed = {p.kwarg: eval(p.python_example.split("=", 1)[1]) for p in cls.params if p.required}
+    if cls.name == "drive":  # a distance or a duration, neither required alone
+        needed["distance_mm"] = 500
+    text = param.example or PARAM_EXAMPLES[param.kind]
+    as_text = cls(**(needed | {param.kwarg: text}))
+    as_number = cls(**(needed | {param.kwarg: parse_quantity(text, param.kind)}))
+    assert getattr(as_text, param.kwarg) == getattr(as_number, param.kwarg)
+    assert not isinstance(getattr(as_text, param.kwarg), str)
+
+
+def test_text_an_action_compares_but_cannot_read_is_named_not_pythons_comparison() -> None:
+    with pytest.raises(ValueError) as refused:
+        Wait(duration_s="2 deg")
+    assert str(refused.value) == (
+        "wait duration: 'deg' is a unit of angle, but this is a time (use s, sec, ms, min)"
+    )
