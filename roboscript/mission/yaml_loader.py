@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from roboscript.actions import ACTIONS, Action, Parallel, Repeat
+from roboscript.actions.base import PARAM_EXAMPLES
 from roboscript.errors import InputError, MissionError, did_you_mean
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.quantities import QuantityError, bare_number_warning, parse_quantity
@@ -441,11 +442,19 @@ class _Reader:
             target = self.build.target(item, names, self.loc(mark))
             return self.build.transition(target, where=self.loc(mark)) if target else None
         if not isinstance(item, YamlMap):
-            self.problem("expected {if: CONDITION, goto: STATE}", mark)
+            self.problem(
+                "a choice is a condition and the state it goes to",
+                mark,
+                f"write {_choice(item, names)}",
+            )
             return None
         self.unknown_keys(item, _CHOICE_KEYS, "a choice")
         if "goto" not in item:
-            self.problem("this choice needs 'goto: STATE'", item.mark)
+            self.problem(
+                "this choice needs 'goto', the state it goes to",
+                item.mark,
+                f"write `goto: {_a_state(names)}`",
+            )
             return None
         target = self.build.target(item["goto"], names, self.loc(item.value_mark("goto")))
         guard = None
@@ -459,7 +468,11 @@ class _Reader:
                 return None
             text = guard.source if hasattr(guard, "source") else str(text)
         elif need_if:
-            self.problem("each 'when' entry needs 'if: CONDITION'", item.mark)
+            self.problem(
+                "each 'when' entry needs 'if', the condition that moves on",
+                item.mark,
+                f"write `if: {PARAM_EXAMPLES['guard']}`",
+            )
             return None
         if target is None:
             return None
@@ -495,7 +508,12 @@ class _Reader:
 
     def when(self, raw: Any, mark: Mark, names: frozenset[str]) -> tuple[TransitionSpec, ...]:
         if not isinstance(raw, YamlList):
-            self.problem("'when' is a list of {if: CONDITION, goto: STATE}", mark)
+            entry = _choice(raw.get("if") if isinstance(raw, YamlMap) else raw, names)
+            self.problem(
+                "'when' is a list of choices, each a condition and the state it goes to",
+                mark,
+                f"write `when: [{entry.strip('`')}]`, one {{...}} per choice",
+            )
             return ()
         found = []
         for item, item_mark in zip(raw, raw.item_marks, strict=True):
@@ -503,6 +521,22 @@ class _Reader:
             if transition is not None:
                 found.append(transition)
         return tuple(found)
+
+
+def _a_state(names: frozenset[str]) -> str:
+    """A state of the mission to show in an example (``end`` if it has one)."""
+    return "end" if "end" in names or not names else min(names)
+
+
+def _choice(condition: Any, names: frozenset[str]) -> str:
+    """A ``when`` choice to copy, with the condition written if it is one (``bumper.any``), or
+    going to the state written if it is one."""
+    target = _a_state(names)
+    if isinstance(condition, str) and condition.strip() in names:
+        condition, target = None, condition.strip()
+    if not isinstance(condition, str) or not condition.strip():
+        condition = PARAM_EXAMPLES["guard"]
+    return f"`{{if: {condition.strip()}, goto: {target}}}`"
 
 
 def load_yaml_mission(

@@ -595,7 +595,10 @@ MISTAKES = [
             ),
         },
         [
-            "m.yaml:4:11: error: 'when' is a list of {if: CONDITION, goto: STATE}",
+            (
+                "m.yaml:4:11: error: 'when' is a list of choices, each a condition and the state"
+                " it goes to (write `when: [{if: done, goto: end}]`, one {...} per choice)"
+            ),
         ],
         id="when_not_a_list",
     ),
@@ -1150,9 +1153,15 @@ MISTAKES = [
                 " heading_deg, elapsed, state_time, range.distance_mm, range.distance_cm,"
                 " side_range.distance_mm, side_range.distance_cm, bumper.left, ...)"
             ),
-            "m.yaml:4:78: error: expected {if: CONDITION, goto: STATE}",
+            (
+                "m.yaml:4:78: error: a choice is a condition and the state it goes to"
+                " (write `{if: range.distance_cm < 20, goto: end}`)"
+            ),
             "m.yaml:4:92: error: unknown key 'iff' in a choice (did you mean 'if'?)",
-            "m.yaml:4:101: error: this choice needs 'goto: STATE'",
+            (
+                "m.yaml:4:101: error: this choice needs 'goto', the state it goes to"
+                " (write `goto: end`)"
+            ),
         ],
         id="on_mistakes",
     ),
@@ -1170,8 +1179,14 @@ MISTAKES = [
             ),
         },
         [
-            "m.yaml:4:12: error: expected {if: CONDITION, goto: STATE}",
-            "m.yaml:4:17: error: each 'when' entry needs 'if: CONDITION'",
+            (
+                "m.yaml:4:12: error: a choice is a condition and the state it goes to"
+                " (write `{if: range.distance_cm < 20, goto: end}`)"
+            ),
+            (
+                "m.yaml:4:17: error: each 'when' entry needs 'if', the condition that moves on"
+                " (write `if: range.distance_cm < 20`)"
+            ),
             "m.yaml:4:43: error: 'visits.og': there is no state 'og'",
             "m.yaml:4:70: error: cannot read the condition 'distance <'",
             "m.yaml:4:100: error: unknown name 'bump' in a condition (did you mean 'bumper'?)",
