@@ -42,6 +42,7 @@ __all__ = [
     "ParamKind",
     "Result",
     "UnderSpecifiedError",
+    "params_of",
 ]
 
 
@@ -169,13 +170,13 @@ class Param:
     @property
     def yaml_example(self) -> str:
         """The parameter with a value, as a YAML mission writes it (``distance: 50 cm``)."""
-        return f"{self.name}: {self._example_value()}"
+        return f"{self.name}: {self.example_value}"
 
     @property
     def python_example(self) -> str:
         """The parameter with a value, as a Python mission writes it (``distance_mm=500``):
         a quantity as a number in the keyword's unit, words in quotes."""
-        value = self._example_value()
+        value = self.example_value
         if self.kind in DIMENSIONS:
             try:
                 return f"{self.kwarg}={parse_quantity(value, self.kind):g}"
@@ -183,7 +184,9 @@ class Param:
                 pass
         return f'{self.kwarg}="{value}"'
 
-    def _example_value(self) -> str:
+    @property
+    def example_value(self) -> str:
+        """A value as a YAML mission writes it (``"20 cm"``), for messages."""
         if self.example:
             return self.example
         if self.kind == "choice" and self.choices:
@@ -466,7 +469,7 @@ def _naming_what_is_missing(init: Callable[..., None]) -> Callable[..., None]:
                     raise unread from None
                 raise  # raised inside __init__, not by the call
             missing = _missing_arguments(init, self, args, kwargs)
-            by_kwarg = {p.kwarg: p.name for p in _params(type(self))}
+            by_kwarg = {p.kwarg: p.name for p in params_of(type(self))}
             names = [by_kwarg.get(kwarg, kwarg) for kwarg in missing]
             error = type(self).under_specified(names) if names else None
             if error is None:
@@ -476,8 +479,9 @@ def _naming_what_is_missing(init: Callable[..., None]) -> Callable[..., None]:
     return wrapped
 
 
-def _params(cls: type[Action]) -> list[Param]:
-    """The parameters a class declares (nothing, for a student's ``params`` that are not)."""
+def params_of(cls: type[Action]) -> list[Param]:
+    """The parameters an action class declares, safely: a student's ``params`` that are not
+    a tuple of :class:`Param` give none (the mission builder says what is wrong with them)."""
     params = vars(cls).get("params", getattr(cls, "params", ()))
     return [p for p in params if isinstance(p, Param)] if isinstance(params, tuple) else []
 
@@ -497,7 +501,7 @@ def _quantities_read(
         return args, kwargs, None
     unread = None
     label = getattr(cls, "name", cls.__name__)
-    for param in _params(cls):
+    for param in params_of(cls):
         value = bound.arguments.get(param.kwarg)
         if not isinstance(value, str) or param.kind not in DIMENSIONS or param.kind == "count":
             continue

@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from roboscript.actions import ACTIONS, Action, Parallel, Repeat
-from roboscript.actions.base import PARAM_EXAMPLES
+from roboscript.actions.base import PARAM_EXAMPLES, params_of
 from roboscript.errors import InputError, MissionError, did_you_mean
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.quantities import QuantityError, bare_number_warning, parse_quantity
@@ -288,8 +288,8 @@ class _Reader:
             self.problem(
                 f"'do: {raw}' gives '{first}' its settings as plain text",
                 mark,
-                f"write them as a mapping: do: {{{first}: {{...}}}},"
-                " e.g. do: {drive: {distance: 50 cm}}",
+                "write them as a mapping: do: "
+                + _as_mapping(first, self.actions[first], raw.split(None, 1)[1]),
             )
             return None
         if isinstance(raw, str):
@@ -302,9 +302,13 @@ class _Reader:
             if params is None:
                 params = YamlMap.at(params_mark)
             if not isinstance(params, YamlMap):
+                known = self.actions.get(name)
                 self.problem(
-                    f"the parameters of '{name}' must be a mapping, e.g. {{{name}: {{...}}}}",
+                    f"the parameters of '{name}' must be a mapping, e.g. {{{name}: {{...}}}}"
+                    if known is None
+                    else f"the parameters of '{name}' must be a mapping, each with its name",
                     params_mark,
+                    None if known is None else f"write `{_as_mapping(name, known, params)}`",
                 )
                 return None
         else:
@@ -521,6 +525,21 @@ class _Reader:
             if transition is not None:
                 found.append(transition)
         return tuple(found)
+
+
+def _as_mapping(name: str, cls: type[Action], value: Any) -> str:
+    """``{name: {...}}`` for an action whose settings were written as one value (``drive 50
+    cm``, ``{rotate: 90 deg}``): that value given to its main parameter (its first required
+    one, else its first), with the example of each other parameter it needs."""
+    params = params_of(cls)
+    main = next((p for p in params if p.required), params[0] if params else None)
+    given = value if isinstance(value, str | int | float) else None
+    shown = [
+        f"{p.name}: {given if p is main and given is not None else p.example_value}"
+        for p in params
+        if p.required or p is main
+    ]
+    return f"{{{name}: {{{', '.join(shown)}}}}}"
 
 
 def _a_state(names: frozenset[str]) -> str:

@@ -8,6 +8,7 @@ from typing import Any
 
 import pytest
 from helpers import refusal as problems
+from helpers import run_cli
 
 from roboscript.errors import MissionError
 from roboscript.mission import load_mission
@@ -737,8 +738,8 @@ MISTAKES = [
         },
         [
             (
-                "m.yaml:3:17: error: the parameters of 'drive' must be a mapping, e.g."
-                " {drive: {...}}"
+                "m.yaml:3:17: error: the parameters of 'drive' must be a mapping, each with its"
+                " name (write `{drive: {distance: 30 cm}}`)"
             ),
         ],
         id="params_not_a_mapping",
@@ -1486,4 +1487,36 @@ def test_inner_states_show_in_the_timeline_under_their_outer_state(tmp_path: Pat
         (0.3, "nest"),
         (0.4, "nest.n"),
         (0.4, "end"),
+    ]
+
+
+def test_an_actions_settings_written_as_one_value_are_shown_as_a_mapping_with_that_value(
+    tmp_path: Path,
+) -> None:
+    for name, do in (
+        ("a.yaml", "{rotate: 90 deg}"),
+        ("b.yaml", "wait 2 s"),
+        ("c.yaml", "{wait_until: bumper.any}"),
+    ):
+        (tmp_path / name).write_text(
+            f"mission: m\nstates:\n  go:\n    do: {do}\n"
+            "    on: {done: end, failed: end, timeout: end}\n  end: {final: success}\n",
+            encoding="utf-8",
+        )
+    result = run_cli("check", "a.yaml", "b.yaml", "c.yaml", cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr.splitlines() == [
+        (
+            "a.yaml:4:18: error: the parameters of 'rotate' must be a mapping, each with its name"
+            " (write `{rotate: {angle: 90 deg}}`)"
+        ),
+        (
+            "b.yaml:4:9: error: 'do: wait 2 s' gives 'wait' its settings as plain text"
+            " (write them as a mapping: do: {wait: {duration: 2 s}})"
+        ),
+        (
+            "c.yaml:4:22: error: the parameters of 'wait_until' must be a mapping, each with its"
+            " name (write `{wait_until: {condition: bumper.any, timeout: 10 s}}`)"
+        ),
+        "checked 3 files: 3 with errors",
     ]
