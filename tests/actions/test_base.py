@@ -127,33 +127,60 @@ def test_check_shows_what_to_write_for_wait_until_repeat_and_parallel_in_each_la
     )
 
 
-def test_check_shows_how_to_end_a_follow_wall_in_each_language(tmp_path: Path) -> None:
+@pytest.mark.parametrize(
+    ("yaml_action", "python_action", "expected"),
+    [
+        pytest.param(
+            "{drive: {speed: 10 cm/s}}",
+            "Drive()",
+            [
+                (
+                    "m.yaml:4:10: error: drive needs a distance or a duration"
+                    " (write `distance: 50 cm` or `duration: 2 s`)"
+                ),
+                (
+                    "m.py:5:16: error: drive needs a distance or a duration"
+                    " (write Drive(distance_mm=500) or Drive(duration_s=2))"
+                ),
+            ],
+            id="drive-without-an-end",
+        ),
+        pytest.param(
+            "{follow_wall: {side: left}}",
+            'FollowWall(side="left")',
+            [
+                (
+                    "m.yaml:4:10: error: 'follow_wall' in state 'go' never ends as written (write"
+                    " `until: range.distance_cm < 20` or `duration: 10 s`, or give the state"
+                    " `timeout: 10 s` or a `when`)"
+                ),
+                (
+                    "m.py:5:16: error: 'follow_wall' in state 'go' never ends as written (write"
+                    ' FollowWall(until="range.distance_cm < 20") or FollowWall(duration_s=10),'
+                    " or give the state timeout_s=10 or a when=[...])"
+                ),
+            ],
+            id="follow_wall-that-never-ends",
+        ),
+    ],
+)
+def test_check_shows_what_to_write_in_the_missions_own_language(
+    tmp_path: Path, yaml_action: str, python_action: str, expected: list[str]
+) -> None:
     (tmp_path / "m.yaml").write_text(
-        "mission: m\nstates:\n  go:\n    do: {follow_wall: {side: left}}\n"
+        f"mission: m\nstates:\n  go:\n    do: {yaml_action}\n"
         "    on: {done: end, failed: end}\n  end: {final: success}\n",
         encoding="utf-8",
     )
     (tmp_path / "m.py").write_text(
-        "from roboscript import FollowWall, Mission, state\n\n\nclass M(Mission):\n"
-        '    go = state(FollowWall(side="left"), initial=True, on_done="end", on_failed="end")\n'
+        "from roboscript import Drive, FollowWall, Mission, state\n\n\nclass M(Mission):\n"
+        f'    go = state({python_action}, initial=True, on_done="end", on_failed="end")\n'
         '    end = state(final="success")\n',
         encoding="utf-8",
     )
     result = run_cli("check", "m.yaml", "m.py", cwd=tmp_path)
     assert result.returncode == 2
-    assert result.stderr.splitlines() == [
-        (
-            "m.yaml:4:10: error: 'follow_wall' in state 'go' never ends as written (write"
-            " `until: range.distance_cm < 20` or `duration: 10 s`, or give the state"
-            " `timeout: 10 s` or a `when`)"
-        ),
-        (
-            "m.py:5:16: error: 'follow_wall' in state 'go' never ends as written (write"
-            ' FollowWall(until="range.distance_cm < 20") or FollowWall(duration_s=10), or give'
-            " the state timeout_s=10 or a when=[...])"
-        ),
-        "checked 2 files: 2 with errors",
-    ]
+    assert result.stderr.splitlines() == [*expected, "checked 2 files: 2 with errors"]
 
 
 class Wiggle(Action):

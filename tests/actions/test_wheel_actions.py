@@ -10,11 +10,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import run_cli
 
 from roboscript import capabilities as cap
 from roboscript.actions import Action, ActionContext, Drive, Result, Rotate
@@ -220,35 +218,6 @@ def test_drive_validates_its_parameters_with_plain_messages() -> None:
         Drive(distance_mm=100, speed_mm_s=0)
     assert Drive(distance_mm=100, speed_mm_s=0.5).speed_mm_s == 0.5  # slow is allowed
     assert Drive(distance_mm=100).speed_mm_s == 150.0
-
-
-def test_check_shows_a_drive_with_no_distance_how_to_write_one_in_its_own_language(
-    tmp_path: Path,
-) -> None:
-    (tmp_path / "m.yaml").write_text(
-        "mission: m\nstates:\n  go:\n    do: {drive: {speed: 10 cm/s}}\n"
-        "    on: {done: end, failed: end}\n  end: {final: success}\n",
-        encoding="utf-8",
-    )
-    (tmp_path / "m.py").write_text(
-        "from roboscript import Drive, Mission, state\n\n\nclass M(Mission):\n"
-        '    go = state(Drive(), initial=True, on_done="end")\n'
-        '    end = state(final="success")\n',
-        encoding="utf-8",
-    )
-    result = run_cli("check", "m.yaml", "m.py", cwd=tmp_path)
-    assert result.returncode == 2
-    assert result.stderr.splitlines() == [
-        (
-            "m.yaml:4:10: error: drive needs a distance or a duration"
-            " (write `distance: 50 cm` or `duration: 2 s`)"
-        ),
-        (
-            "m.py:5:16: error: drive needs a distance or a duration"
-            " (write Drive(distance_mm=500) or Drive(duration_s=2))"
-        ),
-        "checked 2 files: 2 with errors",
-    ]
 
 
 @pytest.mark.parametrize(
