@@ -128,20 +128,22 @@ def _failure(action: ActionSpec) -> str | None:
     return reasons[0] if reasons else None
 
 
-def _how_to_end(action: ActionSpec) -> str:
-    """How to give an endless action an end, written in its mission's own language: one of
-    the parameters that end it (its class's ``bounded_by``), or a time bound on its state."""
-    python = action.location is not None and action.location.path.endswith(".py")
-    state = "timeout_s=10 or a when=[...]" if python else "`timeout: 10 s` or a `when`"
+def _how_to_end(action: ActionSpec) -> _Write:
+    """How to give an endless action an end: one of the parameters that end it (its class's
+    ``bounded_by``, with an example of each), or a time bound on its state."""
+    state = _Write("`timeout: 10 s` or a `when`", "timeout_s=10 or a when=")
     endless = action
     while endless.children:  # a parallel or a repeat of an endless action: that action
         endless = next((c for c in endless.children if not c.bounded), endless.children[0])
     cls = endless.action_class
     if cls is None or not cls.bounded_by:
-        return f"give the state {state}"
-    ends = " or ".join(cls.example(name)[1 if python else 0] for name in cls.bounded_by)
-    inside = "" if endless is action or python else f" in '{endless.name}'"
-    return f"write {ends}{inside}, or give the state {state}"
+        return _Write(f"give the state {state.yaml}", f"give the state {state.python}")
+    examples = [cls.example(name) for name in cls.bounded_by]
+    inside = "" if endless is action else f" in '{endless.name}'"
+    return _Write(
+        f"write {' or '.join(y for y, _ in examples)}{inside}, or give the state {state.yaml}",
+        f"write {' or '.join(p for _, p in examples)}, or give the state {state.python}",
+    )
 
 
 def _times_out(action: ActionSpec) -> bool:

@@ -157,7 +157,7 @@ def test_check_shows_what_to_write_for_wait_until_repeat_and_parallel_in_each_la
                 (
                     "m.py:5:16: error: 'follow_wall' in state 'go' never ends as written (write"
                     ' FollowWall(until="range.distance_cm < 20") or FollowWall(duration_s=10),'
-                    " or give the state timeout_s=10 or a when=[...])"
+                    " or give the state timeout_s=10 or a when=)"
                 ),
             ],
             id="follow_wall-that-never-ends",

@@ -428,7 +428,9 @@ def test_golden_messages_for_a_bad_python_mission(write_mission: Callable[..., P
     ]
 
 
-def test_structure_checks_are_the_yaml_ones(write_mission: Callable[..., Path]) -> None:
+def test_structure_checks_are_the_yaml_ones_with_hints_in_python(
+    write_mission: Callable[..., Path],
+) -> None:
     path = write_mission(
         "from roboscript import Drive, Mission, state\n"
         "\n"
@@ -445,11 +447,11 @@ def test_structure_checks_are_the_yaml_ones(write_mission: Callable[..., Path]) 
         ),
         (
             "M:6:5: error: state 'island' has no way out"
-            " (add 'on: {done: NEXT}', a 'when' condition, or 'final: success')"
+            ' (add on_done="NEXT", a when= condition, or final="success")'
         ),
         (
             "M:6:20: warning: if 'drive' fails (stalled) in state 'island', the mission ends in"
-            " failure (add 'on: {failed: STATE}' to handle it)"
+            ' failure (add on_failed="STATE" to handle it)'
         ),
     ]
 

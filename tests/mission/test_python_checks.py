@@ -45,7 +45,7 @@ def test_an_action_that_never_ends_is_refused_showing_how_to_end_it_in_python(
     expected = (
         f"M:5:16: error: '{word}' in state 'go' never ends as written (write"
         f' {name}(until="range.distance_cm < 20") or {name}(duration_s=10), or give the state'
-        " timeout_s=10 or a when=[...])"
+        " timeout_s=10 or a when=)"
     )
     assert problems == [expected]
 

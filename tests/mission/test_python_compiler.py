@@ -480,7 +480,7 @@ class Lesson(Mission):
     assert problems(tmp_path, body, BARE) == [
         (
             "lesson.py:9:9: warning: if 'follow_line' fails (lost line or stalled) in state 'go',"
-            " the mission ends in failure (add 'on: {failed: STATE}' to handle it)"
+            ' the mission ends in failure (add on_failed="STATE" to handle it)'
         ),
         (
             "lesson.py:9:9: error: 'follow_line' needs line (downward IR line sensors), which"

@@ -419,7 +419,7 @@ class Both(Mission):
     assert [w.format().replace(f"{path.parent}/", "") for w in warnings] == [
         (
             "deep.py:5:17: warning: if 'drive' fails (stalled) in state 'hop', the mission ends"
-            " in failure (add 'on: {failed: STATE}' to handle it)"
+            ' in failure (add on_failed="STATE" to handle it)'
         )
     ]
 
