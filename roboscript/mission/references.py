@@ -13,6 +13,7 @@ from pathlib import Path, PurePath
 from typing import Any
 
 from roboscript.errors import InputError, MissionError, did_you_mean
+from roboscript.inputs.kinds import FileKind, file_kind
 from roboscript.inputs.source import Location
 from roboscript.mission.files import FileReferenceError, beside_mission, nearby_files
 from roboscript.mission.spec import MissionSpec
@@ -33,9 +34,12 @@ def _error(message: str, where: Location | None, hint: str | None = None) -> Mis
     return MissionError(message, path=where.path, line=where.line, col=where.col, hint=hint)
 
 
-def _close(name: str, spec: MissionSpec, builtin: list[str]) -> str | None:
-    """A "did you mean" over the built-in names and the YAML files beside the mission."""
-    return did_you_mean(name, [*builtin, *nearby_files(Path(spec.path).parent, _YAML)])
+def _close(name: str, spec: MissionSpec, builtin: list[str], kind: FileKind) -> str | None:
+    """A "did you mean" over the built-in names and the YAML files of ``kind`` beside the
+    mission (a mission beside it is no world to suggest)."""
+    folder = Path(spec.path).parent
+    files = [f for f in nearby_files(folder, _YAML) if file_kind(folder / f) == kind]
+    return did_you_mean(name, [*builtin, *files])
 
 
 def mission_robot(spec: MissionSpec, robot: str | None = None) -> Any:
@@ -74,7 +78,7 @@ def mission_robot(spec: MissionSpec, robot: str | None = None) -> Any:
     raise _error(
         f"there is no robot called '{name}' (built-in robots: {', '.join(builtin)})",
         where,
-        _close(name, spec, builtin)
+        _close(name, spec, builtin, "profile")
         or "or name a profile file beside the mission, e.g. robot: my-robot.yaml",
     )
 
@@ -107,7 +111,7 @@ def with_world_checked(spec: MissionSpec) -> tuple[MissionSpec, list[InputError]
         _error(
             f"there is no world called '{name}' (built-in worlds: {', '.join(builtin)})",
             where,
-            _close(name, spec, builtin)
+            _close(name, spec, builtin, "world")
             or "or name a world file beside the mission, e.g. world: my-room.yaml",
         )
     ]

@@ -69,6 +69,26 @@ def test_a_misspelt_world_file_nearby_gets_a_did_you_mean(tmp_path: Path) -> Non
     ]
 
 
+def test_a_misspelt_world_is_not_offered_a_mission_or_a_robot_file_beside_it(
+    tmp_path: Path,
+) -> None:
+    write(tmp_path, "", "square.yaml")  # another mission, named like the world
+    (tmp_path / "squared.yaml").write_text("extends: mirto\ntrack_mm: 120\n", encoding="utf-8")
+    assert report(write(tmp_path, "world: squre")) == [
+        (
+            "M:2:8: error: there is no world called 'squre' (built-in worlds: corridor, empty,"
+            " line-track, maze, square-room) (did you mean 'square-room'?)"
+        )
+    ]
+    assert report(write(tmp_path, "robot: squard")) == [
+        (
+            "M:2:8: error: there is no robot called 'squard' (built-in robots: mirto,"
+            " asip-basic, stackmod-rover, stackmod-reference, spike-prime, plen2)"
+            " (did you mean 'squared.yaml'?)"
+        )
+    ]
+
+
 def test_a_world_file_beside_the_mission_is_found_from_any_folder(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
