@@ -383,19 +383,22 @@ class Action(abc.ABC):
 
     @classmethod
     def written(cls, *names: str) -> tuple[str, str]:
-        """The whole action with its parameters ``names`` and every one without a default,
-        as a YAML and a Python mission write it:
-        ``("{rotate: {angle: 90 deg}}", "Rotate(angle_deg=90)")``.
+        """The whole action with its parameters ``names`` and every one without a default
+        (its first parameter when that is none), as a YAML and a Python mission write it:
+        ``("{rotate: {angle: 90 deg}}", "Rotate(angle_deg=90)")``,
+        ``("{drive: {distance: 50 cm}}", "Drive(distance_mm=500)")``.
         """
-        chosen = [p for p in cls.params if p.required or p.name in names]
+        params = params_of(cls)
+        chosen = [p for p in params if p.required or p.name in names] or params[:1]
         label = getattr(cls, "name", cls.__name__)
         yaml = f"{{{label}: {{{', '.join(p.yaml_example for p in chosen)}}}}}"
         return yaml, f"{cls.__name__}({', '.join(p.python_example for p in chosen)})"
 
     @classmethod
     def _chosen(cls, names: Sequence[str]) -> list[Param]:
-        by_name = {p.name: p for p in cls.params}
-        return [by_name[n] for n in names] if names else [p for p in cls.params if p.required]
+        params = params_of(cls)
+        by_name = {p.name: p for p in params}
+        return [by_name[n] for n in names] if names else [p for p in params if p.required]
 
     @classmethod
     def needs(cls, message: str, *names: str) -> UnderSpecifiedError:

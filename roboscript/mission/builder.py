@@ -443,6 +443,7 @@ class MissionBuilder:
             self.problem(
                 f"state '{state}': {field} is a positive number of seconds, got {as_written!r}",
                 where,
+                "write timeout_s=10" if field.endswith("_s") else f"write `{field}: 10 s`",
             )
             return None
         found: tuple[str, str | None] | None

@@ -514,7 +514,7 @@ class _Compiler:
             self.problem(
                 f"state '{name}': {action.__name__} is a kind of action; call it to make one",
                 where,
-                f"write {action.__name__}(...)",
+                f"write {action.written()[1]}",
             )
             return None
         if isinstance(action, Repeat | Parallel) and any(nested_missions(action)):

@@ -300,6 +300,7 @@ _UNEXPECTED_KEYWORD = re.compile(
 _MISSING_ARGUMENT = re.compile(
     r"^(?:(\w+)\.)?(\w+)\(\) missing \d+ required (?:positional |keyword-only )?argument"
 )
+_MORE_THAN_ONE_ACTION = re.compile(r"^state\(\) takes from 0 to 1 positional arguments? but")
 _CANNOT_IMPORT = re.compile(r"^cannot import name '(\w+)' from '([\w.]+)'")
 
 
@@ -339,6 +340,11 @@ def _explain(
             meant = meant_in_state_call(keyword) if callee == "state" else None
             return f"{callee}() has no parameter '{keyword}'", meant or did_you_mean(
                 keyword, _parameters(callee, module)
+            )
+        if _MORE_THAN_ONE_ACTION.match(text) and getattr(module, "state", None) is roboscript.state:
+            return "a state runs one action, and this state(...) was given more", (
+                "to do one thing after another, give each its own state and go on with"
+                ' on_done="NEXT"; to do them at the same time, write state(Parallel([...]), ...)'
             )
         match = _MISSING_ARGUMENT.match(text)
         if match:

@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import MISSIONS
+from helpers import MISSIONS, run_cli
 
 from roboscript.actions import ACTIONS
 from roboscript.errors import MissionError
@@ -237,7 +237,10 @@ def test_a_timeout_is_a_positive_number_of_seconds(seconds: Any, expected: Any) 
     if expected == "error":
         assert value is None
         assert [p.format() for p in build.problems] == [
-            f"m:4:14: error: state 'wait': timeout is a positive number of seconds, got {seconds!r}"
+            (
+                f"m:4:14: error: state 'wait': timeout is a positive number of seconds,"
+                f" got {seconds!r} (write `timeout: 10 s`)"
+            )
         ]
     else:
         assert value == expected and type(value) is type(expected) and build.problems == []
@@ -744,7 +747,10 @@ def test_a_condition_that_is_not_text() -> None:
 
 def test_a_timeout_s_message_quotes_it_as_written() -> None:
     assert _yaml_errors("  a: {do: stop, timeout: -2 s, on: {done: b}}\n" + END) == [
-        "m.yaml:3:26: error: state 'a': timeout is a positive number of seconds, got '-2 s'"
+        (
+            "m.yaml:3:26: error: state 'a': timeout is a positive number of seconds, got '-2 s'"
+            " (write `timeout: 10 s`)"
+        )
     ]
 
 
@@ -873,4 +879,33 @@ def test_problems_are_in_line_then_column_order_a_whole_file_s_first() -> None:
         "m.yaml:1:1: error: line 1, column 1",
         "m.yaml:2:1: error: line 2, column 1",
         "m.yaml:2:9: error: line 2, column 9",
+    ]
+
+
+def test_a_state_timeout_that_is_not_positive_shows_one_in_the_missions_language(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "m.yaml").write_text(
+        "mission: m\nstates:\n  go:\n    do: {drive: {distance: 50 cm}}\n    timeout: 0\n"
+        "    on: {done: end, failed: end, timeout: end}\n  end: {final: success}\n",
+        encoding="utf-8",
+    )
+    (tmp_path / "m.py").write_text(
+        "from roboscript import Drive, Mission, state\n\n\nclass M(Mission):\n"
+        "    go = state(Drive(distance_mm=500), initial=True, timeout_s=0, on_done='end',\n"
+        "               on_failed='end', on_timeout='end')\n"
+        '    end = state(final="success")\n',
+        encoding="utf-8",
+    )
+    result = run_cli("check", "m.yaml", "m.py", cwd=tmp_path)
+    assert [line for line in result.stderr.splitlines() if "error" in line] == [
+        (
+            "m.yaml:5:14: error: state 'go': timeout is a positive number of seconds, got 0"
+            " (write `timeout: 10 s`)"
+        ),
+        (
+            "m.py:5:64: error: state 'go': timeout_s is a positive number of seconds, got 0"
+            " (write timeout_s=10)"
+        ),
+        "checked 2 files: 2 with errors",
     ]

@@ -409,13 +409,16 @@ def test_golden_messages_for_a_bad_python_mission(write_mission: Callable[..., P
         "M:6:60: error: 'visits.sied': there is no state 'sied' (did you mean 'visits.side'?)",
         (
             "M:7:18: error: state 'beep': PlayTone is a kind of action; call it to make one"
-            " (write PlayTone(...))"
+            " (write PlayTone(frequency_hz=880))"
         ),
         (
             "M:7:37: error: 'side' is a state, not a condition (a condition names a method that"
             " returns True or False; for several choices, use a list: [(condition, state), state])"
         ),
-        "M:8:28: error: state 'wait': timeout_s is a positive number of seconds, got -1",
+        (
+            "M:8:28: error: state 'wait': timeout_s is a positive number of seconds, got -1"
+            " (write timeout_s=10)"
+        ),
         "M:8:58: error: states 'side' and 'wait' are both initial; a mission starts in one",
         (
             "M:9:23: error: state 'end': final is 'success' or 'failure', got 'sucess'"

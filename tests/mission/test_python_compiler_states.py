@@ -153,7 +153,7 @@ def test_golden_messages_for_mistakes_in_states_and_actions(write: Write) -> Non
         "mistakes.py:29:39: error: Mistakes has no method 'bumpd' (did you mean 'bumped'?)",
         (
             "mistakes.py:30:77: error: state 'tune': Wait is a kind of action; call it to make one"
-            " (write Wait(...))"
+            " (write Wait(duration_s=2))"
         ),
         "mistakes.py:31:35: error: <state there> is not a state of Mistakes",
         "mistakes.py:31:65: error: <state there> is not a state of Mistakes",
@@ -173,7 +173,7 @@ def test_golden_messages_for_mistakes_in_states_and_actions(write: Write) -> Non
         "mistakes.py:34:74: error: unknown name 'rnage' in a condition (did you mean 'range'?)",
         (
             "mistakes.py:35:23: error: state 'kw': Drive is a kind of action; call it to make one"
-            " (write Drive(...))"
+            " (write Drive(distance_mm=500))"
         ),
         (
             "mistakes.py:36:34: error: state 'loose': each 'when' entry is (condition, state)"
@@ -211,7 +211,10 @@ def test_mistakes_in_inherited_states_are_shown_in_the_file_that_wrote_them(writ
         "class Child(Template):\n    extra = state(final=True)\n",
     )
     assert messages(path) == [
-        "pc2_template.py:7: error: state 'slow': timeout_s is a positive number of seconds, got -1",
+        (
+            "pc2_template.py:7: error: state 'slow': timeout_s is a positive number of seconds,"
+            " got -1 (write timeout_s=10)"
+        ),
         (
             "pc2_template.py:8: error: state 'end': final is 'success' or 'failure', got 'sucess'"
             " (did you mean 'success'?)"
@@ -236,7 +239,7 @@ def test_a_subclass_without_states_of_its_own_is_checked_like_its_base(write: Wr
     assert messages(path) == [
         (
             "pc2_template2.py:7: error: state 'slow':"
-            " timeout_s is a positive number of seconds, got -1"
+            " timeout_s is a positive number of seconds, got -1 (write timeout_s=10)"
         ),
         (
             "pc2_template2.py:8: error: state 'end': final is 'success' or 'failure', got 'sucess'"
@@ -282,7 +285,10 @@ class Hop(Base):  # noqa: F811 - a second class of the same name, the mission
 """,
     )
     assert messages(path) == [
-        "twins.py:14:49: error: state 'own': timeout_s is a positive number of seconds, got -2",
+        (
+            "twins.py:14:49: error: state 'own': timeout_s is a positive number of seconds, got -2"
+            " (write timeout_s=10)"
+        ),
         (
             "twins.py:15:23: error: state 'end': final is 'success' or 'failure', got 'sucess'"
             " (did you mean 'success'?)"
@@ -369,7 +375,10 @@ def test_messages_name_the_file_as_the_caller_names_it(write: Write) -> None:
     with pytest.raises(MissionError) as info:
         compile_mission(twice, path="lesson.py")
     assert [p.format() for p in info.value.problems] == [
-        "lesson.py:5:64: error: state 'hop': timeout_s is a positive number of seconds, got -1",
+        (
+            "lesson.py:5:64: error: state 'hop': timeout_s is a positive number of seconds, got -1"
+            " (write timeout_s=10)"
+        ),
         (
             "lesson.py:12:23: error: state 'end': final is 'success' or 'failure', got 'sucess'"
             " (did you mean 'success'?)"
@@ -379,7 +388,10 @@ def test_messages_name_the_file_as_the_caller_names_it(write: Write) -> None:
     with pytest.raises(MissionError) as info:
         compile_mission(twice)
     assert [p.format() for p in info.value.problems] == [
-        f"{path}:5:64: error: state 'hop': timeout_s is a positive number of seconds, got -1",
+        (
+            f"{path}:5:64: error: state 'hop': timeout_s is a positive number of seconds, got -1"
+            " (write timeout_s=10)"
+        ),
         (
             f"{path}:12:23: error: state 'end': final is 'success' or 'failure', got 'sucess'"
             " (did you mean 'success'?)"

@@ -17,6 +17,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from helpers import run_cli
 
 from roboscript.actions.base import Action, Result
 from roboscript.errors import MissionError
@@ -505,3 +506,23 @@ def test_only_student_classes_are_blamed() -> None:
     assert not is_student_class(Action)
     assert not is_student_class(type("Shim", (), {"__module__": "roboscript"}))
     assert student_fault(ValueError("no action ran"), "go") is None
+
+
+def test_two_actions_given_to_one_state_say_how_to_write_them(tmp_path: Path) -> None:
+    (tmp_path / "m.py").write_text(
+        "from roboscript import Drive, Mission, Rotate, state\n\n\nclass M(Mission):\n"
+        "    go = state(Drive(distance_mm=500), Rotate(angle_deg=90), initial=True,"
+        ' on_done="end")\n'
+        '    end = state(final="success")\n',
+        encoding="utf-8",
+    )
+    result = run_cli("check", "m.py", cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr.splitlines() == [
+        (
+            "m.py:5:10: error: a state runs one action, and this state(...) was given more (to"
+            " do one thing after another, give each its own state and go on with"
+            ' on_done="NEXT"; to do them at the same time, write state(Parallel([...]), ...))'
+        ),
+        "checked 1 file: 1 with errors",
+    ]

@@ -679,7 +679,10 @@ MISTAKES = [
             ),
         },
         [
-            ("m.yaml:4:14: error: state 'go': timeout is a positive number of seconds, got '-2 s'"),
+            (
+                "m.yaml:4:14: error: state 'go': timeout is a positive number of seconds,"
+                " got '-2 s' (write `timeout: 10 s`)"
+            ),
         ],
         id="timeout_negative",
     ),
