@@ -334,7 +334,7 @@ class Action(abc.ABC):
         init = vars(cls).get("__init__")
         if inspect.isfunction(init):
             # mypy refuses an assignment to a method, so the wrapper is set by name
-            setattr(cls, "__init__", _naming_what_is_missing(init))  # noqa: B010
+            setattr(cls, "__init__", _reading_its_arguments(init))  # noqa: B010
         params = vars(cls).get("params")
         if "__init__" not in vars(cls) or not isinstance(params, tuple):
             return
@@ -416,7 +416,7 @@ class Action(abc.ABC):
         turn (positive = right)``, write `angle: 90 deg`); a Python mission its keywords and
         the whole call (``Rotate needs 'angle_deg', ...``, write ``Rotate(angle_deg=90)``).
         """
-        by_name = {p.name: p for p in cls.params}
+        by_name = {p.name: p for p in params_of(cls)}
         if not missing or any(name not in by_name for name in missing):
             return None
         wanted = [by_name[name] for name in missing]
@@ -444,7 +444,7 @@ class Action(abc.ABC):
         """Called when the state is left, whether the action ended or was interrupted."""
 
 
-def _naming_what_is_missing(init: Callable[..., None]) -> Callable[..., None]:
+def _reading_its_arguments(init: Callable[..., None]) -> Callable[..., None]:
     """``init``, an action's ``__init__``, reading what it is given as a mission would:
 
     * a quantity written as text (``Drive(distance_mm="50 cm")``) is read in the keyword's
@@ -471,7 +471,7 @@ def _naming_what_is_missing(init: Callable[..., None]) -> Callable[..., None]:
                 if unread is not None:  # init compared text it could not read
                     raise unread from None
                 raise  # raised inside __init__, not by the call
-            missing = _missing_arguments(init, self, args, kwargs)
+            missing = [] if signature is None else _missing(signature, self, args, kwargs)
             by_kwarg = {p.kwarg: p.name for p in params_of(type(self))}
             names = [by_kwarg.get(kwarg, kwarg) for kwarg in missing]
             error = type(self).under_specified(names) if names else None
@@ -485,7 +485,7 @@ def _naming_what_is_missing(init: Callable[..., None]) -> Callable[..., None]:
 def params_of(cls: type[Action]) -> list[Param]:
     """The parameters an action class declares, safely: a student's ``params`` that are not
     a tuple of :class:`Param` give none (the mission builder says what is wrong with them)."""
-    params = vars(cls).get("params", getattr(cls, "params", ()))
+    params = getattr(cls, "params", ())
     return [p for p in params if isinstance(p, Param)] if isinstance(params, tuple) else []
 
 
@@ -515,12 +515,11 @@ def _quantities_read(
     return bound.args[1:], bound.kwargs, unread
 
 
-def _missing_arguments(
-    init: Callable[..., None], self: Action, args: tuple[Any, ...], kwargs: dict[str, Any]
+def _missing(
+    signature: inspect.Signature, self: Action, args: tuple[Any, ...], kwargs: dict[str, Any]
 ) -> list[str]:
-    """The keywords without a default that a call of ``init`` left out (none if the call
+    """The keywords without a default that a call of ``__init__`` left out (none if the call
     was wrong in another way: an unknown keyword, one argument too many)."""
-    signature = inspect.signature(init)
     try:
         bound = signature.bind_partial(self, *args, **kwargs)
     except TypeError:
