@@ -44,10 +44,12 @@ def report(path: Path) -> list[str]:
     return [p.format().replace(str(path), "M") for p in found]
 
 
-def test_a_misspelt_world_gets_a_did_you_mean(tmp_path: Path) -> None:
-    assert report(write(tmp_path, "world: squre-room")) == [
+@pytest.mark.parametrize("world", ["squre-room", "squre"])
+def test_a_misspelt_world_gets_a_did_you_mean(tmp_path: Path, world: str) -> None:
+    write(tmp_path, "", "square.yaml")  # a mission beside it, named like the world, is no world
+    assert report(write(tmp_path, f"world: {world}")) == [
         (
-            "M:2:8: error: there is no world called 'squre-room' (built-in worlds: corridor, empty,"
+            f"M:2:8: error: there is no world called '{world}' (built-in worlds: corridor, empty,"
             " line-track, maze, square-room) (did you mean 'square-room'?)"
         )
     ]
@@ -69,17 +71,11 @@ def test_a_misspelt_world_file_nearby_gets_a_did_you_mean(tmp_path: Path) -> Non
     ]
 
 
-def test_a_misspelt_world_is_not_offered_a_mission_or_a_robot_file_beside_it(
+def test_a_misspelt_robot_is_offered_a_profile_file_beside_it_not_a_mission(
     tmp_path: Path,
 ) -> None:
-    write(tmp_path, "", "square.yaml")  # another mission, named like the world
+    write(tmp_path, "", "squard.yaml")  # another mission, named like the robot
     (tmp_path / "squared.yaml").write_text("extends: mirto\ntrack_mm: 120\n", encoding="utf-8")
-    assert report(write(tmp_path, "world: squre")) == [
-        (
-            "M:2:8: error: there is no world called 'squre' (built-in worlds: corridor, empty,"
-            " line-track, maze, square-room) (did you mean 'square-room'?)"
-        )
-    ]
     assert report(write(tmp_path, "robot: squard")) == [
         (
             "M:2:8: error: there is no robot called 'squard' (built-in robots: mirto,"
