@@ -71,7 +71,12 @@ class Parallel(Action):
         if isinstance(factories, Action):  # Parallel(Drive(...), PlayTone(...)): no [ ]
             raise type(self).needs("parallel takes a list of actions, in [ ]")
         if mode not in ("all", "any"):
-            raise ValueError("parallel runs 'all' or 'any'")
+            yaml, python = type(self).example()
+            raise UnderSpecifiedError(
+                "parallel runs 'all' or 'any'",
+                yaml=yaml.replace("{all:", "{any:"),
+                python=python.removesuffix(")") + ', mode="any")',
+            )
         if not factories:
             raise type(self).needs("parallel needs at least one action")
         self.child_requires = _needs(factories)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from roboscript import capabilities as cap
-from roboscript.actions import ActionContext, Outcome, Result
+from roboscript.actions import ActionContext, Outcome, Result, Stop
 from roboscript.actions.base import Action
 from roboscript.actions.composite import Parallel, Repeat
 
@@ -179,7 +179,13 @@ def test_parallel_needs_the_capabilities_of_its_children() -> None:
                 " (write Parallel([Drive(distance_mm=500), PlayTone(frequency_hz=880)]))"
             ),
         ),
-        (([], "first"), "parallel runs 'all' or 'any'"),
+        (
+            ([Stop()], "first"),
+            (
+                "parallel runs 'all' or 'any' (write Parallel([Drive(distance_mm=500),"
+                ' PlayTone(frequency_hz=880)], mode="any"))'
+            ),
+        ),
     ],
 )
 def test_parallel_refuses_an_empty_list_or_an_unknown_mode(
