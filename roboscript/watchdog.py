@@ -52,6 +52,7 @@ __all__ = [
     "REPEAT_S",
     "TICK_BUDGET",
     "CodeClock",
+    "CodePlace",
     "RunawayCode",
     "TickBudget",
     "TooSlow",
@@ -96,9 +97,10 @@ class TickBudget:
         """
         return max(0.0, simulated_s) + self.cpu_margin_s
 
-    def slow_message(self, spent_s: float, where: str) -> str:
-        """The warning for a slow tick: where, how long, and what a graded run does about it."""
-        at = f" at {where}" if where else ""
+    def slow_message(self, spent_s: float, where: CodePlace | None) -> str:
+        """The warning for a slow tick: where (if known), how long, and what a graded run
+        does about it."""
+        at = f" at {where}" if where is not None else ""
         return (
             f"warning: the mission's code{at} took {spent_s:.2f} s in one tick (a tick is"
             f" {self.slow_tick_s:g} s; meanwhile the robot keeps doing what it was last told):"
@@ -110,6 +112,25 @@ class TickBudget:
 
 TICK_BUDGET = TickBudget()
 """The rule in force (``run`` and the grader's mission process both use it)."""
+
+
+@dataclass(frozen=True)
+class CodePlace:
+    """Where the student's code was when it was caught: ``spin.py:14 in update``.
+
+    Attributes:
+        file: The student's file, as they would type it (relative to the working directory
+            when inside it).
+        line: The line running there, 1-based.
+        function: The function running there (``<module>`` while the file is imported).
+    """
+
+    file: str
+    line: int
+    function: str
+
+    def __str__(self) -> str:
+        return f"{self.file}:{self.line} in {self.function}"
 
 
 # ------------------------------------------------------------------------------ own time
@@ -234,19 +255,28 @@ class RunawayCode(BaseException):
 
     Args:
         limit_s: The limit it ran over, seconds.
-        where: Where it was stuck (``spin.py:14 in update``), or ``""`` if not in a file of
-            the student's.
+        where: Where it was stuck, or None if not in a file of the student's.
     """
 
-    def __init__(self, limit_s: float, where: str) -> None:
+    def __init__(self, limit_s: float, where: CodePlace | None) -> None:
         super().__init__(limit_s, where)
         self.limit_s = limit_s
         self.where = where
 
     @property
+    def file(self) -> str | None:
+        """The student's file it was stuck in (as :attr:`CodePlace.file`), or None."""
+        return self.where.file if self.where is not None else None
+
+    @property
+    def line(self) -> int | None:
+        """The line of :attr:`file` it was stuck at (1-based), or None."""
+        return self.where.line if self.where is not None else None
+
+    @property
     def reason(self) -> str:
         """One sentence for the student: what happened, where, and what to look for."""
-        at = f" at {self.where}" if self.where else ""
+        at = f" at {self.where}" if self.where is not None else ""
         return (
             f"the mission's code did not return for {self.limit_s:g} s and was stopped{at}:"
             " is there a loop that never ends? (a behaviour's update() and a condition must"
@@ -259,12 +289,14 @@ class TooSlow(RunawayCode):
 
     Args:
         spent_s: Own time of the slow ticks, in all, seconds.
-        where: Where the first slow tick was caught (``wait.py:12 in near_wall``), or ``""``.
+        where: Where the first slow tick was caught (``wait.py:12 in near_wall``), or None.
         slowest_s: Own time of the slowest tick, seconds.
         budget: The rule it broke.
     """
 
-    def __init__(self, spent_s: float, where: str, slowest_s: float, budget: TickBudget) -> None:
+    def __init__(
+        self, spent_s: float, where: CodePlace | None, slowest_s: float, budget: TickBudget
+    ) -> None:
         super().__init__(spent_s, where)
         self.slowest_s = slowest_s
         self.budget = budget
@@ -272,7 +304,7 @@ class TooSlow(RunawayCode):
     @property
     def reason(self) -> str:
         """One sentence for the student."""
-        at = f" at {self.where}" if self.where else ""
+        at = f" at {self.where}" if self.where is not None else ""
         return (
             f"the mission was too slow: its code{at} took up to {self.slowest_s:.2f} s per tick"
             f" (a tick is {self.budget.slow_tick_s:g} s) and was stopped once slow ticks added up"
@@ -291,10 +323,10 @@ class Watchdog:
 
     Args:
         limit_s: Own seconds one tick's code may take.
-        locate: Where a frame is stuck, in the student's terms (``""`` if unknown).
+        locate: Where a frame is stuck, in the student's terms (None if in no file of theirs).
         budget: The per-tick rule for timed calls (None: slow ticks are not looked for).
         on_slow: Called once, for the first slow tick, with its own time in seconds and where
-            it was caught (``wait.py:12 in near_wall``, or ``""``).
+            it was caught (``wait.py:12 in near_wall``, or None).
         end_when_too_slow: Raise :class:`TooSlow` once slow ticks add up to the budget.
         watched: Where there is no ``SIGALRM``: whether code from a file is checked between
             its lines (the student's files; by default every file, which is slower).
@@ -303,10 +335,10 @@ class Watchdog:
     def __init__(
         self,
         limit_s: float,
-        locate: Callable[[FrameType | None], str],
+        locate: Callable[[FrameType | None], CodePlace | None],
         *,
         budget: TickBudget | None = None,
-        on_slow: Callable[[float, str], None] | None = None,
+        on_slow: Callable[[float, CodePlace | None], None] | None = None,
         end_when_too_slow: bool = True,
         watched: Callable[[str], bool] | None = None,
     ) -> None:
@@ -322,13 +354,13 @@ class Watchdog:
         self._previous: Any = None
         self._began_s = 0.0
         self._timing = False
-        self._where = ""  # where the current timed call was caught past the tick budget
+        self._where: CodePlace | None = None  # where the current timed call was caught slow
         self.slow_ticks = 0
         """Timed calls that took longer than the budget's tick."""
         self.slow_total_s = 0.0
         """Their own time, in all, seconds."""
         self.slowest_s = 0.0
-        self._first_where = ""
+        self._first_where: CodePlace | None = None
         self._unreported_s: float | None = None  # a slow tick not yet warned about
         self._warned = False
         self._line_alarm: LineAlarm | None = None  # where there is no SIGALRM
@@ -372,12 +404,12 @@ class Watchdog:
 
     def _begin(self) -> None:
         self._timing = True
-        self._where = ""
+        self._where = None
         self._began_s = self._clock.now()
         if self._armed:
             # Only once a tick has been slow is the next one interrupted to see where it is:
             # an alarm that wakes a sleeping tick lets the machine's load hide in its sleep.
-            locating = self.slow_ticks > 0 and not self._first_where and self.budget is not None
+            locating = self.slow_ticks > 0 and self._first_where is None and self.budget is not None
             first = self.budget.slow_tick_s if locating and self.budget is not None else None
             self._arm(min(self.limit_s, first or self.limit_s))
 
@@ -390,17 +422,17 @@ class Watchdog:
             self.slow_total_s += spent_s
             self.slowest_s = max(self.slowest_s, spent_s)
             self._first_where = self._first_where or self._where
-            if self._where or not self._armed:
+            if self._where is not None or not self._armed:
                 self._report_slow(max(spent_s, self._unreported_s or 0.0), self._where)
             else:  # the next tick, if slow too, says where
                 self._unreported_s = max(spent_s, self._unreported_s or 0.0)
             if self._end_when_too_slow and self.slow_total_s >= budget.too_slow_after_s:
                 raise TooSlow(self.slow_total_s, self._first_where, self.slowest_s, budget)
         elif self._unreported_s is not None:
-            self._report_slow(self._unreported_s, "")  # one slow tick alone: no line to name
+            self._report_slow(self._unreported_s, None)  # one slow tick alone: no line to name
         self.pet()  # code outside the timed calls (the loop's own) keeps the plain limit
 
-    def _report_slow(self, spent_s: float, where: str) -> None:
+    def _report_slow(self, spent_s: float, where: CodePlace | None) -> None:
         """Warn about the first slow tick (once)."""
         self._unreported_s = None
         if not self._warned and self._on_slow is not None:
@@ -422,7 +454,7 @@ class Watchdog:
             return
         own_s = self._clock.now() - self._began_s
         budget = self.budget
-        watching_tick = self._timing and budget is not None and not self._where
+        watching_tick = self._timing and budget is not None and self._where is None
         if watching_tick and budget is not None and own_s >= budget.slow_tick_s:
             self._where = self._locate(frame)
             watching_tick = False

@@ -41,6 +41,7 @@ from roboscript.errors import (
 )
 from roboscript.mission.key_mistakes import meant_in_state_call
 from roboscript.mission.python_api import LOADED_PREFIX, state
+from roboscript.watchdog import CodePlace
 
 if TYPE_CHECKING:
     import ast
@@ -107,21 +108,21 @@ def _student_frame(tb: TracebackType | None) -> traceback.FrameSummary | None:
     return found
 
 
-def stuck_at(frame: FrameType | None) -> str:
+def stuck_at(frame: FrameType | None) -> CodePlace | None:
     """Where running code is, in the student's terms: ``spin.py:14 in update``.
 
     Args:
         frame: The innermost running frame (a signal handler's ``frame``).
 
     Returns:
-        The innermost frame that runs a student's file, or ``""`` when none does.
+        The innermost frame that runs a student's file, or None when none does.
     """
     while frame is not None:
         code = frame.f_code
         if is_student_file(code.co_filename):
-            return f"{shown_path(code.co_filename)}:{frame.f_lineno} in {code.co_name}"
+            return CodePlace(shown_path(code.co_filename), frame.f_lineno, code.co_name)
         frame = frame.f_back
-    return ""
+    return None
 
 
 def _where(frame: traceback.FrameSummary | None) -> str | None:

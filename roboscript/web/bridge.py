@@ -17,6 +17,7 @@ line: ``hello.yaml:4:28: error: ...``.
 from __future__ import annotations
 
 import json
+import os
 import re
 import shutil
 import tempfile
@@ -62,22 +63,35 @@ def _write(name: str, text: str) -> Path:
     return path
 
 
-def _problem(problem: InputError, path: Path) -> dict[str, Any]:
+def _named(text: str) -> str:
+    """``text`` with the scratch folder left out of its paths: each file in it named as the
+    student named it. The folder is left out in full and as :func:`shown_path` writes it
+    (``missions/``: the browser works in ``/home/pyodide``)."""
+    folder = _folder()
+    for shown in dict.fromkeys((str(folder), shown_path(folder))):
+        if shown != ".":  # working in the folder itself, a file is already shown by its name
+            text = text.replace(shown + os.sep, "")
+    return text
+
+
+def _problem(problem: InputError) -> dict[str, Any]:
     return {
         "line": problem.line,
         "col": problem.col,
         "severity": problem.severity,
         "message": problem.message,
         "hint": problem.hint,
-        "text": problem.format().replace(str(path), path.name),
+        "text": _named(problem.format()),
     }
 
 
 def _stuck_problem(exc: RunawayCode, path: Path) -> dict[str, Any]:
-    """A mission file stopped while loading, as a problem of :func:`check_text`."""
-    found = re.search(r":(\d+) in ", exc.where)
-    line = int(found.group(1)) if found else 1
-    message = exc.reason.replace(str(path), path.name)
+    """A mission file stopped while loading, as a problem of :func:`check_text`: at the line
+    it was stuck at when that is the mission's own (else at its first line: the loop is in
+    another file, which the message names)."""
+    in_mission = exc.file is not None and Path(exc.file).resolve() == path.resolve()
+    line = exc.line if in_mission and exc.line is not None else 1
+    message = _named(exc.reason)
     return {
         "line": line,
         "col": 1,
@@ -98,8 +112,8 @@ def _load(name: str, text: str, robot: str | None) -> tuple[Path, Any, Any, list
         return path, None, None, [_stuck_problem(exc, path)]
     except InputError as exc:
         problems = getattr(exc, "problems", None) or [exc]
-        return path, None, None, [_problem(p, path) for p in problems]
-    return path, spec, profile, [_problem(w, path) for w in warnings]
+        return path, None, None, [_problem(p) for p in problems]
+    return path, spec, profile, [_problem(w) for w in warnings]
 
 
 def check_text(name: str, text: str, robot: str = "") -> str:
@@ -159,9 +173,7 @@ def run_text(
     summary = session_record(session).to_dict()
     reason = summary.get("reason")
     if isinstance(reason, str):  # the page's scratch folder means nothing to the student
-        for shown in (str(path), shown_path(path)):
-            reason = reason.replace(shown, path.name)
-        summary["reason"] = reason
+        summary["reason"] = _named(reason)
     viewer = None
     if recording.recorder is not None:
         viewer = viewer_block(recording.recorder.recording(), label=f"replay of {path.name}")
@@ -201,7 +213,7 @@ def _spec_summary(spec: TestSpec) -> dict[str, Any]:
 
 def _spec_problem(problem: InputError, root: Path) -> dict[str, Any]:
     """A spec's problem, its file named from the folder the specs were loaded in."""
-    return _problem(problem, root) | {"text": student_text(problem.format(), root)}
+    return _problem(problem) | {"text": student_text(problem.format(), root)}
 
 
 def load_specs(files: str, slot: str = "shipped") -> str:

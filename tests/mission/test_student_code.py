@@ -28,6 +28,7 @@ from roboscript.mission.student_code import (
     stuck_at,
     student_fault,
 )
+from roboscript.watchdog import CodePlace
 
 
 @pytest.fixture
@@ -441,11 +442,15 @@ def test_stuck_at_names_the_innermost_student_frame(here: Path) -> None:
     # asked from inside copy.deepcopy (the library), the student's line that called it counts;
     # code run by eval() is in no file, so the line that called eval() counts
     seen = import_student_file(_write(here, "stuck.py", STUCK)).SEEN
-    assert seen == ["stuck.py:16 in through_the_library", "stuck.py:20 in through_eval"]
+    assert seen == [
+        CodePlace("stuck.py", 16, "through_the_library"),
+        CodePlace("stuck.py", 20, "through_eval"),
+    ]
+    assert str(seen[0]) == "stuck.py:16 in through_the_library"
 
 
-def test_stuck_at_nowhere_is_empty() -> None:
-    assert stuck_at(None) == ""
+def test_stuck_at_nowhere_is_none() -> None:
+    assert stuck_at(None) is None
 
 
 # ---------------------------------------------------------------------------------- run time
