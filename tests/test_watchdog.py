@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import os
 import re
@@ -10,7 +11,7 @@ import subprocess
 import sys
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from types import FrameType
 
@@ -34,6 +35,22 @@ from roboscript.watchdog import (
 def _where(frame: FrameType | None) -> CodePlace:
     assert frame is not None
     return CodePlace(frame.f_code.co_filename, frame.f_lineno, frame.f_code.co_name)
+
+
+@contextlib.contextmanager
+def no_timer_signal() -> Iterator[None]:
+    """Python without ``signal.setitimer`` inside the block, as on Windows or in a browser tab.
+
+    Not ``monkeypatch.delattr``: pytest-timeout cancels its timer with ``setitimer`` as soon as
+    a test fails, before fixtures are undone, so a failure would become an internal error that
+    ends the session and hides what failed. The block gives it back before any report.
+    """
+    setitimer = signal.setitimer
+    del signal.setitimer
+    try:
+        yield
+    finally:
+        signal.setitimer = setitimer
 
 
 def _spin_forever() -> None:
@@ -66,13 +83,15 @@ def test_code_that_never_returns_is_stopped_where_it_is() -> None:
 
 
 @pytest.mark.parametrize("timer", ["SIGALRM", "between lines"])
-def test_one_catch_all_does_not_keep_it_in(timer: str, monkeypatch: pytest.MonkeyPatch) -> None:
-    if timer == "between lines":
-        if sys.version_info < (3, 12):
-            pytest.skip("before Python 3.12 a catch-all keeps it in (line_alarm)")
-        monkeypatch.delattr(signal, "setitimer")  # as on Windows, or in a browser tab
+def test_one_catch_all_does_not_keep_it_in(timer: str) -> None:
+    if timer == "between lines" and sys.version_info < (3, 12):
+        pytest.skip("before Python 3.12 a catch-all keeps it in (line_alarm)")
     caught = 0
-    with pytest.raises(RunawayCode), Watchdog(0.2, _where):
+    with (
+        no_timer_signal() if timer == "between lines" else contextlib.nullcontext(),
+        pytest.raises(RunawayCode),
+        Watchdog(0.2, _where),
+    ):
         try:
             _spin_forever()
         except BaseException:  # noqa: BLE001 (a student's catch-all)
@@ -118,21 +137,18 @@ def test_off_the_main_thread_a_loop_is_stopped_between_two_of_its_lines() -> Non
     assert _in_loop_of(raised[0].where, _spin_forever)
 
 
-def test_without_sigalrm_a_loop_is_stopped_at_its_line(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.delattr(signal, "setitimer")  # as on Windows, or in a browser tab
-    dog = Watchdog(0.2, _where, watched=lambda filename: filename == __file__)
-    assert dog.supported
-    with pytest.raises(RunawayCode) as raised, dog:
-        _spin_forever()
+def test_without_sigalrm_a_loop_is_stopped_at_its_line() -> None:
+    with no_timer_signal():
+        dog = Watchdog(0.2, _where, watched=lambda filename: filename == __file__)
+        assert dog.supported
+        with pytest.raises(RunawayCode) as raised, dog:
+            _spin_forever()
     assert _in_loop_of(raised.value.where, _spin_forever)
 
 
-def test_without_sigalrm_a_loop_is_stopped_again_in_a_later_tick(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    monkeypatch.delattr(signal, "setitimer")
+def test_without_sigalrm_a_loop_is_stopped_again_in_a_later_tick() -> None:
     stops = 0
-    with Watchdog(0.2, _where) as dog:
+    with no_timer_signal(), Watchdog(0.2, _where) as dog:
         for _tick in range(2):
             try:
                 _spin_forever()
@@ -142,16 +158,14 @@ def test_without_sigalrm_a_loop_is_stopped_again_in_a_later_tick(
     assert stops == 2
 
 
-def test_without_sigalrm_nothing_is_watched_after_the_block(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    monkeypatch.delattr(signal, "setitimer")
-    with Watchdog(0.05, _where):
-        pass
-    assert sys.gettrace() is None
-    deadline = time.perf_counter() + 0.15
-    while time.perf_counter() < deadline:  # a watched loop would be stopped in here
-        pass
+def test_without_sigalrm_nothing_is_watched_after_the_block() -> None:
+    with no_timer_signal():
+        with Watchdog(0.05, _where):
+            pass
+        assert sys.gettrace() is None
+        deadline = time.perf_counter() + 0.15
+        while time.perf_counter() < deadline:  # a watched loop would be stopped in here
+            pass
 
 
 SPIN = '''\

@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import json
 import re
-import signal
 
 import pytest
 from helpers import MISSIONS, run_cli
-from test_watchdog import LOOPING_BEHAVIOUR_FILE, SPIN
+from test_watchdog import LOOPING_BEHAVIOUR_FILE, SPIN, no_timer_signal
 
 from roboscript.web.bridge import _folder as scratch_folder
 from roboscript.web.bridge import check_text, diagram_text, grade_text, load_specs, run_text
@@ -51,11 +50,9 @@ def test_a_python_mission_is_checked_and_run_too() -> None:
     assert json.loads(run_text("square.py", text))["summary"]["outcome"] == "success"
 
 
-def test_a_condition_that_loops_forever_ends_the_run_at_its_line_not_the_tab(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    monkeypatch.delattr(signal, "setitimer")  # a browser tab has no timer signal
-    summary = json.loads(run_text("spin.py", SPIN))["summary"]
+def test_a_condition_that_loops_forever_ends_the_run_at_its_line_not_the_tab() -> None:
+    with no_timer_signal():  # a browser tab has no timer signal
+        summary = json.loads(run_text("spin.py", SPIN))["summary"]
     assert summary["outcome"] == "error"
     assert summary["reason"].startswith(
         "the mission's code did not return for 5 s and was stopped at spin.py:2"
@@ -66,11 +63,11 @@ def test_a_condition_that_loops_forever_ends_the_run_at_its_line_not_the_tab(
 def test_a_file_that_loops_forever_when_loaded_is_a_problem_at_its_line(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    monkeypatch.delattr(signal, "setitimer")
     # the page works in the folder above its scratch folder (/home/pyodide), so the stuck
     # place's file is written relative to it there: the student still sees only the name
     monkeypatch.chdir(scratch_folder().parent)
-    problems = json.loads(check_text("hang.py", LOOPING_BEHAVIOUR_FILE))["problems"]
+    with no_timer_signal():
+        problems = json.loads(check_text("hang.py", LOOPING_BEHAVIOUR_FILE))["problems"]
     assert len(problems) == 1
     line = problems[0]["line"]
     assert line in (3, 4)  # a line of the endless loop
@@ -79,15 +76,13 @@ def test_a_file_that_loops_forever_when_loaded_is_a_problem_at_its_line(
     assert f"stopped at hang.py:{line} in <module>:" in problems[0]["message"]
 
 
-def test_a_behaviour_file_that_loops_when_loaded_is_a_problem_at_the_missions_first_line(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
+def test_a_behaviour_file_that_loops_when_loaded_is_a_problem_at_the_missions_first_line() -> None:
     # the loop is at line 3 of the behaviour file, not of the mission: the mission's problem
     # is at its first line, and the message names the file and line that loop
-    monkeypatch.delattr(signal, "setitimer")
     (scratch_folder() / "loops.py").write_text(LOOPING_BEHAVIOUR_FILE, encoding="utf-8")
     mission = "behaviours: [loops.py]\nstates:\n  s:\n    initial: true\n    final: success\n"
-    problems = json.loads(check_text("uses.yaml", mission))["problems"]
+    with no_timer_signal():
+        problems = json.loads(check_text("uses.yaml", mission))["problems"]
     assert len(problems) == 1
     assert problems[0]["line"] == 1
     assert re.search(r"stopped at \S*loops\.py:[34] in <module>:", problems[0]["message"])
