@@ -22,7 +22,10 @@ kernel's per-thread scheduler statistics; elsewhere it cannot be told apart and 
 :class:`RunawayCode` is a :class:`BaseException`, like :class:`KeyboardInterrupt`, so a
 student's ``except Exception:`` cannot swallow it; it is raised again every
 :data:`REPEAT_S` until it gets out, so one bare ``except:`` cannot either (code that
-catches everything in an endless loop of its own can still only be ended with Ctrl-C).
+catches everything in an endless loop of its own can still only be ended with Ctrl-C). Code
+that drops it and returns (a student's bare ``except:``, a library that logs and drops what
+is raised in its callbacks, a finaliser, whose exceptions Python ignores) does not keep the
+run going: the stop is raised again as that tick's code (or the watched block) returns.
 Uses ``SIGALRM`` (POSIX, main thread). Elsewhere (Windows, a browser tab, another thread) it
 checks between two lines of the student's own code instead (:class:`~roboscript.line_alarm.
 LineAlarm`): a loop is stopped at its line just the same, and a single call that blocks
@@ -365,6 +368,7 @@ class Watchdog:
         self._warned = False
         self._line_alarm: LineAlarm | None = None  # where there is no SIGALRM
         self._watched = watched or _every_file
+        self._stopped: RunawayCode | None = None  # raised, and not yet seen to get out
 
     @property
     def supported(self) -> bool:
@@ -379,7 +383,9 @@ class Watchdog:
         )
 
     def pet(self) -> None:
-        """The loop is alive: start the limit again."""
+        """The loop is alive: start the limit again (a stop raised before it has been dealt
+        with by the loop)."""
+        self._stopped = None
         self._began_s = self._clock.now()
         if self._armed:
             self._arm(self.limit_s)
@@ -388,6 +394,8 @@ class Watchdog:
         """``call`` (a scheduler task running student code), timed against the budget.
 
         Raises (from the returned task):
+            RunawayCode: The call ran past the limit; also when the code it called dropped
+                that stop and returned (the stop it dropped, raised again).
             TooSlow: Slow ticks added up to the budget (when ``end_when_too_slow``).
         """
 
@@ -397,7 +405,11 @@ class Watchdog:
                 call(now_s, dt_s)
             except BaseException:
                 self._timing = False
+                self._stopped = None  # what got out ends the run
                 raise
+            if self._stopped is not None:
+                self._timing = False
+                self._raise_dropped()
             self._end()
 
         return task
@@ -432,6 +444,12 @@ class Watchdog:
             self._report_slow(self._unreported_s, None)  # one slow tick alone: no line to name
         self.pet()  # code outside the timed calls (the loop's own) keeps the plain limit
 
+    def _raise_dropped(self) -> None:
+        """Raise again the stop that code the watchdog timed caught and dropped."""
+        stopped, self._stopped = self._stopped, None
+        if stopped is not None:
+            raise stopped
+
     def _report_slow(self, spent_s: float, where: CodePlace | None) -> None:
         """Warn about the first slow tick (once)."""
         self._unreported_s = None
@@ -460,7 +478,8 @@ class Watchdog:
             watching_tick = False
         if own_s >= self.limit_s:
             self._arm(REPEAT_S, REPEAT_S)  # again and again, until it gets out
-            raise RunawayCode(self.limit_s, self._locate(frame))
+            self._stopped = RunawayCode(self.limit_s, self._locate(frame))
+            raise self._stopped
         # Not yet: the machine was busy, or the code waited on the wire. Wait for what is left.
         left_s = self.limit_s - own_s
         if watching_tick and budget is not None:
@@ -492,6 +511,9 @@ class Watchdog:
             if self._line_alarm is not None:
                 self._line_alarm.stop()
                 self._line_alarm = None
-                return
-            signal.setitimer(signal.ITIMER_REAL, 0)
-            signal.signal(signal.SIGALRM, self._previous)
+            else:
+                signal.setitimer(signal.ITIMER_REAL, 0)
+                signal.signal(signal.SIGALRM, self._previous)
+        if exc is None:  # the block returned, though it was stopped: the stop was dropped
+            self._raise_dropped()
+        self._stopped = None

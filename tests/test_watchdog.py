@@ -100,6 +100,45 @@ def test_one_catch_all_does_not_keep_it_in(timer: str) -> None:
     assert caught == 1
 
 
+def _stopped_then_dropped() -> str:
+    """Stuck, then the stop is dropped and the code returns: as a student's catch-all does,
+    or a library that logs and drops what its callbacks raise, or a finaliser."""
+    try:
+        _spin_forever()
+    except BaseException as exc:  # noqa: BLE001 (the mistake under test)
+        return f"dropped {type(exc).__name__}"
+    return "never stopped"
+
+
+@pytest.mark.parametrize("timer", ["SIGALRM", "between lines"])
+def test_a_stop_dropped_by_the_ticks_code_is_raised_again_when_the_tick_returns(
+    timer: str,
+) -> None:
+    def tick(now_s: float, dt_s: float) -> None:
+        _stopped_then_dropped()
+
+    with no_timer_signal() if timer == "between lines" else contextlib.nullcontext():
+        dog = Watchdog(0.2, _where, budget=BUDGET)
+        with pytest.raises(RunawayCode) as raised, dog:
+            dog.timed(tick)(0.0, 0.02)
+    assert not isinstance(raised.value, TooSlow)  # stuck, as it was: not merely slow
+    assert _in_loop_of(raised.value.where, _spin_forever)
+
+
+def test_a_stop_dropped_in_a_watched_block_is_raised_again_as_the_block_ends() -> None:
+    with pytest.raises(RunawayCode) as raised, Watchdog(0.2, _where):
+        _stopped_then_dropped()  # a file that hangs when imported, its loop in a catch-all
+    assert _in_loop_of(raised.value.where, _spin_forever)
+
+
+def test_a_stop_the_loop_dealt_with_is_not_raised_again() -> None:
+    with Watchdog(0.2, _where) as dog:
+        try:
+            _spin_forever()
+        except RunawayCode:
+            dog.pet()  # the loop caught it, and goes on: its own decision
+
+
 def test_petting_it_keeps_honest_code_running() -> None:
     ticks = 0
     with Watchdog(0.5, _where) as dog:
@@ -242,6 +281,23 @@ def test_run_ends_a_stuck_mission_with_its_line_and_the_motors_off(
             sim.write(data)
     sim.tick(sim.time_s + 0.25, 0.0)
     assert sim.body.power == [0.0, 0.0]
+
+
+def test_run_ends_a_condition_that_drops_its_stop_as_stuck_at_its_line(tmp_path: Path) -> None:
+    mission = tmp_path / "spin.py"
+    mission.write_text(
+        SPIN.replace(
+            "        n = 0\n        while n >= 0:\n            n += 1\n        return True\n",
+            "        n = 0\n        try:\n            while n >= 0:\n                n += 1\n"
+            "        except BaseException:\n            return False\n        return True\n",
+        ),
+        encoding="utf-8",
+    )
+    result = run_cli("run", str(mission), "--quiet")
+    assert result.returncode == 1
+    last = result.stderr.strip().splitlines()[-1]
+    assert last.startswith("error: the mission's code did not return for 5 s and was stopped at ")
+    assert re.search(r"spin\.py:2[23] in far:", last)  # a line of the endless loop
 
 
 LOOPING_BEHAVIOUR_FILE = '''\
