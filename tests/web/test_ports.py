@@ -12,6 +12,8 @@ A PLEN2 mission is used because its conversation does not depend on timing (no s
 streams): against a fresh ``roboscript sim --tcp`` the page's wire log holds the same messages
 both ways as the command line's, but for the liveness polls, whose number follows the wall
 clock. Waits are long enough for a machine whose every core is busy; nothing here is timed.
+The simulator runs as a class runs it, with its defaults: a page slow to say its first
+byte keeps the robot, since nobody else wants it.
 """
 
 from __future__ import annotations
@@ -40,7 +42,6 @@ pytestmark = pytest.mark.timeout(1800)
 
 LONG_S = 600.0  # Python in WebAssembly on a saturated machine takes its time; never a limit
 MISSION = MISSIONS / "plen_walk.yaml"
-SIM_OPTIONS = ("--handshake-wait", "600")  # the page may be slow to say its first byte
 
 STAND_IN = """
 (function () {
@@ -316,7 +317,7 @@ def test_a_mission_on_a_robot_from_the_page_puts_the_same_bytes_on_the_wire_as_t
 ) -> None:
     cli_log = tmp_path / "cli-wire.log"
     # Both runs mostly wait on their robot's clock, each with its own simulator: run together.
-    with served_simulator("plen2", *SIM_OPTIONS) as cli_port, ThreadPoolExecutor(1) as pool:
+    with served_simulator("plen2") as cli_port, ThreadPoolExecutor(1) as pool:
         on_the_command_line = pool.submit(
             run_cli,
             "run",
@@ -327,7 +328,7 @@ def test_a_mission_on_a_robot_from_the_page_puts_the_same_bytes_on_the_wire_as_t
             str(cli_log),
             "--quiet",
         )
-        with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
+        with served_simulator("plen2") as tcp_port:
             bridge = StandInBridge(page, tcp_port)
             _connect_and_run(page, bridge)
             bridge.pump("document.body.dataset.wireLog", timeout_s=LONG_S)
@@ -361,7 +362,7 @@ def _stopped_mid_mission(page: Browser, folder: Path, how: str) -> tuple[bytes, 
         The driver's stop bytes, and every byte the page wrote from that moment on.
     """
     stop = _stop_bytes(folder)
-    with served_simulator("plen2", *SIM_OPTIONS) as tcp_port:
+    with served_simulator("plen2") as tcp_port:
         bridge = StandInBridge(page, tcp_port)
         _connect_and_run(page, bridge)
         bridge.pump("document.body.dataset.robotReady === '1'")
@@ -421,11 +422,11 @@ def test_a_spike_hub_over_bluetooth_runs_its_mission_from_the_page(
         + "); document.querySelector('[data-role=name]').value = 'spike_square.yaml'"
     )
     # Both runs mostly wait on their robot's clock, each with its own simulator: run together.
-    with served_simulator("spike-prime", *SIM_OPTIONS) as cli_port, ThreadPoolExecutor(1) as pool:
+    with served_simulator("spike-prime") as cli_port, ThreadPoolExecutor(1) as pool:
         on_the_command_line = pool.submit(
             run_cli, "run", str(mission), "--port", f"socket://127.0.0.1:{cli_port}", "--json"
         )
-        with served_simulator("spike-prime", *SIM_OPTIONS) as tcp_port:
+        with served_simulator("spike-prime") as tcp_port:
             bridge = StandInBridge(page, tcp_port)
             _connect_and_run(page, bridge, "[data-via=bluetooth]")
             bridge.pump("document.body.dataset.wireLog", timeout_s=LONG_S)
