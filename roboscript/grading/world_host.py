@@ -673,14 +673,21 @@ class _Stall:
         self._progressed = True
         self._at_progress_s: float | None = None
         self._at_load_s: float | None = None
+        self._last_cpu_s: float | None = None
         self.loaded_at_s = 0.0
 
     def _used_s(self) -> float:
-        used = process_tree_cpu_s(self.pid) if self.pid is not None else None
-        if used is None:
-            self.measured = "wall time"
-            return time.monotonic()
-        return used
+        if self.measured == "CPU time" and self.pid is not None:
+            used = process_tree_cpu_s(self.pid)
+            if used is not None:
+                self._last_cpu_s = used
+                return used
+            if self._last_cpu_s is not None:
+                # The tree ended (its end reaches the loop through the socket): it uses no
+                # more CPU. Wall time here would be compared with a CPU reading.
+                return self._last_cpu_s
+        self.measured = "wall time"  # never told: wall time from the first reading on
+        return time.monotonic()
 
     def progress(self, now_s: float, loaded: bool) -> None:
         """Simulated time advanced (or the mission loaded)."""

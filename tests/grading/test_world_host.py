@@ -12,11 +12,14 @@ import json
 import os
 import re
 import shutil
+import subprocess
+import sys
+import time
 from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import MISSIONS, SLEEPER, every_core_busy, run_cli
+from helpers import HANG_BOUND_S, MISSIONS, SLEEPER, every_core_busy, run_cli
 
 from roboscript.grading.run import grade_run, record_from_session
 from roboscript.grading.spec import TestSpec, load_test_spec
@@ -342,3 +345,23 @@ def test_honest_missions_graded_on_a_saturated_machine_never_hang_or_crash(
         for r in runs
         if r["student"] == "eve"
     )
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs /proc")
+def test_a_mission_process_that_ends_while_loading_is_never_judged_hung() -> None:
+    # A mission that crashes while loading ends its process before the world reads the closed
+    # socket; on a busy machine the world can check for a stall in between. The tree is gone
+    # then, and uses no more CPU: its stall must stay what it was, never wall time less the
+    # CPU time read before (a run "hung for 35796.1 s" where it had crashed).
+    from roboscript.grading.world_host import _Stall
+
+    process = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(600)"])
+    try:
+        stall = _Stall(process.pid)
+        assert stall.check(time.monotonic(), allowance_s=1.0) is None  # loading: no progress
+        assert stall.check(time.monotonic(), allowance_s=1.0) is None  # the CPU time, read
+    finally:
+        process.kill()
+        process.wait(HANG_BOUND_S)
+    assert stall.check(time.monotonic(), allowance_s=1.0) is None  # the process is gone
+    assert stall.measured == "CPU time"
