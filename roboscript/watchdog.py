@@ -217,6 +217,11 @@ class CodeClock:
     Waiting for a CPU (another program had it: the machine is busy) and waiting on the wire
     (the robot or the grader's world answering) are not the code's own; sleeping, computing
     and blocking on anything else are. Create it on the thread it measures.
+
+    A wait for a CPU that falls inside a sleep to a deadline (``time.sleep`` woken by the
+    watchdog's alarm, or preempted on its way in) is left out too, although the sleep did not
+    last longer for it: on a busy machine a sleeping tick can measure a little short, never
+    long, so load still never makes code look slow.
     """
 
     def __init__(self) -> None:
