@@ -23,6 +23,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Self
 
+from helpers import HANG_BOUND_S
+
 HERE = Path(__file__).resolve().parent
 SHIMS = HERE / "shims"
 HARNESS_SOURCE = HERE / "harness" / "avrboard.c"
@@ -414,7 +416,7 @@ class Board:
                 stdin.close()
             except OSError:
                 pass  # the emulator has already gone
-            self._process.wait(timeout=10)
+            self._process.wait(timeout=HANG_BOUND_S)
 
     def __enter__(self) -> Self:
         return self

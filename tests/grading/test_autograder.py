@@ -15,7 +15,7 @@ from typing import Any
 
 import pytest
 import yaml
-from helpers import OUT_TURN_BEEP, run_cli
+from helpers import HANG_BOUND_S, OUT_TURN_BEEP, run_cli
 
 from roboscript.grading.autograder import classroom_files, gradescope_zip, spec_files
 from roboscript.grading.batch import find_specs
@@ -81,7 +81,7 @@ def _offline(command: list[str], **kwargs: Any) -> subprocess.CompletedProcess[s
         capture_output=True,
         text=True,
         env=env,
-        timeout=900,
+        timeout=HANG_BOUND_S,
         check=False,
         **kwargs,
     )
@@ -167,7 +167,9 @@ def _run_workflow(workflow: dict[str, Any], workspace: Path, tests: Path, tmp: P
         if uses.startswith("actions/checkout") and "repository" in step.get("with", {}):
             shutil.copytree(tests, workspace / step["with"]["path"])
         elif uses.startswith("actions/setup-python"):  # a fresh Python on the PATH
-            subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, timeout=600)
+            subprocess.run(
+                [sys.executable, "-m", "venv", str(venv)], check=True, timeout=HANG_BOUND_S
+            )
             env["PATH"] = f"{venv}/bin:/usr/bin:/bin"
         elif uses.startswith("actions/upload-artifact"):
             assert (workspace / step["with"]["path"]).is_file()

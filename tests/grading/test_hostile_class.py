@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import FORWARD_50CM, FORWARD_50CM_EXPECT
+from helpers import FORWARD_50CM, FORWARD_50CM_EXPECT, HANG_BOUND_S
 
 from roboscript.grading.sandbox import detect_isolation
 
@@ -190,7 +190,9 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
         "--html", str(out / "html"), "--results", str(out / "results.jsonl"),
     ]  # fmt: skip
     out.mkdir()
-    done = subprocess.run(command, capture_output=True, text=True, timeout=900, check=False)
+    done = subprocess.run(
+        command, capture_output=True, text=True, timeout=HANG_BOUND_S, check=False
+    )
     lines = (out / "results.jsonl").read_text().splitlines()
     runs = [json.loads(line) for line in lines[1:]]  # line 1 is the file's header
     return {
@@ -357,7 +359,9 @@ def test_gradescope_results_hold_no_hidden_detail_and_no_teacher_folder(tmp_path
         sys.executable, "-m", "roboscript", "grade", str(spec), "--mission", str(submission),
         "--hang-after", "30", "--gradescope", str(results),
     ]  # fmt: skip
-    done = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
+    done = subprocess.run(
+        command, capture_output=True, text=True, timeout=HANG_BOUND_S, check=False
+    )
     text = results.read_text(encoding="utf-8")
     tests = json.loads(text)["tests"]
     assert [t["status"] for t in tests] == ["failed", "passed"], done.stderr[-2000:]
@@ -368,7 +372,9 @@ def test_gradescope_results_hold_no_hidden_detail_and_no_teacher_folder(tmp_path
     empty = tmp_path / "empty"
     empty.mkdir()
     command[command.index(str(submission))] = str(empty)
-    done = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
+    done = subprocess.run(
+        command, capture_output=True, text=True, timeout=HANG_BOUND_S, check=False
+    )
     assert done.returncode == 2
     text = results.read_text(encoding="utf-8")
     assert "no mission files in the folder empty" in text
@@ -385,7 +391,9 @@ def test_a_glob_through_a_link_to_a_classmates_folder_is_refused(tmp_path: Path)
         sys.executable, "-m", "roboscript", "grade", str(spec),
         "--mission", str(subs / "*" / "forward.yaml"), "--hang-after", "30", "--json",
     ]  # fmt: skip
-    done = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
+    done = subprocess.run(
+        command, capture_output=True, text=True, timeout=HANG_BOUND_S, check=False
+    )
     runs = {r["student"]: r for r in json.loads(done.stdout)["runs"]}
     assert runs["ada"]["status"] == "passed", done.stderr[-2000:]
     assert runs["dave"]["status"] == "invalid"

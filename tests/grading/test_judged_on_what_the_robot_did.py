@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import MISSIONS, run_cli
+from helpers import HANG_BOUND_S, MISSIONS, run_cli
 
 TEACHER = MISSIONS / "teacher"
 
@@ -127,7 +127,7 @@ def _grade(folder: Path, *specs: Path) -> dict[str, Any]:
     result = run_cli(
         "grade", *map(str, specs), "--mission", str(folder), "--json", "--jobs", "2",
         "--hang-after", "60",
-        timeout=900.0,
+        timeout=HANG_BOUND_S,
     )  # fmt: skip
     assert "Traceback" not in result.stderr, result.stderr
     report: dict[str, Any] = json.loads(result.stdout)

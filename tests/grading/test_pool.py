@@ -314,7 +314,7 @@ def test_a_killed_grader_keeps_every_finished_run(tmp_path: Path) -> None:
             time.sleep(0.05)
         os.killpg(grader.pid, signal.SIGKILL)
     finally:
-        grader.wait(30)
+        grader.wait(HANG_BOUND_S)
     lines = results.read_text(encoding="utf-8").splitlines()[1:]  # after the header
     assert len(lines) >= 4
     finished = [json.loads(line) for line in lines]  # every line is whole

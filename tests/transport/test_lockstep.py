@@ -7,6 +7,7 @@ import threading
 from collections.abc import Iterator
 
 import pytest
+from helpers import HANG_BOUND_S
 from hypothesis import given
 from hypothesis import strategies as st
 
@@ -163,7 +164,7 @@ def test_a_read_right_after_a_write_sees_the_answer_as_in_process() -> None:
 
 def _one_write(world_end: socket.socket) -> list[tuple[bytes, bytes]]:
     """The frames that arrive together, in one read."""
-    world_end.settimeout(5)
+    world_end.settimeout(HANG_BOUND_S)
     return list(FrameDecoder(Kind.FROM_MISSION).feed(world_end.recv(1 << 20)))
 
 

@@ -7,7 +7,7 @@ import random
 import socket
 
 import pytest
-from helpers import served_simulator
+from helpers import HANG_BOUND_S, served_simulator
 
 from roboscript.codec import Role
 from roboscript.drivers.plen.codec import PlenCodec
@@ -313,7 +313,7 @@ def test_a_wall_stops_a_walking_robot() -> None:
 def test_roboscript_sim_serves_the_simulated_plen2() -> None:
     with served_simulator("plen2") as port:
         codec = PlenCodec(Role.HOST)
-        with socket.create_connection(("127.0.0.1", port), timeout=10) as sock:
+        with socket.create_connection(("127.0.0.1", port), timeout=HANG_BOUND_S) as sock:
             sock.sendall(b"<VI")
             reply = None
             while reply is None:

@@ -14,7 +14,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from helpers import run_cli, served_simulator
+from helpers import HANG_BOUND_S, run_cli, served_simulator
 
 from roboscript.codec import Role, drain
 from roboscript.drivers.spike import messages as m
@@ -47,7 +47,7 @@ class Client:
         self.sock.sendall(self.codec.send(request))
         return [self.expect(kind) for kind in want]
 
-    def expect(self, kind: type[m.Message], limit_s: float = 10.0) -> m.Message:
+    def expect(self, kind: type[m.Message], limit_s: float = HANG_BOUND_S) -> m.Message:
         deadline = time.monotonic() + limit_s  # a bound on a hung server, not a timing check
         while time.monotonic() < deadline:
             for index, message in enumerate(self.inbox):
