@@ -348,8 +348,10 @@ def test_ticks_that_sleep_are_reported_once_at_their_line_then_ended_as_too_slow
     assert len(seen) == 1
     spent_s, where = seen[0]
     # the warning names the slowest of the ticks so far (the first, never interrupted, slept
-    # its 0.05 s): if this fails, whether every tick measured short tells the clock from the rule
-    assert spent_s >= 0.05, f"{dog.slow_ticks} slow ticks, slowest {dog.slowest_s:.4f} s"
+    # its 0.05 s; a busy machine's wait for a CPU around a sleep is left out of the code's own
+    # time, so it may measure a little less): if this fails, whether every tick
+    # measured short tells the clock from the rule
+    assert spent_s > 0.02, f"{dog.slow_ticks} slow ticks, slowest {dog.slowest_s:.4f} s"
     assert _in_loop_of(where, _napping_tick)
     assert raised.value.where == where
     assert raised.value.reason.startswith(f"the mission was too slow: its code at {where}")
@@ -364,7 +366,7 @@ def test_one_slow_tick_alone_is_forgiven_and_warned_about_without_a_line() -> No
         for _ in range(20):
             dog.timed(_quick_tick)(0.0, 0.02)
     assert dog.slow_ticks == 1
-    assert len(seen) == 1 and seen[0][0] >= 0.05
+    assert len(seen) == 1 and seen[0][0] > 0.02  # its 0.05 s, less any wait for a CPU
     assert seen[0][1] is None  # the tick was not interrupted to see where: it was the first
 
 
