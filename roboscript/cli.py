@@ -389,11 +389,12 @@ def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
     ``results.json`` still tells the student why (every run failed), before the error exits 2.
     """
     # grading (sandbox, reports, worlds) loads only for the grading commands
-    from roboscript.grading.batch import find_submissions
+    from roboscript.grading.batch import find_submissions, not_graded
 
     if not (args.gradescope or args.prairielearn):
         found = find_submissions(args.missions)
-        _note_not_graded(args, found)
+        if not args.quiet:
+            _note_not_graded(not_graded(args.missions, found))
         return found
     # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.gradescope import (
@@ -416,15 +417,9 @@ def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
     return [one_submission(found, name or "submission", folder)]
 
 
-def _note_not_graded(args: argparse.Namespace, found: Any) -> None:
+def _note_not_graded(names: list[str]) -> None:
     """Say which entries of a class folder are no student's work (``ana.zip``, ``notes/``):
     a student who handed in the wrong thing is otherwise simply not in the table."""
-    # grading (sandbox, reports, worlds) loads only for the grading commands
-    from roboscript.grading.submissions import not_graded
-
-    if args.quiet:
-        return
-    names = not_graded(args.missions, found)
     if names:
         shown = ", ".join(names[:_NOT_GRADED_SHOWN])
         more = len(names) - _NOT_GRADED_SHOWN
