@@ -57,13 +57,9 @@ def _print_problems(error: InputError) -> None:
 
 def _load_mission(path: str, robot: str | None, strict: bool = False) -> tuple[Any, Any]:
     # YAML loads only for the commands that read a file
-    from roboscript.inputs.kinds import file_kind, not_a_mission
     from roboscript.mission import mission_for_robot
     from roboscript.mission.student_code import is_student_file, stuck_at
 
-    kind = file_kind(path)  # a world given as the mission is named, not read as a mission
-    if kind != "mission":
-        raise not_a_mission(path, kind)
     # a Python mission or behaviour file runs when imported: a loop there would hang `check`
     with Watchdog(DEFAULT_LIMIT_S, stuck_at, watched=is_student_file):
         spec, profile, warnings = mission_for_robot(path, robot)

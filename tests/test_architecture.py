@@ -392,11 +392,11 @@ def dynamic_imports_are_resolved(tree: Tree) -> list[str]:
 FUNCTION_LEVEL_IMPORTS: dict[str, int] = {
     "roboscript.api": 3,
     "roboscript.__main__": 1,
-    "roboscript.cli": 49,
+    "roboscript.cli": 48,
     "roboscript.grading.autograder": 1,
     "roboscript.grading.mission_host": 8,
     "roboscript.grading.pool": 1,
-    "roboscript.mission": 6,
+    "roboscript.mission": 7,
     "roboscript.mission.checks": 1,
     "roboscript.mission.nested": 1,
     "roboscript.mission.python_api": 2,

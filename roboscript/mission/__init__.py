@@ -68,7 +68,15 @@ def mission_for_robot(
         MissionError: The mission is invalid, names an unknown robot or world, or needs
             what the robot lacks (every problem is in ``problems``).
         ProfileError: ``robot`` is unknown, or a profile file is invalid.
+        InputError: ``path`` is a world, robot profile or test spec, named as what it is
+            rather than read as a mission.
     """
+    # reading a file's keys loads YAML, only when a mission is loaded from a file
+    from roboscript.inputs.kinds import file_kind, not_a_mission
+
+    kind = file_kind(path)
+    if kind != "mission":
+        raise not_a_mission(path, kind)
     spec, warnings = load_mission(path)
     return fit_to_robot(spec, warnings, robot)
 

@@ -79,8 +79,8 @@ def _problem(problem: InputError) -> dict[str, Any]:
         "line": problem.line,
         "col": problem.col,
         "severity": problem.severity,
-        "message": problem.message,
-        "hint": problem.hint,
+        "message": _named(problem.message),
+        "hint": _named(problem.hint) if problem.hint is not None else None,
         "text": _named(problem.format()),
     }
 

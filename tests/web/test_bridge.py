@@ -13,6 +13,14 @@ from roboscript.web.bridge import _folder as scratch_folder
 from roboscript.web.bridge import check_text, diagram_text, grade_text, load_specs, run_text
 
 
+def test_a_world_file_opened_as_the_mission_is_named_as_a_world_as_on_the_command_line() -> None:
+    world = "world: arena\nwalls:\n  - box: {x: 0, y: 0, width: 2000, height: 1000}\n"
+    problems = json.loads(check_text("arena.yaml", world))["problems"]
+    assert [p["message"] for p in problems] == ["this is a world file, not a mission"]
+    assert problems[0]["line"] == 1
+    assert "--world arena.yaml" in problems[0]["hint"]  # the file as the student named it
+
+
 def test_check_finds_a_mistake_at_its_line_and_column() -> None:
     text = (MISSIONS / "square.yaml").read_text(encoding="utf-8").replace("drive:", "drvie:")
     problems = json.loads(check_text("square.yaml", text))["problems"]
