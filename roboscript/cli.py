@@ -385,12 +385,13 @@ def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
     ``results.json`` still tells the student why (every run failed), before the error exits 2.
     """
     # grading (sandbox, reports, worlds) loads only for the grading commands
-    from roboscript.grading.batch import find_submissions, not_graded
+    from roboscript.grading.batch import find_submissions
 
     if not (args.gradescope or args.prairielearn):
-        found = find_submissions(args.missions)
+        unclaimed: list[str] = []
+        found = find_submissions(args.missions, unclaimed)
         if not args.quiet:
-            _note_not_graded(not_graded(args.missions, found))
+            _note_not_graded(unclaimed)
         return found
     # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.gradescope import (

@@ -23,12 +23,7 @@ from roboscript.grading.pool import RunTask, run_tasks
 from roboscript.grading.record import RunResult
 from roboscript.grading.sandbox import check_visible, detect_isolation, private_class
 from roboscript.grading.spec import TestSpec, Variant, is_test_spec, load_test_spec
-from roboscript.grading.submissions import (
-    Submission,
-    find_submissions,
-    not_graded,
-    visible_files,
-)
+from roboscript.grading.submissions import Submission, find_submissions, visible_files
 from roboscript.grading.text import cap_result, student_text
 from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S
 from roboscript.inputs.kinds import file_kind
@@ -42,7 +37,6 @@ __all__ = [
     "find_submissions",
     "grade_class",
     "mission_for_test",
-    "not_graded",
     "visible_files",
 ]
 

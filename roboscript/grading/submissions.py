@@ -57,7 +57,6 @@ __all__ = [
     "Submission",
     "find_submissions",
     "named_files",
-    "not_graded",
     "visible_files",
 ]
 
@@ -97,7 +96,6 @@ class Submission:
             is in. No student-facing text holds a path above it.
         own: For a student who is a file: the files beside it that are theirs (named after
             their mission); what a run may read is the part of these the mission names.
-        sources: The files and folders found to be this student's (a refused one too).
     """
 
     student: str
@@ -106,7 +104,6 @@ class Submission:
     problem: str = ""
     root: str | None = None
     own: tuple[str, ...] = field(default=(), compare=False, repr=False)
-    sources: tuple[str, ...] = field(default=(), compare=False, repr=False)
 
     def __post_init__(self) -> None:
         # The one place a student's name is made safe: every report is written from this.
@@ -332,19 +329,37 @@ def _matched(path: Path, pattern: str) -> _Found | None:
     return _student_at(path)
 
 
-def _class_folder(folder: Path) -> list[_Found]:
-    """The students in a class folder: its mission files and its sub-folders."""
+def _class_folder(folder: Path) -> tuple[list[_Found], list[Path]]:
+    """The students in a class folder (its mission files and its sub-folders), and its
+    entries that are no student (hidden ones left out)."""
     try:
         children = sorted(folder.iterdir())
     except OSError as exc:
         raise InputError(f"cannot read the folder {folder}: {exc.strerror or exc}") from None
     found = []
+    nobodys = []
     for child in children:
         if not child.name.startswith((".", "__")):
             student = _student_at(child)
-            if student is not None:
+            if student is None:
+                nobodys.append(child)
+            else:
                 found.append(student)
-    return found
+    return found, nobodys
+
+
+def _unclaimed(nobodys: list[Path], found: list[_Found]) -> list[str]:
+    """Entries that are no student, less the files a student who is a file owns by name
+    (``alice_helpers.py``): by name, cleaned for a terminal, a folder ending in ``/``."""
+    stems: dict[Path, set[str]] = {}
+    for f in found:
+        if f.folder is None:
+            stems.setdefault(f.source.parent, set()).add(f.source.stem)
+    return [
+        clean_name(entry.name) + ("/" if entry.is_dir() and not entry.is_symlink() else "")
+        for entry in nobodys
+        if _owner(entry.name, stems.get(entry.parent, set())) is None
+    ]
 
 
 def _name(found: list[_Found]) -> None:
@@ -394,20 +409,30 @@ def _identity(found: _Found) -> Path:
     return found.source.parent if found.by_parent else found.source
 
 
-def find_submissions(patterns: Sequence[str]) -> list[Submission]:
+def find_submissions(
+    patterns: Sequence[str], unclaimed: list[str] | None = None
+) -> list[Submission]:
     """The students and their missions, in name order.
 
     A student whose files cannot be graded is still listed, with the reason in
     :attr:`Submission.problem`.
 
+    Args:
+        patterns: Files, globs and class folders.
+        unclaimed: Given, it gets what a class folder holds that is no student's work, by
+            name (``bo.zip``, ``notes/``): hidden entries and the files a student who is a
+            file owns by name (``alice_helpers.py``) left out, names cleaned for a terminal.
+
     Raises:
         InputError: A pattern matches no mission (nor any student to refuse).
     """
     found: list[_Found] = []
+    nobodys: list[Path] = []
     for pattern in patterns:
         path = Path(pattern)
         if path.is_dir():  # the teacher's class folder: followed if it is a link
-            students = _class_folder(path)
+            students, left = _class_folder(path)
+            nobodys += left
             if not students:
                 raise InputError(f"no mission files in the folder {pattern}")
         elif path.is_file() or path.is_symlink():
@@ -428,6 +453,8 @@ def find_submissions(patterns: Sequence[str]) -> list[Submission]:
     for f in found:
         unique.setdefault(f.source.absolute(), f)
     found = list(unique.values())
+    if unclaimed is not None:
+        unclaimed += _unclaimed(nobodys, found)
     _name(found)
     return _submissions(found)
 
@@ -442,43 +469,14 @@ def _submissions(found: list[_Found]) -> list[Submission]:
         missions = tuple(dict.fromkeys(str(m) for part in parts for m in part.missions))
         problem = next((p.problem for p in parts if p.problem), "")
         first = parts[0]
-        sources = tuple(str(part.source) for part in parts)
         if first.folder is not None:
             folder = str(first.folder)
-            result.append(Submission(name, missions, folder, problem, folder, sources=sources))
+            result.append(Submission(name, missions, folder, problem, folder))
             continue
         root = first.source.parent
         own = owners.files_of(root, {Path(m).stem for m in missions})
-        result.append(Submission(name, missions, None, problem, str(root), own, sources))
+        result.append(Submission(name, missions, None, problem, str(root), own))
     return result
-
-
-def not_graded(patterns: Sequence[str], submissions: Sequence[Submission]) -> list[str]:
-    """What a class folder among ``patterns`` holds that is no student's work, by name
-    (``ana.zip``, ``notes/``): handed in in a form the grader does not take, or the teacher's.
-
-    Hidden entries (``.git``, ``__pycache__``) are left out; so are files a student who is a
-    file owns by their name (``alice_helpers.py``). Names are cleaned for a terminal.
-    """
-    taken = {Path(source).absolute() for s in submissions for source in s.sources}
-    stems = {Path(source).stem for s in submissions if s.folder is None for source in s.sources}
-    left: list[str] = []
-    for pattern in patterns:
-        folder = Path(pattern)
-        if not folder.is_dir():
-            continue
-        try:
-            children = sorted(folder.iterdir())
-        except OSError:
-            continue  # find_submissions has said why
-        for child in children:
-            if child.name.startswith((".", "__")):
-                continue
-            if child.absolute() in taken or _owner(child.name, stems) is not None:
-                continue
-            is_folder = child.is_dir() and not child.is_symlink()
-            left.append(clean_name(child.name) + ("/" if is_folder else ""))
-    return left
 
 
 # ------------------------------------------------------------------- what a run may read
