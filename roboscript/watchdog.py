@@ -17,7 +17,11 @@ ends as *too slow* (:class:`TooSlow`), at home exactly as in class.
 Every time here is the code's *own* time (:class:`CodeClock`): wall time minus the time the
 thread waited for a CPU (a busy machine) and for the robot or the grader's world (the wire).
 So a verdict never depends on the machine's load: on Linux the wait for a CPU comes from the
-kernel's per-thread scheduler statistics; elsewhere it cannot be told apart and counts.
+kernel's per-thread scheduler statistics; elsewhere it cannot be told apart and counts. Nor
+does it depend on what else the process holds: while a watchdog watches, Python's full garbage
+collections visit only the objects made since it started (:func:`collections_of_own_objects`),
+so a collection that happens to start in a tick takes as long as the run's own objects make it,
+not a notebook's or a test suite's millions.
 
 :class:`RunawayCode` is a :class:`BaseException`, like :class:`KeyboardInterrupt`, so a
 student's ``except Exception:`` cannot swallow it; it is raised again every
@@ -35,12 +39,13 @@ LineAlarm`): a loop is stopped at its line just the same, and a single call that
 from __future__ import annotations
 
 import contextlib
+import gc
 import logging
 import os
 import signal
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from types import FrameType, TracebackType
 from typing import TYPE_CHECKING, Any
@@ -60,6 +65,7 @@ __all__ = [
     "TickBudget",
     "TooSlow",
     "Watchdog",
+    "collections_of_own_objects",
     "cpu_wait_s",
     "wire_wait",
 ]
@@ -209,6 +215,33 @@ def cpu_wait_s() -> float:
     machine). From an arbitrary origin; 0.0 where the system does not tell (not Linux)."""
     read = _schedstat_reader()
     return read() if read is not None else 0.0
+
+
+_FROZEN = threading.Lock()
+_FROZEN_DEPTH = [0]  # blocks under way, in any thread: the first freezes, the last thaws
+
+
+@contextlib.contextmanager
+def collections_of_own_objects() -> Iterator[None]:
+    """Inside, Python's garbage collections leave alone every object made before the block.
+
+    A full collection starts in whichever tick allocates past its threshold and visits every
+    object it may free: in a notebook's or a test suite's process, millions, for up to a
+    second, held against that one tick (honest missions were ended as too slow so). Objects
+    older than the run are set aside (``gc.freeze``) and given back when the last such block
+    ends; garbage among them is freed then, at the next collection, outside every tick.
+    """
+    with _FROZEN:
+        _FROZEN_DEPTH[0] += 1
+        if _FROZEN_DEPTH[0] == 1:
+            gc.freeze()
+    try:
+        yield
+    finally:
+        with _FROZEN:
+            _FROZEN_DEPTH[0] -= 1
+            if _FROZEN_DEPTH[0] == 0:
+                gc.unfreeze()
 
 
 class CodeClock:
@@ -374,6 +407,7 @@ class Watchdog:
         self._line_alarm: LineAlarm | None = None  # where there is no SIGALRM
         self._watched = watched or _every_file
         self._stopped: RunawayCode | None = None  # raised, and not yet seen to get out
+        self._older_objects = contextlib.ExitStack()  # set aside from collections while in
 
     @property
     def supported(self) -> bool:
@@ -492,6 +526,7 @@ class Watchdog:
         self._arm(left_s)
 
     def __enter__(self) -> Self:
+        self._older_objects.enter_context(collections_of_own_objects())
         if self._signals:
             self._previous = signal.signal(signal.SIGALRM, self._alarm)
         else:
@@ -519,6 +554,7 @@ class Watchdog:
             else:
                 signal.setitimer(signal.ITIMER_REAL, 0)
                 signal.signal(signal.SIGALRM, self._previous)
+        self._older_objects.close()
         if exc is None:  # the block returned, though it was stopped: the stop was dropped
             self._raise_dropped()
         self._stopped = None
