@@ -424,10 +424,18 @@ class Watchdog:
     def pet(self) -> None:
         """The loop is alive: start the limit again (a stop raised before it has been dealt
         with by the loop)."""
+        self._restart(self._clock.now())
+
+    def _restart(self, now_s: float) -> None:
+        # The timer is not set again here (two system calls a tick): the alarm already on
+        # its way rings no later than the limit counted from now would, and sets itself
+        # for what is left of the limit from the latest start (see _alarm).
         self._stopped = None
-        self._began_s = self._clock.now()
-        if self._armed:
-            self._arm(self.limit_s)
+        self._began_s = now_s
+        if self._line_alarm is not None:
+            # No system call here; and Python drops a trace function that raised, which
+            # setting the alarm puts back, so a later tick's loop is watched again.
+            self._line_alarm.set(self.limit_s)
 
     def timed(self, call: Callable[[float, float], None]) -> Callable[[float, float], None]:
         """``call`` (a scheduler task running student code), timed against the budget.
@@ -457,15 +465,14 @@ class Watchdog:
         self._timing = True
         self._where = None
         self._began_s = self._clock.now()
-        if self._armed:
-            # Only once a tick has been slow is the next one interrupted to see where it is:
-            # an alarm that wakes a sleeping tick lets the machine's load hide in its sleep.
-            locating = self.slow_ticks > 0 and self._first_where is None and self.budget is not None
-            first = self.budget.slow_tick_s if locating and self.budget is not None else None
-            self._arm(min(self.limit_s, first or self.limit_s))
+        # Only once a tick has been slow is the next one interrupted to see where it is: an
+        # alarm that wakes a sleeping tick lets the machine's load hide in its sleep.
+        if self._armed and self._locating and self.budget is not None:
+            self._arm(min(self.limit_s, self.budget.slow_tick_s))
 
     def _end(self) -> None:
-        spent_s = self._clock.now() - self._began_s
+        ended_s = self._clock.now()
+        spent_s = ended_s - self._began_s
         self._timing = False
         budget = self.budget
         if budget is not None and spent_s > budget.slow_tick_s:
@@ -481,7 +488,7 @@ class Watchdog:
                 raise TooSlow(self.slow_total_s, self._first_where, self.slowest_s, budget)
         elif self._unreported_s is not None:
             self._report_slow(self._unreported_s, None)  # one slow tick alone: no line to name
-        self.pet()  # code outside the timed calls (the loop's own) keeps the plain limit
+        self._restart(ended_s)  # code outside the timed calls (the loop's own): the plain limit
 
     def _raise_dropped(self) -> None:
         """Raise again the stop that code the watchdog timed caught and dropped."""
@@ -519,11 +526,17 @@ class Watchdog:
             self._arm(REPEAT_S, REPEAT_S)  # again and again, until it gets out
             self._stopped = RunawayCode(self.limit_s, self._locate(frame))
             raise self._stopped
-        # Not yet: the machine was busy, or the code waited on the wire. Wait for what is left.
+        # Not yet: the machine was busy, or the code waited on the wire. Wait for what is left
+        # (and, while the first slow tick's place is looked for, until this tick is slow).
         left_s = self.limit_s - own_s
-        if watching_tick and budget is not None:
+        if watching_tick and budget is not None and self._locating:
             left_s = min(left_s, budget.slow_tick_s - own_s)
         self._arm(left_s)
+
+    @property
+    def _locating(self) -> bool:
+        """A tick was slow, and no tick has yet been caught slow where it was."""
+        return self.budget is not None and self.slow_ticks > 0 and self._first_where is None
 
     def __enter__(self) -> Self:
         self._older_objects.enter_context(collections_of_own_objects())
@@ -537,6 +550,7 @@ class Watchdog:
             self._line_alarm = line_alarm
         self._armed = True
         self.pet()
+        self._arm(self.limit_s)
         return self
 
     def __exit__(

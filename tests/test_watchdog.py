@@ -83,6 +83,29 @@ def test_code_that_never_returns_is_stopped_where_it_is() -> None:
     )
 
 
+@pytest.mark.skipif(sys.platform == "win32", reason="the watchdog needs SIGALRM")
+def test_quick_ticks_set_no_timer_and_a_later_stuck_tick_is_still_stopped(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # Setting the timer twice a tick was two system calls in every tick of every run.
+    set_timer = signal.setitimer
+    settings: list[float] = []
+
+    def counted(which: int, seconds: float, interval: float = 0.0) -> tuple[float, float]:
+        settings.append(seconds)
+        return set_timer(which, seconds, interval)
+
+    monkeypatch.setattr(watchdog_module.signal, "setitimer", counted)
+    dog = Watchdog(1.0, _where, budget=BUDGET)
+    with pytest.raises(RunawayCode) as raised, dog:
+        for _ in range(500):
+            dog.timed(_quick_tick)(0.0, 0.02)
+        quick_settings = len(settings)
+        dog.timed(lambda now_s, dt_s: _spin_forever())(0.0, 0.02)
+    assert quick_settings <= 3, settings  # set on the way in, and by alarms, never per tick
+    assert _in_loop_of(raised.value.where, _spin_forever)
+
+
 @pytest.mark.parametrize("timer", ["SIGALRM", "between lines"])
 def test_one_catch_all_does_not_keep_it_in(timer: str) -> None:
     if timer == "between lines" and sys.version_info < (3, 12):

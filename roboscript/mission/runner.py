@@ -144,6 +144,11 @@ class _Model:
         raise NotImplementedError
 
 
+def _always(event: Any) -> bool:
+    """A ``when`` option without a condition: it always holds."""
+    return True
+
+
 class MissionRunner(GuardEnv):
     """Runs one mission on a robot's capabilities.
 
@@ -220,6 +225,12 @@ class MissionRunner(GuardEnv):
         if problems:
             raise CapabilityError(problems[0].message)
         self._model = _Model()
+        # Each state's conditions, in order: checked here every tick, so the machine is asked
+        # to move only on the tick one holds (see _check).
+        self._conditions: dict[str, list[Callable[[Any], bool]]] = {
+            name: [] for name in spec.states
+        }
+        self._decided: dict[Callable[[Any], bool], bool] | None = None
         self._machine = self._build_machine()
 
     # ------------------------------------------------------------------------ the machine
@@ -254,10 +265,15 @@ class MissionRunner(GuardEnv):
     def _add(self, machine: Machine, trigger: str, source: str, option: TransitionSpec) -> None:
         conditions: list[str | Callable[..., bool | None]] = []
         guard = option.guard
+        if guard is None and trigger == "check":
+            self._conditions[source].append(_always)
         if guard is not None:
             text = option.guard_text or "condition"
 
             def condition(event: Any, guard: Callable[[Any], bool] = guard) -> bool:
+                decided = self._decided
+                if decided is not None and condition in decided:
+                    return decided[condition]  # evaluated once this tick, by _check
                 outer_reads, self._reads = self._reads, {}
                 try:
                     held = bool(guard(self))
@@ -276,6 +292,8 @@ class MissionRunner(GuardEnv):
 
             condition.__name__ = option.guard_text or "condition"
             conditions.append(condition)
+            if trigger == "check":
+                self._conditions[source].append(condition)
         machine.add_transition(trigger, source, option.target, conditions=conditions)
 
     def _make_enter(self, name: str) -> Callable[[Any], None]:
@@ -346,6 +364,27 @@ class MissionRunner(GuardEnv):
                 extra.stop(self.ctx)
         self.during = still
 
+    def _check(self) -> bool:
+        """Move on the current state's first condition that holds; True if it moved.
+
+        Each condition is evaluated once, in order, up to the first that holds (a student's
+        guard may count its calls); the machine then takes that one's transition, reading
+        the values found here. On the many ticks where none holds, the machine is not asked
+        at all: asking it cost more than the conditions themselves.
+        """
+        decided: dict[Callable[[Any], bool], bool] = {}
+        for condition in self._conditions[self.state]:
+            held = decided[condition] = condition(None)
+            if held:
+                break
+        else:
+            return False
+        self._decided = decided
+        try:
+            return self._fire("check")
+        finally:
+            self._decided = None
+
     def _fire(self, trigger: str) -> bool:
         try:
             # transitions drops a Ctrl-C that lands in its finalise step: the scheduler's
@@ -408,7 +447,7 @@ class MissionRunner(GuardEnv):
             self._track_odometry()
         name = self.state
         state = self.spec.states[name]
-        if state.when and not state.final and self._fire("check"):
+        if state.when and not state.final and self._check():
             return
         if self.during:
             self._tick_during()

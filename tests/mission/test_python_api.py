@@ -145,6 +145,47 @@ def test_a_mission_class_runs_with_its_guard_methods() -> None:
     assert speaker.tones == [(880, 0.1)] * 4
 
 
+def test_each_condition_is_evaluated_once_a_tick_in_order_up_to_the_first_that_holds() -> None:
+    calls: list[tuple[str, int]] = []
+
+    class Counting(Mission):
+        go = state(
+            Wait(duration_s=10),
+            initial=True,
+            on_done="late",
+            when=[("never", "late"), ("third_tick", "end"), ("also_never", "late")],
+        )
+        late = state(final="failure")
+        end = state(final="success")
+
+        def __init__(self) -> None:
+            super().__init__()
+            self.ticks = 0
+
+        def never(self) -> bool:
+            self.ticks += 1
+            calls.append(("never", self.ticks))
+            return False
+
+        def third_tick(self) -> bool:
+            calls.append(("third_tick", self.ticks))
+            return self.ticks >= 3
+
+        def also_never(self) -> bool:
+            calls.append(("also_never", self.ticks))
+            return False
+
+    runner = run(Counting)
+    assert runner.result.outcome == "success"
+    assert calls == [
+        ("never", 1), ("third_tick", 1), ("also_never", 1),
+        ("never", 2), ("third_tick", 2), ("also_never", 2),
+        ("never", 3), ("third_tick", 3),
+    ]  # fmt: skip
+    cause = runner.last_cause
+    assert cause is not None and cause.kind == "when" and cause.condition == "third_tick"
+
+
 def test_every_visit_runs_a_fresh_copy_of_the_action() -> None:
     template = Drive(distance_mm=200)
 
