@@ -13,14 +13,6 @@ import pytest
 from firmware.asip_probes import PROBES, Probe
 from firmware.transcripts import firmware_transcript, sim_transcript
 
-_LEFTOVER_TIMING = (
-    "asip.cpp:90-92 answers an unknown service, then `while (serial->available() && "
-    "serial->read() != '\\n')` skips only what has arrived by then; how much that is depends "
-    "on the firmware's own running time (writing the error into the 64-byte transmit buffer), "
-    "which the simulated board does not count, so the leftovers it answers differ and some "
-    "come back in front of the next probe's answer"
-)
-
 KNOWN_DIFFERENCES: dict[str, str] = {
     "ir events": (
         "the IR values are the simulated floor's; the emulated board's ADC inputs read 0 V"
@@ -30,15 +22,6 @@ KNOWN_DIFFERENCES: dict[str, str] = {
         "right-facing sensor (a sketch built with 2)"
     ),
     "distance measure": "the same second distance sensor",
-    "pixel set": _LEFTOVER_TIMING,
-    "unknown service": _LEFTOVER_TIMING,
-    "unknown service, long tail": _LEFTOVER_TIMING,
-    "service without comma": _LEFTOVER_TIMING,
-    "unknown system tag": _LEFTOVER_TIMING,
-    "pixels set packed": _LEFTOVER_TIMING,
-    "pixels set range": _LEFTOVER_TIMING,
-    "pixels set range without brace": _LEFTOVER_TIMING,
-    "motors speed": _LEFTOVER_TIMING,
 }
 
 

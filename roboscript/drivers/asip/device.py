@@ -39,6 +39,8 @@ from roboscript.codec import Role, readable
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
 from roboscript.drivers.asip.options import AsipOptions
+from roboscript.drivers.asip.uart import ReceiveLine, Transmitter
+from roboscript.errors import RemoteProtocolError
 
 if TYPE_CHECKING:
     from roboscript.robot_profile import RobotProfile
@@ -103,6 +105,8 @@ class BoardConfig:
             once); False for a UART board, whose firmware sees each byte as it arrives and
             acts on what has arrived so far (see :class:`~roboscript.drivers.asip.options.
             AsipOptions`).
+        baud: A UART board's line speed, bits per second: bytes arrive one byte time
+            apart, and a reply takes the firmware time (:mod:`~roboscript.drivers.asip.uart`).
     """
 
     firmware_pid: bool = True
@@ -118,6 +122,7 @@ class BoardConfig:
     servo_count: int = 1
     pixel_count: int = 9
     whole_lines: bool = True
+    baud: int = 57600
 
 
 @dataclass
@@ -180,6 +185,11 @@ class MirtoBoard:
         self.codec = self._new_codec()
         self._out = bytearray()
         self._wait_since_s = 0.0
+        # A UART board's line and its firmware's own clock (at or past the simulation's
+        # while it writes): what a request reads depends on when it reads.
+        self._line = ReceiveLine(self.config.baud)
+        self._transmitter = Transmitter(self.config.baud)
+        self._clock_s = 0.0
         self.state = self._power_on_state()
 
     def _new_codec(self) -> AsipCodec:
@@ -215,12 +225,14 @@ class MirtoBoard:
     def connect(self, now_s: float) -> None:
         """Greet a new host the way the sketch's ``setup()`` does."""
         self.codec = self._new_codec()
+        self._line.clear()
+        self._clock_s = max(self._clock_s, now_s)
         services = tuple(_SERVICE_NAMES)
         self._send(m.StartupLine(self.config.sketch, self.config.chip, services))
         self._send(m.PinModesReply(tuple(self.state.pin_modes)))
         self._send(m.PortMapReply(_PORT_MAP))
         for service, name in _SERVICE_NAMES.items():
-            self._out += f"{name} is service {service}\r\n".encode("ascii")
+            self._write(f"{name} is service {service}\r\n".encode("ascii"))
         for event in self.state.auto.values():
             event.next_s = now_s + event.interval_s
         self.state.next_motor_frame_s = now_s + _MOTOR_FRAME_S
@@ -229,21 +241,23 @@ class MirtoBoard:
         """Parse and act on request bytes."""
         if not data:
             return
-        self._wait_since_s = now_s  # a byte ends the wait; the next one starts now
-        if self.config.whole_lines:
-            self.codec.receive_data(data)
-            self._process(now_s)
+        if not self.config.whole_lines:
+            self._line.send(data, now_s)  # read as it arrives, by step()
             return
-        # A UART hands the firmware one byte at a time, far slower than it parses: every
-        # plain read() that looks one byte ahead finds nothing yet.
-        for index in range(len(data)):
-            self.codec.receive_data(data[index : index + 1])
-            self._process(now_s)
+        self._wait_since_s = now_s  # a byte ends the wait; the next one starts now
+        self.codec.receive_data(data)
+        self._process(now_s)
 
     def step(self, now_s: float) -> None:
-        """Run timers: parse timeout, PID frames, auto-events, digital port changes."""
+        """Run timers: parse timeout, PID frames, auto-events, digital port changes (and, on a
+        UART board, the requests whose bytes have arrived)."""
         codec = self.codec
-        if codec.waiting:
+        if not self.config.whole_lines:
+            self._serve_line(now_s)
+            if codec.waiting:
+                return  # the firmware is inside parseInt: nothing else runs
+            self._clock_s = max(self._clock_s, now_s)
+        elif codec.waiting:
             # Stream's timed reads give up after a second without a byte; each has its own.
             if now_s - self._wait_since_s >= _PARSE_TIMEOUT_S - 1e-9:
                 self._wait_since_s = now_s
@@ -268,8 +282,8 @@ class MirtoBoard:
 
     def pending_input_bytes(self) -> int:
         """Request bytes received and not yet a whole message (a frame the host has not
-        finished)."""
-        return self.codec.pending_bytes()
+        finished), those still on a UART board's line included."""
+        return self.codec.pending_bytes() + self._line.pending_bytes()
 
     def read_output(self) -> bytes:
         """Take the bytes written since the last call."""
@@ -285,7 +299,51 @@ class MirtoBoard:
     # ------------------------------------------------------------------------------ helpers
 
     def _send(self, message: object) -> None:
-        self._out += self.codec.send(message)
+        self._write(self.codec.send(message))
+
+    def _write(self, data: bytes) -> None:
+        self._out += data
+        if not self.config.whole_lines:  # the firmware's time writing it
+            self._clock_s = self._transmitter.write(len(data), self._clock_s)
+
+    def _serve_line(self, until_s: float) -> None:
+        """A UART board's firmware up to ``until_s``: each request read with the bytes that
+        have arrived by the time the firmware reads them (on its own clock, which its replies
+        move on), each timed read waiting for the next byte or its 1 s timeout."""
+        codec, line = self.codec, self._line
+        while self._clock_s <= until_s + 1e-9:  # (a firmware still writing reads on later)
+            progressed = self._take_arrived()
+            while True:
+                try:
+                    message = codec.next_message()
+                except RemoteProtocolError:
+                    progressed = True  # dropped without a word, as the firmware does
+                    continue
+                if message is None:
+                    break
+                progressed = True
+                self._handle(message, self._clock_s)
+                if self._clock_s > until_s:
+                    return  # it reads on, with what has come meanwhile, at a later step
+                self._take_arrived()  # what came while it answered
+            if progressed:
+                self._wait_since_s = self._clock_s  # a timed read waits from now on
+            arrival_s = line.next_arrival_s()
+            timeout_s = self._wait_since_s + _PARSE_TIMEOUT_S if codec.waiting else math.inf
+            if min(arrival_s, timeout_s) > until_s + 1e-9:
+                return
+            if timeout_s < arrival_s:
+                self._clock_s = self._wait_since_s = max(self._clock_s, timeout_s)
+                codec.parse_timeout()
+            else:
+                self._clock_s = max(self._clock_s, arrival_s)
+
+    def _take_arrived(self) -> bool:
+        """Hand the codec the bytes that have arrived by the firmware's clock."""
+        arrived = self._line.take_arrived(self._clock_s)
+        if arrived:
+            self.codec.receive_data(arrived)
+        return bool(arrived)
 
     def _error(self, service: str, tag: str, code: m.ErrorCode) -> None:
         self._send(m.ErrorReply(service, tag, int(code)))

@@ -86,13 +86,14 @@ class _Cursor:
     -1 again, so a request read in pieces takes the same path as on the board.
     """
 
-    __slots__ = ("buf", "pos", "timed_ops", "timed_out")
+    __slots__ = ("buf", "pos", "skip_line_after", "timed_ops", "timed_out")
 
     def __init__(self, buf: bytearray, timed_out: frozenset[int]) -> None:
         self.buf = buf
         self.pos = 0
         self.timed_ops = 0
         self.timed_out = timed_out
+        self.skip_line_after = False
 
     def read(self) -> int:
         """``Stream::read``: the next byte, or -1 at once when none has arrived."""
@@ -180,10 +181,10 @@ class _Cursor:
             text.append(byte)
         return text.decode("ascii", "replace")
 
-    def skip_received_line(self) -> None:
-        """``while (available() && read() != '\\n')``: never waits for the newline."""
-        while (byte := self.read()) >= 0 and byte != _NEWLINE:
-            pass
+    def skip_received_line_after_answer(self) -> None:
+        """``while (available() && read() != '\\n')`` once the request is answered: the bytes
+        that have arrived by then go, up to a newline; it never waits for one."""
+        self.skip_line_after = True
 
     def line_or_timeout(self) -> str:
         """Bytes up to a newline (consumed, not returned) or a timeout; a CR before it goes."""
@@ -222,6 +223,7 @@ class RequestReader:
         self._timed_out: set[int] = set()  # the timed reads of this request that ran out
         self._waiting_op: int | None = None  # the timed read the board is waiting in
         self._overflowed = 0  # bytes dropped by receive_data(), not yet reported
+        self._skip_line = False  # the last request's line goes when the board reads next
 
     @property
     def waiting(self) -> bool:
@@ -261,6 +263,12 @@ class RequestReader:
             self.stats.fault("overlong", dropped)
             raise RemoteProtocolError(f"{dropped} request bytes over the buffer", kind="overlong")
         buf = self._buf
+        if self._skip_line:
+            # The firmware skips the rest of the line after its answer: what has arrived by
+            # now (a UART board has received more while it wrote), never waiting for more.
+            self._skip_line = False
+            newline = buf.find(_NEWLINE)
+            del buf[: len(buf) if newline < 0 else newline + 1]
         # Bytes up to ' ' between requests are harmless.
         skip = 0
         while skip < len(buf) and buf[skip] <= 0x20:
@@ -285,6 +293,7 @@ class RequestReader:
             self.stats.fault("out_of_range", dropped)
             raise RemoteProtocolError(f"request out of range: {exc}", kind="out_of_range") from None
         self._request_done(cursor.pos)
+        self._skip_line = cursor.skip_line_after
         self.stats.messages += 1
         return message
 
@@ -309,7 +318,7 @@ class RequestReader:
         # The firmware reads the separator only for a service it runs; either way a
         # letter it cannot serve is answered at once and the received rest of its line goes.
         if parser is None or cur.read() != 0x2C:
-            cur.skip_received_line()
+            cur.skip_received_line_after_answer()
             return m.InvalidServiceRequest(service)
         tag = _read_tag(cur)
         if service == "S" and self.servo_count is not None:
@@ -526,7 +535,7 @@ def _parse_pixels_or_pressure(cur: _Cursor, tag: str) -> m.AsipMessage:
     if tag == "A":
         return _auto_event(cur, "P")
     message = _parse_pixels(cur, tag)
-    cur.skip_received_line()  # the pixels service drops what it has of the line
+    cur.skip_received_line_after_answer()  # the pixels service drops what it has of the line
     return message
 
 

@@ -249,7 +249,9 @@ def test_a_pixel_request_on_a_uart_and_on_a_usb_board(
 ) -> None:
     board = Board(uart=uart)
     board.send(b"I,A,0\n")
+    board.run(0.1)  # the greeting has gone (a UART board waits while it writes it)
     board.lines()
     board.send(b"P,P,0,1,{0:255}\n")
+    board.run(0.05)  # a UART carries the 16 bytes in 2.8 ms
     assert board.lines()[: len(answer) or None] == answer
     assert board.sim.device.state.pixels[0] == pixel  # type: ignore[attr-defined]
