@@ -106,4 +106,26 @@ ERROR_PROBES: tuple[Probe, ...] = (
 )
 """The parsers' error paths and the requests other clients send."""
 
-PROBES = DRIVER_PROBES + ERROR_PROBES
+_ALPHABET = b"abcdefghijklmnopqrstuvwxyz"
+
+TIMING_PROBES: tuple[Probe, ...] = (
+    Probe("reply then pixel request", b"#,N\nP,P,0,1,{0:255}\n"),
+    Probe("pixel count after a reply", b"P,I,0\n"),
+    Probe("three unknown services", b"X,1\nY,2\nZ,3\n"),
+    Probe("unknown service, digits tail", b"X," + b"0123456789" * 8 + b"\n"),
+    Probe("errors back to back", b"#,Z\n#,Y\n#,X\n#,W\n#,V\n#,U\n#,T\nI,M\n"),
+    Probe("unknown pixels tag, long tail", b"P,Z," + _ALPHABET + b"\n"),
+    Probe("pixel count, long tail", b"P,I,0," + _ALPHABET + b"\n"),
+    Probe("pin services, then unknown", b"#,S\nQ," + _ALPHABET + b"\n"),
+    Probe("capabilities, then unknown", b"I,c\nQ," + _ALPHABET + b"\n"),
+    Probe("port map, then unknown", b"I,M\nQ," + _ALPHABET + b"0123456789\n"),
+    Probe("unknown services, short lines", b"A,\nC,\nF,\nJ,\nK,\nN,\nO,\nQ,\n"),
+    Probe("unknown services, CRLF", b"X,?\r\nX,?\r\n"),
+    Probe("pixels rgb sequence", b"P,s,0,2,0,{1:2:3,4:5:6}\n"),
+    Probe("version at the end", b"#,?\n"),
+)
+"""What a UART board reads depends on when it reads: a request that arrives while the firmware
+is still writing is read whole; an unknown service skips what has arrived once its error is
+written, later when the transmit buffer is full."""
+
+PROBES = DRIVER_PROBES + ERROR_PROBES + TIMING_PROBES

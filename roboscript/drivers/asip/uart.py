@@ -34,9 +34,13 @@ WRITE_BYTE_S = 10.8e-6
 Measured on the emulated firmware: ``~X,?,1{INVALID_SERVICE}`` (24 bytes) takes 260 us from
 reading the ``X`` to skipping the rest of the line."""
 
-TRANSMIT_QUEUE_BYTES = 64
-"""Bytes that wait to be sent without the firmware waiting: the Arduino core's 64-byte ring
-holds 63, the UART's data register one more (and its shift register the byte on the line)."""
+TRANSMIT_QUEUE_BYTES = 63
+"""Bytes that wait to be sent, besides the one on the line, before a write waits: the Arduino
+core's 64-byte ring holds 63. (An ATmega328P's USART holds one more in its data register
+while its shift register sends; the emulated UART the firmware tier checks against has no
+such register, and the simulated board follows the emulated firmware, which it is checked
+against byte for byte: on a real board a reply that fills the buffer ends a byte time
+sooner.)"""
 
 
 class ReceiveLine:
