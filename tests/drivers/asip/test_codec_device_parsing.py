@@ -268,6 +268,23 @@ def test_unknown_service_skips_only_what_has_arrived() -> None:
     assert feed(codec, b",1\nI,M\n") == [m.InvalidServiceRequest(","), m.PortMapRequest()]
 
 
+def test_unknown_service_skips_what_has_arrived_by_the_time_it_has_answered() -> None:
+    # The firmware writes the error first: bytes that arrive meanwhile are skipped too.
+    codec = device()
+    codec.receive_data(b"X,ab")
+    assert codec.next_message() == m.InvalidServiceRequest("X")
+    codec.receive_data(b"cd\nI,M\n")  # arrived while the board wrote its answer
+    assert codec.next_message() == m.PortMapRequest()
+
+
+def test_pixels_skip_what_has_arrived_by_the_time_the_request_is_done() -> None:
+    codec = device()
+    codec.receive_data(b"P,I,0,ab")
+    assert codec.next_message() == m.PixelsInfoRequest(0)
+    codec.receive_data(b"cd\nI,M\n")
+    assert codec.next_message() == m.PortMapRequest()
+
+
 def test_unknown_service_needs_no_comma() -> None:
     # The firmware looks the id up before it reads the separator.
     assert feed(device(), b"XY,1\nI,M\n") == [m.InvalidServiceRequest("X"), m.PortMapRequest()]

@@ -192,13 +192,19 @@ def test_a_refused_input_request_on_a_bump_pin_still_reports_the_bumper() -> Non
     assert board.lines() == ["@I,d,2,0"]  # once, on the change
 
 
-def test_request_without_newline_completes_after_the_parse_timeout() -> None:
-    board = Board()
+@pytest.mark.parametrize("uart", [False, True], ids=["usb", "uart"])
+def test_request_without_newline_completes_after_the_parse_timeout(uart: bool) -> None:
+    board = Board(uart=uart)
+    board.run(0.1)
     board.send(b"T,P,440,250")
     board.run(0.5)
     assert board.sim.log.tones == []
     board.run(0.6)
-    assert [(f, d) for _, f, d in board.sim.log.tones] == [(440.0, 0.25)]
+    [(started_s, frequency_hz, duration_s)] = board.sim.log.tones
+    assert (frequency_hz, duration_s) == (440.0, 0.25)
+    # a second after the last byte arrived (on a UART, 11 byte times after the write)
+    last_byte_s = 0.1 + (11 * 10 / 57600 if uart else 0.0)
+    assert started_s == pytest.approx(last_byte_s + 1.0, abs=0.005)
 
 
 def test_restart_zeroes_every_auto_report() -> None:
@@ -255,3 +261,49 @@ def test_a_pixel_request_on_a_uart_and_on_a_usb_board(
     board.run(0.05)  # a UART carries the 16 bytes in 2.8 ms
     assert board.lines()[: len(answer) or None] == answer
     assert board.sim.device.state.pixels[0] == pixel  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize(
+    ("uart", "answer"),
+    [
+        # asip.cpp writes the error, then skips what has arrived by then: one byte more than
+        # it had when it began, so the rest comes back as new requests (as on the emulated
+        # firmware, tests/firmware)
+        (True, ["~X,?,1{INVALID_SERVICE}", *(f"~{c},?,1{{INVALID_SERVICE}}" for c in "din")]),
+        (False, ["~X,?,1{INVALID_SERVICE}"]),  # over USB the whole line has arrived
+    ],
+    ids=["uart", "usb"],
+)
+def test_an_unknown_service_skips_what_has_arrived_once_its_error_is_written(
+    uart: bool, answer: list[str]
+) -> None:
+    board = Board(uart=uart)
+    board.send(b"I,A,0\n")
+    board.run(0.1)
+    board.lines()
+    board.send(b"X,abcdefghijklmnop\n")
+    board.run(0.05)
+    assert board.lines() == answer
+
+
+def test_a_uart_board_reads_a_pixel_request_whole_when_it_arrives_while_the_board_writes() -> None:
+    board = Board(uart=True)
+    board.send(b"I,A,0\n")
+    board.run(0.1)
+    board.lines()
+    # the service names fill the transmit buffer: the board writes for 6 ms, and the pixel
+    # request (3.5 ms of line time) is all there when it reads it
+    board.send(b"#,N\nP,P,0,1,{0:255}\n")
+    board.run(0.05)
+    assert board.lines()[0].startswith("@#,N,9,{I:ASIP core IO,")
+    assert board.sim.device.state.pixels[0] == (0, 0, 255)  # type: ignore[attr-defined]
+
+
+def test_a_uart_board_answers_once_the_request_has_crossed_the_line() -> None:
+    board = Board(uart=True)
+    board.run(0.1)
+    board.lines()
+    board.send(b"#,?\n")
+    assert board.lines() == []  # the bytes are still on the line
+    board.run(0.01)
+    assert board.lines() == ["@#,?,1,1,ATmega328P,20,Mirtle2017"]
