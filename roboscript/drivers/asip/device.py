@@ -10,6 +10,11 @@ driver), written from the firmware's behaviour:
   :mod:`~roboscript.drivers.asip.device_side`), each timed read's 1000 ms timeout counted on
   the simulation clock. While a timed read waits (``T,P,440,250`` with no newline waits a
   second for the byte after ``250``), the board runs nothing else: no events, no PID frames.
+* On a UART board (``transport: uart``) the firmware keeps its own clock
+  (:mod:`~roboscript.drivers.asip.uart`): the host's bytes arrive one byte time apart, and each
+  request is read with the bytes that have arrived by the time the firmware reads them; its
+  replies take it time, so an unknown service skips what arrived while its error was written,
+  and a request that arrived while the board wrote is read whole.
 * Like the sketch, the board has :class:`~roboscript.drivers.asip.options.AsipOptions`'
   servos (1) and pixels (9); its LCD keeps 20 characters a row.
 * The motor service runs every 33 ms (30 Hz): it services the firmware PID of ``M,r``,

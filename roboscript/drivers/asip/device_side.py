@@ -7,8 +7,9 @@ Requests
 
     * nothing starts before four bytes are buffered; bytes up to ``' '`` between requests are
       skipped; a known service letter must be followed by ``,``, otherwise (and for an
-      unknown letter) the board answers ``~<letter>,?,1{INVALID_SERVICE}`` at once and skips
-      only the bytes *already received* up to a newline, never waiting for one;
+      unknown letter) the board answers ``~<letter>,?,1{INVALID_SERVICE}`` at once and then
+      skips only the bytes received *by the time it has answered* (those there at the next
+      :meth:`RequestReader.next_message`) up to a newline, never waiting for one;
     * numbers are read with ``parseInt``: skip anything that is not a digit or ``-``, read
       digits, then wait for the byte after the number. Requests need no newline
       (``M,A,1M,A,1R,A,25`` is three requests) and a short request swallows the next number
