@@ -11,6 +11,9 @@ of several runs, and the ratio held to its goal (performance.md, G8 and G8b):
   ``roboscript run`` does it: a YAML mission on the scheduler (20 ms ticks), the ASIP driver
   and codec, the simulated MIRTO board speaking bytes, the body with every sensor at its rate.
   Goal: RTF >= 200 (a 60 s mission graded in under 0.3 s).
+* ``patrol mission, uart board``: the patrol with the board as a UART board (``transport:
+  uart``), whose firmware reads each byte when the line delivers it and counts its own writing
+  time; the row gives what that costs against the USB board.
 * ``body + sensors``: the body alone, bouncing round the room, its sensors read as often as the
   board reads them (distance 10 Hz, IR and bumpers 20 Hz, encoders 30 Hz).
 * ``bare physics``: the body's step alone (motors, slip, encoders, collisions). Goal for the
@@ -20,6 +23,7 @@ of several runs, and the ratio held to its goal (performance.md, G8 and G8b):
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import random
 import statistics
 import sys
@@ -50,9 +54,12 @@ REALISM_COST_GOAL = 2.0
 """performance.md G8b: the sensor model costs at most twice the bare physics."""
 
 
-def run_mission(file_name: str) -> float:
-    """Run a benchmark mission in-process; return the simulated seconds."""
+def run_mission(file_name: str, transport: str | None = None) -> float:
+    """Run a benchmark mission in-process (on a board with that ASIP ``transport``, or the
+    profile's); return the simulated seconds."""
     spec, profile, _ = mission_for_robot(HERE / file_name)
+    if transport is not None:
+        profile = dataclasses.replace(profile, options={**profile.options, "transport": transport})
     robot = Robot.connect(profile, None, world=spec.world or "empty", seed=1)
     runner = MissionRunner(spec, robot.capabilities, robot_name=profile.name, gains=profile.gains)
     robot.scheduler.add(runner, "think")
@@ -107,6 +114,7 @@ def measure(quick: bool = False) -> list[Row]:
     variants: list[tuple[str, Callable[[], float]]] = [
         ("patrol mission", lambda: run_mission("patrol_60s.yaml")),
         ("wall-following mission", lambda: run_mission("follow_walls_60s.yaml")),
+        ("patrol mission, uart board", lambda: run_mission("patrol_60s.yaml", "uart")),
         ("body + sensors", lambda: run_body(read_sensors=True)),
         ("bare physics", lambda: run_body(read_sensors=False)),
     ]
@@ -145,6 +153,14 @@ def measure(quick: bool = False) -> list[Row]:
             rtf["bare physics"] / rtf["body + sensors"],
             REALISM_COST_GOAL,
             "G8b: realism may at most halve the speed",
+        )
+    )
+    rows.append(
+        info(
+            KEY,
+            "uart board cost: patrol RTF (usb board) ÷ patrol RTF (uart board)",
+            rtf["patrol mission"] / rtf["patrol mission, uart board"],
+            f"its line and writing time; {detail['patrol mission, uart board']}",
         )
     )
     slowest = min(rtf["patrol mission"], rtf["wall-following mission"])

@@ -108,6 +108,13 @@ class Transmitter:
     def write(self, count: int, now_s: float) -> float:
         """The firmware writes ``count`` bytes from ``now_s``; returns when it is done, seconds."""
         byte_s = self.byte_s
+        # The line sends a byte in far longer than the firmware takes to write one, so once
+        # it is busy it stays busy: without a wait, the last byte leaves at this time.
+        done_s = max(self._done_s, now_s + WRITE_BYTE_S) + count * byte_s
+        clock_s = now_s + count * WRITE_BYTE_S
+        if done_s - byte_s - clock_s <= TRANSMIT_QUEUE_BYTES * byte_s:
+            self._done_s = done_s  # the buffer never filled: no byte waited
+            return clock_s
         done_s = self._done_s
         clock_s = now_s
         for _ in range(count):
