@@ -122,10 +122,16 @@ TIMING_PROBES: tuple[Probe, ...] = (
     Probe("unknown services, short lines", b"A,\nC,\nF,\nJ,\nK,\nN,\nO,\nQ,\n"),
     Probe("unknown services, CRLF", b"X,?\r\nX,?\r\n"),
     Probe("pixels rgb sequence", b"P,s,0,2,0,{1:2:3,4:5:6}\n"),
+    Probe(
+        "requests behind long replies",
+        b"#,N\n#,N\n#,N\n" + b"".join(b"T,%02d\n" % i for i in range(30)) + b"X,1\n",
+    ),
+    Probe("unknown services behind long replies", b"#,S\n#,N\n" + b"Y,00\n" * 30),
     Probe("version at the end", b"#,?\n"),
 )
 """What a UART board reads depends on when it reads: a request that arrives while the firmware
 is still writing is read whole; an unknown service skips what has arrived once its error is
-written, later when the transmit buffer is full."""
+written, later when the transmit buffer is full; bytes that arrive while the receive buffer is
+full (the firmware writing long replies) are lost."""
 
 PROBES = DRIVER_PROBES + ERROR_PROBES + TIMING_PROBES

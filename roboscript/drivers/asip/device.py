@@ -44,7 +44,7 @@ from roboscript.codec import Role, readable
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
 from roboscript.drivers.asip.options import AsipOptions
-from roboscript.drivers.asip.uart import ReceiveLine, Transmitter
+from roboscript.drivers.asip.uart import RECEIVE_RING_BYTES, ReceiveLine, Transmitter
 from roboscript.errors import RemoteProtocolError
 
 if TYPE_CHECKING:
@@ -344,11 +344,18 @@ class MirtoBoard:
                 self._clock_s = max(self._clock_s, arrival_s)
 
     def _take_arrived(self) -> bool:
-        """Hand the codec the bytes that have arrived by the firmware's clock."""
+        """Hand the codec the bytes that have arrived by the firmware's clock, less those
+        that found the receive ring full."""
         arrived = self._line.take_arrived(self._clock_s)
-        if arrived:
-            self.codec.receive_data(arrived)
-        return bool(arrived)
+        if not arrived:
+            return False
+        if not self.codec.waiting:
+            # Bytes the codec holds outside a timed read are the ring's unread bytes; a
+            # firmware inside a timed read reads each byte as it comes and never fills it.
+            room = max(0, RECEIVE_RING_BYTES - self.codec.pending_bytes())
+            arrived = arrived[:room]
+        self.codec.receive_data(arrived)
+        return True
 
     def _error(self, service: str, tag: str, code: m.ErrorCode) -> None:
         self._send(m.ErrorReply(service, tag, int(code)))

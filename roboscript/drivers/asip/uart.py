@@ -9,7 +9,8 @@ a plain ``read()`` the moment the ``,`` before it has arrived. The simulated boa
 firmware's own clock with these two parts:
 
 * :class:`ReceiveLine`: the host's bytes on their way, each arriving one byte time (10 bits,
-  8N1) after the one before, a write starting when the line is free;
+  8N1) after the one before, a write starting when the line is free (a byte that arrives
+  while the firmware's receive ring holds :data:`RECEIVE_RING_BYTES` unread is lost);
 * :class:`Transmitter`: the firmware's time writing a reply: :data:`WRITE_BYTE_S` of its own
   per byte, and, once the transmit buffer (the core's 63-byte ring and the UART's data
   register) is full, a wait for the line to send a byte.
@@ -23,7 +24,14 @@ from __future__ import annotations
 import math
 from collections import deque
 
-__all__ = ["BYTE_BITS", "WRITE_BYTE_S", "ReceiveLine", "Transmitter"]
+__all__ = [
+    "BYTE_BITS",
+    "RECEIVE_RING_BYTES",
+    "TRANSMIT_QUEUE_BYTES",
+    "WRITE_BYTE_S",
+    "ReceiveLine",
+    "Transmitter",
+]
 
 BYTE_BITS = 10
 """Bits a byte takes on the line: start bit, 8 data bits, stop bit (8N1)."""
@@ -41,6 +49,10 @@ while its shift register sends; the emulated UART the firmware tier checks again
 such register, and the simulated board follows the emulated firmware, which it is checked
 against byte for byte: on a real board a reply that fills the buffer ends a byte time
 sooner.)"""
+
+RECEIVE_RING_BYTES = 63
+"""Bytes the Arduino core's 64-byte receive ring holds for the firmware: a byte that arrives
+while it is full (the firmware busy writing, not reading) is lost."""
 
 
 class ReceiveLine:

@@ -307,3 +307,19 @@ def test_a_uart_board_answers_once_the_request_has_crossed_the_line() -> None:
     assert board.lines() == []  # the bytes are still on the line
     board.run(0.01)
     assert board.lines() == ["@#,?,1,1,ATmega328P,20,Mirtle2017"]
+
+
+def test_a_uart_board_loses_what_arrives_while_its_receive_buffer_is_full() -> None:
+    board = Board(uart=True)
+    board.send(b"I,A,0\n")
+    board.run(0.1)
+    board.lines()
+    # three long replies keep the board writing for 40 ms: 63 bytes of the 100 behind them
+    # fit its receive buffer, the rest are lost (each answer keeps it writing a while longer)
+    board.send(b"#,N\n#,N\n#,N\n" + b"#,?\n" * 25)
+    board.run(0.2)
+    lines = board.lines()
+    assert [line for line in lines if line.startswith("@#,N")] == [lines[0]] * 3
+    answered = [line for line in lines if line.startswith("@#,?")]
+    assert 0 < len(answered) < 25
+    assert len(lines) == 3 + len(answered)  # whole requests only: no leftovers answered
