@@ -39,6 +39,16 @@ class Board:
         return [line for line in text.split("\n") if line]
 
 
+def quiet_board(*, uart: bool) -> Board:
+    """A board with its analog stream off and its greeting read (a UART board waits while it
+    writes the greeting: 60 ms)."""
+    board = Board(uart=uart)
+    board.send(b"I,A,0\n")
+    board.run(0.1)
+    board.lines()
+    return board
+
+
 def test_greeting_has_the_startup_line_modes_map_and_unprefixed_lines() -> None:
     board = Board()
     lines = board.lines()
@@ -253,10 +263,7 @@ def test_servo_and_pixel_requests_change_the_boards_state() -> None:
 def test_a_pixel_request_on_a_uart_and_on_a_usb_board(
     uart: bool, answer: list[str], pixel: tuple[int, int, int]
 ) -> None:
-    board = Board(uart=uart)
-    board.send(b"I,A,0\n")
-    board.run(0.1)  # the greeting has gone (a UART board waits while it writes it)
-    board.lines()
+    board = quiet_board(uart=uart)
     board.send(b"P,P,0,1,{0:255}\n")
     board.run(0.05)  # a UART carries the 16 bytes in 2.8 ms
     assert board.lines()[: len(answer) or None] == answer
@@ -277,20 +284,14 @@ def test_a_pixel_request_on_a_uart_and_on_a_usb_board(
 def test_an_unknown_service_skips_what_has_arrived_once_its_error_is_written(
     uart: bool, answer: list[str]
 ) -> None:
-    board = Board(uart=uart)
-    board.send(b"I,A,0\n")
-    board.run(0.1)
-    board.lines()
+    board = quiet_board(uart=uart)
     board.send(b"X,abcdefghijklmnop\n")
     board.run(0.05)
     assert board.lines() == answer
 
 
 def test_a_uart_board_reads_a_pixel_request_whole_when_it_arrives_while_the_board_writes() -> None:
-    board = Board(uart=True)
-    board.send(b"I,A,0\n")
-    board.run(0.1)
-    board.lines()
+    board = quiet_board(uart=True)
     # the service names fill the transmit buffer: the board writes for 6 ms, and the pixel
     # request (3.5 ms of line time) is all there when it reads it
     board.send(b"#,N\nP,P,0,1,{0:255}\n")
@@ -310,10 +311,7 @@ def test_a_uart_board_answers_once_the_request_has_crossed_the_line() -> None:
 
 
 def test_a_uart_board_loses_what_arrives_while_its_receive_buffer_is_full() -> None:
-    board = Board(uart=True)
-    board.send(b"I,A,0\n")
-    board.run(0.1)
-    board.lines()
+    board = quiet_board(uart=True)
     # three long replies keep the board writing for 40 ms: 63 bytes of the 100 behind them
     # fit its receive buffer, the rest are lost (each answer keeps it writing a while longer)
     board.send(b"#,N\n#,N\n#,N\n" + b"#,?\n" * 25)
