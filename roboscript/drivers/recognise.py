@@ -13,13 +13,15 @@ standard library only.
 
 The hints name the robot as the user picks one: ``--robot`` on the command line; a front end
 with its own control for it (the browser app's Robot list) names that instead, for as long as
-it runs a mission (:func:`robots_picked_with`).
+it runs a mission (:func:`robots_picked_with`). The port is named as the user named it too: its
+URL on the command line; in the browser app, as the student chose it ("the robot on the serial
+port you chose"), never by a URL they never saw.
 """
 
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import NamedTuple
 
 from roboscript.codec import Role
@@ -47,10 +49,14 @@ class RobotPicker(NamedTuple):
         use: Naming the robot the port belongs to, ``{robot}`` for its name
             (``"use --robot {robot}"``).
         another: Naming some robot other than the one asked for (``"name it with --robot"``).
+        robot_at: The front end's own words for the robot at a port's URL (``"the robot on
+            the serial port you chose"``), or ``None`` where the URL is what the user gave
+            (then the port is named by its URL).
     """
 
     use: str
     another: str
+    robot_at: Callable[[str], str | None] = lambda url: None
 
 
 COMMAND_LINE = RobotPicker("use --robot {robot}", "name it with --robot")
@@ -158,23 +164,27 @@ def handshake_failure(
     Args:
         robot: The robot asked for (``mirto``).
         protocol: Its protocol (``asip``).
-        url: The port.
+        url: The port (named as :func:`robots_picked_with` says).
         heard: The bytes the port sent.
         bytes_sent: How many bytes of the handshake were sent.
         waited: How long it was waited for, as text (``within 3 s``).
     """
     title = protocol_title(protocol)
     hint = wrong_robot_hint(heard, protocol)
+    at = _picker.robot_at(url)
+    # the robot named as the user reached it: by the port's URL, or by how it was chosen
+    silent = f"{robot} did not answer on {url}" if at is None else f"{at} did not answer as {robot}"
     if hint is not None:
-        return f"{robot} did not answer on {url}: {hint}"
+        return f"{silent}: {hint}"
+    within = f"{silent} {waited}" if waited else silent
     if heard:
         return (
-            f"{robot} did not answer on {url} {waited}: the port sent {len(heard)} bytes "
+            f"{within}: the port sent {len(heard)} bytes "
             f"that are not the {title} protocol nor any other roboscript knows: is the "
             "baud rate right, and is it running its firmware?"
         )
     return (
-        f"{robot} did not answer on {url} {waited}: nothing came back to {bytes_sent} bytes of "
+        f"{within}: nothing came back to {bytes_sent} bytes of "
         f"the {title} handshake: is it switched on and running its firmware? (A SPIKE hub "
         "or a StackMod bridge says nothing until asked in its own protocol: if it is "
         f"another robot, {_picker.another}.)"

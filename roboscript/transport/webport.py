@@ -53,6 +53,7 @@ __all__ = [
     "WebBluetoothPort",
     "WebPort",
     "WebSerialPort",
+    "chosen_robot",
     "interrupt_open_ports",
     "open_web_port",
     "remember_chosen",
@@ -68,6 +69,12 @@ LOST_BLUETOOTH = (
 CLOSE_WAIT_S = 2.0
 """How long closing a port waits for its queued writes (the stop) to be taken, seconds: a
 device that takes nothing more must not keep the page from saying how the run ended."""
+
+_CHOSEN_ROBOT = {
+    "webserial": "the robot on the serial port you chose",
+    "webbluetooth": "the Bluetooth robot you chose",
+}
+"""A chosen port's robot, named as the student chose it (a scheme's URL means nothing to them)."""
 
 _chosen: dict[str, Any] = {}
 """URL -> the JavaScript ``SerialPort`` or ``BluetoothDevice`` the student chose."""
@@ -114,6 +121,12 @@ def remember_chosen(scheme: str, device: Any) -> str:
     return url
 
 
+def chosen_robot(url: str) -> str | None:
+    """The robot at ``url`` as the student chose it in the page (``"the robot on the serial
+    port you chose"``), or ``None`` for a URL that is not a page's port (``socket://...``)."""
+    return _CHOSEN_ROBOT.get(url.partition("://")[0].lower())
+
+
 def open_web_port(url: str, *, baudrate: int) -> WebPort:
     """Open a port the student chose in this page.
 
@@ -127,7 +140,7 @@ def open_web_port(url: str, *, baudrate: int) -> WebPort:
     js, ffi = _browser()
     device = _chosen.get(url)
     if device is None:
-        raise LinkError(f"cannot open {url}: no robot was connected in this page (press Connect)")
+        raise LinkError("no robot is connected in this page: press Connect, then run again")
     port: WebPort
     if url.startswith("webserial://"):
         port = WebSerialPort(js, ffi, device, baudrate=baudrate)
@@ -136,7 +149,7 @@ def open_web_port(url: str, *, baudrate: int) -> WebPort:
     try:
         port.open()
     except Exception as exc:  # the browser rejects with many kinds of error
-        raise LinkError(f"cannot open {url}: {_why(exc)}") from exc
+        raise LinkError(f"cannot reach {chosen_robot(url)}: {_why(exc)}") from exc
     _open_ports.append(port)
     return port
 

@@ -23,7 +23,7 @@ from roboscript.errors import LinkError
 from roboscript.profiles import get_profile
 from roboscript.robot import Robot
 from roboscript.transport.ble import SERVICE_UUID
-from roboscript.transport.webport import interrupt_open_ports, remember_chosen
+from roboscript.transport.webport import chosen_robot, interrupt_open_ports, remember_chosen
 
 __all__ = [
     "ROBOT_LIST",
@@ -40,10 +40,11 @@ _running: Robot | None = None
 """The robot a run in this page is driving, while it runs."""
 
 ROBOT_LIST = RobotPicker(
-    "choose {robot} in the Robot list, and run again", "choose it in the Robot list"
+    "choose {robot} in the Robot list, and run again", "choose it in the Robot list", chosen_robot
 )
 """The page's own control for the robot (its Robot list), which a failed handshake's hints
-name: a student in the page cannot give ``--robot``."""
+name: a student in the page cannot give ``--robot``; and the robot named as the student chose
+it ("the robot on the serial port you chose"), not by a ``webserial://1`` they never saw."""
 
 
 def remember(scheme: str, device: Any) -> str:
@@ -108,7 +109,8 @@ def _connected(robot: Robot) -> None:
 def on_robot(port: str, folder: Path) -> Iterator[RobotRun]:
     """A run on the robot at ``port`` (``""``: on the simulator); the robot is forgotten after.
 
-    A handshake that fails names the page's Robot list (:data:`ROBOT_LIST`), not ``--robot``.
+    A handshake that fails names the page's Robot list (:data:`ROBOT_LIST`), not ``--robot``,
+    and the robot as the student chose it, not by its port's URL.
 
     Args:
         port: A URL :func:`remember` gave, or ``""``.

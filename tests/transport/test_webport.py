@@ -15,8 +15,15 @@ from serial import SerialException
 
 from roboscript.errors import LinkError
 from roboscript.interrupts import Interrupted
-from roboscript.transport import open_port
-from roboscript.transport.webport import LOST_USB, PageClock, WebBluetoothPort, WebPort
+from roboscript.transport import open_port, webport
+from roboscript.transport.webport import (
+    LOST_USB,
+    PageClock,
+    WebBluetoothPort,
+    WebPort,
+    chosen_robot,
+    remember_chosen,
+)
 
 pytestmark = pytest.mark.timeout(120)  # a wait that is never woken would hang; fail instead
 
@@ -170,3 +177,51 @@ def test_a_device_that_takes_nothing_more_does_not_keep_the_port_from_closing(
     port.write(b"$SM")  # never taken: the promise is never settled
     port.close()
     assert port.shut
+
+
+class _RefusingSerialPort:
+    """A ``SerialPort`` the browser will not open (another program holds it)."""
+
+    async def open(self, options: Any) -> None:
+        raise RuntimeError("NetworkError: Failed to open serial port.")
+
+
+class _Js:
+    class Object:
+        @staticmethod
+        def fromEntries(entries: Any) -> Any:  # noqa: N802 - the browser's name
+            return dict(entries)
+
+
+def test_a_chosen_port_that_will_not_open_is_named_as_the_student_chose_it(
+    ffi: FakeFfi, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(webport, "_browser", lambda: (_Js, ffi))
+    url = remember_chosen("webserial", _RefusingSerialPort())
+    with pytest.raises(LinkError) as raised:
+        open_port(url)
+    assert str(raised.value) == (
+        "cannot reach the robot on the serial port you chose: "
+        "NetworkError: Failed to open serial port."
+    )
+
+
+def test_a_page_port_never_chosen_asks_for_connect_without_a_url(
+    ffi: FakeFfi, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(webport, "_browser", lambda: (_Js, ffi))
+    with pytest.raises(LinkError) as raised:
+        open_port("webbluetooth://99")
+    assert str(raised.value) == "no robot is connected in this page: press Connect, then run again"
+
+
+@pytest.mark.parametrize(
+    ("url", "named"),
+    [
+        ("webserial://3", "the robot on the serial port you chose"),
+        ("webbluetooth://1", "the Bluetooth robot you chose"),
+        ("socket://127.0.0.1:9999", None),  # a URL the user gave is named by itself
+    ],
+)
+def test_a_chosen_robot_is_named_by_how_it_was_chosen(url: str, named: str | None) -> None:
+    assert chosen_robot(url) == named

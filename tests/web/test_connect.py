@@ -9,12 +9,14 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 from helpers import MISSIONS, served_simulator
 
 from roboscript.drivers.recognise import handshake_failure
 from roboscript.web.bridge import run_text
+from roboscript.web.connect import on_robot
 
 SQUARE = (MISSIONS / "square.yaml").read_text(encoding="utf-8")
 
@@ -60,3 +62,22 @@ def test_after_a_run_in_the_page_the_command_line_still_names_its_option(
     assert handshake_failure("mirto", "asip", "socket://h:1", b"", 48, "within 3 s").endswith(
         "if it is another robot, name it with --robot.)"
     )
+
+
+ASIP_BANNER = b"!Mirtle2017 running on ATmega328P\n@I,a,2,{4:578,5:615}\n"
+
+
+def test_a_robot_chosen_in_the_page_is_named_as_chosen_never_by_its_url(tmp_path: Path) -> None:
+    with on_robot("webserial://1", tmp_path):
+        wrong = handshake_failure("spike-prime", "spike", "webserial://1", ASIP_BANNER, 12, "")
+        silent = handshake_failure("mirto", "asip", "webbluetooth://2", b"", 48, "within 3 s")
+    assert wrong == (
+        "the robot on the serial port you chose did not answer as spike-prime: this port speaks"
+        " the ASIP protocol (a MIRTO or another ASIP board): choose mirto in the Robot list, and"
+        " run again"
+    )
+    assert silent.startswith(
+        "the Bluetooth robot you chose did not answer as mirto within 3 s: nothing came back to"
+        " 48 bytes of the ASIP handshake"
+    )
+    assert "://" not in wrong + silent

@@ -448,3 +448,23 @@ def test_a_spike_hub_over_bluetooth_runs_its_mission_from_the_page(
     # the closed port listens no more: a notification still on its way calls nothing
     assert page.evaluate(f"rsStandIn[{bridge.port_index}].tx.listeners()") == 0
     assert page.errors == []
+
+
+def test_a_robot_that_answers_as_another_is_named_as_the_student_chose_it(page: Browser) -> None:
+    page.evaluate(
+        "document.querySelector('.CodeMirror').CodeMirror.setValue("
+        + json.dumps((MISSIONS / "square.yaml").read_text(encoding="utf-8"))
+        + "); document.querySelector('[data-role=name]').value = 'square.yaml';"
+        " document.querySelector('[data-role=robot]').value = 'spike-prime'"
+    )
+    with served_simulator("mirto") as tcp_port:
+        bridge = StandInBridge(page, tcp_port)
+        _connect_and_run(page, bridge, "[data-robot=mirto]")
+        bridge.pump("document.querySelector('[data-role=result]').dataset.error")
+    error = page.evaluate("document.querySelector('[data-role=result]').dataset.error")
+    assert error == (
+        "the robot on the serial port you chose did not answer as spike-prime: this port speaks"
+        " the ASIP protocol (a MIRTO or another ASIP board): choose mirto in the Robot list, and"
+        " run again"
+    )
+    assert page.errors == []
