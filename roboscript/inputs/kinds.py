@@ -5,18 +5,30 @@ world, ``extends`` for a profile, ``test`` for a test spec): the kind with the m
 keys wins. A file with none of them, or one that does not parse, is taken as a mission, so
 the mission reader says what is wrong with it. ``check``, ``run`` and ``grade`` ask here
 first, so a world given where a mission is expected is named as a world, not read as a
-mission with five false errors.
+mission with five false errors (:class:`NotAMissionError`), with what to do with it in the words of
+the front end it was given in: the command line's (:data:`ON_THE_COMMAND_LINE`) unless the front
+end says it its own way (:meth:`NotAMissionError.advised`; the browser app has no ``--world``).
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 from roboscript.errors import InputError
 from roboscript.inputs.source import YamlMap, load_yaml
 
-__all__ = ["KINDS", "OWN_KEYS", "FileKind", "file_kind", "kind_of_keys", "not_a_mission"]
+__all__ = [
+    "KINDS",
+    "ON_THE_COMMAND_LINE",
+    "OWN_KEYS",
+    "FileKind",
+    "NotAMissionError",
+    "file_kind",
+    "kind_of_keys",
+    "not_a_mission",
+]
 
 FileKind = Literal["mission", "world", "profile", "test spec"]
 
@@ -42,11 +54,12 @@ OWN_KEYS: dict[FileKind, frozenset[str]] = {
 """Top-level keys only that kind of file has (the readers' other keys are shared:
 ``description``, ``world``, ``robot``, ``name``). A test checks each reader against this."""
 
-_USE = {
+ON_THE_COMMAND_LINE: Mapping[FileKind, str] = {
     "world": "a simulator world: run a mission in it with 'roboscript run MISSION --world {path}'",
     "profile": "a robot profile: run a mission on it with 'roboscript run MISSION --robot {path}'",
     "test spec": "a teacher's test spec: grade missions with 'roboscript grade {path} MISSIONS'",
 }
+"""What each kind of file is and how it is used, on the command line (``{path}``: the file)."""
 
 
 def kind_of_keys(keys: set[str] | frozenset[str]) -> FileKind:
@@ -81,13 +94,42 @@ def file_kind(path: str | Path) -> FileKind:
     return kind_of_keys({str(key) for key in data})
 
 
-def not_a_mission(path: str | Path, kind: FileKind) -> InputError:
+class NotAMissionError(InputError):
+    """A world, robot profile or test spec given where a mission is expected.
+
+    Args:
+        path: The file, as the user named it.
+        kind: What it is.
+        uses: What each kind of file is and how it is used, in the front end's words
+            (``{path}`` for the file): the command line's by default.
+
+    Attributes:
+        kind: What the file is.
+    """
+
+    def __init__(
+        self, path: str | Path, kind: FileKind, uses: Mapping[FileKind, str] = ON_THE_COMMAND_LINE
+    ) -> None:
+        self.kind = kind
+        self.uses = uses
+        article = "an" if kind[0] in "aeiou" else "a"
+        super().__init__(
+            f"this is {article} {kind} file, not a mission",
+            path=str(path),
+            line=1,
+            col=1,
+            hint=f"it is {uses[kind].format(path=path)}" if kind in uses else None,
+        )
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # rebuilt from what it was made of (an error crosses to another process pickled)
+        return (type(self), (self.path, self.kind, dict(self.uses)))
+
+    def advised(self, uses: Mapping[FileKind, str]) -> NotAMissionError:
+        """The same error, saying how the file is used in a front end's own words."""
+        return NotAMissionError(self.path or "", self.kind, uses)
+
+
+def not_a_mission(path: str | Path, kind: FileKind) -> NotAMissionError:
     """The error for a world, profile or test spec given where a mission is expected."""
-    article = "an" if kind[0] in "aeiou" else "a"
-    return InputError(
-        f"this is {article} {kind} file, not a mission",
-        path=str(path),
-        line=1,
-        col=1,
-        hint=f"it is {_USE[kind].format(path=path)}" if kind in _USE else None,
-    )
+    return NotAMissionError(path, kind)

@@ -29,6 +29,7 @@ from roboscript.grading.judge import failure_marks
 from roboscript.grading.practice import practice_grade
 from roboscript.grading.spec import TestSpec, is_test_spec, load_test_spec
 from roboscript.grading.text import advice, format_points, public_reason, student_text
+from roboscript.inputs.kinds import FileKind, NotAMissionError
 from roboscript.interrupts import Interrupted
 from roboscript.mission import mission_for_robot
 from roboscript.mission.graph_picture import to_svg
@@ -43,6 +44,27 @@ __all__ = ["check_text", "diagram_text", "grade_text", "load_specs", "run_text"]
 
 _SAFE_NAME = re.compile(r"[^\w.-]")
 _MAX_TIME_S = 300.0
+
+ON_THE_PAGE: dict[FileKind, str] = {
+    "world": (
+        'a simulator world: to run your mission in it, set World to "the mission\'s own" and'
+        " name it in your mission: 'world: {path}' in YAML, world = \"{path}\" in a Python"
+        " mission's class"
+    ),
+    "profile": (
+        'a robot profile: to run your mission on it, set Robot to "the mission\'s own" and'
+        " name it in your mission: 'robot: {path}' in YAML, robot = \"{path}\" in a Python"
+        " mission's class"
+    ),
+    "test spec": (
+        'a teacher\'s test spec: open it with "Open a test spec…" under Practice grade, then'
+        ' press "✓ Grade my mission"'
+    ),
+}
+"""What a world, robot profile or test spec opened as the mission is for, said with the page's
+own controls (its World and Robot lists, its practice grade): a page has no ``--world``. A file
+opened in the page stays in its folder while the page is open, so a mission beside it finds it
+by its name."""
 
 
 def _folder() -> Path:
@@ -110,6 +132,8 @@ def _load(name: str, text: str, robot: str | None) -> tuple[Path, Any, Any, list
             spec, profile, warnings = mission_for_robot(path, robot or None)
     except RunawayCode as exc:
         return path, None, None, [_stuck_problem(exc, path)]
+    except NotAMissionError as exc:
+        return path, None, None, [_problem(exc.advised(ON_THE_PAGE))]
     except InputError as exc:
         problems = getattr(exc, "problems", None) or [exc]
         return path, None, None, [_problem(p) for p in problems]

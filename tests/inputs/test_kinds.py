@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pickle
 from pathlib import Path
 
 import pytest
@@ -69,4 +70,17 @@ def test_the_message_says_what_the_file_is_and_how_to_use_it() -> None:
     assert not_a_mission("w.yaml", "world").format() == (
         "w.yaml:1:1: error: this is a world file, not a mission (it is a simulator world: "
         "run a mission in it with 'roboscript run MISSION --world w.yaml')"
+    )
+
+
+def test_the_error_crosses_to_another_process_with_what_the_file_is() -> None:
+    error = not_a_mission("w.yaml", "world")
+    again = pickle.loads(pickle.dumps(error))
+    assert (type(again), again.kind, again.format()) == (type(error), "world", error.format())
+
+
+def test_a_front_end_says_how_the_file_is_used_in_its_own_words() -> None:
+    advised = not_a_mission("w.yaml", "world").advised({"world": "a world: pick {path}"})
+    assert advised.format() == (
+        "w.yaml:1:1: error: this is a world file, not a mission (it is a world: pick w.yaml)"
     )

@@ -12,13 +12,59 @@ from test_watchdog import LOOPING_BEHAVIOUR_FILE, SPIN, no_timer_signal
 from roboscript.web.bridge import _folder as scratch_folder
 from roboscript.web.bridge import check_text, diagram_text, grade_text, load_specs, run_text
 
+RING = (
+    "world: ring\nstart: {x: 300, y: 500, heading: 0}\n"
+    "walls:\n  - box: {x: 0, y: 0, width: 2000, height: 1000}\n"
+)
 
-def test_a_world_file_opened_as_the_mission_is_named_as_a_world_as_on_the_command_line() -> None:
-    world = "world: arena\nwalls:\n  - box: {x: 0, y: 0, width: 2000, height: 1000}\n"
-    problems = json.loads(check_text("arena.yaml", world))["problems"]
+
+def test_a_world_file_opened_as_the_mission_says_how_the_page_runs_a_mission_in_it() -> None:
+    problems = json.loads(check_text("ring arena.yaml", RING))["problems"]
     assert [p["message"] for p in problems] == ["this is a world file, not a mission"]
     assert problems[0]["line"] == 1
-    assert "--world arena.yaml" in problems[0]["hint"]  # the file as the student named it
+    # the file as the page keeps it, and the page's own controls: a page has no --world
+    assert problems[0]["hint"] == (
+        'it is a simulator world: to run your mission in it, set World to "the mission\'s own"'
+        " and name it in your mission: 'world: ring_arena.yaml' in YAML,"
+        ' world = "ring_arena.yaml" in a Python mission\'s class'
+    )
+    assert "roboscript run" not in problems[0]["text"]
+
+
+@pytest.mark.parametrize("mission", ["square.yaml", "square.py"])
+def test_a_mission_that_names_the_world_as_the_page_advised_runs_in_it(mission: str) -> None:
+    check_text("ring arena.yaml", RING)  # what the page does with a file opened in it
+    text = (MISSIONS / mission).read_text(encoding="utf-8")
+    if mission.endswith(".py"):
+        text = text.replace("    side = state(", '    world = "ring_arena.yaml"\n    side = state(')
+    else:
+        text = text.replace("initial:", "world: ring_arena.yaml\ninitial:")
+    answer = json.loads(run_text(mission, text))
+    assert answer["problems"] == []
+    assert answer["summary"]["sim"]["world"] == "ring"
+
+
+def test_a_profile_opened_as_the_mission_says_how_the_page_runs_a_mission_on_it() -> None:
+    profile = "extends: mirto\nname: fast\nmax_speed_mm_s: 300\n"
+    [problem] = json.loads(check_text("fast.yaml", profile))["problems"]
+    assert problem["message"] == "this is a profile file, not a mission"
+    assert 'set Robot to "the mission\'s own"' in problem["hint"]
+    assert "'robot: fast.yaml' in YAML" in problem["hint"]
+    text = (MISSIONS / "square.yaml").read_text(encoding="utf-8")
+    answer = json.loads(
+        run_text("square.yaml", text.replace("initial:", "robot: fast.yaml\ninitial:"))
+    )
+    assert answer["summary"]["robot"] == "fast"
+
+
+def test_a_test_spec_opened_as_the_mission_points_to_the_practice_grade() -> None:
+    spec = (MISSIONS / "teacher" / "square" / "test.yaml").read_text(encoding="utf-8")
+    [problem] = json.loads(check_text("test.yaml", spec))["problems"]
+    assert problem["message"] == "this is a test spec file, not a mission"
+    assert problem["hint"] == (
+        'it is a teacher\'s test spec: open it with "Open a test spec…" under Practice grade,'
+        ' then press "✓ Grade my mission"'
+    )
 
 
 def test_check_finds_a_mistake_at_its_line_and_column() -> None:

@@ -103,3 +103,27 @@ def test_the_page_says_when_the_browser_cannot_reach_a_robot(page: Browser) -> N
     else:
         assert note.startswith("This browser cannot reach a robot over USB or Bluetooth")
     assert "the simulator works here" in note.lower()
+
+
+def test_a_world_opened_as_the_mission_is_answered_with_the_pages_advice_that_works(
+    page: Browser,
+) -> None:
+    ring = "world: ring\nstart: {x: 300, y: 500, heading: 0}\nwalls:\n"
+    ring += "  - box: {x: 0, y: 0, width: 2000, height: 1000}\n"
+    page.evaluate("document.querySelector('[data-role=name]').value = 'ring.yaml'")
+    _editor(page, ring)
+    page.wait_for("document.querySelector('[data-role=problems]').dataset.errors === '1'", LONG_S)
+    shown = page.evaluate("document.querySelector('[data-role=problems] li').textContent")
+    assert shown.startswith("ring.yaml:1:1: error: this is a world file, not a mission (it is a")
+    assert 'set World to "the mission\'s own"' in shown and "'world: ring.yaml' in YAML" in shown
+    assert "--world" not in shown
+    # as advised: the mission names the world, and World stays on "the mission's own"
+    page.evaluate("document.querySelector('[data-role=name]').value = 'hello.yaml'")
+    _editor(page, _hello(page).replace("initial:", "world: ring.yaml\ninitial:"))
+    page.wait_for("document.querySelector('[data-role=problems]').dataset.errors === '0'", LONG_S)
+    page.evaluate("document.querySelector('[data-role=result]').removeAttribute('data-outcome')")
+    page.evaluate("document.querySelector('[data-action=run]').click()")
+    page.wait_for("document.querySelector('[data-role=result]').dataset.outcome", LONG_S)
+    ran = json.loads(page.evaluate("document.querySelector('[data-role=result]').dataset.json"))
+    assert ran["sim"]["world"] == "ring"
+    assert page.errors == []
