@@ -430,6 +430,36 @@ class Action(abc.ABC):
             + ", and ".join(f"'{p.kwarg}', {p.doc}" for p in wanted),
         )
 
+    def written_call(self) -> str:
+        """This action as a Python mission writes it, with the values it holds that are not
+        its defaults (``Drive(distance_mm=500)``), for a fix that names the student's own
+        actions; ``Drive(...)`` when it holds none that read back as written."""
+        shown = []
+        for param in params_of(type(self)):
+            value = getattr(self, param.kwarg, param.default)
+            if value is REQUIRED or value is None or value == param.default:
+                continue
+            if isinstance(value, bool) or not isinstance(value, int | float | str):
+                continue  # a condition or a student's object: not written back here
+            shown.append(
+                f"{param.kwarg}={value:g}"
+                if not isinstance(value, str)
+                else f'{param.kwarg}="{value}"'
+            )
+        return f"{type(self).__name__}({', '.join(shown) or '...'})"
+
+    @classmethod
+    def given_too_many(cls, given: Sequence[Any]) -> UnderSpecifiedError | None:
+        """The error for this action given more values without their names than it takes,
+        when the action has words of its own for it (``Parallel(a, b, c)``: its list without
+        the brackets), else ``None``: Python's own message, which a mission's check turns
+        into the values' names (:mod:`roboscript.mission.student_code`).
+
+        Args:
+            given: The values given without names, in order.
+        """
+        return None
+
     feedback: str = ""
     """A short progress text for status lines (``"driving 230/500 mm"``)."""
 
@@ -471,6 +501,11 @@ def _reading_its_arguments(init: Callable[..., None]) -> Callable[..., None]:
                 if unread is not None:  # init compared text it could not read
                     raise unread from None
                 raise  # raised inside __init__, not by the call
+            takes = None if signature is None else _positional(signature)
+            if takes is not None and len(args) > len(takes):
+                too_many = type(self).given_too_many(args)
+                if too_many is not None:
+                    raise too_many from None
             missing = [] if signature is None else _missing(signature, self, args, kwargs)
             by_kwarg = {p.kwarg: p.name for p in params_of(type(self))}
             names = [by_kwarg.get(kwarg, kwarg) for kwarg in missing]
@@ -513,6 +548,16 @@ def _quantities_read(
         except ValueError as exc:
             unread = unread or ValueError(f"{label} {param.name}: {exc}")
     return bound.args[1:], bound.kwargs, unread
+
+
+def _positional(signature: inspect.Signature) -> list[str] | None:
+    """The keywords of ``__init__`` that take a value without its name, in order (not
+    ``self``), or ``None`` when it takes any number (``*args``)."""
+    kinds = (inspect.Parameter.POSITIONAL_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD)
+    parameters = list(signature.parameters.values())[1:]
+    if any(p.kind is inspect.Parameter.VAR_POSITIONAL for p in parameters):
+        return None
+    return [p.name for p in parameters if p.kind in kinds]
 
 
 def _missing(

@@ -9,7 +9,8 @@ entered again starts from scratch.
 from __future__ import annotations
 
 import copy
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
+from typing import Any
 
 from roboscript.actions.base import Action, ActionContext, Outcome, Result, UnderSpecifiedError
 from roboscript.actions.motion import Drive, Rotate
@@ -25,6 +26,15 @@ def _factory(item: Action | ActionFactory) -> ActionFactory:
     if isinstance(item, Action):
         return lambda: copy.deepcopy(item)
     return item
+
+
+def _written(item: object) -> str:
+    """An action, or a maker of one, as a fix names it: ``Drive(...)``, ``Square`` (a mission)."""
+    if isinstance(item, Action):
+        return item.written_call()
+    if isinstance(item, type):
+        return item.__name__
+    return getattr(item, "__name__", None) or repr(item)
 
 
 def _needs(items: Sequence[Action | ActionFactory]) -> frozenset[str]:
@@ -67,9 +77,28 @@ class Parallel(Action):
         """``Parallel()``: it needs its actions."""
         return cls.needs("parallel needs the actions to run together, in a list")
 
+    @classmethod
+    def given_too_many(cls, given: Sequence[Any]) -> UnderSpecifiedError:
+        """``Parallel(a, b, c)``: the actions without their list's brackets."""
+        return cls.unlisted(given)
+
+    @classmethod
+    def unlisted(cls, given: Sequence[Any]) -> UnderSpecifiedError:
+        """The error for actions given one by one (``Parallel(a, b, c)``), with the fix
+        written with them: ``Parallel([Drive(distance_mm=500), Rotate(angle_deg=90)])``."""
+        actions = [_written(item) for item in given if not isinstance(item, str)]
+        modes = [f', mode="{item}"' for item in given if isinstance(item, str)][:1]
+        yaml = cls.example()[0]
+        return UnderSpecifiedError(
+            "parallel takes a list of actions, in [ ]",
+            yaml=yaml,
+            python=f"Parallel([{', '.join(actions)}]{''.join(modes)})",
+        )
+
     def __init__(self, factories: Sequence[Action | ActionFactory], mode: str = "all") -> None:
-        if isinstance(factories, Action):  # Parallel(Drive(...), PlayTone(...)): no [ ]
-            raise type(self).needs("parallel takes a list of actions, in [ ]")
+        if isinstance(factories, str) or not isinstance(factories, Iterable):
+            # Parallel(Drive(...), PlayTone(...)): the actions without the list's [ ]
+            raise type(self).unlisted([factories] if mode == "all" else [factories, mode])
         if mode not in ("all", "any"):
             yaml, python = type(self).example()
             raise UnderSpecifiedError(
@@ -160,7 +189,32 @@ class Repeat(Action):
             return cls.needs("repeat needs the action to repeat")
         return cls.needs("repeat needs an action and how many times to run it")
 
+    @classmethod
+    def given_too_many(cls, given: Sequence[Any]) -> UnderSpecifiedError:
+        """``Repeat(a, b, 4)``: several actions, where a repeat runs one."""
+        return cls.several()
+
+    @classmethod
+    def several(cls) -> UnderSpecifiedError:
+        """The error for several actions to repeat: a repeat runs one, which may be a whole
+        mission of its own (its states one after another)."""
+        return UnderSpecifiedError(
+            "repeat runs one action: to repeat several one after another, make them the"
+            " states of a mission of their own, and repeat that",
+            yaml="`repeat: {times: 4, do: {mission: steps.yaml}}`",
+            python="Repeat(Steps, times=4), Steps being a Mission class with those states",
+        )
+
     def __init__(self, factory: Action | ActionFactory, times: int) -> None:
+        if isinstance(times, Action) or isinstance(factory, list | tuple):
+            raise type(self).several()  # Repeat(Rotate(...), Drive(...)), Repeat([...], ...)
+        if isinstance(times, bool) or not isinstance(times, int | float):
+            action = _written(factory)
+            raise UnderSpecifiedError(
+                "repeat needs 'times', a whole number of at least 1",
+                yaml=type(self).example()[0],
+                python=f"Repeat({action}, times=4)",
+            )
         if times < 1:
             raise type(self).needs("repeat needs 'times' of at least 1")
         self.child_requires = _needs([factory])

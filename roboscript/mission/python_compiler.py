@@ -304,7 +304,7 @@ class _Compiler:
 
     def compile(self) -> MissionSpec | None:
         cls = self.cls
-        if self.replaced_states():
+        if self.miswritten_states():
             return None
         if not self.states:
             inside = self.states_in_methods()
@@ -356,14 +356,17 @@ class _Compiler:
                     return node
         return None
 
-    def replaced_states(self) -> bool:
+    def miswritten_states(self) -> bool:
         """Say so of each state that a later ``def`` of the same name in the class replaces
-        (Python keeps the last of the two: the state is gone), and of ``NAME = state``
-        without its call; True if there was one."""
+        (Python keeps the last of the two: the state is gone), of ``NAME = state`` without
+        its call, of ``NAME = state(...),`` (a comma at its end: a tuple, not a state) and of
+        ``NAME = Drive(...)`` (an action without its state); True if there was one."""
         written: dict[str, ast.stmt] = {}
         found = False
         for statement in self.class_node.body if self.class_node is not None else []:
-            if isinstance(statement, ast.Assign) and _calls_state(statement.value):
+            if isinstance(statement, ast.Assign) and self.not_a_state(statement):
+                found = True
+            elif isinstance(statement, ast.Assign) and _calls_state(statement.value):
                 for target in statement.targets:
                     if isinstance(target, ast.Name):
                         written[target.id] = statement
@@ -387,6 +390,40 @@ class _Compiler:
                     f" e.g. {name} = state(Drive(distance_mm=500), ...)",
                 )
         return found
+
+    def not_a_state(self, statement: ast.Assign) -> bool:
+        """Say so of ``NAME = state(...),`` and ``NAME = Drive(...)``, which Python takes
+        as a tuple and an action, and the mission silently lacks; True if it is one."""
+        name = ", ".join(ast.unparse(t) for t in statement.targets)
+        value = statement.value
+        if isinstance(value, ast.Tuple) and len(value.elts) == 1 and _calls_state(value.elts[0]):
+            self.problem(
+                f"'{name} = state(...),' is not a state: the comma at its end makes a tuple",
+                self.source.loc(value),
+                "remove the comma after state(...)",
+            )
+            return True
+        held = [vars(self.cls).get(t.id) for t in statement.targets if isinstance(t, ast.Name)]
+        body = self.class_node if self.class_node is not None else ast.Module([], [])
+        used = {
+            node.id
+            for node in ast.walk(body)
+            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)
+        }
+        named = {t.id for t in statement.targets if isinstance(t, ast.Name)}
+        # an action kept to be run by states (turn = Rotate(...); a = state(turn)) is fine
+        if (
+            isinstance(value, ast.Call)
+            and any(isinstance(h, Action) for h in held)
+            and not (named & used)
+        ):
+            self.problem(
+                f"'{name}' is an action, not a state: a state runs it",
+                self.source.loc(value),
+                f"write {name} = state({ast.unparse(value)}, ...)",
+            )
+            return True
+        return False
 
     def requires(self) -> frozenset[str]:
         raw = getattr(self.cls, "requires", ())
@@ -517,7 +554,7 @@ class _Compiler:
                 f"write {action.written()[1]}",
             )
             return None
-        if isinstance(action, Repeat | Parallel) and any(nested_missions(action)):
+        if isinstance(action, Repeat | Parallel):
             return self.composite(name, action, node, where)
         if not isinstance(action, Action):
             self.problem(

@@ -302,6 +302,9 @@ _MISSING_ARGUMENT = re.compile(
     r"^(?:(\w+)\.)?(\w+)\(\) missing \d+ required (?:positional |keyword-only )?argument"
 )
 _MORE_THAN_ONE_ACTION = re.compile(r"^state\(\) takes from 0 to 1 positional arguments? but")
+_TOO_MANY_VALUES = re.compile(
+    r"^(?:(\w+)\.)?(\w+)\(\) takes (?:from \d+ to )?\d+ positional arguments? but (\d+) were"
+)
 _CANNOT_IMPORT = re.compile(r"^cannot import name '(\w+)' from '([\w.]+)'")
 
 
@@ -319,6 +322,9 @@ def _import_problem(
         col = colno + 1 if colno is not None else None
     raised_by_roboscript = bool(frames) and frames[-1].filename.startswith(str(_PACKAGE_DIR))
     message, hint = _explain(exc, module, raised_by_roboscript, kind)
+    fixed = _state_call_fixed(exc, module, frame)
+    if fixed is not None:
+        message, hint = fixed
     return MissionError(message, path=where, line=line, col=col, hint=hint)
 
 
@@ -347,6 +353,11 @@ def _explain(
                 "to do one thing after another, give each its own state and go on with"
                 ' on_done="NEXT"; to do them at the same time, write state(Parallel([...]), ...)'
             )
+        match = _TOO_MANY_VALUES.match(text)
+        if match:
+            too_many = _values_without_names(match.group(1), int(match.group(3)) - 1, module)
+            if too_many is not None:
+                return too_many
         match = _MISSING_ARGUMENT.match(text)
         if match:
             owner, func = match.groups()
@@ -381,6 +392,73 @@ def _explain(
             name = match.group(1)
             return f"roboscript has no '{name}' to import", did_you_mean(name, _roboscript_names())
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__, None
+
+
+def _state_call_fixed(
+    exc: BaseException, module: ModuleType, frame: traceback.FrameSummary | None
+) -> tuple[str, str] | None:
+    """``state(Drive(...), "end")`` or ``state(Drive(...), True, "end")``: values after the
+    action without their names, said with the call written with them
+    (``state(Drive(...), initial=True, on_done="end")``), or ``None`` for another mistake.
+    Read from the student's call where Python says it failed (Python 3.11 and later)."""
+    import ast
+
+    if not (isinstance(exc, TypeError) and _MORE_THAN_ONE_ACTION.match(str(exc))):
+        return None
+    if getattr(module, "state", None) is not roboscript.state:
+        return None  # a function of the student's own called state
+    tree = _tree(module)
+    colno = getattr(frame, "colno", None)
+    if tree is None or frame is None or colno is None:
+        return None
+    calls = [
+        node
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Call) and (node.lineno, node.col_offset) == (frame.lineno, colno)
+    ]
+    if len(calls) != 1 or len(calls[0].args) < 2:
+        return None
+    call = calls[0]
+    routes = iter(("on_done", "on_failed", "on_timeout"))
+    named = []
+    for value in call.args[1:]:
+        given = value.value if isinstance(value, ast.Constant) else None
+        if isinstance(given, bool):
+            named.append(f"initial={given}")
+        elif isinstance(given, str) and (route := next(routes, None)) is not None:
+            named.append(f'{route}="{given}"')
+        else:
+            return None  # another action, most likely: the general answer fits
+    written = [ast.unparse(call.args[0]), *named, *(ast.unparse(k) for k in call.keywords)]
+    return (
+        "state() takes one action, and everything after it with its name",
+        f"write state({', '.join(written)})",
+    )
+
+
+def _values_without_names(
+    owner: str | None, given: int, module: ModuleType
+) -> tuple[str, str] | None:
+    """``Drive(500, 150, 2, 9)``: an action given more values without their names than it
+    takes, said with the names that take them, or ``None`` for another callee (a student's
+    own function keeps Python's message, at its line). ``given`` excludes ``self``."""
+    import inspect
+
+    cls = getattr(module, owner or "", None) or getattr(roboscript, owner or "", None)
+    if not (isinstance(cls, type) and issubclass(cls, Action)):
+        return None
+    try:
+        parameters = inspect.signature(cls).parameters.values()
+    except (TypeError, ValueError):
+        return None
+    kinds = (inspect.Parameter.POSITIONAL_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD)
+    takes = [p.name for p in parameters if p.kind in kinds]
+    values = "value" if len(takes) == 1 else "values"
+    message = (
+        f"{cls.__name__}() takes at most {len(takes)} {values} without their names, and was"
+        f" given {given}"
+    )
+    return message, f"name each value: write {cls.__name__}({', '.join(f'{n}=...' for n in takes)})"
 
 
 def _class_members(module: ModuleType) -> dict[str, str]:

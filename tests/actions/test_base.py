@@ -123,7 +123,7 @@ def test_check_shows_what_to_write_for_wait_until_repeat_and_parallel_in_each_la
     (tmp_path / "m.py").write_text(fixed, encoding="utf-8")
     assert run_cli("check", "m.py", cwd=tmp_path).stderr.splitlines()[0] == (
         "m.py:7:18: error: parallel takes a list of actions, in [ ]"
-        " (write Parallel([Drive(distance_mm=500), PlayTone(frequency_hz=880)]))"
+        " (write Parallel([Rotate(angle_deg=90)]))"  # the student's own action, in [ ]
     )
 
 
