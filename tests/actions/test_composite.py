@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import pytest
 
+from roboscript import Drive, PlayTone, Rotate
 from roboscript import capabilities as cap
 from roboscript.actions import ActionContext, Outcome, Result, Stop
-from roboscript.actions.base import Action
+from roboscript.actions.base import Action, UnderSpecifiedError
 from roboscript.actions.composite import Parallel, Repeat
 
 
@@ -274,3 +275,19 @@ def test_leaving_a_repeat_whose_run_failed_stops_that_run_once() -> None:
     assert run(square) == (Result.failed("stalled"), 2)
     square.stop(ActionContext({}))
     assert log == ["start side at 0", "stop side at 2"]
+
+
+def test_parallel_of_actions_without_brackets_names_them_in_the_fix() -> None:
+    with pytest.raises(UnderSpecifiedError) as refused:
+        Parallel(Drive(distance_mm=500), Rotate(angle_deg=90), PlayTone(frequency_hz=880))  # type: ignore[call-arg]
+    assert str(refused.value) == (
+        "parallel takes a list of actions, in [ ] (write Parallel([Drive(distance_mm=500),"
+        " Rotate(angle_deg=90), PlayTone(frequency_hz=880)]))"
+    )
+
+
+def test_repeat_of_two_actions_says_a_repeat_runs_one() -> None:
+    with pytest.raises(UnderSpecifiedError, match=r"^repeat runs one action"):
+        Repeat(Rotate(angle_deg=90), Drive(distance_mm=100))  # type: ignore[arg-type]
+    with pytest.raises(UnderSpecifiedError, match=r"^repeat runs one action"):
+        Repeat(Rotate(angle_deg=90), Drive(distance_mm=100), 4)  # type: ignore[call-arg]

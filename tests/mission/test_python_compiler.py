@@ -698,3 +698,52 @@ class Lesson(Mission):
     spec, warnings = compiled(tmp_path, body)
     action = spec.states["go"].action
     assert (action is not None and action.name, warnings) == ("hold_until", [])
+
+
+def test_what_a_parallel_or_repeat_runs_is_checked_as_a_states_action(tmp_path: Path) -> None:
+    body = """\
+from roboscript import Parallel, PlayTone, Repeat
+
+
+class Lesson(Mission):
+    go = state(Parallel([Drive(distance_mm=300), "beep"]), initial=True, on_done="spin")
+    spin = state(Repeat(Drive, times=2), on_done="tune")
+    tune = state(Parallel([PlayTone]), on_done="end")
+    end = state(final="success")
+"""
+    assert problems(tmp_path, body) == [
+        (
+            "lesson.py:10:50: error: state 'go' does 'beep', which is not an action (use an action"
+            " such as Drive(distance_mm=300))"
+        ),
+        (
+            "lesson.py:11:25: error: state 'spin': Drive is a kind of action; call it to make one"
+            " (write Drive(distance_mm=500))"
+        ),
+        (
+            "lesson.py:12:28: error: state 'tune': PlayTone is a kind of action; call it to make"
+            " one (write PlayTone(frequency_hz=880))"
+        ),
+    ]
+
+
+def test_a_parallel_and_a_repeat_of_actions_compile_as_yamls_do(tmp_path: Path) -> None:
+    body = """\
+from roboscript import Parallel, PlayTone, Repeat, Rotate
+
+
+class Lesson(Mission):
+    go = state(Parallel([Drive(distance_mm=300), PlayTone(frequency_hz=440)], "any"),
+               initial=True, on_done="spin")
+    spin = state(Repeat(Rotate(angle_deg=90), times=4), on_done="end")
+    end = state(final="success")
+"""
+    spec, _ = compiled(tmp_path, body)
+    go, spin = spec.states["go"].action, spec.states["spin"].action
+    assert go is not None and spin is not None
+    assert (go.name, go.kwargs["mode"], go.kwargs["actions"]) == (
+        "parallel",
+        "any",
+        ("drive", "play_tone"),
+    )
+    assert (spin.name, spin.kwargs["times"], spin.kwargs["action"]) == ("repeat", 4, "rotate")

@@ -531,3 +531,89 @@ def test_two_actions_given_to_one_state_say_how_to_write_them(tmp_path: Path) ->
         ),
         "checked 1 file: 1 with errors",
     ]
+
+
+PYTHON_MISSION = (
+    "from roboscript import Drive, Mission, Parallel, PlayTone, Repeat, Rotate, Wait, state\n"
+    "\n\nclass M(Mission):\n"
+    "    go = {go}\n"
+    '    end = state(final="success")\n'
+)
+
+
+@pytest.mark.parametrize(
+    ("go", "expected"),
+    [
+        pytest.param(
+            "state(Parallel(Drive(distance_mm=500), Rotate(angle_deg=90), Wait(duration_s=1)),"
+            ' initial=True, on_done="end")',
+            "m.py:5:16: error: parallel takes a list of actions, in [ ] (write Parallel(["
+            "Drive(distance_mm=500), Rotate(angle_deg=90), Wait(duration_s=1)]))",
+            id="parallel-of-three-without-brackets",
+        ),
+        pytest.param(
+            'state(Parallel(Drive(distance_mm=500), PlayTone(frequency_hz=440), "any"),'
+            ' initial=True, on_done="end")',
+            "m.py:5:16: error: parallel takes a list of actions, in [ ] (write Parallel(["
+            'Drive(distance_mm=500), PlayTone(frequency_hz=440)], mode="any"))',
+            id="parallel-without-brackets-and-its-mode",
+        ),
+        pytest.param(
+            "state(Repeat(Rotate(angle_deg=90), Drive(distance_mm=200)), initial=True,"
+            ' on_done="end")',
+            "m.py:5:16: error: repeat runs one action: to repeat several one after another,"
+            " make them the states of a mission of their own, and repeat that (write"
+            " Repeat(Steps, times=4), Steps being a Mission class with those states)",
+            id="repeat-of-two-actions",
+        ),
+        pytest.param(
+            'state(Repeat(Rotate(angle_deg=90), "4"), initial=True, on_done="end")',
+            "m.py:5:16: error: repeat needs 'times', a whole number of at least 1 (write"
+            " Repeat(Rotate(angle_deg=90), times=4))",
+            id="repeat-times-as-text",
+        ),
+        pytest.param(
+            'state(Drive(500, 150, 2, 9), initial=True, on_done="end")',
+            "m.py:5:16: error: Drive() takes at most 3 values without their names, and was"
+            " given 4 (name each value: write Drive(distance_mm=..., speed_mm_s=...,"
+            " duration_s=...))",
+            id="an-action-with-too-many-values",
+        ),
+        pytest.param(
+            'state(Drive(distance_mm=500), True, "end")',
+            "m.py:5:10: error: state() takes one action, and everything after it with its name"
+            ' (write state(Drive(distance_mm=500), initial=True, on_done="end"))',
+            id="state-with-its-next-state-without-on-done",
+        ),
+        pytest.param(
+            "Drive(distance_mm=500)",
+            "m.py:5:10: error: 'go' is an action, not a state: a state runs it (write"
+            " go = state(Drive(distance_mm=500), ...))",
+            id="an-action-without-its-state",
+        ),
+        pytest.param(
+            'state(Drive(distance_mm=500), initial=True, on_done="end"),',
+            "m.py:5:10: error: 'go = state(...),' is not a state: the comma at its end makes"
+            " a tuple (remove the comma after state(...))",
+            id="a-state-with-a-comma-at-its-end",
+        ),
+    ],
+)
+def test_a_beginners_mistake_in_a_call_is_answered_at_its_line_with_what_to_write(
+    tmp_path: Path, go: str, expected: str
+) -> None:
+    (tmp_path / "m.py").write_text(PYTHON_MISSION.format(go=go), encoding="utf-8")
+    result = run_cli("check", "m.py", cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr.splitlines() == [expected, "checked 1 file: 1 with errors"]
+
+
+def test_an_action_kept_for_states_to_run_is_no_mistake(tmp_path: Path) -> None:
+    kept = (
+        "    turn = Rotate(angle_deg=90)\n"
+        '    go = state(Repeat(turn, times=4), initial=True, on_done="end")\n'
+    )
+    text = PYTHON_MISSION.format(go="").replace("    go = \n", kept)
+    (tmp_path / "m.py").write_text(text, encoding="utf-8")
+    result = run_cli("check", "m.py", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr

@@ -203,3 +203,17 @@ def test_the_practice_grade_shows_each_run_but_no_detail_of_a_hidden_one() -> No
     assert [v["name"] for v in failed] == ["final_pose_within", "path_visits", "turns", "tones"]
     assert failed[1]["text"].startswith("path_visits failed by ") and failed[1]["required"]
     assert shown["message"].startswith("path_visits failed by ")  # the required one first
+
+
+def test_parallel_without_its_brackets_is_answered_in_the_page_with_the_students_actions() -> None:
+    text = (MISSIONS / "square.py").read_text(encoding="utf-8")
+    text = text.replace(
+        "    corner = state(Rotate(angle_deg=90),",
+        "    corner = state(Parallel(Rotate(angle_deg=90), PlayTone(frequency_hz=880),"
+        " Wait(duration_s=1)),",
+    ).replace("import Drive,", "import Drive, Parallel, Wait,")
+    [problem] = json.loads(check_text("square.py", text))["problems"]
+    assert (problem["line"], problem["message"]) == (18, "parallel takes a list of actions, in [ ]")
+    assert problem["hint"] == (
+        "write Parallel([Rotate(angle_deg=90), PlayTone(frequency_hz=880), Wait(duration_s=1)])"
+    )
