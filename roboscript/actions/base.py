@@ -184,6 +184,23 @@ class Param:
                 pass
         return f'{self.kwarg}="{value}"'
 
+    def in_its_unit(self, keyword: str, value: object) -> str | None:
+        """This parameter written for ``keyword=value`` given in another unit
+        (``distance_mm=500, which is 50 cm`` for ``distance_cm=50``; ``distance_mm=..., in
+        mm`` when ``value`` is not a number), or ``None`` when ``keyword`` is not this
+        parameter in a unit of its kind."""
+        dimension = DIMENSIONS.get(self.kind)
+        stem = f"{self.name}_"
+        if dimension is None or not (keyword.startswith(stem) and self.kwarg.startswith(stem)):
+            return None
+        unit = keyword.removeprefix(stem).replace("_", "/")
+        if unit not in dimension.units or keyword == self.kwarg:
+            return None
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            return f"{self.kwarg}=..., in {dimension.base_unit}"
+        converted = parse_quantity(value, self.kind, default_unit=unit)
+        return f"{self.kwarg}={converted:g}, which is {value:g} {unit}"
+
     @property
     def example_value(self) -> str:
         """A value as a YAML mission writes it (``"20 cm"``), for messages."""

@@ -21,6 +21,7 @@ from __future__ import annotations
 import builtins
 import hashlib
 import importlib.util
+import linecache
 import logging
 import re
 import sys
@@ -31,7 +32,7 @@ from types import FrameType, ModuleType, TracebackType
 from typing import TYPE_CHECKING, Any
 
 import roboscript
-from roboscript.actions.base import Action, UnderSpecifiedError
+from roboscript.actions.base import Action, UnderSpecifiedError, params_of
 from roboscript.errors import (
     LinkError,
     MissionError,
@@ -39,6 +40,7 @@ from roboscript.errors import (
     did_you_mean,
     nearby_file,
 )
+from roboscript.mission.guards import guard_names
 from roboscript.mission.key_mistakes import meant_in_state_call
 from roboscript.mission.python_api import LOADED_PREFIX, state
 from roboscript.watchdog import CodePlace
@@ -321,18 +323,21 @@ def _import_problem(
         colno = getattr(frame, "colno", None)  # Python 3.11+
         col = colno + 1 if colno is not None else None
     raised_by_roboscript = bool(frames) and frames[-1].filename.startswith(str(_PACKAGE_DIR))
-    message, hint = _explain(exc, module, raised_by_roboscript, kind)
-    fixed = _state_call_fixed(exc, module, frame)
-    if fixed is not None:
-        message, hint = fixed
+    message, hint = _explain(exc, module, raised_by_roboscript, kind, frame)
     return MissionError(message, path=where, line=line, col=col, hint=hint)
 
 
 def _explain(
-    exc: BaseException, module: ModuleType, raised_by_roboscript: bool, kind: str
+    exc: BaseException,
+    module: ModuleType,
+    raised_by_roboscript: bool,
+    kind: str,
+    frame: traceback.FrameSummary | None = None,
 ) -> tuple[str, str | None]:
-    """A message and a hint for an exception raised while a student's file was imported."""
+    """A message and a hint for an exception raised while a student's file was imported
+    (``frame``: the student's line it was raised at)."""
     text = str(exc)
+    call = _call_at(module, frame)
     if isinstance(exc, SystemExit):
         return f"the {kind} file called exit() while it was loaded", None
     if isinstance(exc, UnderSpecifiedError) and raised_by_roboscript:
@@ -345,10 +350,13 @@ def _explain(
             owner, func, keyword = match.groups()
             callee = owner if func == "__init__" and owner else func
             meant = meant_in_state_call(keyword) if callee == "state" else None
-            return f"{callee}() has no parameter '{keyword}'", meant or did_you_mean(
-                keyword, _parameters(callee, module)
+            return f"{callee}() has no parameter '{keyword}'", meant or _meant_parameter(
+                callee, keyword, module, call
             )
         if _MORE_THAN_ONE_ACTION.match(text) and getattr(module, "state", None) is roboscript.state:
+            fixed = _state_call_fixed(call)
+            if fixed is not None:
+                return fixed
             return "a state runs one action, and this state(...) was given more", (
                 "to do one thing after another, give each its own state and go on with"
                 ' on_done="NEXT"; to do them at the same time, write state(Parallel([...]), ...)'
@@ -367,6 +375,11 @@ def _explain(
         name = getattr(exc, "name", None) or ""
         if name in _roboscript_names():
             return f"NameError: {text}", f"add 'from roboscript import {name}'"
+        if name == "self" and frame is not None:
+            line = linecache.getline(frame.filename, frame.lineno or 0)
+            meant = _self_in_class_body(line[getattr(frame, "colno", None) or 0 :], module)
+            if meant is not None:
+                return f"NameError: {text}", meant
         what = _class_members(module).get(name)
         if what is not None:
             return f"NameError: {text}", f"a {what} is named in quotes: write '{name}'"
@@ -394,31 +407,31 @@ def _explain(
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__, None
 
 
-def _state_call_fixed(
-    exc: BaseException, module: ModuleType, frame: traceback.FrameSummary | None
-) -> tuple[str, str] | None:
-    """``state(Drive(...), "end")`` or ``state(Drive(...), True, "end")``: values after the
-    action without their names, said with the call written with them
-    (``state(Drive(...), initial=True, on_done="end")``), or ``None`` for another mistake.
-    Read from the student's call where Python says it failed (Python 3.11 and later)."""
+def _call_at(module: ModuleType, frame: traceback.FrameSummary | None) -> ast.Call | None:
+    """The call in the student's file that Python says failed (Python 3.11 and later, which
+    keep the column), or ``None``."""
     import ast
 
-    if not (isinstance(exc, TypeError) and _MORE_THAN_ONE_ACTION.match(str(exc))):
-        return None
-    if getattr(module, "state", None) is not roboscript.state:
-        return None  # a function of the student's own called state
-    tree = _tree(module)
     colno = getattr(frame, "colno", None)
-    if tree is None or frame is None or colno is None:
+    tree = _tree(module) if frame is not None and colno is not None else None
+    if tree is None or frame is None:
         return None
     calls = [
         node
         for node in ast.walk(tree)
         if isinstance(node, ast.Call) and (node.lineno, node.col_offset) == (frame.lineno, colno)
     ]
-    if len(calls) != 1 or len(calls[0].args) < 2:
+    return calls[0] if len(calls) == 1 else None
+
+
+def _state_call_fixed(call: ast.Call | None) -> tuple[str, str] | None:
+    """``state(Drive(...), "end")`` or ``state(Drive(...), True, "end")``: values after the
+    action without their names, said with the call written with them
+    (``state(Drive(...), initial=True, on_done="end")``), or ``None`` for another mistake."""
+    import ast
+
+    if call is None or len(call.args) < 2:
         return None
-    call = calls[0]
     routes = iter(("on_done", "on_failed", "on_timeout"))
     named = []
     for value in call.args[1:]:
@@ -433,6 +446,62 @@ def _state_call_fixed(
     return (
         "state() takes one action, and everything after it with its name",
         f"write state({', '.join(written)})",
+    )
+
+
+_SELF_ATTRIBUTE = re.compile(r"\bself\.(\w+(?:\.\w+)*)")
+
+
+def _self_in_class_body(line: str, module: ModuleType) -> str | None:
+    """``when=[(self.bumper_hit, "stuck")]`` in the class body, where there is no ``self``:
+    a condition method is named in quotes, a sensor's reading written as text."""
+    found = _SELF_ATTRIBUTE.search(line)
+    if found is None:
+        return None
+    written = found.group(1)
+    what = _class_members(module).get(written)
+    if what == "condition" or (what == "state" and written in _states_written(module)):
+        return f"a {what} is named in quotes, without 'self.': write '{written}'"
+    if written.split(".")[0] in {name.split(".")[0] for name in guard_names()}:
+        return f"a condition written as text names the sensors without 'self.': write '{written}'"
+    return None
+
+
+def _states_written(module: ModuleType) -> set[str]:
+    """The names a class body of the file assigns ``state(...)`` to."""
+    import ast
+
+    tree = _tree(module)
+    names: set[str] = set()
+    for node in ast.walk(tree) if tree is not None else []:
+        if not (isinstance(node, ast.Assign) and isinstance(node.value, ast.Call)):
+            continue
+        func = node.value.func
+        called = func.id if isinstance(func, ast.Name) else getattr(func, "attr", None)
+        if called == "state":
+            names |= {t.id for t in node.targets if isinstance(t, ast.Name)}
+    return names
+
+
+def _meant_parameter(
+    callee: str, keyword: str, module: ModuleType, call: ast.Call | None
+) -> str | None:
+    """What ``callee(keyword=...)`` meant: the parameter in its own unit, with the value
+    converted (``distance_cm=50``: write ``distance_mm=500``), a look-alike, or the
+    parameters there are."""
+    import ast
+
+    cls = getattr(module, callee, None) or getattr(roboscript, callee, None)
+    if isinstance(cls, type) and issubclass(cls, Action):
+        given = [k.value for k in call.keywords if k.arg == keyword] if call is not None else []
+        value = given[0].value if given and isinstance(given[0], ast.Constant) else None
+        for param in params_of(cls):
+            written = param.in_its_unit(keyword, value)
+            if written is not None:
+                return f"write {written}"
+    names = _parameters(callee, module)
+    return did_you_mean(keyword, names) or (
+        f"its parameters: {', '.join(names)}" if names else None
     )
 
 

@@ -586,6 +586,36 @@ PYTHON_MISSION = (
             id="state-with-its-next-state-without-on-done",
         ),
         pytest.param(
+            'state(Drive(distance_cm=50), initial=True, on_done="end")',
+            "m.py:5:16: error: Drive() has no parameter 'distance_cm' (write distance_mm=500,"
+            " which is 50 cm)",
+            id="a-distance-in-centimetres",
+        ),
+        pytest.param(
+            'state(Wait(duration_ms=250), initial=True, on_done="end")',
+            "m.py:5:16: error: Wait() has no parameter 'duration_ms' (write duration_s=0.25,"
+            " which is 250 ms)",
+            id="a-time-in-milliseconds",
+        ),
+        pytest.param(
+            'state(Wait(seconds=2), initial=True, on_done="end")',
+            "m.py:5:16: error: Wait() has no parameter 'seconds' (its parameters: duration_s)",
+            id="a-parameter-like-none-of-its-own",
+        ),
+        pytest.param(
+            "state(Wait(duration_s=1), initial=True, on_done=self.end)",
+            "m.py:5:58: error: NameError: name 'self' is not defined (a state is named in"
+            " quotes, without 'self.': write 'end')",
+            id="a-state-named-with-self",
+        ),
+        pytest.param(
+            'state(Drive(distance_mm=500), initial=True, on_done="end",'
+            ' when=[(self.bumper.any, "end")])',
+            "m.py:5:76: error: NameError: name 'self' is not defined (a condition written as text"
+            " names the sensors without 'self.': write 'bumper.any')",
+            id="a-sensor-read-with-self-in-the-class-body",
+        ),
+        pytest.param(
             "Drive(distance_mm=500)",
             "m.py:5:10: error: 'go' is an action, not a state: a state runs it (write"
             " go = state(Drive(distance_mm=500), ...))",
@@ -617,3 +647,27 @@ def test_an_action_kept_for_states_to_run_is_no_mistake(tmp_path: Path) -> None:
     (tmp_path / "m.py").write_text(text, encoding="utf-8")
     result = run_cli("check", "m.py", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
+
+
+def test_a_condition_method_named_with_self_in_the_class_body_is_named_in_quotes(
+    tmp_path: Path,
+) -> None:
+    go = 'state(Drive(distance_mm=500), initial=True, on_done="end", when=[(self.hit, "end")])'
+    text = PYTHON_MISSION.format(go=go) + "\n    def hit(self) -> bool:\n        return True\n"
+    (tmp_path / "m.py").write_text(text, encoding="utf-8")
+    result = run_cli("check", "m.py", cwd=tmp_path)
+    assert result.stderr.splitlines()[0] == (
+        "m.py:5:76: error: NameError: name 'self' is not defined (a condition is named in"
+        " quotes, without 'self.': write 'hit')"
+    )
+
+
+def test_self_with_a_name_that_is_no_state_condition_or_sensor_gets_no_guess(
+    tmp_path: Path,
+) -> None:
+    go = 'state(Drive(distance_mm=self.side), initial=True, on_done="end")'
+    (tmp_path / "m.py").write_text(PYTHON_MISSION.format(go=go), encoding="utf-8")
+    result = run_cli("check", "m.py", cwd=tmp_path)
+    assert (
+        result.stderr.splitlines()[0] == "m.py:5:34: error: NameError: name 'self' is not defined"
+    )
