@@ -35,6 +35,7 @@ from roboscript import capabilities as cap
 from roboscript.actions.base import Action
 from roboscript.actions.composite import Parallel, Repeat
 from roboscript.errors import InputError, LinkError, did_you_mean
+from roboscript.inputs.quantities import DIMENSIONS, parse_quantity
 from roboscript.inputs.source import Location
 from roboscript.mission.builder import MissionBuilder
 from roboscript.mission.guards import GuardEnv, guard_names
@@ -64,19 +65,54 @@ def nested_missions(action: object) -> Iterator[type[Mission]]:
             yield from nested_missions(child)
 
 
-def _reading_names(sensor: str) -> list[str]:
-    """What ``self.SENSOR`` of a mission has (``distance_cm``, ...), or ``[]`` when ``SENSOR``
-    is not one of the Mission's sensor readings."""
+def _reading_class(sensor: str) -> type | None:
+    """The class of ``self.SENSOR`` of a mission (``RangeReading``), or ``None`` when
+    ``SENSOR`` is not one of the Mission's sensor readings."""
     prop = inspect.getattr_static(Mission, sensor, None)
     if not isinstance(prop, property) or prop.fget is None:
-        return []
+        return None
     try:
         reading = typing.get_type_hints(prop.fget).get("return")
     except (NameError, TypeError):
-        return []
+        return None
     if not isinstance(reading, type) or not reading.__name__.endswith("Reading"):
-        return []
-    return [name for name in vars(reading) if not name.startswith("_")]
+        return None
+    return reading
+
+
+def _reading_names(sensor: str) -> list[str]:
+    """What ``self.SENSOR`` of a mission has (``distance_cm``, ...), or ``[]`` when ``SENSOR``
+    is not one of the Mission's sensor readings."""
+    reading = _reading_class(sensor)
+    return [] if reading is None else [name for name in vars(reading) if not name.startswith("_")]
+
+
+def _as_number(text: str, read: str) -> str:
+    """How to write ``text`` (``"20 cm"``) as the number ``read`` (``self.range.distance_cm``)
+    is compared with: in the unit its name ends with."""
+    unit = read.rsplit(".", 1)[-1].rpartition("_")[2]
+    for kind, dimension in DIMENSIONS.items():
+        if unit not in dimension.units:
+            continue
+        try:
+            value = parse_quantity(text, kind) / dimension.units[unit]
+        except ValueError:
+            continue
+        return f"compare it with a number in {unit}: {text!r} is {value:g}"
+    return f"compare it with a number, in the unit its name ends with, e.g. {read} < 20"
+
+
+def _reading_value(node: ast.expr) -> str | None:
+    """``self.range.distance_cm`` as written, when ``node`` reads a value of a sensor (a
+    number or True/False, not a method), else ``None``."""
+    if not (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Attribute)):
+        return None
+    sensor = node.value
+    if not (isinstance(sensor.value, ast.Name) and sensor.value.id == "self"):
+        return None
+    reading = _reading_class(sensor.attr)
+    value = inspect.getattr_static(reading, node.attr, None) if reading is not None else None
+    return f"self.{sensor.attr}.{node.attr}" if isinstance(value, property) else None
 
 
 def _always_returns(body: list[ast.stmt]) -> bool:
@@ -229,6 +265,12 @@ class _Scan:
     falls_off: ast.stmt | None = None  # the last statement, when the code can run past it
     # ``Rotate(...)`` made in the method: (the call, the action's class name)
     actions: list[tuple[ast.Call, str]] = field(default_factory=list)
+    # ``self.bumper.any()``: a sensor's value called as a function (the call, as written)
+    called_values: list[tuple[ast.Call, str]] = field(default_factory=list)
+    # ``self.range.distance_cm < "20 cm"``: a sensor's value compared with text
+    text_compared: list[tuple[ast.Constant, str]] = field(default_factory=list)
+    # ``self.visits(side)``: a state named without quotes
+    unquoted_states: list[ast.Name] = field(default_factory=list)
 
 
 def _walk_own(node: ast.AST) -> Iterator[ast.AST]:
@@ -805,6 +847,25 @@ class _Compiler:
                 f"run it in a state of its own, e.g. turn = state({action}(...), ...), and go"
                 f" there when the condition holds: when=[('{name}', 'turn')]",
             )
+        for call, read in scan.called_values:
+            self.problem(
+                f"{read} is a value, not a function: it is read without ()",
+                where_in(call),
+                f"write {read}",
+            )
+        for text, read in scan.text_compared:
+            self.problem(
+                f"{read} is compared with the text {text.value!r}, and a sensor's value is a"
+                " number (or True/False)",
+                where_in(text),
+                _as_number(str(text.value), read),
+            )
+        for unquoted in scan.unquoted_states:
+            self.problem(
+                f"visits({unquoted.id}) names the state '{unquoted.id}' without quotes",
+                where_in(unquoted),
+                f"write self.visits('{unquoted.id}')",
+            )
         if scan.returns_text is not None:
             self.problem(
                 f"condition method '{name}' returns the text {scan.returns_text.value!r},"
@@ -909,6 +970,16 @@ class _Compiler:
                 result.capabilities |= inner.capabilities
                 result.states.update(inner.states)
         for child in _walk_own(node):
+            if isinstance(child, ast.Call) and (read := _reading_value(child.func)) is not None:
+                result.called_values.append((child, read))
+            if isinstance(child, ast.Compare):
+                operands = [child.left, *child.comparators]
+                read = next(filter(None, map(_reading_value, operands)), None)
+                text = [
+                    o for o in operands if isinstance(o, ast.Constant) and isinstance(o.value, str)
+                ]
+                if read is not None and text:
+                    result.text_compared.append((text[0], read))
             if (
                 isinstance(child, ast.Call)
                 and isinstance(child.func, ast.Attribute)
@@ -916,10 +987,12 @@ class _Compiler:
                 and isinstance(child.func.value, ast.Name)
                 and child.func.value.id == "self"
                 and child.args
-                and isinstance(child.args[0], ast.Constant)
-                and isinstance(child.args[0].value, str)
             ):
-                result.states[child.args[0].value] = child.args[0]
+                given = child.args[0]
+                if isinstance(given, ast.Constant) and isinstance(given.value, str):
+                    result.states[given.value] = given
+                elif isinstance(given, ast.Name) and given.id in self.names:
+                    result.unquoted_states.append(given)
         return result
 
 

@@ -747,3 +747,36 @@ class Lesson(Mission):
         ("drive", "play_tone"),
     )
     assert (spin.name, spin.kwargs["times"], spin.kwargs["action"]) == ("repeat", 4, "rotate")
+
+
+def test_a_sensor_value_misused_in_a_condition_method_is_found_at_check(tmp_path: Path) -> None:
+    body = """\
+class Lesson(Mission):
+    go = state(Drive(distance_mm=300), initial=True, on_done="end",
+               when=[("bumped", "end"), ("near", "end"), ("again", "end")])
+    end = state(final="success")
+
+    def bumped(self):
+        return self.bumper.any()
+
+    def near(self):
+        return self.range.distance_cm < "20 cm"
+
+    def again(self):
+        return self.visits(go) > 1
+"""
+    assert problems(tmp_path, body) == [
+        (
+            "lesson.py:12:16: error: self.bumper.any is a value, not a function: it is read"
+            " without () (write self.bumper.any)"
+        ),
+        (
+            "lesson.py:15:41: error: self.range.distance_cm is compared with the text '20 cm', and"
+            " a sensor's value is a number (or True/False) (compare it with a number in cm:"
+            " '20 cm' is 20)"
+        ),
+        (
+            "lesson.py:18:28: error: visits(go) names the state 'go' without quotes (write"
+            " self.visits('go'))"
+        ),
+    ]
