@@ -381,6 +381,11 @@ def _explain(
             if meant is not None:
                 return f"NameError: {text}", meant
         what = _class_members(module).get(name)
+        if what in ("action", "value"):  # turn = Rotate(...), size = 500: set below its use
+            return f"NameError: {text}", (
+                f"'{name}' is set further down in the class, but Python runs a class from the"
+                " top: set it above the line that uses it"
+            )
         if what is not None:
             return f"NameError: {text}", f"a {what} is named in quotes: write '{name}'"
         below = _defined_at(module).get(name)
@@ -460,27 +465,11 @@ def _self_in_class_body(line: str, module: ModuleType) -> str | None:
         return None
     written = found.group(1)
     what = _class_members(module).get(written)
-    if what == "condition" or (what == "state" and written in _states_written(module)):
+    if what in ("condition", "state"):
         return f"a {what} is named in quotes, without 'self.': write '{written}'"
     if written.split(".")[0] in {name.split(".")[0] for name in guard_names()}:
         return f"a condition written as text names the sensors without 'self.': write '{written}'"
     return None
-
-
-def _states_written(module: ModuleType) -> set[str]:
-    """The names a class body of the file assigns ``state(...)`` to."""
-    import ast
-
-    tree = _tree(module)
-    names: set[str] = set()
-    for node in ast.walk(tree) if tree is not None else []:
-        if not (isinstance(node, ast.Assign) and isinstance(node.value, ast.Call)):
-            continue
-        func = node.value.func
-        called = func.id if isinstance(func, ast.Name) else getattr(func, "attr", None)
-        if called == "state":
-            names |= {t.id for t in node.targets if isinstance(t, ast.Name)}
-    return names
 
 
 def _meant_parameter(
@@ -532,7 +521,9 @@ def _values_without_names(
 
 def _class_members(module: ModuleType) -> dict[str, str]:
     """What the student's file defines in a class body, by name: ``state`` for an assignment
-    (the states of a mission), ``condition`` for a method.
+    (the states of a mission), ``condition`` for a method, ``action`` for an action kept for
+    states to run (``turn = Rotate(angle_deg=90)``), ``value`` for a number or text kept
+    (``side_mm = 500``).
 
     Read from the source, since the class that defines them is still being built when a
     state refers to a later one without quotes."""
@@ -555,9 +546,14 @@ def _class_members(module: ModuleType) -> dict[str, str]:
                 if isinstance(statement, ast.AnnAssign)
                 else []
             )
+            value = getattr(statement, "value", None)
+            called = value.func if isinstance(value, ast.Call) else None
+            made = getattr(roboscript, called.id, None) if isinstance(called, ast.Name) else None
+            kept = isinstance(made, type) and issubclass(made, Action)
+            plain = isinstance(value, ast.Constant)
             for target in targets:
                 if isinstance(target, ast.Name):
-                    members[target.id] = "state"
+                    members[target.id] = "action" if kept else "value" if plain else "state"
     return members
 
 

@@ -671,3 +671,21 @@ def test_self_with_a_name_that_is_no_state_condition_or_sensor_gets_no_guess(
     assert (
         result.stderr.splitlines()[0] == "m.py:5:34: error: NameError: name 'self' is not defined"
     )
+
+
+@pytest.mark.parametrize(
+    ("kept", "used"),
+    [("turn = Rotate(angle_deg=90)", "turn"), ("side_mm = 500", "Drive(distance_mm=side_mm)")],
+)
+def test_an_action_or_value_kept_below_the_state_using_it_says_to_set_it_above(
+    tmp_path: Path, kept: str, used: str
+) -> None:
+    go = f'state({used}, initial=True, on_done="end")'
+    text = PYTHON_MISSION.format(go=go) + f"    {kept}\n"
+    (tmp_path / "m.py").write_text(text, encoding="utf-8")
+    result = run_cli("check", "m.py", cwd=tmp_path)
+    name = kept.split(" ")[0]
+    assert result.stderr.splitlines()[0].endswith(
+        f"error: NameError: name '{name}' is not defined ('{name}' is set further down in the"
+        " class, but Python runs a class from the top: set it above the line that uses it)"
+    )
