@@ -27,7 +27,7 @@ from roboscript.errors import (
     InputError,
     RoboscriptError,
 )
-from roboscript.interrupts import exit_status_for, reason_for
+from roboscript.interrupts import exit_status_for, raise_dropped, reason_for
 from roboscript.interrupts import install as install_interrupts
 from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
 
@@ -176,6 +176,8 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
             )
         else:
             _err(f"{result.outcome}: {result.reason}")
+        if interrupted and result.reason != session.interrupted_by:  # the mission had ended
+            _err(f"error: {session.interrupted_by}")
     outputs_ok = _write_plot(args.plot, result, sim) if args.plot else True
     if session.wire_log_error is not None:  # said now: the robot is stopped
         _err(f"error: {session.wire_log_error}")
@@ -1001,6 +1003,9 @@ def main(argv: Sequence[str] | None = None) -> NoReturn:
             format="roboscript: %(message)s",
         )
         code = args.func(args)
+        # A signal that landed in a finalizer, where Python can only drop it, ends the program
+        # as any other (a run raises it at once; this is for the rest of the program's time).
+        raise_dropped()
     except InputError as exc:
         if args.debug:
             raise

@@ -12,14 +12,19 @@ out, so pressing Ctrl-C twice cannot cut the stop in half; a further signal in t
 at once, so a stop stuck on a dead port can still be ended.
 
 Code may catch a signal's exception and drop it (a student's bare ``except:``; the state-machine
-library logs and drops anything raised in the last step of a transition); :func:`kept` raises
-such a signal again as soon as that code returns (the scheduler wraps each tick in it), so it
-still ends the run.
+library logs and drops anything raised in the last step of a transition; pyserial's socket port
+ignores every exception while it closes); :func:`kept` raises such a signal again as soon as that
+code returns (the scheduler wraps each tick in it, the robot its handshake and its close), so it
+still ends the run. A signal that lands while Python runs a finalizer (a ``__del__``, a weak
+reference's callback: they run wherever memory is freed) can only be dropped there; it is kept
+as well (:func:`install` hooks :data:`sys.unraisablehook`, silently) and raised at the next
+:func:`kept` block's start or end, or by :func:`raise_dropped`.
 """
 
 from __future__ import annotations
 
 import signal
+import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 from types import FrameType
@@ -31,6 +36,7 @@ __all__ = [
     "exit_status_for",
     "install",
     "kept",
+    "raise_dropped",
     "reason_for",
 ]
 
@@ -91,6 +97,8 @@ _raised = 0
 """How many signals have been raised as :class:`Interrupted` (what :func:`kept` compares)."""
 _last_signum: int = signal.SIGINT
 """The signal most recently raised."""
+_dropped: int | None = None
+"""A signal raised inside a finalizer, where Python could only drop it, not raised again yet."""
 
 
 def _raise_now(signum: int) -> None:
@@ -129,6 +137,18 @@ def deferred() -> Iterator[None]:
             _raise_now(signum)
 
 
+def raise_dropped() -> None:
+    """Raise, as :class:`Interrupted`, a signal a finalizer dropped since the last check.
+
+    Raises:
+        Interrupted: A signal landed in a finalizer (where it could not be raised).
+    """
+    global _dropped
+    if _dropped is not None:
+        signum, _dropped = _dropped, None
+        raise Interrupted(signum)
+
+
 @contextmanager
 def kept() -> Iterator[None]:
     """Raise again, when the block returns, a signal that code inside it caught and dropped.
@@ -136,15 +156,40 @@ def kept() -> Iterator[None]:
     For calls into libraries that catch every exception somewhere (``transitions`` logs and
     drops whatever is raised while it finalises an event, a :class:`KeyboardInterrupt`
     included): a signal landing there would otherwise be lost and the run go on. A signal the
-    block lets out is raised as usual; nothing is delayed.
+    block lets out is raised as usual; nothing is delayed. A signal a finalizer dropped before
+    the block is raised as it starts (:func:`raise_dropped`).
     """
+    global _dropped
+    raise_dropped()
     before = _raised
     yield
     if _raised != before:
+        _dropped = None  # this is that signal: it is raised once
         raise Interrupted(_last_signum)
 
 
+def _unraisable(unraisable: sys.UnraisableHookArgs) -> None:
+    """Keep a signal raised inside a finalizer; show every other unraisable error as usual."""
+    global _dropped
+    if isinstance(unraisable.exc_value, Interrupted) and unraisable.exc_value.signum in _SIGNUMS:
+        if _dropped is None:  # the first signal stays the reason
+            _dropped = unraisable.exc_value.signum
+        return  # no traceback: the run ends with the signal's own sentence
+    _previous_hook(unraisable)
+
+
+_SIGNUMS = frozenset(int(signum) for signum in HANDLED_SIGNALS)
+_previous_hook = sys.unraisablehook
+
+
 def install() -> None:
-    """Make every signal in :data:`HANDLED_SIGNALS` raise :class:`Interrupted`."""
+    """Make every signal in :data:`HANDLED_SIGNALS` raise :class:`Interrupted`.
+
+    A signal landing in a finalizer is kept for :func:`kept` and :func:`raise_dropped`.
+    """
+    global _previous_hook
     for signum in HANDLED_SIGNALS:
         signal.signal(signum, _raise)
+    if sys.unraisablehook is not _unraisable:
+        _previous_hook = sys.unraisablehook
+        sys.unraisablehook = _unraisable

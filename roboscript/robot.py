@@ -26,10 +26,11 @@ from roboscript.clock import Clock, MonotonicClock, SimClock
 from roboscript.drivers import driver_class
 from roboscript.drivers.recognise import handshake_failure, wrong_robot_hint
 from roboscript.errors import CapabilityError, LinkError, LinkTimeoutError
-from roboscript.interrupts import deferred
+from roboscript.interrupts import deferred, kept
 from roboscript.profiles import RobotProfile, get_profile, register_profile
 from roboscript.scheduler import Scheduler
 from roboscript.transport import Link, open_port
+from roboscript.transport.link import PortLike, close_port
 from roboscript.transport.wirelog import WireLog
 from roboscript.watchdog import cpu_wait_s
 
@@ -114,48 +115,50 @@ class Robot:
         register_profile(profile)
         url = port or _sim_url(profile.name, world, seed, start)
         driver_cls = driver_class(profile.protocol)
-        serial_port = open_port(url, baudrate=profile.baudrate)
-        simulation = getattr(serial_port, "simulation", None)
-        # A port in a browser tab brings the page's clock: waiting there must let the page
-        # run (its port reads, its Stop button), which only the page's clock can do.
-        clock: Clock = getattr(serial_port, "clock", None) or (
-            SimClock() if simulation is not None and not realtime else MonotonicClock()
-        )
-        scheduler = Scheduler(clock, period_s)
-        log = WireLog(wire_log) if wire_log else None
-        link = Link(
-            serial_port, driver_cls.make_codec(profile), clock=clock, wire_log=log, name=url
-        )
-        driver = driver_cls(link, profile, clock)
-        if simulation is not None:
-            scheduler.add(simulation, "sense")
-        scheduler.add(driver.tick, "sense")
-        scheduler.add(driver.flush, "act")
-        other = _OtherProtocol(profile.protocol)  # a SPIKE hub need not be waited 20 s for
+        opened = _Opened()
         try:
-            driver.start()
-            answered = _wait_for_handshake(
-                scheduler,
-                lambda: bool(driver.ready) or other.heard(link.heard),
-                profile.handshake_timeout_s,
-                on_wall_clock=isinstance(clock, MonotonicClock),
-            )
-        except LinkError as exc:  # a driver that gave up: was it another robot?
-            driver.stop_all()
-            link.close()
-            if wrong_robot_hint(bytes(link.heard), profile.protocol) is None:
-                raise
+            # A signal that something on the way drops (a finalizer, a library that ignores
+            # every exception) still ends the connection here, with the port closed.
+            with kept():
+                log = opened.log = WireLog(wire_log) if wire_log else None
+                serial_port = opened.port = open_port(url, baudrate=profile.baudrate)
+                simulation = getattr(serial_port, "simulation", None)
+                # A port in a browser tab brings the page's clock: waiting there must let the
+                # page run (its port reads, its Stop button), which only the page's clock can.
+                clock: Clock = getattr(serial_port, "clock", None) or (
+                    SimClock() if simulation is not None and not realtime else MonotonicClock()
+                )
+                link = opened.link = Link(
+                    serial_port, driver_cls.make_codec(profile), clock=clock, wire_log=log, name=url
+                )
+                scheduler = Scheduler(clock, period_s)
+                driver = opened.driver = driver_cls(link, profile, clock)
+                if simulation is not None:
+                    scheduler.add(simulation, "sense")
+                scheduler.add(driver.tick, "sense")
+                scheduler.add(driver.flush, "act")
+                other = _OtherProtocol(profile.protocol)  # a SPIKE hub need not be waited 20 s for
+                driver.start()
+                answered = _wait_for_handshake(
+                    scheduler,
+                    lambda: bool(driver.ready) or other.heard(link.heard),
+                    profile.handshake_timeout_s,
+                    on_wall_clock=isinstance(clock, MonotonicClock),
+                )
+        except LinkError as exc:  # a port that did not open, or a driver that gave up
+            opened.abandon()
+            if opened.link is None or wrong_robot_hint(bytes(link.heard), profile.protocol) is None:
+                raise  # was it another robot? only a link that heard something can tell
             raise LinkTimeoutError(
                 handshake_failure(
                     profile.name, profile.protocol, url, bytes(link.heard), link.bytes_sent, ""
                 )
             ) from exc
         except BaseException:
-            driver.stop_all()
-            link.close()
+            opened.abandon()
             raise
         if not (answered and driver.ready):  # not ready: another protocol was heard
-            link.close()
+            opened.abandon()
             waited = f"within {profile.handshake_timeout_s:g} s"
             raise LinkTimeoutError(
                 handshake_failure(
@@ -236,20 +239,26 @@ class Robot:
         """Stop every actuator now (sends the stop command).
 
         A Ctrl-C, SIGTERM or SIGHUP arriving meanwhile waits until the stop has gone out
-        (:func:`roboscript.interrupts.deferred`); nothing else is raised.
+        (:func:`roboscript.interrupts.deferred`), then is raised; nothing else is.
         """
-        with deferred():
+        with deferred(), kept():
             self.driver.stop_all()
 
     def close(self) -> None:
-        """Stop the robot, then close the port. Safe to call more than once."""
+        """Stop the robot, then close the port. Safe to call more than once.
+
+        A Ctrl-C, SIGTERM or SIGHUP arriving meanwhile is raised once the port is closed,
+        even when the port's own close swallows it (pyserial's ``socket://`` port ignores
+        every exception while it closes).
+        """
         if self._closed:
             return
         self._closed = True
-        try:
-            self.stop()
-        finally:
-            self.driver.link.close()
+        with kept():
+            try:
+                self.stop()
+            finally:
+                self.driver.link.close()
 
     def __enter__(self) -> Self:
         return self
@@ -293,6 +302,37 @@ def _wait_for_handshake(
         given_s += owed_s
         answered = scheduler.run(until=until, max_duration_s=owed_s)
     return answered
+
+
+class _Opened:
+    """What :meth:`Robot.connect` has opened so far, to stop and close if it gives up."""
+
+    def __init__(self) -> None:
+        self.log: WireLog | None = None
+        self.port: PortLike | None = None
+        self.link: Link | None = None
+        self.driver: Driver | None = None
+
+    def abandon(self) -> None:
+        """Stop the robot (if a driver got that far), then close the port and the wire log.
+
+        A signal meanwhile waits for the stop, as in :meth:`Robot.stop`, and is raised once
+        everything is closed.
+        """
+        try:
+            if self.driver is not None:
+                with deferred():
+                    self.driver.stop_all()
+        finally:
+            if self.link is not None:
+                self.link.close()  # the port, then the wire log
+            else:
+                try:
+                    if self.port is not None:
+                        close_port(self.port, "the robot")
+                finally:
+                    if self.log is not None:
+                        self.log.close()
 
 
 class _OtherProtocol:

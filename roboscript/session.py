@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
 
 from roboscript.errors import LinkError
-from roboscript.interrupts import exit_status_for, reason_for
+from roboscript.interrupts import Interrupted, exit_status_for, reason_for
 from roboscript.mission.cause import TransitionCause
 from roboscript.mission.channels import stamped_prints
 from roboscript.mission.runner import MissionResult, MissionRunner
@@ -98,6 +98,11 @@ class Session:
     start_time_s: float
     interrupted: int = 0
     code_stopped: Literal["", "hung", "too slow"] = ""
+
+    @property
+    def interrupted_by(self) -> str:
+        """What ended the run, when a signal did (``interrupted``); else ``""``."""
+        return Interrupted(self.interrupted - 128).reason if self.interrupted else ""
 
     @property
     def simulation(self) -> Any:
@@ -193,60 +198,68 @@ def run_session(
     robot = Robot.connect(
         profile, port, world=world, seed=seed, start=start, realtime=realtime, wire_log=wire_log
     )
-    if world_map is None and robot.simulation is not None:
-        world_map = WorldMap.of(robot.simulation)
-    if on_connected is not None:
-        on_connected(robot)
-    sim = robot.simulation
-    capabilities = robot.capabilities
-    if recording is not None:  # the mission's commands are seen on their way to the driver
-        capabilities = recording.attach(robot, spec, profile)
-    runner = MissionRunner(
-        spec,
-        capabilities,
-        robot_name=profile.name,
-        gains=profile.gains,
-        device_errors=robot.driver.take_device_error,
-        on_state=on_state,
-        # The path (for --json and grading) starts where the mission starts.
-        on_start=(lambda now_s: sim.start_mission()) if sim is not None else None,
-        # in_region places the robot's odometry at the start in the world's map: the same
-        # answer in-process and in a graded run, whose world is in the grader's process
-        regions=world_map.regions if world_map is not None else None,
-        origin=world_map.start if world_map is not None else None,
-    )
-    watchdog = (
-        Watchdog(
-            runaway_after_s,
-            stuck_at,
-            budget=TICK_BUDGET,
-            on_slow=(
-                None
-                if on_slow_tick is None
-                else (lambda spent_s, where: on_slow_tick(TICK_BUDGET.slow_message(spent_s, where)))
-            ),
-            # A real robot's driver may wait on its port inside a tick, and a run paced to the
-            # wall clock shares its process with the live view's threads (a wait for the
-            # interpreter's lock is not told apart from the code's own time): warn only.
-            end_when_too_slow=sim is not None and not realtime,
-            watched=is_student_file,
+    try:  # from here on, every way out (a signal while the run is set up too) stops the robot
+        if world_map is None and robot.simulation is not None:
+            world_map = WorldMap.of(robot.simulation)
+        if on_connected is not None:
+            on_connected(robot)
+        sim = robot.simulation
+        capabilities = robot.capabilities
+        if recording is not None:  # the mission's commands are seen on their way to the driver
+            capabilities = recording.attach(robot, spec, profile)
+        runner = MissionRunner(
+            spec,
+            capabilities,
+            robot_name=profile.name,
+            gains=profile.gains,
+            device_errors=robot.driver.take_device_error,
+            on_state=on_state,
+            # The path (for --json and grading) starts where the mission starts.
+            on_start=(lambda now_s: sim.start_mission()) if sim is not None else None,
+            # in_region places the robot's odometry at the start in the world's map: the same
+            # answer in-process and in a graded run, whose world is in the grader's process
+            regions=world_map.regions if world_map is not None else None,
+            origin=world_map.start if world_map is not None else None,
         )
-        if runaway_after_s is not None
-        else None
-    )
-    robot.scheduler.add(runner if watchdog is None else watchdog.timed(runner.tick), "think")
-    if on_tick is not None:
+        watchdog = (
+            Watchdog(
+                runaway_after_s,
+                stuck_at,
+                budget=TICK_BUDGET,
+                on_slow=(
+                    None
+                    if on_slow_tick is None
+                    else (
+                        lambda spent_s, where: on_slow_tick(
+                            TICK_BUDGET.slow_message(spent_s, where)
+                        )
+                    )
+                ),
+                # A real robot's driver may wait on its port inside a tick, and a run paced to the
+                # wall clock shares its process with the live view's threads (a wait for the
+                # interpreter's lock is not told apart from the code's own time): warn only.
+                end_when_too_slow=sim is not None and not realtime,
+                watched=is_student_file,
+            )
+            if runaway_after_s is not None
+            else None
+        )
+        robot.scheduler.add(runner if watchdog is None else watchdog.timed(runner.tick), "think")
+        if on_tick is not None:
 
-        def after_tick(now_s: float, dt_s: float) -> None:
-            on_tick(runner, robot)
+            def after_tick(now_s: float, dt_s: float) -> None:
+                on_tick(runner, robot)
 
-        robot.scheduler.add(after_tick, "after")
-    if recording is not None:
+            robot.scheduler.add(after_tick, "after")
+        if recording is not None:
 
-        def record_tick(now_s: float, dt_s: float) -> None:
-            recording.tick(runner)
+            def record_tick(now_s: float, dt_s: float) -> None:
+                recording.tick(runner)
 
-        robot.scheduler.add(record_tick, "after")
+            robot.scheduler.add(record_tick, "after")
+    except BaseException:
+        robot.close()
+        raise
     interrupted = 0
     code_stopped: Literal["", "hung", "too slow"] = ""
     try:
@@ -279,6 +292,9 @@ def run_session(
                 runner.finish("failure", f"the mission did not finish within {max_time_s:g} s")
     except LinkError as exc:
         runner.finish("error", str(exc))
+    except KeyboardInterrupt as exc:  # while the robot was told to stop and its port closed
+        interrupted = interrupted or exit_status_for(exc)  # the first signal is the reason
+        runner.finish("error", reason_for(exc))  # a mission that had ended keeps its outcome
     session = Session(runner.result, robot, profile, runner.start_time_s, interrupted, code_stopped)
     if recording is not None:
         recording.finish(session_record(session))

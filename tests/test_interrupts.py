@@ -18,7 +18,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from helpers import HANG_BOUND_S, ROOT
+from helpers import HANG_BOUND_S, ROOT, served_simulator
 
 from roboscript.clock import SimClock
 from roboscript.interrupts import (
@@ -106,12 +106,14 @@ def test_a_signal_mid_mission_stops_the_robot_then_exits_with_its_status(
 @pytest.fixture
 def handlers() -> Iterator[None]:
     saved = {signum: signal.getsignal(signum) for signum in HANDLED_SIGNALS}
+    hook = sys.unraisablehook
     install()
     try:
         yield
     finally:
         for signum, handler in saved.items():
             signal.signal(signum, handler)
+        sys.unraisablehook = hook
 
 
 @pytest.mark.usefixtures("handlers")
@@ -248,3 +250,161 @@ def test_a_signal_while_the_program_starts_ends_it_in_one_line(
         signum = getattr(signal, name)
         assert done.stderr == f"error: {Interrupted(signum).reason}\n", (command, done.stderr)
         assert done.returncode == 128 + signum
+
+
+# A module that makes the program signal itself at one chosen call into the standard library
+# (SIGNAL_AT, the SIGNAL_NTH such call; with SIGNAL_WHEN, only calls sending bytes that hold
+# it, or given an argument written so):
+# the signal lands in one phase of the run, on every machine, at whatever speed. With
+# SIGNAL_FROM=finalizer it lands while an object is being collected there, where Python can only
+# print an exception and drop it, as it does for a signal landing in any ``__del__``.
+SIGNAL_AT_CALL = """\
+import os, signal, socket, time
+
+_OWNERS = {"socket": socket, "socket.socket": socket.socket, "time": time}
+_owner_name, _, _attr = os.environ["SIGNAL_AT"].rpartition(".")
+_owner = _OWNERS[_owner_name]
+_original = getattr(_owner, _attr)
+_nth = int(os.environ.get("SIGNAL_NTH", "1"))
+_marker = os.environ.get("SIGNAL_WHEN", "")
+_signum = getattr(signal, os.environ["SIGNAL_NAME"])
+_seen = [0]
+
+
+class _Finalised:
+    def __del__(self):
+        os.kill(os.getpid(), _signum)
+
+
+def _matches(arg):
+    if isinstance(arg, (bytes, bytearray, memoryview)):  # bytes sent: they hold the marker
+        return _marker.encode("latin-1") in bytes(arg)
+    return repr(arg) == _marker
+
+
+def _has_marker(args):
+    return any(_matches(arg) for arg in args)
+
+
+def _signalling(*args, **kwargs):
+    if not _marker or _has_marker(args):
+        _seen[0] += 1
+        if _seen[0] == _nth:
+            if os.environ.get("SIGNAL_FROM") == "finalizer":
+                _Finalised()  # collected at once: the signal lands inside its __del__
+            else:
+                os.kill(os.getpid(), _signum)
+    return _original(*args, **kwargs)
+
+
+setattr(_owner, _attr, _signalling)
+"""
+
+SHORT_DRIVE = """\
+mission: short drive
+initial: forward
+states:
+  forward:
+    do: {drive: {distance: 10 cm, speed: 15 cm/s}}
+    on: {done: finished, failed: finished}
+  finished:
+    final: success
+"""
+
+
+def _run_signalled(
+    tmp_path: Path, port: int, url_options: str, name: str, **where: str
+) -> tuple[subprocess.CompletedProcess[str], Path]:
+    """``roboscript run`` a short drive on a served MIRTO, signalled where ``where`` says."""
+    (tmp_path / "sitecustomize.py").write_text(SIGNAL_AT_CALL, encoding="utf-8")
+    mission = tmp_path / "short.yaml"
+    mission.write_text(SHORT_DRIVE, encoding="utf-8")
+    log = tmp_path / "wire.log"
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(tmp_path), str(ROOT)]),
+        "SIGNAL_NAME": name,
+        **where,
+    }
+    done = subprocess.run(
+        [
+            *(sys.executable, "-m", "roboscript", "run", str(mission), "--robot", "mirto"),
+            *("--port", f"socket://127.0.0.1:{port}{url_options}", "--wire-log", str(log)),
+        ],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=HANG_BOUND_S,
+        check=False,
+    )
+    return done, log
+
+
+def _ended_by(done: subprocess.CompletedProcess[str], name: str) -> None:
+    signum = getattr(signal, name)
+    assert done.returncode == 128 + signum, done.stderr
+    assert "Traceback" not in done.stderr
+    assert "Exception ignored" not in done.stderr
+    assert done.stderr.strip().splitlines()[-1] == f"error: {Interrupted(signum).reason}"
+
+
+def _left_stopped(log: Path) -> float:
+    """The most power the run's bytes drove at; fails if they leave the robot driving."""
+    if not log.exists() or not any(d == ">" for _, d, _ in read_wire_log(log)):
+        return 0.0  # nothing was sent: nothing can be driving
+    most, end = _replayed_power("mirto", log)
+    assert all(abs(p) < 1e-6 for p in end), f"left driving at {end}"
+    return most
+
+
+# Where each phase of a run is, seen from the calls it makes into the standard library. A
+# socket:// URL with options goes through pyserial's port (its close swallows every exception);
+# a plain one through roboscript's own.
+PYSERIAL = "?logging=warning"
+PHASES = {
+    "connecting": ("", {"SIGNAL_AT": "socket.create_connection"}),
+    "sending the first handshake request": ("", {"SIGNAL_AT": "socket.socket.send"}),
+    "waiting for the handshake's answer": ("", {"SIGNAL_AT": "socket.socket.recv"}),
+    # the second speed sent: the first has set the wheels turning
+    "driving": ("", {"SIGNAL_AT": "socket.socket.send", "SIGNAL_WHEN": "M,R,", "SIGNAL_NTH": "2"}),
+    # the first M,M,0,0 is part of the handshake's setup; the second is the stop at the end
+    "sending the stop": (
+        "",
+        {"SIGNAL_AT": "socket.socket.send", "SIGNAL_WHEN": "M,M,0,0", "SIGNAL_NTH": "2"},
+    ),
+    "closing the port": ("", {"SIGNAL_AT": "socket.socket.close"}),
+    "closing pyserial's port": (PYSERIAL, {"SIGNAL_AT": "socket.socket.shutdown"}),
+    "waiting in pyserial's close": (PYSERIAL, {"SIGNAL_AT": "time.sleep", "SIGNAL_WHEN": "0.3"}),
+}
+
+CASES = [
+    ("connecting", "SIGTERM", "call"),
+    ("connecting", "SIGINT", "finalizer"),
+    ("sending the first handshake request", "SIGHUP", "call"),
+    ("sending the first handshake request", "SIGTERM", "finalizer"),
+    ("waiting for the handshake's answer", "SIGINT", "finalizer"),
+    ("driving", "SIGHUP", "call"),
+    ("driving", "SIGTERM", "finalizer"),
+    ("sending the stop", "SIGINT", "call"),
+    ("sending the stop", "SIGTERM", "finalizer"),
+    ("closing the port", "SIGHUP", "call"),
+    ("closing the port", "SIGINT", "finalizer"),
+    ("closing pyserial's port", "SIGTERM", "call"),
+    ("waiting in pyserial's close", "SIGINT", "call"),
+]
+
+
+@pytest.mark.parametrize(
+    ("phase", "name", "landing"), CASES, ids=[f"{p}-{n}-{h}".replace(" ", "_") for p, n, h in CASES]
+)
+def test_a_signal_in_any_phase_of_a_run_stops_the_robot_and_ends_it_with_its_status(
+    tmp_path: Path, phase: str, name: str, landing: str
+) -> None:
+    options, where = PHASES[phase]
+    with served_simulator("mirto") as port:
+        done, log = _run_signalled(tmp_path, port, options, name, SIGNAL_FROM=landing, **where)
+    _ended_by(done, name)
+    most = _left_stopped(log)
+    if phase == "driving":
+        assert most > 0.1, "the robot never drove: the test proves nothing"

@@ -19,7 +19,7 @@ from roboscript.codec import Codec
 from roboscript.errors import LinkClosedError, RemoteProtocolError
 from roboscript.transport.wirelog import WireLog
 
-__all__ = ["Link", "PortLike"]
+__all__ = ["Link", "PortLike", "close_port"]
 
 logger = logging.getLogger(__name__)
 
@@ -37,6 +37,19 @@ class PortLike(Protocol):
     def write(self, data: bytes, /) -> int | None: ...
 
     def close(self) -> None: ...
+
+
+def close_port(port: PortLike, name: str) -> None:
+    """Close ``port``; one that fails to close is only logged: it is of no use either way.
+
+    Args:
+        port: The port.
+        name: The port's name, for the log.
+    """
+    try:
+        port.close()
+    except (serial.SerialException, OSError) as exc:
+        logger.debug("closing %s: %s", name, exc)
 
 
 class Link:
@@ -69,6 +82,7 @@ class Link:
         self.bytes_received = 0
         self.bytes_sent = 0
         self.closed = False
+        self._port_open = True
         self.heard = bytearray()
         """The first :data:`HEARD_BYTES` bytes received: a failed handshake names the
         protocol they are in (:mod:`roboscript.drivers.recognise`)."""
@@ -137,15 +151,19 @@ class Link:
             self.wire_log.record(self.clock.now(), ">", data)
 
     def close(self) -> None:
-        """Close the port and the wire log (safe to call twice)."""
-        if self.wire_log is not None:
-            self.wire_log.close()
-        if not self.closed:
-            self.closed = True
-            try:
-                self.port.close()
-            except (serial.SerialException, OSError) as exc:
-                logger.debug("closing %s: %s", self.name, exc)
+        """Close the port, then the wire log (safe to call twice).
+
+        The port is closed even when the connection was lost, and the wire log even when
+        closing the port is cut short (a signal).
+        """
+        self.closed = True
+        try:
+            if self._port_open:
+                self._port_open = False
+                close_port(self.port, self.name)
+        finally:
+            if self.wire_log is not None:
+                self.wire_log.close()
 
     def _fault(self, fault: RemoteProtocolError) -> None:
         if not self.faults[fault.kind]:

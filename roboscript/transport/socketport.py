@@ -112,13 +112,10 @@ class SocketPort:
         return len(data)
 
     def close(self) -> None:
-        """Close the connection (safe to call twice)."""
+        """Close the connection (safe to call twice).
+
+        There is no ``__del__``: the link closes its port on every way out, and a signal
+        landing in a finalizer could only be dropped there.
+        """
         self.is_open = False
         self._socket.close()
-
-    def __del__(self) -> None:
-        # pyserial's ports close themselves when collected (io.IOBase); so does this one,
-        # without the ResourceWarning a socket collected open would raise.
-        sock = getattr(self, "_socket", None)  # absent if the connection failed
-        if sock is not None:
-            sock.close()
