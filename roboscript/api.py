@@ -27,7 +27,6 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from roboscript.errors import InputError, RoboscriptError
-from roboscript.interrupts import Interrupted
 from roboscript.mission import fit_to_robot, mission_for_robot
 from roboscript.mission.builder import MissionProblemsError
 from roboscript.mission.checks import check_world_regions
@@ -271,8 +270,8 @@ def run(
         recording=recording,
         on_slow_tick=warn_slow,
     )
-    if session.interrupted:
-        raise Interrupted(session.interrupted - 128)  # the robot is stopped by now
+    if session.interruption is not None:
+        raise session.interruption  # the robot is stopped by now
     return _result(session, recording, [*(w.format() for w in warnings), *slow])
 
 

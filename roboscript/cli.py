@@ -176,8 +176,9 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
             )
         else:
             _err(f"{result.outcome}: {result.reason}")
-        if interrupted and result.reason != session.interrupted_by:  # the mission had ended
-            _err(f"error: {session.interrupted_by}")
+        ended_by = session.interruption
+        if ended_by is not None and result.reason != ended_by.reason:  # the mission had ended
+            _err(f"error: {ended_by.reason}")
     outputs_ok = _write_plot(args.plot, result, sim) if args.plot else True
     if session.wire_log_error is not None:  # said now: the robot is stopped
         _err(f"error: {session.wire_log_error}")

@@ -100,9 +100,9 @@ class Session:
     code_stopped: Literal["", "hung", "too slow"] = ""
 
     @property
-    def interrupted_by(self) -> str:
-        """What ended the run, when a signal did (``interrupted``); else ``""``."""
-        return Interrupted(self.interrupted - 128).reason if self.interrupted else ""
+    def interruption(self) -> Interrupted | None:
+        """The signal that ended the run (its status is ``interrupted``), or ``None``."""
+        return Interrupted(self.interrupted - 128) if self.interrupted else None
 
     @property
     def simulation(self) -> Any:

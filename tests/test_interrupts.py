@@ -28,6 +28,7 @@ from roboscript.interrupts import (
     exit_status_for,
     install,
     kept,
+    raise_dropped,
     reason_for,
 )
 from roboscript.mission.runner import MissionRunner
@@ -159,6 +160,67 @@ def test_a_signal_that_code_inside_drops_is_raised_again_when_it_returns() -> No
     assert raised.value.signum == signal.SIGTERM
     with kept():  # nothing is left over for the next block
         pass
+
+
+class _SignalsWhenCollected:
+    """An object whose finalizer signals the program: the signal lands inside ``__del__``."""
+
+    def __init__(self, signum: int) -> None:
+        self.signum = signum
+
+    def __del__(self) -> None:
+        os.kill(os.getpid(), self.signum)
+
+
+@pytest.mark.usefixtures("handlers")
+def test_a_signal_landing_in_a_finalizer_ends_the_next_block_before_it_runs(
+    capfd: pytest.CaptureFixture[str],
+) -> None:
+    ran: list[str] = []
+    _SignalsWhenCollected(signal.SIGHUP)  # collected at once; Python can only drop the error
+    ran.append("the program goes on")
+    with pytest.raises(Interrupted) as raised, kept():
+        ran.append("the block")
+    assert ran == ["the program goes on"]
+    assert raised.value.signum == signal.SIGHUP
+    assert "Exception ignored" not in capfd.readouterr().err  # the run's own sentence says why
+    raise_dropped()  # raised once: nothing is left over
+
+
+@pytest.mark.usefixtures("handlers")
+def test_a_signal_a_finalizer_drops_inside_a_block_is_raised_when_it_returns() -> None:
+    with pytest.raises(Interrupted) as raised, kept():
+        _SignalsWhenCollected(signal.SIGTERM)
+    assert raised.value.signum == signal.SIGTERM
+    with kept():  # raised once: nothing is left over for the next block
+        pass
+
+
+@pytest.mark.usefixtures("handlers")
+def test_a_signal_a_finalizer_dropped_outside_any_block_is_raised_when_asked() -> None:
+    _SignalsWhenCollected(signal.SIGINT)
+    with pytest.raises(Interrupted) as raised:
+        raise_dropped()
+    assert raised.value.exit_status == 130
+
+
+def test_other_errors_in_finalizers_are_still_reported_as_python_reports_them() -> None:
+    class Faulty:
+        def __del__(self) -> None:
+            raise ValueError("a bug in a finalizer")
+
+    reported: list[type[BaseException] | None] = []
+    saved = {signum: signal.getsignal(signum) for signum in HANDLED_SIGNALS}
+    hook = sys.unraisablehook
+    sys.unraisablehook = lambda unraisable: reported.append(unraisable.exc_type)
+    try:
+        install()
+        Faulty()
+    finally:
+        for signum, handler in saved.items():
+            signal.signal(signum, handler)
+        sys.unraisablehook = hook
+    assert reported == [ValueError]
 
 
 def _ticking(task: object) -> Scheduler:

@@ -95,3 +95,31 @@ def test_opening_a_missing_port_names_it() -> None:
 
     with pytest.raises(LinkError, match="cannot open /dev/nope-1"):
         open_port("/dev/nope-1")
+
+
+def test_a_lost_link_still_closes_its_port(pair: tuple[socket.socket, Link]) -> None:
+    peer, link = pair
+    peer.close()
+    with pytest.raises(LinkClosedError):
+        for _ in range(200):
+            link.poll()
+    link.close()
+    assert not link.port.is_open  # type: ignore[attr-defined]
+
+
+def test_a_signal_while_the_port_closes_still_closes_the_wire_log(
+    pair: tuple[socket.socket, Link], tmp_path: object, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    peer, link = pair
+    path = f"{tmp_path}/w.log"
+    link.wire_log = WireLog(path)
+    link.send(m.StopMotors())
+
+    def interrupted() -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(link.port, "close", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        link.close()
+    assert [data for _, _, data in read_wire_log(path)] == [b"M,S,0\n"]  # flushed: closed
+    peer.close()
