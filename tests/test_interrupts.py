@@ -323,7 +323,7 @@ def test_a_signal_while_the_program_starts_ends_it_in_one_line(
 SIGNAL_AT_CALL = """\
 import os, signal, socket, time
 
-_OWNERS = {"socket": socket, "socket.socket": socket.socket, "time": time}
+_OWNERS = {"os": os, "socket": socket, "socket.socket": socket.socket, "time": time}
 _owner_name, _, _attr = os.environ["SIGNAL_AT"].rpartition(".")
 _owner = _OWNERS[_owner_name]
 _original = getattr(_owner, _attr)
@@ -374,10 +374,40 @@ states:
 """
 
 
+@contextlib.contextmanager
+def _served(transport: str) -> Iterator[str]:
+    """A MIRTO served by ``roboscript sim`` (a real process); yields the URL to reach it on.
+
+    ``socket``: roboscript's own TCP port; ``pyserial socket``: the same URL with an option,
+    which pyserial's port serves (its close swallows every exception); ``pty``: a
+    pseudo-terminal, as a USB serial port is reached (pyserial's POSIX port).
+    """
+    if transport != "pty":
+        with served_simulator("mirto") as port:
+            yield f"socket://127.0.0.1:{port}" + (
+                "?logging=warning" if "pyserial" in transport else ""
+            )
+        return
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "roboscript", "sim", "--robot", "mirto", "--pty"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=ROOT,
+        env=dict(os.environ, PYTHONPATH=str(ROOT)),
+    )
+    try:
+        assert proc.stdout is not None
+        yield proc.stdout.readline().strip()
+    finally:
+        proc.terminate()
+        proc.wait(timeout=HANG_BOUND_S)
+
+
 def _run_signalled(
-    tmp_path: Path, port: int, url_options: str, name: str, **where: str
+    tmp_path: Path, url: str, name: str, **where: str
 ) -> tuple[subprocess.CompletedProcess[str], Path]:
-    """``roboscript run`` a short drive on a served MIRTO, signalled where ``where`` says."""
+    """``roboscript run`` a short drive on the MIRTO at ``url``, signalled where ``where`` says."""
     (tmp_path / "sitecustomize.py").write_text(SIGNAL_AT_CALL, encoding="utf-8")
     mission = tmp_path / "short.yaml"
     mission.write_text(SHORT_DRIVE, encoding="utf-8")
@@ -391,7 +421,7 @@ def _run_signalled(
     done = subprocess.run(
         [
             *(sys.executable, "-m", "roboscript", "run", str(mission), "--robot", "mirto"),
-            *("--port", f"socket://127.0.0.1:{port}{url_options}", "--wire-log", str(log)),
+            *("--port", url, "--wire-log", str(log)),
         ],
         cwd=ROOT,
         env=env,
@@ -420,24 +450,24 @@ def _left_stopped(log: Path) -> float:
     return most
 
 
-# Where each phase of a run is, seen from the calls it makes into the standard library. A
-# socket:// URL with options goes through pyserial's port (its close swallows every exception);
-# a plain one through roboscript's own.
-PYSERIAL = "?logging=warning"
-PHASES = {
-    "connecting": ("", {"SIGNAL_AT": "socket.create_connection"}),
-    "sending the first handshake request": ("", {"SIGNAL_AT": "socket.socket.send"}),
-    "waiting for the handshake's answer": ("", {"SIGNAL_AT": "socket.socket.recv"}),
-    # the second speed sent: the first has set the wheels turning
-    "driving": ("", {"SIGNAL_AT": "socket.socket.send", "SIGNAL_WHEN": "M,R,", "SIGNAL_NTH": "2"}),
-    # the first M,M,0,0 is part of the handshake's setup; the second is the stop at the end
-    "sending the stop": (
-        "",
-        {"SIGNAL_AT": "socket.socket.send", "SIGNAL_WHEN": "M,M,0,0", "SIGNAL_NTH": "2"},
+# Where each phase of a run is, seen from the calls it makes into the standard library, on
+# each transport (see _served).
+_SECOND_SPEED = {"SIGNAL_WHEN": "M,R,", "SIGNAL_NTH": "2"}  # the first set the wheels turning
+_LAST_STOP = {"SIGNAL_WHEN": "M,M,0,0", "SIGNAL_NTH": "2"}  # the first is the handshake's setup
+PHASES: dict[str, tuple[str, dict[str, str]]] = {
+    "connecting": ("socket", {"SIGNAL_AT": "socket.create_connection"}),
+    "sending the first handshake request": ("socket", {"SIGNAL_AT": "socket.socket.send"}),
+    "waiting for the handshake's answer": ("socket", {"SIGNAL_AT": "socket.socket.recv"}),
+    "driving": ("socket", {"SIGNAL_AT": "socket.socket.send", **_SECOND_SPEED}),
+    "sending the stop": ("socket", {"SIGNAL_AT": "socket.socket.send", **_LAST_STOP}),
+    "closing the port": ("socket", {"SIGNAL_AT": "socket.socket.close"}),
+    "closing pyserial's port": ("pyserial socket", {"SIGNAL_AT": "socket.socket.shutdown"}),
+    "waiting in pyserial's close": (
+        "pyserial socket",
+        {"SIGNAL_AT": "time.sleep", "SIGNAL_WHEN": "0.3"},
     ),
-    "closing the port": ("", {"SIGNAL_AT": "socket.socket.close"}),
-    "closing pyserial's port": (PYSERIAL, {"SIGNAL_AT": "socket.socket.shutdown"}),
-    "waiting in pyserial's close": (PYSERIAL, {"SIGNAL_AT": "time.sleep", "SIGNAL_WHEN": "0.3"}),
+    "driving over a serial line": ("pty", {"SIGNAL_AT": "os.write", **_SECOND_SPEED}),
+    "stopping over a serial line": ("pty", {"SIGNAL_AT": "os.write", **_LAST_STOP}),
 }
 
 CASES = [
@@ -454,6 +484,8 @@ CASES = [
     ("closing the port", "SIGINT", "finalizer"),
     ("closing pyserial's port", "SIGTERM", "call"),
     ("waiting in pyserial's close", "SIGINT", "call"),
+    ("driving over a serial line", "SIGTERM", "call"),
+    ("stopping over a serial line", "SIGHUP", "finalizer"),
 ]
 
 
@@ -463,10 +495,10 @@ CASES = [
 def test_a_signal_in_any_phase_of_a_run_stops_the_robot_and_ends_it_with_its_status(
     tmp_path: Path, phase: str, name: str, landing: str
 ) -> None:
-    options, where = PHASES[phase]
-    with served_simulator("mirto") as port:
-        done, log = _run_signalled(tmp_path, port, options, name, SIGNAL_FROM=landing, **where)
+    transport, where = PHASES[phase]
+    with _served(transport) as url:
+        done, log = _run_signalled(tmp_path, url, name, SIGNAL_FROM=landing, **where)
     _ended_by(done, name)
     most = _left_stopped(log)
-    if phase == "driving":
+    if phase.startswith("driving"):
         assert most > 0.1, "the robot never drove: the test proves nothing"
