@@ -17,8 +17,9 @@ ignores every exception while it closes); :func:`kept` raises such a signal agai
 code returns (the scheduler wraps each tick in it, the robot its handshake and its close), so it
 still ends the run. A signal that lands while Python runs a finalizer (a ``__del__``, a weak
 reference's callback: they run wherever memory is freed) can only be dropped there; it is kept
-as well (:func:`install` hooks :data:`sys.unraisablehook`, silently) and raised at the next
-:func:`kept` block's start or end, or by :func:`raise_dropped`.
+as well (:func:`install` hooks :data:`sys.unraisablehook`, silently) and raised at the end of
+the next :func:`kept` block, or by :func:`raise_dropped` (the scheduler calls it before each
+tick).
 """
 
 from __future__ import annotations
@@ -156,16 +157,17 @@ def kept() -> Iterator[None]:
     For calls into libraries that catch every exception somewhere (``transitions`` logs and
     drops whatever is raised while it finalises an event, a :class:`KeyboardInterrupt`
     included): a signal landing there would otherwise be lost and the run go on. A signal the
-    block lets out is raised as usual; nothing is delayed. A signal a finalizer dropped before
-    the block is raised as it starts (:func:`raise_dropped`).
+    block lets out is raised as usual; nothing is delayed. A signal a finalizer dropped, inside
+    the block or before it, is raised at its end too: the block itself is never cut short (it
+    may be the one that stops the robot).
     """
     global _dropped
-    raise_dropped()
     before = _raised
     yield
-    if _raised != before:
-        _dropped = None  # this is that signal: it is raised once
-        raise Interrupted(_last_signum)
+    if _raised != before or _dropped is not None:
+        signum = _last_signum if _dropped is None else _dropped
+        _dropped = None  # raised once
+        raise Interrupted(signum)
 
 
 def _unraisable(unraisable: sys.UnraisableHookArgs) -> None:

@@ -10,7 +10,8 @@ does not drift the way ``sleep(period)`` does. A tick that starts more than one 
 an *overrun*: it is counted and the measured ``dt_s`` is passed on.
 
 A signal that ends the program (:mod:`roboscript.interrupts`) and that something a tick calls
-catches and drops is raised again when that tick's tasks have run.
+catches and drops is raised again when that tick's tasks have run; one that landed in a finalizer
+between two ticks, before the next.
 
 After a stall (a slow tick, or the machine pausing the process for a few milliseconds) the loop
 catches up with its grid, so a run keeps its tick rate, but never faster than two ticks per
@@ -31,7 +32,7 @@ from dataclasses import dataclass, field
 from typing import Literal, Protocol
 
 from roboscript.clock import Clock
-from roboscript.interrupts import kept
+from roboscript.interrupts import kept, raise_dropped
 
 __all__ = ["Phase", "Scheduler", "SchedulerStats", "Tickable"]
 
@@ -135,6 +136,9 @@ class Scheduler:
         dt = self.period_s if last is None else max(now - last, 1e-6)
         self._last_tick_s = now
         self.stats.ticks += 1
+        # A signal that landed in a finalizer since the last tick (where Python drops it) ends
+        # the run before this one.
+        raise_dropped()
         # What a tick calls may catch a Ctrl-C and go on (a student's bare ``except:``, a
         # library that logs every error): the signal still ends the run, at this tick's end.
         with kept():

@@ -33,6 +33,7 @@ from roboscript.interrupts import (
 )
 from roboscript.mission.runner import MissionRunner
 from roboscript.mission.yaml_loader import parse_yaml_mission
+from roboscript.robot import Robot
 from roboscript.scheduler import Scheduler
 from roboscript.sim.simulation import make_simulation
 from roboscript.transport.wirelog import read_wire_log
@@ -162,6 +163,12 @@ def test_a_signal_that_code_inside_drops_is_raised_again_when_it_returns() -> No
         pass
 
 
+def _ticking(task: object) -> Scheduler:
+    sched = Scheduler(SimClock(), 0.02)
+    sched.add(task)  # type: ignore[arg-type]
+    return sched
+
+
 class _SignalsWhenCollected:
     """An object whose finalizer signals the program: the signal lands inside ``__del__``."""
 
@@ -173,18 +180,41 @@ class _SignalsWhenCollected:
 
 
 @pytest.mark.usefixtures("handlers")
-def test_a_signal_landing_in_a_finalizer_ends_the_next_block_before_it_runs(
+def test_a_signal_landing_in_a_finalizer_between_ticks_ends_the_run_before_the_next(
     capfd: pytest.CaptureFixture[str],
 ) -> None:
-    ran: list[str] = []
+    ticks: list[float] = []
+    sched = _ticking(lambda now_s, dt_s: ticks.append(now_s))
+    sched.step()
     _SignalsWhenCollected(signal.SIGHUP)  # collected at once; Python can only drop the error
-    ran.append("the program goes on")
-    with pytest.raises(Interrupted) as raised, kept():
-        ran.append("the block")
-    assert ran == ["the program goes on"]
+    with pytest.raises(Interrupted) as raised:
+        sched.run(until=lambda: False, max_duration_s=10)
+    assert len(ticks) == 1  # not one tick more
     assert raised.value.signum == signal.SIGHUP
     assert "Exception ignored" not in capfd.readouterr().err  # the run's own sentence says why
     raise_dropped()  # raised once: nothing is left over
+
+
+@pytest.mark.usefixtures("handlers")
+def test_a_signal_a_finalizer_dropped_before_a_stop_lets_the_stop_go_out_first() -> None:
+    sent: list[str] = []
+    _SignalsWhenCollected(signal.SIGTERM)
+    with pytest.raises(Interrupted) as raised, kept():
+        sent.append("stop")
+    assert sent == ["stop"]
+    assert raised.value.signum == signal.SIGTERM
+
+
+@pytest.mark.usefixtures("handlers")
+def test_a_signal_a_finalizer_dropped_after_the_last_tick_still_lets_the_robot_stop() -> None:
+    with pytest.raises(Interrupted) as raised, Robot.connect("mirto") as robot:
+        robot.drive_base.set_wheel_speeds(200, 200)
+        robot.run_for(0.5)
+        assert robot.simulation.body.power != [0.0, 0.0]
+        _SignalsWhenCollected(signal.SIGTERM)  # no tick runs after it: leaving the block stops
+    assert raised.value.signum == signal.SIGTERM
+    robot.simulation.tick(robot.simulation.time_s + 0.25, 0.0)  # the board acts on the stop
+    assert robot.simulation.body.power == [0.0, 0.0]
 
 
 @pytest.mark.usefixtures("handlers")
@@ -221,12 +251,6 @@ def test_other_errors_in_finalizers_are_still_reported_as_python_reports_them() 
             signal.signal(signum, handler)
         sys.unraisablehook = hook
     assert reported == [ValueError]
-
-
-def _ticking(task: object) -> Scheduler:
-    sched = Scheduler(SimClock(), 0.02)
-    sched.add(task)  # type: ignore[arg-type]
-    return sched
 
 
 @pytest.mark.usefixtures("handlers")
