@@ -303,6 +303,22 @@ sys.meta_path.insert(0, SignalOnImport())
 """
 
 
+def _run_signalling_itself(
+    tmp_path: Path, signalling: str, command: list[str], **env: str
+) -> subprocess.CompletedProcess[str]:
+    """Run ``command`` with ``signalling`` as its ``sitecustomize`` and ``env`` added."""
+    (tmp_path / "sitecustomize.py").write_text(signalling, encoding="utf-8")
+    return subprocess.run(
+        command,
+        cwd=ROOT,
+        env={**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), str(ROOT)]), **env},
+        capture_output=True,
+        text=True,
+        timeout=HANG_BOUND_S,
+        check=False,
+    )
+
+
 def _commands() -> list[list[str]]:
     commands = [[sys.executable, "-m", "roboscript"]]
     script = Path(sys.executable).with_name("roboscript")
@@ -316,22 +332,13 @@ def _commands() -> list[list[str]]:
 def test_a_signal_while_the_program_starts_ends_it_in_one_line(
     tmp_path: Path, name: str, module: str
 ) -> None:
-    (tmp_path / "sitecustomize.py").write_text(SIGNAL_ON_IMPORT, encoding="utf-8")
-    env = {
-        **os.environ,
-        "PYTHONPATH": os.pathsep.join([str(tmp_path), str(ROOT)]),
-        "SIGNAL_ON_IMPORT": module,
-        "SIGNAL_NAME": name,
-    }
     for command in _commands():
-        done = subprocess.run(
+        done = _run_signalling_itself(
+            tmp_path,
+            SIGNAL_ON_IMPORT,
             [*command, "run", "missions/square.yaml"],
-            cwd=ROOT,
-            env=env,
-            capture_output=True,
-            text=True,
-            timeout=HANG_BOUND_S,
-            check=False,
+            SIGNAL_ON_IMPORT=module,
+            SIGNAL_NAME=name,
         )
         signum = getattr(signal, name)
         assert done.stderr == f"error: {Interrupted(signum).reason}\n", (command, done.stderr)
@@ -432,27 +439,18 @@ def _run_signalled(
     tmp_path: Path, url: str, name: str, **where: str
 ) -> tuple[subprocess.CompletedProcess[str], Path]:
     """``roboscript run`` a short drive on the MIRTO at ``url``, signalled where ``where`` says."""
-    (tmp_path / "sitecustomize.py").write_text(SIGNAL_AT_CALL, encoding="utf-8")
     mission = tmp_path / "short.yaml"
     mission.write_text(SHORT_DRIVE, encoding="utf-8")
     log = tmp_path / "wire.log"
-    env = {
-        **os.environ,
-        "PYTHONPATH": os.pathsep.join([str(tmp_path), str(ROOT)]),
-        "SIGNAL_NAME": name,
-        **where,
-    }
-    done = subprocess.run(
+    done = _run_signalling_itself(
+        tmp_path,
+        SIGNAL_AT_CALL,
         [
             *(sys.executable, "-m", "roboscript", "run", str(mission), "--robot", "mirto"),
             *("--port", url, "--wire-log", str(log)),
         ],
-        cwd=ROOT,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=HANG_BOUND_S,
-        check=False,
+        SIGNAL_NAME=name,
+        **where,
     )
     return done, log
 
