@@ -120,8 +120,8 @@ class Robot:
             # A signal that something on the way drops (a finalizer, a library that ignores
             # every exception) still ends the connection here, with the port closed.
             with kept():
-                log = opened.log = WireLog(wire_log) if wire_log else None
                 serial_port = opened.port = open_port(url, baudrate=profile.baudrate)
+                log = opened.log = WireLog(wire_log) if wire_log else None
                 simulation = getattr(serial_port, "simulation", None)
                 # A port in a browser tab brings the page's clock: waiting there must let the
                 # page run (its port reads, its Stop button), which only the page's clock can.
