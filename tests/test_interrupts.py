@@ -512,7 +512,9 @@ CASES = [
 
 
 @pytest.mark.parametrize(
-    ("phase", "name", "landing"), CASES, ids=[f"{p}-{n}-{h}".replace(" ", "_") for p, n, h in CASES]
+    ("phase", "name", "landing"),
+    CASES,
+    ids=[f"{p}-{n}-{h}".replace(" ", "_").replace("'", "") for p, n, h in CASES],
 )
 def test_a_signal_in_any_phase_of_a_run_stops_the_robot_and_ends_it_with_its_status(
     tmp_path: Path, phase: str, name: str, landing: str
