@@ -153,6 +153,7 @@ def run_session(
     recording: RunRecording | None = None,
     world_map: WorldMap | None = None,
     on_slow_tick: Callable[[str], None] | None = None,
+    on_print: Callable[[str], None] | None = None,
 ) -> Session:
     """Connect the robot, run ``spec`` on it until it ends or ``max_time_s`` passes, stop it.
 
@@ -185,6 +186,8 @@ def run_session(
             to the wall clock (as every graded run), once
             slow ticks add up to :attr:`~roboscript.watchdog.TickBudget.too_slow_after_s`
             the mission ends in error as too slow, exactly as a graded run does.
+        on_print: Called with each line the mission prints while it runs (without its
+            newline), after the line is on the terminal and in ``recording``.
 
     Returns:
         The finished run. A lost link ends the mission with outcome ``error``; so do Ctrl-C,
@@ -267,9 +270,7 @@ def run_session(
             try:
                 with (
                     watchdog or contextlib.nullcontext(),
-                    stamped_prints(
-                        runner.elapsed, recording.printed if recording is not None else None
-                    ),
+                    stamped_prints(runner.elapsed, _print_hooks(recording, on_print)),
                 ):
                     # The limit is on the mission's clock (from its first tick, as its
                     # duration is): a busy machine that starts the first tick late never
@@ -299,6 +300,22 @@ def run_session(
     if recording is not None:
         recording.finish(session_record(session))
     return session
+
+
+def _print_hooks(
+    recording: RunRecording | None, on_print: Callable[[str], None] | None
+) -> Callable[[str], None] | None:
+    """Where each printed line goes besides the terminal: the recording, then ``on_print``."""
+    record = recording.printed if recording is not None else None
+    if record is None or on_print is None:
+        return record or on_print
+    told = on_print
+
+    def both(line: str) -> None:
+        record(line)
+        told(line)
+
+    return both
 
 
 def session_record(session: Session) -> RunRecord:

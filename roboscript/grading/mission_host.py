@@ -10,8 +10,8 @@ The grader starts it sandboxed (:mod:`roboscript.grading.sandbox`) as::
 It loads the mission, connects to the robot through ``lockstep://FD`` (the world lives in the
 grader's process, :mod:`roboscript.grading.world_host`), runs the mission exactly as
 ``roboscript run`` would, and reports what only it can know: that the mission loaded, each
-state it entered, and how it ended. The world timestamps every report itself and trusts none
-of them with a name, a score or a verdict.
+state it entered, each line it printed, and how it ended. The world timestamps every report
+itself and trusts none of them with a name, a score or a verdict.
 
 The mission's code is timed here exactly as ``roboscript run`` times it
 (:class:`roboscript.watchdog.Watchdog`, on the code's own time, never the machine's load): code
@@ -25,6 +25,8 @@ safe, and a stack-dumping timer once crashed healthy runs on a busy machine.
 
 from __future__ import annotations
 
+import contextlib
+import itertools
 import json
 import logging
 import sys
@@ -32,6 +34,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from roboscript.mission.channels import MAX_PRINTED_LINES, PRINTED_LINE_CHARS
 from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError
 from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
 
@@ -123,6 +126,13 @@ def _run(
     def on_state(_t_s: float, name: str, cause: TransitionCause) -> None:
         channel.send(Kind.STATE, state_payload(name, actions.get(name), cause))
 
+    printed = itertools.count(1)
+
+    def on_print(line: str) -> None:
+        # never raised in the student's print(): the next tick's question ends the run
+        with contextlib.suppress(WorldStoppedError):
+            channel.send(Kind.PRINT, _print_payload(line, next(printed)))
+
     try:
         session = run_session(
             mission,
@@ -134,6 +144,7 @@ def _run(
             if world_map is None
             else WorldMap.from_json(Path(world_map).read_text(encoding="utf-8")),
             runaway_after_s=hang_after_s,
+            on_print=on_print,
         )
     except CapabilityError as exc:
         channel.send_json(Kind.LOAD_ERROR, {"message": f"it does not fit the robot: {exc}"})
@@ -165,6 +176,15 @@ def state_payload(name: str, action: str | None, cause: TransitionCause) -> byte
         return head
     data = claim.encode("utf-8", "replace")
     return head if len(data) > STATE_CLAIM_BYTES else head + b"\n" + data
+
+
+def _print_payload(line: str, number: int) -> bytes:
+    """A ``P`` frame's payload: the ``number``-th line the mission printed (from 1), cut to
+    one character more than a record keeps (so the world can mark the cut), or nothing past
+    the lines a record keeps (the world only counts those)."""
+    if number > MAX_PRINTED_LINES:
+        return b""
+    return line[: PRINTED_LINE_CHARS + 1].encode("utf-8", "replace")
 
 
 def channel_fd(channel: WorldChannel) -> int:

@@ -12,6 +12,8 @@ each report is checked (known outcome, printable and short names, the final stat
 state entered) and labelled as the mission's own in the record. With each state it may say
 which action it runs and why it entered it: the replay shows that account as the mission's
 words, checked and cut to size (``TransitionCause.from_claim``), and nothing is judged on it.
+So are the lines it prints, timed here on arrival (the tick they were printed in), made
+printable and cut to size, and only in the replay (the teacher's, and a visible run's).
 A mission process that breaks the wire's rules, moves the robot before its mission starts, or
 asks for more time than the test allows has its run ended here.
 
@@ -64,6 +66,7 @@ from roboscript.grading.sandbox import Jail, JailedRun, Limits, WarmJail
 from roboscript.grading.spec import TestSpec, Variant
 from roboscript.grading.submissions import named_files
 from roboscript.mission.cause import TransitionCause
+from roboscript.mission.channels import PRINTED_LINE_CHARS
 from roboscript.mission.runner import MISSION_OUTCOMES
 from roboscript.profiles import get_profile
 from roboscript.replay.world_tap import WorldReplay
@@ -450,6 +453,8 @@ class _WorldSession:
             self.replay.start(self.now_s)
         elif kind == Kind.STATE:
             self._state(payload)
+        elif kind == Kind.PRINT:
+            self.replay.printed(self.now_s, _printed(payload))
         elif kind == Kind.FINISH:
             info = _json(payload)
             if not isinstance(info, dict):
@@ -756,6 +761,13 @@ def _text(value: str, limit: int) -> str:
 
 def _name(value: str) -> str:
     return _text(value.strip(), _NAME_CHARS)
+
+
+def _printed(payload: bytes) -> str:
+    """A line the mission printed, made safe to show: printable text, cut to what a record
+    keeps (a longer line ends with ``…``)."""
+    head = payload[: 4 * (PRINTED_LINE_CHARS + 1)]  # UTF-8 takes at most 4 bytes a character
+    return _text(head.decode("utf-8", "replace"), PRINTED_LINE_CHARS)
 
 
 def _state_account(account: bytes, before: str | None) -> tuple[str | None, dict[str, Any] | None]:

@@ -21,6 +21,7 @@ from typing import TextIO
 __all__ = [
     "MAX_CHANNELS",
     "MAX_PRINTED_LINES",
+    "PRINTED_LINE_CHARS",
     "Channels",
     "StampedPrints",
     "log",
@@ -82,6 +83,9 @@ def logging_to(channels: Channels) -> Iterator[None]:
 
 MAX_PRINTED_LINES = 2000
 """Lines a run's record keeps of what the mission printed; later ones are counted only."""
+
+PRINTED_LINE_CHARS = 500
+"""Characters of one printed line a record keeps (the terminal shows it whole)."""
 
 
 class StampedPrints(io.TextIOBase):

@@ -2,7 +2,9 @@
 
 In a graded run the student's mission runs in a sandbox and only sends bytes and reports; the
 world process owns the simulation. :class:`WorldReplay` records there, so nothing the student
-process writes becomes a frame except the state names the world has already checked. It reads
+process writes becomes a frame except what the world has already checked: the states it
+entered (with their actions and causes) and the lines it printed, each on the frame of the
+tick it arrived in, and all named in the header's ``claimed`` as the mission's own. It reads
 the body without disturbing it (the range sensors' last measurements, never a new one), keeps
 at most ``rate_hz`` frames a second plus every state change, and its frames' ``motors`` are
 the simulated wheels' speeds (``left_mm_s``/``right_mm_s``, mm/s, forward positive: the same
@@ -15,19 +17,27 @@ from __future__ import annotations
 from typing import Any
 
 from roboscript import capabilities as cap
+from roboscript.mission.channels import MAX_PRINTED_LINES
 from roboscript.profiles import RobotProfile
 from roboscript.replay.header import run_header
 from roboscript.replay.recording import TRANSITION_KEY, Recorder, encode_line
 from roboscript.replay.session_tap import SHOWN, written_pose
 from roboscript.sim.simulation import Simulation
 
-__all__ = ["CLAIMED_CHARS", "DEFAULT_RATE_HZ", "WorldReplay"]
+__all__ = ["CLAIMED", "CLAIMED_CHARS", "DEFAULT_RATE_HZ", "PRINTED_CHARS", "WorldReplay"]
 
 DEFAULT_RATE_HZ = 10.0
 """Frames a second a graded run keeps: enough to replay, small enough for a class report."""
 CLAIMED_CHARS = 400_000
 """Most characters of the mission's claimed causes one recording keeps (about 2000 honest
 transitions); later transitions show their state and action without a cause."""
+PRINTED_CHARS = 100_000
+"""Most characters of printed lines one recording keeps (and at most
+:data:`~roboscript.mission.channels.MAX_PRINTED_LINES` lines); later lines are counted in the
+result's ``prints_not_recorded``."""
+CLAIMED = ("state", "action", "why", "print")
+"""The frame keys whose values come from the mission's process: its own account, checked and
+cut to size, never judged (the header's ``claimed``)."""
 
 
 class WorldReplay:
@@ -62,6 +72,7 @@ class WorldReplay:
         )
         header["port"] = "grader"
         header["frame_rate_hz"] = rate_hz
+        header["claimed"] = list(CLAIMED)
         self.recorder = Recorder(header)
         self._start_s: float | None = None
         self._next_s = 0.0
@@ -73,6 +84,9 @@ class WorldReplay:
         self._action: str | None = None
         self._why: dict[str, Any] | None = None  # the last claimed cause, not yet in a frame
         self._claimed_chars = 0
+        self._printed_lines = 0
+        self._printed_chars = 0
+        self._prints_not_recorded = 0
 
     def enter(
         self, now_s: float, state: str, action: str | None, why: dict[str, Any] | None
@@ -92,6 +106,34 @@ class WorldReplay:
             self._why = {**why, "claimed": True}
         self._next_s = 0.0
         self.tick(now_s, state)
+
+    def printed(self, now_s: float, line: str) -> None:
+        """The mission printed ``line`` at ``now_s`` (in the tick of that time): it is written
+        on that tick's frame, which is kept for it.
+
+        ``line`` is the mission's own words, made printable and cut to size by the caller. A
+        line printed before the mission started, or past :data:`PRINTED_CHARS` or
+        :data:`~roboscript.mission.channels.MAX_PRINTED_LINES`, is only counted.
+        """
+        self._printed_lines += 1
+        self._printed_chars += len(line)
+        if (
+            self._start_s is None
+            or self._state is None
+            or self._printed_lines > MAX_PRINTED_LINES
+            or self._printed_chars > PRINTED_CHARS
+        ):
+            self._prints_not_recorded += 1
+            return
+        t = round(now_s - self._start_s, 3)
+        if t != self._last_t:
+            self._next_s = 0.0  # a frame for the tick it was printed in
+            self.tick(now_s, self._state)
+        frames = self.recorder.frames
+        if not frames or frames[-1]["t"] != t:  # the recording is full
+            self._prints_not_recorded += 1
+            return
+        frames[-1].setdefault("print", []).append(line)
 
     def start(self, now_s: float) -> None:
         """The mission started at simulated time ``now_s`` (its clock's zero)."""
@@ -195,13 +237,14 @@ class WorldReplay:
                 for name in self._states
             ],
         }
-        result = self.recorder.finish(
-            {
-                "outcome": outcome,
-                "final_state": final_state,
-                "reason": reason,
-                "duration_s": round(duration_s, 3),
-                "states": [[t, name] for t, name in states],
-            }
-        )
+        ended: dict[str, Any] = {
+            "outcome": outcome,
+            "final_state": final_state,
+            "reason": reason,
+            "duration_s": round(duration_s, 3),
+            "states": [[t, name] for t, name in states],
+        }
+        if self._prints_not_recorded:
+            ended["prints_not_recorded"] = self._prints_not_recorded
+        result = self.recorder.finish(ended)
         return {"header": header, "frames": self.recorder.frames, "result": result}

@@ -11,11 +11,11 @@ simulated time, and what the device answers comes back with the next tick's answ
 host read before that tick, it first asks for what is waiting (``Y``). So a run over this wire
 is, byte for byte, the run the in-process ``sim://`` port gives, with one round trip a tick.
 
-Frames that need no answer (``W``, ``S``, ``Q``) leave with the next frame that does, in one
-write: the world handles frames in order and only a question moves simulated time, so it reads
-them at the same simulated time as if each had been sent alone, while a tick costs one write
-and one wake-up of the world instead of one per frame (what a round trip costs is mostly the
-wake-ups, on a busy machine a scheduler slice each).
+Frames that need no answer (``W``, ``S``, ``Q``, ``P``) leave with the next frame that does,
+in one write: the world handles frames in order and only a question moves simulated time, so
+it reads them at the same simulated time as if each had been sent alone, while a tick costs
+one write and one wake-up of the world instead of one per frame (what a round trip costs is
+mostly the wake-ups, on a busy machine a scheduler slice each).
 
 Frames are ``kind (1 byte) | length (4 bytes, big-endian) | payload``.
 
@@ -34,6 +34,8 @@ kind   payload                                     answer
 ``Q``  UTF-8 state name: a state was entered now   none
        (then a newline and UTF-8 JSON
        ``{"action", "why"}``, its account)
+``P``  UTF-8 text: a line the mission printed now  none
+       (empty past the lines a record keeps)
 ``F``  UTF-8 JSON outcome, final state, reason     none; the mission process ends
 =====  ==========================================  ======================================
 
@@ -88,15 +90,16 @@ class Kind:
     LOAD_ERROR: Final = b"E"
     START: Final = b"S"
     STATE: Final = b"Q"
+    PRINT: Final = b"P"
     FINISH: Final = b"F"
     OUTPUT: Final = b"O"
     STOPPED: Final = b"X"
 
-    FROM_MISSION: Final = frozenset(b"CWYTLESQF")
+    FROM_MISSION: Final = frozenset(b"CWYTLESQPF")
     FROM_WORLD: Final = frozenset(b"OX")
 
 
-_HELD_KINDS: Final = frozenset((Kind.WRITE, Kind.START, Kind.STATE))
+_HELD_KINDS: Final = frozenset((Kind.WRITE, Kind.START, Kind.STATE, Kind.PRINT))
 """Frames that need no answer and change nothing the mission can see before its next question."""
 
 
@@ -220,8 +223,8 @@ class WorldChannel:
     def send(self, kind: bytes, payload: bytes = b"") -> None:
         """Send a frame that needs no answer.
 
-        ``W``, ``S`` and ``Q`` frames wait (up to :data:`MAX_HELD_BYTES`) and leave with the
-        next frame of another kind, in order; every other frame leaves at once.
+        ``W``, ``S``, ``Q`` and ``P`` frames wait (up to :data:`MAX_HELD_BYTES`) and leave
+        with the next frame of another kind, in order; every other frame leaves at once.
 
         Raises:
             WorldStoppedError: The world has hung up.
