@@ -17,6 +17,7 @@
   var EVENTS = { tone: true, print: true };
   var SPEEDS = [0.25, 0.5, 1, 2, 4, 8, 16];
   var MAX_PATH_POINTS = 4000;
+  var PRINT_MARKS = 200;  /* most marks under the timeline: close prints share one */
   var COLOURS = ["#1565c0", "#ef6c00", "#2e7d32", "#6a1b9a", "#c62828", "#00838f", "#5d4037",
                  "#ad1457"];
 
@@ -148,6 +149,7 @@
     bar.appendChild(pauseAt);
     bar.appendChild(mute);
     var timeline = el("div", { "data-role": "timeline", "class": "rs-timeline" });
+    var printMarks = el("div", { "data-role": "print-marks", "class": "rs-print-marks" });
     var main = el("div", { "class": "rs-main" });
     this.canvas = el("canvas", { width: "560", height: "420", "class": "rs-world",
                                  role: "img", "aria-label": "the robot in its world" });
@@ -167,7 +169,8 @@
       "<tbody data-role='sensors'></tbody></table>" +
       "<table class='rs-sensors'><caption>your values (log)</caption>" +
       "<tbody data-role='log'></tbody></table>" +
-      "<div class='rs-prints'><span>printed</span><ol data-role='prints'></ol></div>" +
+      "<div class='rs-prints'><span data-role='prints-label'>printed</span>" +
+      "<ol data-role='prints'></ol></div>" +
       "<p class='rs-result' data-role='result'></p>";
     main.appendChild(this.canvas);
     main.appendChild(side);
@@ -176,6 +179,7 @@
     var legend = el("div", { "class": "rs-legend", "data-role": "legend" });
     root.appendChild(bar);
     root.appendChild(timeline);
+    root.appendChild(printMarks);
     root.appendChild(main);
     root.appendChild(this.plotCanvas);
     root.appendChild(legend);
@@ -192,10 +196,12 @@
     });
     this.pauseAtSelect = pauseAt;
     scrub.addEventListener("input", function () { self.seek(parseInt(scrub.value, 10)); });
-    timeline.addEventListener("click", function (ev) {
+    function jump(ev) {
       var target = ev.target.closest ? ev.target.closest("[data-t]") : null;
       if (target) { self.pause(); self.seekTime(parseFloat(target.getAttribute("data-t"))); }
-    });
+    }
+    timeline.addEventListener("click", jump);
+    printMarks.addEventListener("click", jump);
     this.plotCanvas.addEventListener("click", function (ev) {
       var rect = self.plotCanvas.getBoundingClientRect();
       var x = (ev.clientX - rect.left) * self.plotCanvas.width / rect.width;
@@ -211,6 +217,7 @@
     });
     this.scrub = scrub;
     this.timeline = timeline;
+    this.printMarks = printMarks;
   };
 
   /* ---------------------------------------------------------------------------- data */
@@ -220,6 +227,10 @@
     var robot = header.robot || {};
     this.root.setAttribute("data-mission", (header.mission || {}).name || "");
     this.sensorSpecs = robot.sensors || [];
+    // a graded run names what came from the mission's process: its prints are its own words
+    var claimed = Array.isArray(header.claimed) && header.claimed.indexOf("print") >= 0;
+    this.printedBy = claimed ? "the mission printed (its own words)" : "printed";
+    this.q("prints-label").textContent = this.printedBy;
     this.dirty = true;
     this.worldLayer = null;
   };
@@ -750,6 +761,33 @@
       part.style.background = COLOURS[(k < 0 ? 0 : k) % COLOURS.length];
       part.style.flexGrow = String(Math.max(s[1] - s[0], 0.0001));
       box.appendChild(part);
+    });
+    this.drawPrintMarks(span);
+  };
+
+  /* A mark under the timeline where the mission printed (close prints share one); its title
+   * holds the lines, and a click jumps there. */
+  Viewer.prototype.drawPrintMarks = function (span) {
+    var prints = this.frames.prints, box = this.printMarks, groups = [], i;
+    box.textContent = "";
+    box.setAttribute("data-count", String(prints.length));
+    for (i = 0; i < prints.length; i++) {
+      var at = Math.min(PRINT_MARKS - 1,
+                        Math.floor((prints[i][0] - span[0]) / (span[1] - span[0]) * PRINT_MARKS));
+      var last = groups[groups.length - 1];
+      if (last && last.at === at) last.lines.push(prints[i]);
+      else groups.push({ at: at, lines: [prints[i]] });
+    }
+    var by = this.printedBy || "printed";
+    groups.forEach(function (g) {
+      var shown = g.lines.slice(0, 3).map(function (p) { return fmt(p[0], 2) + " s  " + p[1]; });
+      if (g.lines.length > 3) shown.push("(and " + (g.lines.length - 3) + " more)");
+      var text = by + ":\n" + shown.join("\n");
+      var mark = el("button", { type: "button", "class": "rs-print-mark",
+                                "data-t": String(g.lines[0][0]), title: text,
+                                "aria-label": text });
+      mark.style.left = (100 * (g.lines[0][0] - span[0]) / (span[1] - span[0])) + "%";
+      box.appendChild(mark);
     });
   };
 

@@ -62,10 +62,11 @@ def viewer_style() -> str:
 
 def decimate(frames: Sequence[Mapping[str, Any]], rate_hz: float) -> list[dict[str, Any]]:
     """At most ``rate_hz`` full frames a second, plus every frame of a transition (the state
-    or why it was entered changes).
+    or why it was entered changes) and every frame the mission printed on.
 
     A tone that started on a dropped frame moves to the next frame kept, and the last frame is
-    always kept, so the replay shows every state, every tone and where the run ended.
+    always kept, so the replay shows every state, every tone, every printed line at the tick
+    it was printed in, and where the run ended.
     """
     if rate_hz <= 0:
         raise ValueError("the rate must be positive")
@@ -81,7 +82,7 @@ def decimate(frames: Sequence[Mapping[str, Any]], rate_hz: float) -> list[dict[s
                 pending[key] = frame[key]
         is_last = index == len(frames) - 1
         moved = frame.get("state") != last_state or frame.get(TRANSITION_KEY) is not last_why
-        if frame["t"] >= next_t - 1e-9 or moved or is_last:
+        if frame["t"] >= next_t - 1e-9 or moved or is_last or "print" in frame:
             item = {k: v for k, v in frame.items() if k not in EVENT_KEYS}
             item.update(pending)
             pending = {}

@@ -178,7 +178,8 @@ def test_a_line_follower_is_seen_over_the_tape() -> None:
 
 # What a graded recording has that run --record's has not, and the reverse: each on purpose.
 GRADED_ONLY = {
-    "header": {"frame_rate_hz"},  # a graded run keeps at most 10 frames a second
+    # a graded run keeps at most 10 frames a second, and names the mission's own account
+    "header": {"frame_rate_hz", "claimed"},
     "frame": set(),
     "why": {"claimed"},  # the cause is the mission's own account, and the page says so
 }
@@ -210,14 +211,17 @@ def _transitions(frames: list[dict[str, Any]]) -> list[tuple[float, str, str]]:
     return seen
 
 
-def _run_and_grade(tmp_path: Path, mission_text: str, world: str) -> tuple[Any, dict[str, Any]]:
-    """``mission_text`` run with ``run --record`` and graded with ``grade --html`` (seed 3):
-    the run's recording, and the graded run's replay as its page embeds it."""
+def _run_and_grade(
+    tmp_path: Path, mission_text: str, world: str, name: str = "m.yaml"
+) -> tuple[Any, dict[str, Any]]:
+    """``mission_text`` (a file called ``name``) run with ``run --record`` and graded with
+    ``grade --html`` (seed 3): the run's recording, and the graded run's replay as its page
+    embeds it (the page is ``tmp_path/html/runs/m--same--1.html``)."""
     from helpers import run_cli
 
     from roboscript.replay.recording import load_recording
 
-    mission = tmp_path / "m.yaml"
+    mission = tmp_path / name
     mission.write_text(mission_text, encoding="utf-8")
     spec = tmp_path / "test.yaml"
     spec.write_text(
@@ -327,3 +331,188 @@ def test_a_runs_claimed_causes_are_kept_up_to_a_bound_and_its_states_all() -> No
     assert 0 < len(kept) < len(frames)
     assert len(kept) == -(-CLAIMED_CHARS // len(encode_line(big)))  # up to the bound, then none
     assert len({f["t"] for f in frames}) == len(frames)  # every state entered has its frame
+
+
+# Prints on a few ticks (a tab and a terminal escape among its words), then on one tick a
+# line of 10,000 characters and 2,500 more lines: more than a record keeps.
+PRINTER = """\
+from roboscript import Drive, Mission, state
+
+_FLOODED = []
+
+
+class Printer(Mission):
+    go = state(Drive(distance_mm=300, speed_mm_s=150), initial=True, on_done="done",
+               when=[("talk", "done")])
+    done = state(final="success")
+
+    def talk(self):
+        if 0.5 < self.elapsed < 0.58:
+            print(f"at {self.elapsed:.2f}\\tgap\\x1b[2J", "and more")
+        if self.elapsed > 1.0 and not _FLOODED:
+            _FLOODED.append(True)
+            print("x" * 10_000)
+            for number in range(2_500):
+                print("line", number)
+        return False
+"""
+
+
+@pytest.fixture(scope="module")
+def printed(tmp_path_factory: pytest.TempPathFactory) -> tuple[Any, dict[str, Any], Path]:
+    """PRINTER run with ``run --record`` and graded: the recording, the graded replay, and
+    the graded run's page."""
+    folder = tmp_path_factory.mktemp("printed")
+    ran, graded = _run_and_grade(folder, PRINTER, "empty", name="m.py")
+    return ran, graded, folder / "html" / "runs" / "m--same--1.html"
+
+
+def _prints(frames: list[dict[str, Any]]) -> list[tuple[float, str]]:
+    return [(frame["t"], line) for frame in frames for line in frame.get("print", [])]
+
+
+def test_run_and_grade_record_what_the_mission_printed_on_the_same_ticks(
+    printed: tuple[Any, dict[str, Any], Path],
+) -> None:
+    ran, graded, _ = printed
+    graded_prints = _prints(fill_frames(graded["frames"]))
+    ran_prints = _prints(ran.frames)
+    assert [t for t, _ in graded_prints] == [t for t, _ in ran_prints]
+    assert ran_prints[:4] == [
+        (0.52, "at 0.52\tgap\x1b[2J and more"),
+        (0.54, "at 0.54\tgap\x1b[2J and more"),
+        (0.56, "at 0.56\tgap\x1b[2J and more"),
+        (ran_prints[3][0], "x" * 500),
+    ]
+    # the grader writes only printable text: a tab or a terminal's escape becomes a space
+    assert graded_prints[:4] == [
+        (0.52, "at 0.52 gap [2J and more"),
+        (0.54, "at 0.54 gap [2J and more"),
+        (0.56, "at 0.56 gap [2J and more"),
+        (ran_prints[3][0], "x" * 500 + "…"),
+    ]
+    assert graded_prints[4:] == ran_prints[4:]
+    # labelled as the mission's own words, like the causes it gives
+    assert "print" in graded["header"]["claimed"]
+
+
+def test_a_graded_replay_keeps_printed_lines_up_to_the_records_bound_and_counts_the_rest(
+    printed: tuple[Any, dict[str, Any], Path],
+) -> None:
+    from roboscript.mission.channels import MAX_PRINTED_LINES
+
+    ran, graded, _ = printed
+    assert len(_prints(fill_frames(graded["frames"]))) == MAX_PRINTED_LINES
+    assert graded["result"]["prints_not_recorded"] == 3 + 1 + 2_500 - MAX_PRINTED_LINES
+    assert graded["result"]["prints_not_recorded"] == ran.result["prints_not_recorded"]
+
+
+def test_a_graded_replay_keeps_printed_text_up_to_a_bound_and_counts_the_rest() -> None:
+    from roboscript.profiles import get_profile
+    from roboscript.replay.world_tap import PRINTED_CHARS
+    from roboscript.sim.simulation import Simulation
+    from roboscript.sim.world import load_world
+
+    tap = WorldReplay(Simulation(load_world("empty"), get_profile("mirto")), get_profile("mirto"))
+    tap.printed(0.0, "before the start")
+    tap.start(0.0)
+    tap.enter(0.0, "go", "drive", None)
+    line = "y" * 499
+    lines = 2 * PRINTED_CHARS // len(line)
+    for tick in range(lines):
+        tap.printed(tick * 0.02, line)
+    data = tap.finish(
+        mission="m",
+        outcome="success",
+        final_state="go",
+        reason=None,
+        duration_s=lines * 0.02,
+        states=((0.0, "go"),),
+        now_s=lines * 0.02,
+    )
+    kept = _prints(fill_frames(data["frames"]))
+    assert len(kept) == PRINTED_CHARS // len(line)
+    assert kept[-1] == (round((len(kept) - 1) * 0.02, 3), line)  # each at its own tick
+    assert data["result"]["prints_not_recorded"] == 1 + lines - len(kept)
+
+
+def test_the_replay_shows_what_the_mission_printed_under_its_states_in_a_browser(
+    printed: tuple[Any, dict[str, Any], Path], tmp_path: Path
+) -> None:
+    _, _, page = printed
+    with open_browser(tmp_path) as browser:
+        browser.open(page.as_uri())
+        browser.wait_for("document.querySelector('.rs-viewer').dataset.ready === '1'")
+        label = browser.evaluate("document.querySelector('[data-role=prints-label]').textContent")
+        assert label == "the mission printed (its own words)"
+        marks = browser.evaluate(
+            "Array.from(document.querySelectorAll('.rs-print-mark'))"
+            ".map(function (m) { return m.getAttribute('data-t'); })"
+        )
+        assert marks[:2] == ["0.52", "0.54"]
+        browser.click(".rs-print-mark[data-t='0.54']")
+        shown = browser.evaluate("document.querySelector('[data-role=time]').textContent")
+        assert shown == "0.54 s"
+        lines = browser.evaluate("document.querySelector('[data-role=prints]').textContent")
+        assert lines.endswith("0.54 s  at 0.54 gap [2J and more")
+        assert browser.errors == []
+
+
+HIDDEN_AND_VISIBLE = """\
+test: printed
+world: empty
+robot: mirto
+runs:
+  - {seed: 2, start: {x: 313.7 mm, y: 0 mm, heading: 0 deg}, hidden: true}
+  - {seed: 1}
+max_time: 10 s
+expect:
+  - outcome: success
+"""
+
+# Prints where it started (the grader's map of the world names it): in the hidden run, that
+# would give the hidden start away.
+START_PRINTER = """\
+import json, sys
+from roboscript import Mission, Wait, state
+
+_TOLD = []
+
+
+class Teller(Mission):
+    go = state(Wait(duration_s=0.2), initial=True, on_done="done", when=[("tell", "done")])
+    done = state(final="success")
+
+    def tell(self):
+        if not _TOLD:
+            _TOLD.append(True)
+            with open(sys.argv[-1], encoding="utf-8") as handle:
+                print("STARTED-AT", json.load(handle)["start"][0])
+        return False
+"""
+
+
+def test_a_hidden_runs_prints_reach_the_teachers_replay_only(tmp_path: Path) -> None:
+    from helpers import run_cli
+
+    spec = tmp_path / "printed.yaml"
+    spec.write_text(HIDDEN_AND_VISIBLE, encoding="utf-8")
+    folder = tmp_path / "ana"
+    folder.mkdir()
+    (folder / "printed.py").write_text(START_PRINTER, encoding="utf-8")
+    out = tmp_path / "out"
+    out.mkdir()
+    done = run_cli(
+        "grade", str(spec), "--mission", str(folder), "--html", str(out / "html"),
+        "--junit", str(out / "junit.xml"), "--gradescope", str(out / "gradescope.json"),
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    hidden = _embedded((out / "html" / "runs" / "ana--printed--1.html").read_text("utf-8"))
+    visible = _embedded((out / "html" / "runs" / "ana--printed--2.html").read_text("utf-8"))
+    assert _prints(fill_frames(hidden["frames"])) == [(0.0, "STARTED-AT 313.7")]  # for you
+    assert _prints(fill_frames(visible["frames"])) == [(0.0, "STARTED-AT 0.0")]
+    student = (out / "html" / "students" / "ana.html").read_text("utf-8")
+    assert "STARTED-AT 0.0" in student  # a visible run's replay shows what it printed
+    for text in (student, done.stdout, done.stderr, (out / "junit.xml").read_text("utf-8")):
+        assert "313.7" not in text
+    assert "313.7" not in (out / "gradescope.json").read_text("utf-8")
