@@ -195,6 +195,52 @@ def test_a_flood_of_bytes_to_the_robot_ends_the_run(tmp_path: Path) -> None:
     assert "more bytes" in result.message
 
 
+# Writes lines "printed" straight onto the wire: one before its mission starts, and on its
+# third tick one of 200,000 characters full of terminal escapes.
+PRINT_FORGER = """\
+import os, struct, sys
+from roboscript import Mission, Wait, state
+
+FD = int(sys.argv[1])
+CALLS = []
+
+
+def frame(kind, payload=b""):
+    os.write(FD, kind + struct.pack(">I", len(payload)) + payload)
+
+
+frame(b"P", b"before the start")
+
+
+class Idle(Mission):
+    go = state(Wait(duration_s=0.2), initial=True, on_done="end", when=[("forge", "end")])
+    end = state(final="success")
+
+    def forge(self):
+        CALLS.append(True)
+        if len(CALLS) == 3:
+            frame(b"P", ("\\x1b[2J\\x07" + "A" * 199_995).encode())
+        return False
+"""
+
+
+def test_lines_sent_as_printed_are_made_printable_cut_and_counted_by_the_world(
+    tmp_path: Path,
+) -> None:
+    from roboscript.replay.recording import fill_frames
+
+    spec = tmp_path / "test.yaml"
+    spec.write_text(ONE_RUN, encoding="utf-8")
+    mission = _mission(tmp_path, "forger.py", PRINT_FORGER)
+    result = grade_run(load_test_spec(spec), mission, load_test_spec(spec).variants[0])
+    assert result.status == "passed"  # display only: it changes nothing of the run
+    assert result.replay is not None
+    frames = fill_frames(result.replay["frames"])
+    printed = [(frame["t"], line) for frame in frames for line in frame.get("print", [])]
+    assert printed == [(0.04, " [2J " + "A" * 495 + "…")]  # its third tick, at 20 ms a tick
+    assert result.replay["result"]["prints_not_recorded"] == 1  # the one before the start
+
+
 def test_a_student_who_is_a_file_sees_only_the_files_it_names(tmp_path: Path) -> None:
     from roboscript.grading.batch import find_submissions, visible_files
 

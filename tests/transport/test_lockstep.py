@@ -186,12 +186,14 @@ def test_frames_that_need_no_answer_leave_with_the_next_question_in_one_write(
     channel.send(Kind.START)
     channel.send(Kind.WRITE, b"M,0,100\n")
     channel.send(Kind.STATE, b"forward")
+    channel.send(Kind.PRINT, b"turning now")
     with pytest.raises(BlockingIOError):  # held: nothing to wake the world for yet
         world_end.recv(4096)
     world_end.sendall(encode_frame(Kind.OUTPUT, b"@E,2\n"))  # the answer, ready in advance
     assert channel.request(Kind.TICK, encode_time(0.02)) == b"@E,2\n"
     sent = _one_write(world_end)  # everything, in the order it was sent
-    assert [kind for kind, _ in sent] == [Kind.START, Kind.WRITE, Kind.STATE, Kind.TICK]
+    kinds = [kind for kind, _ in sent]
+    assert kinds == [Kind.START, Kind.WRITE, Kind.STATE, Kind.PRINT, Kind.TICK]
 
 
 def test_a_report_leaves_at_once_with_what_was_held(
