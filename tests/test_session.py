@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
-from helpers import MISSIONS
+from helpers import LOGGING_MISSION, MISSIONS
 
 from roboscript.clock import SimClock
 from roboscript.mission import mission_for_robot
+from roboscript.replay.session_tap import RunRecording
 from roboscript.session import run_session
 
 LATE_S = 0.03
@@ -27,3 +30,17 @@ def test_a_mission_out_of_time_ran_its_whole_limit_on_a_busy_machine(
     result = run_session(spec, profile, max_time_s=max_time_s).result
     assert result.reason == f"the mission did not finish within {max_time_s:g} s"
     assert max_time_s <= result.duration_s < max_time_s + 0.1
+
+
+def test_what_the_mission_prints_reaches_the_recording_and_the_print_hook_alike(
+    tmp_path: Path,
+) -> None:
+    mission = tmp_path / "logged.py"
+    mission.write_text(LOGGING_MISSION, encoding="utf-8")
+    spec, profile, _ = mission_for_robot(mission)
+    told: list[str] = []
+    recording = RunRecording()
+    run_session(spec, profile, recording=recording, on_print=told.append)
+    assert recording.recorder is not None
+    recorded = [line for f in recording.recorder.frames for line in f.get("print", [])]
+    assert told == recorded == ["one second in"]
