@@ -77,14 +77,25 @@ def test_a_graded_run_records_exactly_the_in_process_run(
         assert graded.record.path, "the world recorded the path"
 
 
+# The square, saying at each corner how many sides it has driven: its replay holds its prints.
+TALKING_SQUARE = (
+    (MISSIONS / "square.py")
+    .read_text(encoding="utf-8")
+    .replace(
+        '        return self.visits("side") >= 4',
+        '        print("sides:", self.visits("side"))\n        return self.visits("side") >= 4',
+    )
+)
+
+
 def _graded_runs(tmp_path: Path, name: str) -> list[dict[str, Any]]:
     """Each run of a graded class as ``--results`` writes it (the replay too), less the two
     fields that measure the machine rather than the run."""
     results = tmp_path / name
     square = MISSIONS / "teacher" / "square"
+    mission = _mission(tmp_path, "square.py", TALKING_SQUARE)
     done = run_cli(
-        "grade", str(square / "test.yaml"), "--mission", str(MISSIONS / "square.py"),
-        "--results", str(results),
+        "grade", str(square / "test.yaml"), "--mission", mission, "--results", str(results),
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
     runs = [json.loads(line) for line in results.read_text(encoding="utf-8").splitlines()[1:]]
@@ -104,6 +115,8 @@ def test_a_seed_grades_to_the_same_results_on_an_idle_and_a_saturated_machine(
         busy = _graded_runs(tmp_path, "busy.jsonl")
     assert [run["status"] for run in idle] == ["passed"] * 3
     assert idle[0]["replay"]["frames"], "the replay is compared too"
+    printed = [line for f in idle[0]["replay"]["frames"] for line in f.get("print", [])]
+    assert printed == ["sides: 1", "sides: 2", "sides: 3", "sides: 4"], "and what it printed"
     assert busy == idle
 
 
