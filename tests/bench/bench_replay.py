@@ -14,6 +14,9 @@ Rows (issue 15):
 * open time: headless Chromium, from the start of loading ``roboscript view``'s page to the
   viewer's first picture, against 1 s; for the 60 s run (goal: at most 1) and, for
   information, a 30-minute recording (90,000 frames).
+* a printed line in a graded run: the CPU time the mission's process spends sending a line it
+  printed over the grading wire (a ``P`` frame, read at the other end by a thread of this
+  process), against the stamped terminal line it writes for it anyway. Goal: at most 1.
 """
 
 from __future__ import annotations
@@ -31,11 +34,14 @@ for _path in (str(HERE), str(HERE.parent), str(HERE.parent.parent)):
 
 from benchlib import Row, at_most, info, run_alone  # noqa: E402
 
+from roboscript.grading.mission_host import _print_payload  # noqa: E402
 from roboscript.mission import mission_for_robot  # noqa: E402
+from roboscript.mission.channels import StampedPrints  # noqa: E402
 from roboscript.replay.recording import Recorder  # noqa: E402
 from roboscript.replay.session_tap import RunRecording  # noqa: E402
 from roboscript.replay.viewer import write_viewer_page  # noqa: E402
 from roboscript.session import run_session  # noqa: E402
+from roboscript.transport.lockstep import Kind, WorldChannel  # noqa: E402
 
 __all__ = ["measure"]
 
@@ -98,6 +104,38 @@ def _long_recording(path: Path, frames: int) -> None:
         )
     recorder.finish({"outcome": "success"})
     recorder.write(path)
+
+
+def _print_cost(lines: int) -> tuple[float, float]:
+    """CPU seconds a line: (the stamped terminal line, the ``P`` frame over a socket pair)."""
+    import io
+    import socket
+    import threading
+
+    line = "t=1.23 s: the wall is 23.5 cm away"
+    ours, theirs = socket.socketpair()
+
+    def world() -> None:  # reads as the world does, so the sender never blocks for long
+        while theirs.recv(1 << 20):
+            pass
+
+    reader = threading.Thread(target=world, daemon=True)
+    reader.start()
+    channel = WorldChannel(ours)
+    stamped = StampedPrints(io.StringIO(), lambda: 1.23, None)
+    started = time.process_time()
+    for _ in range(lines):
+        stamped.write(line + "\n")
+    terminal_s = time.process_time() - started
+    started = time.process_time()
+    for number in range(lines):
+        channel.send(Kind.PRINT, _print_payload(line, number % 1000 + 1))
+    channel.flush()
+    wire_s = time.process_time() - started
+    channel.close()
+    reader.join()
+    theirs.close()
+    return terminal_s / lines, wire_s / lines
 
 
 def measure(quick: bool = False) -> list[Row]:
@@ -180,6 +218,19 @@ def measure(quick: bool = False) -> list[Row]:
             rows.append(
                 Row(KEY, "viewer open time (Chromium not installed)", None, "×", "", None, "")
             )
+    costs = [_print_cost(20_000 if quick else 100_000) for _ in range(3)]
+    terminal_s = min(cost[0] for cost in costs)  # the least disturbed of three
+    wire_s = min(cost[1] for cost in costs)
+    rows.append(
+        at_most(
+            KEY,
+            "a printed line sent over the grading wire ÷ its stamped terminal line",
+            wire_s / terminal_s,
+            1.0,
+            f"{wire_s * 1e6:.2f} µs a line on the wire, {terminal_s * 1e6:.2f} µs on the"
+            " terminal (CPU time), best of 3",
+        )
+    )
     return rows
 
 
