@@ -19,8 +19,9 @@ The rows, numbered as in the README's "Performance" section:
 5. the scheduler at 100 and 500 Hz against its targets and a plain ``sleep`` loop;
 6. the simulator's real-time factor (from ``bench_sim.py``);
 7. grading throughput: a class of 30 missions x 3 seeds of one minute, graded in parallel;
-8. recorded runs: what ``run --record`` costs the simulator, a 60 s recording's size, and the
-   replay page's open time in headless Chromium (``bench_replay.py``);
+8. recorded runs: what ``run --record`` costs the simulator, a 60 s recording's size, the
+   replay page's open time in headless Chromium, and a graded run's printed line on the wire
+   (``bench_replay.py``);
 9. the live view (``run --view``): the p99 lateness it adds to the 100 Hz scheduler while a
    browser streams the run (``bench_live.py``);
 10. the robots' real firmware on the emulated AVR: simulated seconds per CPU second in
