@@ -132,8 +132,8 @@ def _replay(result: RunResult, heading: str) -> list[str]:
         viewer_block(recording, open_at_s=open_at, marks=marks, label="replay of the run"),
         (
             '<p class="muted">Play, pause, step one tick (◀ ▶), pick a speed, drag the time'
-            " bar, or click a state to jump to it; the plots show the sensors and the motor"
-            " power ten times a second. What the mission printed is marked under the states"
+            " bar, or click a state to jump to it; the plots show the sensors and the wheel"
+            " speeds ten times a second. What the mission printed is marked under the states"
             " (click a mark to jump there) and listed beside the sensors: the mission's own"
             f" words, at the tick it printed them.{where}</p>"
         ),
