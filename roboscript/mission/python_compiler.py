@@ -104,7 +104,7 @@ def _as_number(text: str, read: str) -> str:
 
 def _reading_value(node: ast.expr) -> str | None:
     """``self.range.distance_cm`` as written, when ``node`` reads a value of a sensor (a
-    number or True/False, not a method), else ``None``."""
+    number, True/False or a name such as a colour's; not a method), else ``None``."""
     if not (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Attribute)):
         return None
     sensor = node.value
@@ -113,6 +113,22 @@ def _reading_value(node: ast.expr) -> str | None:
     reading = _reading_class(sensor.attr)
     value = inspect.getattr_static(reading, node.attr, None) if reading is not None else None
     return f"self.{sensor.attr}.{node.attr}" if isinstance(value, property) else None
+
+
+def _reads_text(node: ast.expr) -> bool:
+    """``node`` reads a sensor value that is text (``self.color.name``), which may rightly
+    be compared with text."""
+    if not (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Attribute)):
+        return False
+    reading = _reading_class(node.value.attr)
+    value = inspect.getattr_static(reading, node.attr, None) if reading is not None else None
+    if not isinstance(value, property) or value.fget is None:
+        return False
+    try:
+        returned = typing.get_type_hints(value.fget).get("return")
+    except (NameError, TypeError):
+        return False
+    return returned is str or str in typing.get_args(returned)
 
 
 def _always_returns(body: list[ast.stmt]) -> bool:
@@ -974,7 +990,8 @@ class _Compiler:
                 result.called_values.append((child, read))
             if isinstance(child, ast.Compare):
                 operands = [child.left, *child.comparators]
-                read = next(filter(None, map(_reading_value, operands)), None)
+                numeric = [o for o in operands if not _reads_text(o)]
+                read = next(filter(None, map(_reading_value, numeric)), None)
                 text = [
                     o for o in operands if isinstance(o, ast.Constant) and isinstance(o.value, str)
                 ]

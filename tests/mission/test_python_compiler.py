@@ -780,3 +780,20 @@ class Lesson(Mission):
             " self.visits('go'))"
         ),
     ]
+
+
+def test_a_colour_name_compared_with_text_is_no_mistake(tmp_path: Path) -> None:
+    body = """\
+class Lesson(Mission):
+    go = state(Drive(distance_mm=300), initial=True, on_done="end",
+               when=[("on_tape", "end"), ("off_red", "end")])
+    end = state(final="success")
+
+    def on_tape(self):
+        return self.color.reflection < 40 and self.color.name == "black"
+
+    def off_red(self):
+        return "red" != self.color.name
+"""
+    spec, _ = compiled(tmp_path, body)  # no problem: a colour's name is text
+    assert [option.guard_text for option in spec.states["go"].when] == ["on_tape", "off_red"]
