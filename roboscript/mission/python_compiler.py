@@ -102,9 +102,9 @@ def _as_number(text: str, read: str) -> str:
     return f"compare it with a number, in the unit its name ends with, e.g. {read} < 20"
 
 
-def _reading_value(node: ast.expr) -> str | None:
-    """``self.range.distance_cm`` as written, when ``node`` reads a value of a sensor (a
-    number, True/False or a name such as a colour's; not a method), else ``None``."""
+def _reading_property(node: ast.expr) -> tuple[str, property] | None:
+    """``self.range.distance_cm`` as written and its property, when ``node`` reads a value
+    of a sensor (not a method), else ``None``."""
     if not (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Attribute)):
         return None
     sensor = node.value
@@ -112,20 +112,24 @@ def _reading_value(node: ast.expr) -> str | None:
         return None
     reading = _reading_class(sensor.attr)
     value = inspect.getattr_static(reading, node.attr, None) if reading is not None else None
-    return f"self.{sensor.attr}.{node.attr}" if isinstance(value, property) else None
+    return (f"self.{sensor.attr}.{node.attr}", value) if isinstance(value, property) else None
+
+
+def _reading_value(node: ast.expr) -> str | None:
+    """``self.range.distance_cm`` as written, when ``node`` reads a value of a sensor (a
+    number, True/False or a name such as a colour's; not a method), else ``None``."""
+    found = _reading_property(node)
+    return found[0] if found is not None else None
 
 
 def _reads_text(node: ast.expr) -> bool:
     """``node`` reads a sensor value that is text (``self.color.name``), which may rightly
     be compared with text."""
-    if not (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Attribute)):
-        return False
-    reading = _reading_class(node.value.attr)
-    value = inspect.getattr_static(reading, node.attr, None) if reading is not None else None
-    if not isinstance(value, property) or value.fget is None:
+    found = _reading_property(node)
+    if found is None or found[1].fget is None:
         return False
     try:
-        returned = typing.get_type_hints(value.fget).get("return")
+        returned = typing.get_type_hints(found[1].fget).get("return")
     except (NameError, TypeError):
         return False
     return returned is str or str in typing.get_args(returned)
@@ -985,6 +989,14 @@ class _Compiler:
                 inner = self.scan(helper, seen)
                 result.capabilities |= inner.capabilities
                 result.states.update(inner.states)
+        # A name the method sets or takes (for go in ("go",): ...) holds its own value.
+        own_names = {
+            child.id
+            for child in _walk_own(node)
+            if isinstance(child, ast.Name) and isinstance(child.ctx, ast.Store)
+        }
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            own_names.update(arg.arg for arg in ast.walk(node.args) if isinstance(arg, ast.arg))
         for child in _walk_own(node):
             if isinstance(child, ast.Call) and (read := _reading_value(child.func)) is not None:
                 result.called_values.append((child, read))
@@ -1008,7 +1020,11 @@ class _Compiler:
                 given = child.args[0]
                 if isinstance(given, ast.Constant) and isinstance(given.value, str):
                     result.states[given.value] = given
-                elif isinstance(given, ast.Name) and given.id in self.names:
+                elif (
+                    isinstance(given, ast.Name)
+                    and given.id in self.names
+                    and given.id not in own_names
+                ):
                     result.unquoted_states.append(given)
         return result
 

@@ -782,7 +782,9 @@ class Lesson(Mission):
     ]
 
 
-def test_a_colour_name_compared_with_text_is_no_mistake(tmp_path: Path) -> None:
+def test_a_colour_name_as_text_and_a_state_name_in_a_variable_are_no_mistakes(
+    tmp_path: Path,
+) -> None:
     body = """\
 class Lesson(Mission):
     go = state(Drive(distance_mm=300), initial=True, on_done="end",
@@ -793,7 +795,8 @@ class Lesson(Mission):
         return self.color.reflection < 40 and self.color.name == "black"
 
     def off_red(self):
-        return "red" != self.color.name
+        return "red" != self.color.name and any(self.visits(go) > 1 for go in ("go",))
 """
-    spec, _ = compiled(tmp_path, body)  # no problem: a colour's name is text
+    # no problem: a colour's name is text, and a name the method sets holds its own value
+    spec, _ = compiled(tmp_path, body)
     assert [option.guard_text for option in spec.states["go"].when] == ["on_tape", "off_red"]
