@@ -41,7 +41,7 @@ from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
 if TYPE_CHECKING:
     from roboscript.mission.cause import TransitionCause
 
-__all__ = ["LOAD_LIMIT_S", "STATE_CLAIM_BYTES", "main", "state_payload", "warm_up"]
+__all__ = ["LOAD_LIMIT_S", "STATE_CLAIM_BYTES", "main", "print_payload", "state_payload", "warm_up"]
 
 _REASON_CHARS = 500
 _NAME_BYTES = 256
@@ -131,7 +131,7 @@ def _run(
     def on_print(line: str) -> None:
         # never raised in the student's print(): the next tick's question ends the run
         with contextlib.suppress(WorldStoppedError):
-            channel.send(Kind.PRINT, _print_payload(line, next(printed)))
+            channel.send(Kind.PRINT, print_payload(line, next(printed)))
 
     try:
         session = run_session(
@@ -178,7 +178,7 @@ def state_payload(name: str, action: str | None, cause: TransitionCause) -> byte
     return head if len(data) > STATE_CLAIM_BYTES else head + b"\n" + data
 
 
-def _print_payload(line: str, number: int) -> bytes:
+def print_payload(line: str, number: int) -> bytes:
     """A ``P`` frame's payload: the ``number``-th line the mission printed (from 1), cut to
     one character more than a record keeps (so the world can mark the cut), or nothing past
     the lines a record keeps (the world only counts those)."""

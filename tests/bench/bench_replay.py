@@ -34,7 +34,7 @@ for _path in (str(HERE), str(HERE.parent), str(HERE.parent.parent)):
 
 from benchlib import Row, at_most, info, run_alone  # noqa: E402
 
-from roboscript.grading.mission_host import _print_payload  # noqa: E402
+from roboscript.grading.mission_host import print_payload  # noqa: E402
 from roboscript.mission import mission_for_robot  # noqa: E402
 from roboscript.mission.channels import StampedPrints  # noqa: E402
 from roboscript.replay.recording import Recorder  # noqa: E402
@@ -129,7 +129,7 @@ def _print_cost(lines: int) -> tuple[float, float]:
     terminal_s = time.process_time() - started
     started = time.process_time()
     for number in range(lines):
-        channel.send(Kind.PRINT, _print_payload(line, number % 1000 + 1))
+        channel.send(Kind.PRINT, print_payload(line, number % 1000 + 1))
     channel.flush()
     wire_s = time.process_time() - started
     channel.close()
