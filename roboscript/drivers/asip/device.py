@@ -288,6 +288,8 @@ class MirtoBoard:
     def pending_input_bytes(self) -> int:
         """Request bytes received and not yet a whole message (a frame the host has not
         finished), those still on a UART board's line included."""
+        if self.config.whole_lines:  # a USB board: nothing waits on a line
+            return self.codec.pending_bytes()
         return self.codec.pending_bytes() + self._line.pending_bytes()
 
     def read_output(self) -> bytes:
