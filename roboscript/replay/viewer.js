@@ -769,11 +769,12 @@
    * holds the lines, and a click jumps there. */
   Viewer.prototype.drawPrintMarks = function (span) {
     var prints = this.frames.prints, box = this.printMarks, groups = [], i;
+    var length = Math.max(span[1] - span[0], 1e-9);  // a run of one frame has no length
     box.textContent = "";
     box.setAttribute("data-count", String(prints.length));
     for (i = 0; i < prints.length; i++) {
       var at = Math.min(PRINT_MARKS - 1,
-                        Math.floor((prints[i][0] - span[0]) / (span[1] - span[0]) * PRINT_MARKS));
+                        Math.floor((prints[i][0] - span[0]) / length * PRINT_MARKS));
       var last = groups[groups.length - 1];
       if (last && last.at === at) last.lines.push(prints[i]);
       else groups.push({ at: at, lines: [prints[i]] });
@@ -786,7 +787,7 @@
       var mark = el("button", { type: "button", "class": "rs-print-mark",
                                 "data-t": String(g.lines[0][0]), title: text,
                                 "aria-label": text });
-      mark.style.left = (100 * (g.lines[0][0] - span[0]) / (span[1] - span[0])) + "%";
+      mark.style.left = (100 * (g.lines[0][0] - span[0]) / length) + "%";
       box.appendChild(mark);
     });
   };
