@@ -115,11 +115,22 @@ def test_a_signal_while_the_port_closes_still_closes_the_wire_log(
     link.wire_log = WireLog(path)
     link.send(m.StopMotors())
 
+    closed: list[str] = []
+    close_log = link.wire_log.close
+
     def interrupted() -> None:
+        closed.append("port")
         raise KeyboardInterrupt
 
+    def logged_close() -> None:
+        closed.append("log")
+        close_log()
+
     monkeypatch.setattr(link.port, "close", interrupted)
+    monkeypatch.setattr(link.wire_log, "close", logged_close)
     with pytest.raises(KeyboardInterrupt):
         link.close()
+    # the port first (the log records its last bytes), the log even though that was stopped
+    assert closed == ["port", "log"]
     assert [data for _, _, data in read_wire_log(path)] == [b"M,S,0\n"]  # flushed: closed
     peer.close()
