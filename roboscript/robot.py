@@ -30,7 +30,7 @@ from roboscript.interrupts import deferred, kept
 from roboscript.profiles import RobotProfile, get_profile, register_profile
 from roboscript.scheduler import Scheduler
 from roboscript.transport import Link, open_port
-from roboscript.transport.link import PortLike, close_port
+from roboscript.transport.link import PortLike
 from roboscript.transport.wirelog import WireLog
 from roboscript.watchdog import cpu_wait_s
 
@@ -115,7 +115,7 @@ class Robot:
         register_profile(profile)
         url = port or _sim_url(profile.name, world, seed, start)
         driver_cls = driver_class(profile.protocol)
-        opened = _Opened()
+        opened = _Opened(url)
         try:
             # A signal that something on the way drops (a finalizer, a library that ignores
             # every exception) still ends the connection here, with the port closed.
@@ -305,16 +305,22 @@ def _wait_for_handshake(
 
 
 class _Opened:
-    """What :meth:`Robot.connect` has opened so far, to stop and close if it gives up."""
+    """What :meth:`Robot.connect` has opened so far, to stop and close if it gives up.
 
-    def __init__(self) -> None:
+    Args:
+        name: The port's name, for the log.
+    """
+
+    def __init__(self, name: str) -> None:
+        self.name = name
         self.log: WireLog | None = None
         self.port: PortLike | None = None
         self.link: Link | None = None
         self.driver: Driver | None = None
 
     def abandon(self) -> None:
-        """Stop the robot (if a driver got that far), then close the port and the wire log.
+        """Stop the robot (if a driver got that far), then close the port and the wire log
+        (:meth:`Link.close_port_and_log`, with or without their link).
 
         A signal meanwhile waits for the stop, as in :meth:`Robot.stop`, and is raised once
         everything is closed.
@@ -325,14 +331,9 @@ class _Opened:
                     self.driver.stop_all()
         finally:
             if self.link is not None:
-                self.link.close()  # the port, then the wire log
+                self.link.close()
             else:
-                try:
-                    if self.port is not None:
-                        close_port(self.port, "the robot")
-                finally:
-                    if self.log is not None:
-                        self.log.close()
+                Link.close_port_and_log(self.port, self.log, self.name)
 
 
 class _OtherProtocol:

@@ -10,10 +10,11 @@ from fake_asip import FakeAsipBoard
 from helpers import HANG_BOUND_S
 
 import roboscript.robot as robot_module
+from roboscript.drivers.asip.driver import AsipDriver
 from roboscript.errors import CapabilityError
 from roboscript.profiles import get_profile
 from roboscript.robot import Robot
-from roboscript.transport.wirelog import read_wire_log
+from roboscript.transport.wirelog import WireLog, read_wire_log
 
 
 def test_connect_to_the_default_simulator_and_read_capabilities() -> None:
@@ -102,3 +103,47 @@ def test_a_busy_machine_does_not_cost_a_robot_its_handshake(
             assert robot.driver.ready
     finally:
         board.close()
+
+
+@pytest.mark.parametrize("given_up", ["before its link", "after its link"])
+def test_a_connection_given_up_closes_the_port_then_the_wire_log_even_if_a_signal_cuts_in(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, given_up: str
+) -> None:
+    # A signal lands while the robot connects (before the link exists, or during the
+    # handshake), and another while its port closes: the wire log is closed after the port,
+    # and still closed.
+    closed: list[str] = []
+    opening = robot_module.open_port
+
+    def opened(url: str, **options: object) -> object:
+        port = opening(url, **options)  # type: ignore[arg-type]
+        close_port = port.close
+
+        def close() -> None:
+            closed.append("port")
+            close_port()
+            raise KeyboardInterrupt  # a second signal, while the port closes
+
+        port.close = close  # type: ignore[method-assign]
+        return port
+
+    def interrupted(*args: object, **kwargs: object) -> None:
+        raise KeyboardInterrupt
+
+    close_log = WireLog.close
+
+    def logged_close(log: WireLog) -> None:
+        closed.append("log")
+        close_log(log)
+
+    monkeypatch.setattr(robot_module, "open_port", opened)
+    monkeypatch.setattr(WireLog, "close", logged_close)
+    if given_up == "before its link":
+        monkeypatch.setattr(AsipDriver, "make_codec", interrupted)
+    else:
+        monkeypatch.setattr(AsipDriver, "start", interrupted)
+    log = tmp_path / "run.wire"
+    with pytest.raises(KeyboardInterrupt):
+        Robot.connect("mirto", wire_log=str(log))
+    assert closed == ["port", "log"]
+    assert log.exists()

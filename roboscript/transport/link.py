@@ -157,13 +157,28 @@ class Link:
         closing the port is cut short (a signal).
         """
         self.closed = True
+        port, self._port_open = (self.port if self._port_open else None), False
+        Link.close_port_and_log(port, self.wire_log, self.name)
+
+    @staticmethod
+    def close_port_and_log(port: PortLike | None, wire_log: WireLog | None, name: str) -> None:
+        """Close ``port``, then ``wire_log`` (either may be ``None``): how a link ends.
+
+        The port goes first, so the log holds every byte that went out; the log is closed even
+        when closing the port is cut short (a signal), so it is never left unflushed. For a
+        port and log that never got their link as well (a connection given up half-made).
+
+        Args:
+            port: The port, or ``None`` when it is closed already or was never opened.
+            wire_log: The wire log, or ``None``.
+            name: The port's name, for the log.
+        """
         try:
-            if self._port_open:
-                self._port_open = False
-                close_port(self.port, self.name)
+            if port is not None:
+                close_port(port, name)
         finally:
-            if self.wire_log is not None:
-                self.wire_log.close()
+            if wire_log is not None:
+                wire_log.close()
 
     def _fault(self, fault: RemoteProtocolError) -> None:
         if not self.faults[fault.kind]:
