@@ -161,13 +161,11 @@ def kept() -> Iterator[None]:
     the block or before it, is raised at its end too: the block itself is never cut short (it
     may be the one that stops the robot).
     """
-    global _dropped
     before = _raised
     yield
-    if _raised != before or _dropped is not None:
-        signum = _last_signum if _dropped is None else _dropped
-        _dropped = None  # raised once
-        raise Interrupted(signum)
+    raise_dropped()  # one a finalizer dropped is the reason, when there is one (raised once)
+    if _raised != before:
+        raise Interrupted(_last_signum)
 
 
 def _unraisable(unraisable: sys.UnraisableHookArgs) -> None:
