@@ -66,7 +66,7 @@ from roboscript.grading.sandbox import Jail, JailedRun, Limits, WarmJail
 from roboscript.grading.spec import TestSpec, Variant
 from roboscript.grading.submissions import named_files
 from roboscript.mission.cause import TransitionCause
-from roboscript.mission.channels import PRINTED_LINE_CHARS
+from roboscript.mission.channels import PRINTED_LINE_CHARS, printed_line
 from roboscript.mission.runner import MISSION_OUTCOMES
 from roboscript.profiles import get_profile
 from roboscript.replay.world_tap import WorldReplay
@@ -767,7 +767,7 @@ def _printed(payload: bytes) -> str:
     """A line the mission printed, made safe to show: printable text, cut to what a record
     keeps (a longer line ends with ``…``)."""
     head = payload[: 4 * (PRINTED_LINE_CHARS + 1)]  # UTF-8 takes at most 4 bytes a character
-    return _text(head.decode("utf-8", "replace"), PRINTED_LINE_CHARS)
+    return printed_line(head.decode("utf-8", "replace"))
 
 
 def _state_account(account: bytes, before: str | None) -> tuple[str | None, dict[str, Any] | None]:

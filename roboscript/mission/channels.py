@@ -26,6 +26,7 @@ __all__ = [
     "StampedPrints",
     "log",
     "logging_to",
+    "printed_line",
     "stamped_prints",
 ]
 
@@ -86,6 +87,21 @@ MAX_PRINTED_LINES = 2000
 
 PRINTED_LINE_CHARS = 500
 """Characters of one printed line a record keeps (the terminal shows it whole)."""
+
+_CUT_MARK = "…"
+
+
+def printed_line(line: str) -> str:
+    """A line the mission printed, as every record keeps it (``run --record``, ``grade``).
+
+    Made printable (a tab, a terminal's escape or any other control character becomes a
+    space, so a replay page or a table shows what a terminal would not hide), and cut at
+    :data:`PRINTED_LINE_CHARS` characters: a longer line ends with ``…``. Only the first
+    ``PRINTED_LINE_CHARS + 1`` characters are read, so a huge line costs no more.
+    """
+    head = line[: PRINTED_LINE_CHARS + 1]
+    clean = head if head.isprintable() else "".join(c if c.isprintable() else " " for c in head)
+    return clean[:PRINTED_LINE_CHARS] + _CUT_MARK if len(clean) > PRINTED_LINE_CHARS else clean
 
 
 class StampedPrints(io.TextIOBase):

@@ -16,7 +16,7 @@ from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.angles import wrap_deg
-from roboscript.mission.channels import MAX_PRINTED_LINES, PRINTED_LINE_CHARS
+from roboscript.mission.channels import MAX_PRINTED_LINES, printed_line
 from roboscript.mission.runner import MissionRunner
 from roboscript.mission.spec import MissionSpec
 from roboscript.profiles import RobotProfile
@@ -239,7 +239,7 @@ class RunRecording:
         """Record a line the mission printed (written with the next tick, as ``print``)."""
         self._printed_total += 1
         if self._printed_total <= MAX_PRINTED_LINES:
-            self._printed.append(line[:PRINTED_LINE_CHARS])
+            self._printed.append(printed_line(line))
 
     def tick(self, runner: MissionRunner) -> None:
         """Record this tick (called after the mission's think phase).
