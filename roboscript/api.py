@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from roboscript.errors import InputError, RoboscriptError
+from roboscript.interrupts import handled
 from roboscript.mission import fit_to_robot, mission_for_robot
 from roboscript.mission.builder import MissionProblemsError
 from roboscript.mission.checks import check_world_regions
@@ -242,12 +243,32 @@ def run(
             ``file:line:col: error: ...``; ``problems`` lists every problem).
         LinkError: The robot could not be reached.
         KeyboardInterrupt: Ctrl-C (or SIGTERM, SIGHUP) stopped the run; the robot was told
-            to stop first.
+            to stop first. It is a :class:`~roboscript.interrupts.Interrupted` whose text is
+            the sentence ``roboscript run`` ends with (``interrupted by Ctrl-C``) and whose
+            ``exit_status`` is the command's (130, 143, 129). Signals are handled this way
+            only while :func:`run` runs, in the main thread; the program's own handlers are
+            back when it returns or raises.
         ValueError: ``max_time_s`` is not more than 0.
     """
     if not max_time_s > 0:
         raise ValueError(f"max_time_s must be more than 0 (got {max_time_s})")
     note_mission_run()
+    # Ctrl-C, SIGTERM and SIGHUP stop the robot on the way out here as on the command line;
+    # the caller's program gets its own handlers back when the run ends.
+    with handled():
+        return _run(mission, robot, world, seed, port, max_time_s, realtime, record)
+
+
+def _run(
+    mission: str | Path | type[Mission] | MissionSpec,
+    robot: str | None,
+    world: str | None,
+    seed: int,
+    port: str | None,
+    max_time_s: float,
+    realtime: bool,
+    record: bool,
+) -> RunResult:
     spec, profile, warnings = _spec_and_robot(mission, robot)
     world_name = world or spec.world or "empty"
     _check_world_regions(spec, world_name if port is None or port.startswith("sim:") else None)

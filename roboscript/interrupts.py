@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import signal
 import sys
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from types import FrameType
@@ -35,6 +36,7 @@ __all__ = [
     "Interrupted",
     "deferred",
     "exit_status_for",
+    "handled",
     "install",
     "kept",
     "raise_dropped",
@@ -66,6 +68,9 @@ class Interrupted(KeyboardInterrupt):
         super().__init__(signum)
         self.signum = signum
         self._reason = reason
+
+    def __str__(self) -> str:
+        return self.reason  # what a traceback, a notebook or ``str(exc)`` shows: the sentence
 
     @property
     def reason(self) -> str:
@@ -193,3 +198,34 @@ def install() -> None:
     if sys.unraisablehook is not _unraisable:
         _previous_hook = sys.unraisablehook
         sys.unraisablehook = _unraisable
+
+
+@contextmanager
+def handled() -> Iterator[None]:
+    """:func:`install` for the block only: for a run inside someone else's program.
+
+    ``roboscript.run()`` in a script or a notebook stops the robot on Ctrl-C, SIGTERM and
+    SIGHUP exactly as ``roboscript run`` does, then gives the program back its own handlers
+    (and :data:`sys.unraisablehook`). Python lets only the main thread set handlers: in any
+    other thread the block runs with the program's handlers as they are. A signal a finalizer
+    dropped in the block is raised at its end (never left for a later run).
+
+    Raises:
+        Interrupted: A signal a finalizer dropped in the block, raised at its end.
+    """
+    global _dropped
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    saved = {signum: signal.getsignal(signum) for signum in HANDLED_SIGNALS}
+    hook = sys.unraisablehook
+    install()
+    try:
+        yield
+        raise_dropped()
+    finally:
+        _dropped = None  # the block's signals end with it: the program's handlers are back
+        for signum, previous in saved.items():
+            # None: a handler set outside Python, which Python cannot set again
+            signal.signal(signum, signal.SIG_DFL if previous is None else previous)
+        sys.unraisablehook = hook
