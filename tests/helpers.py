@@ -15,6 +15,8 @@ import pytest
 
 from roboscript.errors import MissionError
 from roboscript.mission import load_mission
+from roboscript.sim.simulation import make_simulation
+from roboscript.transport.wirelog import read_wire_log
 
 ROOT = Path(__file__).resolve().parent.parent
 MISSIONS = ROOT / "missions"
@@ -85,11 +87,32 @@ def serving_simulator(robot: str, *options: str) -> Iterator[tuple[int, subproce
         The port it listens on and the process; the server is ended after, and what it printed
         after its first line stays readable from the process's ``stdout``.
     """
+    with _simulator_process(robot, *options, "--tcp", "127.0.0.1:0") as (first, proc):
+        match = re.search(r"tcp://127\.0\.0\.1:(\d+)", first)
+        assert match, first + (proc.stderr.read() if proc.stderr and not first else "")
+        yield int(match.group(1)), proc
+
+
+@contextlib.contextmanager
+def served_on_pty(robot: str, *options: str) -> Iterator[str]:
+    """Serve a simulated ``robot`` on a pseudo-terminal (``roboscript sim --pty``, a real
+    process), reached as a USB serial port is (pyserial's POSIX port).
+
+    Yields:
+        The pty's path, to open as a serial port; the server is ended after.
+    """
+    with _simulator_process(robot, *options, "--pty") as (first, proc):
+        assert first.startswith("/"), first + (proc.stderr.read() if proc.stderr else "")
+        yield first
+
+
+@contextlib.contextmanager
+def _simulator_process(robot: str, *options: str) -> Iterator[tuple[str, subprocess.Popen[str]]]:
+    """``roboscript sim --robot ROBOT OPTIONS`` running: yields the first line it printed."""
     env = dict(os.environ)
     env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
-    command = [sys.executable, "-m", "roboscript", "sim", "--robot", robot, *options]
     proc = subprocess.Popen(
-        [*command, "--tcp", "127.0.0.1:0"],
+        [sys.executable, "-m", "roboscript", "sim", "--robot", robot, *options],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
@@ -98,13 +121,30 @@ def serving_simulator(robot: str, *options: str) -> Iterator[tuple[int, subproce
     )
     try:
         assert proc.stdout is not None
-        first = proc.stdout.readline()
-        match = re.search(r"tcp://127\.0\.0\.1:(\d+)", first)
-        assert match, first + (proc.stderr.read() if proc.stderr and not first else "")
-        yield int(match.group(1)), proc
+        yield proc.stdout.readline().strip(), proc
     finally:
         proc.terminate()
         proc.wait(timeout=HANG_BOUND_S)
+
+
+def replayed_power(robot: str, log: Path) -> tuple[float, list[float]]:
+    """Judge, outside the program, whether a run left its robot driving: every byte the host
+    sent (its wire log) is replayed into a fresh simulated robot of the same kind.
+
+    Returns:
+        The most power any motor was driven at, and each motor's power after the last byte.
+    """
+    sim = make_simulation(robot)
+    sim.connect()
+    sent = [(t, data) for t, direction, data in read_wire_log(log) if direction == ">"]
+    origin = sent[0][0]
+    most = 0.0
+    for t, data in sent:
+        sim.tick(t - origin, 0.0)
+        most = max(most, *(abs(p) for p in sim.body.power))
+        sim.write(data)
+    sim.tick(sim.time_s + 0.25, 0.0)  # time for the firmware to act on the last bytes
+    return most, list(sim.body.power)
 
 
 def run_action(bot: object, action: object, limit_s: float = 30.0) -> object:

@@ -18,15 +18,14 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from helpers import HANG_BOUND_S, ROOT, served_simulator
+from helpers import HANG_BOUND_S, ROOT, replayed_power, served_on_pty, served_simulator
 
 from roboscript.clock import SimClock
 from roboscript.interrupts import (
-    HANDLED_SIGNALS,
     Interrupted,
     deferred,
     exit_status_for,
-    install,
+    handled,
     kept,
     raise_dropped,
     reason_for,
@@ -35,7 +34,6 @@ from roboscript.mission.runner import MissionRunner
 from roboscript.mission.yaml_loader import parse_yaml_mission
 from roboscript.robot import Robot
 from roboscript.scheduler import Scheduler
-from roboscript.sim.simulation import make_simulation
 from roboscript.transport.wirelog import read_wire_log
 
 WHEELED = ("mirto", "spike-prime", "stackmod-rover")
@@ -57,19 +55,30 @@ def test_each_signal_has_its_sentence_and_exit_status() -> None:
     assert isinstance(term, KeyboardInterrupt)  # every Ctrl-C path stops the robot for it too
 
 
-def _replayed_power(robot: str, log: Path) -> tuple[float, list[float]]:
-    """Replay the host's bytes into a fresh simulated robot: (most power seen, power at end)."""
-    sim = make_simulation(robot)
-    sim.connect()
-    sent = [(t, data) for t, direction, data in read_wire_log(log) if direction == ">"]
-    origin = sent[0][0]
-    most = 0.0
-    for t, data in sent:
-        sim.tick(t - origin, 0.0)
-        most = max(most, *(abs(p) for p in sim.body.power))
-        sim.write(data)
-    sim.tick(sim.time_s + 0.25, 0.0)  # time for the firmware to act on the last bytes
-    return most, list(sim.body.power)
+# Drives for ten minutes: whenever the signal comes, the wheels are turning.
+LONG_DRIVE = """\
+mission: long drive
+initial: forward
+states:
+  forward:
+    do: {drive: {duration: 10 min, speed: 15 cm/s}}
+    on: {done: finished, failed: finished}
+  finished:
+    final: success
+"""
+
+
+def _wait_until_driven(robot: str, log: Path, proc: subprocess.Popen[str]) -> None:
+    """Return once the bytes the run has sent so far (its wire log, flushed at least once a
+    second; a record cut short is not read) drive the wheels, judged as the run's end is."""
+    deadline = time.monotonic() + HANG_BOUND_S  # a bound for a hang, never a measure of speed
+    while time.monotonic() < deadline:
+        assert proc.poll() is None, "the run ended before it drove"
+        sent = log.exists() and any(d == ">" for _, d, _ in read_wire_log(log))
+        if sent and replayed_power(robot, log)[0] > 0.1:
+            return
+        time.sleep(0.05)  # until the next flush: this only paces the reads
+    raise AssertionError(f"the run sent nothing that drives within {HANG_BOUND_S} s")
 
 
 @pytest.mark.parametrize("robot", WHEELED)
@@ -78,10 +87,12 @@ def test_a_signal_mid_mission_stops_the_robot_then_exits_with_its_status(
     tmp_path: Path, robot: str, name: str
 ) -> None:
     signum = getattr(signal, name)
+    mission = tmp_path / "long.yaml"
+    mission.write_text(LONG_DRIVE, encoding="utf-8")
     log = tmp_path / "wire.log"
     proc = subprocess.Popen(
         [
-            *(sys.executable, "-m", "roboscript", "run", str(ROOT / "missions" / "square.yaml")),
+            *(sys.executable, "-m", "roboscript", "run", str(mission)),
             *("--robot", robot, "--realtime", "--wire-log", str(log)),
         ],
         cwd=ROOT,
@@ -90,32 +101,26 @@ def test_a_signal_mid_mission_stops_the_robot_then_exits_with_its_status(
         stderr=subprocess.PIPE,
         text=True,
     )
-    assert proc.stderr is not None
-    for line in proc.stderr:  # progress lines go to stderr, flushed as states are entered
-        if "side" in line:
-            break
-    time.sleep(1.0)  # the mission is under way: the wheels are turning
-    proc.send_signal(signum)
-    _, stderr = proc.communicate(timeout=HANG_BOUND_S)
+    try:
+        _wait_until_driven(robot, log, proc)  # the mission is under way: the wheels are turning
+        proc.send_signal(signum)
+        _, stderr = proc.communicate(timeout=HANG_BOUND_S)
+    finally:
+        proc.kill()  # only if the test failed before the run ended
+        proc.wait()
     assert proc.returncode == 128 + signum, stderr
     assert "Traceback" not in stderr
     assert stderr.strip().splitlines()[-1] == f"error: {Interrupted(signum).reason}"
-    most, end = _replayed_power(robot, log)
+    most, end = replayed_power(robot, log)
     assert most > 0.1, "the robot never drove: the test proves nothing"
     assert all(abs(p) < 1e-6 for p in end), f"{robot} left driving at {end} after {name}"
 
 
 @pytest.fixture
 def handlers() -> Iterator[None]:
-    saved = {signum: signal.getsignal(signum) for signum in HANDLED_SIGNALS}
-    hook = sys.unraisablehook
-    install()
-    try:
+    """roboscript's handlers for the test (as a run from Python has them), the test's after."""
+    with handled():
         yield
-    finally:
-        for signum, handler in saved.items():
-            signal.signal(signum, handler)
-        sys.unraisablehook = hook
 
 
 @pytest.mark.usefixtures("handlers")
@@ -240,15 +245,12 @@ def test_other_errors_in_finalizers_are_still_reported_as_python_reports_them() 
             raise ValueError("a bug in a finalizer")
 
     reported: list[type[BaseException] | None] = []
-    saved = {signum: signal.getsignal(signum) for signum in HANDLED_SIGNALS}
     hook = sys.unraisablehook
     sys.unraisablehook = lambda unraisable: reported.append(unraisable.exc_type)
     try:
-        install()
-        Faulty()
+        with handled():
+            Faulty()
     finally:
-        for signum, handler in saved.items():
-            signal.signal(signum, handler)
         sys.unraisablehook = hook
     assert reported == [ValueError]
 
@@ -413,26 +415,12 @@ def _served(transport: str) -> Iterator[str]:
     which pyserial's port serves (its close swallows every exception); ``pty``: a
     pseudo-terminal, as a USB serial port is reached (pyserial's POSIX port).
     """
-    if transport != "pty":
-        with served_simulator("mirto") as port:
-            yield f"socket://127.0.0.1:{port}" + (
-                "?logging=warning" if "pyserial" in transport else ""
-            )
+    if transport == "pty":
+        with served_on_pty("mirto") as path:
+            yield path
         return
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "roboscript", "sim", "--robot", "mirto", "--pty"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        cwd=ROOT,
-        env=dict(os.environ, PYTHONPATH=str(ROOT)),
-    )
-    try:
-        assert proc.stdout is not None
-        yield proc.stdout.readline().strip()
-    finally:
-        proc.terminate()
-        proc.wait(timeout=HANG_BOUND_S)
+    with served_simulator("mirto") as port:
+        yield f"socket://127.0.0.1:{port}" + ("?logging=warning" if "pyserial" in transport else "")
 
 
 def _run_signalled(
@@ -467,7 +455,7 @@ def _left_stopped(log: Path) -> float:
     """The most power the run's bytes drove at; fails if they leave the robot driving."""
     if not log.exists() or not any(d == ">" for _, d, _ in read_wire_log(log)):
         return 0.0  # nothing was sent: nothing can be driving
-    most, end = _replayed_power("mirto", log)
+    most, end = replayed_power("mirto", log)
     assert all(abs(p) < 1e-6 for p in end), f"left driving at {end}"
     return most
 
