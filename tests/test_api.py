@@ -5,18 +5,21 @@ from __future__ import annotations
 import json
 import os
 import re
+import signal
 import subprocess
 import sys
+import threading
 from html.parser import HTMLParser
 from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import HANG_BOUND_S, MISSIONS, ROOT, SLEEPER, run_cli
+from helpers import HANG_BOUND_S, MISSIONS, ROOT, SLEEPER, replayed_power, run_cli
 
 import roboscript
 from roboscript import Drive, Mission, api, state
 from roboscript.errors import InputError
+from roboscript.interrupts import Interrupted
 from roboscript.mission import load_mission
 from roboscript.mission.student_code import import_student_file
 from roboscript.replay.recording import load_recording
@@ -38,6 +41,13 @@ class Forever(Mission):
     """Drives until the time limit or a signal ends it."""
 
     go = state(Drive(duration_s=60), initial=True, on_done="done")
+    done = state(final="success")
+
+
+class ShortHop(Mission):
+    """Drives 10 cm."""
+
+    go = state(Drive(distance_mm=100), initial=True, on_done="done", on_failed="done")
     done = state(final="success")
 
 
@@ -187,6 +197,120 @@ def test_ctrl_c_stops_the_robot_then_raises(sessions: list[Any]) -> None:
     assert getattr(caught.value, "exit_status", None) == 130
     assert sessions[-1].result.reason == "interrupted by Ctrl-C"
     assert sessions[-1].simulation.body.power == [0.0, 0.0]
+
+
+# A script that runs a mission from Python, in real time, recording every byte it sends (the
+# test's judge) and saying what ended it: the exception's type and text, and whether its own
+# signal handlers were given back.
+SCRIPT_RUNNING_A_MISSION = """\
+import signal, sys
+
+import roboscript
+from roboscript.robot import Robot
+
+mission, log = sys.argv[1:]
+connect = Robot.connect.__func__
+Robot.connect = classmethod(lambda cls, *a, **k: connect(cls, *a, **{**k, "wire_log": log}))
+
+
+def own(signum, frame):
+    pass
+
+
+signal.signal(signal.SIGHUP, own)
+before = [signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)]
+try:
+    roboscript.run(mission, realtime=True)
+except KeyboardInterrupt as exc:
+    after = [signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)]
+    print(f"{type(exc).__name__}: {exc}", file=sys.stderr)
+    print("handlers given back:", after == before, file=sys.stderr)
+    sys.exit(exc.exit_status)
+"""
+
+# Drives for ten minutes, and says so once the wheels have turned.
+DRIVES_AND_SAYS_SO = """\
+from roboscript import Drive, Mission, state
+
+SAID = []
+
+
+class Far(Mission):
+    go = state(Drive(duration_s=600), initial=True, when=[("moving", "end")], on_done="end")
+    end = state(final="success")
+
+    def moving(self):
+        if not SAID and self.driven.total_cm > 1:
+            SAID.append(True)
+            print("moving")
+        return False
+"""
+
+
+@pytest.mark.parametrize("name", ["SIGINT", "SIGTERM"])
+def test_a_signal_during_run_in_a_script_stops_the_robot_and_raises_the_commands_sentence(
+    tmp_path: Path, name: str
+) -> None:
+    signum = getattr(signal, name)
+    (tmp_path / "far.py").write_text(DRIVES_AND_SAYS_SO, encoding="utf-8")
+    log = tmp_path / "wire.log"
+    proc = subprocess.Popen(
+        [sys.executable, "-u", "-c", SCRIPT_RUNNING_A_MISSION, "far.py", str(log)],
+        cwd=tmp_path,
+        env=dict(os.environ, PYTHONPATH=str(ROOT)),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert proc.stdout is not None
+        for line in proc.stdout:  # the mission's prints, stamped, as it prints them
+            if line.endswith("> moving\n"):
+                break
+        proc.send_signal(signum)  # while the wheels turn
+        _, stderr = proc.communicate(timeout=HANG_BOUND_S)
+    finally:
+        proc.kill()  # only if the test failed before the script ended
+        proc.wait()
+    assert proc.returncode == 128 + signum, stderr
+    assert stderr.splitlines()[-2:] == [
+        f"Interrupted: {Interrupted(signum).reason}",  # as roboscript run's last line says it
+        "handlers given back: True",
+    ]
+    most, end = replayed_power("mirto", log)
+    assert most > 0.1, "the robot never drove: the test proves nothing"
+    assert end == [0.0, 0.0], f"left driving at {end} after {name}"
+
+
+def test_run_gives_the_program_its_own_signal_handlers_back() -> None:
+    def own(signum: int, frame: object) -> None:
+        pass
+
+    previous = signal.signal(signal.SIGTERM, own)
+    try:
+        roboscript.run(ShortHop, max_time_s=5.0)
+        assert signal.getsignal(signal.SIGTERM) is own
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def test_run_in_another_thread_runs_with_the_programs_handlers() -> None:
+    # Python lets only the main thread set signal handlers: a run in a thread must not try
+    results: list[Any] = []
+    errors: list[BaseException] = []
+
+    def run() -> None:
+        try:
+            results.append(roboscript.run(ShortHop, max_time_s=5.0))
+        except BaseException as exc:  # noqa: BLE001 - reported by the test
+            errors.append(exc)
+
+    worker = threading.Thread(target=run)
+    worker.start()
+    worker.join(timeout=HANG_BOUND_S)
+    assert errors == []
+    assert [result.outcome for result in results] == ["success"]
 
 
 def test_a_bad_mission_raises_with_its_location(tmp_path: Path) -> None:

@@ -53,6 +53,7 @@ def test_each_signal_has_its_sentence_and_exit_status() -> None:
     hup = Interrupted(signal.SIGHUP)
     assert (hup.exit_status, hup.reason) == (129, "stopped by SIGHUP (the terminal was closed)")
     assert isinstance(term, KeyboardInterrupt)  # every Ctrl-C path stops the robot for it too
+    assert str(term) == term.reason  # what a traceback or a notebook shows
 
 
 # Drives for ten minutes: whenever the signal comes, the wheels are turning.
