@@ -56,7 +56,12 @@ outside what the hang limit allows a tick, since loading is not the student's co
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run one mission over the lockstep wire; the exit status means nothing to the grader."""
+    """Run one mission over the lockstep wire; the exit status means nothing to the grader.
+
+    Returns:
+        0, or ``128 + N`` when signal N ended the run or came while it closed (as
+        ``roboscript run`` exits), 2 for a mission that did not load, 3 when the world hung up.
+    """
     args = list(sys.argv[1:] if argv is None else argv)
     fd, mission_path, robot, max_time_s, hang_after_s = (
         int(args[0]),
@@ -160,7 +165,8 @@ def _run(
             "code_stopped": session.code_stopped,
         },
     )
-    return 0
+    # a signal that ended the run, or came while the port closed after it: its own status
+    return session.interrupted
 
 
 def state_payload(name: str, action: str | None, cause: TransitionCause) -> bytes:
