@@ -7,13 +7,14 @@ import os
 import re
 import subprocess
 import sys
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
 import pytest
 
 from roboscript.errors import MissionError
+from roboscript.grading.spec import TestSpec, load_test_spec
 from roboscript.mission import load_mission
 from roboscript.sim.simulation import make_simulation
 from roboscript.transport.wirelog import read_wire_log
@@ -127,6 +128,42 @@ def _simulator_process(robot: str, *options: str) -> Iterator[tuple[str, subproc
         proc.wait(timeout=HANG_BOUND_S)
 
 
+def signalled_once(
+    command: list[str],
+    signum: int,
+    ready: Callable[[subprocess.Popen[str]], None],
+    cwd: Path = ROOT,
+) -> tuple[int, str]:
+    """Start ``command``, send it ``signum`` once ``ready(process)`` returns, and wait for it.
+
+    Args:
+        command: The program and its arguments (run with this checkout on its path).
+        signum: The signal to send.
+        ready: Returns once the process has done what the signal must find done: an event the
+            test sees (a line it printed, bytes it sent), never a time waited.
+        cwd: The folder it runs in.
+
+    Returns:
+        Its exit status and what it wrote on standard error.
+    """
+    proc = subprocess.Popen(
+        command,
+        cwd=cwd,
+        env=dict(os.environ, PYTHONPATH=str(ROOT)),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        ready(proc)
+        proc.send_signal(signum)
+        _, stderr = proc.communicate(timeout=HANG_BOUND_S)
+    finally:
+        proc.kill()  # only if the test failed before the process ended
+        proc.wait()
+    return proc.returncode, stderr
+
+
 def replayed_power(robot: str, log: Path) -> tuple[float, list[float]]:
     """Judge, outside the program, whether a run left its robot driving: every byte the host
     sent (its wire log) is replayed into a fresh simulated robot of the same kind.
@@ -145,6 +182,26 @@ def replayed_power(robot: str, log: Path) -> tuple[float, list[float]]:
         sim.write(data)
     sim.tick(sim.time_s + 0.25, 0.0)  # time for the firmware to act on the last bytes
     return most, list(sim.body.power)
+
+
+ONE_RUN_SPEC = """\
+test: one-run
+world: empty
+robot: mirto
+runs:
+  - {seed: 1}
+max_time: 10 s
+expect:
+  - outcome: success
+"""
+"""A test of one 10 s run in the empty world that a mission passes by ending in success."""
+
+
+def one_run_spec(folder: Path) -> TestSpec:
+    """:data:`ONE_RUN_SPEC`, written as ``test.yaml`` in ``folder`` and loaded."""
+    path = folder / "test.yaml"
+    path.write_text(ONE_RUN_SPEC, encoding="utf-8")
+    return load_test_spec(path)
 
 
 def run_action(bot: object, action: object, limit_s: float = 30.0) -> object:

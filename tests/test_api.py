@@ -14,7 +14,15 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import HANG_BOUND_S, MISSIONS, ROOT, SLEEPER, replayed_power, run_cli
+from helpers import (
+    HANG_BOUND_S,
+    MISSIONS,
+    ROOT,
+    SLEEPER,
+    replayed_power,
+    run_cli,
+    signalled_once,
+)
 
 import roboscript
 from roboscript import Drive, Mission, api, state
@@ -254,25 +262,21 @@ def test_a_signal_during_run_in_a_script_stops_the_robot_and_raises_the_commands
     signum = getattr(signal, name)
     (tmp_path / "far.py").write_text(DRIVES_AND_SAYS_SO, encoding="utf-8")
     log = tmp_path / "wire.log"
-    proc = subprocess.Popen(
-        [sys.executable, "-u", "-c", SCRIPT_RUNNING_A_MISSION, "far.py", str(log)],
-        cwd=tmp_path,
-        env=dict(os.environ, PYTHONPATH=str(ROOT)),
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    try:
+
+    def moving(proc: subprocess.Popen[str]) -> None:
         assert proc.stdout is not None
         for line in proc.stdout:  # the mission's prints, stamped, as it prints them
             if line.endswith("> moving\n"):
-                break
-        proc.send_signal(signum)  # while the wheels turn
-        _, stderr = proc.communicate(timeout=HANG_BOUND_S)
-    finally:
-        proc.kill()  # only if the test failed before the script ended
-        proc.wait()
-    assert proc.returncode == 128 + signum, stderr
+                return  # the wheels turn
+        raise AssertionError("the script ended before its robot moved")
+
+    status, stderr = signalled_once(
+        [sys.executable, "-u", "-c", SCRIPT_RUNNING_A_MISSION, "far.py", str(log)],
+        signum,
+        moving,
+        cwd=tmp_path,
+    )
+    assert status == 128 + signum, stderr
     assert stderr.splitlines()[-2:] == [
         f"Interrupted: {Interrupted(signum).reason}",  # as roboscript run's last line says it
         "handlers given back: True",

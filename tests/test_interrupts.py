@@ -18,7 +18,14 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from helpers import HANG_BOUND_S, ROOT, replayed_power, served_on_pty, served_simulator
+from helpers import (
+    HANG_BOUND_S,
+    ROOT,
+    replayed_power,
+    served_on_pty,
+    served_simulator,
+    signalled_once,
+)
 
 from roboscript.clock import SimClock
 from roboscript.interrupts import (
@@ -56,17 +63,20 @@ def test_each_signal_has_its_sentence_and_exit_status() -> None:
     assert str(term) == term.reason  # what a traceback or a notebook shows
 
 
-# Drives for ten minutes: whenever the signal comes, the wheels are turning.
-LONG_DRIVE = """\
-mission: long drive
+# A mission that drives at 15 cm/s (DRIVEN: how far or how long), then ends in success.
+DRIVE = """\
+mission: drive
 initial: forward
 states:
   forward:
-    do: {drive: {duration: 10 min, speed: 15 cm/s}}
+    do: {drive: {DRIVEN, speed: 15 cm/s}}
     on: {done: finished, failed: finished}
   finished:
     final: success
 """
+
+LONG_DRIVE = DRIVE.replace("DRIVEN", "duration: 10 min")
+"""Whenever the signal comes, the wheels are turning."""
 
 
 def _wait_until_driven(robot: str, log: Path, proc: subprocess.Popen[str]) -> None:
@@ -91,25 +101,15 @@ def test_a_signal_mid_mission_stops_the_robot_then_exits_with_its_status(
     mission = tmp_path / "long.yaml"
     mission.write_text(LONG_DRIVE, encoding="utf-8")
     log = tmp_path / "wire.log"
-    proc = subprocess.Popen(
+    status, stderr = signalled_once(
         [
             *(sys.executable, "-m", "roboscript", "run", str(mission)),
             *("--robot", robot, "--realtime", "--wire-log", str(log)),
         ],
-        cwd=ROOT,
-        env=dict(os.environ, PYTHONPATH=str(ROOT)),
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
+        signum,
+        lambda proc: _wait_until_driven(robot, log, proc),  # the wheels are turning
     )
-    try:
-        _wait_until_driven(robot, log, proc)  # the mission is under way: the wheels are turning
-        proc.send_signal(signum)
-        _, stderr = proc.communicate(timeout=HANG_BOUND_S)
-    finally:
-        proc.kill()  # only if the test failed before the run ended
-        proc.wait()
-    assert proc.returncode == 128 + signum, stderr
+    assert status == 128 + signum, stderr
     assert "Traceback" not in stderr
     assert stderr.strip().splitlines()[-1] == f"error: {Interrupted(signum).reason}"
     most, end = replayed_power(robot, log)
@@ -396,16 +396,7 @@ def _signalling(*args, **kwargs):
 setattr(_owner, _attr, _signalling)
 """
 
-SHORT_DRIVE = """\
-mission: short drive
-initial: forward
-states:
-  forward:
-    do: {drive: {distance: 10 cm, speed: 15 cm/s}}
-    on: {done: finished, failed: finished}
-  finished:
-    final: success
-"""
+SHORT_DRIVE = DRIVE.replace("DRIVEN", "distance: 10 cm")
 
 
 @contextlib.contextmanager

@@ -6,22 +6,11 @@ import signal
 from pathlib import Path
 
 import pytest
+from helpers import one_run_spec
 
 from roboscript.grading import world_host
 from roboscript.grading.run import grade_run
 from roboscript.grading.sandbox import Jail
-from roboscript.grading.spec import load_test_spec
-
-ONE_RUN = """\
-test: one-run
-world: empty
-robot: mirto
-runs:
-  - {seed: 1}
-max_time: 10 s
-expect:
-  - outcome: success
-"""
 
 # Finishes at once; as its robot's link closes, the process is sent Ctrl-C's signal.
 SIGNALLED_WHILE_CLOSING = """\
@@ -64,9 +53,7 @@ def test_a_ctrl_c_while_the_mission_process_closes_ends_it_with_the_signals_stat
             return status
 
     monkeypatch.setattr(world_host, "Jail", Watched)
-    spec_path = tmp_path / "test.yaml"
-    spec_path.write_text(ONE_RUN, encoding="utf-8")
-    spec = load_test_spec(spec_path)
+    spec = one_run_spec(tmp_path)
     mission = tmp_path / "short.py"
     mission.write_text(SIGNALLED_WHILE_CLOSING, encoding="utf-8")
     result = grade_run(spec, str(mission), spec.variants[0])

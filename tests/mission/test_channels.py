@@ -7,11 +7,10 @@ import json
 from pathlib import Path
 
 import pytest
-from helpers import LOGGING_MISSION, run_cli
+from helpers import LOGGING_MISSION, one_run_spec, run_cli
 
 from roboscript import log
 from roboscript.grading.run import grade_run
-from roboscript.grading.spec import load_test_spec
 from roboscript.mission.channels import (
     MAX_CHANNELS,
     PRINTED_LINE_CHARS,
@@ -153,17 +152,6 @@ class Noisy(Mission):
         return False
 """
 
-ONE_RUN = """\
-test: one-run
-world: empty
-robot: mirto
-runs:
-  - {seed: 1}
-max_time: 10 s
-expect:
-  - outcome: success
-"""
-
 
 def test_run_record_and_grade_record_the_same_text_for_a_printed_line(tmp_path: Path) -> None:
     mission = tmp_path / "noisy.py"
@@ -171,9 +159,7 @@ def test_run_record_and_grade_record_the_same_text_for_a_printed_line(tmp_path: 
     result = run_cli("run", "noisy.py", "--record", "run.jsonl", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     recorded = [line for f in _frames(tmp_path / "run.jsonl") for line in f.get("print", [])]  # type: ignore[attr-defined]
-    spec_path = tmp_path / "test.yaml"
-    spec_path.write_text(ONE_RUN, encoding="utf-8")
-    spec = load_test_spec(spec_path)
+    spec = one_run_spec(tmp_path)
     graded = grade_run(spec, str(mission), spec.variants[0])
     assert graded.replay is not None, graded.message
     replayed = [line for f in fill_frames(graded.replay["frames"]) for line in f.get("print", [])]
