@@ -7,10 +7,9 @@ import json
 from pathlib import Path
 
 import pytest
-from helpers import LOGGING_MISSION, one_run_spec, run_cli
+from helpers import LOGGING_MISSION, run_cli
 
 from roboscript import log
-from roboscript.grading.run import grade_run
 from roboscript.mission.channels import (
     MAX_CHANNELS,
     PRINTED_LINE_CHARS,
@@ -18,7 +17,6 @@ from roboscript.mission.channels import (
     logging_to,
     printed_line,
 )
-from roboscript.replay.recording import fill_frames
 
 
 def _frames(path: Path) -> list[dict[str, object]]:
@@ -130,38 +128,3 @@ def test_a_printed_line_is_kept_printable_and_cut_at_its_length() -> None:
     assert printed_line("\x1b[1mbold\x1b[0m\tend\x07") == " [1mbold [0m end "
     assert printed_line("é" * PRINTED_LINE_CHARS) == "é" * PRINTED_LINE_CHARS  # whole: it fits
     assert printed_line("é" * (PRINTED_LINE_CHARS + 1)) == "é" * PRINTED_LINE_CHARS + "…"
-
-
-# Prints once, on its first tick, a line a terminal would colour and ring at, then one longer
-# than a record keeps.
-NOISY_PRINTER = """\
-from roboscript import Mission, Wait, state
-
-SAID = []
-
-
-class Noisy(Mission):
-    go = state(Wait(duration_s=0.2), initial=True, on_done="end", when=[("talk", "end")])
-    end = state(final="success")
-
-    def talk(self):
-        if not SAID:
-            SAID.append(True)
-            print("\\x1b[31mred\\x1b[0m\\tand a bell\\x07, a\\rreturn")
-            print("é" * 600)
-        return False
-"""
-
-
-def test_run_record_and_grade_record_the_same_text_for_a_printed_line(tmp_path: Path) -> None:
-    mission = tmp_path / "noisy.py"
-    mission.write_text(NOISY_PRINTER, encoding="utf-8")
-    result = run_cli("run", "noisy.py", "--record", "run.jsonl", cwd=tmp_path)
-    assert result.returncode == 0, result.stderr
-    recorded = [line for f in _frames(tmp_path / "run.jsonl") for line in f.get("print", [])]  # type: ignore[attr-defined]
-    spec = one_run_spec(tmp_path)
-    graded = grade_run(spec, str(mission), spec.variants[0])
-    assert graded.replay is not None, graded.message
-    replayed = [line for f in fill_frames(graded.replay["frames"]) for line in f.get("print", [])]
-    assert recorded == [" [31mred [0m and a bell , a return", "é" * PRINTED_LINE_CHARS + "…"]
-    assert replayed == recorded

@@ -377,21 +377,15 @@ def test_run_and_grade_record_what_the_mission_printed_on_the_same_ticks(
     ran, graded, _ = printed
     graded_prints = _prints(fill_frames(graded["frames"]))
     ran_prints = _prints(ran.frames)
-    assert [t for t, _ in graded_prints] == [t for t, _ in ran_prints]
+    # both write only printable text (a tab or a terminal's escape becomes a space), cut
+    # alike: the same text on the same ticks
+    assert graded_prints == ran_prints
     assert ran_prints[:4] == [
-        (0.52, "at 0.52\tgap\x1b[2J and more"),
-        (0.54, "at 0.54\tgap\x1b[2J and more"),
-        (0.56, "at 0.56\tgap\x1b[2J and more"),
-        (ran_prints[3][0], "x" * 500),
-    ]
-    # the grader writes only printable text: a tab or a terminal's escape becomes a space
-    assert graded_prints[:4] == [
         (0.52, "at 0.52 gap [2J and more"),
         (0.54, "at 0.54 gap [2J and more"),
         (0.56, "at 0.56 gap [2J and more"),
         (ran_prints[3][0], "x" * 500 + "…"),
     ]
-    assert graded_prints[4:] == ran_prints[4:]
     # labelled as the mission's own words, like the causes it gives
     assert "print" in graded["header"]["claimed"]
 

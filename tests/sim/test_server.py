@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-import re
 import socket
 import subprocess
 import sys
@@ -13,38 +12,17 @@ from pathlib import Path
 
 import pytest
 import serial
-from helpers import HANG_BOUND_S, ROOT
+from helpers import HANG_BOUND_S, ROOT, served_on_pty, served_simulator
 
 from roboscript.codec import Role, drain
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
 
 
-def _start(*args: str) -> tuple[subprocess.Popen[str], str]:
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "roboscript", "sim", *args],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=env,
-        cwd=ROOT,
-    )
-    assert proc.stdout is not None
-    first = proc.stdout.readline().strip()
-    return proc, first
-
-
 @pytest.fixture
 def tcp_sim() -> Iterator[int]:
-    proc, first = _start("--robot", "mirto", "--tcp", "127.0.0.1:0")
-    try:
-        match = re.search(r"tcp://127\.0\.0\.1:(\d+)", first)
-        assert match, first
-        yield int(match.group(1))
-    finally:
-        proc.terminate()
-        proc.wait(timeout=HANG_BOUND_S)
+    with served_simulator("mirto") as port:
+        yield port
 
 
 def _read_until(
@@ -102,8 +80,7 @@ def test_motors_move_encoders_over_tcp_and_stop_on_disconnect(tcp_sim: int) -> N
 
 @pytest.mark.skipif(not hasattr(os, "openpty"), reason="needs a POSIX pty")
 def test_pty_path_is_the_first_line_and_speaks_asip() -> None:
-    proc, first = _start("--robot", "mirto", "--pty")
-    try:
+    with served_on_pty("mirto") as first:
         assert Path(first).exists(), first
         with serial.Serial(first, 57600, timeout=0.2) as port:
             codec = AsipCodec(Role.HOST)
@@ -114,9 +91,6 @@ def test_pty_path_is_the_first_line_and_speaks_asip() -> None:
                 codec.receive_data(port.read(4096))
                 found = next((msg for msg in drain(codec) if isinstance(msg, m.VersionReply)), None)
             assert found is not None
-    finally:
-        proc.terminate()
-        proc.wait(timeout=HANG_BOUND_S)
 
 
 def test_bad_tcp_address_is_invalid_input() -> None:
