@@ -128,6 +128,38 @@ def _simulator_process(robot: str, *options: str) -> Iterator[tuple[str, subproc
         proc.wait(timeout=HANG_BOUND_S)
 
 
+RUN_FROM_PYTHON = """\
+import signal, sys
+
+import roboscript
+from roboscript.robot import Robot
+
+mission, log, *port = sys.argv[1:]
+connect = Robot.connect.__func__
+Robot.connect = classmethod(lambda cls, *a, **k: connect(cls, *a, **{**k, "wire_log": log}))
+
+
+def own(signum, frame):
+    pass
+
+
+signal.signal(signal.SIGHUP, own)
+before = [signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)]
+try:
+    roboscript.run(mission, realtime=True, port=port[0] if port else None)
+except KeyboardInterrupt as exc:
+    after = [signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)]
+    print(f"{type(exc).__name__}: {exc}", file=sys.stderr)
+    print("handlers given back:", after == before, file=sys.stderr)
+    sys.exit(exc.exit_status)
+"""
+"""A script (``python -c``) that runs ``MISSION`` with ``roboscript.run()``, in real time, on
+the robot at ``[PORT]`` (default: the simulator), recording every byte it sends to ``LOG`` (a
+test's judge). A signal that ends the run is told on standard error as the exception's type
+and text, then whether the script's own handlers were given back (``True``); the script exits
+with the exception's ``exit_status``."""
+
+
 def signalled_once(
     command: list[str],
     signum: int,

@@ -18,6 +18,7 @@ from helpers import (
     HANG_BOUND_S,
     MISSIONS,
     ROOT,
+    RUN_FROM_PYTHON,
     SLEEPER,
     replayed_power,
     run_cli,
@@ -207,35 +208,6 @@ def test_ctrl_c_stops_the_robot_then_raises(sessions: list[Any]) -> None:
     assert sessions[-1].simulation.body.power == [0.0, 0.0]
 
 
-# A script that runs a mission from Python, in real time, recording every byte it sends (the
-# test's judge) and saying what ended it: the exception's type and text, and whether its own
-# signal handlers were given back.
-SCRIPT_RUNNING_A_MISSION = """\
-import signal, sys
-
-import roboscript
-from roboscript.robot import Robot
-
-mission, log = sys.argv[1:]
-connect = Robot.connect.__func__
-Robot.connect = classmethod(lambda cls, *a, **k: connect(cls, *a, **{**k, "wire_log": log}))
-
-
-def own(signum, frame):
-    pass
-
-
-signal.signal(signal.SIGHUP, own)
-before = [signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)]
-try:
-    roboscript.run(mission, realtime=True)
-except KeyboardInterrupt as exc:
-    after = [signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)]
-    print(f"{type(exc).__name__}: {exc}", file=sys.stderr)
-    print("handlers given back:", after == before, file=sys.stderr)
-    sys.exit(exc.exit_status)
-"""
-
 # Drives for ten minutes, and says so once the wheels have turned.
 DRIVES_AND_SAYS_SO = """\
 from roboscript import Drive, Mission, state
@@ -271,7 +243,7 @@ def test_a_signal_during_run_in_a_script_stops_the_robot_and_raises_the_commands
         raise AssertionError("the script ended before its robot moved")
 
     status, stderr = signalled_once(
-        [sys.executable, "-u", "-c", SCRIPT_RUNNING_A_MISSION, "far.py", str(log)],
+        [sys.executable, "-u", "-c", RUN_FROM_PYTHON, "far.py", str(log)],
         signum,
         moving,
         cwd=tmp_path,

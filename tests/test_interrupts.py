@@ -21,6 +21,7 @@ import pytest
 from helpers import (
     HANG_BOUND_S,
     ROOT,
+    RUN_FROM_PYTHON,
     replayed_power,
     served_on_pty,
     served_simulator,
@@ -503,6 +504,48 @@ def test_a_signal_in_any_phase_of_a_run_stops_the_robot_and_ends_it_with_its_sta
     with _served(transport) as url:
         done, log = _run_signalled(tmp_path, url, name, SIGNAL_FROM=landing, **where)
     _ended_by(done, name)
+    most = _left_stopped(log)
+    if phase.startswith("driving"):
+        assert most > 0.1, "the robot never drove: the test proves nothing"
+
+
+PYTHON_CASES = [
+    ("connecting", "SIGTERM", "call"),
+    ("driving", "SIGHUP", "finalizer"),
+    ("sending the stop", "SIGINT", "call"),
+    ("closing the port", "SIGTERM", "finalizer"),
+    ("waiting in pyserial's close", "SIGHUP", "call"),
+]
+
+
+@pytest.mark.parametrize(
+    ("phase", "name", "landing"),
+    PYTHON_CASES,
+    ids=[f"{p}-{n}-{h}".replace(" ", "_").replace("'", "") for p, n, h in PYTHON_CASES],
+)
+def test_a_signal_in_any_phase_of_a_run_from_python_stops_the_robot_and_raises_its_sentence(
+    tmp_path: Path, phase: str, name: str, landing: str
+) -> None:
+    transport, where = PHASES[phase]
+    mission = tmp_path / "short.yaml"
+    mission.write_text(SHORT_DRIVE, encoding="utf-8")
+    log = tmp_path / "wire.log"
+    with _served(transport) as url:
+        done = _run_signalling_itself(
+            tmp_path,
+            SIGNAL_AT_CALL,
+            [sys.executable, "-c", RUN_FROM_PYTHON, str(mission), str(log), url],
+            SIGNAL_NAME=name,
+            SIGNAL_FROM=landing,
+            **where,
+        )
+    signum = getattr(signal, name)
+    assert done.returncode == 128 + signum, done.stderr
+    assert "Exception ignored" not in done.stderr
+    assert done.stderr.splitlines()[-2:] == [
+        f"Interrupted: {Interrupted(signum).reason}",  # the sentence roboscript run ends with
+        "handlers given back: True",
+    ]
     most = _left_stopped(log)
     if phase.startswith("driving"):
         assert most > 0.1, "the robot never drove: the test proves nothing"
