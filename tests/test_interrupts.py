@@ -16,6 +16,7 @@ import sys
 import time
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from helpers import (
@@ -417,22 +418,23 @@ def _served(transport: str) -> Iterator[str]:
 
 
 def _run_signalled(
-    tmp_path: Path, url: str, name: str, **where: str
+    tmp_path: Path, url: str, name: str, *, from_python: bool = False, **where: str
 ) -> tuple[subprocess.CompletedProcess[str], Path]:
-    """``roboscript run`` a short drive on the MIRTO at ``url``, signalled where ``where`` says."""
+    """``roboscript run`` a short drive on the MIRTO at ``url`` (``from_python``: a script's
+    ``roboscript.run()``, see :data:`helpers.RUN_FROM_PYTHON`), signalled where ``where`` says.
+    """
     mission = tmp_path / "short.yaml"
     mission.write_text(SHORT_DRIVE, encoding="utf-8")
     log = tmp_path / "wire.log"
-    done = _run_signalling_itself(
-        tmp_path,
-        SIGNAL_AT_CALL,
-        [
+    command = (
+        [sys.executable, "-c", RUN_FROM_PYTHON, str(mission), str(log), url]
+        if from_python
+        else [
             *(sys.executable, "-m", "roboscript", "run", str(mission), "--robot", "mirto"),
             *("--port", url, "--wire-log", str(log)),
-        ],
-        SIGNAL_NAME=name,
-        **where,
+        ]
     )
+    done = _run_signalling_itself(tmp_path, SIGNAL_AT_CALL, command, SIGNAL_NAME=name, **where)
     return done, log
 
 
@@ -492,23 +494,6 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize(
-    ("phase", "name", "landing"),
-    CASES,
-    ids=[f"{p}-{n}-{h}".replace(" ", "_").replace("'", "") for p, n, h in CASES],
-)
-def test_a_signal_in_any_phase_of_a_run_stops_the_robot_and_ends_it_with_its_status(
-    tmp_path: Path, phase: str, name: str, landing: str
-) -> None:
-    transport, where = PHASES[phase]
-    with _served(transport) as url:
-        done, log = _run_signalled(tmp_path, url, name, SIGNAL_FROM=landing, **where)
-    _ended_by(done, name)
-    most = _left_stopped(log)
-    if phase.startswith("driving"):
-        assert most > 0.1, "the robot never drove: the test proves nothing"
-
-
 PYTHON_CASES = [
     ("connecting", "SIGTERM", "call"),
     ("driving", "SIGHUP", "finalizer"),
@@ -516,29 +501,26 @@ PYTHON_CASES = [
     ("closing the port", "SIGTERM", "finalizer"),
     ("waiting in pyserial's close", "SIGHUP", "call"),
 ]
+"""Phases of a run from Python (``roboscript.run()`` in a script) a signal is forced into."""
 
 
-@pytest.mark.parametrize(
-    ("phase", "name", "landing"),
-    PYTHON_CASES,
-    ids=[f"{p}-{n}-{h}".replace(" ", "_").replace("'", "") for p, n, h in PYTHON_CASES],
-)
-def test_a_signal_in_any_phase_of_a_run_from_python_stops_the_robot_and_raises_its_sentence(
-    tmp_path: Path, phase: str, name: str, landing: str
-) -> None:
-    transport, where = PHASES[phase]
-    mission = tmp_path / "short.yaml"
-    mission.write_text(SHORT_DRIVE, encoding="utf-8")
-    log = tmp_path / "wire.log"
-    with _served(transport) as url:
-        done = _run_signalling_itself(
-            tmp_path,
-            SIGNAL_AT_CALL,
-            [sys.executable, "-c", RUN_FROM_PYTHON, str(mission), str(log), url],
-            SIGNAL_NAME=name,
-            SIGNAL_FROM=landing,
-            **where,
+def _phases() -> list[Any]:
+    """Every case as test parameters, named for its phase, signal, landing and who ran it."""
+    cases = [(*case, False) for case in CASES] + [(*case, True) for case in PYTHON_CASES]
+    return [
+        pytest.param(
+            *case,
+            id="-".join([*case[:3], "python"] if case[3] else case[:3])
+            .replace(" ", "_")
+            .replace("'", ""),
         )
+        for case in cases
+    ]
+
+
+def _raised_from_python(done: subprocess.CompletedProcess[str], name: str) -> None:
+    """``roboscript.run()`` raised the signal's exception, with the command's sentence, and
+    gave the script its own handlers back (:data:`helpers.RUN_FROM_PYTHON`)."""
     signum = getattr(signal, name)
     assert done.returncode == 128 + signum, done.stderr
     assert "Exception ignored" not in done.stderr
@@ -546,6 +528,18 @@ def test_a_signal_in_any_phase_of_a_run_from_python_stops_the_robot_and_raises_i
         f"Interrupted: {Interrupted(signum).reason}",  # the sentence roboscript run ends with
         "handlers given back: True",
     ]
+
+
+@pytest.mark.parametrize(("phase", "name", "landing", "from_python"), _phases())
+def test_a_signal_in_any_phase_of_a_run_stops_the_robot_and_ends_it_with_its_status(
+    tmp_path: Path, phase: str, name: str, landing: str, from_python: bool
+) -> None:
+    transport, where = PHASES[phase]
+    with _served(transport) as url:
+        done, log = _run_signalled(
+            tmp_path, url, name, from_python=from_python, SIGNAL_FROM=landing, **where
+        )
+    (_raised_from_python if from_python else _ended_by)(done, name)
     most = _left_stopped(log)
     if phase.startswith("driving"):
         assert most > 0.1, "the robot never drove: the test proves nothing"
