@@ -146,7 +146,11 @@ class CodePlace:
 
 
 class _WireWait:
-    """Seconds this process's threads spent blocked on the wire (the robot, the grader)."""
+    """Seconds this process's threads spent blocked on the wire (the robot, the grader).
+
+    A context manager: time spent inside it is a wait on the wire. A plain class rather than
+    a generator, since the transport enters it every tick of every run.
+    """
 
     def __init__(self) -> None:
         self.total_s = 0.0
@@ -157,28 +161,37 @@ class _WireWait:
         since = self.since
         return self.total_s + (time.perf_counter() - since if since is not None else 0.0)
 
+    def __enter__(self) -> None:
+        self.since = time.perf_counter()
+
+    def __exit__(self, *exc_info: object) -> None:
+        since = self.since
+        self.since = None
+        if since is not None:
+            self.total_s += time.perf_counter() - since
+
 
 _WIRE = _WireWait()
 
 
-@contextlib.contextmanager
-def wire_wait() -> Any:
+def wire_wait() -> contextlib.AbstractContextManager[None]:
     """Time spent in here is the robot's (or the grader's world's), never the code's own.
 
-    The transport wraps every blocking wait for an answer in it.
+    The transport wraps every blocking wait for an answer in it (waits do not nest).
     """
-    started = _WIRE.since = time.perf_counter()
-    try:
-        yield
-    finally:
-        _WIRE.since = None
-        _WIRE.total_s += time.perf_counter() - started
+    return _WIRE
 
 
 _READERS = threading.local()
 _PAIR_TRIES = 8
 """Reads of the wall clock to find one not split by a wait for the CPU (each try that fails
 was preempted, so a few always suffice; the last is kept if none was whole)."""
+
+_PAIR_SLACK_S = 50e-6
+"""A reading of the CPU wait taken between two readings of the wall clock this close is paired
+with the first of them: a wait for the CPU that fell between them is no longer than this, so
+the pair is off by no more (a read takes a few microseconds; a wait for the CPU, a scheduler
+slice of milliseconds)."""
 
 
 def _schedstat_reader() -> Callable[[], float] | None:
@@ -259,6 +272,9 @@ class CodeClock:
 
     def __init__(self) -> None:
         self._queued = _schedstat_reader()
+        self.queued_s = 0.0
+        """The CPU wait paired with the last :meth:`now`, seconds (its own time plus this is
+        :meth:`ceiling` at that moment)."""
 
     @property
     def load_independent(self) -> bool:
@@ -266,22 +282,36 @@ class CodeClock:
         return self._queued is not None
 
     def now(self) -> float:
-        """Own seconds, from an arbitrary origin."""
-        if self._queued is None:
+        """Own seconds, from an arbitrary origin (one system call, where the system tells the
+        CPU wait; two or more when the thread lost the CPU while reading it)."""
+        read = self._queued
+        if read is None:
             return time.perf_counter() - _WIRE.so_far_s()
         # The wall clock and the CPU wait must be read as one pair: a thread that loses the
         # CPU between the two reads counts that wait in one and not the other, which made a
         # span longer (an honest tick slow) or shorter (a sleeping tick quick) by as long as
         # a busy machine kept it waiting. The CPU wait only grows when the thread gets the
-        # CPU back, so the same wait read on both sides of the wall clock is a true pair.
-        queued = self._queued()
+        # CPU back, so the wait read between two close readings of the wall clock pairs with
+        # them (off by no more than they are apart); failing that, the same wait read on both
+        # sides of one reading of the wall clock is a true pair.
+        wall_s = time.perf_counter()
+        queued = read()
         for _ in range(_PAIR_TRIES):
-            wall_s = time.perf_counter()
-            again = self._queued()
-            if again == queued:
+            after_s = time.perf_counter()
+            if after_s - wall_s <= _PAIR_SLACK_S:
                 break
-            queued = again
+            again = read()
+            if again == queued:
+                wall_s = after_s
+                break
+            wall_s, queued = after_s, again
+        self.queued_s = queued
         return wall_s - queued - _WIRE.so_far_s()
+
+    def ceiling(self) -> float:
+        """Own seconds plus every wait for a CPU so far, with no system call: of a span, never
+        less than its own time (and equal to it while nothing else had the CPU)."""
+        return time.perf_counter() - _WIRE.so_far_s()
 
 
 def _every_file(_filename: str) -> bool:
@@ -394,6 +424,9 @@ class Watchdog:
         self._armed = False
         self._previous: Any = None
         self._began_s = 0.0
+        self._began_ceiling_s = 0.0  # CodeClock.ceiling() when the timed call began
+        # a timed call whose wall time (less the wire's) is no longer is not slow
+        self._quick_s = (budget or TICK_BUDGET).slow_tick_s
         self._timing = False
         self._where: CodePlace | None = None  # where the current timed call was caught slow
         self.slow_ticks = 0
@@ -464,17 +497,27 @@ class Watchdog:
     def _begin(self) -> None:
         self._timing = True
         self._where = None
-        self._began_s = self._clock.now()
+        clock = self._clock
+        self._began_s = clock.now()
+        self._began_ceiling_s = self._began_s + clock.queued_s
         # Only once a tick has been slow is the next one interrupted to see where it is: an
         # alarm that wakes a sleeping tick lets the machine's load hide in its sleep.
         if self._armed and self._locating and self.budget is not None:
             self._arm(min(self.limit_s, self.budget.slow_tick_s))
 
     def _end(self) -> None:
-        ended_s = self._clock.now()
-        spent_s = ended_s - self._began_s
-        self._timing = False
         budget = self.budget
+        clock = self._clock
+        # Own time is at most the wall time less the wire's: a call that took no longer than
+        # a tick by that measure was not slow, whatever it waited for a CPU, and needs no
+        # system call to say so (honest code, every tick).
+        spent_s = clock.ceiling() - self._began_ceiling_s
+        if spent_s > self._quick_s:
+            ended_s = clock.now()
+            spent_s = ended_s - self._began_s
+        else:  # the limit counts from a little later: by what the call waited for a CPU
+            ended_s = self._began_s + spent_s
+        self._timing = False
         if budget is not None and spent_s > budget.slow_tick_s:
             self.slow_ticks += 1
             self.slow_total_s += spent_s

@@ -453,6 +453,29 @@ def test_objects_older_than_the_run_are_collected_again_once_the_last_watchdog_e
     assert gc.get_freeze_count() == 0
 
 
+@pytest.mark.skipif(not CodeClock().load_independent, reason="needs Linux's scheduler statistics")
+def test_a_quick_tick_reads_the_kernels_cpu_wait_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    # Each reading is a system call, in every tick of every run: a tick whose wall time is
+    # under the budget's is not slow whatever it waited for a CPU, so only its start is read.
+    dog = Watchdog(5.0, _where, budget=BUDGET)
+    real_read = dog._clock._queued
+    assert real_read is not None
+    reads = itertools.count()
+
+    def counted() -> float:
+        next(reads)
+        return real_read()
+
+    monkeypatch.setattr(dog._clock, "_queued", counted)
+    with dog:
+        for _ in range(200):
+            dog.timed(_quick_tick)(0.0, 0.02)
+        dog.timed(_napping_tick)(0.0, 0.02)  # a slow one is read at its end too, and caught
+    # once a tick, and again only when the thread lost the CPU while reading
+    assert next(reads) < 2 * 201
+    assert dog.slow_ticks == 1
+
+
 def test_time_waiting_on_the_wire_is_not_the_codes_own() -> None:
     clock = CodeClock()
     before = clock.now()
@@ -468,7 +491,7 @@ def test_time_waiting_on_the_wire_is_not_the_codes_own() -> None:
 def test_losing_the_cpu_while_the_clock_is_read_never_changes_the_codes_time(
     monkeypatch: pytest.MonkeyPatch, preempted_read: int, sampled: bool
 ) -> None:
-    # The kernel's CPU wait is read twice or more per reading of the clock: whichever read
+    # The kernel's CPU wait is read once or more per reading of the clock: whichever read
     # loses the CPU (as a tick begins or as it ends), and whether the kernel's sample of the
     # wait came before or after, the tick's own time is what it did, never 30 ms off.
     wall_s = [100.0]
