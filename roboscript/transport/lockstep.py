@@ -52,7 +52,7 @@ from __future__ import annotations
 import json
 import socket
 import struct
-from collections.abc import Iterator
+from collections import deque
 from typing import Any, Final
 
 from roboscript.watchdog import wire_wait
@@ -165,25 +165,37 @@ class FrameDecoder:
         self._max = max_payload_bytes
         self._buffer = bytearray()
 
-    def feed(self, data: bytes | bytearray | memoryview) -> Iterator[tuple[bytes, bytes]]:
-        """Add bytes; yield each complete ``(kind, payload)``.
+    def feed(self, data: bytes | bytearray | memoryview) -> list[tuple[bytes, bytes]]:
+        """Add bytes; return each complete ``(kind, payload)``, in order.
 
         Raises:
             FrameError: The stream broke the framing; nothing after it can be trusted.
         """
-        self._buffer += data
-        while len(self._buffer) >= _HEADER.size:
-            kind, size = _HEADER.unpack_from(self._buffer)
-            if kind[0] not in self._accept:
-                raise FrameError(f"unknown frame kind {kind!r}")
-            if size > self._max:
-                raise FrameError(f"a {size}-byte frame is over the {self._max}-byte limit")
-            end = _HEADER.size + size
-            if len(self._buffer) < end:
-                return
-            payload = bytes(self._buffer[_HEADER.size : end])
-            del self._buffer[:end]
-            yield kind, payload
+        buffer = self._buffer
+        if buffer:  # the rest of a frame that came in pieces
+            buffer += data
+            data = buffer
+        frames: list[tuple[bytes, bytes]] = []
+        accept, largest, header = self._accept, self._max, _HEADER.size
+        # Read in place (bytes arrive as whole frames almost always: nothing is kept then).
+        with memoryview(data) as view:
+            start, length = 0, len(view)
+            while length - start >= header:
+                kind, size = _HEADER.unpack_from(view, start)
+                if kind[0] not in accept:
+                    raise FrameError(f"unknown frame kind {kind!r}")
+                if size > largest:
+                    raise FrameError(f"a {size}-byte frame is over the {largest}-byte limit")
+                end = start + header + size
+                if end > length:
+                    break
+                frames.append((kind, bytes(view[start + header : end])))
+                start = end
+            if data is not buffer:
+                buffer += view[start:]
+        if data is buffer:
+            del buffer[:start]
+        return frames
 
     @property
     def pending_bytes(self) -> int:
@@ -192,6 +204,9 @@ class FrameDecoder:
 
 
 _CHANNELS: dict[int, WorldChannel] = {}
+
+_WIRE_WAIT = wire_wait()
+"""Entered around every exchange with the world (a plain context manager: every tick)."""
 
 
 class WorldChannel:
@@ -205,7 +220,7 @@ class WorldChannel:
         sock.setblocking(True)
         self._sock = sock
         self._decoder = FrameDecoder(Kind.FROM_WORLD)
-        self._frames: list[tuple[bytes, bytes]] = []
+        self._frames: deque[tuple[bytes, bytes]] = deque()
         # One buffer for every read: a fresh one this size each tick would be mapped and
         # unmapped by the allocator each time (three system calls a tick).
         self._inbox = bytearray(MAX_PAYLOAD_BYTES)
@@ -229,8 +244,9 @@ class WorldChannel:
         Raises:
             WorldStoppedError: The world has hung up.
         """
-        self._held += encode_frame(kind, payload)
-        if kind not in _HELD_KINDS or len(self._held) > MAX_HELD_BYTES:
+        held = self._held
+        held += encode_frame(kind, payload)
+        if kind not in _HELD_KINDS or len(held) > MAX_HELD_BYTES:
             self.flush()
 
     def flush(self) -> None:
@@ -241,13 +257,9 @@ class WorldChannel:
         """
         if not self._held:
             return
-        data = bytes(self._held)
-        self._held.clear()
-        try:
-            with wire_wait():  # a busy world's time, never the mission's own
-                self._sock.sendall(data)
-        except OSError as exc:
-            raise WorldStoppedError(f"the simulated world hung up: {exc}") from None
+        data, self._held = self._held, bytearray()
+        with _WIRE_WAIT:  # a busy world's time, never the mission's own
+            self._send_all(data)
 
     def send_json(self, kind: bytes, value: object) -> None:
         """Send a JSON frame that needs no answer."""
@@ -256,33 +268,45 @@ class WorldChannel:
     def request(self, kind: bytes, payload: bytes = b"") -> bytes:
         """Send a frame and wait for the world's answer: the device's output.
 
+        The frames held back leave with it, in one write.
+
         Raises:
             WorldStoppedError: The world has stopped the run or hung up.
         """
         if self.stopped:
             raise WorldStoppedError("the simulated world has stopped the run")
-        self.send(kind, payload)
-        kind_back, answer = self._next_frame()
+        frame = encode_frame(kind, payload)
+        data, self._held = self._held, bytearray()
+        data += frame
+        with _WIRE_WAIT:  # the world reads, steps and answers: its time, never the mission's
+            self._send_all(data)
+            kind_back, answer = self._next_frame()
         if kind_back == Kind.STOPPED:
             self.stopped = True
             raise WorldStoppedError("the simulated world has stopped the run (time is up)")
         return answer
 
+    def _send_all(self, data: bytearray) -> None:
+        try:
+            self._sock.sendall(data)
+        except OSError as exc:
+            raise WorldStoppedError(f"the simulated world hung up: {exc}") from None
+
     def _next_frame(self) -> tuple[bytes, bytes]:
-        while not self._frames:
+        """The world's next frame, read as it comes (inside the caller's wait on the wire)."""
+        frames = self._frames
+        while not frames:
             try:
-                with wire_wait():
-                    size = self._sock.recv_into(self._inbox)
+                size = self._sock.recv_into(self._inbox)
             except OSError as exc:
                 raise WorldStoppedError(f"the simulated world hung up: {exc}") from None
             if not size:
                 raise WorldStoppedError("the simulated world hung up")
-            data = memoryview(self._inbox)[:size]  # the decoder copies what it keeps
-            try:
-                self._frames.extend(self._decoder.feed(data))
+            try:  # the decoder copies what it keeps
+                frames.extend(self._decoder.feed(memoryview(self._inbox)[:size]))
             except FrameError as exc:
                 raise WorldStoppedError(f"the simulated world broke the wire: {exc}") from None
-        return self._frames.pop(0)
+        return frames.popleft()
 
     def fileno(self) -> int:
         """The socket's file descriptor."""

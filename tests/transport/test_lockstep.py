@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import itertools
 import socket
 import threading
+import time
 from collections.abc import Iterator
 
 import pytest
@@ -23,6 +25,7 @@ from roboscript.transport.lockstep import (
     encode_frame,
     encode_time,
 )
+from roboscript.watchdog import CodeClock
 
 
 def test_a_frame_is_kind_length_payload() -> None:
@@ -73,11 +76,21 @@ def test_any_bytes_give_frames_or_a_frame_error(data: bytes) -> None:
         pass
 
 
-@given(st.lists(st.tuples(st.sampled_from(sorted(Kind.FROM_MISSION)), st.binary(max_size=300))))
-def test_what_is_encoded_is_decoded(frames: list[tuple[int, bytes]]) -> None:
+@given(
+    st.lists(st.tuples(st.sampled_from(sorted(Kind.FROM_MISSION)), st.binary(max_size=300))),
+    st.lists(st.integers(min_value=0, max_value=4000)),
+)
+def test_what_is_encoded_is_decoded_however_the_reads_cut_it(
+    frames: list[tuple[int, bytes]], cuts: list[int]
+) -> None:
     stream = b"".join(encode_frame(bytes([k]), p) for k, p in frames)
-    decoded = list(FrameDecoder(Kind.FROM_MISSION).feed(stream))
+    decoder = FrameDecoder(Kind.FROM_MISSION)
+    decoded = []
+    edges = [0, *sorted(c for c in cuts if c < len(stream)), len(stream)]
+    for start, end in itertools.pairwise(edges):  # whole frames, a frame and a part, ...
+        decoded += decoder.feed(memoryview(stream)[start:end])
     assert decoded == [(bytes([k]), p) for k, p in frames]
+    assert decoder.pending_bytes == 0
 
 
 def _world(sock: socket.socket, answers: list[bytes]) -> None:
@@ -100,6 +113,26 @@ def test_a_request_returns_the_worlds_output_and_a_stop_ends_the_run() -> None:
         channel.request(Kind.TICK, encode_time(0.04))
     with pytest.raises(WorldStoppedError):  # and stays stopped, without asking again
         channel.request(Kind.TICK, encode_time(0.06))
+    thread.join()
+    channel.close()
+
+
+def _slow_world(sock: socket.socket, answer_after_s: float) -> None:
+    FrameDecoder(Kind.FROM_MISSION).feed(sock.recv(100))
+    time.sleep(answer_after_s)  # a busy world, stepping its physics
+    sock.sendall(encode_frame(Kind.OUTPUT, b""))
+    sock.close()
+
+
+def test_time_waiting_for_the_worlds_answer_is_not_the_missions_own() -> None:
+    mission_end, world_end = socket.socketpair()
+    thread = threading.Thread(target=_slow_world, args=(world_end, 0.3))
+    thread.start()
+    channel = WorldChannel(mission_end)
+    clock = CodeClock()
+    before_s = clock.now()
+    channel.request(Kind.TICK, encode_time(0.02))
+    assert clock.now() - before_s < 0.2  # its own part is microseconds; the wait, 0.3 s
     thread.join()
     channel.close()
 
