@@ -191,7 +191,7 @@ class FrameDecoder:
                     break
                 frames.append((kind, bytes(view[start + header : end])))
                 start = end
-            if data is not buffer:
+            if data is not buffer and start < length:
                 buffer += view[start:]
         if data is buffer:
             del buffer[:start]

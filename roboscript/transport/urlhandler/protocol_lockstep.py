@@ -48,8 +48,12 @@ class RemoteWorld:
     def read(self, size: int) -> bytes:
         """Take up to ``size`` bytes the device has sent."""
         self._collect()
-        data = bytes(self._to_host[:size])
-        del self._to_host[:size]
+        waiting = self._to_host
+        if size >= len(waiting):  # all of it (the link reads everything, every tick)
+            self._to_host = bytearray()
+            return bytes(waiting)
+        data = bytes(waiting[:size])
+        del waiting[:size]
         return data
 
     @property
