@@ -2,26 +2,43 @@
 
 The author's sketch (``stackmod.cpp``) and ``Stackmodio`` library run unchanged on an emulated
 ATmega328P; each I2C write reaches the sketch's ``onReceive`` handler as the TWI interrupt
-would hand it over (the stand-in ``Wire`` carries it on the UART). After each write both the
-firmware and ``roboscript sim``'s twin (:class:`ReferenceModule`) get 0.5 s, two runs of the
-sketch's 200 ms motor loop, and the motor outputs the firmware drives on its pins must be
-those the twin gives the simulated body.
+would hand it over, the moment it ends and at most 32 bytes of it (the stand-in ``Wire``
+carries it on the UART). The firmware and ``roboscript sim``'s twin (:class:`ReferenceModule`)
+get the same probes (``stackmod_probes.py``) in the same order; after each, the fifteen motor
+registers the firmware keeps must equal the twin's, and after the probes that wait for the
+sketch's 200 ms main loop, the motor outputs the firmware drives on its pins must be those the
+twin gives the simulated body. Differences are listed in ``KNOWN_DIFFERENCES``, each with the
+firmware line that decides it (docs/robots/stackmod.md lists them too); a listed difference
+that goes away fails its test, so the list stays true.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+import struct
+from dataclasses import dataclass
 
 import pytest
-from firmware.avr import Board, build
+from firmware.avr import Board, build, symbol_address
 from firmware.recipes import STACKMOD_BAUD, stackmod_328p
+from firmware.stackmod_probes import DRIVER_PROBES, PROBES, Probe
 
-from roboscript.codec import Role
-from roboscript.drivers.stackmod import messages as sm
-from roboscript.drivers.stackmod.codec import StackModCodec
-from roboscript.drivers.stackmod.reference_device import ReferenceModule
+from roboscript.drivers.stackmod.reference_device import MOTOR_REGISTERS, ReferenceModule
 
-SETTLE_S = 0.5
+BOOT_S = 0.1
+"""``setup()``: Wire, ``Serial.begin(9600)``, pins; the first ``drive()`` runs straight after."""
+LOOP_WAIT_S = 0.25
+"""One run of the sketch's main loop (``drive(); delay(200);``) and a margin."""
+_BRIDGE_BYTE_S = 10 / STACKMOD_BAUD
+"""One byte on the stand-in ``Wire``'s UART (8N1); the real I2C bus is ten times faster."""
+
+KNOWN_DIFFERENCES: dict[str, str] = {
+    "value 300 drives": (
+        "stackmod.cpp `analogWrite(M1, abs(left_speed))`: past 255, Timer 2's 8-bit OCR2B "
+        "(M1, M4) takes the low byte while Timer 1's 16-bit OCR1A/OCR1B (M2, M3) take the "
+        "whole value, so the two motors of one side get different duties; the twin drives "
+        "the side at full power"
+    ),
+}
 
 # stackmod.cpp's pins: PWM M1 = 3 (OC2B), M2 = 9 (OC1A) drive the left wheels, M3 = 10
 # (OC1B), M4 = 11 (OC2A) the right ones; LB_1 = 14, LF_1 = 16 high = left forward; RB_2 = 6,
@@ -29,25 +46,6 @@ SETTLE_S = 0.5
 _PORTB, _PORTC, _PORTD = 0x25, 0x28, 0x2B
 _TCCR1A, _OCR1AL, _OCR1BL = 0x80, 0x88, 0x8A
 _TCCR2A, _OCR2A, _OCR2B = 0xB0, 0xB3, 0xB4
-
-
-def _driver_writes() -> list[tuple[str, bytes]]:
-    codec = StackModCodec(Role.HOST, checksum="braces_excluded", framing="i2c")
-    writes = []
-    for motor, pwm in [(1, 96), (2, 96), (1, -139), (2, 255), (1, 0), (2, -255), (2, 0)]:
-        message = sm.MotorPwm(ord("E"), motor, pwm)
-        writes.append((f"MTR{motor} {pwm:+d}", codec.send(message)))
-    return writes
-
-
-OTHER_WRITES = [
-    ("0.9.1 document packet", b"{M$MTR1+038}w"),
-    ("bad checksum", b"2{Ep$MTR1+096}k"),
-    ("packet one character long", b"2{Ep$MTR1+0960}j"),
-    ("packet split over two writes", b"2{Ep$MTR"),
-    ("its second half", b"1+096}j"),
-]
-WRITES = _driver_writes() + OTHER_WRITES
 
 
 class _Body:
@@ -62,16 +60,19 @@ def _channel(tccr: int, com_bit: int, ocr: int, level: bool) -> float:
     return ocr / 255 if tccr & com_bit else float(level)
 
 
-def firmware_power(board: Board) -> tuple[float, float]:
-    """The motor power the sketch drives on its pins, -1..1 for the left and right wheels."""
+def firmware_power(board: Board) -> tuple[float, float] | None:
+    """The motor power the sketch drives on its pins, -1..1 for the left and right wheels, or
+    None when the two motors of one side get different duties."""
     portb, portc, portd = board.peek(_PORTB)[0], board.peek(_PORTC)[0], board.peek(_PORTD)[0]
     tccr1a, tccr2a = board.peek(_TCCR1A)[0], board.peek(_TCCR2A)[0]
-    ocr1a, ocr1b = board.peek(_OCR1AL)[0], board.peek(_OCR1BL)[0]
+    ocr1a, ocr1b = struct.unpack("<2H", board.peek(_OCR1AL, 4))
     ocr2a, ocr2b = board.peek(_OCR2A)[0], board.peek(_OCR2B)[0]
     left_duty = _channel(tccr2a, 0x20, ocr2b, bool(portd & 0x08))  # M1, pin 3
-    assert left_duty == _channel(tccr1a, 0x80, ocr1a, bool(portb & 0x02))  # M2, pin 9
     right_duty = _channel(tccr1a, 0x20, ocr1b, bool(portb & 0x04))  # M3, pin 10
-    assert right_duty == _channel(tccr2a, 0x80, ocr2a, bool(portb & 0x08))  # M4, pin 11
+    if left_duty != _channel(tccr1a, 0x80, ocr1a, bool(portb & 0x02)):  # M2, pin 9
+        return None
+    if right_duty != _channel(tccr2a, 0x80, ocr2a, bool(portb & 0x08)):  # M4, pin 11
+        return None
     lb1, lb2 = bool(portc & 0x01), bool(portc & 0x02)
     rb1, rb2 = bool(portd & 0x20), bool(portd & 0x40)
     left = left_duty if lb1 and not lb2 else -left_duty if lb2 and not lb1 else 0.0
@@ -79,36 +80,68 @@ def firmware_power(board: Board) -> tuple[float, float]:
     return left, right
 
 
+@dataclass(frozen=True)
+class Answer:
+    """What one side holds after a probe."""
+
+    registers: tuple[int, ...]
+    power: tuple[float, float] | None
+    """The wheels' power, for probes that wait for the main loop (else None)."""
+
+
+def _settle_s(probe: Probe) -> float:
+    sent = sum(len(data) + 1 for data in probe.writes)
+    return sent * _BRIDGE_BYTE_S * 1.1 + 0.02 + (LOOP_WAIT_S if probe.drives else 0.0)
+
+
 @pytest.fixture(scope="module")
-def answers() -> Iterator[list[tuple[tuple[float, float], tuple[float, float]]]]:
+def answers() -> list[tuple[Answer, Answer]]:
     results = []
     body = _Body()
     twin = ReferenceModule(body)
     twin.connect(0.0)
-    with Board(build(stackmod_328p()), "atmega328p", 16_000_000, baud=STACKMOD_BAUD) as board:
-        board.advance_to(1.0)  # setup(): Wire.begin, Serial.begin(9600), pins
-        now_s = 1.0
-        for _, data in WRITES:
-            board.write(bytes([len(data)]) + data)
-            board.advance(SETTLE_S)
-            twin.receive(data, now_s)
-            now_s += SETTLE_S
+    elf = build(stackmod_328p())
+    registers = symbol_address(elf, "StackModIO::motors_reg")
+    with Board(elf, "atmega328p", 16_000_000, baud=STACKMOD_BAUD) as board:
+        board.advance_to(BOOT_S)
+        now_s = BOOT_S
+        for probe in PROBES:
+            for data in probe.writes:
+                board.write(bytes([len(data)]) + data)
+                twin.receive(data, now_s)
+            settle_s = _settle_s(probe)
+            board.advance(settle_s)
+            now_s += settle_s
             twin.step(now_s)
-            results.append((firmware_power(board), body.power))
-    yield results
+            firmware = Answer(
+                struct.unpack(f"<{MOTOR_REGISTERS}h", board.peek(registers, 2 * MOTOR_REGISTERS)),
+                firmware_power(board) if probe.drives else None,
+            )
+            sim = Answer(
+                tuple(value for value in twin.motor_registers),
+                body.power if probe.drives else None,
+            )
+            results.append((firmware, sim))
+    return results
 
 
-@pytest.mark.parametrize("index", range(len(WRITES)), ids=[name for name, _ in WRITES])
-def test_the_twin_drives_the_motors_as_the_authors_firmware_does(
-    index: int, answers: list[tuple[tuple[float, float], tuple[float, float]]]
+@pytest.mark.parametrize("index", range(len(PROBES)), ids=[probe.name for probe in PROBES])
+def test_the_twin_keeps_and_drives_the_motors_as_the_authors_firmware_does(
+    index: int, answers: list[tuple[Answer, Answer]]
 ) -> None:
+    probe = PROBES[index]
     firmware, twin = answers[index]
-    assert twin == pytest.approx(firmware, abs=1e-9), WRITES[index]
+    assert twin.registers == firmware.registers, probe.writes
+    if probe.name in KNOWN_DIFFERENCES:
+        assert twin.power != firmware.power, f"no longer differs: drop {probe.name!r}"
+    elif probe.drives:
+        assert firmware.power is not None and twin.power is not None
+        assert twin.power == pytest.approx(firmware.power, abs=1e-9), probe.writes
 
 
 def test_every_packet_the_driver_writes_moves_the_firmwares_motors(
-    answers: list[tuple[tuple[float, float], tuple[float, float]]],
+    answers: list[tuple[Answer, Answer]],
 ) -> None:
-    driver = answers[: len(_driver_writes())]
-    assert driver[0][0] == pytest.approx((96 / 255, 0.0))
-    assert driver[3][0] == pytest.approx((-139 / 255, 1.0))
+    driver = [firmware.power for firmware, _ in answers[: len(DRIVER_PROBES)]]
+    assert driver[0] == pytest.approx((96 / 255, 0.0))
+    assert driver[3] == pytest.approx((-139 / 255, 1.0))

@@ -22,7 +22,8 @@ What the firmware does, and so what this twin does:
 * **Only ``MTR`` SET** is acted on, and only when the text is exactly 11 characters: two bytes
   the firmware does not check (the address check is commented out), ``$``, ``MTR``, then
   ``sscanf("%d%d")`` of the last five characters gives the motor number and the value
-  (``1+139`` is motor 1, +139). Motors 1..15 are stored unclamped; every other packet,
+  (``1+139`` is motor 1, +139). The motor number is taken modulo 256 (a ``uint8_t``
+  parameter: ``257+9`` sets motor 1); motors 1..15 are stored unclamped; every other packet,
   including every GET, is silently ignored. Nothing is ever sent back.
 * **Motors** are applied by the sketch's main loop every 200 ms: motor 1 drives the left wheels
   and motor 2 the right ones at duty ``|value| / 255`` in the value's direction (values past
@@ -214,7 +215,8 @@ class ReferenceModule:
         if first is None or second is None:
             self._ignore("MTR data that sscanf cannot read as two numbers", text)
             return
-        motor, value = first[0], second[0]
+        # setMotorSpeed takes the motor number as a uint8_t: 257 is motor 1.
+        motor, value = first[0] & 0xFF, second[0]
         if not 0 < motor <= MOTOR_REGISTERS:
             self._ignore(f"motor {motor} (the firmware has motors 1-15)", text)
             return
