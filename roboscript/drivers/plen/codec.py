@@ -26,8 +26,10 @@ state machine:
 2. The two command characters are read, then matched case-insensitively against the commands
    of that header; no match is a ``"bad_command"`` fault that consumes header and command.
 3. The argument characters are read, all of them, whatever they are (a CR/LF inside a command
-   is an argument character), and only then checked: they must be hex digits, except in
-   ``>MH`` whose name is free text. A bad one is a ``"bad_argument"`` fault that consumes the
+   is an argument character), and only then checked as the firmware's ``HexStringParser``
+   checks them: the first and every one before the first NUL must be hex digits (the check
+   stops at a NUL; the values are then read from every byte, as ``hexbytes2uint16`` reads
+   them), except in ``>MH``, which the firmware does not check at all. A bad one is a ``"bad_argument"`` fault that consumes the
    whole command, just as the firmware resets to READY.
 4. A well-formed command whose values our messages cannot hold is an ``"out_of_range"`` fault.
    The firmware ignores those too (a joint id above 23, a slot above 89, ``>HO``/``>MA``/``>MI``
@@ -65,7 +67,7 @@ from roboscript.drivers.plen.commands import (
     BadArgumentError,
     CommandSpec,
     encode_command,
-    is_hex,
+    firmware_reads_as_hex,
 )
 from roboscript.drivers.plen.messages import (
     Command,
@@ -311,7 +313,7 @@ class PlenCodec:
 
     def _finish(self, spec: CommandSpec) -> Command:
         args = bytes(self._attempt[3:])
-        if not spec.free_text and not is_hex(args):
+        if spec.argc and not spec.free_text and not firmware_reads_as_hex(args):
             self._fail("bad_argument", f"{spec.name} arguments {args!r} are not hex digits")
         try:
             command = spec.parse(args)

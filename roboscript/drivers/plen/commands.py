@@ -40,7 +40,14 @@ from roboscript.drivers.plen.messages import (
 )
 from roboscript.errors import LocalProtocolError
 
-__all__ = ["COMMANDS", "BadArgumentError", "CommandSpec", "encode_command", "is_hex"]
+__all__ = [
+    "COMMANDS",
+    "BadArgumentError",
+    "CommandSpec",
+    "encode_command",
+    "firmware_reads_as_hex",
+    "is_hex",
+]
 
 # --------------------------------------------------------------------------------------------
 # Number formats
@@ -58,17 +65,38 @@ def _hex16(value: int) -> str:
 
 
 def _unsigned(data: bytes) -> int:
-    return int(data, 16)
+    """The firmware's ``Utility::hexbytes2uint16`` (``Parser.cpp``) of any bytes: each
+    character's value in base 16 as its C computes it, modulo 2**16. A hex digit reads as
+    itself; other bytes read as the C arithmetic makes them (a NUL, which ends the firmware's
+    check of an argument, reads 0; AVR's ``char`` is signed)."""
+    result = 0
+    for byte in data:
+        digit = (byte - 256 if byte > 0x7F else byte) & 0xFFFF
+        for floor, offset in ((0x61, 0x57), (0x41, 0x37), (0x30, 0x30)):
+            if digit >= floor:
+                digit = (digit - offset) & 0xFFFF
+        result = (result * 16 + digit) & 0xFFFF
+    return result
 
 
-def _signed12(data: bytes) -> int:
-    value = int(data, 16)
-    return value - 0x1000 if value >= 0x800 else value
+def _signed(data: bytes) -> int:
+    """The firmware's ``Utility::hexbytes2int16``: ``len(data)`` digits, two's complement."""
+    shift = (4 - len(data)) * 4
+    value = (_unsigned(data) << shift) & 0xFFFF
+    return (value - 0x10000 if value >= 0x8000 else value) >> shift
 
 
-def _signed16(data: bytes) -> int:
-    value = int(data, 16)
-    return value - 0x10000 if value >= 0x8000 else value
+def _byte(data: bytes) -> int:
+    """A field the firmware passes on as a ``uint8_t`` (joint ids, slots, frame indexes)."""
+    return _unsigned(data) & 0xFF
+
+
+def firmware_reads_as_hex(args: bytes) -> bool:
+    """Whether the firmware's ``HexStringParser`` takes ``args``: its first byte and every
+    byte before the first NUL are hex digits (the check stops at a NUL, as at the end of the
+    buffer; the handler then reads every byte, the NUL included)."""
+    checked = args.split(b"\0", 1)[0]
+    return bool(checked) and is_hex(checked)
 
 
 _HEX_DIGITS = b"0123456789abcdefABCDEF"
@@ -155,21 +183,19 @@ class BadArgumentError(Exception):
 
 
 def _parse_set_angle(args: bytes) -> Command:
-    angle = _clamp(_signed12(args[2:5]), ANGLE_MIN_DDEG, ANGLE_MAX_DDEG)
-    return SetAngle(_unsigned(args[0:2]), angle)
+    angle = _clamp(_signed(args[2:5]), ANGLE_MIN_DDEG, ANGLE_MAX_DDEG)
+    return SetAngle(_byte(args[0:2]), angle)
 
 
 def _parse_set_angle_diff(args: bytes) -> Command:
-    diff = _clamp(_signed12(args[2:5]), -DIFF_LIMIT_DDEG, DIFF_LIMIT_DDEG)
-    return SetAngleDiff(_unsigned(args[0:2]), diff)
+    diff = _clamp(_signed(args[2:5]), -DIFF_LIMIT_DDEG, DIFF_LIMIT_DDEG)
+    return SetAngleDiff(_byte(args[0:2]), diff)
 
 
 def _parse_motion_header(args: bytes) -> Command:
     def number(start: int) -> int:
-        field = args[start : start + 2]
-        if not is_hex(field):
-            raise BadArgumentError(f"non-hex characters {field!r} in >MH")
-        return _unsigned(field)
+        # >MH is read with no check at all (Protocol.cpp: the nil parser): any bytes count
+        return _byte(args[start : start + 2])
 
     def flag(position: int) -> bool:
         return args[position] != ord("0")  # the firmware reads anything but '0' as set
@@ -192,8 +218,8 @@ def _parse_motion_header(args: bytes) -> Command:
 
 
 def _parse_motion_frame(args: bytes) -> Command:
-    values = tuple(_signed16(args[start : start + 4]) for start in range(8, 104, 4))
-    return MotionFrame(_unsigned(args[0:2]), _unsigned(args[2:4]), _unsigned(args[4:8]), values)
+    values = tuple(_signed(args[start : start + 4]) for start in range(8, 104, 4))
+    return MotionFrame(_byte(args[0:2]), _byte(args[2:4]), _unsigned(args[4:8]), values)
 
 
 @dataclass(frozen=True, slots=True)
@@ -205,11 +231,11 @@ class CommandSpec:
 
 
 def _joint_value(factory: Callable[[int, int], Command]) -> Callable[[bytes], Command]:
-    return lambda args: factory(_unsigned(args[0:2]), _signed12(args[2:5]))
+    return lambda args: factory(_byte(args[0:2]), _signed(args[2:5]))
 
 
 def _slot(factory: Callable[[int], Command]) -> Callable[[bytes], Command]:
-    return lambda args: factory(_unsigned(args[0:2]))
+    return lambda args: factory(_byte(args[0:2]))
 
 
 def _bare(factory: Callable[[], Command]) -> Callable[[bytes], Command]:
@@ -227,7 +253,7 @@ COMMANDS: dict[tuple[int, bytes], CommandSpec] = {
         ("$", "PM", 2, _slot(PlayMotion), False),
         ("$", "SM", 0, _bare(StopMotion), False),
         ("#", "PO", 0, _bare(PopMotion), False),
-        ("#", "PU", 4, lambda a: PushMotion(_unsigned(a[0:2]), _unsigned(a[2:4])), False),
+        ("#", "PU", 4, lambda a: PushMotion(_byte(a[0:2]), _byte(a[2:4])), False),
         ("#", "RI", 0, _bare(ResetInterpreter), False),
         (">", "HO", 5, _joint_value(SetHome), False),
         (">", "JS", 0, _bare(ResetJointSettings), False),

@@ -8,7 +8,7 @@ driver), written from the firmware's behaviour:
   when a host connects.
 * Joints: 24 slots holding absolute angles in tenths of a degree, each with min, max and home
   (``>HO``, ``>MA``, ``>MI``, ``>JS``); ``$AN`` and ``$AD`` are clamped to [min, max]; ``$HP``
-  moves every joint home.
+  and ``>JS`` (which restores the factory settings first) move every joint home.
 * Motion memory: 90 slots of a header and up to 20 frames, written by ``>MH`` and ``>MF``.
 * Playback with the motion controller's timing: each joint moves one equal fixed-point step
   (16 fractional bits, C integer division) towards the next frame per update,
@@ -258,6 +258,10 @@ class Plen2Board:
             self.min_ddeg = [joint.min_ddeg for joint in factory]
             self.max_ddeg = [joint.max_ddeg for joint in factory]
             self.home_ddeg = [joint.home_ddeg for joint in factory]
+            # JointController::resetSettings also moves every joint to its factory home
+            for joint, home in enumerate(self.home_ddeg):
+                self._set_angle(joint, home)
+            self._move_body()
         elif isinstance(msg, m.MotionHeader):
             self.headers[msg.slot] = msg
         elif isinstance(msg, m.MotionFrame):

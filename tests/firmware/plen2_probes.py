@@ -1,0 +1,168 @@
+"""The PLEN2 probe set: every command roboscript's driver sends, and the parser's error paths.
+
+Each probe is sent to PLEN2's own firmware (emulated) and to ``roboscript sim``'s PLEN2, one
+after the other on one connection; what each answers before the next probe, and the 24 servo
+outputs each drives after it, are compared. The driver's commands are encoded by roboscript's
+own host codec, so the probe is exactly what the driver writes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from roboscript.codec import Role
+from roboscript.drivers.plen import messages as m
+from roboscript.drivers.plen.codec import PlenCodec
+from roboscript.drivers.plen.driver import CHUNK_BYTES, CHUNK_GAP_S
+
+SETTLE_S = 0.04
+"""Time each probe is given: a setter writes the board's EEPROM (3.3 ms a byte pair)."""
+GETTER_S = 0.15
+"""Time for ``<JS`` (about 2 KB at 2 Mbaud) or a one-frame ``<MO``."""
+MOTION_S = 0.6
+"""Time for a short motion to play out (a few 32 ms updates) and its dump to be read."""
+
+
+@dataclass(frozen=True)
+class Probe:
+    """Bytes written one after the other (each write one host ``write()``, ``gap_s`` apart),
+    and how long to let both boards answer them after the last."""
+
+    name: str
+    writes: tuple[bytes, ...]
+    settle_s: float = SETTLE_S
+    gap_s: float = 0.001
+
+
+def probe(name: str, *writes: bytes, settle_s: float = SETTLE_S) -> Probe:
+    return Probe(name, writes, settle_s)
+
+
+def paced(name: str, data: bytes, settle_s: float = SETTLE_S) -> Probe:
+    """``data`` written as the driver writes: in chunks of 32 bytes, 50 ms apart (the
+    firmware reads a byte per turn of its loop and drops what overflows its 64-byte ring)."""
+    chunks = tuple(data[i : i + CHUNK_BYTES] for i in range(0, len(data), CHUNK_BYTES))
+    return Probe(name, chunks, settle_s, CHUNK_GAP_S)
+
+
+def _driver(name: str, message: object, settle_s: float = SETTLE_S) -> Probe:
+    """A command as the driver writes it: in chunks of 32 bytes, 50 ms apart."""
+    return paced(name, PlenCodec(Role.HOST).send(message), settle_s)
+
+
+_ZERO = (0,) * m.JOINT_COUNT
+_WAVE = tuple((j * 37) % 200 - 100 for j in range(m.JOINT_COUNT))
+
+DRIVER_PROBES: tuple[Probe, ...] = (
+    _driver("version", m.GetVersion(), GETTER_S),
+    _driver("joint settings", m.GetJointSettings(), GETTER_S),
+    _driver("set an angle", m.SetAngle(10, 900)),
+    _driver("set a negative angle", m.SetAngle(0, -100)),
+    _driver("set an angle difference", m.SetAngleDiff(1, 50)),
+    _driver("set a negative difference", m.SetAngleDiff(13, -70)),
+    _driver("home position", m.HomePosition()),
+    _driver("set a home position", m.SetHome(0, 16)),
+    _driver("set a max", m.SetMax(2, 800)),
+    _driver("set a min", m.SetMin(2, -800)),
+    _driver("joint settings after setters", m.GetJointSettings(), GETTER_S),
+    _driver("factory joint settings", m.ResetJointSettings()),
+    _driver("joint settings restored", m.GetJointSettings(), GETTER_S),
+    _driver(
+        "motion header",
+        m.MotionHeader(slot=3, name="probe", frame_length=2),
+    ),
+    _driver("motion frame 0", m.MotionFrame(3, 0, 64, _WAVE)),
+    _driver("motion frame 1", m.MotionFrame(3, 1, 96, _ZERO)),
+    _driver("motion dump", m.GetMotion(3), GETTER_S),
+    _driver("play motion", m.PlayMotion(3), MOTION_S),
+    _driver("stop motion", m.StopMotion()),
+    _driver("push motion", m.PushMotion(3, 2)),
+    _driver("pop motion", m.PopMotion(), MOTION_S),
+    _driver("reset interpreter", m.ResetInterpreter()),
+    _driver(
+        "looping header",
+        m.MotionHeader(
+            slot=4, name="loop", frame_length=1, use_loop=True, loop_end=0, loop_count=2
+        ),
+    ),
+    _driver("looping frame", m.MotionFrame(4, 0, 64, _WAVE)),
+    _driver("looping dump", m.GetMotion(4), GETTER_S),
+    _driver("play the loop", m.PlayMotion(4), MOTION_S),
+    _driver(
+        "jumping header",
+        m.MotionHeader(slot=5, name="jump", frame_length=1, use_jump=True, jump_slot=3),
+    ),
+    _driver("jumping frame", m.MotionFrame(5, 0, 32, _ZERO)),
+    _driver("jumping dump", m.GetMotion(5), GETTER_S),
+    _driver("play the jump", m.PlayMotion(5), MOTION_S),
+)
+"""Every command :mod:`roboscript.drivers.plen.driver` sends, in its own encoding."""
+
+ERROR_PROBES: tuple[Probe, ...] = (
+    probe("lower-case getter", b"<vi", settle_s=GETTER_S),
+    probe("mixed-case getter", b"<vI", settle_s=GETTER_S),
+    probe("lower-case hex", b"$an0aFFF"),
+    probe("upper-case hex", b"$AN0AF9C"),
+    probe("junk before a command", b"xyz 123<VI", settle_s=GETTER_S),
+    probe("CR LF between commands", b"<VI\r\n<VI\r\n", settle_s=GETTER_S),
+    probe("unknown command, then a getter", b"$AE<VI", settle_s=GETTER_S),
+    probe("unknown command eats the header after it", b"$H<VI", settle_s=GETTER_S),
+    probe("half a getter eats the next", b"<V<VI", settle_s=GETTER_S),
+    probe("getter under another header", b"#VI<VI", settle_s=GETTER_S),
+    probe("setter under the getter header", b"<MA<VI", settle_s=GETTER_S),
+    probe("unknown interpreter command", b"#ZZ<VI", settle_s=GETTER_S),
+    probe("unknown setter command", b">ZZ<VI", settle_s=GETTER_S),
+    probe("unknown getter command", b"<ZZ<VI", settle_s=GETTER_S),
+    probe("between two commands", b"#PP<VI", settle_s=GETTER_S),
+    probe("between two setters", b">HP<VI", settle_s=GETTER_S),
+    probe("between two getters", b"<KK<VI", settle_s=GETTER_S),
+    probe("NUL bytes as a command", b"<\x00\x00<VI", settle_s=GETTER_S),
+    probe("NUL ends an argument early", b"$AN0\x00384"),
+    probe("NUL as the first argument", b"$AN\x000384<VI", settle_s=GETTER_S),
+    probe("setter 6 past the table", b">PO<VI", settle_s=GETTER_S),
+    probe("non-hex argument", b"$PMzz<VI", settle_s=GETTER_S),
+    probe("short argument eats a header", b"$PM0<VI", settle_s=GETTER_S),
+    probe("non-hex angle", b"$AN01xyz<VI", settle_s=GETTER_S),
+    probe("joint 24", b"$AN18000"),
+    probe("joint 255", b"$ANff100"),
+    probe("angle 2047 clamps", b"$AN027ff"),
+    probe("angle -2048 clamps", b"$AN02800"),
+    probe("difference 2047 clamps", b"$AD037ff"),
+    probe("difference -2048 clamps", b"$AD04800"),
+    probe("home beyond max", b">HO00400<JS", settle_s=GETTER_S),
+    probe("home below min", b">HO00a00<JS", settle_s=GETTER_S),
+    probe("home on joint 24", b">HO18010<JS", settle_s=GETTER_S),
+    probe("max 900", b">MA05384<JS", settle_s=GETTER_S),
+    probe("max 901", b">MA05385<JS", settle_s=GETTER_S),
+    probe("max below min", b">MA05c00<JS", settle_s=GETTER_S),
+    probe("min -900", b">MI05c7c<JS", settle_s=GETTER_S),
+    probe("min -901", b">MI05c7b<JS", settle_s=GETTER_S),
+    probe("min above max", b">MI05300<JS", settle_s=GETTER_S),
+    probe("narrow range", b">MI06000>MA06001$AN06384<JS", settle_s=GETTER_S),
+    probe("angle outside a narrow range", b"$AD06c00"),
+    probe("factory settings again", b">JS"),
+    probe("play slot 90", b"$PM5a"),
+    probe("play slot 255", b"$PMff"),
+    probe("stop with nothing playing", b"$SM"),
+    probe("old play alias", b"$MP03", settle_s=MOTION_S),
+    probe("old stop alias", b"$MS"),
+    probe("pop an empty queue", b"#PO"),
+    probe("push then reset", b"#PU0302#RI"),
+    probe("dump slot 90", b"<MO5a", settle_s=GETTER_S),
+    probe("dump slot 255", b"<MOff", settle_s=GETTER_S),
+    paced("header of 0 frames", b">MH06zero                0000000000000<MO03", settle_s=GETTER_S),
+    paced("header of 21 frames", b">MH06big                 0000000000015<MO03", settle_s=GETTER_S),
+    paced("header in slot 90", b">MH5ahigh                0000000000001<MO03", settle_s=GETTER_S),
+    paced("frame 20", b">MF0314" + b"0040" + b"0" * 96 + b"<MO03", settle_s=GETTER_S),
+    paced("frame in slot 90", b">MF5a00" + b"0040" + b"0" * 96),
+    paced("frame with a non-hex value", b">MF0300" + b"0040" + b"0" * 95 + b"x<MO03", settle_s=GETTER_S),
+    paced("header flags other than 1", b">MH07flags               x000102x03y01<MO07", settle_s=GETTER_S),
+    probe("command split over two writes", b"<V", b"I", settle_s=GETTER_S),
+    probe("arguments split over writes", b"$AN0", b"b1", b"00"),
+    probe("getters back to back", b"<VI<VI", settle_s=GETTER_S),
+    probe("setter then getter in one write", b">HO01064<JS", settle_s=GETTER_S),
+    probe("factory settings at the end", b">JS<JS", settle_s=GETTER_S),
+)
+"""The parser's error paths, upper and lower case, and commands split and joined."""
+
+PROBES = DRIVER_PROBES + ERROR_PROBES
