@@ -29,8 +29,9 @@ state machine:
    is an argument character), and only then checked as the firmware's ``HexStringParser``
    checks them: the first and every one before the first NUL must be hex digits (the check
    stops at a NUL; the values are then read from every byte, as ``hexbytes2uint16`` reads
-   them), except in ``>MH``, which the firmware does not check at all. A bad one is a ``"bad_argument"`` fault that consumes the
-   whole command, just as the firmware resets to READY.
+   them), except in ``>MH``, which the firmware does not check at all. A bad one is a
+   ``"bad_argument"`` fault that consumes the whole command, just as the firmware resets to
+   READY.
 4. A well-formed command whose values our messages cannot hold is an ``"out_of_range"`` fault.
    The firmware ignores those too (a joint id above 23, a slot above 89, ``>HO``/``>MA``/``>MI``
    beyond ±900, a header with 0 or more than 20 frames) or stores values that are meaningless

@@ -315,13 +315,19 @@ def test_out_of_range_values_are_faults() -> None:
     assert codec.stats.faults == {"out_of_range": 5}
 
 
-def test_bad_motion_header_fields() -> None:
-    assert device(b">MH0gTest                0000000000001")[0] == (
-        "bad_argument",
-        b">MH0gTest                0000000000001",
-    )
+def test_motion_header_numbers_are_read_as_the_firmware_reads_any_byte() -> None:
+    # the firmware checks nothing in >MH: hexbytes2uint16 reads 'g' as 103 - 87 = 16
+    header = device(b">MH0gTest                0000000000001")[0]
+    assert isinstance(header, MotionHeader)
+    assert (header.slot, header.name, header.frame_length) == (16, "Test", 1)
     out = device(b'>MH00Te"t                0000000000001')
     assert out[0][0] == "bad_argument"  # type: ignore[index]
+
+
+def test_a_nul_ends_the_firmwares_hex_check_of_arguments() -> None:
+    # HexStringParser stops at a NUL; the handler then reads the NUL as 0
+    assert device(b"$AN0\x00384") == [SetAngle(0, 900)]
+    assert device(b"$AN\x000384")[0][0] == "bad_argument"  # type: ignore[index]
 
 
 def test_partial_command_waits_and_reset_abandons_it() -> None:
