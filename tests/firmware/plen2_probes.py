@@ -166,4 +166,22 @@ ERROR_PROBES: tuple[Probe, ...] = (
 )
 """The parser's error paths, upper and lower case, and commands split and joined."""
 
-PROBES = DRIVER_PROBES + ERROR_PROBES
+_FRAME = b">MF03010060" + b"0010" * m.JOINT_COUNT
+
+TIMING_PROBES: tuple[Probe, ...] = (
+    probe("stray bytes ahead of a getter", b"x" * 60 + b"<VI", settle_s=GETTER_S),
+    probe("a getter kept behind a long reply", b"<JS" + b"x" * 40 + b"<VI", settle_s=GETTER_S),
+    probe("a getter lost behind a long reply", b"<JS" + b"x" * 100 + b"<VI", settle_s=GETTER_S),
+    probe("a frame written at once", _FRAME + b"<VI", settle_s=GETTER_S),
+    probe("a frame in two halves", _FRAME[:60], _FRAME[60:] + b"<MO03", settle_s=GETTER_S),
+    probe("a header then a getter at once", b">MH03probe               0000000000002<VI<VI"),
+    probe("home position then getters", b"$HP" + b"<VI" * 12, settle_s=GETTER_S),
+    probe("version at the end", b"<VI", settle_s=GETTER_S),
+    # last: what the ring lets through of its end may leave half a command in the parser
+    probe("a long run of stray bytes", b"x" * 300 + b"<VI", settle_s=GETTER_S),
+)
+"""What a 2 Mbaud board reads depends on when it reads: the firmware takes a byte a turn of its
+loop (about 29 us, while the line brings one every 5 us) and none while a command runs (a
+reply, an EEPROM write); what arrives while its 64-byte receive ring is full is lost."""
+
+PROBES = DRIVER_PROBES + ERROR_PROBES + TIMING_PROBES

@@ -2,8 +2,9 @@
 
 The firmware (``plen-Firmware_Arduino`` 1.4.2) runs unchanged on an emulated ATmega32u4 at
 16 MHz. It answers on USB serial, which the emulator lacks, so its replies are sent to UART1
-(2 Mbaud) instead (one forced ``#define``, ``shims/plen2/replies_on_uart1.h``). Each probe
-(``plen2_probes.py``) goes to it and to ``roboscript sim``'s PLEN2 on one connection, in turn;
+(2 Mbaud) instead (one forced ``#define``, ``shims/plen2/replies_on_uart1.h``), the line it
+reads commands from. Each probe (``plen2_probes.py``) goes to it and to ``roboscript sim``'s
+PLEN2 (``transport: uart``, the same line) on one connection, in turn;
 what each answers is compared byte for byte, and so are the 24 servo outputs each drives
 afterwards (the firmware's ``JointController::m_pwms``; the simulated board's joint angles
 through the firmware's own ``map()``). Differences are listed in ``KNOWN_DIFFERENCES``, each
@@ -17,6 +18,7 @@ gaits against the firmware is ``test_plen2_motions.py``.
 
 from __future__ import annotations
 
+import dataclasses
 import struct
 from dataclasses import dataclass
 
@@ -28,7 +30,9 @@ from firmware.recipes import PLEN2_BAUD, PLEN2_EEPROM, PLEN2_F_CPU_HZ, PLEN2_MCU
 
 from roboscript.drivers.plen import messages as m
 from roboscript.drivers.plen.device import Plen2Board
-from roboscript.sim.simulation import make_simulation
+from roboscript.profiles import get_profile
+from roboscript.sim.simulation import Simulation
+from roboscript.sim.world import load_world
 
 BOOT_S = 0.5
 """``setup()``: serial, the internal EEPROM's joint settings (written at first start), Timer 1."""
@@ -46,7 +50,10 @@ class Answer:
 
 @pytest.fixture(scope="module")
 def transcripts() -> tuple[Answer, Answer, list[tuple[Answer, Answer]]]:
-    simulation = make_simulation("plen2")
+    plen2 = get_profile("plen2")
+    # the emulated board's host line is its 2 Mbaud UART: the simulated board's `uart`
+    profile = dataclasses.replace(plen2, options={**plen2.options, "transport": "uart"})
+    simulation = Simulation(load_world("empty"), profile, seed=1)
     simulation.connect()
     device = simulation.device
     assert isinstance(device, Plen2Board)

@@ -26,6 +26,14 @@ driver), written from the firmware's behaviour:
   that loop count over the motion's loop section (or the whole motion), ``#RI`` empties the
   queue and stops at once; an entry is also played when a motion ends.
 
+The link (``transport``): over USB, the PLEN2's own port, the host waits while the firmware is
+busy and a command acts the moment it is written. Over the 2 Mbaud UART (``transport: uart``,
+the line the firmware tier's emulated board is reached by) the board keeps the firmware's
+clock: bytes arrive 5 us apart, ``loop()`` reads one a turn (:data:`READ_BYTE_S`) and none
+while a command runs (a reply, :data:`REPLY_BYTE_S` a byte; an EEPROM write or read), and a
+byte that arrives while the 64-byte receive ring is full is lost: a burst of more than about
+75 bytes loses some, which is why the driver writes 32 bytes every 50 ms.
+
 Walking: the body moves by the legs' own geometry (a planar two-segment leg per side, thigh
 and shank ``LEG_SEGMENT_MM`` long, straight at the factory home angles, hips
 ``HIP_WIDTH_MM`` apart). Leaning (the thigh rolls) lowers one hip and raises the other. A foot
@@ -54,14 +62,23 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, cast
 
 from roboscript.codec import Role, readable
+from roboscript.drivers.asip.uart import ReceiveLine
 from roboscript.drivers.plen import messages as m
 from roboscript.drivers.plen.codec import PlenCodec
+from roboscript.errors import ProfileError
 
 if TYPE_CHECKING:
     from roboscript.robot_profile import RobotProfile
     from roboscript.sim.body import Body
 
-__all__ = ["HIP_WIDTH_MM", "LEG_SEGMENT_MM", "UPDATE_INTERVAL_S", "Plen2Board", "simulated_device"]
+__all__ = [
+    "HIP_WIDTH_MM",
+    "LEG_SEGMENT_MM",
+    "TRANSPORTS",
+    "UPDATE_INTERVAL_S",
+    "Plen2Board",
+    "simulated_device",
+]
 
 UPDATE_INTERVAL_S = 8 * 1024 * 64 / 16_000_000
 """The motion controller's update period, seconds: 32.768 ms, eight Timer 1 overflows (10-bit
@@ -71,6 +88,28 @@ LEG_SEGMENT_MM = 45.0
 """Length of the simulated thigh and of the shank, mm."""
 HIP_WIDTH_MM = 50.0
 """Distance between the simulated hip joints, mm."""
+
+TRANSPORTS = ("usb", "uart")
+"""How a host reaches the board: its USB serial port or its 2 Mbaud UART."""
+LINE_BAUD = 2_000_000
+"""The serial line's speed, bits per second (``System.h``: ``BLESERIAL_BAUDRATE``)."""
+RECEIVE_RING_BYTES = 63
+"""Bytes the ATmega32u4 core's 64-byte receive ring holds: a byte that arrives while it is
+full is lost."""
+READ_BYTE_S = 29e-6
+"""The firmware's time per byte it reads, seconds: ``loop()`` reads one byte a turn (also
+polling the USB port), about 460 cycles at 16 MHz; measured on the emulated firmware (a run
+of stray bytes ahead of ``<VI`` delays its reply 29 us a byte). The line brings a byte every
+5 us, so a burst of more than about 75 bytes overflows the ring."""
+REPLY_BYTE_S = 17.4e-6
+"""The firmware's time per byte of a reply, seconds (``<JS``, 1742 bytes, takes 30.3 ms)."""
+EEPROM_SLOT_WRITE_S = 6.4e-3
+"""One 30-byte slot written to the motion EEPROM: the I2C write at 400 kHz, then
+``ExternalEEPROM::writeSlot``'s ``delay(5)`` (``>MH`` writes one, ``>MF`` two)."""
+MOTION_READ_S = 4.3e-3
+"""Reading a motion's header and first frame from the motion EEPROM (``$PM``, ``#PO``)."""
+SETTINGS_S = 1.9e-3
+"""``$HP`` and ``>JS``: 144 bytes of joint settings read or written, 24 servo outputs mapped."""
 
 _UPDATE_INTERVAL_MS = 32
 _FIXED_BITS = 16
@@ -111,12 +150,26 @@ class Plen2Board:
 
     Args:
         body: The simulated body the board moves.
+        transport: ``"usb"`` (the PLEN2's own link: the host waits while the firmware is
+            busy, nothing is lost, and a command acts the moment it is written) or ``"uart"``
+            (its 2 Mbaud serial line: bytes arrive 5 us apart and are read as the firmware
+            reads them, a byte a turn of its loop and none while a command runs, and a byte
+            that arrives while the 64-byte receive ring is full is lost).
     """
 
-    def __init__(self, body: Body) -> None:
+    def __init__(self, body: Body, transport: str = "usb") -> None:
+        if transport not in TRANSPORTS:
+            raise ValueError(f"transport must be one of {TRANSPORTS}, not {transport!r}")
         self.body = body
+        self.transport = transport
         self.codec = PlenCodec(Role.DEVICE)
         self._out = bytearray()
+        self._line = ReceiveLine(LINE_BAUD)
+        self._ring: deque[int] = deque()
+        self._read_s = 0.0
+        """When the firmware reads its next byte (it is busy until then), seconds."""
+        self.lost_bytes = 0
+        """Bytes that arrived while the receive ring was full."""
         factory = m.factory_joint_settings().joints
         self.min_ddeg = [joint.min_ddeg for joint in factory]
         self.max_ddeg = [joint.max_ddeg for joint in factory]
@@ -146,17 +199,54 @@ class Plen2Board:
     def connect(self, now_s: float) -> None:
         """A host opened the port: the firmware says nothing and forgets a half command."""
         self.codec = PlenCodec(Role.DEVICE)
+        self._line.clear()
+        self._ring.clear()
 
     def receive(self, data: bytes, now_s: float) -> None:
-        """Parse and act on command bytes."""
-        self.codec.receive_data(data)
-        for message in readable(self.codec):  # the firmware resets its parser silently
-            # mypy widens PlenMessage's long union to object through the generic.
-            self._handle(cast(m.PlenMessage, message))
+        """The host writes command bytes: over USB they are acted on at once; over the UART
+        they arrive one byte time apart and are read as the firmware reads them."""
+        if self.transport == "usb":
+            self.codec.receive_data(data)
+            for message in readable(self.codec):  # the firmware resets its parser silently
+                # mypy widens PlenMessage's long union to object through the generic.
+                self._handle(cast(m.PlenMessage, message))
+            return
+        self._line.send(data, now_s)
+        self._read_bytes(now_s)
+
+    def _read_bytes(self, now_s: float) -> None:
+        """Read what has arrived by ``now_s``, a byte per :data:`READ_BYTE_S` of the
+        firmware's time and none while a command keeps it busy; a byte that arrives while the
+        receive ring is full is lost."""
+        ring, line = self._ring, self._line
+        while True:
+            read_s = self._read_s
+            for byte in line.take_arrived(min(read_s, now_s)):
+                if len(ring) < RECEIVE_RING_BYTES:
+                    ring.append(byte)
+                else:
+                    self.lost_bytes += 1
+            if read_s > now_s:
+                return
+            if not ring:
+                arrival_s = line.next_arrival_s()
+                if arrival_s > now_s:
+                    self._read_s = now_s
+                    return
+                self._read_s = max(read_s, arrival_s)
+                continue
+            self.codec.receive_data(bytes((ring.popleft(),)))
+            busy_s = READ_BYTE_S
+            for message in readable(self.codec):  # the firmware resets its parser silently
+                # mypy widens PlenMessage's long union to object through the generic.
+                busy_s += self._handle(cast(m.PlenMessage, message))
+            self._read_s = read_s + busy_s
 
     def step(self, now_s: float) -> None:
-        """Run the updates due by ``now_s`` (one for each period passed while a motion plays,
-        and the one left due when a motion has just started)."""
+        """Read the bytes that have arrived, then run the updates due by ``now_s`` (one for
+        each period passed while a motion plays, and the one left due when a motion has just
+        started)."""
+        self._read_bytes(now_s)
         while True:
             if self.playing and self._update_due:
                 self._update_due = False
@@ -169,7 +259,7 @@ class Plen2Board:
     def pending_input_bytes(self) -> int:
         """Request bytes received and not yet a whole message (a frame the host has not
         finished)."""
-        return self.codec.pending_bytes()
+        return self._line.pending_bytes() + len(self._ring) + self.codec.pending_bytes()
 
     def read_output(self) -> bytes:
         """Take the bytes written since the last call."""
@@ -215,10 +305,27 @@ class Plen2Board:
 
     # -------------------------------------------------------------------------- commands
 
-    def _send(self, reply: m.Reply) -> None:
-        self._out += self.codec.send(reply)
+    def _send(self, reply: m.Reply) -> float:
+        data = self.codec.send(reply)
+        self._out += data
+        return len(data) * REPLY_BYTE_S
 
-    def _handle(self, msg: m.PlenMessage) -> None:
+    def _handle(self, msg: m.PlenMessage) -> float:
+        """Act on a command; returns the firmware's time doing it, seconds (besides reading
+        it), during which it reads nothing."""
+        if isinstance(msg, (m.PlayMotion, m.PopMotion)):
+            busy_s = MOTION_READ_S
+        elif isinstance(msg, (m.HomePosition, m.ResetJointSettings)):
+            busy_s = SETTINGS_S
+        elif isinstance(msg, m.MotionHeader):
+            busy_s = EEPROM_SLOT_WRITE_S
+        elif isinstance(msg, m.MotionFrame):
+            busy_s = 2 * EEPROM_SLOT_WRITE_S
+        else:
+            busy_s = 0.0
+        return busy_s + self._act(msg)
+
+    def _act(self, msg: m.PlenMessage) -> float:
         if isinstance(msg, m.SetAngle):
             self._set_angle(msg.joint, msg.angle_ddeg)
             self._move_body()
@@ -242,9 +349,11 @@ class Plen2Board:
             self.queue.clear()
             self._stop()
         else:
-            self._handle_setting(msg)
+            return self._handle_setting(msg)
+        return 0.0
 
-    def _handle_setting(self, msg: m.PlenMessage) -> None:
+    def _handle_setting(self, msg: m.PlenMessage) -> float:
+        """Act on a setter or getter; returns the time the reply takes to write, seconds."""
         if isinstance(msg, m.SetHome):
             self.home_ddeg[msg.joint] = msg.angle_ddeg
         elif isinstance(msg, m.SetMax):
@@ -267,7 +376,7 @@ class Plen2Board:
         elif isinstance(msg, m.MotionFrame):
             self.frames[(msg.slot, msg.index)] = msg
         elif isinstance(msg, m.GetJointSettings):
-            self._send(
+            return self._send(
                 m.JointSettingsReply(
                     tuple(
                         m.JointSetting(joint, low, high, home)
@@ -278,9 +387,10 @@ class Plen2Board:
                 )
             )
         elif isinstance(msg, m.GetMotion):
-            self._send(self.dump(msg.slot))
+            return self._send(self.dump(msg.slot))
         elif isinstance(msg, m.GetVersion):
-            self._send(m.VersionReply())
+            return self._send(m.VersionReply())
+        return 0.0
 
     def _set_angle(self, joint: int, angle_ddeg: int) -> None:
         self.angles_ddeg[joint] = max(self.min_ddeg[joint], min(self.max_ddeg[joint], angle_ddeg))
@@ -428,6 +538,17 @@ class Plen2Board:
 
 
 def simulated_device(profile: RobotProfile) -> Callable[[Body], Plen2Board]:
-    """The PLEN2 unit's simulated device factory: a PLEN2 control board (no options)."""
-    del profile
-    return Plen2Board
+    """The PLEN2 unit's simulated device factory: a PLEN2 control board. Its one option,
+    ``transport``, is ``usb`` (the default) or ``uart`` (see :class:`Plen2Board`).
+
+    Raises:
+        ProfileError: An option other than ``transport``, or a transport it does not know.
+    """
+    options = dict(profile.options)
+    transport = options.pop("transport", "usb")
+    if options or transport not in TRANSPORTS:
+        raise ProfileError(
+            f"{profile.name}: a PLEN2 profile's one option is 'transport' "
+            f"({' or '.join(TRANSPORTS)}), not {profile.options!r}"
+        )
+    return lambda body: Plen2Board(body, str(transport))

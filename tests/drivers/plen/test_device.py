@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import random
 import socket
@@ -11,7 +12,7 @@ from helpers import HANG_BOUND_S, served_simulator
 
 from roboscript.codec import Role
 from roboscript.drivers.plen.codec import PlenCodec
-from roboscript.drivers.plen.device import UPDATE_INTERVAL_S, Plen2Board
+from roboscript.drivers.plen.device import UPDATE_INTERVAL_S, Plen2Board, simulated_device
 from roboscript.drivers.plen.gaits import load_gait
 from roboscript.drivers.plen.messages import (
     FACTORY_HOME_DDEG,
@@ -24,6 +25,8 @@ from roboscript.drivers.plen.messages import (
     VersionReply,
     factory_joint_settings,
 )
+from roboscript.errors import ProfileError
+from roboscript.profiles import get_profile
 from roboscript.sim.body import Body, BodySpec
 from roboscript.sim.world import Pose, load_world
 
@@ -322,3 +325,59 @@ def test_roboscript_sim_serves_the_simulated_plen2() -> None:
                 codec.receive_data(data)
                 reply = codec.next_message()
         assert reply == VersionReply()
+
+
+# ---------------------------------------------------------------------------- UART line
+
+
+class UartRig(Rig):
+    """A board reached over its 2 Mbaud UART, with the clock moved in 0.1 ms steps."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.board = Plen2Board(self.body, transport="uart")
+        self.board.connect(0.0)
+
+    def send(self, data: bytes) -> bytes:
+        self.board.receive(data, self.now_s)
+        for _ in range(2000):  # 0.2 s
+            self.now_s = round(self.now_s + 0.0001, 6)
+            self.board.step(self.now_s)
+        return self.board.read_output()
+
+
+def test_over_the_uart_a_burst_past_the_receive_ring_loses_bytes() -> None:
+    rig = UartRig()
+    assert rig.send(b"x" * 60 + b"<VI") == VERSION_WIRE  # read as it arrives
+    assert rig.send(b"x" * 300 + b"<VI") == b""  # 5 us a byte in, 29 us a byte read
+    assert rig.board.lost_bytes > 0
+    assert Rig().send(b"x" * 300 + b"<VI") == VERSION_WIRE  # USB waits instead
+
+
+def test_over_the_uart_a_getter_behind_a_long_reply_is_lost_past_63_bytes() -> None:
+    rig = UartRig()
+    settings = PlenCodec(Role.DEVICE).send(factory_joint_settings())
+    assert rig.send(b"<JS" + b"x" * 40 + b"<VI") == settings + VERSION_WIRE
+    assert rig.send(b"<JS" + b"x" * 100 + b"<VI") == settings
+
+
+def test_over_the_uart_the_drivers_paced_writes_lose_nothing() -> None:
+    rig = UartRig()
+    wire = PlenCodec(Role.HOST)
+    data = b"".join(wire.send(c) for c in (knee_motion(), *KNEE_FRAMES))
+    for start in range(0, len(data), 32):
+        rig.send(data[start : start + 32])
+    assert rig.board.lost_bytes == 0
+    assert rig.board.dump(5).frames[1].offsets_ddeg[KNEE] == 250
+
+
+def test_a_plen2_profile_takes_only_the_transport_option() -> None:
+    profile = get_profile("plen2")
+    with pytest.raises(ProfileError, match="transport"):
+        simulated_device(dataclasses.replace(profile, options={"transport": "serial"}))
+    with pytest.raises(ProfileError, match="transport"):
+        simulated_device(dataclasses.replace(profile, options={"baud": 9600}))
+    board = simulated_device(dataclasses.replace(profile, options={"transport": "uart"}))(
+        Rig().body
+    )
+    assert board.transport == "uart"
