@@ -95,6 +95,11 @@ DRIVER_PROBES: tuple[Probe, ...] = (
     _driver("jumping frame", m.MotionFrame(5, 0, 32, _ZERO)),
     _driver("jumping dump", m.GetMotion(5), GETTER_S),
     _driver("play the jump", m.PlayMotion(5), MOTION_S),
+    _driver("a slow frame's header", m.MotionHeader(slot=6, name="slow", frame_length=1)),
+    _driver("a frame of 10.24 s", m.MotionFrame(6, 0, 10240, _WAVE)),
+    # MotionController.h: the update count is a uint8_t, 320 updates wrap to 64 (2.1 s)
+    _driver("play the slow frame", m.PlayMotion(6), 2.4),
+    _driver("home after it", m.HomePosition()),
 )
 """Every command :mod:`roboscript.drivers.plen.driver` sends, in its own encoding."""
 

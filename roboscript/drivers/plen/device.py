@@ -429,8 +429,10 @@ class Plen2Board:
     def _setup(self, index: int) -> None:
         assert self.header is not None
         self._next = self._frame(self.header.slot, index)
-        # A transition under 32 ms divides by zero in the firmware; here it takes one update.
-        self._count = max(1, self._next.transition_time_ms // _UPDATE_INTERVAL_MS)
+        # MotionController.h keeps the count in a uint8_t: from 8192 ms on it wraps (10240 ms
+        # is 64 updates). A count of 0 (under 32 ms, or a multiple of 8192 ms) divides by zero
+        # in the firmware; here it takes one update.
+        self._count = max(1, (self._next.transition_time_ms // _UPDATE_INTERVAL_MS) & 0xFF)
         for joint in range(m.JOINT_COUNT):
             self._fixed[joint] = self._current.values[joint] << _FIXED_BITS
             target = self._next.values[joint] << _FIXED_BITS
