@@ -12,11 +12,11 @@ driver), written from the firmware's behaviour:
 * Motion memory: 90 slots of a header and up to 20 frames, written by ``>MH`` and ``>MF``.
 * Playback with the motion controller's timing: each joint moves one equal fixed-point step
   (16 fractional bits, C integer division) towards the next frame per update,
-  ``transition_time_ms // 32`` updates per frame. An update falls due every 32.768 ms
-  (``UPDATE_INTERVAL_S``, counted from power-on: Timer 1's 4.096 ms overflow, once per eight
-  multiplexed servos, ``JointController.cpp``) and runs at once if a motion plays, else waits
-  for one, so the first update of a motion started after a pause comes straight away
-  (``m_1cycle_finished`` stays set while nothing plays). Interpolation
+  ``transition_time_ms // 32`` updates per frame, modulo 256 (the firmware's ``uint8_t``).
+  An update falls due every 32.768 ms (``UPDATE_INTERVAL_S``, counted from power-on: Timer 1's
+  4.096 ms overflow, once per eight multiplexed servos, ``JointController.cpp``) and runs at
+  once if a motion plays, else waits for one, so the first update of a motion started after a
+  pause comes straight away (``m_1cycle_finished`` stays set while nothing plays). Interpolation
   starts from the last frame the controller played, not from where ``$AD`` left a joint.
   ``$PM`` is ignored while a motion plays. A loop code ``[begin, end, count]`` jumps back after
   ``end`` ``count`` times (0 and 255: until stopped), then plays on; a jump code continues with
