@@ -153,6 +153,8 @@ ERROR_PROBES: tuple[Probe, ...] = (
     probe("old stop alias", b"$MS"),
     probe("pop an empty queue", b"#PO"),
     probe("push then reset", b"#PU0302#RI"),
+    probe("push slot 90, then a motion, pop both", b"#PU5a02#PU0301#PO#PO", settle_s=MOTION_S),
+    probe("push with count 0, pop, stop", b"#PU0300#PO$SM", settle_s=MOTION_S),
     probe("dump slot 90", b"<MO5a", settle_s=GETTER_S),
     probe("dump slot 255", b"<MOff", settle_s=GETTER_S),
     paced("header of 0 frames", b">MH06zero                0000000000000<MO03", settle_s=GETTER_S),
