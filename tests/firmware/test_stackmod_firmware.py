@@ -94,9 +94,18 @@ def _settle_s(probe: Probe) -> float:
     return sent * _BRIDGE_BYTE_S * 1.1 + 0.02 + (LOOP_WAIT_S if probe.drives else 0.0)
 
 
+@dataclass(frozen=True)
+class Run:
+    """Both sides' answers, probe by probe, and every byte each wrote on its line."""
+
+    answers: list[tuple[Answer, Answer]]
+    firmware_sent: bytes
+    twin_sent: bytes
+
+
 @pytest.fixture(scope="module")
-def answers() -> list[tuple[Answer, Answer]]:
-    results = []
+def run() -> Run:
+    results: list[tuple[Answer, Answer]] = []
     body = _Body()
     twin = ReferenceModule(body)
     twin.connect(0.0)
@@ -122,15 +131,22 @@ def answers() -> list[tuple[Answer, Answer]]:
                 body.power if probe.drives else None,
             )
             results.append((firmware, sim))
-    return results
+        return Run(results, bytes(board.received), twin.read_output())
+
+
+def test_neither_the_firmware_nor_the_twin_ever_writes_a_byte(run: Run) -> None:
+    # stackmod.cpp: Serial.begin(9600), and every print is commented out or behind
+    # SERIALDEBUG (false): nothing at start-up, nothing in answer to any probe
+    assert len(run.answers) == len(PROBES)
+    assert (run.firmware_sent, run.twin_sent) == (b"", b"")
 
 
 @pytest.mark.parametrize("index", range(len(PROBES)), ids=[probe.name for probe in PROBES])
 def test_the_twin_keeps_and_drives_the_motors_as_the_authors_firmware_does(
-    index: int, answers: list[tuple[Answer, Answer]]
+    index: int, run: Run
 ) -> None:
     probe = PROBES[index]
-    firmware, twin = answers[index]
+    firmware, twin = run.answers[index]
     assert twin.registers == firmware.registers, probe.writes
     if probe.name in KNOWN_DIFFERENCES:
         assert twin.power != firmware.power, f"no longer differs: drop {probe.name!r}"
@@ -139,9 +155,7 @@ def test_the_twin_keeps_and_drives_the_motors_as_the_authors_firmware_does(
         assert twin.power == pytest.approx(firmware.power, abs=1e-9), probe.writes
 
 
-def test_every_packet_the_driver_writes_moves_the_firmwares_motors(
-    answers: list[tuple[Answer, Answer]],
-) -> None:
-    driver = [firmware.power for firmware, _ in answers[: len(DRIVER_PROBES)]]
+def test_every_packet_the_driver_writes_moves_the_firmwares_motors(run: Run) -> None:
+    driver = [firmware.power for firmware, _ in run.answers[: len(DRIVER_PROBES)]]
     assert driver[0] == pytest.approx((96 / 255, 0.0))
     assert driver[3] == pytest.approx((-139 / 255, 1.0))
