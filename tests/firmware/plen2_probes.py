@@ -170,6 +170,20 @@ ERROR_PROBES: tuple[Probe, ...] = (
     probe("getters back to back", b"<VI<VI", settle_s=GETTER_S),
     probe("setter then getter in one write", b">HO01064<JS", settle_s=GETTER_S),
     probe("factory settings at the end", b">JS<JS", settle_s=GETTER_S),
+    probe("lower-case commands of every header", b"$hp#ri>js<js", settle_s=GETTER_S),
+    probe("a header lookalike", b"%VI!VI<VI", settle_s=GETTER_S),
+    probe("unused joints move", b"$AN09100$AN17f00$AD0b050"),
+    probe("difference after a new home", b">HO04000$AD04064"),
+    probe("angle above a lowered max", b">MA04100$AN04200"),
+    probe("min equal to max", b">MI04064<JS", settle_s=GETTER_S),
+    probe("max equal to min", b">MI04000>MA04000<JS", settle_s=GETTER_S),
+    probe("home equal to min and max", b">HO04000>HO04064<JS", settle_s=GETTER_S),
+    probe("home position after new homes", b"$HP"),
+    _driver("a header alone", m.MotionHeader(slot=8, name="alone", frame_length=2)),
+    probe("its frames were never written", b"<MO08", settle_s=GETTER_S),
+    probe("stop a looping motion", b"$PM04$SM", settle_s=MOTION_S),
+    probe("reset during a motion", b"$PM03#RI", settle_s=MOTION_S),
+    probe("factory settings to end", b">JS$HP"),
 )
 """The parser's error paths, upper and lower case, and commands split and joined."""
 
