@@ -101,8 +101,13 @@ READ_BYTE_S = 29e-6
 polling the USB port), about 460 cycles at 16 MHz; measured on the emulated firmware (a run
 of stray bytes ahead of ``<VI`` delays its reply 29 us a byte). The line brings a byte every
 5 us, so a burst of more than about 75 bytes overflows the ring."""
-REPLY_BYTE_S = 17.4e-6
-"""The firmware's time per byte of a reply, seconds (``<JS``, 1742 bytes, takes 30.3 ms)."""
+REPLY_BYTE_S = 17.1e-6
+"""The firmware's time per byte of a reply with numbers in it, seconds (``<JS``: 1742 bytes in
+29.8 ms; ``<MO`` alike), measured on the emulated firmware."""
+VERSION_BYTE_S = 11.6e-6
+"""The same for ``<VI``, printed from flash strings only (73 bytes in 0.84 ms)."""
+REPLY_START_S = 33e-6
+"""From reading a getter's last byte to its reply's first byte leaving the line, seconds."""
 EEPROM_SLOT_WRITE_S = 6.4e-3
 """One 30-byte slot written to the motion EEPROM: the I2C write at 400 kHz, then
 ``ExternalEEPROM::writeSlot``'s ``delay(5)`` (``>MH`` writes one, ``>MF`` two)."""
@@ -168,6 +173,9 @@ class Plen2Board:
         self._ring: deque[int] = deque()
         self._read_s = 0.0
         """When the firmware reads its next byte (it is busy until then), seconds."""
+        self._now_s = 0.0
+        self._replies: deque[tuple[float, float, bytes]] = deque()
+        """Over the UART, replies still being written: (first byte's time s, s a byte, bytes)."""
         self.lost_bytes = 0
         """Bytes that arrived while the receive ring was full."""
         factory = m.factory_joint_settings().joints
@@ -211,6 +219,7 @@ class Plen2Board:
                 # mypy widens PlenMessage's long union to object through the generic.
                 self._handle(cast(m.PlenMessage, message))
             return
+        self._now_s = now_s
         self._line.send(data, now_s)
         self._read_bytes(now_s)
 
@@ -246,6 +255,7 @@ class Plen2Board:
         """Read the bytes that have arrived, then run the updates due by ``now_s`` (one for
         each period passed while a motion plays, and the one left due when a motion has just
         started)."""
+        self._now_s = now_s
         self._read_bytes(now_s)
         while True:
             if self.playing and self._update_due:
@@ -262,7 +272,19 @@ class Plen2Board:
         return self._line.pending_bytes() + len(self._ring) + self.codec.pending_bytes()
 
     def read_output(self) -> bytes:
-        """Take the bytes written since the last call."""
+        """Take the bytes written since the last call (over the UART, those on the line by
+        the time the board was last stepped)."""
+        replies = self._replies
+        while replies:
+            first_s, byte_s, data = replies[0]
+            count = min(len(data), math.floor((self._now_s - first_s) / byte_s + 1e-6) + 1)
+            if count <= 0:
+                break
+            self._out += data[:count]
+            if count < len(data):
+                replies[0] = (first_s + count * byte_s, byte_s, data[count:])
+                break
+            replies.popleft()
         data = bytes(self._out)
         self._out.clear()
         return data
@@ -307,8 +329,12 @@ class Plen2Board:
 
     def _send(self, reply: m.Reply) -> float:
         data = self.codec.send(reply)
-        self._out += data
-        return len(data) * REPLY_BYTE_S
+        if self.transport == "usb":
+            self._out += data
+            return 0.0
+        byte_s = VERSION_BYTE_S if isinstance(reply, m.VersionReply) else REPLY_BYTE_S
+        self._replies.append((self._read_s + READ_BYTE_S + REPLY_START_S, byte_s, data))
+        return REPLY_START_S + len(data) * byte_s
 
     def _handle(self, msg: m.PlenMessage) -> float:
         """Act on a command; returns the firmware's time doing it, seconds (besides reading

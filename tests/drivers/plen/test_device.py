@@ -381,3 +381,13 @@ def test_a_plen2_profile_takes_only_the_transport_option() -> None:
         Rig().body
     )
     assert board.transport == "uart"
+
+
+def test_over_the_uart_a_reply_takes_the_firmwares_time_to_write() -> None:
+    rig = UartRig()
+    rig.board.receive(b"<VI", rig.now_s)
+    rig.board.step(rig.now_s + 0.0005)  # <VI: 73 bytes, 11.6 us each, from about 125 us
+    early = rig.board.read_output()
+    assert 0 < len(early) < len(VERSION_WIRE)
+    rig.board.step(rig.now_s + 0.002)
+    assert early + rig.board.read_output() == VERSION_WIRE
