@@ -38,6 +38,17 @@ BOOT_S = 0.5
 """``setup()``: serial, the internal EEPROM's joint settings (written at first start), Timer 1."""
 
 KNOWN_DIFFERENCES: dict[str, str] = {}
+"""Probes on which the simulated PLEN2 answers otherwise, and the firmware line that decides
+each. None is left in the probe set; the one difference kept is
+:data:`ERASED_SLOT_DIFFERENCE`, checked on a board of its own below."""
+
+ERASED_SLOT_DIFFERENCE = (
+    "MotionController::dump prints an erased slot as Header::get reads it (slot 255, a name of "
+    "twenty 0xFF bytes, a loop and a jump code) and then loops to its frame_length, 255 frames "
+    "(Frame::get refuses an index of 20 or more and leaves the last frame in place): about "
+    "260 KB, 4.5 s of output. The simulated PLEN2 dumps a slot never written as a motion of no "
+    "frames, which the driver reads as an erased slot just the same"
+)
 
 
 @dataclass(frozen=True)
@@ -110,3 +121,28 @@ def test_the_simulated_plen2_answers_and_moves_as_its_firmware_does(
         return
     assert sim.sent == firmware.sent, probe.writes
     assert sim.pwms == firmware.pwms, probe.writes
+
+
+def test_an_erased_slot_is_the_one_dump_that_differs() -> None:
+    """:data:`ERASED_SLOT_DIFFERENCE`: both sides' first 0.3 s of ``<MO00`` on a new board."""
+    with Board(
+        build(plen2_32u4()),
+        PLEN2_MCU,
+        PLEN2_F_CPU_HZ,
+        uart="1",
+        baud=PLEN2_BAUD,
+        eeprom=PLEN2_EEPROM,
+    ) as board:
+        board.advance_to(BOOT_S)
+        firmware = board.exchange(b"<MO00", 0.3)
+    plen2 = get_profile("plen2")
+    profile = dataclasses.replace(plen2, options={"transport": "uart"})
+    simulation = Simulation(load_world("empty"), profile, seed=1)
+    simulation.connect()
+    simulation.tick(BOOT_S, BOOT_S)
+    simulation.write(b"<MO00")
+    simulation.tick(BOOT_S + 0.3, 0.3)
+    sim = simulation.read(simulation.in_waiting)
+    assert firmware.startswith(b'{\r\n\t"slot": 255,\r\n\t"name": "' + b"\xff" * 20)
+    assert len(firmware) > 10_000
+    assert sim.startswith(b'{\r\n\t"slot": 0,') and sim.endswith(b'"frames": [\r\n\t]\r\n}\r\n')
