@@ -62,7 +62,6 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, cast
 
 from roboscript.codec import Role, readable
-from roboscript.drivers.asip.uart import ReceiveLine
 from roboscript.drivers.plen import messages as m
 from roboscript.drivers.plen.codec import PlenCodec
 from roboscript.errors import ProfileError
@@ -91,8 +90,9 @@ HIP_WIDTH_MM = 50.0
 
 TRANSPORTS = ("usb", "uart")
 """How a host reaches the board: its USB serial port or its 2 Mbaud UART."""
-LINE_BAUD = 2_000_000
-"""The serial line's speed, bits per second (``System.h``: ``BLESERIAL_BAUDRATE``)."""
+LINE_BYTE_S = 10 / 2_000_000
+"""One byte on the serial line, seconds: 10 bits (8N1) at ``System.h``'s
+``BLESERIAL_BAUDRATE`` of 2,000,000."""
 RECEIVE_RING_BYTES = 63
 """Bytes the ATmega32u4 core's 64-byte receive ring holds: a byte that arrives while it is
 full is lost."""
@@ -169,7 +169,9 @@ class Plen2Board:
         self.transport = transport
         self.codec = PlenCodec(Role.DEVICE)
         self._out = bytearray()
-        self._line = ReceiveLine(LINE_BAUD)
+        self._arrivals: deque[tuple[float, int]] = deque()
+        """Over the UART, the host's bytes on the line: (when each arrives s, the byte)."""
+        self._line_free_s = 0.0
         self._ring: deque[int] = deque()
         self._read_s = 0.0
         """When the firmware reads its next byte (it is busy until then), seconds."""
@@ -207,7 +209,7 @@ class Plen2Board:
     def connect(self, now_s: float) -> None:
         """A host opened the port: the firmware says nothing and forgets a half command."""
         self.codec = PlenCodec(Role.DEVICE)
-        self._line.clear()
+        self._arrivals.clear()
         self._ring.clear()
 
     def receive(self, data: bytes, now_s: float) -> None:
@@ -220,17 +222,24 @@ class Plen2Board:
                 self._handle(cast(m.PlenMessage, message))
             return
         self._now_s = now_s
-        self._line.send(data, now_s)
+        start_s = max(now_s, self._line_free_s)  # a write follows what is still on the line
+        self._arrivals.extend(
+            (start_s + (index + 1) * LINE_BYTE_S, byte) for index, byte in enumerate(data)
+        )
+        self._line_free_s = start_s + len(data) * LINE_BYTE_S
         self._read_bytes(now_s)
 
     def _read_bytes(self, now_s: float) -> None:
         """Read what has arrived by ``now_s``, a byte per :data:`READ_BYTE_S` of the
         firmware's time and none while a command keeps it busy; a byte that arrives while the
         receive ring is full is lost."""
-        ring, line = self._ring, self._line
+        ring, arrivals = self._ring, self._arrivals
         while True:
             read_s = self._read_s
-            for byte in line.take_arrived(min(read_s, now_s)):
+            # between two reads the ring only fills: a byte is kept if it has room on arrival
+            arrived_by_s = min(read_s, now_s) + 1e-9  # a byte due exactly then is there
+            while arrivals and arrivals[0][0] <= arrived_by_s:
+                byte = arrivals.popleft()[1]
                 if len(ring) < RECEIVE_RING_BYTES:
                     ring.append(byte)
                 else:
@@ -238,7 +247,7 @@ class Plen2Board:
             if read_s > now_s:
                 return
             if not ring:
-                arrival_s = line.next_arrival_s()
+                arrival_s = arrivals[0][0] if arrivals else math.inf
                 if arrival_s > now_s:
                     self._read_s = now_s
                     return
@@ -269,7 +278,7 @@ class Plen2Board:
     def pending_input_bytes(self) -> int:
         """Request bytes received and not yet a whole message (a frame the host has not
         finished)."""
-        return self._line.pending_bytes() + len(self._ring) + self.codec.pending_bytes()
+        return len(self._arrivals) + len(self._ring) + self.codec.pending_bytes()
 
     def read_output(self) -> bytes:
         """Take the bytes written since the last call (over the UART, those on the line by
