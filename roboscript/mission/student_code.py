@@ -23,6 +23,7 @@ import hashlib
 import importlib.util
 import linecache
 import logging
+import os
 import re
 import sys
 import sysconfig
@@ -61,13 +62,34 @@ __all__ = [
 logger = logging.getLogger(__name__)
 
 _PACKAGE_DIR = Path(__file__).resolve().parent.parent
-_LIBRARY_DIRS = tuple(
-    {
-        str(Path(p).resolve())
+_RUNTIME_PACKAGES = ("yaml", "transitions", "simple_pid", "serial")
+"""The installed packages roboscript runs on (a student's code calls into them, never the
+reverse)."""
+
+
+def _library_dirs(packages: tuple[str, ...] = _RUNTIME_PACKAGES) -> tuple[str, ...]:
+    """The folders whose code is Python's or an installed package's: Python's install paths,
+    and the folder each of ``packages`` was installed in (the browser page unpacks them in a
+    folder of its own, outside Python's install paths), each ending in a separator."""
+    folders = {
+        Path(path).resolve()
         for key in ("stdlib", "platstdlib", "purelib", "platlib")
-        if (p := sysconfig.get_paths().get(key))
+        if (path := sysconfig.get_paths().get(key))
     }
-)
+    for name in packages:
+        try:
+            found = importlib.util.find_spec(name)  # the imported module's, else found unimported
+        except (ImportError, ValueError):
+            continue
+        if found is not None and found.origin and found.submodule_search_locations:
+            folders.add(Path(found.origin).resolve().parent.parent)  # .../site-packages/yaml/..
+        elif found is not None and found.origin:
+            folders.add(Path(found.origin).resolve().parent)  # a single-module package
+    return tuple(sorted(os.path.join(str(folder), "") for folder in folders))
+
+
+_LIBRARY_DIRS = (os.path.join(str(_PACKAGE_DIR), ""), *_library_dirs())
+"""roboscript's own folder and the library folders, each ending in a separator."""
 
 # (resolved path, modification time, size) -> module; a file is imported once per version, so
 # a behaviour class keeps its identity between `check` and `run` in one process.
@@ -92,7 +114,7 @@ def _is_library_file(filename: str) -> bool:
     if filename.startswith("<"):
         return True  # <frozen importlib._bootstrap>, <string>
     resolved = str(Path(filename).resolve())
-    return resolved.startswith(str(_PACKAGE_DIR)) or resolved.startswith(_LIBRARY_DIRS)
+    return resolved.startswith(_LIBRARY_DIRS)
 
 
 def is_student_file(filename: str) -> bool:
