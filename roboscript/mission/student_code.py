@@ -18,9 +18,15 @@ Two kinds of trouble are reported here:
 
 from __future__ import annotations
 
+# ast and inspect at module level: roboscript.actions.base and roboscript.mission.guards,
+# which this module imports below, import both anyway, so no path that loads this module
+# spares their cost (python -X importtime -c "import roboscript.mission.student_code": with
+# or without these lines, ast and inspect are each imported once, ~2 ms and ~5 ms).
+import ast
 import builtins
 import hashlib
 import importlib.util
+import inspect
 import linecache
 import logging
 import os
@@ -30,7 +36,7 @@ import sysconfig
 import traceback
 from pathlib import Path
 from types import FrameType, ModuleType, TracebackType
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import roboscript
 from roboscript.actions.base import Action, UnderSpecifiedError, params_of
@@ -45,9 +51,6 @@ from roboscript.mission.guards import guard_names
 from roboscript.mission.key_mistakes import meant_in_state_call
 from roboscript.mission.python_api import LOADED_PREFIX, state
 from roboscript.watchdog import CodePlace
-
-if TYPE_CHECKING:
-    import ast
 
 __all__ = [
     "StudentCodeError",
@@ -437,8 +440,6 @@ def _explain(
 def _call_at(module: ModuleType, frame: traceback.FrameSummary | None) -> ast.Call | None:
     """The call in the student's file that Python says failed (Python 3.11 and later, which
     keep the column), or ``None``."""
-    import ast
-
     colno = getattr(frame, "colno", None)
     tree = _tree(module) if frame is not None and colno is not None else None
     if tree is None or frame is None:
@@ -455,8 +456,6 @@ def _state_call_fixed(call: ast.Call | None) -> tuple[str, str] | None:
     """``state(Drive(...), "end")`` or ``state(Drive(...), True, "end")``: values after the
     action without their names, said with the call written with them
     (``state(Drive(...), initial=True, on_done="end")``), or ``None`` for another mistake."""
-    import ast
-
     if call is None or len(call.args) < 2:
         return None
     routes = iter(("on_done", "on_failed", "on_timeout"))
@@ -500,10 +499,8 @@ def _meant_parameter(
     """What ``callee(keyword=...)`` meant: the parameter in its own unit, with the value
     converted (``distance_cm=50``: write ``distance_mm=500``), a look-alike, or the
     parameters there are."""
-    import ast
-
-    cls = getattr(module, callee, None) or getattr(roboscript, callee, None)
-    if isinstance(cls, type) and issubclass(cls, Action):
+    cls = _action_class(callee, module)
+    if cls is not None:
         given = [k.value for k in call.keywords if k.arg == keyword] if call is not None else []
         value = given[0].value if given and isinstance(given[0], ast.Constant) else None
         for param in params_of(cls):
@@ -522,10 +519,8 @@ def _values_without_names(
     """``Drive(500, 150, 2, 9)``: an action given more values without their names than it
     takes, said with the names that take them, or ``None`` for another callee (a student's
     own function keeps Python's message, at its line). ``given`` excludes ``self``."""
-    import inspect
-
-    cls = getattr(module, owner or "", None) or getattr(roboscript, owner or "", None)
-    if not (isinstance(cls, type) and issubclass(cls, Action)):
+    cls = _action_class(owner or "", module)
+    if cls is None:
         return None
     try:
         parameters = inspect.signature(cls).parameters.values()
@@ -541,16 +536,23 @@ def _values_without_names(
     return message, f"name each value: write {cls.__name__}({', '.join(f'{n}=...' for n in takes)})"
 
 
+def _action_class(name: str, module: ModuleType) -> type[Action] | None:
+    """The action class ``name`` stands for in the student's file: one of the student's own
+    (``class Spin(Action)`` above, or imported from a file beside it) first, then
+    roboscript's; ``None`` when ``name`` is no action class."""
+    cls = getattr(module, name, None) or getattr(roboscript, name, None)
+    return cls if isinstance(cls, type) and issubclass(cls, Action) else None
+
+
 def _class_members(module: ModuleType) -> dict[str, str]:
     """What the student's file defines in a class body, by name: ``state`` for an assignment
     (the states of a mission), ``condition`` for a method, ``action`` for an action kept for
-    states to run (``turn = Rotate(angle_deg=90)``), ``value`` for a number or text kept
+    states to run (``turn = Rotate(angle_deg=90)``, or ``turn = Spin()`` of the student's own
+    action class), ``value`` for a number or text kept
     (``side_mm = 500``).
 
     Read from the source, since the class that defines them is still being built when a
     state refers to a later one without quotes."""
-    import ast
-
     tree = _tree(module)
     if tree is None:
         return {}
@@ -570,8 +572,7 @@ def _class_members(module: ModuleType) -> dict[str, str]:
             )
             value = getattr(statement, "value", None)
             called = value.func if isinstance(value, ast.Call) else None
-            made = getattr(roboscript, called.id, None) if isinstance(called, ast.Name) else None
-            kept = isinstance(made, type) and issubclass(made, Action)
+            kept = isinstance(called, ast.Name) and _action_class(called.id, module) is not None
             plain = isinstance(value, ast.Constant)
             for target in targets:
                 if isinstance(target, ast.Name):
@@ -581,8 +582,6 @@ def _class_members(module: ModuleType) -> dict[str, str]:
 
 def _tree(module: ModuleType) -> ast.Module | None:
     """The student's file parsed, or ``None`` if it cannot be read."""
-    import ast
-
     try:
         return ast.parse(Path(module.__file__ or "").read_bytes())
     except (OSError, SyntaxError, ValueError, RecursionError, MemoryError):
@@ -591,8 +590,6 @@ def _tree(module: ModuleType) -> ast.Module | None:
 
 def _defined_at(module: ModuleType) -> dict[str, int]:
     """The line of each function, class or variable the file defines at its top level."""
-    import ast
-
     tree = _tree(module)
     lines: dict[str, int] = {}
     for statement in tree.body if tree is not None else []:
@@ -610,8 +607,6 @@ def _roboscript_names() -> list[str]:
 
 
 def _parameters(callee: str, module: ModuleType) -> list[str]:
-    import inspect
-
     target = getattr(module, callee, None)
     if target is None:
         target = getattr(roboscript, callee, None) if callee[:1].isupper() else None

@@ -737,3 +737,48 @@ def test_packages_unpacked_outside_pythons_paths_are_library_code_as_on_the_page
 def test_a_folder_whose_name_starts_like_roboscripts_is_not_roboscript() -> None:
     beside = Path(str(student_code._PACKAGE_DIR) + "_missions") / "square.py"
     assert student_code.is_student_file(str(beside))
+
+
+OWN_ACTION = """\
+from roboscript import Action, Mission, Result, Rotate, state
+
+
+class Spin(Action):
+    name = "spin"
+
+    def update(self, ctx):
+        return Result.DONE
+
+
+class M(Mission):
+    go = state({used}, initial=True, on_done="end")
+    end = state(final="success")
+    turn = {kept}
+"""
+
+
+@pytest.mark.parametrize("kept", ["Rotate(angle_deg=90)", "Spin()"], ids=["roboscript", "own"])
+def test_a_students_own_action_kept_below_its_state_says_to_set_it_above(
+    tmp_path: Path, kept: str
+) -> None:
+    # an action of the student's own class is an action, as roboscript's are: not a state to
+    # name in quotes
+    (tmp_path / "m.py").write_text(OWN_ACTION.format(used="turn", kept=kept), encoding="utf-8")
+    result = run_cli("check", "m.py", cwd=tmp_path)
+    assert result.stderr.splitlines()[0] == (
+        "m.py:12:16: error: NameError: name 'turn' is not defined ('turn' is set further down"
+        " in the class, but Python runs a class from the top: set it above the line that uses"
+        " it)"
+    )
+
+
+@pytest.mark.parametrize("kept", ["Rotate(angle_deg=90)", "Spin()"], ids=["roboscript", "own"])
+def test_a_students_own_action_named_with_self_is_not_called_a_state(
+    tmp_path: Path, kept: str
+) -> None:
+    text = OWN_ACTION.format(used="self.turn", kept=kept)
+    (tmp_path / "m.py").write_text(text, encoding="utf-8")
+    result = run_cli("check", "m.py", cwd=tmp_path)
+    assert (
+        result.stderr.splitlines()[0] == "m.py:12:16: error: NameError: name 'self' is not defined"
+    )
