@@ -425,8 +425,15 @@ class _Compiler:
         ``NAME = Drive(...)`` (an action without its state); True if there was one."""
         written: dict[str, ast.stmt] = {}
         found = False
+        # the names the class body reads, found in one walk of it for all its statements
+        body = self.class_node if self.class_node is not None else ast.Module([], [])
+        used = frozenset(
+            node.id
+            for node in ast.walk(body)
+            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)
+        )
         for statement in self.class_node.body if self.class_node is not None else []:
-            if isinstance(statement, ast.Assign) and self.not_a_state(statement):
+            if isinstance(statement, ast.Assign) and self.not_a_state(statement, used):
                 found = True
             elif isinstance(statement, ast.Assign) and _calls_state(statement.value):
                 for target in statement.targets:
@@ -453,9 +460,11 @@ class _Compiler:
                 )
         return found
 
-    def not_a_state(self, statement: ast.Assign) -> bool:
+    def not_a_state(self, statement: ast.Assign, used: frozenset[str]) -> bool:
         """Say so of ``NAME = state(...),`` and ``NAME = Drive(...)``, which Python takes
-        as a tuple and an action, and the mission silently lacks; True if it is one."""
+        as a tuple and an action, and the mission silently lacks; True if it is one.
+        ``used``: the names the class body reads (an action one of them names is kept for
+        states to run)."""
         name = ", ".join(ast.unparse(t) for t in statement.targets)
         value = statement.value
         if isinstance(value, ast.Tuple) and len(value.elts) == 1 and _calls_state(value.elts[0]):
@@ -466,12 +475,6 @@ class _Compiler:
             )
             return True
         held = [vars(self.cls).get(t.id) for t in statement.targets if isinstance(t, ast.Name)]
-        body = self.class_node if self.class_node is not None else ast.Module([], [])
-        used = {
-            node.id
-            for node in ast.walk(body)
-            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)
-        }
         named = {t.id for t in statement.targets if isinstance(t, ast.Name)}
         # an action kept to be run by states (turn = Rotate(...); a = state(turn)) is fine
         if (

@@ -6,9 +6,10 @@ hint), the actions a state builds, or which state a run goes through.
 
 from __future__ import annotations
 
+import ast
 import sys
 import types
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
@@ -658,3 +659,37 @@ def test_a_mission_whose_file_is_gone_is_named_by_that_file(
             " (mark the first state, e.g. go = state(..., initial=True))"
         )
     ]
+
+
+def _kept_actions(states: int) -> str:
+    """A mission of ``states`` states, each running an action kept under a name above it."""
+    lines = ["from roboscript import Mission, Rotate, state", "", "", "class M(Mission):"]
+    for k in range(states):
+        lines.append(f"    turn{k} = Rotate(angle_deg=90)")
+        lines.append(f"    s{k} = state(turn{k}, initial={k == 0}, on_done='s{k + 1}')")
+    lines.append(f"    s{states} = state(final='success')")
+    return "\n".join(lines) + "\n"
+
+
+def test_checking_a_mission_reads_its_class_in_time_that_grows_with_its_states_not_faster(
+    write: Write, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # whether each kept action is a state's (turn = Rotate(...); a = state(turn)) or a state
+    # without its state(...) is told from the names the class reads: one walk of the class
+    # for all its statements, not one per statement (a class of 4x the states is walked 4x)
+    walked = [0]
+    walk = ast.walk
+
+    def counted(node: ast.AST) -> Iterator[ast.AST]:
+        for found in walk(node):
+            walked[0] += 1
+            yield found
+
+    monkeypatch.setattr(ast, "walk", counted)
+    nodes = []
+    for states in (10, 40):
+        walked[0] = 0
+        spec, _ = load_mission(write(f"kept{states}.py", _kept_actions(states)))
+        assert len(spec.states) == states + 1
+        nodes.append(walked[0])
+    assert nodes[1] <= 4 * nodes[0]
