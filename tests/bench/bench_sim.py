@@ -59,7 +59,10 @@ def run_mission(file_name: str, transport: str | None = None) -> float:
     profile's); return the simulated seconds."""
     spec, profile, _ = mission_for_robot(HERE / file_name)
     if transport is not None:
-        profile = dataclasses.replace(profile, options={**profile.options, "transport": transport})
+        # a name of its own: the simulator finds its board by the profile's name, and a
+        # built-in's name would give it the built-in's (USB) board
+        options = {**profile.options, "transport": transport}
+        profile = dataclasses.replace(profile, name=f"{profile.name}-{transport}", options=options)
     robot = Robot.connect(profile, None, world=spec.world or "empty", seed=1)
     runner = MissionRunner(spec, robot.capabilities, robot_name=profile.name, gains=profile.gains)
     robot.scheduler.add(runner, "think")
