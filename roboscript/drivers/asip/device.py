@@ -318,6 +318,16 @@ class MirtoBoard:
         have arrived by the time the firmware reads them (on its own clock, which its replies
         move on), each timed read waiting for the next byte or its 1 s timeout."""
         codec, line = self.codec, self._line
+        if (
+            line.next_arrival_s() > until_s + 1e-9
+            and not codec.pending_bytes()
+            and not codec.waiting
+        ):
+            # Nothing arrives by then and nothing is left to read: the firmware's loop finds
+            # nothing, most steps. (A skip of the rest of a line that the last answer left
+            # pending is done at the next read, on the firmware's clock, before what comes
+            # next arrives: nothing is skipped, as when it is done now.)
+            return
         while self._clock_s <= until_s + 1e-9:  # (a firmware still writing reads on later)
             progressed = self._take_arrived()
             while True:

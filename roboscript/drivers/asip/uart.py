@@ -78,8 +78,10 @@ class ReceiveLine:
 
     def take_arrived(self, now_s: float) -> bytes:
         """The bytes that have arrived by ``now_s`` (taken off the line)."""
-        taken = bytearray()
         chunks = self._chunks
+        if not chunks:
+            return b""  # nothing on the line: no buffer to build
+        taken = bytearray()
         while chunks:
             first_s, data = chunks[0]
             # the epsilon keeps a byte due exactly now from slipping on float sums

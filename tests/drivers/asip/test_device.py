@@ -321,3 +321,16 @@ def test_a_uart_board_loses_what_arrives_while_its_receive_buffer_is_full() -> N
     answered = [line for line in lines if line.startswith("@#,?")]
     assert 0 < len(answered) < 25
     assert len(lines) == 3 + len(answered)  # whole requests only: no leftovers answered
+
+
+def test_a_uart_board_reads_a_request_after_quiet_steps_that_followed_an_unknown_service() -> None:
+    # The board answers "X" and skips the rest of its line at its next read; the quiet steps
+    # that follow (nothing on the line, nothing to read) must not carry a skip over onto the
+    # next request.
+    board = quiet_board(uart=True)
+    board.send(b"X,?\n")
+    board.run(0.2)
+    assert board.lines() == ["~X,?,1{INVALID_SERVICE}"]
+    board.send(b"#,?\n")
+    board.run(0.05)
+    assert board.lines() == ["@#,?,1,1,ATmega328P,20,Mirtle2017"]
