@@ -391,11 +391,10 @@ def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
     from roboscript.grading.batch import find_submissions
 
     if not (args.gradescope or args.prairielearn):
-        unclaimed: list[str] = []
-        found = find_submissions(args.missions, unclaimed)
+        found = find_submissions(args.missions)
         if not args.quiet:
-            _note_not_graded(unclaimed)
-        return found
+            _note_not_graded(found.unclaimed)
+        return found.submissions
     # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.gradescope import (
         no_submission_results,
@@ -404,8 +403,8 @@ def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
     )
 
     try:
-        found = find_submissions(args.missions)
-        several = several_students(found, specs)
+        submissions = find_submissions(args.missions).submissions
+        several = several_students(submissions, specs)
         if several:
             raise InputError(several)
     except InputError as exc:
@@ -414,10 +413,10 @@ def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
     folders = [m for m in args.missions if Path(m).is_dir()]
     folder = folders[0] if len(args.missions) == 1 and folders else None
     name = Path(folder).resolve().name if folder else "submission"
-    return [one_submission(found, name or "submission", folder)]
+    return [one_submission(submissions, name or "submission", folder)]
 
 
-def _note_not_graded(names: list[str]) -> None:
+def _note_not_graded(names: Sequence[str]) -> None:
     """Say which entries of a class folder are no student's work (``ana.zip``, ``notes/``):
     a student who handed in the wrong thing is otherwise simply not in the table."""
     if names:

@@ -56,7 +56,7 @@ def test_grade_never_lists_a_world_or_a_profile_as_a_student(tmp_path: Path) -> 
     (subs / "fast.yaml").write_text("extends: mirto\nname: fast\nmax_speed_mm_s: 300\n")
     from roboscript.grading.batch import find_submissions
 
-    assert [s.student for s in find_submissions([str(subs)])] == ["ana"]
+    assert [s.student for s in find_submissions([str(subs)]).submissions] == ["ana"]
     done = run_cli("grade", str(SPEC), "--mission", str(subs / "room.yaml"))
     assert done.returncode == 2
     assert "this is a world file, not a mission" in done.stderr

@@ -23,7 +23,12 @@ from roboscript.grading.pool import RunTask, run_tasks
 from roboscript.grading.record import RunResult
 from roboscript.grading.sandbox import check_visible, detect_isolation, private_class
 from roboscript.grading.spec import TestSpec, Variant, is_test_spec, load_test_spec
-from roboscript.grading.submissions import Submission, find_submissions, visible_files
+from roboscript.grading.submissions import (
+    FoundSubmissions,
+    Submission,
+    find_submissions,
+    visible_files,
+)
 from roboscript.grading.text import cap_result, student_text
 from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S
 from roboscript.inputs.kinds import file_kind
@@ -32,6 +37,7 @@ from roboscript.sim.world import World
 __all__ = [
     "Cell",
     "ClassReport",
+    "FoundSubmissions",
     "Submission",
     "find_specs",
     "find_submissions",

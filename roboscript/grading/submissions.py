@@ -54,6 +54,7 @@ __all__ = [
     "MAX_ENTRIES",
     "MAX_SOURCE_BYTES",
     "MISSION_SUFFIXES",
+    "FoundSubmissions",
     "Submission",
     "find_submissions",
     "named_files",
@@ -117,6 +118,22 @@ class Submission:
             return Path(path).resolve().relative_to(Path(self.root).resolve()).as_posix()
         except (ValueError, OSError):
             return Path(path).name
+
+
+@dataclass(frozen=True)
+class FoundSubmissions:
+    """What :func:`find_submissions` found in what the teacher handed the grader.
+
+    Attributes:
+        submissions: The students and their missions, in name order. A student whose files
+            cannot be graded is still listed, with the reason in :attr:`Submission.problem`.
+        unclaimed: What a class folder holds that is no student's work, by name
+            (``bo.zip``, ``notes/``): hidden entries and the files a student who is a file
+            owns by name (``alice_helpers.py``) left out, names cleaned for a terminal.
+    """
+
+    submissions: list[Submission]
+    unclaimed: tuple[str, ...] = ()
 
 
 # ------------------------------------------------------------------------- looking at files
@@ -409,19 +426,15 @@ def _identity(found: _Found) -> Path:
     return found.source.parent if found.by_parent else found.source
 
 
-def find_submissions(
-    patterns: Sequence[str], unclaimed: list[str] | None = None
-) -> list[Submission]:
-    """The students and their missions, in name order.
-
-    A student whose files cannot be graded is still listed, with the reason in
-    :attr:`Submission.problem`.
+def find_submissions(patterns: Sequence[str]) -> FoundSubmissions:
+    """The students and their missions, in name order, and what is no student's work.
 
     Args:
         patterns: Files, globs and class folders.
-        unclaimed: Given, it gets what a class folder holds that is no student's work, by
-            name (``bo.zip``, ``notes/``): hidden entries and the files a student who is a
-            file owns by name (``alice_helpers.py``) left out, names cleaned for a terminal.
+
+    Returns:
+        The students (a student whose files cannot be graded is still listed, with the
+        reason in :attr:`Submission.problem`) and what a class folder holds besides them.
 
     Raises:
         InputError: A pattern matches no mission (nor any student to refuse).
@@ -453,10 +466,9 @@ def find_submissions(
     for f in found:
         unique.setdefault(f.source.absolute(), f)
     found = list(unique.values())
-    if unclaimed is not None:
-        unclaimed += _unclaimed(nobodys, found)
+    unclaimed = tuple(_unclaimed(nobodys, found))
     _name(found)
-    return _submissions(found)
+    return FoundSubmissions(_submissions(found), unclaimed)
 
 
 def _submissions(found: list[_Found]) -> list[Submission]:

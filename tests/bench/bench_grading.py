@@ -168,7 +168,7 @@ def _grade(
     with tempfile.TemporaryDirectory(prefix="bench-grading-") as tmp:
         spec, submissions = _make_class(Path(tmp), students, SEEDS, troubled)
         specs = find_specs([str(spec)])
-        found = find_submissions([str(submissions)])[part]
+        found = find_submissions([str(submissions)]).submissions[part]
         started = time.perf_counter()
         report = grade_class(specs, found, jobs)
         return time.perf_counter() - started, report
@@ -210,7 +210,7 @@ def _grade_in_process(
         spec = find_specs([str(spec_file)])[0]
         runs = [
             (spec, mission, variant)
-            for submission in find_submissions([str(submissions)])[part]
+            for submission in find_submissions([str(submissions)]).submissions[part]
             for mission in submission.missions
             for variant in spec.variants
         ]

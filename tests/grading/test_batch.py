@@ -36,7 +36,7 @@ def test_a_class_folder_has_file_students_and_folder_students(tmp_path: Path) ->
     (carol / "behaviours").mkdir(parents=True)
     shutil.copy(MISSIONS / "zigzag.yaml", carol / "zigzag.yaml")
     shutil.copy(MISSIONS / "behaviours" / "zigzag.py", carol / "behaviours" / "zigzag.py")
-    assert _names(find_submissions([str(tmp_path)])) == {
+    assert _names(find_submissions([str(tmp_path)]).submissions) == {
         "alice": ["alice.yaml"],
         "bob": ["bob.py"],
         "carol": ["zigzag.yaml"],
@@ -47,7 +47,7 @@ def test_a_glob_of_same_named_files_names_students_by_folder(tmp_path: Path) -> 
     for student in ("dan", "eve"):
         (tmp_path / student).mkdir()
         shutil.copy(SQUARE, tmp_path / student / "square.yaml")
-    found = find_submissions([str(tmp_path / "*" / "square.yaml")])
+    found = find_submissions([str(tmp_path / "*" / "square.yaml")]).submissions
     assert list(_names(found)) == ["dan", "eve"]
 
 
@@ -78,7 +78,7 @@ def test_a_submission_the_sandbox_cannot_read_is_one_error_before_any_run(tmp_pa
     spec = tmp_path / "spec.yaml"
     spec.write_text("test: t\nexpect:\n  - outcome: success\n", encoding="utf-8")
     with pytest.raises(InputError, match=r"cannot grade ada: .*chmod o\+rX"):
-        grade_class(find_specs([str(spec)]), find_submissions([str(mission)]))
+        grade_class(find_specs([str(spec)]), find_submissions([str(mission)]).submissions)
 
 
 @pytest.mark.skipif(os.geteuid() != 0, reason="only root's jails need files others can read")

@@ -214,6 +214,8 @@ def test_one_mission_per_test_is_one_gradescope_submission(tmp_path: Path) -> No
     submission.mkdir()
     shutil.copy(teacher / "square" / "good.yaml", submission / "square-50cm.yaml")
     shutil.copy(teacher / "corridor" / "good.yaml", submission / "corridor-wall-follow.yaml")
-    assert several_students(find_submissions([str(submission)]), specs) is None
+    assert several_students(find_submissions([str(submission)]).submissions, specs) is None
     shutil.copy(teacher / "square" / "bad.yaml", submission / "square-old.yaml")
-    assert "holds 3" in (several_students(find_submissions([str(submission)]), specs) or "")
+    assert "holds 3" in (
+        several_students(find_submissions([str(submission)]).submissions, specs) or ""
+    )

@@ -119,7 +119,9 @@ def _without_wall_time(report: Any) -> list[dict[str, Any]]:
 
 def test_a_batch_survives_hanging_crashing_and_exiting_missions(batch: tuple[Path, Path]) -> None:
     spec, folder = batch
-    report = grade_class(find_specs([str(spec)]), find_submissions([str(folder)]), jobs=2)
+    report = grade_class(
+        find_specs([str(spec)]), find_submissions([str(folder)]).submissions, jobs=2
+    )
     by_student = {s.student: report.cell(s.student, "square") for s in report.submissions}
     assert sorted(by_student) == ["ada", "ben", "cy", "di", "ed", "flo"]
     assert by_student["ada"].passed and by_student["ben"].passed
@@ -155,7 +157,7 @@ def test_results_do_not_depend_on_the_number_of_workers(batch: tuple[Path, Path]
     for name in ("cy.py", "ed.py"):  # keep the comparison quick: no hang limits
         (folder / name).unlink()
     specs = find_specs([str(spec)])
-    submissions = find_submissions([str(folder)])
+    submissions = find_submissions([str(folder)]).submissions
     one = grade_class(specs, submissions, jobs=1)
     two = grade_class(specs, submissions, jobs=2)
     assert _without_wall_time(one) == _without_wall_time(two)
@@ -179,7 +181,7 @@ def test_a_run_in_process_equals_the_run_in_a_worker(batch: tuple[Path, Path]) -
     (folder / "ben.py").unlink()
     for name in ("cy.py", "di.py", "ed.py", "flo.yaml"):
         (folder / name).unlink()
-    report = grade_class([spec], find_submissions([str(folder)]), jobs=1)
+    report = grade_class([spec], find_submissions([str(folder)]).submissions, jobs=1)
     there = report.results[1]
     assert replace(here, wall_time_s=0.0).to_dict() == replace(there, wall_time_s=0.0).to_dict()
     assert here.passed
@@ -191,7 +193,9 @@ def test_student_code_runs_only_in_its_own_sandboxed_process(tmp_path: Path) -> 
     student = tmp_path / "class" / "gus.py"
     student.parent.mkdir()
     student.write_text(MARKS_ITS_PROCESS, encoding="utf-8")
-    report = grade_class(find_specs([str(spec)]), find_submissions([str(student.parent)]), jobs=1)
+    report = grade_class(
+        find_specs([str(spec)]), find_submissions([str(student.parent)]).submissions, jobs=1
+    )
     assert report.passed
     output = report.results[0].debug
     assert "the mission's folder is read-only" in output
@@ -233,7 +237,9 @@ def test_a_mission_that_hangs_while_loading_is_run_once_for_all_its_variants(
         return real_start(context, batch)
 
     monkeypatch.setattr(pool, "_start", counting)
-    report = grade_class(find_specs([str(spec)]), find_submissions([str(folder)]), jobs=2)
+    report = grade_class(
+        find_specs([str(spec)]), find_submissions([str(folder)]).submissions, jobs=2
+    )
     assert started.count("amy") == 4  # it loads: each variant runs (and crashes) on its own
     zed = report.cell("zed", "t").results
     assert [r.status for r in zed] == ["hung"] * 4
@@ -271,7 +277,9 @@ def test_a_students_runs_share_a_jail_but_hidden_runs_get_their_own(tmp_path: Pa
     folder.mkdir()
     (folder / "ann.py").write_text(SAYS_ITS_JAIL, encoding="utf-8")
     (folder / "bob.py").write_text(SAYS_ITS_JAIL, encoding="utf-8")
-    report = grade_class(find_specs([str(spec)]), find_submissions([str(folder)]), jobs=2)
+    report = grade_class(
+        find_specs([str(spec)]), find_submissions([str(folder)]).submissions, jobs=2
+    )
     jails = {
         (r.student, r.variant): re.search(r"JAIL (\S+)", r.debug)[1]  # type: ignore[index]
         for r in report.results

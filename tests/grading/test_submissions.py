@@ -31,7 +31,7 @@ class Idle({base}):
 def _found(*patterns: Path) -> dict[str, tuple[list[str], str]]:
     return {
         s.student: ([Path(m).name for m in s.missions], s.problem)
-        for s in find_submissions([str(p) for p in patterns])
+        for s in find_submissions([str(p) for p in patterns]).submissions
     }
 
 
@@ -130,7 +130,7 @@ def test_a_student_in_a_shared_folder_sees_only_files_named_after_them(tmp_path:
     naming = " ".join([*names, "alice_link.py"])
     for student in ("alice", "alice_b"):
         (tmp_path / f"{student}.yaml").write_text(FORWARD_50CM + f"# {naming}\n")
-    submissions = {s.student: s for s in find_submissions([str(tmp_path)])}
+    submissions = {s.student: s for s in find_submissions([str(tmp_path)]).submissions}
     assert submissions["alice_link"].problem.startswith("alice_link.py is a symbolic link")
     seen = {
         name: sorted(p.name for p in visible_files(s, s.missions[0]))
@@ -141,3 +141,16 @@ def test_a_student_in_a_shared_folder_sees_only_files_named_after_them(tmp_path:
         "alice": ["alice.yaml", "alice_util.py"],
         "alice_b": ["alice_b.yaml", "alice_b_util.py"],
     }
+
+
+def test_what_is_no_students_work_is_found_with_the_students(tmp_path: Path) -> None:
+    (tmp_path / "alice.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    (tmp_path / "alice_helpers.py").write_text("X = 1\n", encoding="utf-8")  # alice's own
+    (tmp_path / "bo.zip").write_bytes(b"PK")
+    (tmp_path / "notes").mkdir()
+    (tmp_path / ".git").mkdir()  # hidden: nobody's business
+    found = find_submissions([str(tmp_path)])
+    assert [s.student for s in found.submissions] == ["alice"]
+    assert found.unclaimed == ("bo.zip", "notes/")
+    # a file or a glob is no class folder: nothing in it is unclaimed
+    assert find_submissions([str(tmp_path / "alice.yaml")]).unclaimed == ()

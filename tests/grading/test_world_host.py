@@ -273,7 +273,7 @@ def test_a_student_who_is_a_file_sees_only_the_files_it_names(tmp_path: Path) ->
     (folder / "notes.txt").write_text("not named by anyone\n", encoding="utf-8")
     spec = folder / "test.yaml"
     spec.write_text("test: t\nexpect:\n  - outcome: success\n", encoding="utf-8")
-    students = {s.student: s for s in find_submissions([str(folder)])}
+    students = {s.student: s for s in find_submissions([str(folder)]).submissions}
     assert sorted(students) == ["alice", "bob", "carol"]
     private = frozenset(
         (folder / name).resolve() for name in ("alice.yaml", "bob.yaml", "test.yaml", "carol")
