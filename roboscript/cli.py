@@ -107,7 +107,15 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
     # the run machinery loads only for `run`
     from roboscript.session import run_session, session_record
 
-    spec, profile = _load_mission(args.mission, args.robot)
+    recording = live = None
+    if args.record or args.view:
+        # recording and the replay page load only when a run is recorded or viewed
+        from roboscript.replay.session_tap import RunRecording
+
+        recording = RunRecording(path=args.record)  # written as the run goes
+    # what a Python mission prints while it loads is recorded too, as before the start
+    with recording.loading() if recording is not None else contextlib.nullcontext():
+        spec, profile = _load_mission(args.mission, args.robot)
     world = args.world or spec.world or "empty"
     _check_regions(spec, world if args.port is None or args.port.startswith("sim:") else None)
     quiet = args.json or args.quiet
@@ -134,12 +142,6 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
         if not quiet:
             _err(f"{spec.name} on {robot.describe()} ({robot.url})")
 
-    recording = live = None
-    if args.record or args.view:
-        # recording and the replay page load only when a run is recorded or viewed
-        from roboscript.replay.session_tap import RunRecording
-
-        recording = RunRecording(path=args.record)  # written as the run goes
     if args.view:  # the page is served from its own thread; the ticks only hand it frames
         # recording and the replay page load only when a run is recorded or viewed
         from roboscript.replay.live import LiveView

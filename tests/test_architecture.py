@@ -394,7 +394,7 @@ FUNCTION_LEVEL_IMPORTS: dict[str, int] = {
     "roboscript.__main__": 1,
     "roboscript.cli": 48,
     "roboscript.grading.autograder": 1,
-    "roboscript.grading.mission_host": 8,
+    "roboscript.grading.mission_host": 9,
     "roboscript.grading.pool": 1,
     "roboscript.mission": 7,
     "roboscript.mission.checks": 1,
@@ -402,6 +402,7 @@ FUNCTION_LEVEL_IMPORTS: dict[str, int] = {
     "roboscript.mission.python_api": 2,
     "roboscript.mission.references": 1,
     "roboscript.profiles": 2,
+    "roboscript.replay.header": 1,
     "roboscript.replay.viewer": 1,
     "roboscript.transport.ports": 1,
 }

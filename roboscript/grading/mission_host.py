@@ -108,11 +108,20 @@ def _run(
     # the mission side loads after main() arms the stuck-watch, so a slow start is seen too
     from roboscript.errors import CapabilityError, InputError
     from roboscript.mission import mission_for_robot
+    from roboscript.mission.channels import copied_prints
     from roboscript.mission.student_code import is_student_file, stuck_at
 
+    printed = itertools.count(1)
+
+    def on_print(line: str) -> None:
+        # never raised in the student's print(): the next tick's question ends the run
+        with contextlib.suppress(WorldStoppedError):
+            channel.send(Kind.PRINT, print_payload(line, next(printed)))
+
     try:
-        # a Python mission runs when imported: a loop there is stopped at its line
-        with Watchdog(LOAD_LIMIT_S, stuck_at, watched=is_student_file):
+        # a Python mission runs when imported: a loop there is stopped at its line, and what
+        # it prints is sent as it is printed (the world records it as before the start)
+        with Watchdog(LOAD_LIMIT_S, stuck_at, watched=is_student_file), copied_prints(on_print):
             mission, profile, _warnings = mission_for_robot(mission_path, robot)
     except RunawayCode as exc:
         channel.send_json(Kind.LOAD_ERROR, {"message": exc.reason, "code_stopped": "hung"})
@@ -130,13 +139,6 @@ def _run(
 
     def on_state(_t_s: float, name: str, cause: TransitionCause) -> None:
         channel.send(Kind.STATE, state_payload(name, actions.get(name), cause))
-
-    printed = itertools.count(1)
-
-    def on_print(line: str) -> None:
-        # never raised in the student's print(): the next tick's question ends the run
-        with contextlib.suppress(WorldStoppedError):
-            channel.send(Kind.PRINT, print_payload(line, next(printed)))
 
     try:
         session = run_session(

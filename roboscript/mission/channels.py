@@ -14,7 +14,7 @@ import io
 import math
 import sys
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import AbstractContextManager, contextmanager
 from contextvars import ContextVar
 from typing import TextIO
 
@@ -24,6 +24,7 @@ __all__ = [
     "PRINTED_LINE_CHARS",
     "Channels",
     "StampedPrints",
+    "copied_prints",
     "log",
     "logging_to",
     "printed_line",
@@ -113,12 +114,16 @@ class StampedPrints(io.TextIOBase):
 
     Args:
         out: Where the stamped lines go (the stdout it replaces).
-        clock: The mission time, s.
+        clock: The mission time, s; ``None`` before the mission has one (while it loads):
+            the lines go on as they were printed.
         record: Called with each whole line, or ``None``.
     """
 
     def __init__(
-        self, out: TextIO, clock: Callable[[], float], record: Callable[[str], None] | None
+        self,
+        out: TextIO,
+        clock: Callable[[], float] | None,
+        record: Callable[[str], None] | None,
     ) -> None:
         super().__init__()
         self._out = out
@@ -137,7 +142,8 @@ class StampedPrints(io.TextIOBase):
         return len(text)
 
     def _emit(self, line: str) -> None:
-        self._out.write(f"{self._clock():8.2f} s  > {line}\n")
+        clock = self._clock
+        self._out.write(f"{line}\n" if clock is None else f"{clock():8.2f} s  > {line}\n")
         if self._record is not None:
             self._record(line)
 
@@ -154,7 +160,7 @@ class StampedPrints(io.TextIOBase):
 
 @contextmanager
 def stamped_prints(
-    clock: Callable[[], float], record: Callable[[str], None] | None = None
+    clock: Callable[[], float] | None, record: Callable[[str], None] | None = None
 ) -> Iterator[None]:
     """Stamp what is printed with ``clock`` while the block runs (see :class:`StampedPrints`)."""
     out = sys.stdout
@@ -165,3 +171,10 @@ def stamped_prints(
     finally:
         sys.stdout = out
         stamped.finish()
+
+
+def copied_prints(record: Callable[[str], None]) -> AbstractContextManager[None]:
+    """Hand ``record`` each line printed while the block runs, the lines going on to the
+    terminal unchanged: what a Python mission prints while it loads (a ``print`` at the top
+    of its file or in its class body), before it has a mission time."""
+    return stamped_prints(None, record)

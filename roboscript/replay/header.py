@@ -16,8 +16,32 @@ from roboscript.profiles import RobotProfile
 from roboscript.sim.body import BodySpec
 from roboscript.sim.simulation import body_spec_for
 from roboscript.sim.world import World
+from roboscript.transport.ports import WEB_SCHEMES
 
-__all__ = ["mission_header", "robot_header", "run_header", "world_header"]
+__all__ = [
+    "PRINTED_BEFORE_START",
+    "mission_header",
+    "port_header",
+    "robot_header",
+    "run_header",
+    "world_header",
+]
+
+PRINTED_BEFORE_START = "printed_before_start"
+"""The header key of the lines the mission printed before it started (while it loaded: a
+Python mission's ``print`` at the top of its file or in its class body), in order."""
+
+
+def port_header(url: str) -> str:
+    """The header's ``port``: the robot's URL (``sim://mirto?...``, ``/dev/ttyUSB0``), or for
+    a port chosen in the browser app the page's own words for it (``the robot on the serial
+    port you chose``), since its URL (``webserial://1``) names nothing the student saw."""
+    if url.partition("://")[0].lower() not in WEB_SCHEMES:
+        return url
+    # the browser's ports load only for their URLs (a run on one has loaded them already)
+    from roboscript.transport.webport import chosen_robot
+
+    return chosen_robot(url) or url
 
 
 def run_header(

@@ -666,6 +666,8 @@ _HEADER = {
         }
     ),
     "tick_s": Maybe(NUMBER),
+    "port": Maybe(TEXT),
+    "printed_before_start": [TEXT],
 }
 _SENSOR_VALUE = Maybe(ANY)
 _FRAME = {

@@ -12,15 +12,21 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
+from contextlib import AbstractContextManager
 from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.angles import wrap_deg
-from roboscript.mission.channels import MAX_PRINTED_LINES, printed_line
+from roboscript.mission.channels import MAX_PRINTED_LINES, copied_prints, printed_line
 from roboscript.mission.runner import MissionRunner
 from roboscript.mission.spec import MissionSpec
 from roboscript.profiles import RobotProfile
-from roboscript.replay.header import mission_header, run_header
+from roboscript.replay.header import (
+    PRINTED_BEFORE_START,
+    mission_header,
+    port_header,
+    run_header,
+)
 from roboscript.replay.recording import MAX_FRAMES, Listener, Recorder, RecordingFile
 from roboscript.robot import Robot
 from roboscript.run_record import RunRecord
@@ -175,6 +181,7 @@ class RunRecording:
         self._last_cause: Any = _UNSET
         self._last_log: dict[str, Any] = {}
         self._printed: list[str] = []  # printed since the last tick was recorded
+        self._printed_before_start: list[str] = []  # printed while the mission loaded
         self._printed_total = 0
         self._last_wheels: Any = _UNSET
         self._last_motors: dict[str, float] = {}
@@ -217,7 +224,9 @@ class RunRecording:
             tick_s=robot.scheduler.period_s,
             body=sim.body.spec if sim is not None else None,
         )
-        header["port"] = robot.url
+        header["port"] = port_header(robot.url)
+        if self._printed_before_start:
+            header[PRINTED_BEFORE_START] = list(self._printed_before_start)
         self.recorder = Recorder(
             header,
             max_frames=self.max_frames,
@@ -240,6 +249,17 @@ class RunRecording:
         self._printed_total += 1
         if self._printed_total <= MAX_PRINTED_LINES:
             self._printed.append(printed_line(line))
+
+    def loading(self) -> AbstractContextManager[None]:
+        """Record what is printed while the block loads the mission, before the robot is
+        connected: a Python mission's ``print`` at the top of its file or in its class body.
+        The lines go on to the terminal, and into the header as ``printed_before_start``."""
+        return copied_prints(self._printed_while_loading)
+
+    def _printed_while_loading(self, line: str) -> None:
+        self._printed_total += 1
+        if self._printed_total <= MAX_PRINTED_LINES:
+            self._printed_before_start.append(printed_line(line))
 
     def tick(self, runner: MissionRunner) -> None:
         """Record this tick (called after the mission's think phase).

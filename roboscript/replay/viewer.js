@@ -50,6 +50,22 @@
     return why.claimed === true ? "the mission says: " + text : text;
   }
 
+  /* The robot and where it ran: a simulated run says so rather than show its sim:// URL; a
+     real robot's port as recorded (a browser run's in the page's own words). */
+  function robotText(header) {
+    var name = String((header.robot || {}).name || "robot");
+    var port = typeof header.port === "string" ? header.port : "";
+    if (port === "grader") return name + ", simulated by the grader";
+    if (port.indexOf("sim://") === 0) return name + ", simulated";
+    return port ? name + ", " + port : name;
+  }
+
+  /* When a printed line was printed: its time, or before the start (while the mission
+     loaded). */
+  function printedAt(p) {
+    return p[0] === null ? "before the start" : fmt(p[0], 2) + " s";
+  }
+
   /* Full snapshots from frames holding only changes. */
   function Frames() {
     this.list = [];
@@ -165,6 +181,7 @@
       "<dt>display</dt><dd data-role='display'>—</dd>" +
       "<dt>tone</dt><dd data-role='tone'>—</dd>" +
       "<dt>tick</dt><dd data-role='frame'>—</dd>" +
+      "<dt>robot</dt><dd data-role='robot'>—</dd>" +
       "</dl><table class='rs-sensors'><caption>sensors</caption>" +
       "<tbody data-role='sensors'></tbody></table>" +
       "<table class='rs-sensors'><caption>your values (log)</caption>" +
@@ -231,6 +248,11 @@
     var claimed = Array.isArray(header.claimed) && header.claimed.indexOf("print") >= 0;
     this.printedBy = claimed ? "the mission printed (its own words)" : "printed";
     this.q("prints-label").textContent = this.printedBy;
+    // what it printed while it loaded, before the start: shown first, at no time of the run
+    var before = Array.isArray(header.printed_before_start) ? header.printed_before_start : [];
+    this.printedBefore = before.map(function (line) { return [null, String(line)]; });
+    this.q("robot").textContent = robotText(header);
+    this.timelineDirty = true;
     this.dirty = true;
     this.worldLayer = null;
   };
@@ -768,26 +790,28 @@
   /* A mark under the timeline where the mission printed (close prints share one); its title
    * holds the lines, and a click jumps there. */
   Viewer.prototype.drawPrintMarks = function (span) {
-    var prints = this.frames.prints, box = this.printMarks, groups = [], i;
+    var prints = (this.printedBefore || []).concat(this.frames.prints);
+    var box = this.printMarks, groups = [], i;
     var length = Math.max(span[1] - span[0], 1e-9);  // a run of one frame has no length
     box.textContent = "";
     box.setAttribute("data-count", String(prints.length));
     for (i = 0; i < prints.length; i++) {
-      var at = Math.min(PRINT_MARKS - 1,
-                        Math.floor((prints[i][0] - span[0]) / length * PRINT_MARKS));
+      // a line printed before the start is marked at the start
+      var t = prints[i][0] === null ? span[0] : prints[i][0];
+      var at = Math.min(PRINT_MARKS - 1, Math.floor((t - span[0]) / length * PRINT_MARKS));
       var last = groups[groups.length - 1];
       if (last && last.at === at) last.lines.push(prints[i]);
-      else groups.push({ at: at, lines: [prints[i]] });
+      else groups.push({ at: at, t: t, lines: [prints[i]] });
     }
     var by = this.printedBy || "printed";
     groups.forEach(function (g) {
-      var shown = g.lines.slice(0, 3).map(function (p) { return fmt(p[0], 2) + " s  " + p[1]; });
+      var shown = g.lines.slice(0, 3).map(function (p) { return printedAt(p) + "  " + p[1]; });
       if (g.lines.length > 3) shown.push("(and " + (g.lines.length - 3) + " more)");
       var text = by + ":\n" + shown.join("\n");
       var mark = el("button", { type: "button", "class": "rs-print-mark",
-                                "data-t": String(g.lines[0][0]), title: text,
+                                "data-t": String(g.t), title: text,
                                 "aria-label": text });
-      mark.style.left = (100 * (g.lines[0][0] - span[0]) / length) + "%";
+      mark.style.left = (100 * (g.t - span[0]) / length) + "%";
       box.appendChild(mark);
     });
   };
@@ -878,15 +902,16 @@
 
   /* The last few lines the mission printed up to time t, each with its time. */
   Viewer.prototype.showPrints = function (t) {
-    var prints = this.frames.prints, list = this.q("prints"), shown = [];
+    var prints = (this.printedBefore || []).concat(this.frames.prints);
+    var list = this.q("prints"), shown = [];
     for (var i = prints.length - 1; i >= 0 && shown.length < 6; i--) {
-      if (prints[i][0] <= t + 1e-9) shown.unshift(prints[i]);
+      if (prints[i][0] === null || prints[i][0] <= t + 1e-9) shown.unshift(prints[i]);
     }
     var key = shown.map(function (p) { return p[0] + " " + p[1]; }).join("\n");
     if (list.getAttribute("data-key") === key) return;
     list.setAttribute("data-key", key);
     list.textContent = "";
-    shown.forEach(function (p) { list.appendChild(el("li", null, fmt(p[0], 2) + " s  " + p[1])); });
+    shown.forEach(function (p) { list.appendChild(el("li", null, printedAt(p) + "  " + p[1])); });
   };
 
   Viewer.prototype.render = function () {

@@ -19,7 +19,7 @@ from typing import Any
 from roboscript import capabilities as cap
 from roboscript.mission.channels import MAX_PRINTED_LINES
 from roboscript.profiles import RobotProfile
-from roboscript.replay.header import run_header
+from roboscript.replay.header import PRINTED_BEFORE_START, run_header
 from roboscript.replay.recording import TRANSITION_KEY, Recorder, encode_line
 from roboscript.replay.session_tap import SHOWN, written_pose
 from roboscript.sim.simulation import Simulation
@@ -87,6 +87,7 @@ class WorldReplay:
         self._printed_lines = 0
         self._printed_chars = 0
         self._prints_not_recorded = 0
+        self._printed_before_start: list[str] = []
 
     def enter(
         self, now_s: float, state: str, action: str | None, why: dict[str, Any] | None
@@ -112,17 +113,20 @@ class WorldReplay:
         on that tick's frame, which is kept for it.
 
         ``line`` is the mission's own words, made printable and cut to size by the caller. A
-        line printed before the mission started, or past :data:`PRINTED_CHARS` or
-        :data:`~roboscript.mission.channels.MAX_PRINTED_LINES`, is only counted.
+        line printed before the mission started (while it loaded) goes in the header's
+        ``printed_before_start``, as ``run --record`` keeps it. A line past
+        :data:`PRINTED_CHARS` or :data:`~roboscript.mission.channels.MAX_PRINTED_LINES`, or
+        printed after the start before the mission's first state, is only counted.
         """
         self._printed_lines += 1
         self._printed_chars += len(line)
-        if (
-            self._start_s is None
-            or self._state is None
-            or self._printed_lines > MAX_PRINTED_LINES
-            or self._printed_chars > PRINTED_CHARS
-        ):
+        if self._printed_lines > MAX_PRINTED_LINES or self._printed_chars > PRINTED_CHARS:
+            self._prints_not_recorded += 1
+            return
+        if self._start_s is None:
+            self._printed_before_start.append(line)
+            return
+        if self._state is None:
             self._prints_not_recorded += 1
             return
         t = round(now_s - self._start_s, 3)
@@ -229,6 +233,8 @@ class WorldReplay:
             self._next_s = 0.0  # the last moment is always kept
             self.tick(now_s, final_state)
         header = self.recorder.header()
+        if self._printed_before_start:
+            header[PRINTED_BEFORE_START] = list(self._printed_before_start)
         header["mission"] = {
             "name": mission,
             "initial": states[0][1] if states else None,

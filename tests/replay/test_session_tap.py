@@ -231,3 +231,40 @@ def test_a_listener_gets_the_header_each_frame_as_written_and_the_end(tmp_path: 
     path = tmp_path / "run.jsonl"
     assert save_recording(recording, str(path)) is None
     assert load_recording(path).frames == recording.recorder.recording().frames
+
+
+@pytest.mark.parametrize(
+    ("url", "port"),
+    [
+        ("webserial://1", "the robot on the serial port you chose"),
+        ("webbluetooth://2", "the Bluetooth robot you chose"),
+        ("/dev/ttyUSB0", "/dev/ttyUSB0"),
+    ],
+)
+def test_the_header_names_a_port_chosen_in_the_browser_as_the_page_does(
+    url: str, port: str
+) -> None:
+    def reached_on(robot: Any) -> None:
+        robot.url = url  # as a run from the browser app reaches its robot
+
+    _, recording, _ = _record(MISSIONS / "square.yaml", on_connected=reached_on, max_time_s=0.1)
+    assert recording.header["port"] == port
+
+
+def test_the_replay_names_the_robot_and_where_it_ran(tmp_path: Path) -> None:
+    from browser import open_browser
+
+    from roboscript.replay.viewer import viewer_block, viewer_page
+
+    def reached_on(robot: Any) -> None:
+        robot.url = "webserial://1"
+
+    _, recording, _ = _record(MISSIONS / "square.yaml", on_connected=reached_on, max_time_s=0.1)
+    page = tmp_path / "run.html"
+    page.write_text(viewer_page(viewer_block(recording), "square"), encoding="utf-8")
+    with open_browser(tmp_path) as browser:
+        browser.open(page.as_uri())
+        browser.wait_for("document.querySelector('.rs-viewer').dataset.ready === '1'")
+        robot = browser.evaluate("document.querySelector('[data-role=robot]').textContent")
+        assert robot == "mirto, the robot on the serial port you chose"
+        assert browser.errors == []

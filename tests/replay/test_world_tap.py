@@ -427,7 +427,8 @@ def test_a_graded_replay_keeps_printed_text_up_to_a_bound_and_counts_the_rest() 
     kept = _prints(fill_frames(data["frames"]))
     assert len(kept) == PRINTED_CHARS // len(line)
     assert kept[-1] == (round((len(kept) - 1) * 0.02, 3), line)  # each at its own tick
-    assert data["result"]["prints_not_recorded"] == 1 + lines - len(kept)
+    assert data["result"]["prints_not_recorded"] == lines - len(kept)
+    assert data["header"]["printed_before_start"] == ["before the start"]
 
 
 def test_the_replay_shows_what_the_mission_printed_under_its_states_in_a_browser(
@@ -510,3 +511,75 @@ def test_a_hidden_runs_prints_reach_the_teachers_replay_only(tmp_path: Path) -> 
     for text in (student, done.stdout, done.stderr, (out / "junit.xml").read_text("utf-8")):
         assert "313.7" not in text
     assert "313.7" not in (out / "gradescope.json").read_text("utf-8")
+
+
+# Prints while it loads (at the top of its file and in its class body), then once as it runs.
+LOAD_PRINTER = """\
+from roboscript import Mission, Wait, state
+
+print("loading the mission", 1)
+_TOLD = []
+
+
+class Loud(Mission):
+    print("in the class body")
+    go = state(Wait(duration_s=0.3), initial=True, on_done="done", when=[("talk", "done")])
+    done = state(final="success")
+
+    def talk(self):
+        if self.elapsed > 0.1 and not _TOLD:
+            _TOLD.append(True)
+            print("running")
+        return False
+"""
+
+
+def test_run_and_grade_record_what_the_mission_printed_while_it_loaded_before_the_start(
+    tmp_path: Path,
+) -> None:
+    ran, graded = _run_and_grade(tmp_path, LOAD_PRINTER, "empty", name="m.py")
+    loaded = ["loading the mission 1", "in the class body"]
+    assert ran.header["printed_before_start"] == loaded
+    assert graded["header"]["printed_before_start"] == loaded
+    # and not again on a frame: the frames hold what it printed as it ran, on the same tick
+    ran_prints = _prints(ran.frames)
+    assert [line for _, line in ran_prints] == ["running"]
+    assert _prints(fill_frames(graded["frames"])) == ran_prints
+    assert "prints_not_recorded" not in graded["result"]
+
+
+def test_the_replay_shows_what_the_mission_printed_before_the_start_first(
+    tmp_path: Path,
+) -> None:
+    from helpers import run_cli
+
+    mission = tmp_path / "m.py"
+    mission.write_text(LOAD_PRINTER, encoding="utf-8")
+    run = tmp_path / "run.jsonl"
+    done = run_cli("run", str(mission), "--record", str(run), "--quiet")
+    assert done.returncode == 0, done.stderr
+    page = tmp_path / "run.html"
+    assert run_cli("view", str(run), "--output", str(page)).returncode == 0
+    with open_browser(tmp_path) as browser:
+        browser.open(page.as_uri())
+        browser.wait_for("document.querySelector('.rs-viewer').dataset.ready === '1'")
+        lines = browser.evaluate(
+            "Array.from(document.querySelectorAll('[data-role=prints] li'))"
+            ".map(function (li) { return li.textContent; })"
+        )
+        assert lines == [
+            "before the start  loading the mission 1",
+            "before the start  in the class body",
+        ]
+        browser.evaluate("window.roboscriptViewer.viewers[0].seekTime(0.3)")
+        lines = browser.evaluate("document.querySelector('[data-role=prints]').textContent")
+        assert lines.startswith("before the start  loading the mission 1")
+        assert lines.endswith(" s  running")
+        marks = browser.evaluate(
+            "Array.from(document.querySelectorAll('.rs-print-mark'))"
+            ".map(function (m) { return m.getAttribute('data-t'); })"
+        )
+        assert len(marks) == 2 and marks[0] == "0"  # lines before the start: at the start
+        robot = browser.evaluate("document.querySelector('[data-role=robot]').textContent")
+        assert robot == "mirto, simulated"
+        assert browser.errors == []
