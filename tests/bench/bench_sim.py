@@ -14,7 +14,7 @@ of several runs, and the ratio held to its goal (performance.md, G8 and G8b):
 * ``patrol mission, uart board``: the patrol with the board as a UART board (``transport:
   uart``), whose firmware reads each byte when the line delivers it and counts its own writing
   time; the row gives what that costs against the USB board, in CPU time (which the machine's
-  other jobs do not change).
+  other jobs change less than wall time, though on a busy machine still by tens of percent).
 * ``body + sensors``: the body alone, bouncing round the room, its sensors read as often as the
   board reads them (distance 10 Hz, IR and bumpers 20 Hz, encoders 30 Hz).
 * ``bare physics``: the body's step alone (motors, slip, encoders, collisions). Goal for the
@@ -102,7 +102,7 @@ def run_body(read_sensors: bool) -> float:
 
 def _median_run(work: Callable[[], float], runs: int) -> tuple[float, float, float]:
     """Median wall seconds of ``runs`` runs (after one warm-up), the simulated seconds, and
-    the median CPU seconds of this thread (what a busy machine's other jobs leave out)."""
+    the median CPU seconds of this thread (which leaves out the time other jobs ran)."""
     work()
     walls: list[float] = []
     cpus: list[float] = []
