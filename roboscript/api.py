@@ -19,6 +19,7 @@ Jupyter notebook the result displays as the replay viewer (:mod:`roboscript.repl
 
 from __future__ import annotations
 
+import contextlib
 import html
 import sys
 from collections.abc import Sequence
@@ -269,10 +270,12 @@ def _run(
     realtime: bool,
     record: bool,
 ) -> RunResult:
-    spec, profile, warnings = _spec_and_robot(mission, robot)
+    recording = RunRecording() if record else None
+    # what a Python mission prints while it loads is recorded too, as before the start
+    with recording.loading() if recording is not None else contextlib.nullcontext():
+        spec, profile, warnings = _spec_and_robot(mission, robot)
     world_name = world or spec.world or "empty"
     _check_world_regions(spec, world_name if port is None or port.startswith("sim:") else None)
-    recording = RunRecording() if record else None
     slow: list[str] = []
 
     def warn_slow(text: str) -> None:  # said when it happens, as ``roboscript run`` says it

@@ -395,3 +395,12 @@ def test_a_mission_file_without_main_says_how_to_run_it(tmp_path: Path) -> None:
     script.write_text(HOP + "\n\nimport roboscript\nprint(roboscript.run(Hop).outcome)\n")
     done = _python(str(script), cwd=tmp_path)
     assert (done.stdout, done.stderr) == ("success\n", "")
+
+
+def test_run_records_what_the_mission_printed_while_it_loaded(tmp_path: Path) -> None:
+    mission = tmp_path / "square.py"
+    text = (MISSIONS / "square.py").read_text(encoding="utf-8")
+    mission.write_text('print("loading my square")\n' + text, encoding="utf-8")
+    result = roboscript.run(mission, seed=7, record=True)
+    assert result.recording is not None
+    assert result.recording.header["printed_before_start"] == ["loading my square"]

@@ -16,6 +16,7 @@ line: ``hello.yaml:4:28: error: ...``.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import re
@@ -124,11 +125,17 @@ def _stuck_problem(exc: RunawayCode, path: Path) -> dict[str, Any]:
     }
 
 
-def _load(name: str, text: str, robot: str | None) -> tuple[Path, Any, Any, list[dict[str, Any]]]:
+def _load(
+    name: str, text: str, robot: str | None, recording: RunRecording | None = None
+) -> tuple[Path, Any, Any, list[dict[str, Any]]]:
     path = _write(name, text)
     try:
         # a Python mission runs when imported: a loop there is stopped at its line, not the tab
-        with Watchdog(DEFAULT_LIMIT_S, stuck_at, watched=is_student_file):
+        with (
+            Watchdog(DEFAULT_LIMIT_S, stuck_at, watched=is_student_file),
+            # what it prints while it loads is the run's too, before the start
+            recording.loading() if recording is not None else contextlib.nullcontext(),
+        ):
             spec, profile, warnings = mission_for_robot(path, robot or None)
     except RunawayCode as exc:
         return path, None, None, [_stuck_problem(exc, path)]
@@ -171,10 +178,10 @@ def run_text(
         replay viewer's HTML block or null}``, and ``"wire_log"`` (its text) on a robot. A
         mission with errors is not run.
     """
-    path, spec, profile, problems = _load(name, text, robot)
+    recording = RunRecording()
+    path, spec, profile, problems = _load(name, text, robot, recording)
     if spec is None or any(p["severity"] == "error" for p in problems):
         return json.dumps({"problems": problems, "summary": None, "viewer": None})
-    recording = RunRecording()
     with on_robot(port, path.parent) as on:
         try:
             session = run_session(

@@ -217,3 +217,9 @@ def test_parallel_without_its_brackets_is_answered_in_the_page_with_the_students
     assert problem["hint"] == (
         "write Parallel([Rotate(angle_deg=90), PlayTone(frequency_hz=880), Wait(duration_s=1)])"
     )
+
+
+def test_the_pages_replay_keeps_what_the_mission_printed_while_it_loaded() -> None:
+    text = 'print("loading my square")\n' + (MISSIONS / "square.py").read_text(encoding="utf-8")
+    viewer = json.loads(run_text("square.py", text))["viewer"]
+    assert '"printed_before_start":["loading my square"]' in viewer
