@@ -1,16 +1,22 @@
 """Run graded runs in worker processes, in parallel.
 
-Each run has a worker process of its own that hosts the simulated world and judges the run
+A worker process hosts the simulated world of each run and judges it
 (:mod:`roboscript.grading.worker`); the student's mission runs in a sandboxed process the
 worker starts (:mod:`roboscript.grading.world_host`). Neither the parent nor a worker ever
 loads a student's file. The parent
 
+* gives one worker all the runs of a student's mission that may share a jail (the same files
+  and robot, all hidden or all visible; split only when they are more than one worker's share
+  of the class), so a student costs one worker and one warm jail per kind of run;
 * starts at most ``jobs`` workers at a time (forked from a server process that has already
   imported roboscript, so a worker is ready in milliseconds; spawned where fork is not
   available);
-* runs each mission's first run alone: when the mission does not load, crashes or hangs while
-  loading, that one result stands for all of its runs on the same robot, so a broken
-  submission costs one run, not one per variant;
+* learns from each mission's first run whether it loads: when the mission does not load,
+  crashes or hangs while loading, that one result stands for all of its runs on the same
+  robot, so a broken submission costs one run, not one per variant. The worker doing that
+  first run gives its result to the rest of its own runs itself, without running them; the
+  parent holds the mission's other workers back (its hidden runs, or runs past one worker's
+  share) until that first run has ended, and gives them the same result;
 * gives each result to ``on_result`` the moment it arrives (the command line writes it out at
   once, so a grader that is killed keeps every finished run);
 * stops a worker that outlives its run's limits by a wide margin (it never should) and records
@@ -113,7 +119,9 @@ def run_tasks(
     """Do every task in a worker process, ``jobs`` workers at a time.
 
     A worker does the runs of one student's mission that may share a jail (see
-    :func:`roboscript.grading.worker.work`), one after the other.
+    :func:`roboscript.grading.worker.work`), one after the other, in one warm jail. A mission
+    that ends while loading in its first run gets that result for every run (see the module
+    docstring).
 
     Args:
         tasks: The runs.
@@ -153,10 +161,11 @@ def run_tasks(
                 key = batch[0][1].load_key
                 if key in probing:
                     continue  # wait for the first run of this mission to say whether it loads
-                if key not in loaded:
+                first = key not in loaded
+                if first:
                     probing.add(key)
                 waiting.remove(batch)
-                running.append(_start(context, batch))
+                running.append(_start(context, batch, first))
             if not running:
                 continue  # a batch was put back: start it
             now = time.monotonic()
@@ -169,19 +178,18 @@ def run_tasks(
             )
             still: list[_Running] = []
             for run in running:
-                for index, result in _collect(run, ready):
+                for index, result, copies in _collect(run, ready):
                     deliver(index, result)
+                    for other_index, other in copies:  # the worker ended them with this one
+                        deliver(other_index, _same_as(result, other))
                     key = tasks[index].load_key
                     if key not in probing:
                         continue
                     probing.discard(key)
-                    if not result.during_load:
+                    if result.during_load:
+                        same_for_all(key, result)
+                    else:
                         loaded.add(key)
-                        continue
-                    same_for_all(key, result)
-                    for other_index, other in run.batch:  # the worker need not do them
-                        deliver(other_index, _same_as(result, other))
-                    run.batch.clear()
                 if run.batch and run.process.is_alive():
                     still.append(run)
                     continue
@@ -212,11 +220,11 @@ def _same_as(first: RunResult, task: RunTask) -> RunResult:
     )
 
 
-def _start(context: Any, batch: list[tuple[int, RunTask]]) -> _Running:
+def _start(context: Any, batch: list[tuple[int, RunTask]], first: bool) -> _Running:
     receiver, sender = context.Pipe(duplex=False)
     process = context.Process(
         target=_worker_entry,
-        args=(sender, batch),
+        args=(sender, batch, first),
         name=f"roboscript-grade-{batch[0][0]}",
         daemon=True,
     )
@@ -230,16 +238,20 @@ def _deadline(started: float, task: RunTask) -> float:
     return started + task.spec.wall_time_limit_s + _BACKSTOP_S
 
 
-def _worker_entry(connection: Connection, batch: list[tuple[int, RunTask]]) -> None:
+def _worker_entry(connection: Connection, batch: list[tuple[int, RunTask]], first: bool) -> None:
     # the worker warms every simulated device when imported: only its process needs them
     from roboscript.grading.worker import work
 
-    work(connection, batch)
+    work(connection, batch, first=first)
 
 
-def _collect(run: _Running, ready: set[Any]) -> list[tuple[int, RunResult]]:
+_Found = tuple[int, RunResult, list[tuple[int, RunTask]]]
+"""A run's index and result, and the runs of the batch that the worker ended with it."""
+
+
+def _collect(run: _Running, ready: set[Any]) -> list[_Found]:
     """The results the worker has now (sent, or its run failed as it died or timed out)."""
-    found: list[tuple[int, RunResult]] = []
+    found: list[_Found] = []
     now = time.monotonic()
     if run.connection in ready or run.process.sentinel in ready:
         while run.batch and run.connection.poll():
@@ -250,11 +262,13 @@ def _collect(run: _Running, ready: set[Any]) -> list[tuple[int, RunResult]]:
             except Exception as exc:  # noqa: BLE001 - a half-sent result from a dying worker
                 found.append(_lost(run, f"unreadable result: {type(exc).__name__}: {exc}"))
                 break
-            index, result = data
+            index, result, ended_with = data
             position = next(i for i, (n, _task) in enumerate(run.batch) if n == index)
             wall = round(now - run.started, 3)
-            found.append((index, replace(RunResult.from_dict(result), wall_time_s=wall)))
             del run.batch[position]
+            copies = [(n, task) for n, task in run.batch if n in ended_with]
+            run.batch = [(n, task) for n, task in run.batch if n not in ended_with]
+            found.append((index, replace(RunResult.from_dict(result), wall_time_s=wall), copies))
             run.started = now
             if run.batch:
                 run.deadline = _deadline(now, run.batch[0][1])
@@ -279,6 +293,7 @@ def _collect(run: _Running, ready: set[Any]) -> list[tuple[int, RunResult]]:
                     f"world worker stopped by the parent after {wall:g} s",
                     wall,
                 ),
+                [],
             )
         )
     return found
@@ -295,11 +310,11 @@ def _busy_machine_delayed(run: _Running) -> bool:
     return True
 
 
-def _lost(run: _Running, debug: str, code: int | None = None) -> tuple[int, RunResult]:
+def _lost(run: _Running, debug: str, code: int | None = None) -> _Found:
     """The worker's current run, when the worker died without sending it."""
     index, task = run.batch.pop(0)
     wall = round(time.monotonic() - run.started, 3)
-    return index, _failed(
+    result = _failed(
         task,
         "crashed",
         "the grader could not finish this run (its world process ended with exit code"
@@ -307,6 +322,7 @@ def _lost(run: _Running, debug: str, code: int | None = None) -> tuple[int, RunR
         debug,
         wall,
     )
+    return index, result, []
 
 
 def _failed(task: RunTask, status: RunStatus, message: str, debug: str, wall: float) -> RunResult:

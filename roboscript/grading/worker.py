@@ -37,13 +37,23 @@ for _name in _WARM_MODULES:
 detect_isolation()
 
 
-def work(connection: Connection, tasks: Sequence[tuple[int, RunTask]]) -> None:
-    """Grade runs of one student's mission in turn; send ``(index, result)`` for each.
+def work(
+    connection: Connection, tasks: Sequence[tuple[int, RunTask]], *, first: bool = False
+) -> None:
+    """Grade runs of one student's mission in turn; send ``(index, result, ended_with)`` for
+    each run done (``ended_with``: the indices of the runs that result stands for too, undone).
 
     The runs share one warm jail (:class:`~roboscript.grading.sandbox.WarmJail`) where the
     platform allows: its interpreter imports roboscript once and forks each run. The parent
     gives one worker only runs that may share a jail (the same mission and files, all hidden
     or all visible).
+
+    Args:
+        connection: Where the results go (the parent).
+        tasks: The runs, with their indices.
+        first: The first of ``tasks`` is its mission's first run: when the mission ends while
+            loading, that result stands for every other run (the mission would load no
+            differently), so they are not done.
     """
     logging.disable(logging.WARNING)
     # Stopped by the parent (its runs are known already): clean up on the way out, so no
@@ -51,7 +61,7 @@ def work(connection: Connection, tasks: Sequence[tuple[int, RunTask]]) -> None:
     signal.signal(signal.SIGTERM, _exit_on_term)
     server: WarmJail | None = None
     try:
-        for index, task in tasks:
+        for position, (index, task) in enumerate(tasks):
             if warm_jails_supported() and (server is None or not server.alive):
                 if server is not None:
                     server.close()
@@ -70,7 +80,11 @@ def work(connection: Connection, tasks: Sequence[tuple[int, RunTask]]) -> None:
                 result = cap_result(graded).to_dict(replay=True)
             except Exception as exc:  # noqa: BLE001 - a bug of ours: report it for this run only
                 result = crash_result(task, exc)
-            connection.send((index, result))
+            if first and position == 0 and result.get("during_load"):
+                # It would load no differently in the others: they end as it did, unrun.
+                connection.send((index, result, [n for n, _task in tasks[1:]]))
+                return
+            connection.send((index, result, []))
     finally:
         if server is not None:
             server.close()

@@ -232,9 +232,9 @@ def test_a_mission_that_hangs_while_loading_is_run_once_for_all_its_variants(
     started: list[str] = []
     real_start = pool._start
 
-    def counting(context: Any, batch: list[tuple[int, pool.RunTask]]) -> Any:
+    def counting(context: Any, batch: list[tuple[int, pool.RunTask]], *args: Any) -> Any:
         started.extend(Path(task.mission).stem for _index, task in batch)
-        return real_start(context, batch)
+        return real_start(context, batch, *args)
 
     monkeypatch.setattr(pool, "_start", counting)
     report = grade_class(
@@ -249,6 +249,124 @@ def test_a_mission_that_hangs_while_loading_is_run_once_for_all_its_variants(
     assert [r.wall_time_s > 0 for r in zed] == [True, False, False, False]
     amy = report.cell("amy", "t").results
     assert all(r.status == "crashed" and r.wall_time_s > 0 for r in amy)
+
+
+IDLES = """\
+from roboscript import Mission, Wait, state
+
+
+class Idle(Mission):
+    go = state(Wait(duration_s=0.2), initial=True, on_done="end")
+    end = state(final="success")
+"""
+
+CRASHES_LOADING = """\
+from roboscript import Mission, Wait, state
+
+import robotlib  # not installed: the mission crashes while loading
+
+
+class Never(Mission):
+    go = state(Wait(duration_s=1), initial=True, on_done="end")
+    end = state(final="success")
+"""
+
+
+@pytest.fixture
+def workers_log(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """Workers forked from this process, each writing a line to the returned file per jail it
+    starts (``jail STUDENT hidden|visible``) and per run it does (``run STUDENT VARIANT``)."""
+    import multiprocessing
+
+    from roboscript.grading import pool, worker
+
+    log = tmp_path / "workers.log"
+    real_jail, real_grade = worker._warm_jail, worker._grade
+
+    def note(line: str) -> None:
+        with log.open("a", encoding="utf-8") as handle:
+            handle.write(line + "\n")
+
+    def warm_jail(task: pool.RunTask) -> Any:
+        note(f"jail {task.student} {'hidden' if task.variant.hidden else 'visible'}")
+        return real_jail(task)
+
+    def grade(task: pool.RunTask, server: Any) -> Any:
+        note(f"run {task.student} {task.variant.index}")
+        return real_grade(task, server)
+
+    monkeypatch.setattr(worker, "_warm_jail", warm_jail)
+    monkeypatch.setattr(worker, "_grade", grade)
+    # Forked from here (not from the fork server), so each worker has the counting functions.
+    monkeypatch.setattr(pool, "_context", lambda: multiprocessing.get_context("fork"))
+    log.touch()
+    return log
+
+
+def _spec_with_runs(tmp_path: Path, visible: int, hidden: int) -> Path:
+    spec = tmp_path / "spec.yaml"
+    runs = [f"  - {{seed: {n + 1}}}\n" for n in range(visible)]
+    runs += [f"  - {{seed: {n + 1}, hidden: true}}\n" for n in range(visible, visible + hidden)]
+    spec.write_text(
+        f"test: t\nruns:\n{''.join(runs)}expect:\n  - outcome: success\n", encoding="utf-8"
+    )
+    return spec
+
+
+@pytest.mark.skipif(not warm_jails_supported(), reason="warm jails are Linux only")
+def test_a_students_runs_cost_one_worker_and_one_jail_per_kind_of_run(
+    tmp_path: Path, workers_log: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from roboscript.grading import pool
+
+    spec = _spec_with_runs(tmp_path, visible=3, hidden=1)
+    folder = tmp_path / "class"
+    folder.mkdir()
+    for name in ("ann", "bob"):
+        (folder / f"{name}.py").write_text(IDLES, encoding="utf-8")
+    started: list[tuple[str, int]] = []
+    real_start = pool._start
+
+    def counting(context: Any, batch: list[tuple[int, pool.RunTask]], *args: Any) -> Any:
+        started.append((batch[0][1].student, len(batch)))
+        return real_start(context, batch, *args)
+
+    monkeypatch.setattr(pool, "_start", counting)
+    report = grade_class(find_specs([str(spec)]), find_submissions([str(folder)]), jobs=2)
+    assert report.passed
+    assert sorted(started) == [("ann", 1), ("ann", 3), ("bob", 1), ("bob", 3)]
+    lines = workers_log.read_text(encoding="utf-8").splitlines()
+    jails = sorted(line for line in lines if line.startswith("jail"))
+    assert jails == ["jail ann hidden", "jail ann visible", "jail bob hidden", "jail bob visible"]
+    assert sorted(line for line in lines if line.startswith("run")) == [
+        f"run {name} {variant}" for name in ("ann", "bob") for variant in range(4)
+    ]
+
+
+@pytest.mark.parametrize("jobs", [1, 2, 4])
+def test_a_mission_that_fails_to_load_costs_one_run_whatever_the_workers(
+    tmp_path: Path, workers_log: Path, jobs: int
+) -> None:
+    # With 4 workers zed's visible runs are split in two batches (more than one worker's
+    # share): one batch's worker does the first run, the parent answers the other.
+    spec = _spec_with_runs(tmp_path, visible=3, hidden=1)
+    folder = tmp_path / "class"
+    folder.mkdir()
+    (folder / "ann.py").write_text(IDLES, encoding="utf-8")
+    (folder / "zed.py").write_text(CRASHES_LOADING, encoding="utf-8")
+    report = grade_class(find_specs([str(spec)]), find_submissions([str(folder)]), jobs=jobs)
+    lines = workers_log.read_text(encoding="utf-8").splitlines()
+    assert [line for line in lines if "zed" in line] == ["jail zed visible", "run zed 0"]
+    assert sorted(line for line in lines if line.startswith("run ann")) == [
+        f"run ann {variant}" for variant in range(4)
+    ]
+    zed = report.cell("zed", "t").results
+    assert [r.variant for r in zed] == [0, 1, 2, 3]
+    assert all(r.status == "invalid" and r.during_load for r in zed)
+    assert "No module named 'robotlib'" in zed[0].message
+    assert len({(r.message, r.debug) for r in zed}) == 1  # the first run's result, for all
+    assert [r.wall_time_s > 0 for r in zed] == [True, False, False, False]
+    assert report.cell("ann", "t").passed
 
 
 SAYS_ITS_JAIL = """\
