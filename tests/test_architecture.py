@@ -394,7 +394,7 @@ FUNCTION_LEVEL_IMPORTS: dict[str, int] = {
     "roboscript.__main__": 1,
     "roboscript.cli": 48,
     "roboscript.grading.autograder": 1,
-    "roboscript.grading.mission_host": 9,
+    "roboscript.grading.mission_host": 13,
     "roboscript.grading.pool": 1,
     "roboscript.mission": 7,
     "roboscript.mission.checks": 1,

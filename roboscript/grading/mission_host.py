@@ -82,19 +82,34 @@ def main(argv: Sequence[str] | None = None) -> int:
 def warm_up(robot: str = "") -> None:
     """Import what a run needs, once, in a fork server whose runs are forked from it.
 
+    That is everything a run imports before its first tick, so that each run, a ``fork`` of
+    the server, starts with nothing left to import: the loaders of both kinds of mission (and
+    what checks the world a mission names), the run machinery, the lockstep port and the
+    robot's driver and codec.
+
     Args:
-        robot: The robot the runs connect to (its driver is imported too), or ``""``.
+        robot: The robot the runs connect to (its driver and codec are imported too), or
+            ``""``.
     """
+    import importlib.readers  # noqa: F401 - lists the built-in worlds a mission may name
+
+    import serial.urlhandler  # noqa: F401 - where opening the run's port looks first
+
     # warmed in the fork server before any run, not when this module is imported
     import roboscript.mission
-    import roboscript.session  # noqa: F401 - imported to be inherited by every run
+    import roboscript.mission.python_loader
+    import roboscript.mission.references
+    import roboscript.mission.yaml_loader
+    import roboscript.session
+    import roboscript.transport.urlhandler.protocol_lockstep  # noqa: F401 - the run's port
 
     if robot:
         # only the robot the runs connect to is warmed
         from roboscript.drivers import driver_class
         from roboscript.profiles import get_profile
 
-        driver_class(get_profile(robot).protocol)
+        profile = get_profile(robot)
+        driver_class(profile.protocol).make_codec(profile)
 
 
 def _run(

@@ -2,15 +2,20 @@
 
 from __future__ import annotations
 
+import json
+import re
 import signal
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
-from helpers import one_run_spec
+from helpers import HANG_BOUND_S, MISSIONS, one_run_spec
 
 from roboscript.grading import world_host
+from roboscript.grading.batch import find_specs, find_submissions, grade_class
 from roboscript.grading.run import grade_run
-from roboscript.grading.sandbox import Jail
+from roboscript.grading.sandbox import Jail, warm_jails_supported
 
 # Finishes at once; as its robot's link closes, the process is sent Ctrl-C's signal.
 SIGNALLED_WHILE_CLOSING = """\
@@ -61,3 +66,73 @@ def test_a_ctrl_c_while_the_mission_process_closes_ends_it_with_the_signals_stat
     signum = signal.SIGINT
     # 128 + N as it exits; under bubblewrap that reads as -N, as an end by the signal does
     assert statuses in ([128 + signum], [-signum]), statuses
+
+
+SAYS_WHAT_ITS_RUN_IMPORTED = """\
+import sys
+from roboscript import Mission, Wait, state
+
+LOADED = set(sys.modules)
+
+
+class Idle(Mission):
+    go = state(Wait(duration_s=0.2), initial=True, on_done="end", when=[("look", "end")])
+    end = state(final="success")
+
+    def look(self) -> bool:
+        print("IMPORTED SINCE LOADING", sorted(set(sys.modules) - LOADED))
+        return False
+"""
+
+
+@pytest.mark.skipif(not warm_jails_supported(), reason="warm jails are Linux only")
+def test_a_run_forked_from_a_warm_jail_imports_nothing_once_its_mission_loaded(
+    tmp_path: Path,
+) -> None:
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(
+        "test: t\nrobot: mirto\nruns:\n  - {seed: 1}\nexpect:\n  - outcome: success\n",
+        encoding="utf-8",
+    )
+    student = tmp_path / "class" / "ivy.py"
+    student.parent.mkdir()
+    student.write_text(SAYS_WHAT_ITS_RUN_IMPORTED, encoding="utf-8")
+    report = grade_class(find_specs([str(spec)]), find_submissions([str(student.parent)]), jobs=1)
+    assert report.passed
+    # The run machinery, the port and the robot's codec: all imported by the jail's server.
+    seen = re.findall(r"IMPORTED SINCE LOADING (\[.*\])", report.results[0].debug)
+    assert seen and json.loads(seen[0].replace("'", '"')) == []
+
+
+LOADS_BOTH_KINDS = """\
+import sys
+from roboscript.grading.mission_host import warm_up
+
+warm_up("mirto")
+before = set(sys.modules)
+from roboscript.mission import mission_for_robot
+
+for path in sys.argv[1:]:
+    mission_for_robot(path, "mirto")
+print(sorted(name for name in set(sys.modules) - before if not name.startswith("_roboscript")))
+"""
+
+
+def test_the_warm_up_imports_what_loading_either_kind_of_mission_imports(tmp_path: Path) -> None:
+    # A Python mission's own module is the one import its loading may add.
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-I",
+            "-c",
+            LOADS_BOTH_KINDS,
+            str(MISSIONS / "square.yaml"),
+            str(MISSIONS / "square.py"),
+        ],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=HANG_BOUND_S,
+        check=True,
+    )
+    assert done.stdout.strip() == "[]", done.stdout + done.stderr
