@@ -39,7 +39,7 @@ import struct
 import sys
 from collections.abc import Sequence
 
-from roboscript.grading.sandbox import kill_user_processes, reap_children
+from roboscript.grading.processes import kill_user_processes, reap_children
 
 __all__ = ["main"]
 

@@ -34,10 +34,12 @@ import sys
 import tempfile
 import threading
 import time
-from collections.abc import Callable, Collection, Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
+
+from roboscript.grading.processes import kill_user_processes, reap_children, statuses, uid_of
 
 if TYPE_CHECKING:
     from typing_extensions import Self
@@ -87,7 +89,6 @@ caller's loop."""
 _START_TIMEOUT_S = 10.0
 _TEARDOWN_TIMEOUT_S = 10.0
 _POLL_STEP_S = 0.01
-_SWEEP_ROUNDS = 1000
 _REMEDY_LINUX = "install it (apt install bubblewrap) for full isolation"
 _LIMITS_ONLY = (
     "students' code runs with resource limits only and can read any file this user can read"
@@ -705,8 +706,8 @@ def _tasks_of(uid: int) -> int | None:
     if os.path.isdir("/proc/self/task"):
         return sum(
             int(fields.get(b"Threads", b"0"))
-            for _pid, fields in _statuses()
-            if _uid_of(fields) == uid
+            for _pid, fields in statuses()
+            if uid_of(fields) == uid
         )
     try:  # macOS and the BSDs: processes, which is what their RLIMIT_NPROC counts
         listing = subprocess.run(
@@ -1102,26 +1103,6 @@ class Jail(_Output):
         self.kill()
 
 
-def kill_user_processes(uid: int, keep: Collection[int] = ()) -> bool:
-    """Kill every live process of ``uid`` but those in ``keep``, until none is left.
-
-    For a user that is one jail's alone: what it runs is exactly what its runs left. A fork
-    bomb runs out of processes (its limit is small) before this runs out of rounds.
-
-    Returns:
-        True when none is left.
-    """
-    for _ in range(_SWEEP_ROUNDS):
-        victims = [pid for pid in _live_processes(uid) if pid not in keep]
-        if not victims:
-            return True
-        for pid in victims:
-            with contextlib.suppress(OSError):
-                os.kill(pid, signal.SIGKILL)
-        reap_children()
-    return False
-
-
 _SHARED_SCRATCH = ("/tmp", "/var/tmp", "/dev/shm")
 
 
@@ -1142,45 +1123,6 @@ def _remove_files_of(uid: int) -> None:
                     os.unlink(entry.path)
             except OSError:
                 continue
-
-
-def _live_processes(uid: int) -> list[int]:
-    """The processes of ``uid`` that have not ended (zombies excluded)."""
-    return [
-        pid
-        for pid, fields in _statuses()
-        if _uid_of(fields) == uid and not fields.get(b"State", b"Z").startswith((b"Z", b"X"))
-    ]
-
-
-def _statuses() -> Iterator[tuple[int, dict[bytes, bytes]]]:
-    """Every process in ``/proc`` with the fields of its ``status`` file (Linux)."""
-    for name in os.listdir("/proc"):
-        if not name.isdigit():
-            continue
-        try:
-            with open(f"/proc/{name}/status", "rb") as handle:
-                status = handle.read()
-        except OSError:
-            continue  # it ended meanwhile
-        lines = status.splitlines()
-        yield int(name), dict(line.split(b":\t", 1) for line in lines if b":\t" in line)
-
-
-def _uid_of(fields: dict[bytes, bytes]) -> int:
-    """The real user id in a ``status`` file's fields (-1 if missing)."""
-    return int(fields.get(b"Uid", b"-1").split()[0])
-
-
-def reap_children() -> None:
-    """Reap this process's ended children, without waiting for any."""
-    while True:
-        try:
-            pid, _status = os.waitpid(-1, os.WNOHANG)
-        except ChildProcessError:
-            return
-        if pid == 0:
-            return
 
 
 # ------------------------------------------------------------------------------- warm jail

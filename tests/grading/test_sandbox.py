@@ -32,6 +32,7 @@ from helpers import HANG_BOUND_S
 
 import roboscript
 from roboscript.grading import sandbox
+from roboscript.grading.processes import live_processes
 from roboscript.grading.sandbox import (
     Isolation,
     Jail,
@@ -954,6 +955,6 @@ def test_as_a_user_of_its_own_a_daemon_and_its_tmp_files_die_with_its_jail(reach
         [sys.executable, "-I", "-c", code], visible=[box], workdir=box, isolation=isolation
     ) as j:
         uid = int(read_until(j, "\n").split()[-1])
-        assert j.user == uid and sandbox._live_processes(uid)
-    assert sandbox._live_processes(uid) == []
+        assert j.user == uid and live_processes(uid)
+    assert live_processes(uid) == []
     assert not Path(f"/tmp/left-by-{uid}").exists()  # nor does what it left in /tmp
