@@ -31,7 +31,7 @@ import pytest
 from helpers import HANG_BOUND_S
 
 import roboscript
-from roboscript.grading import sandbox
+from roboscript.grading import processes, sandbox
 from roboscript.grading.processes import live_processes
 from roboscript.grading.sandbox import (
     Isolation,
@@ -614,10 +614,18 @@ def test_as_root_the_student_is_not_root_and_unreadable_files_are_refused(box: P
 # execute; the module is loaded from its file (the package need not be importable by it).
 UNPRIVILEGED_GRADER = """
 import importlib.util, json, os, sys, time
-spec = importlib.util.spec_from_file_location("sandbox", {module!r})
-sandbox = importlib.util.module_from_spec(spec)
-sys.modules["sandbox"] = sandbox
-spec.loader.exec_module(sandbox)
+
+
+def load(name, path):  # by its file: this interpreter has no roboscript installed
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+load("roboscript.grading.processes", {processes!r})
+sandbox = load("sandbox", {module!r})
 iso = sandbox.detect_isolation()
 code = '''
 import ctypes, os, socket, time  # {marker}
@@ -691,6 +699,7 @@ def test_a_grader_run_by_an_ordinary_user_gets_the_same_isolation() -> None:
             listener.listen()
             script = UNPRIVILEGED_GRADER.format(
                 module=sandbox.__file__,
+                processes=processes.__file__,
                 marker=marker,
                 folder=folder,
                 port=listener.getsockname()[1],
