@@ -93,8 +93,6 @@ def warm_up(robot: str = "") -> None:
     """
     import importlib.readers  # noqa: F401 - lists the built-in worlds a mission may name
 
-    import serial.urlhandler  # noqa: F401 - where opening the run's port looks first
-
     # warmed in the fork server before any run, not when this module is imported
     import roboscript.mission
     import roboscript.mission.python_loader

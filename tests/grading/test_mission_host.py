@@ -100,8 +100,10 @@ def test_a_run_forked_from_a_warm_jail_imports_nothing_once_its_mission_loaded(
     report = grade_class(find_specs([str(spec)]), find_submissions([str(student.parent)]), jobs=1)
     assert report.passed
     # The run machinery, the port and the robot's codec: all imported by the jail's server.
+    # (pyserial's own handler package, where it looks first for any URL, is transport's to
+    # import, and it holds nothing but its name.)
     seen = re.findall(r"IMPORTED SINCE LOADING (\[.*\])", report.results[0].debug)
-    assert seen and json.loads(seen[0].replace("'", '"')) == []
+    assert seen and set(json.loads(seen[0].replace("'", '"'))) <= {"serial.urlhandler"}
 
 
 LOADS_BOTH_KINDS = """\
