@@ -97,7 +97,9 @@ def test_a_run_forked_from_a_warm_jail_imports_nothing_once_its_mission_loaded(
     student = tmp_path / "class" / "ivy.py"
     student.parent.mkdir()
     student.write_text(SAYS_WHAT_ITS_RUN_IMPORTED, encoding="utf-8")
-    report = grade_class(find_specs([str(spec)]), find_submissions([str(student.parent)]), jobs=1)
+    report = grade_class(
+        find_specs([str(spec)]), find_submissions([str(student.parent)]).submissions, jobs=1
+    )
     assert report.passed
     # The run machinery, the port and the robot's codec: all imported by the jail's server.
     # (pyserial's own handler package, where it looks first for any URL, is transport's to

@@ -332,7 +332,9 @@ def test_a_students_runs_cost_one_worker_and_one_jail_per_kind_of_run(
         return real_start(context, batch, *args)
 
     monkeypatch.setattr(pool, "_start", counting)
-    report = grade_class(find_specs([str(spec)]), find_submissions([str(folder)]), jobs=2)
+    report = grade_class(
+        find_specs([str(spec)]), find_submissions([str(folder)]).submissions, jobs=2
+    )
     assert report.passed
     assert sorted(started) == [("ann", 1), ("ann", 3), ("bob", 1), ("bob", 3)]
     lines = workers_log.read_text(encoding="utf-8").splitlines()
@@ -354,7 +356,9 @@ def test_a_mission_that_fails_to_load_costs_one_run_whatever_the_workers(
     folder.mkdir()
     (folder / "ann.py").write_text(IDLES, encoding="utf-8")
     (folder / "zed.py").write_text(CRASHES_LOADING, encoding="utf-8")
-    report = grade_class(find_specs([str(spec)]), find_submissions([str(folder)]), jobs=jobs)
+    report = grade_class(
+        find_specs([str(spec)]), find_submissions([str(folder)]).submissions, jobs=jobs
+    )
     lines = workers_log.read_text(encoding="utf-8").splitlines()
     assert [line for line in lines if "zed" in line] == ["jail zed visible", "run zed 0"]
     assert sorted(line for line in lines if line.startswith("run ann")) == [
