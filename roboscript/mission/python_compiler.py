@@ -210,7 +210,7 @@ class _Instances:
                 mission = self._cls()
             except (LinkError, StudentCodeError):
                 raise
-            except Exception as exc:
+            except (Exception, SystemExit) as exc:  # exit() ends the run, not the program
                 raise StudentCodeError(f"mission class {self._cls.__name__}", exc) from exc
             mission._bind(env, self._state_names)
             with contextlib.suppress(TypeError):  # unhashable runners use the last slot
@@ -248,7 +248,7 @@ class MethodGuard:
             value = self._read(mission)
         except (LinkError, StudentCodeError):
             raise
-        except Exception as exc:
+        except (Exception, SystemExit) as exc:  # exit() ends the run, not the program
             raise StudentCodeError(f"condition '{self.source}'", exc) from exc
         if value is None:
             raise StudentCodeError(

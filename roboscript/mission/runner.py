@@ -416,7 +416,7 @@ class MissionRunner(GuardEnv):
             with logging_to(self.channels):
                 self._tick(now_s, dt_s)
                 self._plot()
-        except Exception as exc:
+        except (Exception, SystemExit) as exc:  # a student's exit() ends the run, not the program
             reason = student_fault(exc, self.state)
             if reason is None:
                 raise

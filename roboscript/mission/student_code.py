@@ -191,10 +191,13 @@ class StudentCodeError(RoboscriptError, RuntimeError):
     def reason(self, state: str | None) -> str:
         """The one sentence a student reads, naming the state when it is known."""
         did = self.problem or f"raised {type(self.error).__name__}"
+        detail = str(self.error) if self.error is not None and self.problem is None else ""
+        if isinstance(self.error, SystemExit) and self.problem is None:
+            did = "called exit()"
+            detail = "a mission ends by going to a final state, not by ending the program"
         text = f"your {self.what} {did}"
         if state is not None:
             text += f" in state '{state}'"
-        detail = str(self.error) if self.error is not None and self.problem is None else ""
         if detail:
             text += f": {detail}"
         if self.where:

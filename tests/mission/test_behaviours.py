@@ -13,6 +13,7 @@ from roboscript.clock import SimClock
 from roboscript.mission import load_mission
 from roboscript.mission.behaviours import load_behaviour_file
 from roboscript.mission.runner import MissionRunner
+from roboscript.mission.student_code import shown_path
 from roboscript.scheduler import Scheduler
 
 SPIN = '''\
@@ -260,6 +261,17 @@ def test_the_traceback_is_there_with_debug(tmp_path: Path) -> None:
 def test_the_wheels_stop_when_a_behaviour_raises(tmp_path: Path) -> None:
     runner, base = run(write(tmp_path, RAISES_IN_UPDATE))
     assert runner.result.outcome == "failure"
+    assert base.speeds == (0.0, 0.0)
+
+
+def test_a_behaviour_that_calls_exit_fails_the_run_and_stops_the_wheels(tmp_path: Path) -> None:
+    behaviour = RAISES_IN_UPDATE.replace("self.turns = 1 / 0", "raise SystemExit(0)")
+    runner, base = run(write(tmp_path, behaviour))
+    assert runner.result.outcome == "failure"
+    assert runner.result.reason == (
+        "your behaviour 'spin' called exit() in state 'go': a mission ends by going to a final"
+        f" state, not by ending the program ({shown_path(tmp_path / 'spin.py')}:21)"
+    )
     assert base.speeds == (0.0, 0.0)
 
 

@@ -334,6 +334,23 @@ def test_a_guard_method_that_raises_ends_the_mission_in_one_sentence() -> None:
     )
 
 
+def test_a_guard_method_that_calls_exit_ends_the_run_not_the_program() -> None:
+    class Quits(Mission):
+        go = state(Wait(duration_s=5), initial=True, on_done="end", when=[("quits", "end")])
+        end = state(final=True)
+
+        def quits(self) -> bool:
+            raise SystemExit(0)  # what exit() and sys.exit() raise
+
+    runner = run(Quits)
+    assert runner.result.outcome == "failure"
+    line = Quits.quits.__code__.co_firstlineno + 1
+    assert runner.result.reason == (
+        "your condition 'quits' called exit() in state 'go': a mission ends by going to a final"
+        f" state, not by ending the program ({shown_path(__file__)}:{line})"
+    )
+
+
 def test_a_guard_method_without_return_is_a_warning_and_a_failure_when_run() -> None:
     class Forgot(Mission):
         go = state(Wait(duration_s=5), initial=True, on_done="end", when=[("forgot", "end")])
