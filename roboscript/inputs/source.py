@@ -346,6 +346,15 @@ _PYTHON_LINE = re.compile(
 """A line only Python starts so (YAML would read it as text, or refuse it)."""
 
 
+_SIGN_CONTEXTS = (
+    "while scanning a directive",
+    "while scanning an anchor",
+    "while scanning an alias",
+    "while scanning a block scalar",
+)
+"""What PyYAML was reading when a value starts with %, &, *, | or >, signs of its own."""
+
+
 def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, str | None]:
     """A PyYAML syntax error in a beginner's terms: ``(message, where, hint)``."""
     python = _PYTHON_LINE.search(text)
@@ -357,6 +366,7 @@ def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, st
         )
     problem = str(exc.problem or "invalid YAML")
     context = str(exc.context or "")
+    found = problem.rpartition("but found ")[2].strip("'")
     at = _at(exc.problem_mark) if exc.problem_mark else None
     opened = exc.context_mark
     opener = text[opened.index] if opened and opened.index < len(text) else ""
@@ -384,6 +394,9 @@ def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, st
         )
     if opened and context == "while scanning a quoted scalar" and "end of stream" in problem:
         return f"this `{opener}` is never closed", _at(opened), f"close the text with `{opener}`"
+    if problem.startswith("expected <block end>") and found in ("}", "]"):
+        opening = "{" if found == "}" else "["
+        return f"this `{found}` closes a `{opening}` that was never opened", at, "remove it"
     if problem.startswith("expected <block end>"):
         return (
             "this line is indented differently from the lines above it",
@@ -401,6 +414,39 @@ def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, st
             "this line needs a ':' after its key",
             _at(opened),
             "write 'key: value', or indent it as part of the line above",
+        )
+    if problem == "sequence entries are not allowed here" or (
+        problem.startswith("expected the node content") and found == "-"
+    ):
+        return (
+            "'- ' starts a list item, and a list cannot go here",
+            at,
+            "a negative number has no space after its minus: write -90 deg, not - 90 deg",
+        )
+    if problem.startswith("expected the node content") and found == ",":
+        return "a value is missing before this `,`", at, "write a value, or remove the comma"
+    if problem.startswith("expected the node content"):
+        return f"a value is missing before this `{found}`", at, None
+    if problem == "but found another document":
+        return (
+            "this file holds a second document after `---`, and a roboscript file holds one",
+            at,
+            "remove the `---` line and what follows it, or move that to a file of its own",
+        )
+    if problem.startswith("found character") and problem.endswith("cannot start any token"):
+        char = problem.split("'")[1] if problem.count("'") >= 2 else "?"
+        return f"'{char}' cannot start a value in YAML", at, f'put the text in quotes: "{char}..."'
+    if context in _SIGN_CONTEXTS and opener:
+        return (
+            f"'{opener}' at the start of a value is a sign YAML reads, not text",
+            _at(opened),
+            f'put the text in quotes: "{opener}..."',
+        )
+    if problem.startswith("found unknown escape character"):
+        return (
+            'inside "..." a backslash starts an escape such as \\n',
+            (at[0], at[1] - 1) if at else None,  # at the backslash, not the letter after it
+            "write the text in single quotes, 'like\\this', or use / instead of \\",
         )
     if problem.startswith("found undefined alias"):
         name = problem.rpartition(" ")[2].strip("'")

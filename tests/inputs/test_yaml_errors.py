@@ -108,3 +108,52 @@ def test_a_decimal_comma_in_a_flow_mapping_is_caught_before_yaml_splits_it() -> 
     )
     # a list of numbers is a list, and a key after a comma and a space is a key
     assert load_yaml_text("a: [0,2]\nb: {x: 0, 2: y}\n") == {"a": [0, 2], "b": {"x": 0, "2": "y"}}
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        (
+            "do: {rotate: {angle: - 90 deg}}\n",
+            "f.yaml:1:22: error: '- ' starts a list item, and a list cannot go here (a negative"
+            " number has no space after its minus: write -90 deg, not - 90 deg)",
+        ),
+        (
+            "rotate:\n  angle: - 90 deg\n",
+            "f.yaml:2:10: error: '- ' starts a list item, and a list cannot go here (a negative"
+            " number has no space after its minus: write -90 deg, not - 90 deg)",
+        ),
+        (
+            "on: {done: end,, failed: end}\n",
+            "f.yaml:1:16: error: a value is missing before this `,` (write a value, or remove"
+            " the comma)",
+        ),
+        (
+            "mission: a\n---\nmission: b\n",
+            "f.yaml:2:1: error: this file holds a second document after `---`, and a roboscript"
+            " file holds one (remove the `---` line and what follows it, or move that to a file"
+            " of its own)",
+        ),
+        (
+            "mission: @home\n",
+            "f.yaml:1:10: error: '@' cannot start a value in YAML (put the text in quotes:"
+            ' "@...")',
+        ),
+        (
+            "mission: &\n",
+            "f.yaml:1:10: error: '&' at the start of a value is a sign YAML reads, not text (put"
+            ' the text in quotes: "&...")',
+        ),
+        (
+            'path: "C:\\missions"\n',
+            'f.yaml:1:10: error: inside "..." a backslash starts an escape such as \\n (write the'
+            " text in single quotes, 'like\\this', or use / instead of \\)",
+        ),
+        (
+            "do: {drive: {distance: 4 cm}}}\n",
+            "f.yaml:1:30: error: this `}` closes a `{` that was never opened (remove it)",
+        ),
+    ],
+)
+def test_yamls_own_words_never_reach_the_student(text: str, expected: str) -> None:
+    assert str(refused(text)) == expected
