@@ -103,7 +103,7 @@ def test_an_undefined_alias_says_so() -> None:
 
 def test_a_decimal_comma_in_a_flow_mapping_is_caught_before_yaml_splits_it() -> None:
     assert str(refused("do: {drive: {distance: 50 cm, speed: 0,2 m/s}}\n")) == (
-        ("f.yaml:1:38: error: '0,2 m/s' has a decimal comma, which YAML reads as two items"
+        "f.yaml:1:38: error: '0,2 m/s' has a decimal comma, which YAML reads as two items"
         " (use a decimal point: 0.2 m/s)"
     )
     # a list of numbers is a list, and a key after a comma and a space is a key
@@ -111,43 +111,57 @@ def test_a_decimal_comma_in_a_flow_mapping_is_caught_before_yaml_splits_it() -> 
 
 
 @pytest.mark.parametrize(
-    ("text", "expected")),
+    ("text", "expected"),
     [
         (
             "do: {rotate: {angle: - 90 deg}}\n",
-            ("f.yaml:1:22: error: '- ' starts a list item, and a list cannot go here (a negative"
-            " number has no space after its minus: write -90 deg, not - 90 deg)"),
+            (
+                "f.yaml:1:22: error: '- ' starts a list item, and a list cannot go here (a negative"
+                " number has no space after its minus: write -90 deg, not - 90 deg)"
+            ),
         ),
         (
             "rotate:\n  angle: - 90 deg\n",
-            ("f.yaml:2:10: error: '- ' starts a list item, and a list cannot go here (a negative"
-            " number has no space after its minus: write -90 deg, not - 90 deg)"),
+            (
+                "f.yaml:2:10: error: '- ' starts a list item, and a list cannot go here (a negative"
+                " number has no space after its minus: write -90 deg, not - 90 deg)"
+            ),
         ),
         (
             "on: {done: end,, failed: end}\n",
-            ("f.yaml:1:16: error: a value is missing before this `,` (write a value, or remove"
-            " the comma)"),
+            (
+                "f.yaml:1:16: error: a value is missing before this `,` (write a value, or remove"
+                " the comma)"
+            ),
         ),
         (
             "mission: a\n---\nmission: b\n",
-            ("f.yaml:2:1: error: this file holds a second document after `---`, and a roboscript"
-            " file holds one (remove the `---` line and what follows it, or move that to a file"
-            " of its own)"),
+            (
+                "f.yaml:2:1: error: this file holds a second document after `---`, and a roboscript"
+                " file holds one (remove the `---` line and what follows it, or move that to a file"
+                " of its own)"
+            ),
         ),
         (
             "mission: @home\n",
-            ("f.yaml:1:10: error: '@' cannot start a value in YAML (put the text in quotes:"
-            ' "@...")'),
+            (
+                "f.yaml:1:10: error: '@' cannot start a value in YAML (put the text in quotes:"
+                ' "@...")'
+            ),
         ),
         (
             "mission: &\n",
-            ("f.yaml:1:10: error: '&' at the start of a value is a sign YAML reads, not text (put"
-            ' the text in quotes: "&...")'),
+            (
+                "f.yaml:1:10: error: '&' at the start of a value is a sign YAML reads, not text (put"
+                ' the text in quotes: "&...")'
+            ),
         ),
         (
             'path: "C:\\missions"\n',
-            ('f.yaml:1:10: error: inside "..." a backslash starts an escape such as \\n (write the'
-            " text in single quotes, 'like\\this', or use / instead of \\)"),
+            (
+                'f.yaml:1:10: error: inside "..." a backslash starts an escape such as \\n (write the'
+                " text in single quotes, 'like\\this', or use / instead of \\)"
+            ),
         ),
         (
             "do: {drive: {distance: 4 cm}}}\n",
