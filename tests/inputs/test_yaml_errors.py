@@ -152,15 +152,15 @@ def test_a_decimal_comma_in_a_flow_mapping_is_caught_before_yaml_splits_it() -> 
         (
             "mission: &\n",
             (
-                "f.yaml:1:10: error: '&' at the start of a value is a sign YAML reads, not text (put"
-                ' the text in quotes: "&...")'
+                "f.yaml:1:10: error: '&' at the start of a value is a sign YAML reads, not text"
+                ' (put the text in quotes: "&...")'
             ),
         ),
         (
             'path: "C:\\missions"\n',
             (
-                'f.yaml:1:10: error: inside "..." a backslash starts an escape such as \\n (write the'
-                " text in single quotes, 'like\\this', or use / instead of \\)"
+                'f.yaml:1:10: error: inside "..." a backslash starts an escape such as \\n'
+                " (write the text in single quotes, 'like\\this', or use / instead of \\)"
             ),
         ),
         (
