@@ -315,8 +315,33 @@ def _syntax_problem(exc: SyntaxError, path: str | Path) -> MissionError:
         hint = "indent with spaces only: a tab looks like spaces but Python counts it apart"
     elif _YAML_MISSION.match(exc.text or "") and exc.lineno is not None and exc.lineno <= 3:
         hint = "this is a YAML mission: a YAML mission's file name ends in .yaml"
-    return MissionError(message, path=where, line=exc.lineno, col=exc.offset, hint=hint)
+    else:
+        hint = next((h for start, h in _SYNTAX_HINTS if (exc.msg or "").startswith(start)), None)
+    col = exc.offset
+    if type(exc) is IndentationError and exc.text and exc.text.strip():  # a TabError: at the tab
+        col = len(exc.text) - len(exc.text.lstrip()) + 1  # where the line's text starts
+    return MissionError(message, path=where, line=exc.lineno, col=col, hint=hint)
 
+
+_SYNTAX_HINTS = (
+    (
+        "unexpected indent",
+        "this line is indented further than the line above it: line it up with its block",
+    ),
+    (
+        "expected an indented block",
+        "indent the lines that belong to it 4 spaces further than the line ending in ':'",
+    ),
+    (
+        "unindent does not match",
+        "line it up, with spaces, with the lines of the block it belongs to",
+    ),
+    (
+        "expected ':'",
+        "a line starting with class, def, if, elif, else, for or while ends with ':'",
+    ),
+)
+"""Python's words for a beginner's syntax slip, and what to do about it."""
 
 _YAML_MISSION = re.compile(r"\s*(?:mission|states|initial|robot|world)\s*:")
 """The first lines of a YAML mission (saved by mistake with a .py ending)."""
@@ -335,6 +360,15 @@ _MORE_THAN_ONE_ACTION = re.compile(r"^state\(\) takes from 0 to 1 positional arg
 _TOO_MANY_VALUES = re.compile(
     r"^(?:(\w+)\.)?(\w+)\(\) takes (?:from \d+ to )?\d+ positional arguments? but (\d+) were"
 )
+_MODULE_AS_BASE = re.compile(r"^module\(\) takes at most 2 arguments")
+"""What Python says of ``class M(mission):`` when ``mission`` is a module."""
+_MODULE_BASE = re.compile(r"^\s*class\s+(\w+)\s*\(\s*([\w.]+)")
+_OTHER_WORDS = {
+    "Behaviour": ("Action", "a behaviour of your own is a class that extends Action"),
+    "Behavior": ("Action", "a behaviour of your own is a class that extends Action"),
+    "State": ("state", "a state is made with state(...), in lower case"),
+}
+"""Names from the tutorials' words that roboscript spells otherwise: (its name, why)."""
 _CANNOT_IMPORT = re.compile(r"^cannot import name '(\w+)' from '([\w.]+)'")
 
 
@@ -423,6 +457,8 @@ def _explain(
                 " from the top: define it above, or make it a method and name it in quotes:"
                 f" '{name}'"
             )
+        if name in sys.stdlib_module_names:
+            return f"NameError: {text}", f"add 'import {name}' at the top of the file"
         known = [*vars(module), *dir(builtins)]
         # only a close look-alike: "near" is not a misspelt "setattr"
         return f"NameError: {text}", did_you_mean(name, [*known, *_roboscript_names()], cutoff=0.7)
@@ -436,7 +472,22 @@ def _explain(
         match = _CANNOT_IMPORT.match(text)
         if match and match.group(2) == "roboscript":
             name = match.group(1)
-            return f"roboscript has no '{name}' to import", did_you_mean(name, _roboscript_names())
+            other = _OTHER_WORDS.get(name)
+            return f"roboscript has no '{name}' to import", (
+                f"{other[1]}: write from roboscript import {other[0]}"
+                if other is not None
+                else did_you_mean(name, _roboscript_names())
+            )
+    if isinstance(exc, TypeError) and _MODULE_AS_BASE.match(text) and frame is not None:
+        base = _MODULE_BASE.search(linecache.getline(frame.filename, frame.lineno or 0))
+        if base is not None and base.group(2).lower() in ("mission", "action"):
+            cls, meant = base.group(1), base.group(2).capitalize()
+            return f"'{base.group(2)}' is a module of roboscript, not a class to extend", (
+                f"extend {meant}, with a capital {meant[0]}: from roboscript import {meant},"
+                f" then class {cls}({meant}):"
+            )
+        if base is not None:
+            return f"'{base.group(2)}' is a module, not a class to extend", None
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__, None
 
 

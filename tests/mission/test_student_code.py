@@ -238,12 +238,14 @@ LOAD_TIME = [
     ),
     pytest.param(
         "class Turn(Mission)\n    pass\n",
-        "m.py:1:20: error: expected ':'",
+        "m.py:1:20: error: expected ':' (a line starting with class, def, if, elif, else, for"
+        " or while ends with ':')",
         id="syntax-expected",
     ),
     pytest.param(
         "x = 1\n    y = 2\n",
-        "m.py:2:4: error: unexpected indent",
+        "m.py:2:5: error: unexpected indent (this line is indented further than the line above"
+        " it: line it up with its block)",
         id="syntax-unexpected",
     ),
     pytest.param(
@@ -298,6 +300,36 @@ LOAD_TIME = [
         " (if 'wiggle' is a file of yours, it must sit in the same folder as m.py: wiggle.py,"
         " or a folder wiggle/ holding __init__.py)",
         id="package-not-beside-the-mission",
+    ),
+    pytest.param(
+        "from roboscript import mission\n\n\nclass Go(mission):\n    pass\n",
+        "m.py:4:1: error: 'mission' is a module of roboscript, not a class to extend (extend"
+        " Mission, with a capital M: from roboscript import Mission, then class Go(Mission):)",
+        id="lowercase-mission-as-the-base-class",
+    ),
+    pytest.param(
+        "from roboscript import Behaviour\n",
+        "m.py:1:1: error: roboscript has no 'Behaviour' to import (a behaviour of your own is a"
+        " class that extends Action: write from roboscript import Action)",
+        id="a-behaviour-imported-by-the-tutorials-word",
+    ),
+    pytest.param(
+        "angle_deg = math.degrees(1.57)\n",
+        "m.py:1:13: error: NameError: name 'math' is not defined (add 'import math' at the top"
+        " of the file)",
+        id="a-standard-module-used-without-import",
+    ),
+    pytest.param(
+        "def near(self):\nreturn True\n",
+        "m.py:2:1: error: expected an indented block after function definition on line 1"
+        " (indent the lines that belong to it 4 spaces further than the line ending in ':')",
+        id="a-def-without-its-indented-body",
+    ),
+    pytest.param(
+        "def near(self):\n        return 1\n    return 2\n",
+        "m.py:3:5: error: syntax error: unindent does not match any outer indentation level"
+        " (line it up, with spaces, with the lines of the block it belongs to)",
+        id="an-unindent-to-no-block",
     ),
 ]
 
