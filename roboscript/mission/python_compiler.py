@@ -29,6 +29,7 @@ import weakref
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import FunctionType
 from typing import Any
 
 from roboscript import capabilities as cap
@@ -38,11 +39,12 @@ from roboscript.errors import InputError, LinkError, did_you_mean
 from roboscript.inputs.quantities import DIMENSIONS, parse_quantity
 from roboscript.inputs.source import Location
 from roboscript.mission.builder import MissionBuilder
+from roboscript.mission.condition_reads import condition_slips
 from roboscript.mission.guards import GuardEnv, guard_names
 from roboscript.mission.python_api import Mission, StateDef
 from roboscript.mission.python_source import PythonSource, item, keyword
 from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec, TransitionSpec
-from roboscript.mission.student_code import StudentCodeError, shown_path
+from roboscript.mission.student_code import StudentCodeError, is_student_class, shown_path
 
 __all__ = ["MethodGuard", "compile_mission", "mission_states", "nested_missions"]
 
@@ -336,6 +338,7 @@ class _Compiler:
         self.instances = _Instances(cls, self.names)
         self.method_guards: dict[str, MethodGuard] = {}
         self.declared: frozenset[str] = frozenset()  # the class's `requires`
+        self._slipped: set[tuple[str, str]] = set()  # (where, message) said by slips()
 
     def source_of(self, filename: str) -> PythonSource:
         if filename not in self._sources:
@@ -889,6 +892,7 @@ class _Compiler:
                 where_in(unquoted),
                 f"write self.visits('{unquoted.id}')",
             )
+        self.slips(value, set())
         if scan.returns_text is not None:
             self.problem(
                 f"condition method '{name}' returns the text {scan.returns_text.value!r},"
@@ -922,6 +926,38 @@ class _Compiler:
         )
         self.method_guards[name] = guard
         return guard
+
+    def slips(self, func: Callable[..., object], seen: set[str]) -> None:
+        """Say what condition code ``func``, and each method of the mission it calls, reads
+        that is not there (``self.bumpr``, ``bumper`` without ``self.``), once each."""
+        _, node = self.def_of(func)
+        name = getattr(func, "__name__", "")
+        if not isinstance(func, FunctionType) or not isinstance(node, ast.FunctionDef):
+            return
+        if name in seen:
+            return
+        seen.add(name)
+        trees = [
+            self.source_of(_file_of(klass)).tree
+            for klass in self.cls.__mro__
+            if klass not in (Mission, object) and is_student_class(klass)
+        ]
+        source = self.source_of(func.__code__.co_filename)
+        for where, message, hint in condition_slips(self.cls, node, func, trees, _reading_names):
+            loc = source.loc(where)
+            if (str(loc), message) not in self._slipped:
+                self._slipped.add((str(loc), message))
+                self.problem(message, loc, hint)
+        for child in ast.walk(node):
+            if (
+                isinstance(child, ast.Attribute)
+                and isinstance(child.value, ast.Name)
+                and child.value.id == "self"
+                and not hasattr(Mission, child.attr)
+            ):
+                helper = inspect.getattr_static(self.cls, child.attr, None)
+                if inspect.isfunction(helper):
+                    self.slips(helper, seen)
 
     def function_guard(self, func: Callable[..., object], where: Location) -> MethodGuard:
         label = getattr(func, "__name__", "condition")

@@ -554,7 +554,8 @@ class Lesson(Mission):
         ),
         (
             # Another object's visits() is not the mission's.
-            "    def near(self):\n        return self.visits('ned') > other.visits('nowhere')\n",
+            "    def near(self, other=None):\n"
+            "        return self.visits('ned') > other.visits('nowhere')\n",
             "lesson.py:11:28: error: visits('ned'): there is no state 'ned' (did you mean 'end'?)",
         ),
     ],

@@ -1,0 +1,281 @@
+"""What a Python condition method reads that is not there, found before the robot moves.
+
+A condition method runs many times a second once the mission has started; a name it reads
+that does not exist (``self.bumpr``, ``bumper`` without ``self.``, ``self.drive(...)``) would
+end the run with Python's ``AttributeError`` or ``NameError``. :func:`condition_slips` finds
+them in the method's code, so ``roboscript check`` names the line and what to write. It also
+finds calls that cannot work while a mission runs: ``input()`` (nobody types) and ``exit()``
+(a mission ends in a final state, not by ending the program).
+
+Only what is certain is reported: a class that makes attributes at run time (``setattr``,
+``__getattr__``) is not checked for ``self.NAME``.
+"""
+
+from __future__ import annotations
+
+import ast
+import builtins
+import inspect
+import sys
+from collections.abc import Callable, Iterable, Iterator
+from types import FunctionType
+
+from roboscript.errors import did_you_mean
+
+__all__ = ["Slip", "condition_slips"]
+
+Slip = tuple[ast.AST, str, str | None]
+"""Where in the method, what is wrong, and what to write instead."""
+
+_ACTION_WORDS = frozenset(
+    {
+        "backward",
+        "beep",
+        "display",
+        "drive",
+        "forward",
+        "move",
+        "play_tone",
+        "rotate",
+        "servo",
+        "set_led",
+        "stop",
+        "turn",
+        "turn_left",
+        "turn_right",
+        "wait",
+    }
+)
+"""What a student may call on ``self`` believing a condition can make the robot act."""
+
+_ENDS_PROGRAM = frozenset({"exit", "quit", "sys.exit", "os._exit"})
+_NO_KEYBOARD = "input() waits for someone to type, and a running mission has no one at the keyboard"
+_READ_AT_ONCE = "a condition reads the robot and returns at once, e.g. return self.bumper.any"
+_NOT_THE_ROBOT = frozenset({"robot", "world", "name"})
+"""Class attributes of a mission that are text, where a student may look for sensors."""
+
+
+def _final_instead(method: str) -> str:
+    return (
+        "to end the mission, go to a final state when this condition holds:"
+        f" when=[('{method}', 'end')], with end = state(final=\"success\")"
+    )
+
+
+def _walk_own(node: ast.FunctionDef | ast.AsyncFunctionDef) -> Iterator[ast.AST]:
+    """Every node of a function's body, not entering nested functions, lambdas or classes
+    (whose names are their own), nor annotations (which Python never runs in a body). The
+    defaults and decorators are left out too: they run in the class, not in the method."""
+    todo: list[ast.AST] = list(node.body)
+    while todo:
+        child = todo.pop()
+        yield child
+        if isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda | ast.ClassDef):
+            continue
+        if isinstance(child, ast.AnnAssign):
+            todo.extend(part for part in (child.target, child.value) if part is not None)
+            continue
+        todo.extend(ast.iter_child_nodes(child))
+
+
+def _own_names(node: ast.FunctionDef | ast.AsyncFunctionDef) -> set[str]:
+    """Names the method binds itself: arguments, assignments, loop and ``with`` targets,
+    ``except ... as``, imports, nested ``def`` and ``class``, ``global`` and ``nonlocal``."""
+    names = {arg.arg for arg in ast.walk(node.args) if isinstance(arg, ast.arg)}
+    for child in _walk_own(node):
+        if isinstance(child, ast.Name) and isinstance(child.ctx, ast.Store | ast.Del):
+            names.add(child.id)
+        elif isinstance(child, ast.ExceptHandler) and child.name:
+            names.add(child.name)
+        elif isinstance(child, ast.Import | ast.ImportFrom):
+            names.update((a.asname or a.name).split(".")[0] for a in child.names)
+        elif isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
+            names.add(child.name)
+        elif isinstance(child, ast.Global | ast.Nonlocal):
+            names.update(child.names)
+        elif isinstance(child, ast.MatchAs | ast.MatchStar) and child.name:
+            names.add(child.name)
+        elif isinstance(child, ast.MatchMapping) and child.rest:
+            names.add(child.rest)
+    return names
+
+
+def _dynamic(cls: type, trees: Iterable[ast.AST | None]) -> bool:
+    """True when the class may make attributes that its code does not write as ``self.X =``."""
+    if any(
+        "__getattr__" in vars(klass) or "__getattribute__" in vars(klass)
+        for klass in cls.__mro__
+        if klass is not object
+    ):
+        return True
+    for tree in trees:
+        for node in ast.walk(tree) if tree is not None else ():
+            if (
+                isinstance(node, ast.Call)
+                and isinstance(node.func, ast.Name)
+                and node.func.id in ("setattr", "vars")
+            ):
+                return True
+            if isinstance(node, ast.Attribute) and node.attr == "__dict__":
+                return True
+    return False
+
+
+def _stored_on_self(trees: Iterable[ast.AST | None]) -> set[str]:
+    """Every ``X`` the files set as ``self.X = ...`` (or ``+=``, ``for self.X in``...)."""
+    return {
+        node.attr
+        for tree in trees
+        if tree is not None
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Attribute)
+        and isinstance(node.ctx, ast.Store)
+        and isinstance(node.value, ast.Name)
+        and node.value.id == "self"
+    }
+
+
+def _called(node: ast.Call) -> str:
+    """``exit``, ``sys.exit``: the dotted name a call calls, or ``""``."""
+    func = node.func
+    if isinstance(func, ast.Name):
+        return func.id
+    if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name):
+        return f"{func.value.id}.{func.attr}"
+    return ""
+
+
+def condition_slips(
+    cls: type,
+    node: ast.FunctionDef | ast.AsyncFunctionDef,
+    func: FunctionType,
+    trees: Iterable[ast.AST | None],
+    reading_names: Callable[[str], list[str]],
+) -> list[Slip]:
+    """What condition method ``node`` (the code of ``func``, a method of mission ``cls``)
+    reads that is not there, and the calls in it that cannot work while a mission runs.
+
+    Args:
+        cls: The Mission subclass.
+        node: The method's ``def``.
+        func: The method itself (its globals and free names are the ones it sees).
+        trees: The parsed files of ``cls`` and of the student's classes it extends.
+        reading_names: What ``self.SENSOR`` has (``["distance_cm", "distance_mm"]``), or
+            ``[]`` when ``SENSOR`` is no sensor.
+
+    Returns:
+        One ``(node, message, hint)`` per mistake, in the order written.
+    """
+    trees = list(trees)
+    slips: list[Slip] = []
+    own = _own_names(node)
+    seen = set(func.__globals__) | set(dir(builtins)) | set(func.__code__.co_freevars)
+    check_self = not _dynamic(cls, trees)
+    stored = _stored_on_self(trees)
+    public = sorted(
+        {name for klass in cls.__mro__ for name in vars(klass) if not name.startswith("_")}
+    )
+    # self.visits(side), a state named without quotes, is told apart, with its own fix
+    visited = {
+        id(call.args[0])
+        for call in _walk_own(node)
+        if isinstance(call, ast.Call) and _called(call) == "self.visits" and call.args
+    }
+    for child in _walk_own(node):
+        if isinstance(child, ast.Call):
+            called = _called(child)
+            if called == "input":
+                slips.append(
+                    (
+                        child,
+                        _NO_KEYBOARD,
+                        _READ_AT_ONCE,
+                    )
+                )
+            elif called in _ENDS_PROGRAM:
+                slips.append(
+                    (
+                        child,
+                        f"{called}() would end the whole program, not the mission",
+                        _final_instead(node.name),
+                    )
+                )
+        elif (
+            isinstance(child, ast.Name)
+            and isinstance(child.ctx, ast.Load)
+            and child.id not in own
+            and child.id not in seen
+            and id(child) not in visited
+        ):
+            slips.append((child, f"name '{child.id}' is not defined", _name_hint(child.id, cls)))
+        elif isinstance(child, ast.Attribute) and (text := _text_attribute(child, cls)):
+            slips.append(
+                (
+                    child,
+                    f"self.{text} is the name of the mission's {text}, as text",
+                    f"the robot's sensors are read on self: self.{child.attr}"
+                    if reading_names(child.attr)
+                    else None,
+                )
+            )
+        elif (
+            check_self
+            and isinstance(child, ast.Attribute)
+            and isinstance(child.ctx, ast.Load)
+            and isinstance(child.value, ast.Name)
+            and child.value.id == "self"
+            and child.attr not in stored
+            and inspect.getattr_static(cls, child.attr, _MISSING) is _MISSING
+        ):
+            slips.append(
+                (
+                    child,
+                    f"{cls.__name__} has no '{child.attr}'",
+                    _self_hint(child.attr, cls, public, reading_names),
+                )
+            )
+    return sorted(
+        slips, key=lambda slip: (getattr(slip[0], "lineno", 0), getattr(slip[0], "col_offset", 0))
+    )
+
+
+_MISSING = object()
+
+
+def _text_attribute(node: ast.Attribute, cls: type) -> str:
+    """``robot`` for ``self.robot.range``: a mission's text attribute read as if it were the
+    robot; else ``""``."""
+    inner = node.value
+    if (
+        isinstance(inner, ast.Attribute)
+        and isinstance(inner.value, ast.Name)
+        and inner.value.id == "self"
+        and inner.attr in _NOT_THE_ROBOT
+    ):
+        value = inspect.getattr_static(cls, inner.attr, None)
+        if value is None or isinstance(value, str):
+            return inner.attr
+    return ""
+
+
+def _name_hint(name: str, cls: type) -> str | None:
+    if inspect.getattr_static(cls, name, _MISSING) is not _MISSING:
+        return f"inside a method, the mission's own values are read through self: self.{name}"
+    if name in sys.stdlib_module_names:
+        return f"add 'import {name}' at the top of the file"
+    return None
+
+
+def _self_hint(
+    attr: str, cls: type, public: list[str], reading_names: Callable[[str], list[str]]
+) -> str | None:
+    if attr.lower() in _ACTION_WORDS:
+        return (
+            "a condition cannot make the robot act: run the action in a state of its own,"
+            " e.g. turn = state(Rotate(angle_deg=90), ...), and go there when the condition"
+            " holds"
+        )
+    sensors = [name for name in public if attr in reading_names(name)]
+    if sensors:
+        return f"did you mean self.{sensors[0]}.{attr}?"
+    return did_you_mean(attr, public)
