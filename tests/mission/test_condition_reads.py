@@ -127,7 +127,8 @@ def test_a_condition_reading_what_is_not_there_is_refused_at_its_line(
             id="names-the-method-makes-itself",
         ),
         pytest.param(
-            "    def near(self):\n        setattr(self, 'later', 1)\n        return self.later > 0\n",
+            "    def near(self):\n        setattr(self, 'later', 1)\n"
+            "        return self.later > 0\n",
             id="a-class-that-makes-attributes-at-run-time",
         ),
         pytest.param(
