@@ -554,7 +554,7 @@ class Lesson(Mission):
         ),
         (
             # Another object's visits() is not the mission's.
-            "    def near(self, other=None):\n        return self.visits('ned') > other.visits('x')\n",
+            "    def near(self, o=None):\n        return self.visits('ned') > o.visits('x')\n",
             "lesson.py:11:28: error: visits('ned'): there is no state 'ned' (did you mean 'end'?)",
         ),
     ],
