@@ -261,7 +261,9 @@ class _Loader(yaml.SafeLoader):
             if key in result:
                 first = result.key_marks[key][0]
                 raise _RefusedError(
-                    f"'{key}' is given twice (first on line {first})", _mark(key_node)
+                    f"'{key}' is given twice (first on line {first})",
+                    _mark(key_node),
+                    "keep one of the two, or give one of them another name",
                 )
             result[key] = self.construct_object(value_node, deep=True)
             result.key_marks[key] = _mark(key_node)
@@ -423,6 +425,8 @@ def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, st
             at,
             "a negative number has no space after its minus: write -90 deg, not - 90 deg",
         )
+    if found == "<stream end>":
+        return "the file ends where a value was expected", at, "close each `[` and `{` it opens"
     if problem.startswith("expected the node content") and found == ",":
         return "a value is missing before this `,`", at, "write a value, or remove the comma"
     if problem.startswith("expected the node content"):

@@ -511,7 +511,7 @@ class MissionBuilder:
             self.problem(
                 f"the initial state '{value}' is not one of the states",
                 where,
-                did_you_mean(str(value), names),
+                did_you_mean(str(value), names) or f"the states: {', '.join(sorted(names))}",
             )
             return None
         return value

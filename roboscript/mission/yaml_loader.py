@@ -57,6 +57,35 @@ def _first_key(items: YamlList) -> str:
 _LOADING: set[str] = set()  # mission files being loaded, to refuse a file that includes itself
 
 
+_ACTION_WORDS = {
+    "move": "drive",
+    "go": "drive",
+    "forward": "drive",
+    "forwards": "drive",
+    "backward": "drive",
+    "backwards": "drive",
+    "reverse": "drive",
+    "turn_left": "rotate",
+    "turn_right": "rotate",
+    "left": "rotate",
+    "right": "rotate",
+    "beep": "play_tone",
+    "tone": "play_tone",
+    "sound": "play_tone",
+    "play": "play_tone",
+    "buzz": "play_tone",
+    "sleep": "wait",
+    "pause": "wait",
+    "delay": "wait",
+    "halt": "stop",
+    "brake": "stop",
+    "print": "display",
+    "show": "display",
+    "led": "set_led",
+}
+"""Words a beginner writes for an action, and the action that does it."""
+
+
 class _Reader:
     """The YAML front end: reads values and where they were written; the builder does the rest."""
 
@@ -301,6 +330,9 @@ class _Reader:
             params = raw[name]
             if params is None:
                 params = YamlMap.at(params_mark)
+            if name not in self.actions and name not in self.broken:
+                self.problem(f"unknown action '{name}'", name_mark, self.action_meant(name))
+                return None
             if not isinstance(params, YamlMap):
                 known = self.actions.get(name)
                 self.problem(
@@ -324,9 +356,7 @@ class _Reader:
         cls = self.actions.get(name)
         if cls is None:
             if name not in self.broken:  # else its behaviour file's errors say why
-                self.problem(
-                    f"unknown action '{name}'", name_mark, did_you_mean(name, self.actions)
-                )
+                self.problem(f"unknown action '{name}'", name_mark, self.action_meant(name))
             return None
 
         def param_where(param: str, message: str, offset: int | None) -> Location:
@@ -343,6 +373,14 @@ class _Reader:
         )
 
     # ------------------------------------------------------------------------ composites
+
+    def action_meant(self, name: str) -> str:
+        """The hint for an unknown action: a look-alike, the action that does what its word
+        says (``forward``: ``drive``), or the actions there are."""
+        meant = _ACTION_WORDS.get(name.lower())
+        if meant is not None and meant in self.actions:
+            return f"the action for that is '{meant}'"
+        return did_you_mean(name, self.actions) or f"actions: {', '.join(sorted(self.actions))}"
 
     def composite(self, raw: YamlMap, names: frozenset[str], label: str) -> ActionSpec | None:
         kind = next(iter(raw))

@@ -47,7 +47,13 @@ def test_only_true_and_false_are_booleans() -> None:
 @pytest.mark.parametrize(
     ("text", "expected"),
     [
-        ("a: 1\na: 2\n", "f.yaml:2:1: error: 'a' is given twice (first on line 1)"),
+        (
+            "a: 1\na: 2\n",
+            (
+                "f.yaml:2:1: error: 'a' is given twice (first on line 1) (keep one of the two, or"
+                " give one of them another name)"
+            ),
+        ),
         ("a: !!python/object:os.system x\n", "f.yaml:1:4: error: tag"),
         ("a: [1, 2\n", "f.yaml:1:4: error: this `[` is never closed"),
         ("a: 1\x07\n", "f.yaml:1:5: error: the file contains a character YAML does not allow"),

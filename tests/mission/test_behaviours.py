@@ -394,7 +394,11 @@ def test_two_files_with_the_same_behaviour_name_say_where_the_other_is(tmp_path:
     path = write(tmp_path, mission=TWO_FILES)
     assert [m.replace(str(tmp_path / "twirl.py"), "T") for m in messages(path)] == [
         "T:4:1: error: two behaviours are called 'spin' (the other is in B)",
-        "M:9:10: error: unknown action 'twirl'",
+        (
+            "M:9:10: error: unknown action 'twirl' (actions: display, drive, follow_line,"
+            " follow_wall, motor, play_tone, rotate, servo, set_led, spin, stop, turn, wait,"
+            " wait_until, walk)"
+        ),
     ]
 
 

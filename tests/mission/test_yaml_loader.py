@@ -147,7 +147,10 @@ def test_valid_mission_loads_with_units_converted(write_mission: Callable[..., P
         ),
         (
             "states:\n  a:\n    final: success\n  a:\n    final: failure\n",
-            "M:4:3: error: 'a' is given twice (first on line 2)",
+            (
+                "M:4:3: error: 'a' is given twice (first on line 2) (keep one of the two, or give"
+                " one of them another name)"
+            ),
         ),
         (
             "states:\n  a: {final: success\n",
@@ -1002,7 +1005,10 @@ MISTAKES = [
             "bad.yaml": ("states: [\n"),
         },
         [
-            "bad.yaml:2:1: error: expected the node content, but found '<stream end>'",
+            (
+                "bad.yaml:2:1: error: the file ends where a value was expected (close each `[` and"
+                " `{` it opens)"
+            ),
         ],
         id="mission_file_not_yaml",
     ),
@@ -1399,7 +1405,8 @@ def test_mission_text_that_is_not_yaml_is_a_mission_error() -> None:
     with pytest.raises(MissionError) as info:
         parse_yaml_mission("states: [\n", "m.yaml")
     assert info.value.format() == (
-        "m.yaml:2:1: error: expected the node content, but found '<stream end>'"
+        "m.yaml:2:1: error: the file ends where a value was expected (close each `[` and `{`"
+        " it opens)"
     )
 
 
@@ -1523,3 +1530,49 @@ def test_an_actions_settings_written_as_one_value_are_shown_as_a_mapping_with_th
         ),
         "checked 3 files: 3 with errors",
     ]
+
+
+@pytest.mark.parametrize(
+    ("written", "expected"),
+    [
+        pytest.param(
+            "{forward: {distance: 40 cm}}",
+            "m.yaml:3:10: error: unknown action 'forward' (the action for that is 'drive')",
+            id="a-word-for-an-action",
+        ),
+        pytest.param(
+            "{forward: 40 cm}",
+            "m.yaml:3:10: error: unknown action 'forward' (the action for that is 'drive')",
+            id="a-word-for-an-action-with-its-value-alone",
+        ),
+        pytest.param(
+            "{beep: {frequency: 440 Hz}}",
+            "m.yaml:3:10: error: unknown action 'beep' (the action for that is 'play_tone')",
+            id="beep",
+        ),
+        pytest.param(
+            "{fly: {height: 2 m}}",
+            "m.yaml:3:10: error: unknown action 'fly' (actions: display, drive, follow_line,"
+            " follow_wall, motor, play_tone, rotate, servo, set_led, stop, turn, wait,"
+            " wait_until, walk)",
+            id="nothing-like-an-action",
+        ),
+    ],
+)
+def test_an_unknown_action_names_the_action_meant_or_the_actions_there_are(
+    written: str, expected: str
+) -> None:
+    with pytest.raises(MissionError) as info:
+        parse_yaml_mission(
+            SHORT.replace("{play_tone: {frequency: 440 Hz, duration: 1 s}}", written), "m.yaml"
+        )
+    assert info.value.format() == expected
+
+
+def test_an_initial_state_like_none_of_the_states_lists_them() -> None:
+    with pytest.raises(MissionError) as info:
+        parse_yaml_mission("initial: start\n" + SHORT, "m.yaml")
+    assert info.value.format() == (
+        "m.yaml:1:10: error: the initial state 'start' is not one of the states (the states:"
+        " end, go)"
+    )
