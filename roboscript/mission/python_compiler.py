@@ -624,9 +624,31 @@ class _Compiler:
             return None
         if isinstance(action, Repeat | Parallel):
             return self.composite(name, action, node, where)
-        if not isinstance(action, Action):
+        if isinstance(action, list | tuple) and len(action) == 1:
             self.problem(
-                f"state '{name}' does {action!r}, which is not an action",
+                f"state '{name}' is given its action in a list, and a state runs one action",
+                where,
+                "take away the [ ] around it: state("
+                + (
+                    ast.unparse(node.elts[0])
+                    if isinstance(node, ast.List | ast.Tuple) and len(node.elts) == 1
+                    else "Drive(distance_mm=300)"
+                )
+                + ", ...)",
+            )
+            return None
+        if isinstance(action, list | tuple):
+            self.problem(
+                f"state '{name}' is given {len(action)} actions in a list, and a state runs one",
+                where,
+                "to do them one after another, give each its own state and go on with"
+                ' on_done="NEXT"; to do them at the same time, write state(Parallel([...]), ...)',
+            )
+            return None
+        if not isinstance(action, Action):
+            shown = repr(action) if " at 0x" not in repr(action) else type(action).__name__
+            self.problem(
+                f"state '{name}' does {shown}, which is not an action",
                 where,
                 "use an action such as Drive(distance_mm=300)",
             )
@@ -772,6 +794,18 @@ class _Compiler:
                 if definition is value:
                     return name
             self.problem(f"{value!r} is not a state of {self.cls.__name__}", where)
+            return None
+        if (
+            isinstance(value, str)
+            and value not in self.names
+            and inspect.isfunction(inspect.getattr_static(self.cls, value, None))
+        ):
+            self.problem(
+                f"'{value}' is a condition method, not a state",
+                where,
+                "a choice made by a condition is a tuple of the condition and the state it goes"
+                f" to: ('{value}', 'STATE')",
+            )
             return None
         return self.build.target(value, self.names, where)
 
@@ -959,9 +993,21 @@ class _Compiler:
                 if inspect.isfunction(helper):
                     self.slips(helper, seen)
 
-    def function_guard(self, func: Callable[..., object], where: Location) -> MethodGuard:
+    def function_guard(self, func: Callable[..., object], where: Location) -> MethodGuard | None:
         label = getattr(func, "__name__", "condition")
         label = "lambda" if label == "<lambda>" else label
+        try:
+            inspect.signature(func).bind(None)
+        except TypeError:
+            self.problem(
+                f"the condition {label} is called with the mission, and does not take it",
+                where,
+                "write the condition as a method, def near(self) -> bool: ..., and name it in"
+                " quotes: when=[('near', 'STATE')]",
+            )
+            return None
+        except ValueError:
+            pass  # a built-in whose signature Python does not know: it is called as written
         return MethodGuard(
             source=label,
             _read=func,

@@ -800,3 +800,50 @@ class Lesson(Mission):
     # no problem: a colour's name is text, and a name the method sets holds its own value
     spec, _ = compiled(tmp_path, body)
     assert [option.guard_text for option in spec.states["go"].when] == ["on_tape", "off_red"]
+
+
+@pytest.mark.parametrize(
+    ("body", "expected"),
+    [
+        pytest.param(
+            "class Lesson(Mission):\n"
+            '    go = state([Drive(distance_mm=250)], initial=True, on_done="end")\n'
+            '    end = state(final="success")\n',
+            "lesson.py:7:16: error: state 'go' is given its action in a list, and a state runs"
+            " one action (take away the [ ] around it: state(Drive(distance_mm=250), ...))",
+            id="one-action-in-a-list",
+        ),
+        pytest.param(
+            "class Lesson(Mission):\n"
+            "    go = state([Drive(distance_mm=250), Wait(duration_s=1)], initial=True,"
+            ' on_done="end")\n'
+            '    end = state(final="success")\n',
+            "lesson.py:7:16: error: state 'go' is given 2 actions in a list, and a state runs one"
+            ' (to do them one after another, give each its own state and go on with on_done="NEXT";'
+            " to do them at the same time, write state(Parallel([...]), ...))",
+            id="two-actions-in-a-list",
+        ),
+        pytest.param(
+            "class Lesson(Mission):\n"
+            '    go = state(Wait(duration_s=1), initial=True, on_done=["far", "end"])\n'
+            '    end = state(final="success")\n\n'
+            "    def far(self) -> bool:\n        return self.elapsed > 1\n",
+            "lesson.py:7:59: error: 'far' is a condition method, not a state (a choice made by a"
+            " condition is a tuple of the condition and the state it goes to: ('far', 'STATE'))",
+            id="a-condition-where-a-state-goes",
+        ),
+        pytest.param(
+            "class Lesson(Mission):\n"
+            '    go = state(Wait(duration_s=1), initial=True, when=[(lambda: True, "end")])\n'
+            '    end = state(final="success")\n',
+            "lesson.py:7:57: error: the condition lambda is called with the mission, and does not"
+            " take it (write the condition as a method, def near(self) -> bool: ..., and name it"
+            " in quotes: when=[('near', 'STATE')])",
+            id="a-lambda-without-the-mission",
+        ),
+    ],
+)
+def test_a_state_given_what_it_cannot_use_says_what_to_write(
+    tmp_path: Path, body: str, expected: str
+) -> None:
+    assert problems(tmp_path, body) == [expected]
