@@ -272,6 +272,15 @@ class _Compiler:
             offset = node.end_col_offset - len(node.attr)  # point at the misspelt part
         return GuardError(message, self._source_offset(offset), hint)
 
+    def _is_meant(self, node: ast.Compare) -> str:
+        """What ``bumper.any is True`` (or ``is not``, ``is False``) means, as a condition."""
+        left = self.source[node.col_offset : node.left.end_col_offset or node.col_offset]
+        right = node.comparators[0]
+        if len(node.ops) == 1 and isinstance(right, ast.Constant) and isinstance(right.value, bool):
+            holds = right.value != isinstance(node.ops[0], ast.IsNot)
+            return f"a switch is true or false by itself: write {'' if holds else 'not '}{left}"
+        return "compare numbers with == or !="
+
     def _source_offset(self, offset: int) -> int:
         return max(0, offset)
 
@@ -380,7 +389,17 @@ class _Compiler:
                 if not isinstance(value, bool):
                     self.check_number(value, node)
                 return lambda env: value
-            raise self.fail("a condition compares numbers, not text", node)
+            end = node.end_col_offset or node.col_offset
+            quoted = self.source[node.col_offset : end]  # as written: "20 cm" was rewritten
+            number = quoted.strip("'\"").strip()
+            unquoted = self.source[: node.col_offset] + number + self.source[end:]
+            raise self.fail(
+                "a condition compares numbers, not text",
+                node,
+                f"write the number without quotes: {unquoted.strip()}"
+                if _NUMBER_WITH_UNIT.fullmatch(number) or re.fullmatch(r"-?\d+(\.\d*)?", number)
+                else None,
+            )
         if isinstance(node, ast.Name | ast.Attribute):
             reader, _ = self.name(node)
             return reader
@@ -459,6 +478,13 @@ class _Compiler:
         ops = []
         for op in node.ops:
             func = _COMPARE.get(type(op))
+            if func is None and isinstance(op, ast.Is | ast.IsNot):
+                raise self.fail(
+                    f"'{'is not' if isinstance(op, ast.IsNot) else 'is'}' is not a comparison"
+                    " in a condition",
+                    node,
+                    self._is_meant(node),
+                )
             if func is None:
                 raise self.fail("use < <= > >= == or != to compare", node)
             ops.append(func)
@@ -584,6 +610,26 @@ _MISTAKES: tuple[tuple[re.Pattern[str], str, str], ...] = (
         "write '==' to compare: {fixed}",
     ),
     (
+        re.compile(r"\b(?:is\s+)?(?:less|smaller|lower|fewer)\s+than\b"),
+        "'{found}' is written '<' in a condition",
+        "write {fixed}",
+    ),
+    (
+        re.compile(r"\b(?:is\s+)?(?:greater|more|bigger|higher|larger)\s+than\b"),
+        "'{found}' is written '>' in a condition",
+        "write {fixed}",
+    ),
+    (
+        re.compile(r"\b(?:is\s+equal\s+to|equals)\b"),
+        "'{found}' is written '==' in a condition",
+        "write {fixed}",
+    ),
+    (
+        re.compile(r"\b(?:and|or|not)\s*$"),
+        "'{found}' at its end needs a condition after it",
+        "finish it, or take away the last word",
+    ),
+    (
         re.compile(r"\d,\d"),
         "a decimal comma in a condition",
         "write decimals with a point: {fixed}",
@@ -598,6 +644,9 @@ _MISTAKES: tuple[tuple[re.Pattern[str], str, str], ...] = (
     ),
 )
 _FIXES = {"&&": " and ", "||": " or ", "!": "not ", "=<": "<=", "=>": ">=", "=": "=="}
+_COMPARISON_WORDS = {"less": "<", "smaller": "<", "lower": "<", "fewer": "<", "greater": ">"}
+_COMPARISON_WORDS.update(dict.fromkeys(("more", "bigger", "higher", "larger"), ">"))
+_COMPARISON_WORDS.update(dict.fromkeys(("equal", "equals"), "=="))
 _FIXES.update(dict.fromkeys("\u201c\u201d\u2018\u2019", ""))
 
 
@@ -608,8 +657,11 @@ def _syntax_mistake(source: str) -> GuardError | None:
         if match is None:
             continue
         found = match.group(match.lastindex or 0).strip()
+        words = [_COMPARISON_WORDS[w] for w in found.split() if w in _COMPARISON_WORDS]
         if found in _FIXES:
             fixed = re.sub(r"\s+", " ", pattern.sub(_FIXES[found], source)).strip()
+        elif words:
+            fixed = re.sub(r"\s+", " ", pattern.sub(words[0], source)).strip()
         else:
             fixed = source.replace(match.group(0), match.group(0).replace(",", "."))
         offset = match.start(match.lastindex or 0)

@@ -48,6 +48,30 @@ from roboscript.mission.guards import GuardEnv, GuardError, compile_guard
             "write decimals with a point: range.distance_cm < 0.5",
         ),
         (
+            "range.distance_cm less than 20",
+            18,
+            "'less than' is written '<' in a condition",
+            "write range.distance_cm < 20",
+        ),
+        (
+            "range.distance_cm is greater than 20",
+            18,
+            "'is greater than' is written '>' in a condition",
+            "write range.distance_cm > 20",
+        ),
+        (
+            "elapsed equals 3",
+            8,
+            "'equals' is written '==' in a condition",
+            "write elapsed == 3",
+        ),
+        (
+            "bumper.left and bumper.right or",
+            29,
+            "'or' at its end needs a condition after it",
+            "finish it, or take away the last word",
+        ),
+        (
             "range.distance_cm < 20 kg",
             23,
             "'kg' is not a unit a condition knows",
@@ -161,3 +185,36 @@ def test_a_unit_beside_a_value_without_one_is_refused_at_the_number(
     )
     assert caught.value.offset == offset
     assert caught.value.hint == "write the number without a unit"
+
+
+@pytest.mark.parametrize(
+    ("source", "message", "hint"),
+    [
+        (
+            "bumper.any is True",
+            "'is' is not a comparison in a condition",
+            "a switch is true or false by itself: write bumper.any",
+        ),
+        (
+            "bumper.any is not True",
+            "'is not' is not a comparison in a condition",
+            "a switch is true or false by itself: write not bumper.any",
+        ),
+        (
+            "bumper.left is False",
+            "'is' is not a comparison in a condition",
+            "a switch is true or false by itself: write not bumper.left",
+        ),
+        (
+            "range.distance_cm < '20 cm'",
+            "a condition compares numbers, not text",
+            "write the number without quotes: range.distance_cm < 20 cm",
+        ),
+    ],
+)
+def test_python_and_text_forms_say_how_a_condition_writes_them(
+    source: str, message: str, hint: str
+) -> None:
+    with pytest.raises(GuardError) as caught:
+        compile_guard(source)
+    assert (str(caught.value), caught.value.hint) == (message, hint)

@@ -138,7 +138,12 @@ NAMES_HINT = (
             10,
             "compare with a number a sensor can read, e.g. range.distance_cm < 20",
         ),
-        ("elapsed is 3", "use < <= > >= == or != to compare", 0, None),
+        (
+            "elapsed is 3",
+            "'is' is not a comparison in a condition",
+            0,
+            "compare numbers with == or !=",
+        ),
         (
             "elapsed > 1 and 2 cm",
             "a number with a unit must be compared with a sensor value",
@@ -195,7 +200,12 @@ NAMES_HINT = (
         ("elapsd > 1", "unknown name 'elapsd' in a condition", 0, "did you mean 'elapsed'?"),
         ("zzzzqqq", "unknown name 'zzzzqqq' in a condition", 0, NAMES_HINT),
         ("visit.first > 1", "unknown name 'visit' in a condition", 0, "did you mean 'visits'?"),
-        ("elapsed > 1 and elapsed is 3", "use < <= > >= == or != to compare", 16, None),
+        (
+            "elapsed > 1 and elapsed is 3",
+            "'is' is not a comparison in a condition",
+            16,
+            "compare numbers with == or !=",
+        ),
         ("elapsed > > 1", "cannot read the condition 'elapsed > > 1'", 10, None),
         ("elapsed > 1 and elapsed % 2 > 0", "only + - * / are allowed in a condition", 16, None),
         ("elapsed > 1 and (elapsed, state_time)", "a condition has no ','", 16, None),
