@@ -492,10 +492,16 @@ class _Reader:
             return None
         self.unknown_keys(item, _CHOICE_KEYS, "a choice")
         if "goto" not in item:
+            # `then: stuck`, `next: stuck`: the state written under another key
+            written = [
+                v
+                for k, v in item.items()
+                if k not in _CHOICE_KEYS and isinstance(v, str) and v in names
+            ]
             self.problem(
                 "this choice needs 'goto', the state it goes to",
                 item.mark,
-                f"write `goto: {_a_state(names)}`",
+                f"write `goto: {written[0] if written else _a_state(names)}`",
             )
             return None
         target = self.build.target(item["goto"], names, self.loc(item.value_mark("goto")))
@@ -525,11 +531,20 @@ class _Reader:
     ) -> dict[str, tuple[TransitionSpec, ...]]:
         if not isinstance(raw, YamlMap):
             self.problem(
-                "'on' maps outcomes to states, e.g. on: {done: next, timeout: stuck}", mark
+                "'on' maps outcomes to states, e.g. on: {done: next, timeout: stuck}",
+                mark,
+                f"write on: {{done: {raw}}}" if isinstance(raw, str) and raw in names else None,
             )
             return {}
         result: dict[str, tuple[TransitionSpec, ...]] = {}
         for outcome, value in raw.items():
+            if outcome not in OUTCOMES and outcome.partition(":")[0] in OUTCOMES:
+                self.problem(
+                    f"'{outcome}' needs a space after its ':' (else YAML reads it as one word)",
+                    raw.key_mark(outcome),
+                    f"write {outcome.replace(':', ': ', 1)}",
+                )
+                continue
             if outcome not in OUTCOMES:
                 self.problem(
                     f"unknown outcome '{outcome}' (outcomes: {', '.join(OUTCOMES)})",
@@ -550,7 +565,11 @@ class _Reader:
 
     def when(self, raw: Any, mark: Mark, names: frozenset[str]) -> tuple[TransitionSpec, ...]:
         if not isinstance(raw, YamlList):
-            entry = _choice(raw.get("if") if isinstance(raw, YamlMap) else raw, names)
+            entry = (
+                _choice(raw.get("if"), names, raw.get("goto"))
+                if isinstance(raw, YamlMap)
+                else _choice(raw, names)
+            )
             self.problem(
                 "'when' is a list of choices, each a condition and the state it goes to",
                 mark,
@@ -585,10 +604,10 @@ def _a_state(names: frozenset[str]) -> str:
     return "end" if "end" in names or not names else min(names)
 
 
-def _choice(condition: Any, names: frozenset[str]) -> str:
+def _choice(condition: Any, names: frozenset[str], goto: Any = None) -> str:
     """A ``when`` choice to copy, with the condition written if it is one (``bumper.any``), or
-    going to the state written if it is one."""
-    target = _a_state(names)
+    going to the state written if it is one (``goto``, or ``condition`` if it names one)."""
+    target = goto if isinstance(goto, str) and goto in names else _a_state(names)
     if isinstance(condition, str) and condition.strip() in names:
         condition, target = None, condition.strip()
     if not isinstance(condition, str) or not condition.strip():

@@ -582,7 +582,7 @@ MISTAKES = [
         [
             (
                 "m.yaml:4:9: error: 'on' maps outcomes to states, e.g. on: {done: next,"
-                " timeout: stuck}"
+                " timeout: stuck} (write on: {done: end})"
             ),
         ],
         id="on_not_a_mapping",
@@ -1576,3 +1576,46 @@ def test_an_initial_state_like_none_of_the_states_lists_them() -> None:
         "m.yaml:1:10: error: the initial state 'start' is not one of the states (the states:"
         " end, go)"
     )
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "expected"),
+    [
+        pytest.param(
+            "on: {done: end, failed: end}",
+            "on: end",
+            "m.yaml:4:9: error: 'on' maps outcomes to states, e.g. on: {done: next, timeout:"
+            " stuck} (write on: {done: end})",
+            id="on-with-a-state-alone",
+        ),
+        pytest.param(
+            "on: {done: end, failed: end}",
+            "on: {done:end}",
+            "m.yaml:4:10: error: 'done:end' needs a space after its ':' (else YAML reads it as"
+            " one word) (write done: end)",
+            id="no-space-after-an-outcomes-colon",
+        ),
+        pytest.param(
+            "on: {done: end, failed: end}",
+            "on: {failed: end}\n    when: {if: bumper.any, goto: end}",
+            "m.yaml:5:11: error: 'when' is a list of choices, each a condition and the state it"
+            " goes to (write `when: [{if: bumper.any, goto: end}]`, one {...} per choice)",
+            id="when-as-one-choice",
+        ),
+        pytest.param(
+            "on: {done: end, failed: end}",
+            "on: {failed: go}\n    when: [{if: elapsed > 1, then: end}]",
+            "m.yaml:5:12: error: this choice needs 'goto', the state it goes to (write `goto:"
+            " end`)",
+            id="then-for-goto",
+        ),
+    ],
+)
+def test_a_transition_written_otherwise_is_answered_with_the_students_own_states(
+    old: str, new: str, expected: str
+) -> None:
+    text = SHORT.replace(old, new)
+    with pytest.raises(MissionError) as info:
+        parse_yaml_mission(text, "m.yaml")
+    problems = [p.format() for p in getattr(info.value, "problems", [info.value])]
+    assert problems[0] == expected
