@@ -49,7 +49,7 @@ from roboscript.errors import (
 )
 from roboscript.mission.guards import guard_names
 from roboscript.mission.key_mistakes import meant_in_state_call
-from roboscript.mission.python_api import LOADED_PREFIX, state
+from roboscript.mission.python_api import LOADED_PREFIX, Mission, state
 from roboscript.watchdog import CodePlace
 
 __all__ = [
@@ -462,6 +462,12 @@ def _explain(
         known = [*vars(module), *dir(builtins)]
         # only a close look-alike: "near" is not a misspelt "setattr"
         return f"NameError: {text}", did_you_mean(name, [*known, *_roboscript_names()], cutoff=0.7)
+    mission = _mission_class(getattr(exc, "obj", None))
+    if isinstance(exc, AttributeError) and mission is not None:
+        return f"a mission has no {exc.name}(), and a mission file does not run itself", (
+            "take this line away, roboscript run runs the file's mission; to run it with python"
+            f' too, write {mission.__name__}.main() under if __name__ == "__main__":'
+        )
     if isinstance(exc, ModuleNotFoundError) and exc.name and "." not in exc.name:
         file = Path(getattr(module, "__file__", None) or f"{kind}.py")
         return f"ModuleNotFoundError: {text}", (
@@ -489,6 +495,12 @@ def _explain(
         if base is not None:
             return f"'{base.group(2)}' is a module, not a class to extend", None
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__, None
+
+
+def _mission_class(value: object) -> type[Mission] | None:
+    """The Mission subclass ``value`` is, or is an object of (``Square().run()``), or None."""
+    cls = value if isinstance(value, type) else type(value)
+    return cls if issubclass(cls, Mission) else None
 
 
 def _call_at(module: ModuleType, frame: traceback.FrameSummary | None) -> ast.Call | None:

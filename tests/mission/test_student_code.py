@@ -308,6 +308,13 @@ LOAD_TIME = [
         id="lowercase-mission-as-the-base-class",
     ),
     pytest.param(
+        "from roboscript import Mission\n\n\nclass Go(Mission):\n    pass\n\n\nGo().run()\n",
+        "m.py:8:1: error: a mission has no run(), and a mission file does not run itself (take"
+        " this line away, roboscript run runs the file's mission; to run it with python too,"
+        ' write Go.main() under if __name__ == "__main__":)',
+        id="a-mission-run-by-its-own-file",
+    ),
+    pytest.param(
         "from roboscript import Behaviour\n",
         "m.py:1:1: error: roboscript has no 'Behaviour' to import (a behaviour of your own is a"
         " class that extends Action: write from roboscript import Action)",
