@@ -36,7 +36,7 @@ from roboscript import capabilities as cap
 from roboscript.actions.base import Action
 from roboscript.actions.composite import Parallel, Repeat
 from roboscript.errors import InputError, LinkError, did_you_mean
-from roboscript.inputs.quantities import DIMENSIONS, parse_quantity
+from roboscript.inputs.quantities import DIMENSIONS, bare_number_warning, parse_quantity
 from roboscript.inputs.source import Location
 from roboscript.mission.builder import MissionBuilder
 from roboscript.mission.condition_reads import condition_slips
@@ -680,6 +680,7 @@ class _Compiler:
             found = keyword(node, kwargs_of.get(param, param)) if param else None
             return self.source.loc(found) if found is not None else where
 
+        self.unnamed_numbers(kind, node)
         return self.build.action(
             kind,
             values,
@@ -690,6 +691,35 @@ class _Compiler:
             instance=template,
             name=action_name,
         )
+
+    def unnamed_numbers(self, kind: type[Action], node: ast.expr | None) -> None:
+        """Warn of a number given without its keyword (``Drive(30)``), where the keyword's
+        unit is unlikely to be the one meant (30 mm, for 30 cm): the unit is in the keyword,
+        and without it nothing shows which unit the number is in."""
+        if not isinstance(node, ast.Call) or not node.args:
+            return
+        try:
+            keywords = list(inspect.signature(kind).parameters)[: len(node.args)]
+        except (TypeError, ValueError):
+            return
+        params = {p.kwarg: p for p in kind.params}
+        for arg, kwarg in zip(node.args, keywords, strict=False):
+            param = params.get(kwarg)
+            value = arg.value if isinstance(arg, ast.Constant) else None
+            if param is None or isinstance(value, bool) or not isinstance(value, int | float):
+                continue
+            note = bare_number_warning(value, param.kind)
+            if note is None or note[1] is None:
+                continue
+            meant = note[1].removeprefix("or did you mean ").rstrip("?")
+            unit = DIMENSIONS[param.kind].base_unit
+            self.problem(
+                f"{value}, given to {kind.__name__} without its name, is taken as {kwarg}={value},"
+                f" {value} {unit}",
+                self.source.loc(arg),
+                f'name it: {kwarg}={value}; for {meant}, write {kwarg}="{meant}"',
+                "warning",
+            )
 
     def composite(
         self, name: str, action: Repeat | Parallel, node: ast.expr | None, where: Location

@@ -847,3 +847,30 @@ def test_a_state_given_what_it_cannot_use_says_what_to_write(
     tmp_path: Path, body: str, expected: str
 ) -> None:
     assert problems(tmp_path, body) == [expected]
+
+
+def test_a_number_without_its_keyword_is_warned_where_another_unit_is_likely(
+    tmp_path: Path,
+) -> None:
+    _, warnings = compiled(
+        tmp_path,
+        "class Lesson(Mission):\n"
+        '    go = state(Drive(30), initial=True, on_done="end", on_failed="end")\n'
+        '    end = state(final="success")\n',
+    )
+    assert warnings == [
+        (
+            "lesson.py:7:22: warning: 30, given to Drive without its name, is taken as"
+            ' distance_mm=30, 30 mm (name it: distance_mm=30; for 30 cm, write distance_mm="30 cm")'
+        )
+    ]
+
+
+def test_a_number_without_its_keyword_in_the_unit_meant_is_no_warning(tmp_path: Path) -> None:
+    _, warnings = compiled(
+        tmp_path,
+        "class Lesson(Mission):\n"
+        '    go = state(Wait(3), initial=True, on_done="end")\n'
+        '    end = state(final="success")\n',
+    )
+    assert warnings == []
