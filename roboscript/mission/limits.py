@@ -111,6 +111,14 @@ def time_problem(label: str, value: float) -> tuple[str, str] | None:
     return None
 
 
+_STILL = {
+    ("drive", "distance"): ("move", "a distance such as '50 cm'", "drives backward"),
+    ("rotate", "angle"): ("turn", "an angle such as '90 deg'", "turns left"),
+}
+"""A ``drive`` or ``rotate`` of zero: what it would not do, an example and what a negative
+value does instead."""
+
+
 def param_problems(
     action: str, params: Sequence[Param], kwargs: Mapping[str, Any], *, built_in: bool
 ) -> list[_Problem]:
@@ -168,6 +176,12 @@ def _one(action: str, param: Param, value: float, built_in: bool) -> tuple[str, 
         )
     if not built_in:
         return None
+    if (action, param.name) in _STILL and value == 0:
+        does, example_value, other_way = _STILL[action, param.name]
+        return (
+            f"{label}: {shown(value, unit)} does not {does} the robot, so '{action}' ends at once",
+            f"write {example_value}; a negative one {other_way}; to stay still, use wait",
+        )
     if kind == "distance" and abs(value) > MAX_DISTANCE_MM:
         return (
             f"{label}: {shown(value, unit)} is farther than any room (at most 100 m)",

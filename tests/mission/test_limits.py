@@ -595,3 +595,34 @@ def test_a_student_default_of_false_is_not_read_as_a_time(
     path = write_mission("behaviours: [nap.py]\n" + ONE_ACTION.replace("ACTION", "{nap: {}}"))
     (path.parent / "nap.py").write_text(nap, encoding="utf-8")
     assert report(path) == []
+
+
+@pytest.mark.parametrize(
+    ("action", "expected"),
+    [
+        (
+            "{drive: {distance: 0 cm}}",
+            (
+                "M:4:28: error: drive distance: 0 mm does not move the robot, so 'drive' ends at"
+                " once (write a distance such as '50 cm'; a negative one drives backward; to stay"
+                " still, use wait)"
+            ),
+        ),
+        (
+            "{rotate: {angle: 0}}",
+            (
+                "M:4:26: error: rotate angle: 0 deg does not turn the robot, so 'rotate' ends at"
+                " once (write an angle such as '90 deg'; a negative one turns left; to stay"
+                " still, use wait)"
+            ),
+        ),
+    ],
+)
+def test_a_drive_or_rotate_of_zero_is_an_error_that_says_it_would_end_at_once(
+    write_mission: Callable[..., Path], action: str, expected: str
+) -> None:
+    assert report(one_action(write_mission, action)) == [expected]
+
+
+def test_a_servo_at_zero_degrees_is_no_mistake(write_mission: Callable[..., Path]) -> None:
+    assert report(one_action(write_mission, "{servo: {angle: 0 deg}}"), "mirto") == []
