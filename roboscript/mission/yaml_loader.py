@@ -57,6 +57,9 @@ def _first_key(items: YamlList) -> str:
 _LOADING: set[str] = set()  # mission files being loaded, to refuse a file that includes itself
 
 
+_STATES_MISSPELT = frozenset({"state", "states", "stats", "sates", "steps", "stages"})
+"""Top-level keys that are ``states:`` misspelt (or in another case), which say so themselves."""
+
 _ACTION_WORDS = {
     "move": "drive",
     "go": "drive",
@@ -148,10 +151,15 @@ class _Reader:
                 f" {_first_key(states_raw)}: rather than - {_first_key(states_raw)}:",
             )
             return None
+        if "states" not in data and any(str(k).lower() in _STATES_MISSPELT for k in data):
+            return None  # the key's own "did you mean 'states'?" says it
         if not isinstance(states_raw, YamlMap) or not states_raw:
             self.problem(
                 "a mission needs 'states:', a mapping of state names to states",
                 data.key_mark("states") if "states" in data else data.mark,
+                None
+                if "states" in data
+                else "write states: and under it, indented, each state, e.g. go: {final: success}",
             )
             return None
         names = frozenset(str(name) for name in states_raw)

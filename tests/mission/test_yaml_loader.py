@@ -1619,3 +1619,21 @@ def test_a_transition_written_otherwise_is_answered_with_the_students_own_states
         parse_yaml_mission(text, "m.yaml")
     problems = [p.format() for p in getattr(info.value, "problems", [info.value])]
     assert problems[0] == expected
+
+
+@pytest.mark.parametrize("key", ["States", "state"])
+def test_states_misspelt_is_told_once_with_the_key_meant(key: str) -> None:
+    with pytest.raises(MissionError) as info:
+        parse_yaml_mission(SHORT.replace("states:", f"{key}:"), "m.yaml")
+    assert [p.format() for p in getattr(info.value, "problems", [info.value])] == [
+        f"m.yaml:1:1: error: unknown key '{key}' in a mission (did you mean 'states'?)"
+    ]
+
+
+def test_a_mission_without_states_says_how_to_write_them() -> None:
+    with pytest.raises(MissionError) as info:
+        parse_yaml_mission("mission: m\ninitial: go\n", "m.yaml")
+    assert info.value.format() == (
+        "m.yaml:1:1: error: a mission needs 'states:', a mapping of state names to states (write"
+        " states: and under it, indented, each state, e.g. go: {final: success})"
+    )
