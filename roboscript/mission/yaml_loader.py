@@ -57,8 +57,8 @@ def _first_key(items: YamlList) -> str:
 _LOADING: set[str] = set()  # mission files being loaded, to refuse a file that includes itself
 
 
-_STATES_MISSPELT = frozenset({"state", "states", "stats", "sates", "steps", "stages"})
-"""Top-level keys that are ``states:`` misspelt (or in another case), which say so themselves."""
+_STATES_MISSPELT = frozenset({"state", "states"})
+"""``States:`` and ``state:``, whose own "did you mean 'states'?" is the whole story."""
 
 _ACTION_WORDS = {
     "move": "drive",

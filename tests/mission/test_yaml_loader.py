@@ -456,7 +456,10 @@ MISTAKES = [
             "m.yaml": ("# a mission\nmission: x\nstatse: 3\n"),
         },
         [
-            "m.yaml:2:1: error: a mission needs 'states:', a mapping of state names to states",
+            (
+                "m.yaml:2:1: error: a mission needs 'states:', a mapping of state names to states"
+                " (write states: and under it, indented, each state, e.g. go: {final: success})"
+            ),
             "m.yaml:3:1: error: unknown key 'statse' in a mission (did you mean 'states'?)",
         ],
         id="no_states_after_comment",
