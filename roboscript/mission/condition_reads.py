@@ -208,6 +208,21 @@ def condition_slips(
             and id(child) not in visited
         ):
             slips.append((child, f"name '{child.id}' is not defined", _name_hint(child.id, cls)))
+        elif (
+            isinstance(child, ast.Attribute)
+            and isinstance(child.ctx, ast.Store)
+            and isinstance(child.value, ast.Name)
+            and child.value.id == "self"
+            and isinstance(prop := inspect.getattr_static(cls, child.attr, None), property)
+            and prop.fset is None
+        ):
+            slips.append(
+                (
+                    child,
+                    f"self.{child.attr} is a value roboscript gives the mission, and cannot be set",
+                    f"keep a value of your own under a name of its own: self.my_{child.attr} = ...",
+                )
+            )
         elif isinstance(child, ast.Attribute) and (text := _text_attribute(child, cls)):
             slips.append(
                 (

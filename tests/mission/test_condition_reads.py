@@ -101,6 +101,12 @@ def check(tmp_path: Path, method: str) -> list[str]:
             "lesson.py:14:16: error: Lesson has no 'rnage' (did you mean 'range'?)",
             id="in-a-method-the-condition-calls",
         ),
+        pytest.param(
+            "    def near(self):\n        self.range = 5\n        return True\n",
+            "lesson.py:11:9: error: self.range is a value roboscript gives the mission, and cannot"
+            " be set (keep a value of your own under a name of its own: self.my_range = ...)",
+            id="a-sensor-set",
+        ),
     ],
 )
 def test_a_condition_reading_what_is_not_there_is_refused_at_its_line(
