@@ -383,6 +383,7 @@ class _Compiler:
             )
             return None
         self.declared = self.requires()
+        self.made_without_values()
         states: dict[str, StateSpec] = {}
         for state_name, definition in self.states.items():
             built = self.state(state_name, definition)
@@ -410,6 +411,26 @@ class _Compiler:
             robot_where=self.attribute_loc("robot"),
             world_where=self.attribute_loc("world"),
         )
+
+    def made_without_values(self) -> None:
+        """Say so of an ``__init__`` that needs values: roboscript makes the mission with
+        none, so it would fail when the first condition runs."""
+        init = inspect.getattr_static(self.cls, "__init__", None)
+        if not inspect.isfunction(init):
+            return
+        needed = [
+            p.name
+            for p in list(inspect.signature(init).parameters.values())[1:]
+            if p.default is p.empty and p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)
+        ]
+        if needed:
+            self.problem(
+                f"{self.cls.__name__}.__init__ needs {', '.join(needed)}, and roboscript makes"
+                " the mission with nothing to give it",
+                self.def_of(init)[0],
+                f"give it a default, def __init__(self, {needed[0]}=...), or set it in the class:"
+                f" {needed[0]} = ...",
+            )
 
     def states_in_methods(self) -> ast.AST | None:
         """The first ``self.NAME = state(...)`` in a method of the class, if any."""

@@ -874,3 +874,19 @@ def test_a_number_without_its_keyword_in_the_unit_meant_is_no_warning(tmp_path: 
         '    end = state(final="success")\n',
     )
     assert warnings == []
+
+
+def test_an_init_that_needs_a_value_is_refused_at_its_def(tmp_path: Path) -> None:
+    assert problems(
+        tmp_path,
+        "class Lesson(Mission):\n"
+        '    go = state(Wait(duration_s=1), initial=True, on_done="end")\n'
+        '    end = state(final="success")\n\n'
+        "    def __init__(self, limit):\n        self.limit = limit\n",
+    ) == [
+        (
+            "lesson.py:10:5: error: Lesson.__init__ needs limit, and roboscript makes the mission"
+            " with nothing to give it (give it a default, def __init__(self, limit=...), or set it"
+            " in the class: limit = ...)"
+        )
+    ]
