@@ -130,7 +130,7 @@ class _Reader:
                 (1, 1),
                 "this file is empty, or holds only comments: is it saved?"
                 if data is None
-                else None,
+                else _not_a_mapping(data),
             )
             return None
         if inner_of is None:
@@ -605,6 +605,15 @@ def _as_mapping(name: str, cls: type[Action], value: Any) -> str:
         if p.required or p is main
     ]
     return f"{{{name}: {{{', '.join(shown)}}}}}"
+
+
+def _not_a_mapping(data: Any) -> str:
+    """What a mission file that is not a mapping holds instead, and how a mission starts."""
+    what = "a list" if isinstance(data, list) else "plain text"
+    return (
+        f"this file holds {what}; a mission starts `mission: NAME`, then `states:` with each"
+        " state indented under it"
+    )
 
 
 def _a_state(names: frozenset[str]) -> str:

@@ -437,10 +437,22 @@ MISTAKES = [
         [
             (
                 "m.yaml:1:1: error: a mission file is a mapping with 'mission:', 'initial:'"
-                " and 'states:'"
+                " and 'states:' (this file holds a list; a mission starts `mission: NAME`, then"
+                " `states:` with each state indented under it)"
             ),
         ],
         id="not_a_mapping",
+    ),
+    pytest.param(
+        {"m.yaml": "drive 30 cm then turn\n"},
+        [
+            (
+                "m.yaml:1:1: error: a mission file is a mapping with 'mission:', 'initial:'"
+                " and 'states:' (this file holds plain text; a mission starts `mission: NAME`,"
+                " then `states:` with each state indented under it)"
+            ),
+        ],
+        id="plain_text",
     ),
     pytest.param(
         {
