@@ -488,6 +488,8 @@ class _Reader:
     def guarded(
         self, item: Any, mark: Mark, names: frozenset[str], need_if: bool
     ) -> TransitionSpec | None:
+        if isinstance(item, int) and not isinstance(item, bool) and str(item) in names:
+            item = str(item)  # a state named by a number (`2:`), gone to as `done: 2`
         if isinstance(item, str) and not need_if:
             target = self.build.target(item, names, self.loc(mark))
             return self.build.transition(target, where=self.loc(mark)) if target else None
@@ -512,7 +514,10 @@ class _Reader:
                 f"write `goto: {written[0] if written else _a_state(names)}`",
             )
             return None
-        target = self.build.target(item["goto"], names, self.loc(item.value_mark("goto")))
+        goto = item["goto"]
+        if isinstance(goto, int) and not isinstance(goto, bool) and str(goto) in names:
+            goto = str(goto)
+        target = self.build.target(goto, names, self.loc(item.value_mark("goto")))
         guard = None
         text = None
         if "if" in item:

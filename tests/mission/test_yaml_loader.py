@@ -1652,3 +1652,13 @@ def test_a_mission_without_states_says_how_to_write_them() -> None:
         "m.yaml:1:1: error: a mission needs 'states:', a mapping of state names to states (write"
         " states: and under it, indented, each state, e.g. go: {final: success})"
     )
+
+
+def test_states_named_by_numbers_are_gone_to_by_their_numbers() -> None:
+    spec, _ = parse_yaml_mission(
+        "states:\n  1:\n    do: {wait: {duration: 1 s}}\n    on: {done: 2}\n"
+        "    when: [{if: elapsed > 5, goto: 2}]\n  2: {final: success}\n",
+        "m.yaml",
+    )
+    assert [t.target for t in spec.states["1"].on["done"]] == ["2"]
+    assert [t.target for t in spec.states["1"].when] == ["2"]
