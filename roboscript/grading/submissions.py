@@ -29,8 +29,9 @@ to look into. Every student's name is cleaned once, here
 What a graded run may read (:func:`visible_files`) follows the same lines: a student who is a
 folder sees that folder; a student who is a file in a folder shared with classmates sees their
 mission and the files of their own that it names: files named after the mission
-(``alice.yaml`` -> ``alice.py``, ``alice_helpers.py``, ``behaviours/alice-turns.py``),
-never a classmate's file, a shared file or an earlier report.
+(``alice.yaml`` -> ``alice.py``, ``alice_helpers.py``, ``behaviours/alice-turns.py``; only
+``.py``, ``.yaml`` and ``.yml`` files), never a classmate's file, a shared file or an earlier
+report, even to a student named ``grades`` beside ``grades.csv``.
 """
 
 from __future__ import annotations
@@ -499,8 +500,11 @@ class _Owners:
 
     A file is a student's when its name is their mission's name, or starts with it followed
     by ``_``, ``-`` or ``.`` (``alice_helpers.py``); when several students' names fit, the
-    longest wins. Students' folders, hidden folders, links and anything not an ordinary file
-    are no one's. Each shared folder is walked once.
+    longest wins. Only mission and behaviour files (:data:`MISSION_SUFFIXES`) are shown to a
+    run: a student named ``grades``, ``results`` or ``index`` must not see an earlier
+    ``grades.csv``, ``results.jsonl`` or class page by their name. Students' folders, hidden
+    folders, links and anything not an ordinary file are no one's. Each shared folder is
+    walked once.
     """
 
     def __init__(self, found: list[_Found]) -> None:
@@ -520,6 +524,7 @@ class _Owners:
             str(path)
             for relative, path in self._files[root]
             if not _hidden(relative)
+            and path.suffix.lower() in MISSION_SUFFIXES
             and path.resolve() not in self._missions
             and _owner(path.name, self._stems.get(root, set())) in stems
         )

@@ -154,3 +154,25 @@ def test_what_is_no_students_work_is_found_with_the_students(tmp_path: Path) -> 
     assert found.unclaimed == ("bo.zip", "notes/")
     # a file or a glob is no class folder: nothing in it is unclaimed
     assert find_submissions([str(tmp_path / "alice.yaml")]).unclaimed == ()
+
+
+def test_a_student_named_after_an_earlier_report_sees_only_their_mission_files(
+    tmp_path: Path,
+) -> None:
+    reports = ["grades.csv", "grades.jsonl", "results.jsonl", "index.html", "index_2.xml"]
+    for name in reports:
+        (tmp_path / name).write_text("student,score\nbea,SECRET\n", encoding="utf-8")
+    naming = " ".join(reports)
+    for student in ("grades", "results", "index"):
+        (tmp_path / f"{student}.yaml").write_text(FORWARD_50CM + f"# {naming}\n")
+    (tmp_path / "grades_turns.py").write_text("TURN_DEG = 90\n", encoding="utf-8")
+    (tmp_path / "grades.yaml").write_text(FORWARD_50CM + f"# {naming} grades_turns.py\n")
+    seen = {
+        s.student: sorted(p.name for p in visible_files(s, s.missions[0]))
+        for s in find_submissions([str(tmp_path)]).submissions
+    }
+    assert seen == {
+        "grades": ["grades.yaml", "grades_turns.py"],
+        "index": ["index.yaml"],
+        "results": ["results.yaml"],
+    }
