@@ -76,15 +76,29 @@ _NAME_UNSAFE = re.compile(
 )
 
 
+# Letters and marks that show as nothing: a name holding one would read, in a table, like a
+# classmate's (``bob`` beside ``bob`` + U+3164). Every format character (Unicode's "Cf": zero-
+# width spaces and joiners, the soft hyphen, the byte-order mark...) is invisible too.
+_BLANKS = frozenset("\u034f\u115f\u1160\u3164\uffa0")
+
+
+def _visible(char: str) -> str:
+    invisible = char in _BLANKS or unicodedata.category(char) == "Cf"
+    return "\ufffd" if invisible else char
+
+
 def clean_name(raw: str) -> str:
     """A student's name made safe for every report: one line, nothing a terminal obeys.
 
-    Control characters (newlines, tabs and escape sequences included), separators and
-    bidirectional controls each become ``�``; the name is stripped of spaces at either end,
-    put in Unicode's composed form (NFC), and cut to :data:`NAME_CHARS`. An empty name
-    becomes ``student``. Cleaning a clean name changes nothing.
+    Control characters (newlines, tabs and escape sequences included), separators,
+    bidirectional controls and characters that show as nothing (zero-width spaces, soft
+    hyphens, joiners) each become ``�``, so no two names that differ look alike; the name is
+    stripped of spaces at either end, put in Unicode's composed form (NFC), and cut to
+    :data:`NAME_CHARS`. An empty name becomes ``student``. Cleaning a clean name changes
+    nothing.
     """
-    text = _NAME_UNSAFE.sub("\ufffd", unicodedata.normalize("NFC", raw)).strip()
+    text = _NAME_UNSAFE.sub("\ufffd", unicodedata.normalize("NFC", raw))
+    text = "".join(map(_visible, text)).strip()
     return cap(text, NAME_CHARS) or "student"
 
 

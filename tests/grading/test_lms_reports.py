@@ -229,3 +229,11 @@ def test_a_20_mb_message_gives_reports_of_bounded_size(tmp_path: Path) -> None:
     assert "(cut: " in (tmp_path / "html" / "runs" / "Quentin--square-50cm--3.html").read_text(
         encoding="utf-8"
     )
+
+
+def test_a_name_that_looks_like_a_classmates_shows_what_tells_it_apart() -> None:
+    for invisible in ("\u200b", "\u00ad", "\u2060", "\ufeff", "\u3164", "\u200d"):
+        assert clean_name(f"bob{invisible}") == "bob\ufffd", repr(invisible)
+        assert clean_name(f"b{invisible}ob") == "b\ufffdob", repr(invisible)
+    assert clean_name("José") == clean_name("Jose\u0301") == "Jos\u00e9"  # one name, composed
+    assert clean_name("Анна 王芳") == "Анна 王芳"
