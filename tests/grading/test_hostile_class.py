@@ -71,7 +71,7 @@ class Forward(Mission):
 """
 
 # Drives like HONEST unless it can read a classmate's helper or the earlier gradebook beside
-# it, in which case it fails with what it read.
+# it, in which case it crashes with what it read.
 SNOOP = """\
 from roboscript import Drive, Mission, state
 
@@ -85,13 +85,17 @@ for name in ("bea_helpers.py", "grades.csv"):
 
 
 class Forward(Mission):
-    go = state(Drive(distance_mm=500, speed_mm_s=200), initial=True, on_done="finished")
+    go = state(Drive(distance_mm=500, speed_mm_s=200), initial=True, on_done="finished",
+               when=[("snooped", "finished")])
     finished = state(final="success")
 
-    def on_start(self):
+    def snooped(self):
         if SEEN:
             raise RuntimeError("SNOOPED " + " ".join(SEEN))
+        return False
 """
+# A student named after the earlier reports beside them, who reads them by their own name.
+GRADES_SNOOP = SNOOP.replace('"bea_helpers.py", "grades.csv"', '"grades.csv", "grades.jsonl"')
 
 IDLE = """\
 from roboscript import Mission, Wait, state
@@ -124,7 +128,7 @@ FORGER = "nl\nforged  forward  ✓ 2 of 2  100%"
 FORMULA = "x;=2+5;"
 NON_LATIN = ("Анна", "王芳")
 # The honest students as every report names them: control characters show as "�".
-HONEST_NAMES = ["ada", "bea", "c01_ana.yaml", "snoop", "leaker", FORMULA, *NON_LATIN]
+HONEST_NAMES = ["ada", "bea", "c01_ana.yaml", "snoop", "grades", "leaker", FORMULA, *NON_LATIN]
 HONEST_NAMES += ["�]0;pwned��[2J�esc", "nl�forged  forward  ✓ 2 of 2  100%"]
 AS_ROOT = os.geteuid() == 0
 ISOLATED = detect_isolation().complete
@@ -141,9 +145,12 @@ def _write(path: Path, text: str | bytes) -> None:
 def _hostile_class(subs: Path) -> None:
     """Build the class folder: honest students beside every hostile file."""
     _write(subs / "ada" / "forward.yaml", HONEST)
+    _write(subs / "ada\u200b" / "forward.py", IDLE)  # looks like ada in a table, but fails
     _write(subs / "bea.yaml", HONEST)
     _write(subs / "bea_helpers.py", "CLASSMATE = 'BEA-SECRET'\n")
     _write(subs / "grades.csv", "student,score\nbea,SECRET-GRADES\n")
+    _write(subs / "grades.jsonl", '{"student": "bea", "status": "SECRET-RESULTS"}\n')
+    _write(subs / "grades.py", GRADES_SNOOP)
     _write(subs / "c01_ana.yaml", HONEST)
     _write(subs / "c01_ana.py", IDLE)  # dropped beside a classmate's mission
     _write(subs / "snoop.py", SNOOP)
@@ -231,6 +238,7 @@ def test_the_whole_class_is_graded_and_every_report_written(graded: dict[str, An
     assert graded["exit"] == 1, graded["stderr"][-3000:]  # some failed: exit 1, no crash
     assert "Traceback" not in graded["stderr"]
     hostile = ["c01_ana.py", "deep", "many", "huge", "latin", "typo", "linker", "dave", "carl"]
+    hostile += ["ada�"]
     hostile += ["piper", "eve", "�bad"] + (["devin"] if AS_ROOT else [])
     assert sorted(_statuses(graded)) == sorted(HONEST_NAMES + hostile)
     assert all(len(statuses) == 2 for statuses in _statuses(graded).values())
@@ -242,6 +250,17 @@ def test_honest_students_pass_beside_every_hostile_file(graded: dict[str, Any]) 
     for name in HONEST_NAMES:
         expected = ["crashed", "passed"] if name == "leaker" else ["passed", "passed"]
         assert statuses[name] == expected, (name, _messages(graded, name))
+
+
+def test_a_name_that_looks_like_a_classmates_is_told_apart_everywhere(
+    graded: dict[str, Any],
+) -> None:
+    statuses = _statuses(graded)
+    assert statuses["ada"] == ["passed", "passed"]
+    assert statuses["ada�"] == ["failed", "failed"]
+    rows = [line.split()[0] for line in graded["stdout"].splitlines() if " forward " in line]
+    assert rows.count("ada") == 1 and rows.count("ada�") == 1
+    assert "\u200b" not in graded["stdout"] + graded["csv"] + graded["junit"]
 
 
 def test_a_mission_beside_a_classmates_with_the_same_name_is_graded_as_what_it_is(
@@ -301,6 +320,11 @@ def test_a_hidden_run_shows_nothing_the_mission_printed_or_raised(graded: dict[s
 @pytest.mark.skipif(not ISOLATED, reason="needs bubblewrap's full isolation")
 def test_a_student_in_a_shared_folder_reads_no_classmates_file(graded: dict[str, Any]) -> None:
     assert _statuses(graded)["snoop"] == ["passed", "passed"], _messages(graded, "snoop")
+
+
+@pytest.mark.skipif(not ISOLATED, reason="needs bubblewrap's full isolation")
+def test_a_student_named_after_an_earlier_report_cannot_read_it(graded: dict[str, Any]) -> None:
+    assert _statuses(graded)["grades"] == ["passed", "passed"], _messages(graded, "grades")
 
 
 def test_no_name_moves_the_terminal_or_forges_a_table_row(graded: dict[str, Any]) -> None:
@@ -386,6 +410,7 @@ def test_a_glob_through_a_link_to_a_classmates_folder_is_refused(tmp_path: Path)
     _write(spec, "test: forward\nworld: empty\n" + FORWARD_50CM_EXPECT)
     subs = tmp_path / "class"
     _write(subs / "ada" / "forward.yaml", HONEST)
+    _write(subs / "ada\u200b" / "forward.py", IDLE)  # looks like ada in a table, but fails
     os.symlink(subs / "ada", subs / "dave")
     command = [
         sys.executable, "-m", "roboscript", "grade", str(spec),
