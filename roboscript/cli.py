@@ -287,6 +287,10 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     if shard is not None and (args.gradescope or args.prairielearn):
         _err("error: --shard splits a class, and a platform's results.json is one submission's")
         return EXIT_INPUT
+    unwritable = _unwritable_report(args)
+    if unwritable:  # said now, not after grading the whole class
+        _err(f"error: {unwritable}")
+        return EXIT_INPUT
     specs = find_specs(args.specs)  # a SpecError prints file:line:col and exits 2
     everyone = _grade_submissions(args, specs)
     submissions = [s for s in everyone if shard is None or shard.holds(s.student)]
@@ -453,9 +457,45 @@ def _write_platform_results(args: argparse.Namespace, results: dict[str, Any]) -
             _err(f"error: cannot write {target}: {write_error.strerror or write_error}")
 
 
+def _unwritable_report(args: argparse.Namespace) -> str:
+    """Why a report asked for cannot be written where asked (one sentence), or ``""``.
+
+    Checked before grading: a mistyped path must not cost the teacher a class's grading. A
+    report's missing folders are made when it is written.
+    """
+    targets = [
+        ("--junit", args.junit, False),
+        ("--csv", args.csv, False),
+        ("--html", args.html, True),
+        ("--gradescope", args.gradescope, False),
+        ("--prairielearn", getattr(args, "prairielearn", None), False),
+        ("--results", getattr(args, "results", None), False),
+    ]
+    named: dict[Path, str] = {}
+    for option, target, _ in targets:
+        if target:
+            other = named.setdefault(Path(target).resolve(), option)
+            if other != option:
+                return f"{other} and {option} both name {target}: one would overwrite the other"
+    for _, target, is_folder in targets:
+        if not target:
+            continue
+        path = Path(target)
+        if path.exists() and path.is_dir() != is_folder:
+            return f"cannot write {target}: it is {'a folder' if path.is_dir() else 'a file'}"
+        existing = path.parent
+        while not existing.exists() and existing != existing.parent:
+            existing = existing.parent
+        if not existing.is_dir():
+            return f"cannot write {target}: {existing} is a file, not a folder"
+        if not os.access(path if path.exists() else existing, os.W_OK):
+            return f"cannot write {target}: {path if path.exists() else existing} is read-only"
+    return ""
+
+
 def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
     """Write --junit, --csv, --html and --gradescope; False (after saying why) if one cannot be
-    written."""
+    written. One that cannot be written does not keep the others from being written."""
     # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.gradebook import write_gradebook
     from roboscript.grading.gradescope import write_gradescope
@@ -470,6 +510,7 @@ def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
         (args.gradescope, write_gradescope),
         (getattr(args, "prairielearn", None), write_prairielearn),
     ]
+    written = True
     for target, write in writers:
         if not target:
             continue
@@ -477,7 +518,9 @@ def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
             write(report, target)
         except OSError as exc:
             _err(f"error: cannot write {target}: {exc.strerror or exc}")
-            return False
+            written = False
+    if not written:
+        return False
     if args.html and not (args.json or args.quiet):
         _err(f"report: {Path(args.html) / 'index.html'} (for the teacher only)")
         _err(f"feedback pages to hand out: {Path(args.html) / 'students'}/ (one per student)")

@@ -75,4 +75,5 @@ def gradebook_csv(report: ClassReport) -> str:
 
 def write_gradebook(report: ClassReport, path: str | Path) -> None:
     """Write :func:`gradebook_csv` to ``path`` (UTF-8 with a byte-order mark, for Excel)."""
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
     Path(path).write_text(gradebook_csv(report), encoding="utf-8-sig")

@@ -111,4 +111,5 @@ def junit_xml(report: ClassReport) -> str:
 
 def write_junit(report: ClassReport, path: str | Path) -> None:
     """Write :func:`junit_xml` to ``path`` (UTF-8)."""
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
     Path(path).write_text(junit_xml(report), encoding="utf-8")

@@ -199,3 +199,44 @@ def test_what_a_class_folder_holds_that_is_no_students_work_is_named_once(
     ]
     quiet = run_cli("grade", str(SQUARE), "--mission", str(folder), "--quiet")
     assert "note:" not in quiet.stderr
+
+
+@pytest.mark.parametrize(
+    ("options", "error"),
+    [
+        (["--csv", "{tmp}"], "cannot write {tmp}: it is a folder"),
+        (["--html", "{spec}"], "cannot write {spec}: it is a file"),
+        (["--junit", "{spec}/junit.xml"], "cannot write {spec}/junit.xml: {spec} is a file"),
+        (["--csv", "{tmp}/g.csv", "--results", "{tmp}/g.csv"], "--csv and --results both name"),
+    ],
+    ids=["a folder as a file", "a file as a folder", "under a file", "one file twice"],
+)
+def test_a_report_that_cannot_be_written_is_refused_before_grading(
+    tmp_path: Path, options: list[str], error: str
+) -> None:
+    # Refused at once, not after a class's grading: nothing was graded, no other report written.
+    spec = tmp_path / "test.yaml"
+    shutil.copy(SQUARE, spec)
+    asked = [option.format(tmp=tmp_path, spec=spec) for option in options]
+    result = run_cli(
+        "grade", str(spec), "--mission", str(TEACHER / "square" / "good.yaml"),
+        "--junit", str(tmp_path / "out" / "junit.xml"), *asked,
+    )  # fmt: skip
+    assert result.returncode == 2
+    assert result.stderr.startswith("error: " + error.format(tmp=tmp_path, spec=spec))
+    assert result.stdout == "" and not (tmp_path / "out").exists()
+
+
+def test_a_report_that_fails_to_write_leaves_the_others_written(tmp_path: Path) -> None:
+    html = tmp_path / "html"
+    (html / "index.html").mkdir(parents=True)  # the class page cannot be written
+    reports = tmp_path / "new" / "folder"  # made when the reports are written
+    result = run_cli(
+        "grade", str(SQUARE), "--mission", str(TEACHER / "square" / "good.yaml"),
+        "--html", str(html), "--csv", str(reports / "grades.csv"),
+        "--gradescope", str(reports / "results.json"), "--quiet",
+    )  # fmt: skip
+    assert result.returncode == 1
+    assert f"error: cannot write {html}" in result.stderr
+    # written before the page that failed, and after it
+    assert (reports / "grades.csv").is_file() and (reports / "results.json").is_file()
