@@ -369,7 +369,13 @@ class RunResult:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], world: World | None = None) -> RunResult:
-        """The result :meth:`to_dict` made (``world`` is attached to the record)."""
+        """The result :meth:`to_dict` made (``world`` is attached to the record).
+
+        Raises:
+            ValueError, TypeError, KeyError: ``data`` is not what :meth:`to_dict` makes (a
+                damaged results file): a field is missing or of the wrong kind.
+        """
+        _check_fields(data)
         record = data.get("record")
         return cls(
             student=data["student"],
@@ -397,3 +403,32 @@ class RunResult:
             return next((verdict for verdict in failed if verdict.required), failed[0])
         measured = [v for v in self.verdicts if v.relative_margin is not None]
         return min(measured, key=lambda v: v.relative_margin or math.inf, default=None)
+
+
+_TEXT_FIELDS = ("student", "test", "label", "mission", "message", "debug")
+_WHOLE_FIELDS = ("variant", "seed")
+_NUMBER_FIELDS = ("score", "wall_time_s")
+
+
+def _check_fields(data: Mapping[str, Any]) -> None:
+    """Refuse a run whose fields are of the wrong kind, before a report trips over one."""
+
+    def wrong(key: str) -> TypeError:
+        return TypeError(f"the run's {key!r} is {data[key]!r}")
+
+    for key in _TEXT_FIELDS:
+        if not isinstance(data[key], str):
+            raise wrong(key)
+    for key in _WHOLE_FIELDS:
+        if not isinstance(data[key], int) or isinstance(data[key], bool):
+            raise wrong(key)
+    for key in _NUMBER_FIELDS:
+        value = data[key]
+        if not isinstance(value, int | float) or isinstance(value, bool) or math.isnan(value):
+            raise wrong(key)
+    if data["status"] not in RUN_STATUSES:
+        raise wrong("status")
+    if not isinstance(data["verdicts"], list):
+        raise wrong("verdicts")
+    if not isinstance(data.get("replay"), dict | None):
+        raise wrong("replay")

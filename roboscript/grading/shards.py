@@ -29,7 +29,7 @@ from __future__ import annotations
 import hashlib
 import json
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -39,6 +39,7 @@ from roboscript.grading.batch import ClassReport, find_specs
 from roboscript.grading.record import RunResult
 from roboscript.grading.spec import TestSpec
 from roboscript.grading.submissions import Submission
+from roboscript.grading.text import clean_name
 
 __all__ = [
     "RESULTS_FORMAT",
@@ -155,6 +156,7 @@ def _read_part(path: str) -> _Part:
                 f"{path} is not a results file of this roboscript"
                 " (written by `roboscript grade --results FILE`)"
             )
+        _check_header(header)
         # A grader killed mid-line leaves a partial last line: the missing-run check names it.
         whole = [line for line in lines[1:] if line.endswith("}")]
         runs = [RunResult.from_dict(json.loads(line)) for line in whole]
@@ -163,6 +165,25 @@ def _read_part(path: str) -> _Part:
             raise
         raise InputError(f"{path} is damaged: {exc}") from None
     return _Part(path, header, runs)
+
+
+def _check_header(header: dict[str, Any]) -> None:
+    """The header holds what the gradebook reads from it (else ``TypeError``: damaged)."""
+    specs, students = header.get("specs"), header.get("students")
+    if not isinstance(specs, list) or not isinstance(students, list):
+        raise TypeError("its first line lacks the test specs or the students")
+    for entry in specs:
+        if not isinstance(entry, dict) or not all(
+            isinstance(entry.get(key), str) for key in ("path", "sha256")
+        ):
+            raise TypeError(f"a test spec on its first line is not a path and a hash: {entry!r}")
+    for entry in students:
+        if not (
+            isinstance(entry, dict)
+            and isinstance(entry.get("name"), str)
+            and isinstance(entry.get("missions"), list)
+        ):
+            raise TypeError(f"a student on its first line has no name or missions: {entry!r}")
 
 
 def _check_parts(parts: Sequence[_Part]) -> None:
@@ -247,6 +268,9 @@ def read_results(paths: Sequence[str]) -> ClassReport:
                 )
             )
         for run in part.runs:
+            # Cleaned as the header's names are by Submission: a part graded by an older
+            # roboscript, which cleaned names less, still finds its students' runs.
+            run = replace(run, student=clean_name(run.student))
             results[(run.test, run.student, run.variant)] = run
     names = [s.student for s in submissions]
     if len(set(names)) < len(names):
@@ -274,4 +298,4 @@ def read_results(paths: Sequence[str]) -> ClassReport:
 
 
 def _students(header: dict[str, Any]) -> set[str]:
-    return {entry["name"] for entry in header["students"]}
+    return {clean_name(entry["name"]) for entry in header["students"]}

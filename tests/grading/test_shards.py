@@ -176,3 +176,61 @@ def test_a_part_of_one_submission_is_refused() -> None:
     assert result.stderr == (
         "error: --shard splits a class, and a platform's results.json is one submission's\n"
     )
+
+
+def _rewrite_header(source: Path, target: Path, change: Any) -> None:
+    lines = source.read_text(encoding="utf-8").splitlines()
+    header = json.loads(lines[0])
+    change(header)
+    target.write_text("\n".join([json.dumps(header), *lines[1:]]) + "\n", encoding="utf-8")
+
+
+@pytest.mark.parametrize(
+    "damage",
+    [
+        lambda header: header.pop("specs"),
+        lambda header: header.update(students=[{"name": "ada"}]),
+        lambda header: header.update(specs=[{"path": 1}]),
+    ],
+    ids=["no specs", "a student without missions", "a spec without a path"],
+)
+def test_a_damaged_results_header_is_one_sentence(graded: dict[str, Any], damage: Any) -> None:
+    root = graded["root"]
+    _rewrite_header(root / "all.jsonl", root / "damaged.jsonl", damage)
+    merged = run_cli("gradebook", "damaged.jsonl", "--csv", "damaged.csv", cwd=root)
+    assert merged.returncode == 2
+    assert merged.stderr.startswith("error: damaged.jsonl is damaged: "), merged.stderr
+    assert "Traceback" not in merged.stderr
+    assert not (root / "damaged.csv").exists()
+
+
+def test_a_part_whose_names_an_older_grader_cleaned_less_still_merges(
+    graded: dict[str, Any],
+) -> None:
+    root = graded["root"]
+    # An older roboscript left a zero-width space in a name; this one shows it as "�".
+    text = (root / "all.jsonl").read_text(encoding="utf-8").replace('"ada"', '"ada\\u200b"')
+    (root / "older.jsonl").write_text(text, encoding="utf-8")
+    merged = run_cli("gradebook", "older.jsonl", "--json", cwd=root)
+    assert merged.returncode in (0, 1), merged.stderr
+    merged_runs = json.loads(merged.stdout)["runs"]
+    whole_runs = json.loads(graded["whole"])["runs"]
+    assert [r["status"] for r in merged_runs if r["student"] == "ada\ufffd"] == [
+        r["status"] for r in whole_runs if r["student"] == "ada"
+    ]
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [("status", "great"), ("message", None), ("score", "100%"), ("label", 3), ("replay", 1)],
+)
+def test_a_damaged_run_line_is_one_sentence(graded: dict[str, Any], field: str, value: Any) -> None:
+    root = graded["root"]
+    header, first, *rest = (root / "all.jsonl").read_text(encoding="utf-8").splitlines()
+    run = json.loads(first)
+    run[field] = value
+    (root / "bad-run.jsonl").write_text("\n".join([header, json.dumps(run), *rest]) + "\n")
+    merged = run_cli("gradebook", "bad-run.jsonl", "--html", "bad-html", cwd=root)
+    assert merged.returncode == 2
+    assert merged.stderr.startswith("error: bad-run.jsonl is damaged: "), merged.stderr
+    assert field in merged.stderr and "Traceback" not in merged.stderr
