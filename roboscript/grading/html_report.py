@@ -160,10 +160,12 @@ def _status_words(result: RunResult) -> str:
 def _safe_name(raw: str, fallback: str = "student") -> str:
     """``raw`` as a file name or id any system takes: ASCII letters, digits, ``.``, ``_``, ``-``.
 
-    A name with none of them (``Анна``, ``王芳``) becomes ``fallback`` and a short digest of
-    the name, so two such names still make two files.
+    It never starts with ``-`` (``--help`` is ``help.html``), so no command a teacher runs on
+    the pages (``zip pages.zip *``) reads one as an option. A name with none of them
+    (``Анна``, ``王芳``) becomes ``fallback`` and a short digest of the name, so two such
+    names still make two files.
     """
-    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", raw).strip("._")
+    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", raw).lstrip("._-").rstrip("._")
     if safe:
         return safe[:80]
     return f"{fallback}-{hashlib.sha256(raw.encode('utf-8', 'replace')).hexdigest()[:10]}"
