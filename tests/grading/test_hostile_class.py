@@ -4,10 +4,13 @@ Honest students sit beside every hostile file a class has handed in: code the gr
 process could choke on (a 20 000-term expression, a 1.7 GB sparse helper, a file that is not
 UTF-8), links to a classmate's work, pipes and devices, a mission dropped beside a
 classmate's with the same name, names made of escape sequences, newlines, formula text and
-only non-Latin letters, a mission that tries to give a hidden run's start away, and one that
-snoops on a classmate's helper and an earlier gradebook. The class is graded once, with every
-report written; each test then checks one promise: every student gets exactly the verdict
-their own work earns, and no report can be broken, forged or made to leak.
+only non-Latin letters, invisible characters or a leading dash, a mission that tries to give a
+hidden run's start away, ones that snoop on a classmate's helper and an earlier gradebook (one
+of them named after it), and ones that exit with success just after the start, kill every
+process they can reach or leave a thread spinning. The class is graded once, with every report
+written; each test then checks one promise: every student gets exactly the verdict their own
+work earns, and no report can be broken, forged or made to leak. It is graded once more beside
+a spinner on every core, with the default hang limit: the verdicts must not change.
 """
 
 from __future__ import annotations
@@ -25,7 +28,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import FORWARD_50CM, FORWARD_50CM_EXPECT, HANG_BOUND_S
+from helpers import FORWARD_50CM, FORWARD_50CM_EXPECT, HANG_BOUND_S, every_core_busy
 
 from roboscript.grading.sandbox import detect_isolation
 
@@ -97,6 +100,30 @@ class Forward(Mission):
 # A student named after the earlier reports beside them, who reads them by their own name.
 GRADES_SNOOP = SNOOP.replace('"bea_helpers.py", "grades.csv"', '"grades.csv", "grades.jsonl"')
 
+# Drives like HONEST, but does something else the first time its condition is asked.
+ONCE = """\
+import os, sys, threading
+from roboscript import Drive, Mission, state
+
+
+class Forward(Mission):
+    go = state(Drive(distance_mm=500, speed_mm_s=200), initial=True, on_done="finished",
+               when=[("first", "finished")])
+    finished = state(final="success")
+
+    def first(self):
+        if not getattr(self, "asked", False):
+            self.asked = True
+            DO
+        return False
+"""
+# sys.exit(0) just after the start, as if the mission had succeeded
+EXITER = ONCE.replace("DO", "sys.exit(0)")
+# signals every process it can reach
+KILLER = ONCE.replace("DO", "os.kill(-1, 9)")
+# leaves a thread that never stops spinning, and drives on
+SPINNER = ONCE.replace("DO", "threading.Thread(target=lambda: [0 for _ in iter(int, 1)]).start()")
+
 IDLE = """\
 from roboscript import Mission, Wait, state
 
@@ -128,7 +155,9 @@ FORGER = "nl\nforged  forward  ✓ 2 of 2  100%"
 FORMULA = "x;=2+5;"
 NON_LATIN = ("Анна", "王芳")
 # The honest students as every report names them: control characters show as "�".
+DASHED = "--help"
 HONEST_NAMES = ["ada", "bea", "c01_ana.yaml", "snoop", "grades", "leaker", FORMULA, *NON_LATIN]
+HONEST_NAMES += [DASHED, "spinner"]
 HONEST_NAMES += ["�]0;pwned��[2J�esc", "nl�forged  forward  ✓ 2 of 2  100%"]
 AS_ROOT = os.geteuid() == 0
 ISOLATED = detect_isolation().complete
@@ -154,6 +183,9 @@ def _hostile_class(subs: Path) -> None:
     _write(subs / "c01_ana.yaml", HONEST)
     _write(subs / "c01_ana.py", IDLE)  # dropped beside a classmate's mission
     _write(subs / "snoop.py", SNOOP)
+    _write(subs / "exiter" / "forward.py", EXITER)
+    _write(subs / "killer" / "forward.py", KILLER)
+    _write(subs / "spinner" / "forward.py", SPINNER)
     _write(subs / "leaker" / "forward.py", LEAKER)
     _write(subs / "deep" / "mission.py", DEEP)
     _write(subs / "many" / "mission.py", MANY_STATES)
@@ -177,7 +209,7 @@ def _hostile_class(subs: Path) -> None:
     os.mkdir(undecodable)
     with open(undecodable + b"/forward.yaml", "w", encoding="utf-8") as handle:
         handle.write(HONEST)
-    for name in (ESCAPES, FORGER, FORMULA, *NON_LATIN):
+    for name in (ESCAPES, FORGER, FORMULA, DASHED, *NON_LATIN):
         _write(subs / name / "forward.yaml", HONEST)
 
 
@@ -238,7 +270,7 @@ def test_the_whole_class_is_graded_and_every_report_written(graded: dict[str, An
     assert graded["exit"] == 1, graded["stderr"][-3000:]  # some failed: exit 1, no crash
     assert "Traceback" not in graded["stderr"]
     hostile = ["c01_ana.py", "deep", "many", "huge", "latin", "typo", "linker", "dave", "carl"]
-    hostile += ["ada�"]
+    hostile += ["ada�", "exiter", "killer"]
     hostile += ["piper", "eve", "�bad"] + (["devin"] if AS_ROOT else [])
     assert sorted(_statuses(graded)) == sorted(HONEST_NAMES + hostile)
     assert all(len(statuses) == 2 for statuses in _statuses(graded).values())
@@ -269,6 +301,40 @@ def test_a_mission_beside_a_classmates_with_the_same_name_is_graded_as_what_it_i
     statuses = _statuses(graded)
     assert statuses["c01_ana.yaml"] == ["passed", "passed"]  # never "missing"
     assert statuses["c01_ana.py"] == ["failed", "failed"]  # the idle mission, judged
+
+
+def test_code_that_ends_or_kills_its_own_run_crashes_that_run_only(
+    graded: dict[str, Any],
+) -> None:
+    statuses = _statuses(graded)
+    assert statuses["exiter"] == ["crashed", "crashed"]  # never taken for a success
+    assert "exit code 0 before the mission finished" in _messages(graded, "exiter")[1]
+    assert statuses["killer"] == ["crashed", "crashed"]
+    assert statuses["spinner"] == ["passed", "passed"]  # its thread ends with its run
+
+
+def test_the_class_grades_the_same_on_a_saturated_machine(
+    graded: dict[str, Any], tmp_path: Path
+) -> None:
+    # Bounded, not timed: the same class beside a spinner on every core and one more, with
+    # the default --hang-after, gets exactly the verdicts it got above.
+    subs = tmp_path / "class"
+    _hostile_class(subs)
+    results = tmp_path / "results.jsonl"
+    spec = graded["root"] / "teacher" / "forward.yaml"
+    command = [
+        sys.executable, "-m", "roboscript", "grade", str(spec), "--mission", str(subs),
+        "--jobs", "2", "--results", str(results), "--quiet",
+    ]  # fmt: skip
+    with every_core_busy(extra=1):
+        done = subprocess.run(
+            command, capture_output=True, text=True, timeout=HANG_BOUND_S, check=False
+        )
+    assert done.returncode == 1, done.stderr[-3000:]
+    runs = [json.loads(line) for line in results.read_text().splitlines()[1:]]
+    assert _statuses({"runs": runs}) == _statuses(graded), [
+        (run["student"], run["status"], run["message"][:200]) for run in runs
+    ]
 
 
 def test_code_the_grader_could_choke_on_is_that_students_result(graded: dict[str, Any]) -> None:
@@ -363,6 +429,9 @@ def test_every_student_and_run_has_a_page_of_its_own(graded: dict[str, Any]) -> 
             assert f"{name} — forward" in (html / link).read_text(encoding="utf-8")
     student_pages = sorted((html / "students").glob("*.html"))
     assert len(student_pages) == len(_statuses(graded))
+    # no page a teacher zips or copies with a shell's * is read as an option
+    assert not [page.name for page in [*pages, *student_pages] if page.name.startswith("-")]
+    assert (html / "students" / "help.html").is_file()
 
 
 def test_a_students_page_stays_small_whatever_the_mission_did(graded: dict[str, Any]) -> None:
