@@ -554,6 +554,14 @@ def _cmd_autograder(args: argparse.Namespace) -> int:
         return EXIT_FAILED
     for wheel in wheels:
         _err(f"  {wheel.filename}" + (f" ({wheel.note})" if wheel.note else ""))
+    if args.platform == "classroom":
+        for spec in specs:
+            if any(variant.hidden for variant in spec.variants):
+                _err(
+                    f"warning: {spec.name} has hidden runs: on GitHub Classroom a student can"
+                    " edit the workflow and print the private tests; use visible runs only"
+                    " there, or Gradescope for hidden ones"
+                )
     tests = ", ".join(spec.name for spec in specs)
     _err(f"{args.platform}: {args.output} ({tests}; {len(wheels)} wheels, no package index)")
     return EXIT_OK

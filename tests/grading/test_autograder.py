@@ -201,6 +201,8 @@ def test_the_classroom_template_grades_a_push_as_a_github_runner_does(
     made = run_cli("autograder", "classroom", str(specs_folder), "-o", str(out),
                    "--tests-repo", "my-school/robot-tests")  # fmt: skip
     assert made.returncode == 0, made.stderr
+    # a student who edits the workflow can print the private tests: the teacher is told
+    assert "warning: out-and-turn has hidden runs: on GitHub Classroom a student" in made.stderr
     workflow_file = out / "student-template" / ".github" / "workflows" / "roboscript.yml"
     workflow = yaml.safe_load(workflow_file.read_text(encoding="utf-8"))
     checkout = [s for s in workflow["jobs"]["grade"]["steps"] if "repository" in s.get("with", {})]
