@@ -2,9 +2,11 @@
 
 The grader judges a mission process by the CPU time it used, never by wall time: on a busy
 machine an honest process waits for a CPU, and that wait is not its own. Linux tells every
-process's CPU time in ``/proc/PID/stat``; the tree is found by following parent links from the
-jail's first process (the interpreter under ``bwrap``, ``setpriv`` and the student's own
-children all count), and the time of children already reaped is in their parent's total.
+process's CPU time in ``/proc/PID/stat``; the tree is found from the jail's first process
+down, through each thread's list of children (the interpreter under ``bwrap``, ``setpriv`` and
+the student's own children all count), and the time of children already reaped is in their
+parent's total. Reading the tree costs a few files, not one per process of the machine: the
+world reads it while its run goes on.
 """
 
 from __future__ import annotations
@@ -14,6 +16,9 @@ import os
 __all__ = ["process_tree_cpu_s", "process_tree_waited_s"]
 
 _TICKS_PER_S = float(os.sysconf("SC_CLK_TCK")) if hasattr(os, "sysconf") else 100.0
+_CHILDREN_LISTED = os.path.exists(f"/proc/{os.getpid()}/task/{os.getpid()}/children")
+"""Whether Linux lists each thread's children (``CONFIG_PROC_CHILDREN``, on in the common
+distributions' kernels)."""
 
 
 def _stat(pid: str) -> tuple[int, float] | None:
@@ -53,6 +58,41 @@ def _scan(root_pid: int) -> dict[int, float] | None:
     """Each process of the tree and its CPU seconds, or None."""
     if not os.path.isdir("/proc/self"):
         return None
+    if _CHILDREN_LISTED:
+        return _walk(root_pid)
+    return _scan_all(root_pid)
+
+
+def _walk(root_pid: int) -> dict[int, float] | None:
+    """The tree, from each of its threads' list of children: a handful of files for a jail's
+    few processes, where reading every process's ``stat`` takes milliseconds on a desktop."""
+    tree: dict[int, float] = {}
+    queue = [root_pid]
+    while queue:
+        pid = queue.pop()
+        if pid in tree:
+            continue
+        found = _stat(str(pid))
+        if found is None:
+            if pid == root_pid:
+                return None
+            continue  # it ended meanwhile (its time is in its parent's now)
+        tree[pid] = found[1]
+        try:
+            threads = os.listdir(f"/proc/{pid}/task")
+        except OSError:
+            continue
+        for thread in threads:  # a child's parent is the thread that started it
+            try:
+                with open(f"/proc/{pid}/task/{thread}/children", "rb") as handle:
+                    queue.extend(int(child) for child in handle.read().split())
+            except (OSError, ValueError):
+                continue
+    return tree
+
+
+def _scan_all(root_pid: int) -> dict[int, float] | None:
+    """The tree, from every process's parent (where the system lists no children)."""
     children: dict[int, list[int]] = {}
     cpu: dict[int, float] = {}
     try:

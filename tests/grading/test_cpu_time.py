@@ -5,10 +5,12 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import time
 
 import pytest
 from helpers import HANG_BOUND_S
 
+from roboscript.grading import cpu_time
 from roboscript.grading.cpu_time import process_tree_cpu_s, process_tree_waited_s
 
 BURN = """
@@ -46,3 +48,54 @@ def test_a_process_that_is_gone_has_no_cpu_time() -> None:
     gone = max(int(name) for name in os.listdir("/proc") if name.isdigit()) + 100_000
     assert process_tree_cpu_s(gone) is None
     assert process_tree_waited_s(gone) is None
+
+
+THREAD_BURN = f"""
+import subprocess, sys, threading, time
+def start():
+    subprocess.Popen([sys.executable, "-c", {BURN!r}])
+    time.sleep(600)  # alive: its children stay its own, not its process's main thread's
+worker = threading.Thread(target=start)
+worker.start()
+worker.join()
+"""
+
+
+def test_a_child_started_by_a_thread_counts_for_the_tree() -> None:
+    # Linux lists a child under the thread that started it, not under its process
+    tree = subprocess.Popen(
+        [sys.executable, "-c", THREAD_BURN],
+        stdout=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        assert tree.stdout is not None
+        assert tree.stdout.readline() == "burnt\n"
+        used = process_tree_cpu_s(tree.pid)
+        assert used is not None and used >= 0.4
+    finally:
+        os.killpg(tree.pid, 9)
+        tree.wait(HANG_BOUND_S)
+
+
+def test_the_tree_is_the_same_whether_read_from_children_or_from_parents() -> None:
+    # where Linux lists no children, every process's parent gives the same tree
+    tree = subprocess.Popen(
+        ["sh", "-c", "sleep 600 & sleep 600 & (sleep 600 & wait) & wait"],
+        start_new_session=True,
+    )
+    try:
+        expected = 5  # the shell, two sleeps, a subshell and its sleep
+        for _ in range(int(HANG_BOUND_S / 0.01)):
+            found = cpu_time._scan_all(tree.pid)
+            if found is not None and len(found) == expected:
+                break
+            time.sleep(0.01)
+        assert found is not None and len(found) == expected
+        if cpu_time._CHILDREN_LISTED:
+            walked = cpu_time._walk(tree.pid)
+            assert walked is not None and set(walked) == set(found)
+    finally:
+        os.killpg(tree.pid, 9)
+        tree.wait(HANG_BOUND_S)
