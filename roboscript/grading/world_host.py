@@ -316,13 +316,15 @@ class _WorldSession:
         self.host_bytes = 0
         self.backlog = bytearray()  # answers the mission has not taken yet
         self.start_pose = (sim.body.x_mm, sim.body.y_mm)
+        self.stall = _Stall(jail.pid)
+        self.claimed_state: str | None = None  # the last state the mission reported
         # Frames come from this process's simulation only, never from the mission's process.
         self.replay = WorldReplay(sim, sim.profile)
 
     # ------------------------------------------------------------------------------- loop
 
     def run(self) -> WorldRun:
-        started = time.monotonic()
+        started = now = time.monotonic()
         wall_deadline = started + self.spec.wall_time_limit_s
         self.sock.setblocking(False)
         poller = select.poll()
@@ -330,9 +332,14 @@ class _WorldSession:
         for fd in self.jail.fileno_list():
             poller.register(fd, select.POLLIN)
         sock_fd = self.sock.fileno()
+        recv = self.sock.recv
+        ready_in = select.POLLIN | select.POLLHUP | select.POLLERR
         writing = False
-        stall = _Stall(self.jail.pid)
+        stall = self.stall
         next_slow_check = started + _SLOW_CHECK_EVERY_S
+        # Every clock rule is checked at this time, not on each tick: an honest run ticks
+        # hundreds of times between two checks, and each rule counts time, not ticks.
+        next_check = min(stall.next_check, wall_deadline)
         # The wall-clock limit counts only time when neither side waited for a CPU.
         own = CodeClock()
         own_start_s = own.now()
@@ -341,12 +348,11 @@ class _WorldSession:
             if bool(self.backlog) != writing:
                 writing = bool(self.backlog)
                 poller.modify(sock_fd, select.POLLIN | (select.POLLOUT if writing else 0))
-            wait_s = min(stall.next_check, wall_deadline) - time.monotonic()
-            events = poller.poll(max(0.0, wait_s) * 1000) if wait_s > 0 else []
+            wait_ms = (next_check - now) * 1000
             socket_ready = socket_writable = False
-            for fd, mask in events:
+            for fd, mask in poller.poll(wait_ms) if wait_ms > 0 else ():
                 if fd == sock_fd:
-                    socket_ready = bool(mask & (select.POLLIN | select.POLLHUP | select.POLLERR))
+                    socket_ready = bool(mask & ready_in)
                     socket_writable = bool(mask & select.POLLOUT)
                 else:
                     self.jail.drain()
@@ -354,7 +360,7 @@ class _WorldSession:
                 self._flush()
             if socket_ready:
                 try:
-                    data = self.sock.recv(_READ_CHUNK)
+                    data = recv(_READ_CHUNK)
                 except BlockingIOError:
                     data = None
                 except OSError:
@@ -362,7 +368,6 @@ class _WorldSession:
                 if data is not None:
                     if not data:
                         return self._ended()
-                    before = (self.now_s, self.loaded)
                     try:
                         self._handle(data)
                     except _HungWhileLoadingError as exc:
@@ -375,9 +380,9 @@ class _WorldSession:
                         return self._finished()
                     if self.time_up:
                         return self._out_of_time()
-                    if (self.now_s, self.loaded) != before:
-                        stall.progress(self.now_s, self.loaded)
             now = time.monotonic()
+            if now < next_check:
+                continue
             if now >= wall_deadline:
                 waited_s = (_waited_s(self.jail.pid) or waited_start_s) - waited_start_s
                 elapsed_s = own.now() - own_start_s - waited_s
@@ -386,7 +391,7 @@ class _WorldSession:
                 wall_deadline = now + max(self.spec.wall_time_limit_s - elapsed_s, _CHECK_EVERY_S)
             if now >= stall.next_check:
                 allowance = 2 * self.hang_after_s + 1.0 if self.loaded else _LOAD_CPU_S
-                stalled_s = stall.check(now, allowance)
+                stalled_s = stall.check(now, allowance, self.now_s)
                 if stalled_s is not None:
                     return self._stopped("hung", self._hung_message(stalled_s, stall.measured))
             if self.loaded and now >= next_slow_check:
@@ -395,6 +400,9 @@ class _WorldSession:
                 advanced_s = self.now_s - stall.loaded_at_s
                 if used_s is not None and used_s > TICK_BUDGET.cpu_allowance_s(advanced_s):
                     return self._stopped("too slow", _cpu_hog_message(used_s, advanced_s))
+            next_check = min(stall.next_check, wall_deadline)
+            if self.loaded:
+                next_check = min(next_check, next_slow_check)
 
     # ----------------------------------------------------------------------------- frames
 
@@ -410,11 +418,9 @@ class _WorldSession:
 
     def _frame(self, kind: bytes, payload: bytes) -> None:
         sim = self.sim
-        if kind == Kind.OPEN:
-            if not self.opened:
-                self.opened = True
-                sim.connect()
-            self._answer()
+        # Nearly every frame is a tick or the host's bytes: they are asked about first.
+        if kind == Kind.TICK:
+            self._advance(decode_time_checked(payload))
         elif kind == Kind.WRITE:
             self.host_bytes += len(payload)
             if self.host_bytes > _MAX_HOST_BYTES:
@@ -426,13 +432,17 @@ class _WorldSession:
                 )
         elif kind == Kind.SYNC:
             self._answer()
-        elif kind == Kind.TICK:
-            self._advance(decode_time_checked(payload))
+        elif kind == Kind.OPEN:
+            if not self.opened:
+                self.opened = True
+                sim.connect()
+            self._answer()
         elif kind == Kind.LOADED:
             info = _json(payload)
             name = info.get("mission") if isinstance(info, dict) else None
             self.claims.mission = _name(name) if isinstance(name, str) else ""
             self.loaded = True
+            self.stall.mission_loaded(self.now_s)
         elif kind == Kind.LOAD_ERROR:
             info = _json(payload)
             message = info.get("message") if isinstance(info, dict) else None
@@ -466,8 +476,20 @@ class _WorldSession:
         self._reply(Kind.OUTPUT, self.sim.read(min(self.sim.in_waiting, MAX_PAYLOAD_BYTES)))
 
     def _reply(self, kind: bytes, payload: bytes = b"") -> None:
-        """Queue an answer and send what the socket takes now; never wait for the mission."""
-        self.backlog += encode_frame(kind, payload)
+        """Send an answer, or what the socket takes of it now and queue the rest; never wait
+        for the mission."""
+        frame = encode_frame(kind, payload)
+        if not self.backlog:  # the mission took every answer before: it most likely takes this
+            try:
+                sent = self.sock.send(frame)
+            except BlockingIOError:
+                sent = 0
+            except OSError:  # the process is gone; the next read sees its end
+                return
+            if sent == len(frame):
+                return
+            frame = frame[sent:]
+        self.backlog += frame
         self._flush()
         if len(self.backlog) > _MAX_BACKLOG_BYTES:
             raise _ViolationError("it stopped reading the robot's answers")
@@ -494,7 +516,7 @@ class _WorldSession:
             return
         self.sim.tick(now_s, 0.0)
         self.now_s = now_s
-        self.replay.tick(now_s, self.claims.states[-1][1] if self.claims.states else None)
+        self.replay.tick(now_s, self.claimed_state)
         self._answer()
 
     def _check_still(self) -> None:
@@ -511,9 +533,10 @@ class _WorldSession:
         if len(self.claims.states) >= _MAX_STATES:
             self.claims.dropped_states += 1
             return
-        before = self.claims.states[-1][1] if self.claims.states else None
+        before = self.claimed_state
         start = self.claims.started_s if self.claims.started_s is not None else self.now_s
         self.claims.states.append((round(self.now_s - start, 3), name))
+        self.claimed_state = name
         self.replay.enter(self.now_s, name, *_state_account(account, before))
 
     # ----------------------------------------------------------------------------- endings
@@ -675,7 +698,8 @@ class _Stall:
         self.pid = pid
         self.measured = "CPU time"
         self.next_check = time.monotonic() + _CHECK_EVERY_S
-        self._progressed = True
+        self._seen: tuple[float, bool] | None = None  # simulated time and loading, last check
+        self._loaded = False
         self._at_progress_s: float | None = None
         self._at_load_s: float | None = None
         self._last_cpu_s: float | None = None
@@ -694,18 +718,25 @@ class _Stall:
         self.measured = "wall time"  # never told: wall time from the first reading on
         return time.monotonic()
 
-    def progress(self, now_s: float, loaded: bool) -> None:
-        """Simulated time advanced (or the mission loaded)."""
-        self._progressed = True
-        if loaded and self._at_load_s is None:
+    def mission_loaded(self, now_s: float) -> None:
+        """The mission loaded at simulated time ``now_s`` (its CPU time is read now: the
+        too-slow rule counts from here)."""
+        if self._at_load_s is None:
             self._at_load_s = self._used_s()
             self.loaded_at_s = now_s
+            self._loaded = True
 
-    def check(self, now: float, allowance_s: float) -> float | None:
-        """The seconds used without progress, once they pass ``allowance_s``; else None."""
+    def check(self, now: float, allowance_s: float, simulated_s: float) -> float | None:
+        """The seconds used without progress, once they pass ``allowance_s``; else None.
+
+        Progress is simulated time (``simulated_s``, which never goes back) or the mission
+        having loaded since the last check: a run ticks hundreds of times between two checks,
+        so it is compared here rather than on each tick.
+        """
         self.next_check = now + _CHECK_EVERY_S
-        if self._progressed:  # an honest run: never a reading of /proc
-            self._progressed = False
+        seen = (simulated_s, self._loaded)
+        if seen != self._seen:  # an honest run: never a reading of /proc
+            self._seen = seen
             self._at_progress_s = None
             return None
         used = self._used_s()

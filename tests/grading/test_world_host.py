@@ -419,10 +419,36 @@ def test_a_mission_process_that_ends_while_loading_is_never_judged_hung() -> Non
     process = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(600)"])
     try:
         stall = _Stall(process.pid)
-        assert stall.check(time.monotonic(), allowance_s=1.0) is None  # loading: no progress
-        assert stall.check(time.monotonic(), allowance_s=1.0) is None  # the CPU time, read
+        assert stall.check(time.monotonic(), 1.0, 0.0) is None  # loading: no progress
+        assert stall.check(time.monotonic(), 1.0, 0.0) is None  # the CPU time, read
     finally:
         process.kill()
         process.wait(HANG_BOUND_S)
-    assert stall.check(time.monotonic(), allowance_s=1.0) is None  # the process is gone
+    assert stall.check(time.monotonic(), 1.0, 0.0) is None  # the process is gone
     assert stall.measured == "CPU time"
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs /proc")
+def test_a_stall_is_cpu_time_used_while_simulated_time_stands_still() -> None:
+    # The world compares simulated time at each check, not on each tick: a run that advanced
+    # since the last check is never charged, one that stood still is charged its CPU time.
+    from roboscript.grading.world_host import _Stall
+
+    process = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+    try:
+        stall = _Stall(process.pid)
+        assert stall.check(time.monotonic(), 0.05, 0.0) is None  # the first look
+        stall.mission_loaded(0.0)
+        assert stall.check(time.monotonic(), 0.05, 0.0) is None  # loading is progress
+        deadline = time.monotonic() + HANG_BOUND_S
+        stalled = None
+        while stalled is None and time.monotonic() < deadline:
+            time.sleep(0.01)
+            stalled = stall.check(time.monotonic(), 0.05, 0.0)
+        assert stalled is not None and stalled >= 0.05
+        assert stall.measured == "CPU time"
+        assert stall.check(time.monotonic(), 0.05, 0.02) is None  # time advanced: no stall
+        assert stall.check(time.monotonic(), 0.05, 0.02) is None  # counted afresh from here
+    finally:
+        process.kill()
+        process.wait(HANG_BOUND_S)
