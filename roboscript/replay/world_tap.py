@@ -148,10 +148,16 @@ class WorldReplay:
         """The simulation reached ``now_s``; ``state`` is the state the mission last reported."""
         if self._start_s is None or state is None:
             return
-        if state not in self._states:
+        t = round(now_s - self._start_s, 3)
+        if (
+            state == self._state
+            and self._why is None
+            and (t < self._next_s - 1e-9 or t == self._last_t)
+        ):
+            return  # nearly every tick: nothing new to keep
+        if state not in self._actions:  # a dict: a mission may enter thousands of states
             self._states.append(state)
             self._actions[state] = self._action
-        t = round(now_s - self._start_s, 3)
         if state == self._state and t == self._last_t and self._why is not None:
             last = self.recorder.frames[-1]
             if TRANSITION_KEY not in last:
@@ -160,10 +166,8 @@ class WorldReplay:
                 last[TRANSITION_KEY] = self._why
                 self._why = None
                 return
-        if state == self._state and (
-            t < self._next_s - 1e-9 or (t == self._last_t and self._why is None)
-        ):
-            return
+        if state == self._state and t < self._next_s - 1e-9:
+            return  # a cause this tick's frame already holds waits for the next frame kept
         self._state = state
         self._next_s = t + self.period_s
         self._last_t = t
