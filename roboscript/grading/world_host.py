@@ -612,10 +612,9 @@ class _WorldSession:
         )
 
     def _wait_exit(self) -> None:
-        deadline = time.monotonic() + _EXIT_GRACE_S
-        while self.jail.poll() is None and time.monotonic() < deadline:
-            self.jail.drain()
-            time.sleep(0.002)
+        # Asleep until the process ends or writes (a jail's wait drains its output), never
+        # waking on a timer meanwhile.
+        self.jail.wait(_EXIT_GRACE_S)
         self.jail.kill()
 
     def _ended(self) -> WorldRun:
