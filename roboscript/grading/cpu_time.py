@@ -12,6 +12,7 @@ world reads it while its run goes on.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 
 __all__ = ["process_tree_cpu_s", "process_tree_waited_s"]
 
@@ -66,29 +67,27 @@ def _scan(root_pid: int) -> dict[int, float] | None:
 def _walk(root_pid: int) -> dict[int, float] | None:
     """The tree, from each of its threads' list of children: a handful of files for a jail's
     few processes, where reading every process's ``stat`` takes milliseconds on a desktop."""
-    tree: dict[int, float] = {}
-    queue = [root_pid]
-    while queue:
-        pid = queue.pop()
-        if pid in tree:
-            continue
-        found = _stat(str(pid))
-        if found is None:
-            if pid == root_pid:
-                return None
-            continue  # it ended meanwhile (its time is in its parent's now)
-        tree[pid] = found[1]
+    return _gather(root_pid, _listed_children, _own_cpu_s)
+
+
+def _own_cpu_s(pid: int) -> float | None:
+    found = _stat(str(pid))
+    return None if found is None else found[1]
+
+
+def _listed_children(pid: int) -> list[int]:
+    children: list[int] = []
+    try:
+        threads = os.listdir(f"/proc/{pid}/task")
+    except OSError:
+        return children
+    for thread in threads:  # a child's parent is the thread that started it
         try:
-            threads = os.listdir(f"/proc/{pid}/task")
-        except OSError:
+            with open(f"/proc/{pid}/task/{thread}/children", "rb") as handle:
+                children.extend(int(child) for child in handle.read().split())
+        except (OSError, ValueError):
             continue
-        for thread in threads:  # a child's parent is the thread that started it
-            try:
-                with open(f"/proc/{pid}/task/{thread}/children", "rb") as handle:
-                    queue.extend(int(child) for child in handle.read().split())
-            except (OSError, ValueError):
-                continue
-    return tree
+    return children
 
 
 def _scan_all(root_pid: int) -> dict[int, float] | None:
@@ -110,14 +109,29 @@ def _scan_all(root_pid: int) -> dict[int, float] | None:
         children.setdefault(found[0], []).append(pid)
     if root_pid not in cpu:
         return None
+    return _gather(root_pid, lambda pid: children.get(pid, []), lambda pid: cpu.get(pid, 0.0))
+
+
+def _gather(
+    root_pid: int,
+    children_of: Callable[[int], list[int]],
+    cpu_s_of: Callable[[int], float | None],
+) -> dict[int, float] | None:
+    """Each process from ``root_pid`` down and its CPU seconds; None if the root is gone (a
+    process gone below it is left out: its time is in its parent's once reaped)."""
     tree: dict[int, float] = {}
     queue = [root_pid]
     while queue:
         pid = queue.pop()
         if pid in tree:
             continue
-        tree[pid] = cpu.get(pid, 0.0)
-        queue.extend(children.get(pid, ()))
+        cpu_s = cpu_s_of(pid)
+        if cpu_s is None:
+            if pid == root_pid:
+                return None
+            continue
+        tree[pid] = cpu_s
+        queue.extend(children_of(pid))
     return tree
 
 
