@@ -6,6 +6,8 @@ import os
 import subprocess
 import sys
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 import pytest
 from helpers import HANG_BOUND_S
@@ -24,24 +26,27 @@ time.sleep(600)
 pytestmark = pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs /proc")
 
 
-def test_the_cpu_time_of_a_grandchild_counts_for_the_tree() -> None:
-    # a shell (the jail's first process) whose child does the work
-    tree = subprocess.Popen(
-        ["sh", "-c", f"\"{sys.executable}\" -c '{BURN}'"],
-        stdout=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-    )
+@contextmanager
+def _burnt(argv: list[str]) -> Iterator[int]:
+    """The first process of a tree started by ``argv``, once one of its processes has burnt
+    half a CPU second (it says so); the whole tree is killed afterwards."""
+    tree = subprocess.Popen(argv, stdout=subprocess.PIPE, text=True, start_new_session=True)
     try:
         assert tree.stdout is not None
         assert tree.stdout.readline() == "burnt\n"
-        used = process_tree_cpu_s(tree.pid)
-        assert used is not None and used >= 0.4  # counted in clock ticks: a little behind
-        waited = process_tree_waited_s(tree.pid)
-        assert waited is not None and waited >= 0.0
+        yield tree.pid
     finally:
         os.killpg(tree.pid, 9)
         tree.wait(HANG_BOUND_S)
+
+
+def test_the_cpu_time_of_a_grandchild_counts_for_the_tree() -> None:
+    # a shell (the jail's first process) whose child does the work
+    with _burnt(["sh", "-c", f"\"{sys.executable}\" -c '{BURN}'"]) as pid:
+        used = process_tree_cpu_s(pid)
+        assert used is not None and used >= 0.4  # counted in clock ticks: a little behind
+        waited = process_tree_waited_s(pid)
+        assert waited is not None and waited >= 0.0
 
 
 def test_a_process_that_is_gone_has_no_cpu_time() -> None:
@@ -63,20 +68,9 @@ worker.join()
 
 def test_a_child_started_by_a_thread_counts_for_the_tree() -> None:
     # Linux lists a child under the thread that started it, not under its process
-    tree = subprocess.Popen(
-        [sys.executable, "-c", THREAD_BURN],
-        stdout=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-    )
-    try:
-        assert tree.stdout is not None
-        assert tree.stdout.readline() == "burnt\n"
-        used = process_tree_cpu_s(tree.pid)
+    with _burnt([sys.executable, "-c", THREAD_BURN]) as pid:
+        used = process_tree_cpu_s(pid)
         assert used is not None and used >= 0.4
-    finally:
-        os.killpg(tree.pid, 9)
-        tree.wait(HANG_BOUND_S)
 
 
 def test_the_tree_is_the_same_whether_read_from_children_or_from_parents() -> None:
