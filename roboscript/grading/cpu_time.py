@@ -14,7 +14,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 
-__all__ = ["process_tree_cpu_s", "process_tree_waited_s"]
+__all__ = ["process_tree_cpu_s", "process_tree_stopped", "process_tree_waited_s"]
 
 _TICKS_PER_S = float(os.sysconf("SC_CLK_TCK")) if hasattr(os, "sysconf") else 100.0
 _CHILDREN_LISTED = os.path.exists(f"/proc/{os.getpid()}/task/{os.getpid()}/children")
@@ -149,3 +149,18 @@ def process_tree_waited_s(root_pid: int) -> float | None:
         except (OSError, ValueError, IndexError):
             continue  # it ended meanwhile
     return total
+
+
+def process_tree_stopped(root_pid: int) -> bool:
+    """True when a process of ``root_pid``'s tree is stopped (``SIGSTOP``, ``SIGTSTP``; state
+    ``T`` or ``t`` in ``/proc/PID/stat``): it uses no CPU and waits for none, so neither rule on
+    CPU time ever ends it. False where the system does not tell."""
+    for pid in _tree(root_pid):
+        try:
+            with open(f"/proc/{pid}/stat", "rb") as handle:
+                text = handle.read()
+        except OSError:
+            continue  # it ended meanwhile
+        if text[text.rfind(b")") + 2 : text.rfind(b")") + 3] in (b"T", b"t"):
+            return True
+    return False

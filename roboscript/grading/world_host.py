@@ -57,7 +57,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
-from roboscript.grading.cpu_time import process_tree_cpu_s, process_tree_waited_s
+from roboscript.grading.cpu_time import (
+    process_tree_cpu_s,
+    process_tree_stopped,
+    process_tree_waited_s,
+)
 from roboscript.grading.judge import ended_in_time, simulation_record
 from roboscript.grading.latency import ask_short_slice
 from roboscript.grading.mission_host import LOAD_LIMIT_S, STATE_CLAIM_BYTES
@@ -103,6 +107,12 @@ stops a mission file stuck while loading after :data:`LOAD_LIMIT_S` of its own t
 _CHECK_EVERY_S = 0.25
 """How often the process's CPU time is read while simulated time stands still (a sampling
 step, not a limit: every verdict is on CPU time)."""
+
+_PAUSED_FOR_S = 1.0
+"""Wall seconds a process of the mission's tree may stay stopped (``SIGSTOP``) while simulated
+time stands still before the run is ``hung``: a stopped process uses no CPU, so the CPU rules
+never end it, and it waits for no CPU, so the wall limit would wait it out, longer the busier
+the machine. A busy machine never stops a process, so this is no verdict on load."""
 
 _SLOW_CHECK_EVERY_S = 2.0
 """How often the CPU time is compared with the simulated time advanced."""
@@ -394,6 +404,8 @@ class _WorldSession:
                 stalled_s = stall.check(now, allowance, self.now_s)
                 if stalled_s is not None:
                     return self._stopped("hung", self._hung_message(stalled_s, stall.measured))
+                if stall.paused_for_s(now) >= _PAUSED_FOR_S:
+                    return self._stopped("hung", self._paused_message())
             if self.loaded and now >= next_slow_check:
                 next_slow_check = now + _SLOW_CHECK_EVERY_S
                 used_s = stall.used_since_loaded()
@@ -659,6 +671,13 @@ class _WorldSession:
             f" {measured} without returning (an endless loop?)"
         )
 
+    def _paused_message(self) -> str:
+        phase = "while loading" if not self.loaded else f"at {self.now_s:.2f} s of simulated time"
+        return (
+            f"the mission stopped advancing {phase}: its process was paused by a stop signal"
+            " (SIGSTOP) and would never go on by itself"
+        )
+
     def _timeout_message(self) -> str:
         limit = self.spec.wall_time_limit_s
         return (
@@ -702,6 +721,7 @@ class _Stall:
         self._at_progress_s: float | None = None
         self._at_load_s: float | None = None
         self._last_cpu_s: float | None = None
+        self._paused_since: float | None = None  # wall time a stopped process was first seen
         self.loaded_at_s = 0.0
 
     def _used_s(self) -> float:
@@ -744,6 +764,17 @@ class _Stall:
             return None
         stalled = used - self._at_progress_s
         return stalled if stalled >= allowance_s else None
+
+    def paused_for_s(self, now: float) -> float:
+        """Wall seconds a process of the tree has been seen stopped at every check since
+        simulated time last stood still (0 while it advances, or where the system does not
+        tell). Read only while time stands still: an honest run never reads it."""
+        if self._at_progress_s is None or self.pid is None or not process_tree_stopped(self.pid):
+            self._paused_since = None
+            return 0.0
+        if self._paused_since is None:
+            self._paused_since = now
+        return now - self._paused_since
 
     def used_since_loaded(self) -> float | None:
         """CPU seconds used since the mission loaded (None before, or where unknown)."""

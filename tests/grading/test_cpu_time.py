@@ -13,7 +13,11 @@ import pytest
 from helpers import HANG_BOUND_S
 
 from roboscript.grading import cpu_time
-from roboscript.grading.cpu_time import process_tree_cpu_s, process_tree_waited_s
+from roboscript.grading.cpu_time import (
+    process_tree_cpu_s,
+    process_tree_stopped,
+    process_tree_waited_s,
+)
 
 BURN = """
 import time
@@ -93,3 +97,15 @@ def test_the_tree_is_the_same_whether_read_from_children_or_from_parents() -> No
     finally:
         os.killpg(tree.pid, 9)
         tree.wait(HANG_BOUND_S)
+
+
+def test_a_tree_with_a_stopped_grandchild_is_stopped_and_one_running_is_not() -> None:
+    stops = "import os, signal; print('burnt', flush=True); os.kill(os.getpid(), signal.SIGSTOP)"
+    parent = f"import subprocess, sys, time; subprocess.Popen([sys.executable, '-c', {stops!r}]);"
+    with _burnt([sys.executable, "-c", parent + " time.sleep(600)"]) as root:
+        deadline = time.monotonic() + HANG_BOUND_S  # a bound for a broken test only
+        while not process_tree_stopped(root):
+            assert time.monotonic() < deadline, "never seen stopped"
+            time.sleep(0.01)
+    with _burnt([sys.executable, "-c", BURN]) as root:
+        assert not process_tree_stopped(root)

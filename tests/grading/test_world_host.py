@@ -452,3 +452,32 @@ def test_a_stall_is_cpu_time_used_while_simulated_time_stands_still() -> None:
     finally:
         process.kill()
         process.wait(HANG_BOUND_S)
+
+
+PAUSES_ITSELF = """\
+import os, signal
+from roboscript import Drive, Mission, state
+
+
+class Paused(Mission):
+    go = state(Drive(distance_mm=500), initial=True, on_done="end", when=[("rest", "end")])
+    end = state(final="success")
+
+    def rest(self):
+        os.kill(os.getpid(), signal.SIGSTOP)
+        return False
+"""
+
+
+def test_a_mission_that_stops_its_own_process_is_hung_at_once_not_waited_out(
+    tmp_path: Path,
+) -> None:
+    # A stopped process uses no CPU and waits for none: only being seen stopped ends it
+    # (before, the run took the spec's whole wall limit, stretched by the machine's load).
+    run = _graded(tmp_path, "paused.py", PAUSES_ITSELF)
+    assert run["status"] == "hung"
+    assert re.fullmatch(
+        r"the mission stopped advancing at \d+\.\d\d s of simulated time: its process was"
+        r" paused by a stop signal \(SIGSTOP\) and would never go on by itself",
+        run["message"],
+    ), run["message"]
