@@ -16,6 +16,7 @@ from roboscript.actions.timing import PlayTone, Wait, WaitUntil
 
 __all__ = [
     "ACTIONS",
+    "ACTION_WORDS",
     "REQUIRED",
     "Action",
     "ActionContext",
@@ -60,3 +61,32 @@ ACTIONS: dict[str, type[Action]] = {
     )
 }
 """Built-in actions by name."""
+
+ACTION_WORDS: dict[str, str] = {
+    "move": "drive",
+    "go": "drive",
+    "forward": "drive",
+    "forwards": "drive",
+    "backward": "drive",
+    "backwards": "drive",
+    "reverse": "drive",
+    "turn_left": "rotate",
+    "turn_right": "rotate",
+    "left": "rotate",
+    "right": "rotate",
+    "beep": "play_tone",
+    "tone": "play_tone",
+    "sound": "play_tone",
+    "play": "play_tone",
+    "buzz": "play_tone",
+    "sleep": "wait",
+    "pause": "wait",
+    "delay": "wait",
+    "halt": "stop",
+    "brake": "stop",
+    "print": "display",
+    "show": "display",
+    "led": "set_led",
+}
+"""Words a beginner writes for an action (in YAML, or called on ``self`` in a Python
+condition), and the built-in action that does it."""

@@ -20,6 +20,7 @@ import sys
 from collections.abc import Callable, Iterable, Iterator
 from types import FunctionType
 
+from roboscript.actions import ACTION_WORDS, ACTIONS
 from roboscript.errors import did_you_mean
 
 __all__ = ["Slip", "condition_slips"]
@@ -27,26 +28,6 @@ __all__ = ["Slip", "condition_slips"]
 Slip = tuple[ast.AST, str, str | None]
 """Where in the method, what is wrong, and what to write instead."""
 
-_ACTION_WORDS = frozenset(
-    {
-        "backward",
-        "beep",
-        "display",
-        "drive",
-        "forward",
-        "move",
-        "play_tone",
-        "rotate",
-        "servo",
-        "set_led",
-        "stop",
-        "turn",
-        "turn_left",
-        "turn_right",
-        "wait",
-    }
-)
-"""What a student may call on ``self`` believing a condition can make the robot act."""
 
 _ENDS_PROGRAM = frozenset({"exit", "quit", "sys.exit", "os._exit"})
 _NO_KEYBOARD = "input() waits for someone to type, and a running mission has no one at the keyboard"
@@ -284,7 +265,7 @@ def _name_hint(name: str, cls: type) -> str | None:
 def _self_hint(
     attr: str, cls: type, public: list[str], reading_names: Callable[[str], list[str]]
 ) -> str | None:
-    if attr.lower() in _ACTION_WORDS:
+    if attr.lower() in ACTIONS or attr.lower() in ACTION_WORDS:  # believed to make it act
         return (
             "a condition cannot make the robot act: run the action in a state of its own,"
             " e.g. turn = state(Rotate(angle_deg=90), ...), and go there when the condition"

@@ -11,7 +11,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
-from roboscript.actions import ACTIONS, Action, Parallel, Repeat
+from roboscript.actions import ACTION_WORDS, ACTIONS, Action, Parallel, Repeat
 from roboscript.actions.base import PARAM_EXAMPLES, params_of
 from roboscript.errors import InputError, MissionError, did_you_mean
 from roboscript.inputs.fields import FieldReader
@@ -59,34 +59,6 @@ _LOADING: set[str] = set()  # mission files being loaded, to refuse a file that 
 
 _STATES_MISSPELT = frozenset({"state", "states"})
 """``States:`` and ``state:``, whose own "did you mean 'states'?" is the whole story."""
-
-_ACTION_WORDS = {
-    "move": "drive",
-    "go": "drive",
-    "forward": "drive",
-    "forwards": "drive",
-    "backward": "drive",
-    "backwards": "drive",
-    "reverse": "drive",
-    "turn_left": "rotate",
-    "turn_right": "rotate",
-    "left": "rotate",
-    "right": "rotate",
-    "beep": "play_tone",
-    "tone": "play_tone",
-    "sound": "play_tone",
-    "play": "play_tone",
-    "buzz": "play_tone",
-    "sleep": "wait",
-    "pause": "wait",
-    "delay": "wait",
-    "halt": "stop",
-    "brake": "stop",
-    "print": "display",
-    "show": "display",
-    "led": "set_led",
-}
-"""Words a beginner writes for an action, and the action that does it."""
 
 
 class _Reader:
@@ -385,7 +357,7 @@ class _Reader:
     def action_meant(self, name: str) -> str:
         """The hint for an unknown action: a look-alike, the action that does what its word
         says (``forward``: ``drive``), or the actions there are."""
-        meant = _ACTION_WORDS.get(name.lower())
+        meant = ACTION_WORDS.get(name.lower())
         if meant is not None and meant in self.actions:
             return f"the action for that is '{meant}'"
         return did_you_mean(name, self.actions) or f"actions: {', '.join(sorted(self.actions))}"
