@@ -10,6 +10,7 @@ end marker, coloured by outcome.
 
 from __future__ import annotations
 
+import json
 import re
 from collections.abc import Iterator
 
@@ -36,8 +37,57 @@ def _edges(spec: MissionSpec) -> Iterator[tuple[str, str, str]]:
                 yield source, str(transition.dest), label
 
 
-def _ident(prefix: str, name: str) -> str:
-    return re.sub(r"\W", "_", f"{prefix}{name}")
+class _Idents:
+    """One identifier per state of a diagram, each used once.
+
+    A state's identifier is its name (after its outer state's identifier and ``__``) with
+    every character that is not a letter, a digit or ``_`` made ``_``. Two states whose names
+    differ only there (``go-out`` and ``go out``), or a state named like the start node, would
+    otherwise be drawn as one: a later one gets ``_2``, ``_3``, ...
+    """
+
+    def __init__(self) -> None:
+        self._by_key: dict[tuple[str, str], str] = {}
+        self._used: set[str] = set()
+
+    def __call__(self, prefix: str, name: str) -> str:
+        """The identifier of state ``name`` of the machine whose identifiers start ``prefix``."""
+        return self._claim((prefix, name), f"{prefix}{name}")
+
+    def start(self, prefix: str) -> str:
+        """The identifier of the start node of the machine whose identifiers start ``prefix``."""
+        return self._claim((prefix, ""), f"{prefix}__start")  # no state is named ""
+
+    def _claim(self, key: tuple[str, str], text: str) -> str:
+        ident = self._by_key.get(key)
+        if ident is None:
+            base = re.sub(r"\W", "_", text)
+            if base[:1].isdigit():  # an identifier that starts with a digit is a number
+                base = f"_{base}"
+            ident, n = base, 1
+            while ident in self._used:
+                n += 1
+                ident = f"{base}_{n}"
+            self._by_key[key] = ident
+            self._used.add(ident)
+        return ident
+
+
+def _dot_text(text: str) -> str:
+    """``text`` inside a dot double-quoted string, shown as written."""
+    return text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
+
+
+def _mermaid_text(text: str) -> str:
+    """``text`` inside a mermaid double-quoted name, shown as written."""
+    return text.replace('"', "#quot;").replace("\n", " ")
+
+
+def _mermaid_title(name: str) -> str:
+    """A mission's name as the YAML value of the diagram's ``title``."""
+    if re.fullmatch(r"\w[\w .-]*", name) and not name.endswith(" "):
+        return name
+    return json.dumps(name, ensure_ascii=False)
 
 
 def _describe(spec: MissionSpec, name: str) -> str:
@@ -52,17 +102,19 @@ def _describe(spec: MissionSpec, name: str) -> str:
     return " ".join(parts)
 
 
-def _mermaid_body(spec: MissionSpec, prefix: str, indent: str) -> list[str]:
+def _mermaid_body(spec: MissionSpec, prefix: str, indent: str, _ident: _Idents) -> list[str]:
     lines: list[str] = []
+    for name in spec.states:
+        _ident(prefix, name)  # every state of this machine before any nested one's
     for name, state in spec.states.items():
         ident = _ident(prefix, name)
         inner = state.action.inner if state.action is not None else None
         if inner is not None:
-            lines.append(f'{indent}state "{name}" as {ident} {{')
-            lines.extend(_mermaid_body(inner, f"{ident}__", indent + "  "))
+            lines.append(f'{indent}state "{_mermaid_text(name)}" as {ident} {{')
+            lines.extend(_mermaid_body(inner, f"{ident}__", indent + "  ", _ident))
             lines.append(f"{indent}}}")
         else:
-            lines.append(f'{indent}state "{name}" as {ident}')
+            lines.append(f'{indent}state "{_mermaid_text(name)}" as {ident}')
             description = _describe(spec, name)
             if description:
                 lines.append(f"{indent}{ident} : {description}")
@@ -80,32 +132,36 @@ def to_mermaid(spec: MissionSpec) -> str:
     """The mission as a mermaid ``stateDiagram-v2``."""
     lines = [
         "---",
-        f"title: {spec.name}",
+        f"title: {_mermaid_title(spec.name)}",
         "---",
         "stateDiagram-v2",
         "  classDef success fill:#c8f0c8,stroke:#2a7a2a",
         "  classDef failure fill:#f6c6c6,stroke:#a02020",
     ]
-    lines.extend(_mermaid_body(spec, "", "  "))
+    lines.extend(_mermaid_body(spec, "", "  ", _Idents()))
     return "\n".join(lines) + "\n"
 
 
-def _dot_body(spec: MissionSpec, prefix: str, indent: str) -> list[str]:
+def _dot_body(spec: MissionSpec, prefix: str, indent: str, _ident: _Idents) -> list[str]:
     lines: list[str] = []
-    start = _ident(prefix, "__start")
+    start = _ident.start(prefix)
     lines.append(f'{indent}{start} [shape=point, label=""];')
+    for name in spec.states:
+        _ident(prefix, name)  # every state of this machine before any nested one's
     for name, state in spec.states.items():
         ident = _ident(prefix, name)
         inner = state.action.inner if state.action is not None else None
         if inner is not None:
             lines.append(f"{indent}subgraph cluster_{ident} {{")
-            lines.append(f'{indent}  label="{name}";')
-            lines.extend(_dot_body(inner, f"{ident}__", indent + "  "))
+            lines.append(f'{indent}  label="{_dot_text(name)}";')
+            lines.extend(_dot_body(inner, f"{ident}__", indent + "  ", _ident))
             lines.append(f"{indent}}}")
-            lines.append(f'{indent}{ident} [label="{name}", shape=box, style="rounded,dashed"];')
+            lines.append(
+                f'{indent}{ident} [label="{_dot_text(name)}", shape=box, style="rounded,dashed"];'
+            )
             continue
         description = _describe(spec, name)
-        label = f"{name}\\n{description}" if description else name
+        label = _dot_text(name) + (f"\\n{_dot_text(description)}" if description else "")
         style = ""
         if state.final == "success":
             style = ', style="rounded,filled", fillcolor="#c8f0c8", peripheries=2'
@@ -114,7 +170,7 @@ def _dot_body(spec: MissionSpec, prefix: str, indent: str) -> list[str]:
         lines.append(f'{indent}{ident} [label="{label}", shape=box{style or ", style=rounded"}];')
     lines.append(f"{indent}{start} -> {_ident(prefix, spec.initial)};")
     for source, dest, label in _edges(spec):
-        text = label.replace('"', '\\"')
+        text = _dot_text(label)
         lines.append(
             f'{indent}{_ident(prefix, source)} -> {_ident(prefix, dest)} [label="{text}"];'
         )
@@ -123,7 +179,11 @@ def _dot_body(spec: MissionSpec, prefix: str, indent: str) -> list[str]:
 
 def to_dot(spec: MissionSpec) -> str:
     """The mission as a graphviz ``digraph``."""
-    lines = [f'digraph "{spec.name}" {{', "  rankdir=LR;", '  node [fontname="Helvetica"];']
-    lines.extend(_dot_body(spec, "", "  "))
+    lines = [
+        f'digraph "{_dot_text(spec.name)}" {{',
+        "  rankdir=LR;",
+        '  node [fontname="Helvetica"];',
+    ]
+    lines.extend(_dot_body(spec, "", "  ", _Idents()))
     lines.append("}")
     return "\n".join(lines) + "\n"

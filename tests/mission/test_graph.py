@@ -254,6 +254,77 @@ stateDiagram-v2
   class lost failure
 """
 
+CLASHING_YAML = """\
+mission: "clash: names"
+initial: go-out
+states:
+  go-out:
+    do: {drive: {distance: 10 cm}}
+    on: {done: go out}
+  go out:
+    do: {drive: {distance: 10 cm}}
+    on: {done: __start}
+  __start:
+    do: {rotate: {angle: 90 deg}}
+    on: {done: say "hi"}
+  say "hi":
+    do: {rotate: {angle: 90 deg}}
+    on: {done: 'back\\slash'}
+  'back\\slash':
+    do: {rotate: {angle: 90 deg}}
+    on: {done: 1st}
+  1st:
+    final: success
+"""
+
+CLASHING_DOT = """\
+digraph "clash: names" {
+  rankdir=LR;
+  node [fontname="Helvetica"];
+  __start [shape=point, label=""];
+  go_out [label="go-out\\ndrive", shape=box, style=rounded];
+  go_out_2 [label="go out\\ndrive", shape=box, style=rounded];
+  __start_2 [label="__start\\nrotate", shape=box, style=rounded];
+  say__hi_ [label="say \\"hi\\"\\nrotate", shape=box, style=rounded];
+  back_slash [label="back\\\\slash\\nrotate", shape=box, style=rounded];
+  _1st [label="1st", shape=box, style="rounded,filled", fillcolor="#c8f0c8", peripheries=2];
+  __start -> go_out;
+  go_out -> go_out_2 [label="done"];
+  go_out_2 -> __start_2 [label="done"];
+  __start_2 -> say__hi_ [label="done"];
+  say__hi_ -> back_slash [label="done"];
+  back_slash -> _1st [label="done"];
+}
+"""
+
+CLASHING_MERMAID = """\
+---
+title: "clash: names"
+---
+stateDiagram-v2
+  classDef success fill:#c8f0c8,stroke:#2a7a2a
+  classDef failure fill:#f6c6c6,stroke:#a02020
+  state "go-out" as go_out
+  go_out : drive
+  state "go out" as go_out_2
+  go_out_2 : drive
+  state "__start" as __start
+  __start : rotate
+  state "say #quot;hi#quot;" as say__hi_
+  say__hi_ : rotate
+  state "back\\slash" as back_slash
+  back_slash : rotate
+  state "1st" as _1st
+  [*] --> go_out
+  go_out --> go_out_2 : done
+  go_out_2 --> __start : done
+  __start --> say__hi_ : done
+  say__hi_ --> back_slash : done
+  back_slash --> _1st : done
+  _1st --> [*] : success
+  class _1st success
+"""
+
 
 def _load(tmp_path: Path, name: str, text: str) -> MissionSpec:
     path = tmp_path / name
@@ -270,6 +341,10 @@ CASES = [
     ("twice.py", TWICE_PY, TWICE_DOT, TWICE_MERMAID),
     # choices tried in order (a method, a lambda, a fallback), final=True drawn as success
     ("choose.py", CHOOSE_PY, CHOOSE_DOT, CHOOSE_MERMAID),
+    # names that clash once made identifiers (with each other, the start node, a number) get
+    # identifiers of their own; quotes and backslashes show as written; a title with a colon
+    # stays one YAML value
+    ("clashing.yaml", CLASHING_YAML, CLASHING_DOT, CLASHING_MERMAID),
 ]
 
 
