@@ -107,6 +107,12 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
     # the run machinery loads only for `run`
     from roboscript.session import run_session, session_record
 
+    unwritable = _unwritable_run_output(args)
+    if unwritable:  # said before the robot moves, not after the run is lost
+        raise InputError(unwritable)
+    for target in (args.record, args.plot, args.wire_log):
+        if target:
+            _make_parent_folders(target)
     recording = live = None
     if args.record or args.view:
         # recording and the replay page load only when a run is recorded or viewed
@@ -463,14 +469,35 @@ def _unwritable_report(args: argparse.Namespace) -> str:
     Checked before grading: a mistyped path must not cost the teacher a class's grading. A
     report's missing folders are made when it is written.
     """
-    targets = [
-        ("--junit", args.junit, False),
-        ("--csv", args.csv, False),
-        ("--html", args.html, True),
-        ("--gradescope", args.gradescope, False),
-        ("--prairielearn", getattr(args, "prairielearn", None), False),
-        ("--results", getattr(args, "results", None), False),
-    ]
+    return _unwritable(
+        [
+            ("--junit", args.junit, False),
+            ("--csv", args.csv, False),
+            ("--html", args.html, True),
+            ("--gradescope", args.gradescope, False),
+            ("--prairielearn", getattr(args, "prairielearn", None), False),
+            ("--results", getattr(args, "results", None), False),
+        ]
+    )
+
+
+def _unwritable_run_output(args: argparse.Namespace) -> str:
+    """Why a file ``run`` was asked to write cannot be written (one sentence), or ``""``.
+
+    Checked before the robot moves: a run on a real robot cannot be run again as it was, so a
+    mistyped ``--record`` path must not lose it. Missing folders are made when it is written.
+    """
+    return _unwritable(
+        [
+            ("--record", args.record, False),
+            ("--plot", args.plot, False),
+            ("--wire-log", args.wire_log, False),
+        ]
+    )
+
+
+def _unwritable(targets: list[tuple[str, str | None, bool]]) -> str:
+    """Why one of ``(option, path or None, is a folder)`` cannot be written, or ``""``."""
     named: dict[Path, str] = {}
     for option, target, _ in targets:
         if target:
@@ -491,6 +518,12 @@ def _unwritable_report(args: argparse.Namespace) -> str:
         if not os.access(path if path.exists() else existing, os.W_OK):
             return f"cannot write {target}: {path if path.exists() else existing} is read-only"
     return ""
+
+
+def _make_parent_folders(path: str | Path) -> None:
+    """Make the missing folders above ``path`` (an output file), as the grade reports do."""
+    with contextlib.suppress(OSError):  # the write that follows says what is wrong
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
 
 
 def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:

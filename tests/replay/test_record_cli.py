@@ -45,13 +45,54 @@ def test_run_record_then_view_writes_a_self_contained_page(tmp_path: Path) -> No
     assert other.read_text(encoding="utf-8") == html
 
 
-def test_a_recording_that_cannot_be_written_fails_after_the_run(tmp_path: Path) -> None:
-    done = run_cli("run", str(MISSIONS / "square.yaml"), "--record", str(tmp_path), "--json")
-    assert done.returncode == 1
-    summary = json.loads(done.stdout)
-    assert summary["outcome"] == "success"  # the run itself went on and ended
-    last = done.stderr.strip().splitlines()[-1]
-    assert last.startswith(f"error: cannot write the recording {tmp_path}: ")
+@pytest.mark.parametrize(
+    ("option", "where"),
+    [
+        ("--record", "a folder"),
+        ("--record", "under a file"),
+        ("--wire-log", "under a file"),
+        ("--plot", "a folder"),
+        ("--wire-log", "the recording"),
+    ],
+)
+def test_an_output_path_that_cannot_be_written_is_refused_before_the_robot_moves(
+    tmp_path: Path, option: str, where: str
+) -> None:
+    a_file = tmp_path / "notes.txt"
+    a_file.write_text("mine\n", encoding="utf-8")
+    record = tmp_path / "run.jsonl"
+    target = {
+        "a folder": tmp_path,
+        "under a file": a_file / "run.out",
+        "the recording": record,
+    }[where]
+    outputs = ["--record", str(target)]
+    if option != "--record":  # beside a recording that could be written
+        outputs = ["--record", str(record), option, str(target)]
+    done = run_cli("run", str(MISSIONS / "square.yaml"), *outputs, "--json")
+    assert done.returncode == 2, done.stderr
+    assert done.stdout == ""  # no run: the robot never moved
+    assert done.stderr.count("\n") == 1 and done.stderr.startswith("error: ")
+    assert str(target) in done.stderr or option in done.stderr
+    assert a_file.read_text(encoding="utf-8") == "mine\n"  # nothing of the user's is lost
+    assert not record.exists() or where == "the recording"
+
+
+def test_run_outputs_in_folders_not_made_yet_are_written_there(tmp_path: Path) -> None:
+    record = tmp_path / "new" / "runs" / "run.jsonl"
+    wire = tmp_path / "logs" / "run.wire"
+    done = run_cli(
+        "run",
+        str(MISSIONS / "square.yaml"),
+        "--record",
+        str(record),
+        "--wire-log",
+        str(wire),
+        "--quiet",
+    )
+    assert done.returncode == 0, done.stderr
+    assert load_recording(record).result is not None
+    assert read_wire_log(wire)
 
 
 def test_view_names_a_bad_recording_in_one_line(tmp_path: Path) -> None:

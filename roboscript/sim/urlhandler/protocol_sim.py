@@ -9,6 +9,7 @@ return what the device has sent so far and never block.
 
 from __future__ import annotations
 
+import math
 import urllib.parse
 
 from roboscript.errors import InputError
@@ -31,17 +32,24 @@ def parse_sim_url(url: str) -> tuple[str, str, int, Pose | None]:
     robot = parts.netloc or "mirto"
     query = urllib.parse.parse_qs(parts.query)
     world = query.get("world", ["empty"])[-1]
-    try:
-        seed = int(query.get("seed", ["1"])[-1])
-        start = None
-        if {"x", "y", "heading"} & query.keys():
-            start = Pose(
-                float(query.get("x", ["0"])[-1]),
-                float(query.get("y", ["0"])[-1]),
-                float(query.get("heading", ["0"])[-1]),
-            )
-    except ValueError as exc:
-        raise ValueError(f"bad number in {url!r}: {exc}") from None
+
+    def number(key: str, default: str, kind: type[int | float]) -> float:
+        text = query.get(key, [default])[-1]
+        try:
+            value = kind(text)
+        except ValueError:
+            what = "a whole number" if kind is int else "a number"
+            raise ValueError(f"{key} must be {what} (got {text!r})") from None
+        if not math.isfinite(value):
+            raise ValueError(f"{key} must be a finite number (got {text!r})")
+        return value
+
+    seed = int(number("seed", "1", int))
+    start = None
+    if {"x", "y", "heading"} & query.keys():
+        start = Pose(
+            number("x", "0", float), number("y", "0", float), number("heading", "0", float)
+        )
     return robot, world, seed, start
 
 

@@ -18,8 +18,10 @@ def test_sim_url_carries_world_seed_and_start() -> None:
         Pose(10.0, -5.0, 90.0),
     )
     assert parse_sim_url("sim://") == ("mirto", "empty", 1, None)
-    with pytest.raises(ValueError, match="bad number"):
+    with pytest.raises(ValueError, match=r"^seed must be a whole number \(got 'four'\)$"):
         parse_sim_url("sim://mirto?seed=four")
+    with pytest.raises(ValueError, match=r"^heading must be a finite number \(got 'nan'\)$"):
+        parse_sim_url("sim://mirto?heading=nan")
 
 
 def test_open_port_finds_the_simulators_handler_and_powers_the_device_on() -> None:
