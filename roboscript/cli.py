@@ -16,7 +16,9 @@ import errno
 import json
 import logging
 import os
+import re
 import sys
+import zipfile
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
@@ -562,6 +564,46 @@ def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:
 
 # ------------------------------------------------------------------------------ autograder
 
+_GITHUB_REPOSITORY = re.compile(r"[A-Za-z0-9](?:[A-Za-z0-9-]{0,38})/[A-Za-z0-9._-]{1,100}")
+"""``OWNER/NAME`` as GitHub allows them (what the workflow's ``repository:`` takes)."""
+
+_QUESTION_PART = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*")
+"""One folder of a PrairieLearn question's name (its QID may hold ``/``)."""
+
+
+def _autograder_argument_problem(args: argparse.Namespace) -> str:
+    """What is wrong with ``autograder``'s options (one sentence), or ``""``.
+
+    Checked before anything is built: ``-o`` never replaces a file that is not an autograder
+    zip (a teacher's test spec, say), ``--tests-repo`` is written into the students' workflow
+    and ``--question`` into a path, so neither may carry anything but a name.
+    """
+    output = Path(args.output)
+    if args.platform == "gradescope":
+        if output.is_dir():
+            return f"cannot write {args.output}: it is a folder (give the zip's name)"
+        if output.suffix.lower() != ".zip":
+            return f"the Gradescope autograder is a zip: name it so ({output.stem}.zip)"
+        if output.exists() and not zipfile.is_zipfile(output):
+            return f"{args.output} exists and is not a zip: give a new name"
+        if output.resolve() in {Path(spec).resolve() for spec in args.specs}:
+            return f"{args.output} is one of the tests: give a new name"
+    if args.wheels and not Path(args.wheels).is_dir():
+        return f"--wheels {args.wheels}: there is no such folder"
+    if args.platform == "classroom" and not _GITHUB_REPOSITORY.fullmatch(args.tests_repo):
+        return (
+            f"--tests-repo must be a GitHub repository's OWNER/NAME, like"
+            f" my-school/robotics-tests (got {args.tests_repo!r})"
+        )
+    if args.platform == "prairielearn" and args.question is not None:
+        parts = args.question.split("/")
+        if not all(_QUESTION_PART.fullmatch(part) for part in parts):
+            return (
+                "--question is a folder name under questions/ (letters, digits, '_', '-' and"
+                f" '.', folders joined by '/'; got {args.question!r})"
+            )
+    return ""
+
 
 def _cmd_autograder(args: argparse.Namespace) -> int:
     # grading (sandbox, reports, worlds) loads only for the grading commands
@@ -569,6 +611,10 @@ def _cmd_autograder(args: argparse.Namespace) -> int:
     from roboscript.grading.batch import find_specs
     from roboscript.grading.wheels import dependency_wheels
 
+    problem = _autograder_argument_problem(args)
+    if problem:
+        _err(f"error: {problem}")
+        return EXIT_INPUT
     specs = find_specs(args.specs)  # a broken spec is found here, not on the platform
     wheels = dependency_wheels(ready=Path(args.wheels) if args.wheels else None)
     try:
@@ -578,7 +624,7 @@ def _cmd_autograder(args: argparse.Namespace) -> int:
             files = autograder.classroom_files(specs, wheels, args.tests_repo)
             autograder.write_folder(files, args.output)
         else:
-            question = args.question or f"roboscript-{specs[0].name}"
+            question = args.question or autograder.default_question(specs)
             autograder.write_folder(
                 autograder.prairielearn_files(specs, wheels, question), args.output
             )

@@ -30,6 +30,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import re
 import uuid
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -42,6 +43,7 @@ from roboscript.grading.wheels import Wheel, reproducible_zip
 __all__ = [
     "PLATFORMS",
     "classroom_files",
+    "default_question",
     "gradescope_zip",
     "prairielearn_files",
     "spec_files",
@@ -272,6 +274,12 @@ def prairielearn_files(specs: Sequence[TestSpec], wheels: Sequence[Wheel], quest
     return files
 
 
+def default_question(specs: Sequence[TestSpec]) -> str:
+    """The PrairieLearn question's folder name for ``specs``: ``roboscript-`` and the first
+    test's name, with anything but letters, digits, ``_``, ``-`` and ``.`` made ``-``."""
+    return "roboscript-" + re.sub(r"[^A-Za-z0-9_.-]+", "-", specs[0].name).strip("-.")
+
+
 def write_folder(files: Mapping[str, tuple[bytes, bool]], folder: str | Path) -> None:
     """Write the files under ``folder``, which must be new or empty.
 
@@ -282,6 +290,10 @@ def write_folder(files: Mapping[str, tuple[bytes, bool]], folder: str | Path) ->
     out = Path(folder)
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         raise InputError(f"{folder} is not an empty folder: give a new one")
+    for name in files:
+        parts = name.split("/")
+        if name.startswith("/") or any(part in {"", ".", ".."} for part in parts):
+            raise InputError(f"{name!r} would be written outside {folder}")
     for name, (content, executable) in sorted(files.items()):
         target = out / name
         target.parent.mkdir(parents=True, exist_ok=True)

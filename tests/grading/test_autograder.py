@@ -259,3 +259,40 @@ def test_a_classroom_folder_is_never_written_over(specs_folder: Path, tmp_path: 
     files = classroom_files(find_specs([str(specs_folder)]), [], "me/tests")
     assert "private-tests/specs/test.yaml" in files and "student-template/robot/README.md" in files
     assert gradescope_zip(find_specs([str(specs_folder)]), []).startswith(b"PK")
+
+
+@pytest.mark.parametrize(
+    ("platform", "options", "said"),
+    [
+        ("gradescope", ["-o", "test.yaml"], "the Gradescope autograder is a zip"),
+        ("gradescope", ["-o", "notes.zip"], "notes.zip exists and is not a zip"),
+        ("gradescope", ["-o", "a.zip", "--wheels", "no-such-folder"], "there is no such folder"),
+        ("classroom", ["-o", "out", "--tests-repo", "me/tests\n  evil: true"], "OWNER/NAME"),
+        ("classroom", ["-o", "out", "--tests-repo", "my tests"], "OWNER/NAME"),
+        ("prairielearn", ["-o", "out", "--question", "../../escape"], "a folder name"),
+        ("prairielearn", ["-o", "out", "--question", "/abs"], "a folder name"),
+    ],
+)
+def test_autograder_options_that_would_overwrite_or_escape_are_refused_first(
+    specs_folder: Path, platform: str, options: list[str], said: str
+) -> None:
+    (specs_folder / "notes.zip").write_text("my notes\n", encoding="utf-8")
+    before = {p: p.read_bytes() for p in specs_folder.rglob("*") if p.is_file()}
+    made = run_cli("autograder", platform, "test.yaml", *options, cwd=specs_folder)
+    assert made.returncode == 2, made.stderr
+    assert made.stderr.startswith("error: ") and said in made.stderr
+    assert made.stderr.count("\n") == 1
+    after = {p: p.read_bytes() for p in specs_folder.rglob("*") if p.is_file()}
+    assert after == before  # nothing written, nothing replaced
+
+
+def test_a_prairielearn_question_named_after_its_test_stays_in_questions(
+    specs_folder: Path, tmp_path: Path
+) -> None:
+    spec = specs_folder / "test.yaml"
+    spec.write_text(SPEC.replace("test: out-and-turn", 'test: "../../out and turn"'), "utf-8")
+    out = tmp_path / "course"
+    made = run_cli("autograder", "prairielearn", str(spec), "-o", str(out))
+    assert made.returncode == 0, made.stderr
+    assert os.listdir(out / "questions") == ["roboscript-out-and-turn"]
+    assert sorted(os.listdir(out)) == ["questions", "serverFilesCourse"]
