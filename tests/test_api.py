@@ -300,6 +300,9 @@ def test_a_bad_mission_raises_with_its_location(tmp_path: Path) -> None:
         roboscript.run(42)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="max_time_s"):
         roboscript.run(MISSIONS / "square.yaml", max_time_s=0)
+    for seed in (3.5, "3", True, None):
+        with pytest.raises(ValueError, match=r"^seed must be a whole number, like seed=3"):
+            roboscript.run(MISSIONS / "square.yaml", seed=seed)  # type: ignore[arg-type]
 
 
 def test_a_class_typed_into_a_notebook_runs() -> None:
