@@ -249,13 +249,14 @@ def run(
             ``exit_status`` is the command's (130, 143, 129). Signals are handled this way
             only while :func:`run` runs, in the main thread; the program's own handlers are
             back when it returns or raises.
-        ValueError: ``max_time_s`` is not more than 0, or ``seed`` is not a whole number.
+        ValueError: ``max_time_s`` is not more than 0.
+        TypeError: ``seed`` is not a whole number.
     """
     if not max_time_s > 0:
         raise ValueError(f"max_time_s must be more than 0 (got {max_time_s})")
     if isinstance(seed, bool) or not isinstance(seed, int):
         # a seed of 3.5 or "3" would reach the simulator's URL and be read there, or not
-        raise ValueError(f"seed must be a whole number, like seed=3 (got {seed!r})")
+        raise TypeError(f"seed must be a whole number, like seed=3 (got {seed!r})")
     note_mission_run()
     # Ctrl-C, SIGTERM and SIGHUP stop the robot on the way out here as on the command line;
     # the caller's program gets its own handlers back when the run ends.

@@ -301,7 +301,7 @@ def test_a_bad_mission_raises_with_its_location(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="max_time_s"):
         roboscript.run(MISSIONS / "square.yaml", max_time_s=0)
     for seed in (3.5, "3", True, None):
-        with pytest.raises(ValueError, match=r"^seed must be a whole number, like seed=3"):
+        with pytest.raises(TypeError, match=r"^seed must be a whole number, like seed=3"):
             roboscript.run(MISSIONS / "square.yaml", seed=seed)  # type: ignore[arg-type]
 
 
