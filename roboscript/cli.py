@@ -112,6 +112,8 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
     unwritable = _unwritable_run_output(args)
     if unwritable:  # said before the robot moves, not after the run is lost
         raise InputError(unwritable)
+    if args.view_port and not args.view:
+        raise InputError("--view-port is the live view's port: add --view to watch the run")
     for target in (args.record, args.plot, args.wire_log):
         if target:
             _make_parent_folders(target)
@@ -848,17 +850,24 @@ def _seconds(option: str, example: str) -> Callable[[str], float]:
     return parse
 
 
-def _whole_number(option: str, example: str) -> Callable[[str], int]:
-    """An argparse type for ``option``: a whole number; a mistake is answered with
-    ``option example`` to copy, not with Python's type name."""
+def _whole_number(
+    option: str, example: str, low: int | None = None, high: int | None = None
+) -> Callable[[str], int]:
+    """An argparse type for ``option``: a whole number from ``low`` to ``high`` (where given);
+    a mistake is answered with ``option example`` to copy, not with Python's type name."""
 
     def parse(text: str) -> int:
         try:
-            return int(text.strip())
+            value = int(text.strip())
         except ValueError:
             raise argparse.ArgumentTypeError(
                 f"'{text}' is not a whole number (write it in digits, e.g. {option} {example})"
             ) from None
+        if (low is not None and value < low) or (high is not None and value > high):
+            raise argparse.ArgumentTypeError(
+                f"{value} is out of range: give {low} to {high} (e.g. {option} {example})"
+            )
+        return value
 
     parse.__name__ = "whole number"
     return parse
@@ -920,7 +929,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     run.add_argument(
         "--view-port",
-        type=_whole_number("--view-port", "8765"),
+        type=_whole_number("--view-port", "8765", 0, 65535),
         default=0,
         metavar="N",
         help="the live view's port (default: any)",

@@ -199,6 +199,17 @@ def test_a_time_limit_may_be_written_with_seconds_as_a_mission_writes_it() -> No
             ),
         ),
         (
+            ("run", "missions/square.yaml", "--view", "--view-port", "99999"),
+            (
+                "roboscript run: error: argument --view-port: 99999 is out of range: give 0 to"
+                " 65535 (e.g. --view-port 8765)"
+            ),
+        ),
+        (
+            ("run", "missions/square.yaml", "--view-port", "8765"),
+            "error: --view-port is the live view's port: add --view to watch the run",
+        ),
+        (
             ("grade", "missions/teacher", "--mission", "missions", "--jobs", "two"),
             (
                 "roboscript grade: error: argument --jobs: 'two' is not a whole number"
