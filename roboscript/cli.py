@@ -708,6 +708,14 @@ def _cmd_view(args: argparse.Namespace) -> int:
     # recording and the replay page load only when a run is recorded or viewed
     from roboscript.replay.viewer import view_recording
 
+    recording = Path(args.recording).resolve()
+    for option, target in (("-o", args.output), ("--csv", args.csv)):
+        if target and Path(target).resolve() == recording:
+            _err(f"error: {option} {target} is the recording itself: give the page a new name")
+            return EXIT_INPUT
+    if args.output and args.csv and Path(args.output).resolve() == Path(args.csv).resolve():
+        _err(f"error: -o and --csv both name {args.csv}: one would overwrite the other")
+        return EXIT_INPUT
     page, problem = view_recording(
         args.recording, args.output, open_page=args.open, csv_path=args.csv
     )

@@ -95,6 +95,23 @@ def test_run_outputs_in_folders_not_made_yet_are_written_there(tmp_path: Path) -
     assert read_wire_log(wire)
 
 
+@pytest.mark.parametrize(
+    "outputs", [("-o", "run.jsonl"), ("--csv", "run.jsonl"), ("-o", "x.csv", "--csv", "x.csv")]
+)
+def test_view_never_writes_its_page_over_the_recording(
+    tmp_path: Path, outputs: tuple[str, ...]
+) -> None:
+    run = tmp_path / "run.jsonl"
+    done = run_cli("run", str(MISSIONS / "square.yaml"), "--record", str(run), "--quiet")
+    assert done.returncode == 0, done.stderr
+    kept = run.read_bytes()
+    view = run_cli("view", "run.jsonl", *outputs, cwd=tmp_path)
+    assert view.returncode == 2
+    assert view.stderr.startswith("error: ") and view.stderr.count("\n") == 1
+    assert run.read_bytes() == kept
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.jsonl"]
+
+
 def test_view_names_a_bad_recording_in_one_line(tmp_path: Path) -> None:
     bad = tmp_path / "bad.jsonl"
     bad.write_text('{"format": "roboscript-run", "version": 9}\n', encoding="utf-8")
