@@ -654,6 +654,26 @@ def _cmd_autograder(args: argparse.Namespace) -> int:
 _GRAPH_SUFFIXES = {".svg": "svg", ".png": "png", ".dot": "dot", ".gv": "dot"}
 
 
+def _written_over(
+    outputs: list[tuple[str, str | None]], inputs: list[tuple[str, str | None]]
+) -> str:
+    """Why one of ``(option, path or None)`` would be written over one of the ``(what, path or
+    None)`` read, or over another output (one sentence), or ``""``: a student's mission or
+    recording must never be lost to a mistyped ``-o``."""
+    read = {Path(path).resolve(): what for what, path in inputs if path}
+    written: dict[Path, str] = {}
+    for option, target in outputs:
+        if not target:
+            continue
+        where = Path(target).resolve()
+        if where in read:
+            return f"{option} {target} is {read[where]} itself: give the output a new name"
+        other = written.setdefault(where, option)
+        if other != option:
+            return f"{other} and {option} both name {target}: one would overwrite the other"
+    return ""
+
+
 def _cmd_graph(args: argparse.Namespace) -> int:
     # missions load only for the commands that read one
     from roboscript.mission import load_mission
@@ -667,6 +687,12 @@ def _cmd_graph(args: argparse.Namespace) -> int:
         return EXIT_INPUT
     if args.run and fmt not in ("svg", "png"):
         _err("error: --run highlights a run in a picture: add --format svg or --format png")
+        return EXIT_INPUT
+    problem = _written_over(
+        [("-o", args.output)], [("the mission", args.mission), ("the run", args.run)]
+    )
+    if problem:
+        _err(f"error: {problem}")
         return EXIT_INPUT
     if fmt == "png":
         require_matplotlib()  # say so before loading anything
@@ -708,13 +734,11 @@ def _cmd_view(args: argparse.Namespace) -> int:
     # recording and the replay page load only when a run is recorded or viewed
     from roboscript.replay.viewer import view_recording
 
-    recording = Path(args.recording).resolve()
-    for option, target in (("-o", args.output), ("--csv", args.csv)):
-        if target and Path(target).resolve() == recording:
-            _err(f"error: {option} {target} is the recording itself: give the page a new name")
-            return EXIT_INPUT
-    if args.output and args.csv and Path(args.output).resolve() == Path(args.csv).resolve():
-        _err(f"error: -o and --csv both name {args.csv}: one would overwrite the other")
+    overwrite = _written_over(
+        [("-o", args.output), ("--csv", args.csv)], [("the recording", args.recording)]
+    )
+    if overwrite:
+        _err(f"error: {overwrite}")
         return EXIT_INPUT
     page, problem = view_recording(
         args.recording, args.output, open_page=args.open, csv_path=args.csv

@@ -352,6 +352,22 @@ def test_cli_refuses_a_png_on_stdout_and_a_run_in_text_formats() -> None:
     assert _parse(result.stdout).tag == f"{SVG}svg"
 
 
+def test_cli_never_draws_over_the_mission_or_the_run_it_reads(tmp_path: Path) -> None:
+    mission = tmp_path / "square.yaml"
+    mission.write_bytes((MISSIONS / "square.yaml").read_bytes())
+    run = tmp_path / "run.jsonl"
+    assert run_cli("run", str(mission), "--record", str(run), "--quiet").returncode == 0
+    kept = {path: path.read_bytes() for path in (mission, run)}
+    for args in (
+        ("-o", "square.yaml"),
+        ("--format", "svg", "--run", "run.jsonl", "-o", "run.jsonl"),
+    ):
+        result = run_cli("graph", "square.yaml", *args, cwd=tmp_path)
+        assert result.returncode == 2
+        assert result.stderr.startswith("error: -o ") and "itself" in result.stderr
+    assert {path: path.read_bytes() for path in (mission, run)} == kept
+
+
 def test_cli_writes_png_by_suffix_and_warns_of_another_missions_run(tmp_path: Path) -> None:
     pytest.importorskip("matplotlib")
     from roboscript.replay.recording import Recorder
