@@ -491,12 +491,9 @@ def _unwritable_run_output(args: argparse.Namespace) -> str:
     Checked before the robot moves: a run on a real robot cannot be run again as it was, so a
     mistyped ``--record`` path must not lose it. Missing folders are made when it is written.
     """
-    return _unwritable(
-        [
-            ("--record", args.record, False),
-            ("--plot", args.plot, False),
-            ("--wire-log", args.wire_log, False),
-        ]
+    outputs = [("--record", args.record), ("--plot", args.plot), ("--wire-log", args.wire_log)]
+    return _written_over(outputs, [("the mission", args.mission)]) or _unwritable(
+        [(option, target, False) for option, target in outputs]
     )
 
 

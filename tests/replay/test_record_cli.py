@@ -53,6 +53,8 @@ def test_run_record_then_view_writes_a_self_contained_page(tmp_path: Path) -> No
         ("--wire-log", "under a file"),
         ("--plot", "a folder"),
         ("--wire-log", "the recording"),
+        ("--record", "the mission"),
+        ("--plot", "the mission"),
     ],
 )
 def test_an_output_path_that_cannot_be_written_is_refused_before_the_robot_moves(
@@ -60,21 +62,25 @@ def test_an_output_path_that_cannot_be_written_is_refused_before_the_robot_moves
 ) -> None:
     a_file = tmp_path / "notes.txt"
     a_file.write_text("mine\n", encoding="utf-8")
+    mission = tmp_path / "square.yaml"
+    mission.write_bytes((MISSIONS / "square.yaml").read_bytes())
     record = tmp_path / "run.jsonl"
     target = {
         "a folder": tmp_path,
         "under a file": a_file / "run.out",
         "the recording": record,
+        "the mission": mission,
     }[where]
     outputs = ["--record", str(target)]
     if option != "--record":  # beside a recording that could be written
         outputs = ["--record", str(record), option, str(target)]
-    done = run_cli("run", str(MISSIONS / "square.yaml"), *outputs, "--json")
+    done = run_cli("run", str(mission), *outputs, "--json")
     assert done.returncode == 2, done.stderr
     assert done.stdout == ""  # no run: the robot never moved
     assert done.stderr.count("\n") == 1 and done.stderr.startswith("error: ")
     assert str(target) in done.stderr or option in done.stderr
     assert a_file.read_text(encoding="utf-8") == "mine\n"  # nothing of the user's is lost
+    assert mission.read_bytes() == (MISSIONS / "square.yaml").read_bytes()
     assert not record.exists() or where == "the recording"
 
 
