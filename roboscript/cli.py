@@ -297,12 +297,7 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     if shard is not None and (args.gradescope or args.prairielearn):
         _err("error: --shard splits a class, and a platform's results.json is one submission's")
         return EXIT_INPUT
-    read = [("the test spec", p) for p in args.specs]
-    read += [
-        ("the class folder" if Path(p).is_dir() else "a student's mission", p)
-        for p in args.missions
-    ]
-    unwritable = _unwritable_report(args, read)
+    unwritable = _unwritable_report(args)
     if unwritable:  # said now, not after grading the whole class
         _err(f"error: {unwritable}")
         return EXIT_INPUT
@@ -380,10 +375,6 @@ def _cmd_gradebook(args: argparse.Namespace) -> int:
     # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.shards import read_results
 
-    unwritable = _unwritable_report(args, [("the results file", p) for p in args.parts])
-    if unwritable:  # said before reading, not after
-        _err(f"error: {unwritable}")
-        return EXIT_INPUT
     report = read_results(args.parts)
     if args.gradescope and len(report.submissions) != 1:
         _err(
@@ -476,23 +467,22 @@ def _write_platform_results(args: argparse.Namespace, results: dict[str, Any]) -
             _err(f"error: cannot write {target}: {write_error.strerror or write_error}")
 
 
-def _unwritable_report(args: argparse.Namespace, inputs: list[tuple[str, str]]) -> str:
+def _unwritable_report(args: argparse.Namespace) -> str:
     """Why a report asked for cannot be written where asked (one sentence), or ``""``.
 
-    Checked before grading: a mistyped path must not cost the teacher a class's grading, nor
-    replace one of the ``(what, path)`` ``inputs`` read (a test spec, a student's mission, a
-    results file). A report's missing folders are made when it is written.
+    Checked before grading: a mistyped path must not cost the teacher a class's grading. A
+    report's missing folders are made when it is written.
     """
-    targets = [
-        ("--junit", args.junit, False),
-        ("--csv", args.csv, False),
-        ("--html", args.html, True),
-        ("--gradescope", args.gradescope, False),
-        ("--prairielearn", getattr(args, "prairielearn", None), False),
-        ("--results", getattr(args, "results", None), False),
-    ]
-    outputs = [(option, target) for option, target, _ in targets]
-    return _written_over(outputs, inputs) or _unwritable(targets)
+    return _unwritable(
+        [
+            ("--junit", args.junit, False),
+            ("--csv", args.csv, False),
+            ("--html", args.html, True),
+            ("--gradescope", args.gradescope, False),
+            ("--prairielearn", getattr(args, "prairielearn", None), False),
+            ("--results", getattr(args, "results", None), False),
+        ]
+    )
 
 
 def _unwritable_run_output(args: argparse.Namespace) -> str:
@@ -661,18 +651,13 @@ def _cmd_autograder(args: argparse.Namespace) -> int:
 _GRAPH_SUFFIXES = {".svg": "svg", ".png": "png", ".dot": "dot", ".gv": "dot"}
 
 
-_READ_SUFFIXES = frozenset({".py", ".yaml", ".yml", ".jsonl"})
-"""Files a command reads from a folder it is given (missions, specs, worlds, results)."""
-
-
 def _written_over(
-    outputs: Sequence[tuple[str, str | None]], inputs: Sequence[tuple[str, str | None]]
+    outputs: list[tuple[str, str | None]], inputs: list[tuple[str, str | None]]
 ) -> str:
     """Why one of ``(option, path or None)`` would be written over one of the ``(what, path or
     None)`` read, or over another output (one sentence), or ``""``: a student's mission or
     recording must never be lost to a mistyped ``-o``."""
     read = {Path(path).resolve(): what for what, path in inputs if path}
-    folders = [path for path in read if path.is_dir()]
     written: dict[Path, str] = {}
     for option, target in outputs:
         if not target:
@@ -680,13 +665,6 @@ def _written_over(
         where = Path(target).resolve()
         if where in read:
             return f"{option} {target} is {read[where]} itself: give the output a new name"
-        if where.suffix.lower() in _READ_SUFFIXES and where.is_file():
-            for folder in folders:
-                if where.is_relative_to(folder):
-                    return (
-                        f"{option} {target} is a file of {read[folder]} {folder}, which is"
-                        " read, never written: give the output a new name"
-                    )
         other = written.setdefault(where, option)
         if other != option:
             return f"{other} and {option} both name {target}: one would overwrite the other"

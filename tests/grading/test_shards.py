@@ -108,17 +108,6 @@ def test_a_missing_part_is_refused_naming_it(graded: dict[str, Any]) -> None:
     assert merged.stdout == ""
 
 
-def test_the_gradebook_is_never_written_over_a_results_file(graded: dict[str, Any]) -> None:
-    root = graded["root"]
-    kept = (root / "part1.jsonl").read_bytes()
-    merged = run_cli("gradebook", *graded["parts"], "--csv", "part1.jsonl", cwd=root)
-    assert merged.returncode == 2 and merged.stdout == ""
-    assert merged.stderr == (
-        "error: --csv part1.jsonl is the results file itself: give the output a new name\n"
-    )
-    assert (root / "part1.jsonl").read_bytes() == kept
-
-
 def test_a_part_cut_short_is_refused(graded: dict[str, Any], tmp_path: Path) -> None:
     root = graded["root"]
     lines = (root / "all.jsonl").read_text(encoding="utf-8").splitlines()
