@@ -67,6 +67,11 @@ DEFAULT_WALL_TIME_LIMIT_S = 60.0
 """Real time one run may take before the grader stops it. The simulator runs a 60 s mission
 in well under a second, so only a mission stuck in a loop of its own code comes near this."""
 
+_LONGEST_RUN = (86_400.0, "1 day (86400 s)")
+"""Most seconds a run's ``max_time`` and ``wall_time_limit`` may give it: far past any class's
+test, and within what the system's timers take (``1e9 s`` overflowed them and stopped the
+class)."""
+
 _TOP_KEYS = (
     "test",
     "description",
@@ -240,10 +245,12 @@ def load_test_spec(path: str | Path) -> TestSpec:
     default_world = _resolve_world(reader, world, folder, top.value_mark("world"), worlds)
     robot = _robot(reader, top)
     max_time = (
-        reader.positive(top, "max_time", "time", "s") if "max_time" in top else DEFAULT_MAX_TIME_S
+        reader.positive(top, "max_time", "time", "s", _LONGEST_RUN)
+        if "max_time" in top
+        else DEFAULT_MAX_TIME_S
     )
     wall_limit = (
-        reader.positive(top, "wall_time_limit", "time", "s")
+        reader.positive(top, "wall_time_limit", "time", "s", _LONGEST_RUN)
         if "wall_time_limit" in top
         else DEFAULT_WALL_TIME_LIMIT_S
     )

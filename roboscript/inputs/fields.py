@@ -159,12 +159,20 @@ class FieldReader:
         return self.value_quantity(data[key], dimension, data.value_mark(key), default_unit)
 
     def positive(
-        self, data: YamlMap, key: str, dimension: str, default_unit: str | None = None
+        self,
+        data: YamlMap,
+        key: str,
+        dimension: str,
+        default_unit: str | None = None,
+        maximum: tuple[float, str] | None = None,
     ) -> float:
-        """A quantity that must be above zero."""
+        """A quantity that must be above zero, and at most ``maximum`` (in the base unit, and
+        as written for the reader, ``(86400.0, "1 day")``) where given."""
         value = self.quantity(data, key, dimension, default_unit)
         if value <= 0:
             raise self.fail(f"'{key}' must be more than 0", data.value_mark(key))
+        if maximum is not None and value > maximum[0]:
+            raise self.fail(f"'{key}' must be at most {maximum[1]}", data.value_mark(key))
         return value
 
     def text(self, data: YamlMap, key: str) -> str:
