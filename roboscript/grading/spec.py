@@ -49,6 +49,7 @@ from roboscript.inputs.source import (
     load_yaml,
     read_source,
 )
+from roboscript.mission.limits import MAX_TIME_S
 from roboscript.profiles import BUILTIN_PROFILES, get_profile
 from roboscript.sim.world import World, builtin_worlds, load_world
 
@@ -67,10 +68,10 @@ DEFAULT_WALL_TIME_LIMIT_S = 60.0
 """Real time one run may take before the grader stops it. The simulator runs a 60 s mission
 in well under a second, so only a mission stuck in a loop of its own code comes near this."""
 
-_LONGEST_RUN = (86_400.0, "1 day (86400 s)")
-"""Most seconds a run's ``max_time`` and ``wall_time_limit`` may give it: far past any class's
-test, and within what the system's timers take (``1e9 s`` overflowed them and stopped the
-class)."""
+_LONGEST_RUN = (MAX_TIME_S, f"1 hour ({MAX_TIME_S:g} s)")
+"""Most seconds a run's ``max_time`` and ``wall_time_limit`` may give it, as a mission's own
+waits and timeouts: far past any class's test, and within what the system's timers take
+(``1e9 s`` overflowed them and stopped the class)."""
 
 _TOP_KEYS = (
     "test",
