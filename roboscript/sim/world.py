@@ -39,6 +39,7 @@ from roboscript.sim.geometry import Segment, point_in_polygon
 
 __all__ = [
     "FLOOR_COLOR_NAMES",
+    "WORLD_REACH_MM",
     "FloorPatch",
     "Pose",
     "Region",
@@ -159,12 +160,25 @@ _TOP_KEYS = (
 )
 
 
+WORLD_REACH_MM = 1_000_000.0
+"""Farthest any coordinate or size of a world may be from its origin: 1 km, far past any room
+(and still exact to a thousandth of a millimetre)."""
+
+
 class _WorldReader(FieldReader):
     def __init__(self, path: str) -> None:
         super().__init__(path, WorldError)
 
     def length(self, value: Any, mark: Mark) -> float:
-        return self.value_quantity(value, "distance", mark)
+        found = self.value_quantity(value, "distance", mark)
+        if abs(found) > WORLD_REACH_MM:
+            # past it, a robot's steps of a millimetre vanish in the coordinates' rounding
+            raise self.fail(
+                f"{found / 1000:g} m is farther than a world reaches (at most 1 km from its"
+                " origin)",
+                mark,
+            )
+        return found
 
     def point(self, value: Any, mark: Mark) -> tuple[float, float]:
         if not isinstance(value, list) or len(value) != 2:

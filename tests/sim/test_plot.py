@@ -50,13 +50,24 @@ def test_run_plot_writes_the_png_and_still_reports_the_mission(tmp_path: Path) -
     assert png_size(out)[0] > 500
 
 
-def test_run_plot_into_a_missing_folder_is_one_sentence_and_exit_1(tmp_path: Path) -> None:
+def test_run_plot_into_a_missing_folder_makes_it(tmp_path: Path) -> None:
     pytest.importorskip("matplotlib")
     out = tmp_path / "no-such-folder" / "square.png"
     result = run_cli("run", "missions/square.yaml", "--quiet", "--plot", str(out))
-    assert result.returncode == 1
-    assert f"error: cannot write the plot {out}" in result.stderr
-    assert "Traceback" not in result.stderr
+    assert result.returncode == 0, result.stderr
+    assert out.read_bytes().startswith(b"\x89PNG")
+
+
+def test_run_plot_under_a_file_is_one_sentence_before_the_run(tmp_path: Path) -> None:
+    pytest.importorskip("matplotlib")
+    (tmp_path / "notes").write_text("mine\n", encoding="utf-8")
+    out = tmp_path / "notes" / "square.png"
+    result = run_cli("run", "missions/square.yaml", "--quiet", "--plot", str(out))
+    assert result.returncode == 2
+    assert (
+        result.stderr
+        == f"error: cannot write {out}: {tmp_path / 'notes'} is a file, not a folder\n"
+    )
 
 
 def test_without_matplotlib_run_plot_says_how_to_get_it_before_running(tmp_path: Path) -> None:

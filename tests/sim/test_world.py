@@ -61,6 +61,14 @@ def test_world_file_with_units_lines_and_polygon_regions(tmp_path: Path) -> None
             "regions:\n  goal: {x: 1}\n",
             "W:2:9: error: region 'goal' needs a radius (with x, y), a box or a polygon",
         ),
+        (  # so far out that a robot's millimetre steps vanish in the rounding
+            "start: {x: 1e30 mm, y: 0, heading: 0 deg}\n",
+            "W:1:12: error: 1e+27 m is farther than a world reaches (at most 1 km from its origin)",
+        ),
+        (
+            "walls:\n  - segment: [[0, 0], [0, -2000 m]]\n",
+            "W:2:23: error: -2000 m is farther than a world reaches (at most 1 km from its origin)",
+        ),
     ],
 )
 def test_golden_world_errors(tmp_path: Path, text: str, expected: str) -> None:
