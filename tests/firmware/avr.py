@@ -32,6 +32,9 @@ ARDUINO_AVR = Path("/usr/share/arduino/hardware/arduino/avr")
 TOOLS = ("avr-gcc", "avr-g++", "avr-ar", "avr-nm", "cc", "pkg-config")
 ARDUINO_VERSION = "10807"
 """The Arduino IDE version Debian's arduino-core-avr 1.8.7 comes from."""
+WROTE_OUTSIDE_RAM = 100
+"""The harness's answer ``X 100``: the firmware wrote to the data space above its part's RAM,
+which reads 0 there (an AVR core has no bus fault; ``harness/avrboard.c``)."""
 CORE_FILE_DEFINES = {"WString.cpp": ("DECIMAL_DIG=__DECIMAL_DIG__",)}
 """Debian pairs core 1.8.7 with avr-gcc 5.4, whose ``float.h`` hides ``DECIMAL_DIG`` from
 C++11; the compiler's own built-in value is the one a newer ``float.h`` would give."""
@@ -321,6 +324,8 @@ class Board:
         stdin.write(line + "\n")
         stdin.flush()
         answer = stdout.readline().rstrip("\n")
+        if answer == f"X {WROTE_OUTSIDE_RAM}":
+            raise BoardStoppedError("the firmware wrote above its part's RAM")
         if answer.startswith("X"):
             raise BoardStoppedError(f"the emulated AVR stopped (simavr state {answer[2:]})")
         if not answer:

@@ -187,6 +187,64 @@ ERROR_PROBES: tuple[Probe, ...] = (
 )
 """The parser's error paths, upper and lower case, and commands split and joined."""
 
+OUTSIDE_TABLE_PROBES: tuple[Probe, ...] = (
+    probe("controller command before AD", b"$AA<VI", settle_s=GETTER_S),
+    probe("controller command of digits", b"$12<VI", settle_s=GETTER_S),
+    probe("lower-case command before AD", b"$ac<VI", settle_s=GETTER_S),
+    probe("controller command past SM", b"$ZZ<VI", settle_s=GETTER_S),
+    probe("controller command just past SM", b"$sn<VI", settle_s=GETTER_S),
+    probe("half a controller command before AD", b"$A<VI", settle_s=GETTER_S),
+    probe("interpreter command before PO", b"#AA<VI", settle_s=GETTER_S),
+    probe("setter command before HO", b">AA<VI", settle_s=GETTER_S),
+    probe("setter command of digits", b">12<VI", settle_s=GETTER_S),
+    probe("getter command before JS", b"<AA<VI", settle_s=GETTER_S),
+    probe("getter command of digits", b"<12<VI", settle_s=GETTER_S),
+    probe("lower-case getter before JS", b"<aa<VI", settle_s=GETTER_S),
+    probe("getter command past VI", b"<zz<VI", settle_s=GETTER_S),
+    probe("a doubled getter header", b"<<VI<VI", settle_s=GETTER_S),
+    probe("a doubled controller header", b"$$HP<VI", settle_s=GETTER_S),
+    probe("LF after a header", b"<\nVI<VI", settle_s=GETTER_S),
+    probe("LF inside a command", b"$A\nN0a064<VI", settle_s=GETTER_S),
+)
+"""Commands a binary search with ``uint8_t`` bounds (``StringGroupParser::parse``) looks for
+outside its table: one that sorts before a header's first command wraps ``end`` to 255 and
+reads a pointer 254 bytes past the table, one past a header's last command reads the pointer
+after it. On this build both lead above the 2.5 KB of RAM, where the board reads 0 (the
+harness's data space): the command matches nothing and is dropped."""
+
+ARGUMENT_PROBES: tuple[Probe, ...] = (
+    probe("a dump of one hex digit", b"<MO5<VI", settle_s=GETTER_S),
+    probe("a dump of a space and a digit", b"<MO 3<VI", settle_s=GETTER_S),
+    probe("a dump of slot -1", b"<MO-1<VI", settle_s=GETTER_S),
+    probe("a dump of a non-hex first digit", b"<MOg0<VI", settle_s=GETTER_S),
+    probe("a dump of a NUL and a slot", b"<MO\x0003<VI", settle_s=GETTER_S),
+    probe("a lower-case dump", b"<mo03", settle_s=GETTER_S),
+    probe("a play of one hex digit", b"$PM3<VI", settle_s=GETTER_S),
+    probe("a play of non-hex digits", b"$PMgg<VI", settle_s=GETTER_S),
+    probe("a push of a short count", b"#PU03<VI", settle_s=GETTER_S),
+    probe("a push of non-hex count", b"#PU03zz<VI", settle_s=GETTER_S),
+    probe("a short motion header", b">MH03abc<VI", settle_s=GETTER_S),
+    probe("digits after a getter", b"<JS00<VI", settle_s=GETTER_S),
+    probe("digits after the version", b"<VI00", settle_s=GETTER_S),
+    probe("more digits than an angle takes", b"$AN0a0640000<VI", settle_s=GETTER_S),
+    probe("lower-case angle", b"$an0a064"),
+    probe("lower-case difference", b"$ad0b064"),
+    probe("lower-case max and min", b">ma01100>mi01f00<js", settle_s=GETTER_S),
+    probe("lower-case factory settings", b">js"),
+    probe("CR inside a getter", b"<V\rI<VI", settle_s=GETTER_S),
+    probe("junk between header and command", b"x<xVI<VI", settle_s=GETTER_S),
+    probe("junk right after a getter", b"<VIx<VI", settle_s=GETTER_S),
+    probe("CR LF inside an angle", b"$AN0a\r\n64<VI", settle_s=GETTER_S),
+    probe("tab and space before a getter", b"\t <VI", settle_s=GETTER_S),
+    probe("bytes above 127", b"\x80\xfe<VI<\xffI<VI", settle_s=GETTER_S),
+    probe("a getter ending a long line", b"<VI" + b"y" * 50 + b"\r\n", settle_s=GETTER_S),
+    probe("a getter a byte a write", b"<", b"V", b"I", settle_s=GETTER_S),
+    probe("an angle in four writes", b"$", b"AN", b"0a", b"000"),
+    probe("a dump split in its slot", b"<MO0", b"3", settle_s=GETTER_S),
+)
+"""Short, odd and garbage arguments, lower case, junk inside and around commands, long lines
+and commands written in pieces."""
+
 _FRAME = b">MF03010060" + b"0010" * m.JOINT_COUNT
 
 TIMING_PROBES: tuple[Probe, ...] = (
@@ -205,4 +263,4 @@ TIMING_PROBES: tuple[Probe, ...] = (
 loop (about 29 us, while the line brings one every 5 us) and none while a command runs (a
 reply, an EEPROM write); what arrives while its 64-byte receive ring is full is lost."""
 
-PROBES = DRIVER_PROBES + ERROR_PROBES + TIMING_PROBES
+PROBES = DRIVER_PROBES + ERROR_PROBES + OUTSIDE_TABLE_PROBES + ARGUMENT_PROBES + TIMING_PROBES

@@ -37,6 +37,11 @@ from roboscript.sim.world import load_world
 BOOT_S = 0.5
 """``setup()``: serial, the internal EEPROM's joint settings (written at first start), Timer 1."""
 
+PROBE_STEP_S = 0.001
+"""The simulator's step in this comparison: every probe's writes and waits are whole
+milliseconds, so the simulated board receives each write when the emulated one does (at the
+default 5 ms step a write 1 ms after another would reach it at the same instant)."""
+
 KNOWN_DIFFERENCES: dict[str, str] = {}
 """Probes on which the simulated PLEN2 answers otherwise, and the firmware line that decides
 each. None is left in the probe set; the one difference kept is
@@ -64,7 +69,8 @@ def transcripts() -> tuple[Answer, Answer, list[tuple[Answer, Answer]]]:
     plen2 = get_profile("plen2")
     # the emulated board's host line is its 2 Mbaud UART: the simulated board's `uart`
     profile = dataclasses.replace(plen2, options={**plen2.options, "transport": "uart"})
-    simulation = Simulation(load_world("empty"), profile, seed=1)
+    # a step that divides every probe's times: a write reaches both boards at one instant
+    simulation = Simulation(load_world("empty"), profile, seed=1, physics_dt_s=PROBE_STEP_S)
     simulation.connect()
     device = simulation.device
     assert isinstance(device, Plen2Board)

@@ -33,7 +33,16 @@
  *                                                                          -> "R <hex>"
  *   Q                  end
  *
- * If the AVR stops (crash, sleep with interrupts off) the answer is "X <state>".
+ * If the AVR stops (crash, sleep with interrupts off) the answer is "X <state>"; if the
+ * firmware wrote above its part's RAM, "X 100".
+ *
+ * The data space above the part's RAM (RAMEND): an AVR core has no bus fault, so a firmware
+ * reading through a wild pointer there goes on running on a board, while simavr stops the CPU
+ * at such a read. The harness gives the CPU the whole 64 KiB data space, reading 0 above the
+ * part's RAM (what a part returns there is undocumented; 0 ends any string at once), and
+ * keeps that memory zero: a firmware that writes there (which the part would drop) stops the
+ * run with "X 100" instead of reading back what it wrote. Memory commands (M, S, V) still end
+ * at the part's RAMEND.
  *
  * Usage: avrboard ELF MCU F_CPU_HZ UART_INDEX BAUD [EEPROM_I2C_ADDRESSES EEPROM_BYTES]
  * (addresses comma-separated, one I2C EEPROM of EEPROM_BYTES on the TWI bus at each)
@@ -67,6 +76,8 @@
 #define QUEUE_BYTES (1 << 16)
 
 static avr_t *avr;
+static uint16_t part_ramend; /* the part's own RAMEND; avr->ramend is the whole data space */
+#define WROTE_OUTSIDE_RAM 100
 static avr_irq_t *uart_input;
 static unsigned char out[QUEUE_BYTES];
 static size_t out_len;
@@ -258,6 +269,12 @@ static void watch(void) {
     watch_last = level;
 }
 
+static int outside_ram_written(void) {
+    for (unsigned long address = part_ramend + 1UL; address <= avr->ramend; address++)
+        if (avr->data[address]) return 1;
+    return 0;
+}
+
 static int run_to(avr_cycle_count_t target) {
     int state = avr->state;
     while (avr->cycle < target) {
@@ -265,7 +282,7 @@ static int run_to(avr_cycle_count_t target) {
         if (state == cpu_Done || state == cpu_Crashed) return state;
         if (watch_count) watch();
     }
-    return -1;
+    return outside_ram_written() ? WROTE_OUTSIDE_RAM : -1;
 }
 
 static int hexval(int c) {
@@ -307,6 +324,8 @@ int main(int argc, char **argv) {
         fprintf(stderr, "simavr has no %s\n", firmware.mmcu);
         return 2;
     }
+    part_ramend = avr->ramend;
+    avr->ramend = 0xffff; /* read before avr_init, which sizes the data memory from it */
     avr_init(avr);
     avr->log = 0;
     avr_load_firmware(avr, &firmware);
@@ -357,7 +376,7 @@ int main(int argc, char **argv) {
                 answer_hex('O', out, out_len);
             } else {
                 static const char digits[] = "0123456789abcdef";
-                if (address + count > avr->ramend + 1UL) count = 0;
+                if (address + count > part_ramend + 1UL) count = 0;
                 fputs("O ", answers);
                 for (size_t i = 0; i < out_len; i++) {
                     fputc(digits[out[i] >> 4], answers);
@@ -418,8 +437,8 @@ int main(int argc, char **argv) {
             fflush(answers);
         } else if (kind == 'V') {
             sscanf(line + 2, "%lu %lu %lu", &watch_flag, &watch_address, &watch_count);
-            if (watch_count > SNAPSHOT_BYTES || watch_flag > avr->ramend
-                || watch_address + watch_count > avr->ramend + 1UL) watch_count = 0;
+            if (watch_count > SNAPSHOT_BYTES || watch_flag > part_ramend
+                || watch_address + watch_count > part_ramend + 1UL) watch_count = 0;
             watch_last = watch_count ? avr->data[watch_flag] != 0 : 0;
             fputs("K\n", answers);
             fflush(answers);
@@ -445,7 +464,7 @@ int main(int argc, char **argv) {
         } else if (kind == 'M') {
             unsigned long address = 0, count = 0;
             sscanf(line + 2, "%lu %lu", &address, &count);
-            if (address + count > avr->ramend + 1UL) count = 0;
+            if (address + count > part_ramend + 1UL) count = 0;
             answer_hex('M', avr->data + address, count);
         } else {
             fputs("E unknown command\n", answers);
