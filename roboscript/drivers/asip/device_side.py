@@ -25,8 +25,11 @@ Requests
     not have before reading the angle (``S,W,5`` then ``,45`` is left for the next request,
     which the board answers ``~,,?,1{INVALID_SERVICE}``). Such a request decodes as
     :class:`~roboscript.drivers.asip.messages.RefusedRequest` with the error the board sends.
-    A number beyond the ``long`` that ``parseInt`` returns, or a value no message can hold,
-    is an ``"out_of_range"`` fault; the request is dropped.
+    A number is kept in ``parseInt``'s 32-bit ``long``, which wraps as on the board (every
+    digit is read). A known request whose values the board reads and then does nothing with
+    (a motor id past the wheels as a ``byte``, an LCD row before the first) decodes as
+    :class:`~roboscript.drivers.asip.messages.IgnoredRequest`; a value no message can hold
+    otherwise is an ``"out_of_range"`` fault, and the request is dropped.
 
 Replies
     :data:`DEVICE_ENCODERS` writes events, replies, errors and info lines in the firmware's
@@ -69,10 +72,11 @@ DEFAULT_SERVICES = "IMEBRDSTLPAGH"
 
 _MIN_MSG_LEN = 4
 _MAX_COUNT = 256  # bound on element counts read from a request (pixels, bars)
-_PARSE_LOW, _PARSE_HIGH = PARSE_INT
-_PARSE_CAP = _PARSE_HIGH + 2  # past the bound whatever the sign
+_PARSE_HIGH = PARSE_INT[1]
+_LONG_MASK = 0xFFFF_FFFF  # parseInt's long: 32 bits on every ASIP board
 _LCD_ROW_BYTES = m.LCD_COLUMNS + 1  # asipLCD's row buffer: 20 characters and the NUL
 _NEWLINE = 0x0A
+_MAX_MOTOR_ID = 15  # the highest id a motor message holds; the board drives 0 and 1
 
 
 class _NeedMoreError(Exception):
@@ -124,8 +128,9 @@ class _Cursor:
     def parse_int(self) -> int:
         """``Stream::parseInt``: skip to a digit or ``-``, read digits, peek past them.
 
-        Raises:
-            OutOfRangeError: The number does not fit the ``long`` that ``parseInt`` returns.
+        The value is kept in a 32-bit ``long`` as on the board, whose ``value * 10 + digit``
+        wraps: every digit is read, however many, and the request goes on with the wrapped
+        number (``4294967299`` is 3).
         """
         while True:  # peekNextDigit
             byte = self.timed_peek()
@@ -140,18 +145,14 @@ class _Cursor:
             if byte == 0x2D:
                 negative = True
             else:
-                # Past the bound the value stays just past it: a run of digits as long as
-                # the buffer costs no big-number arithmetic.
-                value = min(value * 10 + byte - 0x30, _PARSE_CAP)
+                value = (value * 10 + byte - 0x30) & _LONG_MASK
             self.pos += 1
             byte = self.timed_peek()
             if not 0x30 <= byte <= 0x39:
                 break
         if negative:
-            value = -value
-        if value < _PARSE_LOW or value > _PARSE_HIGH:
-            raise OutOfRangeError(f"a number outside {_PARSE_LOW}..{_PARSE_HIGH}")
-        return value
+            value = -value & _LONG_MASK
+        return value - (_LONG_MASK + 1) if value > _PARSE_HIGH else value
 
     def ints(self, count: int) -> tuple[int, ...]:
         return tuple(self.parse_int() for _ in range(count))
@@ -288,7 +289,7 @@ class RequestReader:
             self._request_done(max(cursor.pos, 1))
             raise
         except (LocalProtocolError, OutOfRangeError) as exc:
-            # e.g. a 400-digit number, a tone over 2**31 ms, non-ASCII LCD text
+            # e.g. a negative tone duration wrapped past 2**31 ms, non-ASCII LCD text
             dropped = max(cursor.pos, 1)
             self._request_done(dropped)
             self.stats.fault("out_of_range", dropped)
@@ -403,6 +404,13 @@ def _parse_motor(cur: _Cursor, tag: str) -> m.AsipMessage:
         return m.ResetEncoders()
     second = cur.parse_int()
     third = cur.parse_int() if tag in "rR" else 0
+    args = (first, second, third) if tag in "rR" else (first, second)
+    # setMotorPower, setMotorRPM and stopMotor take the id as a byte (-1 is 255) and do
+    # nothing for one past the wheels, without a word.
+    if tag in "mrs":
+        first &= 0xFF
+        if first > _MAX_MOTOR_ID:
+            return m.IgnoredRequest("M", tag, args)
     try:
         if tag == "m":
             return m.SetMotorPower(first, max(-100, min(second, 100)))
@@ -419,8 +427,8 @@ def _parse_motor(cur: _Cursor, tag: str) -> m.AsipMessage:
         if tag == "s":
             return m.StopMotor(first)
     except LocalProtocolError:
-        pass
-    args = (first, second, third) if tag in "rR" else (first, second)
+        # a value no message holds (an rpm past 1000): the board never answers a known tag
+        return m.IgnoredRequest("M", tag, args)
     return m.UnknownRequest("M", tag, args)
 
 
@@ -487,20 +495,26 @@ def _parse_lcd(cur: _Cursor, tag: str) -> m.AsipMessage:
     request); the text ends at a newline, a timeout or the row buffer's 20 characters."""
     if tag == "W":
         line = cur.parse_int()
-        if not 0 <= line < m.LCD_LINES:
+        if line >= m.LCD_LINES or not cur.find(b","):
             return m.UnknownRequest("L", tag, (line,))
-        if not cur.find(b","):
-            return m.UnknownRequest("L", tag, (line,))
+        if line < 0:
+            # `line < nbrTextLines` lets it through: the text is read, and copied before the
+            # first row's buffer, where no row shows it.
+            cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES)
+            return m.IgnoredRequest("L", tag, (line,))
         # The CR of a CRLF lands in the row too, where the font shows nothing: drop it.
         return m.LcdWrite(line, cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES).rstrip("\r"))
     if tag == "w":
         line = cur.parse_int()
-        if not 0 <= line < m.LCD_LINES or not cur.find(b","):
+        if line >= m.LCD_LINES or not cur.find(b","):
             return m.UnknownRequest("L", tag, (line,))
         column = cur.parse_int()
-        if not 0 <= column < _LCD_ROW_BYTES or cur.read() != 0x2C:
+        if column >= _LCD_ROW_BYTES or cur.read() != 0x2C:
             return m.UnknownRequest("L", tag, (line, column))
         text = cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES - column)
+        if line < 0 or column < 0:
+            # read as the board reads it; it lands outside the row (this model shows nothing)
+            return m.IgnoredRequest("L", tag, (line, column))
         return m.LcdWriteAt(line, column, text.rstrip("\r"))
     if tag == "G":
         count = min(cur.parse_int(), _MAX_COUNT)

@@ -36,6 +36,7 @@ __all__ = [
     "GenericEvent",
     "GyroEvent",
     "HeadingEvent",
+    "IgnoredRequest",
     "InfoLine",
     "InvalidServiceRequest",
     "IrEvent",
@@ -556,6 +557,18 @@ class RefusedRequest:
 
 
 @dataclass(frozen=True, slots=True)
+class IgnoredRequest:
+    """A known request the board reads whole and then does nothing with, without a word
+    (decoded on the board side only): ``M,m,-1,50`` (the firmware keeps the motor id in a
+    ``byte``, 255, past its wheels), ``L,W,-1,text`` (the text goes to a row before the
+    first)."""
+
+    service: str
+    tag: str
+    args: tuple[int, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
 class UnknownRequest:
     """A request with a tag the service does not know (decoded on the board side only)."""
 
@@ -813,6 +826,7 @@ AsipMessage = (
     | PixelsClear
     | InvalidServiceRequest
     | RefusedRequest
+    | IgnoredRequest
     | UnknownRequest
     | VersionReply
     | ServiceNamesReply

@@ -550,7 +550,6 @@ def test_wifi_config() -> None:
 @pytest.mark.parametrize(
     "wire",
     [
-        pytest.param(b"T,P,440,99999999999\n", id="tone-duration-over-int32"),
         pytest.param(b"L,W,0,caf\xe9\n", id="lcd-non-ascii"),
         pytest.param(b"L,W,0,a\rb\n", id="lcd-inner-cr"),
         pytest.param(b"L,w,0,1,\xff\n", id="lcd-at-non-ascii"),

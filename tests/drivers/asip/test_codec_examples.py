@@ -557,7 +557,12 @@ def test_tables_hold_every_message_type() -> None:
     requests = {type(param.values[0]) for param in REQUESTS}
     replies = {type(param.values[0]) for param in REPLIES}
     # the device never sends these
-    decoded_only = {m.InvalidServiceRequest, m.RefusedRequest, m.UnknownRequest}
+    decoded_only = {
+        m.InvalidServiceRequest,
+        m.RefusedRequest,
+        m.IgnoredRequest,
+        m.UnknownRequest,
+    }
     assert requests | replies | decoded_only == set(typing.get_args(m.AsipMessage))
 
 

@@ -260,7 +260,12 @@ def kinds(items: Decoded) -> list[object]:
 
 def test_strategies_cover_every_message_type() -> None:
     # the device never sends these
-    decoded_only = {m.InvalidServiceRequest, m.RefusedRequest, m.UnknownRequest}
+    decoded_only = {
+        m.InvalidServiceRequest,
+        m.RefusedRequest,
+        m.IgnoredRequest,
+        m.UnknownRequest,
+    }
     everything = set(typing.get_args(m.AsipMessage))
     assert set(REQUEST_STRATEGIES) | set(REPLY_STRATEGIES) | decoded_only == everything
     assert not set(REQUEST_STRATEGIES) & set(REPLY_STRATEGIES)

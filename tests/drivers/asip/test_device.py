@@ -177,6 +177,21 @@ def test_tone_and_lcd_ignore_unknown_tags_silently() -> None:
     assert board.lines() == []
 
 
+def test_a_motor_id_past_the_wheels_and_an_lcd_row_before_the_first_get_no_answer() -> None:
+    # the firmware keeps a motor id in a byte (-1 is 255, 256 is 0) and lets a negative LCD
+    # row through `line < nbrTextLines`; it answers none of them (firmware tier probes)
+    board = Board()
+    board.send(b"I,A,0\n")
+    board.lines()
+    board.send(b"M,m,-1,50\nM,r,300,30,100\nM,s,-1,0\nM,r,0,2000,100\nL,W,-1,hi\nL,w,-1,2,hi\n")
+    board.send(b"L,w,2,-1,hi\n#,?\n")
+    assert board.lines() == ["@#,?,1,1,ATmega328P,20,Mirtle2017"]
+    board.send(b"M,m,256,50\n")  # motor 0
+    board.run(0.2)
+    assert board.lines() == []
+    assert board.sim.device.state.wheels[0].pwm != 0  # type: ignore[attr-defined]
+
+
 def test_pullup_input_reports_its_port_at_once_then_on_changes_only() -> None:
     board = Board()
     board.send(b"I,A,0\n")
