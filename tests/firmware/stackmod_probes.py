@@ -139,12 +139,30 @@ PARSER_PROBES: tuple[Probe, ...] = (
     Probe("text past 31 characters", (b"{" + b"Ep$MTR1+051" * 3 + b"}j",)),
     Probe("register byte is an open brace", (b"{" + _mtr(b"2+052")[1:],)),
     Probe("many writes in a row", tuple(_mtr(b"%d+%03d" % (1 + i % 2, 60 + i)) for i in range(6))),
+    Probe("close brace among the address bytes", (packet(b"E}$MTR1+054"),)),
+    Probe("packet over three writes", (b"2{Ep", b"$MTR1+", b"055}" + _mtr(b"1+055")[-1:])),
+    Probe("CR inside the value", (_mtr(b"1+05\r"),)),
+    Probe("value -0 and spaces", (_mtr(b"1-0  "),)),
+    Probe(
+        "a text of NUL bytes",
+        (b"2{" + b"\x00" * 11 + b"}" + bytes([checksum(b"\x00" * 11) & 0xFF]),),
+    ),
+    Probe("second packet of a write bad", (_mtr(b"1+061") + _mtr(b"2+062")[1:-1] + b"!",)),
+    Probe("hex and exponent values", (_mtr(b"1+0x1"), _mtr(b"2+1e2"))),
+    Probe("five-digit value", (packet(b"Ep$MTR1+32767"),)),
+    Probe("a write of the register byte alone", (b"2", b"{", _mtr(b"2+063"))),
 )
 """The parser's edge cases: framing, checksum, lengths, numbers, writes split and joined."""
 
 DRIVE_PROBES: tuple[Probe, ...] = (
     Probe("left forward, right reverse", (_mtr(b"1+128"), _mtr(b"2-064")), drives=True),
     Probe("value 300 drives", (_mtr(b"1+300"),), drives=True),
+    Probe("value -256 drives", (_mtr(b"1+000"), _mtr(b"2-256")), drives=True),
+    Probe(
+        "ten packets between two loops",
+        tuple(_mtr(b"%d+%03d" % (1 + i % 2, 100 + i)) for i in range(10)),
+        drives=True,
+    ),
     Probe("all stopped", (_mtr(b"1+000"), _mtr(b"2+000")), drives=True),
 )
 """Packets after which the motor outputs are compared too (besides :data:`DRIVER_PROBES`)."""

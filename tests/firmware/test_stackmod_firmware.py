@@ -38,6 +38,10 @@ KNOWN_DIFFERENCES: dict[str, str] = {
         "whole value, so the two motors of one side get different duties; the twin drives "
         "the side at full power"
     ),
+    "value -256 drives": (
+        "the same `analogWrite` past 255: OCR2A (M4) takes 256's low byte, 0, and stops while "
+        "OCR1B (M3) runs at full duty; the twin drives the side at full power in reverse"
+    ),
 }
 
 # stackmod.cpp's pins: PWM M1 = 3 (OC2B), M2 = 9 (OC1A) drive the left wheels, M3 = 10
