@@ -22,6 +22,11 @@ KNOWN_DIFFERENCES: dict[str, str] = {
         "right-facing sensor (a sketch built with 2)"
     ),
     "distance measure": "the same second distance sensor",
+    "an unknown strip's pixel count": (
+        "asipPixels.cpp reads `stripPtr[stripIndex]` unchecked (`// todo - validate "
+        "stripIndex range`), past its one strip: undefined; the simulated board answers "
+        "~P,I,7{INVALID_DEVICE_NUMBER}"
+    ),
 }
 
 

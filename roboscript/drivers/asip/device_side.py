@@ -67,8 +67,11 @@ from roboscript.errors import LocalProtocolError, RemoteProtocolError
 
 __all__ = ["DEFAULT_SERVICES", "DEVICE_ENCODERS", "RequestReader"]
 
-DEFAULT_SERVICES = "IMEBRDSTLPAGH"
-"""Service ids a device-role codec accepts unless told otherwise."""
+DEFAULT_SERVICES = "IMEBRDSTLPAGH!$"
+"""Service ids a device-role codec accepts unless told otherwise, and the headers of two
+optional builds: ``!`` (an ``ASIP_DEBUG`` build echoes the line to its debug stream) and ``$``
+(ASIP 1.2's WiFi configuration). Without ``!`` the board reads the header and does nothing
+more (``processDebugMsg`` is empty); without ``$`` it is an unknown service."""
 
 _MIN_MSG_LEN = 4
 _MAX_COUNT = 256  # bound on element counts read from a request (pixels, bars)
@@ -202,7 +205,8 @@ class RequestReader:
     Args:
         stats: Where messages and faults are counted.
         services: The service ids the board runs; a request for any other service decodes as
-            :class:`~roboscript.drivers.asip.messages.InvalidServiceRequest`.
+            :class:`~roboscript.drivers.asip.messages.InvalidServiceRequest`. ``!`` and ``$``
+            in it: the board's build reads those headers (see :data:`DEFAULT_SERVICES`).
         max_buffer_bytes: Bound on buffered request bytes; the oldest go first.
         servo_count: How many servos the sketch declares, or None to read every ``S,W`` in
             full; with a count, ``S,W`` is refused the way the firmware refuses it (error 8
@@ -307,9 +311,11 @@ class RequestReader:
     def _parse_request(self, cur: _Cursor) -> m.AsipMessage:
         service = chr(cur.read())
         if service == "!":
-            # An ASIP_DEBUG build echoes the line to its debug stream.
-            return m.DebugEchoRequest(cur.line_or_timeout())
-        if service == "$":
+            if "!" in self.services:  # an ASIP_DEBUG build echoes the line to its debug stream
+                return m.DebugEchoRequest(cur.line_or_timeout())
+            # asip.cpp takes the info header alone; the rest of the line is read as requests
+            return m.IgnoredRequest("!", "")
+        if service == "$" and "$" in self.services:
             return _parse_config(cur)
         if service == "#":
             if cur.read() != 0x2C:

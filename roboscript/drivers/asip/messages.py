@@ -561,7 +561,7 @@ class IgnoredRequest:
     """A known request the board reads whole and then does nothing with, without a word
     (decoded on the board side only): ``M,m,-1,50`` (the firmware keeps the motor id in a
     ``byte``, 255, past its wheels), ``L,W,-1,text`` (the text goes to a row before the
-    first)."""
+    first), the ``!`` header on a build without ``ASIP_DEBUG`` (service ``!``, tag ``""``)."""
 
     service: str
     tag: str

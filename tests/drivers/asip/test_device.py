@@ -192,6 +192,20 @@ def test_a_motor_id_past_the_wheels_and_an_lcd_row_before_the_first_get_no_answe
     assert board.sim.device.state.wheels[0].pwm != 0  # type: ignore[attr-defined]
 
 
+def test_the_mirto_sketch_reads_no_debug_echo_and_no_wifi_settings() -> None:
+    # mirtle2017 is a V1.1 build without ASIP_DEBUG: `!` is taken alone and the rest of the
+    # line read as requests; `$` is an unknown service (firmware tier probes)
+    board = Board()
+    board.send(b"I,A,0\n")
+    board.lines()
+    board.send(b"!hello\n$$,net,pw\n#,?\n")
+    assert board.lines() == [
+        "~h,?,1{INVALID_SERVICE}",
+        "~$,?,1{INVALID_SERVICE}",
+        "@#,?,1,1,ATmega328P,20,Mirtle2017",
+    ]
+
+
 def test_pullup_input_reports_its_port_at_once_then_on_changes_only() -> None:
     board = Board()
     board.send(b"I,A,0\n")
