@@ -375,14 +375,19 @@ def _cmd_gradebook(args: argparse.Namespace) -> int:
     # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.shards import read_results
 
-    report = read_results(args.parts)
+    refused: list[str] = []
+    report = read_results(args.parts, refused.append)
+    for sentence in refused:
+        _err(f"error: {sentence}")
     if args.gradescope and len(report.submissions) != 1:
         _err(
             f"error: a Gradescope results.json is one student's, but these results hold"
             f" {len(report.submissions)} students: use --csv, --html or --json for a class"
         )
         return EXIT_INPUT
-    return _report_class(args, report)
+    status = _report_class(args, report)
+    # The others' reports are written; the exit status still says some runs were refused.
+    return EXIT_INPUT if refused else status
 
 
 def _open_journal(path: str | None) -> Any:

@@ -21,12 +21,14 @@ from __future__ import annotations
 
 import functools
 import json
+import math
 import types
 from collections.abc import Callable, Mapping
 from dataclasses import MISSING, Field, dataclass, field, fields, is_dataclass
 from typing import (
     TYPE_CHECKING,
     Any,
+    Literal,
     NamedTuple,
     Union,
     cast,
@@ -46,6 +48,7 @@ __all__ = [
     "SimulatedRun",
     "Tone",
     "from_json_value",
+    "misfit",
     "to_json_value",
 ]
 
@@ -271,3 +274,82 @@ def _object(value: Any, kind: type[Any]) -> Mapping[str, Any]:
     if not isinstance(value, Mapping):
         raise TypeError(f"expected an object for {kind.__name__}, got {type(value).__name__}")
     return value
+
+
+def misfit(kind: Any, value: Any, where: str = "") -> str | None:
+    """What is wrong with ``value`` as a value of type ``kind`` (one sentence naming where, as
+    ``'sim.path[3][1]' must be a number``), or ``None`` when it fits.
+
+    Checks what :func:`from_json_value` cannot: a record read from a file that someone may have
+    damaged or forged is of its types all the way down (numbers finite, no ``True`` for a
+    number, lists of the right length), before any report computes with it.
+    """
+    origin = get_origin(kind)
+    if origin in (Union, types.UnionType):
+        if value is None and type(None) in get_args(kind):
+            return None
+        (inner,) = [arg for arg in get_args(kind) if arg is not type(None)]
+        return misfit(inner, value, where)
+    if origin is Literal:
+        allowed = get_args(kind)
+        return None if value in allowed else f"'{where}' must be one of {', '.join(allowed)}"
+    if kind is Any:
+        return None
+    if kind is float:
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            return f"'{where}' must be a number"
+        return None if math.isfinite(value) else f"'{where}' must be a finite number"
+    if kind is int:
+        ok = isinstance(value, int) and not isinstance(value, bool)
+        return None if ok else f"'{where}' must be a whole number"
+    if kind in (str, bool):
+        return None if isinstance(value, kind) else f"'{where}' must be {_KIND_WORDS[kind]}"
+    if isinstance(kind, type) and is_dataclass(kind):
+        if not isinstance(value, kind):
+            return f"'{where}' must be an object"
+        hints = _hints(kind)
+        for item in fields(kind):
+            if _serialised(item):
+                found = misfit(hints[item.name], getattr(value, item.name), _at(where, item.name))
+                if found:
+                    return found
+        return None
+    if isinstance(kind, type) and issubclass(kind, tuple) and hasattr(kind, "_fields"):
+        if not isinstance(value, tuple) or len(value) != len(kind._fields):
+            return f"'{where}' must be an object"
+        hints = _hints(kind)
+        for name, item in zip(kind._fields, value, strict=True):
+            found = misfit(hints[name], item, _at(where, name))
+            if found:
+                return found
+        return None
+    if origin is tuple:
+        return _tuple_misfit(get_args(kind), value, where)
+    if origin is not None and issubclass(origin, Mapping):
+        return None if isinstance(value, Mapping) else f"'{where}' must be an object"
+    if origin is dict or kind is dict:
+        return None if isinstance(value, dict) else f"'{where}' must be an object"
+    return None
+
+
+_KIND_WORDS = {str: "text", bool: "true or false"}
+
+
+def _at(where: str, name: str) -> str:
+    return f"{where}.{name}" if where else name
+
+
+def _tuple_misfit(args: tuple[Any, ...], value: Any, where: str) -> str | None:
+    if not isinstance(value, tuple | list):
+        return f"'{where}' must be a list"
+    if len(args) == 2 and args[1] is Ellipsis:
+        items = [(args[0], item) for item in value]
+    elif len(value) != len(args):
+        return f"'{where}' must be a list of {len(args)} values"
+    else:
+        items = list(zip(args, value, strict=True))
+    for index, (kind, item) in enumerate(items):
+        found = misfit(kind, item, f"{where}[{index}]")
+        if found:
+            return found
+    return None

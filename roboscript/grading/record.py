@@ -13,7 +13,7 @@ from __future__ import annotations
 import bisect
 import math
 from collections.abc import Mapping
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 from typing import TYPE_CHECKING, Any, Literal, get_args
 
 from roboscript import run_record
@@ -414,7 +414,7 @@ def _check_fields(data: Mapping[str, Any]) -> None:
     """Refuse a run whose fields are of the wrong kind, before a report trips over one."""
 
     def wrong(key: str) -> TypeError:
-        return TypeError(f"the run's {key!r} is {data[key]!r}")
+        return TypeError(f"the run's {key!r} is {data[key]!r}"[:200])
 
     for key in _TEXT_FIELDS:
         if not isinstance(data[key], str):
@@ -430,5 +430,9 @@ def _check_fields(data: Mapping[str, Any]) -> None:
         raise wrong("status")
     if not isinstance(data["verdicts"], list):
         raise wrong("verdicts")
+    known = {item.name for item in fields(Verdict)}
+    for verdict in data["verdicts"]:
+        if not isinstance(verdict, dict) or not known.issuperset(verdict):
+            raise TypeError(f"a verdict of the run is {verdict!r}"[:200])
     if not isinstance(data.get("replay"), dict | None):
         raise wrong("replay")

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -36,10 +36,14 @@ from typing import Any
 from roboscript import __version__
 from roboscript.errors import InputError
 from roboscript.grading.batch import ClassReport, find_specs
-from roboscript.grading.record import RunResult
+from roboscript.grading.record import GradedRecord, RunResult
 from roboscript.grading.spec import TestSpec
 from roboscript.grading.submissions import Submission
 from roboscript.grading.text import clean_name
+from roboscript.replay.recording import replay_misfit
+from roboscript.run_record import misfit
+from roboscript.sim.body import MAX_CONTACTS, MAX_TONES
+from roboscript.sim.simulation import MAX_PATH_SAMPLES
 
 __all__ = [
     "RESULTS_FORMAT",
@@ -138,16 +142,29 @@ def results_header(
 class _Part:
     path: str
     header: dict[str, Any]
-    runs: list[RunResult]
+    runs: list[tuple[int, str]]  # (line number, text): read once the specs are known
+
+
+MAX_RUN_LINE_CHARS = 64 * 1024**2
+"""The longest run line a results file may hold (characters): a run's line is its record and
+its replay, a few hundred kilobytes for the longest graded run."""
 
 
 def _read_part(path: str) -> _Part:
+    lines: list[tuple[int, str]] = []
     try:
-        lines = Path(path).read_text(encoding="utf-8").splitlines()
+        with Path(path).open(encoding="utf-8", newline="\n") as stream:
+            for number, line in enumerate(iter(lambda: stream.readline(MAX_RUN_LINE_CHARS), ""), 1):
+                if not line.endswith("\n") and len(line) >= MAX_RUN_LINE_CHARS:
+                    raise InputError(
+                        f"{path} is damaged: line {number} is longer than"
+                        f" {MAX_RUN_LINE_CHARS:,} characters, more than any run writes"
+                    )
+                lines.append((number, line.rstrip("\n")))
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read {path}: {getattr(exc, 'strerror', None) or exc}") from None
     try:
-        header = json.loads(lines[0]) if lines else None
+        header = _json_object(lines[0][1]) if lines else None
         if (
             not isinstance(header, dict)
             or header.get("roboscript_results") not in READABLE_RESULTS_FORMATS
@@ -157,14 +174,130 @@ def _read_part(path: str) -> _Part:
                 " (written by `roboscript grade --results FILE`)"
             )
         _check_header(header)
-        # A grader killed mid-line leaves a partial last line: the missing-run check names it.
-        whole = [line for line in lines[1:] if line.endswith("}")]
-        runs = [RunResult.from_dict(json.loads(line)) for line in whole]
-    except (ValueError, KeyError, TypeError) as exc:
+    except (ValueError, KeyError, TypeError, RecursionError) as exc:
         if isinstance(exc, InputError):
             raise
-        raise InputError(f"{path} is damaged: {exc}") from None
-    return _Part(path, header, runs)
+        raise InputError(f"{path} is damaged: {_reason(exc)}") from None
+    # A grader killed mid-line leaves a partial last line: the missing-run check names it.
+    whole = [(n, line) for n, line in lines[1:] if line.strip() and line.rstrip().endswith("}")]
+    return _Part(path, header, whole)
+
+
+def _no_constant(name: str) -> Any:
+    raise ValueError(f"{name} is not a number JSON allows")
+
+
+def _json_object(text: str) -> Any:
+    """The JSON value of ``text``, refusing NaN and Infinity (which no report can draw)."""
+    return json.loads(text, parse_constant=_no_constant)
+
+
+def _reason(exc: BaseException) -> str:
+    if isinstance(exc, RecursionError):
+        return "it is nested too deeply"
+    if isinstance(exc, KeyError):
+        return f"the field {exc} is missing"
+    return str(exc.args[0] if exc.args else exc).split("\n")[0]
+
+
+def _read_run(part: _Part, number: int, text: str, specs: dict[str, TestSpec]) -> RunResult:
+    """The run on line ``number`` of ``part``, checked to be one its spec could give.
+
+    Raises:
+        InputError: One sentence naming the file, the line and what is wrong with it.
+    """
+    try:
+        data = _json_object(text)
+        if not isinstance(data, dict):
+            raise TypeError("it is not a JSON object")
+        run = RunResult.from_dict(data)
+        problem = misfit(RunResult, run) or _out_of_range(run, specs)
+    except (ValueError, KeyError, TypeError, RecursionError) as exc:
+        problem = _reason(exc)
+    if problem:
+        raise InputError(f"{part.path} line {number} is damaged: {problem}")
+    return run
+
+
+TIME_SLACK_S = 5.0
+"""How far past its test's ``max_time`` a run's times may go (the world's own slack and the
+tick the run ended in)."""
+MAX_DISTANCE_MM = 1e7
+"""The farthest any position in a run may be from the world's origin (10 km)."""
+MAX_LISTED = 100_000
+"""The most entries of a run's state list (a run keeps at most 20 000 states)."""
+
+
+def _out_of_range(run: RunResult, specs: dict[str, TestSpec]) -> str | None:
+    """What in a run (whose types fit) no grading of its spec could have given, or None."""
+    spec = specs.get(run.test)
+    if spec is None:
+        return f"its test {run.test!r} is not one of the specs graded"
+    if not 0 <= run.variant < len(spec.variants):
+        count = len(spec.variants)
+        return f"its 'variant' {run.variant} is not one of the {count} runs of {spec.name}"
+    if not 0 <= run.score <= 1:
+        return f"its 'score' {run.score!r} is not between 0 and 1"
+    if not 0 <= run.wall_time_s <= 7 * 24 * 3600:
+        return f"its 'wall_time_s' {run.wall_time_s!r} is not a time a run takes"
+    if len(run.verdicts) > len(spec.expectations):
+        return f"it has {len(run.verdicts)} verdicts, more than {spec.name}'s expectations"
+    limit_s = spec.max_time_s + TIME_SLACK_S
+    for verdict in run.verdicts:
+        if not 0 <= verdict.weight <= 1e6:
+            return f"the verdict {verdict.name!r} has the weight {verdict.weight!r}"
+        if (
+            verdict.first_violation_s is not None
+            and not -limit_s <= verdict.first_violation_s <= limit_s
+        ):
+            at = verdict.first_violation_s
+            return f"the verdict {verdict.name!r} failed at {at!r} s, outside the run"
+    record = run.record
+    if record is not None:
+        problem = _record_out_of_range(record, limit_s)
+        if problem:
+            return problem
+    if run.replay is not None:
+        return replay_misfit(run.replay, limit_s)
+    return None
+
+
+def _record_out_of_range(record: GradedRecord, limit_s: float) -> str | None:
+    if not 0 <= record.duration_s <= limit_s:
+        return (
+            f"its 'duration_s' {record.duration_s!r} is not between 0 and its test's max_time"
+            f" ({limit_s - TIME_SLACK_S:g} s)"
+        )
+    sim = record.simulation
+    sizes = (
+        ("states", len(record.states), MAX_LISTED),
+        ("transitions", len(record.transitions), MAX_LISTED),
+        ("path samples", len(sim.path), MAX_PATH_SAMPLES + 16),
+        ("tones", len(sim.tones), MAX_TONES),
+        ("collisions", len(record.collisions), MAX_CONTACTS),
+    )
+    for name, size, most in sizes:
+        if size > most:
+            return f"its record lists {size:,} {name}, more than the {most:,} any run keeps"
+    counts = (record.states_dropped, sim.collisions, sim.tones_not_listed)
+    if any(not 0 <= count <= 10**9 for count in counts):
+        return "a count in its record is negative or beyond any run"
+    times = [t for t, _ in record.states]
+    times += [sample[0] for sample in sim.path]
+    times += [tone.t_s for tone in sim.tones] + [c.t_s for c in record.collisions]
+    if any(not -limit_s <= t <= limit_s for t in times):
+        return "a time in its record is outside the run"
+    places = [value for sample in sim.path for value in sample[1:3]]
+    places += [sim.final_pose.x_mm, sim.final_pose.y_mm]
+    places += [value for c in record.collisions for value in (c.x_mm, c.y_mm)]
+    places += [record.body_radius_mm, record.side_sensor_offset_mm]
+    if any(abs(value) > MAX_DISTANCE_MM for value in places):
+        return f"a position in its record is more than {MAX_DISTANCE_MM / 1e6:g} km away"
+    if not 0 <= sim.distance_travelled_mm <= MAX_DISTANCE_MM * 10:
+        return f"its 'distance_travelled_mm' {sim.distance_travelled_mm!r} is not a distance"
+    if any(not 0 <= tone.duration_s <= limit_s or tone.frequency_hz < 0 for tone in sim.tones):
+        return "a tone in its record has a negative frequency or a duration outside the run"
+    return None
 
 
 def _check_header(header: dict[str, Any]) -> None:
@@ -182,8 +315,35 @@ def _check_header(header: dict[str, Any]) -> None:
             isinstance(entry, dict)
             and isinstance(entry.get("name"), str)
             and isinstance(entry.get("missions"), list)
+            and all(isinstance(m, str) for m in entry["missions"])
         ):
-            raise TypeError(f"a student on its first line has no name or missions: {entry!r}")
+            raise TypeError(f"a student on its first line has no name or missions: {entry!r}"[:300])
+        for key, kind in _STUDENT_FIELDS.items():
+            if key in entry and not (
+                isinstance(entry[key], kind)
+                and all(isinstance(item, str) for item in entry[key] or () if key == "own")
+            ):
+                raise TypeError(
+                    f"the student {entry['name']!r}'s {key!r} on its first line is {entry[key]!r}"[
+                        :300
+                    ]
+                )
+    shard = header.get("shard")
+    if shard is not None and not (
+        isinstance(shard, list)
+        and len(shard) == 2
+        and all(isinstance(n, int) and not isinstance(n, bool) for n in shard)
+        and 1 <= shard[0] <= shard[1]
+    ):
+        raise TypeError(f"its first line's 'shard' is {shard!r}, not a part I of N"[:300])
+
+
+_STUDENT_FIELDS: dict[str, Any] = {
+    "folder": str | None,
+    "problem": str,
+    "root": str | None,
+    "own": list,
+}
 
 
 def _check_parts(parts: Sequence[_Part]) -> None:
@@ -243,18 +403,30 @@ def _load_specs(header: dict[str, Any], path: str) -> list[TestSpec]:
     return specs
 
 
-def read_results(paths: Sequence[str]) -> ClassReport:
+def read_results(paths: Sequence[str], refused: Callable[[str], None] | None = None) -> ClassReport:
     """The class report the results files make together, as one ``grade`` would have made it.
 
+    Every run line is checked field by field (types, finite numbers, times within its test's
+    ``max_time``, sizes no run reaches) before any report reads it.
+
+    Args:
+        paths: The results files.
+        refused: Told one sentence per damaged run line (naming the file and the line) and
+            per student left out for it; the other students' report is still made. Without
+            it, a damaged run line raises.
+
     Raises:
-        InputError: A file cannot be read or is damaged, the files are not the parts of one
-            class, a spec is missing or changed, or a part lacks runs.
+        InputError: A file cannot be read or its header is damaged, the files are not the
+            parts of one class, a spec is missing or changed, or a part lacks runs (the
+            grader stopped early); a run line is damaged and ``refused`` is not given.
     """
     parts = [_read_part(path) for path in dict.fromkeys(paths)]
     _check_parts(parts)
     specs = _load_specs(parts[0].header, parts[0].path)
+    by_name = {spec.name: spec for spec in specs}
     submissions: list[Submission] = []
-    results: dict[tuple[str, str, int], RunResult] = {}
+    results: dict[tuple[str, str, int], tuple[RunResult, int]] = {}
+    damaged: set[str] = set()  # the parts with a damaged run line
     for part in parts:
         for entry in part.header["students"]:
             submissions.append(
@@ -267,11 +439,25 @@ def read_results(paths: Sequence[str]) -> ClassReport:
                     tuple(entry.get("own", ())),
                 )
             )
-        for run in part.runs:
-            # Cleaned as the header's names are by Submission: a part graded by an older
-            # roboscript, which cleaned names less, still finds its students' runs.
-            run = replace(run, student=clean_name(run.student))
-            results[(run.test, run.student, run.variant)] = run
+        for number, text in part.runs:
+            try:
+                run = _read_run(part, number, text, by_name)
+                # Cleaned as the header's names are by Submission: a part graded by an older
+                # roboscript, which cleaned names less, still finds its students' runs.
+                run = replace(run, student=clean_name(run.student))
+                key = (run.test, run.student, run.variant)
+                if key in results:
+                    raise InputError(
+                        f"{part.path} line {number} is damaged: it repeats the run of"
+                        f" {run.student} in {run.test} on line {results[key][1]}"
+                    )
+            except InputError as exc:
+                if refused is None:
+                    raise
+                refused(exc.message)
+                damaged.add(part.path)
+                continue
+            results[key] = (run, number)
     names = [s.student for s in submissions]
     if len(set(names)) < len(names):
         twice = sorted(n for n in set(names) if names.count(n) > 1)
@@ -280,17 +466,30 @@ def read_results(paths: Sequence[str]) -> ClassReport:
     # student and variant.
     submissions.sort(key=lambda s: s.student.lower())
     ordered: list[RunResult] = []
+    left_out: set[str] = set()
     for spec in specs:
         for submission in submissions:
             for variant in spec.variants:
                 found = results.get((spec.name, submission.student, variant.index))
-                if found is None:
-                    where = next(p.path for p in parts if submission.student in _students(p.header))
+                if found is not None:
+                    ordered.append(found[0])
+                    continue
+                where = next(p.path for p in parts if submission.student in _students(p.header))
+                if where not in damaged or refused is None:
                     raise InputError(
                         f"{where} lacks the run of {submission.student} in {spec.name}"
                         f" ({variant.label}): the grader stopped early; grade that part again"
                     )
-                ordered.append(found)
+                if submission.student not in left_out:
+                    refused(
+                        f"{submission.student} is left out of every report: their run in"
+                        f" {spec.name} ({variant.label}) was on a damaged line of {where};"
+                        " grade them again"
+                    )
+                    left_out.add(submission.student)
+    if left_out:
+        submissions = [s for s in submissions if s.student not in left_out]
+        ordered = [r for r in ordered if r.student not in left_out]
     worlds = {name: world for spec in specs for name, world in spec.worlds.items()}
     # parts graded on different machines may have been isolated differently: say each way
     isolation = "; ".join(dict.fromkeys(str(p.header.get("isolation") or "") for p in parts))

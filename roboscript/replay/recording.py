@@ -66,6 +66,7 @@ __all__ = [
     "load_recording",
     "parse_recording",
     "read_recording",
+    "replay_misfit",
 ]
 
 FORMAT = "roboscript-run"
@@ -521,12 +522,9 @@ def _items(
                     path=name,
                     line=number,
                 )
-            t = item.get("t")
-            if isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t):
-                raise RecordingError(
-                    "a frame needs 't', its time in seconds", path=name, line=number
-                )
-            _check_shape(item, _FRAME, "", name, number)
+            problem = _frame_misfit(item, "")
+            if problem is not None:
+                raise RecordingError(problem, path=name, line=number)
             yield "frame", number, item
     if not seen_header:
         raise RecordingError("the recording is empty", path=name)
@@ -691,6 +689,45 @@ _RESULT = {
     "duration_s": Maybe(NUMBER),
     "states": [(NUMBER, TEXT)],
 }
+
+
+def _frame_misfit(item: Any, where: str, limit_s: float = math.inf) -> str | None:
+    """What is wrong with a frame's changes (one sentence), or ``None``."""
+    if not isinstance(item, dict):
+        return f"'{where}' must be an object"
+    t = item.get("t")
+    if isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t):
+        return "a frame needs 't', its time in seconds"
+    if not -limit_s <= t <= limit_s:
+        return f"a frame's time {t!r} s is outside the run"
+    return _misfit(item, _FRAME, where)
+
+
+def replay_misfit(replay: Any, limit_s: float = math.inf) -> str | None:
+    """What is wrong with a run's replay as the grader keeps it (``{"header", "frames",
+    "result"}``: a recording's lines, the frames as written), one sentence naming where; or
+    ``None`` when the viewer can show it. ``limit_s``: the most any of its times may be, s.
+
+    A results file can be damaged or forged: its replay gets the checks a recording file's
+    lines get (:func:`read_recording`) before a report embeds it.
+    """
+    if not isinstance(replay, dict) or not isinstance(replay.get("frames"), list):
+        return "'replay' must be an object with a list of frames"
+    header = replay.get("header")
+    if not isinstance(header, dict) or header.get("format") != FORMAT:
+        return f'\'replay.header\' must be a recording\'s header ("format": "{FORMAT}")'
+    frames: list[Any] = replay["frames"]
+    if len(frames) > MAX_FRAMES:
+        return f"'replay.frames' holds more than {MAX_FRAMES:,} frames: no recording holds so many"
+    problem = _misfit(header, _HEADER, "replay.header")
+    for index, frame in enumerate(frames):
+        if problem is not None:
+            break
+        problem = _frame_misfit(frame, f"replay.frames[{index}]", limit_s)
+    result = replay.get("result")
+    if problem is None and result is not None:
+        problem = _misfit(result, _RESULT, "replay.result")
+    return problem
 
 
 def _check_shape(value: Any, shape: Any, where: str, name: str, number: int) -> None:

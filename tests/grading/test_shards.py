@@ -220,17 +220,78 @@ def test_a_part_whose_names_an_older_grader_cleaned_less_still_merges(
     ]
 
 
+def _set(run: dict[str, Any], where: str, value: Any) -> None:
+    """Set the field at a dotted path (``record.sim.path.3.1``) of a run line."""
+    *outer, last = where.split(".")
+    for key in outer:
+        run = run[int(key)] if isinstance(run, list) else run[key]
+    if isinstance(run, list):
+        run[int(last)] = value
+    else:
+        run[last] = value
+
+
 @pytest.mark.parametrize(
-    ("field", "value"),
-    [("status", "great"), ("message", None), ("score", "100%"), ("label", 3), ("replay", 1)],
+    ("field", "value", "said"),
+    [
+        ("status", "great", "status"),
+        ("message", None, "message"),
+        ("score", "100%", "score"),
+        ("score", 7, "score"),
+        ("label", 3, "label"),
+        ("replay", 1, "replay"),
+        ("variant", 9, "variant"),
+        ("record.duration_s", 1e30, "duration_s"),
+        ("record.duration_s", float("nan"), "NaN"),
+        ("record.duration_s", -5, "duration_s"),
+        ("record.duration_s", "3 s", "record.duration_s"),
+        ("record.sim.path.3.1", "x", "record.sim.path[3][1]"),
+        ("record.sim.final_pose.x_mm", None, "record.sim.final_pose.x_mm"),
+        ("record.sim.path", [[0.0, 0.0, 0.0, 0.0]] * 100_000, "path samples"),
+        ("record.states.0.0", 1e12, "time"),
+        ("record.sim", 5, "SimulatedRun"),
+        ("verdicts.0.weight", "x", "verdicts[0].weight"),
+        ("verdicts.0", {"name": "x", "passed": True, "evil": 1}, "verdict"),
+        ("replay.frames.2.t", 1e30, "outside the run"),
+        ("replay.frames.2.pose", "x", "replay.frames[2].pose"),
+        ("replay.header.robot", [], "replay.header.robot"),
+    ],
 )
-def test_a_damaged_run_line_is_one_sentence(graded: dict[str, Any], field: str, value: Any) -> None:
+def test_a_damaged_run_line_is_one_sentence_and_the_others_are_still_reported(
+    graded: dict[str, Any], field: str, value: Any, said: str
+) -> None:
+    root = graded["root"]
+    lines = (root / "all.jsonl").read_text(encoding="utf-8").splitlines()
+    number = next(n for n, line in enumerate(lines[1:], 2) if json.loads(line)["record"])
+    run = json.loads(lines[number - 1])
+    _set(run, field, value)
+    lines[number - 1] = json.dumps(run)
+    (root / "bad-run.jsonl").write_text("\n".join(lines) + "\n")
+    merged = run_cli(
+        "gradebook", "bad-run.jsonl", "--html", "bad-html", "--csv", "bad.csv", cwd=root
+    )  # fmt: skip
+    assert merged.returncode == 2
+    errors = [line for line in merged.stderr.splitlines() if line.startswith("error:")]
+    damaged, left_out, *more = errors
+    assert damaged.startswith(f"error: bad-run.jsonl line {number} is damaged: "), errors
+    assert said in damaged and not more, merged.stderr
+    assert left_out.startswith(f"error: {run['student']} is left out of every report"), left_out
+    rows = (root / "bad.csv").read_text(encoding="utf-8-sig").splitlines()[1:]
+    everyone = {*STUDENTS, "hal"} - {run["student"]}
+    assert {row.split(",")[0] for row in rows} == everyone
+    assert (root / "bad-html" / "index.html").is_file()
+
+
+def test_a_run_line_given_twice_is_refused_naming_both_lines(graded: dict[str, Any]) -> None:
     root = graded["root"]
     header, first, *rest = (root / "all.jsonl").read_text(encoding="utf-8").splitlines()
-    run = json.loads(first)
-    run[field] = value
-    (root / "bad-run.jsonl").write_text("\n".join([header, json.dumps(run), *rest]) + "\n")
-    merged = run_cli("gradebook", "bad-run.jsonl", "--html", "bad-html", cwd=root)
+    (root / "twice.jsonl").write_text("\n".join([header, first, first, *rest]) + "\n")
+    merged = run_cli("gradebook", "twice.jsonl", "--csv", "twice.csv", cwd=root)
     assert merged.returncode == 2
-    assert merged.stderr.startswith("error: bad-run.jsonl is damaged: "), merged.stderr
-    assert field in merged.stderr and "Traceback" not in merged.stderr
+    student = json.loads(first)["student"]
+    assert [line for line in merged.stderr.splitlines() if line.startswith("error:")] == [
+        f"error: twice.jsonl line 3 is damaged: it repeats the run of {student} in"
+        " out-and-turn on line 2"
+    ]
+    rows = (root / "twice.csv").read_text(encoding="utf-8-sig").splitlines()[1:]
+    assert len(rows) == len(STUDENTS) + 1  # nobody was lost: the first line counts
