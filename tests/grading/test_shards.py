@@ -290,8 +290,10 @@ def test_a_run_line_given_twice_is_refused_naming_both_lines(graded: dict[str, A
     assert merged.returncode == 2
     student = json.loads(first)["student"]
     assert [line for line in merged.stderr.splitlines() if line.startswith("error:")] == [
-        f"error: twice.jsonl line 3 is damaged: it repeats the run of {student} in"
-        " out-and-turn on line 2"
+        (
+            f"error: twice.jsonl line 3 is damaged: it repeats the run of {student} in"
+            " out-and-turn on line 2"
+        )
     ]
     rows = (root / "twice.csv").read_text(encoding="utf-8-sig").splitlines()[1:]
     assert len(rows) == len(STUDENTS) + 1  # nobody was lost: the first line counts
