@@ -282,10 +282,16 @@ def _cmd_check(args: argparse.Namespace) -> int:
 def _cmd_grade(args: argparse.Namespace) -> int:
     # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.batch import find_specs, grade_class
+    from roboscript.grading.pool import bounded_jobs
 
-    if args.jobs is not None and args.jobs < 1:
-        _err("error: --jobs must be 1 or more")
+    try:
+        jobs, too_many = bounded_jobs(args.jobs)
+    except ValueError as exc:
+        _err(f"error: {exc}")
         return EXIT_INPUT
+    if too_many:
+        _err(f"warning: {too_many}")
+    args.jobs = jobs
     # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.shards import Shard
 
@@ -1018,7 +1024,7 @@ def _parser() -> argparse.ArgumentParser:
         "--jobs",
         type=_whole_number("--jobs", "2"),
         metavar="N",
-        help="runs at once (default: one per CPU core)",
+        help="runs at once (default and most: one per CPU core)",
     )
     grade.add_argument(
         "--results",

@@ -53,13 +53,17 @@ def refusal(
 
 
 def run_cli(
-    *args: str, timeout: float = HANG_BOUND_S, cwd: Path | None = None
+    *args: str,
+    timeout: float = HANG_BOUND_S,
+    cwd: Path | None = None,
+    wrap: tuple[str, ...] = (),
 ) -> subprocess.CompletedProcess[str]:
-    """Run ``roboscript ARGS`` in a child process, as a user would."""
+    """Run ``roboscript ARGS`` in a child process, as a user would (``wrap``: a command that
+    runs it, such as ``("taskset", "-c", "0")``)."""
     env = dict(os.environ)
     env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
     return subprocess.run(
-        [sys.executable, "-m", "roboscript", *args],
+        [*wrap, sys.executable, "-m", "roboscript", *args],
         capture_output=True,
         text=True,
         timeout=timeout,

@@ -48,7 +48,7 @@ from roboscript.grading.record import RunResult, RunStatus
 from roboscript.grading.sandbox import byte_compile_package
 from roboscript.grading.task import RunTask, crash_result
 
-__all__ = ["RunTask", "crash_result", "default_jobs", "run_tasks"]
+__all__ = ["RunTask", "bounded_jobs", "crash_result", "default_jobs", "run_tasks"]
 
 _KILL_GRACE_S = 2.0
 _BACKSTOP_S = 15.0
@@ -56,8 +56,36 @@ _BACKSTOP_S = 15.0
 
 
 def default_jobs() -> int:
-    """How many runs to do at once by default: one per CPU core."""
+    """How many runs to do at once by default, and at most: one per CPU core this process may
+    use (its affinity, so a container or ``taskset`` limit counts, not the machine's cores).
+
+    Each run keeps one core busy (its world and its mission take turns), so more runs at once
+    would only wait for each other, each holding a sandbox, processes and memory meanwhile.
+    """
+    if hasattr(os, "sched_getaffinity"):
+        return max(1, len(os.sched_getaffinity(0)))
     return os.cpu_count() or 1
+
+
+def bounded_jobs(requested: int | None) -> tuple[int, str]:
+    """The runs to do at once for ``--jobs requested``, and a warning (one sentence, or
+    empty) when ``requested`` was more than :func:`default_jobs` allows.
+
+    Raises:
+        ValueError: ``requested`` is less than 1.
+    """
+    most = default_jobs()
+    if requested is None:
+        return most, ""
+    if requested < 1:
+        raise ValueError("--jobs must be 1 or more")
+    if requested <= most:
+        return requested, ""
+    cores = f"{most} CPU core{'s' if most != 1 else ''}"
+    return most, (
+        f"--jobs {requested} is more than the {cores} this machine gives roboscript: grading"
+        f" {most} run{'s' if most != 1 else ''} at once (more would only wait for each other)"
+    )
 
 
 def _context() -> Any:

@@ -10,7 +10,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
-from helpers import MISSIONS, run_cli
+from helpers import MISSIONS, OUT_TURN_BEEP, run_cli
 
 TEACHER = MISSIONS / "teacher"
 SQUARE = TEACHER / "square" / "test.yaml"
@@ -240,3 +240,35 @@ def test_a_report_that_fails_to_write_leaves_the_others_written(tmp_path: Path) 
     assert f"error: cannot write {html}" in result.stderr
     # written before the page that failed, and after it
     assert (reports / "grades.csv").is_file() and (reports / "results.json").is_file()
+
+
+def _one_student_class(root: Path) -> Path:
+    """A spec of one short run and a class of one student who passes it; the spec's path."""
+    (root / "class").mkdir()
+    (root / "class" / "amy.yaml").write_text(OUT_TURN_BEEP, encoding="utf-8")
+    spec = root / "test.yaml"
+    spec.write_text("test: out\nruns: [{seed: 1}]\nexpect: [{outcome: success}]\n")
+    return spec
+
+
+@pytest.mark.skipif(shutil.which("taskset") is None, reason="needs taskset to limit the cores")
+def test_jobs_beyond_the_cores_grades_one_run_per_core_and_says_so(tmp_path: Path) -> None:
+    spec = _one_student_class(tmp_path)
+    # On one core (taskset), however many runs the teacher asks for at once.
+    result = run_cli(
+        "grade", str(spec), "--mission", str(tmp_path / "class"), "--jobs", "1000", "--quiet",
+        wrap=("taskset", "-c", "0"),
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert result.stderr.splitlines()[0] == (
+        "warning: --jobs 1000 is more than the 1 CPU core this machine gives roboscript:"
+        " grading 1 run at once (more would only wait for each other)"
+    )
+    assert "amy" in result.stdout and "Traceback" not in result.stderr
+
+
+def test_jobs_of_zero_is_one_sentence(tmp_path: Path) -> None:
+    spec = _one_student_class(tmp_path)
+    result = run_cli("grade", str(spec), "--mission", str(tmp_path / "class"), "--jobs", "0")
+    assert result.returncode == 2
+    assert result.stderr == "error: --jobs must be 1 or more\n"
