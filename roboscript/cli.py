@@ -419,6 +419,8 @@ def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:
 
     if not (args.gradescope or args.prairielearn):
         found = find_submissions(args.missions)
+        for sentence in found.lookalikes:  # even with --quiet: a grade could go to the wrong one
+            _err(f"warning: {sentence}")
         if not args.quiet:
             _note_not_graded(found.unclaimed)
         return found.submissions

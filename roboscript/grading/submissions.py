@@ -131,10 +131,16 @@ class FoundSubmissions:
         unclaimed: What a class folder holds that is no student's work, by name
             (``bo.zip``, ``notes/``): hidden entries and the files a student who is a file
             owns by name (``alice_helpers.py``) left out, names cleaned for a terminal.
+        lookalikes: One sentence per group of students whose names look the same in every
+            report (``José`` written composed and decomposed, ``ana`` and ``ana ``): each is
+            graded on its own, the one whose name is written as reports show it keeps it and
+            the others are numbered (``José-2``); the sentence names their files by their
+            codes, so the teacher can tell which is whose.
     """
 
     submissions: list[Submission]
     unclaimed: tuple[str, ...] = ()
+    lookalikes: tuple[str, ...] = ()
 
 
 # ------------------------------------------------------------------------- looking at files
@@ -380,8 +386,13 @@ def _unclaimed(nobodys: list[Path], found: list[_Found]) -> list[str]:
     ]
 
 
-def _name(found: list[_Found]) -> None:
-    """Give every student a name: unique once cleaned, so no one takes another's place."""
+def _name(found: list[_Found]) -> list[str]:
+    """Give every student a name: unique once cleaned, so no one takes another's place.
+
+    Returns:
+        One sentence per group of students whose names look the same once cleaned (``José``
+        written composed and decomposed), naming each and how their files are written.
+    """
     singles = [f for f in found if f.folder is None]
     stems = Counter(f.source.stem for f in singles)
     in_folder = Counter((f.source.parent, f.source.stem) for f in singles)
@@ -406,15 +417,38 @@ def _name(found: list[_Found]) -> None:
         if len(sources) > 1 and len(set(sources.values())) == len(sources):
             for f in group:
                 f.name = sources[_identity(f)]
+    # A name already as reports show it keeps it; one that only looks the same (José written
+    # decomposed, a trailing space) is the one numbered, and named in a warning.
     taken: dict[str, Path] = {}
-    for f in found:
+    alike: dict[str, dict[Path, _Found]] = {}
+    for f in sorted(found, key=lambda f: clean_name(f.name) != f.name):
         base = name = clean_name(f.name)
         n = 1
         while taken.get(name, _identity(f)) != _identity(f):
             n += 1
             name = clean_name(f"{base}-{n}")
         taken[name] = _identity(f)
+        alike.setdefault(base, {}).setdefault(_identity(f), f)
         f.name = name
+    return [_lookalike(list(group.values())) for group in alike.values() if len(group) > 1]
+
+
+def _lookalike(group: list[_Found]) -> str:
+    """One sentence naming students whose names look the same, and how their files differ."""
+    names = " and ".join(f"'{f.name}'" for f in group)
+    sources = " and ".join(_spelled(_identity(f)) for f in group)
+    return (
+        f"the students {names} have names that look the same: they are {sources}, which"
+        " differ only in how their names are written (each character that is not plain"
+        " ASCII is shown as its code); each is graded on its own: check which is whose"
+    )
+
+
+def _spelled(path: Path) -> str:
+    """``path`` with every character that is not printable ASCII as its code (``\\u00e9``),
+    so two names that look the same are told apart on any terminal."""
+    text = "".join(c if " " <= c <= "~" else f"\\u{ord(c):04x}" for c in str(path))
+    return text if len(text) <= 300 else text[:299] + "…"
 
 
 def _whole_name(found: _Found) -> str:
@@ -468,8 +502,8 @@ def find_submissions(patterns: Sequence[str]) -> FoundSubmissions:
         unique.setdefault(f.source.absolute(), f)
     found = list(unique.values())
     unclaimed = tuple(_unclaimed(nobodys, found))
-    _name(found)
-    return FoundSubmissions(_submissions(found), unclaimed)
+    lookalikes = tuple(_name(found))
+    return FoundSubmissions(_submissions(found), unclaimed, lookalikes)
 
 
 def _submissions(found: list[_Found]) -> list[Submission]:

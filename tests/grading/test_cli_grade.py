@@ -272,3 +272,28 @@ def test_jobs_of_zero_is_one_sentence(tmp_path: Path) -> None:
     result = run_cli("grade", str(spec), "--mission", str(tmp_path / "class"), "--jobs", "0")
     assert result.returncode == 2
     assert result.stderr == "error: --jobs must be 1 or more\n"
+
+
+def test_two_folders_named_alike_in_other_unicode_forms_are_graded_apart_and_named(
+    tmp_path: Path,
+) -> None:
+    _one_student_class(tmp_path)
+    composed, decomposed = "Jos\u00e9", "Jose\u0301"  # both show as "José"
+    for name, distance in ((composed, "20 cm"), (decomposed, "10 cm")):
+        (tmp_path / "class" / name).mkdir()
+        mission = OUT_TURN_BEEP.replace("distance: 20 cm", f"distance: {distance}")
+        (tmp_path / "class" / name / "mission.yaml").write_text(mission, encoding="utf-8")
+    result = run_cli(
+        "grade", "test.yaml", "--mission", "class", "--csv", "grades.csv", "--quiet", cwd=tmp_path
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert result.stderr.splitlines() == [
+        (
+            "warning: the students 'José' and 'José-2' have names that look the same: they are"
+            " class/Jos\\u00e9 and class/Jose\\u0301, which differ only in how their names"
+            " are written (each character that is not plain ASCII is shown as its code); each"
+            " is graded on its own: check which is whose"
+        )
+    ]
+    rows = (tmp_path / "grades.csv").read_text(encoding="utf-8-sig").splitlines()
+    assert [row.split(",")[0] for row in rows[1:]] == ["amy", "José", "José-2"]
