@@ -137,13 +137,15 @@ def _run(
         with Watchdog(LOAD_LIMIT_S, stuck_at, watched=is_student_file), copied_prints(on_print):
             mission, profile, _warnings = mission_for_robot(mission_path, robot)
     except RunawayCode as exc:
-        channel.send_json(Kind.LOAD_ERROR, {"message": exc.reason, "code_stopped": "hung"})
+        reason = exc.reason[:_REASON_CHARS]  # a frame has a size limit: the world keeps 500
+        channel.send_json(Kind.LOAD_ERROR, {"message": reason, "code_stopped": "hung"})
         return 2
     except InputError as exc:
         problems = [p.format() for p in getattr(exc, "problems", None) or [exc]]
-        channel.send_json(Kind.LOAD_ERROR, {"message": problems[0], "more": len(problems) - 1})
+        message = problems[0][:_REASON_CHARS]
+        channel.send_json(Kind.LOAD_ERROR, {"message": message, "more": len(problems) - 1})
         return 2
-    channel.send_json(Kind.LOADED, {"mission": mission.name})
+    channel.send_json(Kind.LOADED, {"mission": mission.name[:_NAME_BYTES]})
 
     # the run machinery loads only for a mission that loaded: a broken one is answered at once
     from roboscript.session import WorldMap, run_session
@@ -167,7 +169,8 @@ def _run(
             on_print=on_print,
         )
     except CapabilityError as exc:
-        channel.send_json(Kind.LOAD_ERROR, {"message": f"it does not fit the robot: {exc}"})
+        message = f"it does not fit the robot: {exc}"[:_REASON_CHARS]
+        channel.send_json(Kind.LOAD_ERROR, {"message": message})
         return 2
     result = session.result
     channel.send_json(

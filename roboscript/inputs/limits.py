@@ -19,6 +19,7 @@ __all__ = [
     "MAX_NAME_CHARS",
     "MAX_QUANTITY_CHARS",
     "MAX_VALUES",
+    "name_too_long",
 ]
 
 MAX_FILE_BYTES = 1024 * 1024
@@ -38,6 +39,19 @@ expanded. This also bounds the work a file of :data:`MAX_FILE_BYTES` can cause."
 MAX_NAME_CHARS = 200
 """The longest key, or name-like value (one word: letters, digits, ``_``, ``.``, ``-``), in
 characters: state, action, robot and world names are read into messages and tables."""
+
+
+def name_too_long(name: str, kind: str = "name") -> str | None:
+    """Why ``name`` is refused as a name (one sentence calling it ``kind``, such as ``state
+    name``, and quoting its start), or ``None`` when it is at most :data:`MAX_NAME_CHARS`
+    characters."""
+    if len(name) <= MAX_NAME_CHARS:
+        return None
+    return (
+        f"this {kind} is {len(name)} characters long; names are at most {MAX_NAME_CHARS}"
+        f" ('{name[:20]}...')"
+    )
+
 
 MAX_INTEGER_DIGITS = 40
 """The most digits a whole number may have. Python refuses to convert more than 4300 digits

@@ -30,8 +30,8 @@ from roboscript.inputs.limits import (
     MAX_DEPTH,
     MAX_FILE_BYTES,
     MAX_INTEGER_DIGITS,
-    MAX_NAME_CHARS,
     MAX_VALUES,
+    name_too_long,
 )
 
 __all__ = [
@@ -235,8 +235,9 @@ class _Loader(yaml.SafeLoader):
 
     def construct_yaml_str(self, node: yaml.ScalarNode) -> str:
         value: str = super().construct_yaml_str(node)
-        if len(value) > MAX_NAME_CHARS and _NAME_LIKE.fullmatch(value):
-            raise _RefusedError(_too_long(value), _mark(node))
+        too_long = name_too_long(value)
+        if too_long and _NAME_LIKE.fullmatch(value):
+            raise _RefusedError(too_long, _mark(node))
         return value
 
     def construct_yaml_map_with_marks(self, node: yaml.MappingNode) -> Iterator[YamlMap]:
@@ -256,8 +257,9 @@ class _Loader(yaml.SafeLoader):
             if not isinstance(key, Hashable):
                 raise _RefusedError("a key must be a plain word", _mark(key_node))
             key = str(key)
-            if len(key) > MAX_NAME_CHARS:
-                raise _RefusedError(_too_long(key), _mark(key_node))
+            too_long = name_too_long(key)
+            if too_long:
+                raise _RefusedError(too_long, _mark(key_node))
             if key in result:
                 first = result.key_marks[key][0]
                 raise _RefusedError(
@@ -299,13 +301,6 @@ class _Loader(yaml.SafeLoader):
         result.item_marks = [_mark(item) for item in node.value]
         yield result
         result.extend(self.construct_object(item, deep=True) for item in node.value)
-
-
-def _too_long(name: str) -> str:
-    return (
-        f"this name is {len(name)} characters long; names are at most {MAX_NAME_CHARS}"
-        f" ('{name[:20]}...')"
-    )
 
 
 # YAML 1.1 reads on/off/yes/no as booleans, which would turn a state's "on:" into True.
@@ -405,6 +400,9 @@ def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, st
             at,
             _INDENT_HINT,
         )
+    long_key = _long_key(text, exc, problem)
+    if long_key is not None:
+        return long_key[0], long_key[1], None
     if problem == "mapping values are not allowed here":
         return (
             "a ':' is not allowed here",
@@ -459,6 +457,29 @@ def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, st
         tag = problem.split()[-1].strip("'").replace(_SHORT_TAG, "!!")
         return f"tag {tag} is not allowed in roboscript files", at, None
     return problem, at or (_at(opened) if opened else None), None
+
+
+def _long_key(
+    text: str, exc: yaml.MarkedYAMLError, problem: str
+) -> tuple[str, tuple[int, int]] | None:
+    """A key longer than YAML reads as one (1024 characters), which it reports as a ':' out
+    of place or a missing one: named as the too-long name it is, where it starts."""
+    if problem == "mapping values are not allowed here" and exc.problem_mark:
+        mark = exc.problem_mark  # at the ':' after the key
+        start = text.rfind("\n", 0, mark.index) + 1
+        key = text[start : mark.index]
+    elif problem == "could not find expected ':'" and exc.context_mark:
+        mark = exc.context_mark  # at the start of the key
+        start = text.rfind("\n", 0, mark.index) + 1
+        end = text.find("\n", mark.index)
+        key = text[start : end if end >= 0 else len(text)].rstrip().removesuffix(":")
+    else:
+        return None
+    name = key.strip(" -")
+    too_long = name_too_long(name, "key")
+    if too_long is None or ":" in name:
+        return None
+    return too_long, (mark.line + 1, len(key) - len(key.lstrip(" -")) + 1)
 
 
 # -------------------------------------------------------------------------------- loading

@@ -24,6 +24,7 @@ from roboscript.actions.base import Action, Param, UnderSpecifiedError
 from roboscript.actions.composite import Parallel, Repeat
 from roboscript.actions.output import parse_color
 from roboscript.errors import InputError, MissionError, did_you_mean
+from roboscript.inputs.limits import name_too_long
 from roboscript.inputs.quantities import (
     DIMENSIONS,
     QuantityError,
@@ -397,6 +398,8 @@ class MissionBuilder:
         if not isinstance(value, str):
             self.problem(f"expected a state name, got {value!r}", where)
             return None
+        if not self.short_name(value, where, "state name"):
+            return None
         if value not in names:
             self.problem(f"there is no state '{value}'", where, did_you_mean(value, names))
             return None
@@ -484,6 +487,7 @@ class MissionBuilder:
         where: Location | None = None,
     ) -> StateSpec:
         """One state (its parts built and checked by the methods above)."""
+        self.short_name(name, where, "state name")
         return StateSpec(
             name=name,
             action=action,
@@ -497,6 +501,15 @@ class MissionBuilder:
         )
 
     # ----------------------------------------------------------------------------- mission
+
+    def short_name(self, name: str, where: Location | None, kind: str) -> bool:
+        """Whether a state's or the mission's name is short enough to show in a message, a
+        report or a replay; a longer one is a problem (a Python mission can make a state of
+        any name, ``locals()["s" * 10**7] = state(...)``)."""
+        too_long = name_too_long(name, kind)
+        if too_long:
+            self.problem(too_long, where)
+        return too_long is None
 
     def names_a(self, key: str, value: Any, where: Location, example: str) -> str | None:
         """``robot`` or ``world``: the name of one, or ``None`` (the default)."""
@@ -532,6 +545,7 @@ class MissionBuilder:
     ) -> MissionSpec:
         """The whole mission (``robot_where``, ``world_where``: where those were written;
         ``plots``: the condition values to record, compiled by :meth:`expression`)."""
+        self.short_name(str(name), where, "mission name")
         return MissionSpec(
             name=str(name),
             initial=initial,

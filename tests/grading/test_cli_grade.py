@@ -297,3 +297,58 @@ def test_two_folders_named_alike_in_other_unicode_forms_are_graded_apart_and_nam
     ]
     rows = (tmp_path / "grades.csv").read_text(encoding="utf-8-sig").splitlines()
     assert [row.split(",")[0] for row in rows[1:]] == ["amy", "José", "José-2"]
+
+
+HUGE_AT_LOAD = """\
+from roboscript import Drive, Mission, state
+
+{line}
+
+
+class Huge(Mission):
+    {member}
+    go = state(Drive(distance_mm=200), initial=True, on_done="fin")
+    fin = state(final="success")
+"""
+
+
+@pytest.mark.parametrize(
+    ("line", "member", "message"),
+    [
+        (
+            "",
+            'locals()["s" * 10_000_000] = state(final="failure")',
+            (
+                "the mission has an error: amy.py:7: error: this state name is 10000000 characters"
+                " long; names are at most 200 ('ssssssssssssssssssss...')"
+            ),
+        ),
+        (
+            "",
+            'name = "s" * 10_000_000',
+            (
+                "the mission has an error: amy.py:6:1: error: this mission name is 10000000"
+                " characters long; names are at most 200 ('ssssssssssssssssssss...')"
+            ),
+        ),
+        (
+            'raise ValueError("x" * 10_000_000)',
+            "",
+            "the mission has an error: amy.py:3:1: error: ValueError: xxxxxxxxxx",
+        ),
+    ],
+    ids=["a state name", "the mission name", "an exception's message"],
+)
+def test_ten_megabytes_in_a_missions_name_or_error_is_invalid_saying_why(
+    tmp_path: Path, line: str, member: str, message: str
+) -> None:
+    spec = _one_student_class(tmp_path)
+    (tmp_path / "class" / "amy.yaml").unlink()
+    mission = HUGE_AT_LOAD.replace("{line}", line).replace("{member}", member)
+    (tmp_path / "class" / "amy.py").write_text(mission, encoding="utf-8")
+    result = run_cli("grade", str(spec), "--mission", str(tmp_path / "class"), "--json")
+    assert result.returncode == 1, result.stderr
+    (run,) = json.loads(result.stdout)["runs"]
+    assert run["status"] == "invalid"  # the student's mistake, not the grading wire's
+    assert run["message"].startswith(message), run["message"]
+    assert len(run["message"]) < 2000

@@ -72,3 +72,59 @@ def test_a_mission_that_is_a_named_pipe_is_refused_unopened(tmp_path: Path) -> N
     assert check(path) == [
         f"{path}: error: this is a named pipe, not an ordinary file (give the path of a file)"
     ]
+
+
+LONG_KEY = """\
+mission: long
+initial: go
+states:
+  go: {do: {drive: {distance: 20 cm}}, on: {done: fin}}
+  {key}:
+    final: success
+  fin: {final: success}
+"""
+
+
+def test_a_state_name_longer_than_yaml_reads_as_a_key_is_named_too_long(tmp_path: Path) -> None:
+    # Past 1024 characters YAML stops reading a key as one, and said "a ':' is not allowed".
+    path = tmp_path / "long.yaml"
+    path.write_text(LONG_KEY.replace("{key}", "s" * 5000), encoding="utf-8")
+    assert check(path) == [
+        (
+            f"{path}:5:3: error: this key is 5000 characters long; names are at most 200"
+            " ('ssssssssssssssssssss...')"
+        )
+    ]
+
+
+BUILT_NAME = """\
+from roboscript import Drive, Mission, state
+
+
+class Long(Mission):
+    {line}
+    go = state(Drive(distance_mm=200), initial=True, on_done="fin")
+    fin = state(final="success")
+"""
+
+
+@pytest.mark.parametrize(
+    ("line", "kind", "where"),
+    [
+        ('locals()["s" * 10_000_000] = state(final="failure")', "state name", "5"),
+        ('name = "s" * 10_000_000', "mission name", "4:1"),
+        ('other = state(Drive(distance_mm=1), on_done="s" * 10_000_000)', "state name", "5:49"),
+    ],
+    ids=["a state", "the mission", "a transition's target"],
+)
+def test_a_ten_megabyte_name_in_a_python_mission_is_one_located_error(
+    tmp_path: Path, line: str, kind: str, where: str
+) -> None:
+    path = tmp_path / "long.py"
+    path.write_text(BUILT_NAME.replace("{line}", line), encoding="utf-8")
+    assert check(path) == [
+        (
+            f"{path}:{where}: error: this {kind} is 10000000 characters long; names are at most 200"
+            " ('ssssssssssssssssssss...')"
+        )
+    ]
