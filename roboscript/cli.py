@@ -353,6 +353,12 @@ def _cmd_grade(args: argparse.Namespace) -> int:
             progress,
             hang_after_s=args.hang_after or DEFAULT_HANG_AFTER_S,
         )
+    except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM, SIGHUP: every jail is ended by now
+        kept = ""
+        if journal and done:
+            kept = f" (the {done} finished {'are' if done > 1 else 'is'} in {args.results})"
+        _err(f"error: {reason_for(exc)} after {done} of {runs} runs: no report written{kept}")
+        return exit_status_for(exc)
     finally:
         if journal:
             journal.close()

@@ -34,6 +34,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from roboscript.interrupts import install as install_interrupts
 from roboscript.mission.channels import MAX_PRINTED_LINES, PRINTED_LINE_CHARS
 from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError
 from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
@@ -72,6 +73,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     world_map = args[5] if len(args) > 5 else None
     logging.disable(logging.WARNING)
+    # SIGTERM and SIGHUP, as Ctrl-C, stop the robot on the way out and end the run as
+    # interrupted, saying which (by default they would end the process mid-tick, the robot
+    # still driving, read by the world as a crash of the student's).
+    install_interrupts()
     channel = WorldChannel.for_fd(fd)
     try:
         return _run(channel, mission_path, robot, max_time_s, world_map, hang_after_s)

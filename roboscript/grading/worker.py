@@ -22,6 +22,7 @@ from roboscript.grading.sandbox import WarmJail, detect_isolation, warm_jails_su
 from roboscript.grading.task import RunTask, crash_result
 from roboscript.grading.text import cap_result
 from roboscript.grading.world_host import warm_jail
+from roboscript.interrupts import HANDLED_SIGNALS
 
 __all__ = ["work"]
 
@@ -56,9 +57,11 @@ def work(
             differently), so they are not done.
     """
     logging.disable(logging.WARNING)
-    # Stopped by the parent (its runs are known already): clean up on the way out, so no
-    # jail's folder or world map outlives the worker.
-    signal.signal(signal.SIGTERM, _exit_on_term)
+    # Stopped by the parent (its runs are known already), or with it by the teacher's Ctrl-C
+    # or a closed terminal (which reach the whole process group): clean up on the way out,
+    # quietly, so no jail, jail's folder or world map outlives the worker.
+    for signum in HANDLED_SIGNALS:
+        signal.signal(signum, _exit_on_term)
     server: WarmJail | None = None
     try:
         for position, (index, task) in enumerate(tasks):
