@@ -37,7 +37,7 @@ from roboscript import __version__
 from roboscript.errors import InputError
 from roboscript.grading.batch import ClassReport, find_specs
 from roboscript.grading.record import GradedRecord, RunResult
-from roboscript.grading.spec import TestSpec
+from roboscript.grading.spec import MAX_START_MM, TestSpec
 from roboscript.grading.submissions import Submission
 from roboscript.grading.text import clean_name
 from roboscript.replay.recording import replay_misfit
@@ -222,8 +222,9 @@ def _read_run(part: _Part, number: int, text: str, specs: dict[str, TestSpec]) -
 TIME_SLACK_S = 5.0
 """How far past its test's ``max_time`` a run's times may go (the world's own slack and the
 tick the run ended in)."""
-MAX_DISTANCE_MM = 1e7
-"""The farthest any position in a run may be from the world's origin (10 km)."""
+FASTEST_MM_S = 10_000.0
+"""Faster than any simulated robot moves (the fastest built-in robot drives at 350 mm/s):
+with the farthest start a spec allows, it bounds where a run's robot can be."""
 MAX_LISTED = 100_000
 """The most entries of a run's state list (a run keeps at most 20 000 states)."""
 
@@ -287,13 +288,14 @@ def _record_out_of_range(record: GradedRecord, limit_s: float) -> str | None:
     times += [tone.t_s for tone in sim.tones] + [c.t_s for c in record.collisions]
     if any(not -limit_s <= t <= limit_s for t in times):
         return "a time in its record is outside the run"
+    farthest_mm = MAX_START_MM + FASTEST_MM_S * limit_s
     places = [value for sample in sim.path for value in sample[1:3]]
     places += [sim.final_pose.x_mm, sim.final_pose.y_mm]
     places += [value for c in record.collisions for value in (c.x_mm, c.y_mm)]
     places += [record.body_radius_mm, record.side_sensor_offset_mm]
-    if any(abs(value) > MAX_DISTANCE_MM for value in places):
-        return f"a position in its record is more than {MAX_DISTANCE_MM / 1e6:g} km away"
-    if not 0 <= sim.distance_travelled_mm <= MAX_DISTANCE_MM * 10:
+    if any(abs(value) > farthest_mm for value in places):
+        return f"a position in its record is more than {farthest_mm / 1e6:g} km away"
+    if not 0 <= sim.distance_travelled_mm <= FASTEST_MM_S * limit_s:
         return f"its 'distance_travelled_mm' {sim.distance_travelled_mm!r} is not a distance"
     if any(not 0 <= tone.duration_s <= limit_s or tone.frequency_hz < 0 for tone in sim.tones):
         return "a tone in its record has a negative frequency or a duration outside the run"

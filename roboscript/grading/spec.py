@@ -27,6 +27,7 @@ and in the teachers' guide.
 
 from __future__ import annotations
 
+import unicodedata
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -40,7 +41,9 @@ from roboscript.grading.expectations import (
     parse_expectation,
 )
 from roboscript.grading.record import RunResult, RunStatus
+from roboscript.grading.text import clean_name
 from roboscript.inputs.fields import FieldReader
+from roboscript.inputs.limits import name_too_long
 from roboscript.inputs.source import (
     Location,
     Mark,
@@ -240,7 +243,7 @@ def load_test_spec(path: str | Path) -> TestSpec:
     top = reader.mapping(load_yaml(path, error=SpecError), "a test spec", (1, 1))
     reader.allowed(top, _TOP_KEYS, "a test spec", required=("test", "expect"))
     folder = Path(path).resolve().parent
-    name = reader.text(top, "test")
+    name = _shown_name(reader, top, "test")
     world = reader.text(top, "world") if "world" in top else "empty"
     worlds: dict[str, World] = {}
     default_world = _resolve_world(reader, world, folder, top.value_mark("world"), worlds)
@@ -278,6 +281,40 @@ def load_test_spec(path: str | Path) -> TestSpec:
         worlds=worlds,
         points=points,
     )
+
+
+MAX_START_MM = 1e6
+"""The farthest a run's start may be from its world's origin, along x or along y (1 km)."""
+
+
+def _start_mm(reader: FieldReader, pose: YamlMap, key: str) -> float:
+    """A start's ``x`` or ``y``, mm, within :data:`MAX_START_MM` of the world's origin."""
+    value = reader.quantity(pose, key, "distance", "mm")
+    if not -MAX_START_MM <= value <= MAX_START_MM:
+        raise reader.fail(
+            f"'{key}' puts the start more than {MAX_START_MM / 1e6:g} km from the world's"
+            " origin: outside any world",
+            pose.value_mark(key),
+        )
+    return value
+
+
+def _shown_name(reader: FieldReader, data: YamlMap, key: str) -> str:
+    """``data[key]``, a name every report shows as it is: one line of at most
+    :data:`~roboscript.inputs.limits.MAX_NAME_CHARS` characters, none a terminal obeys or
+    shows as nothing (a newline in a test's name would print a forged row of the table)."""
+    name = reader.text(data, key)
+    too_long = name_too_long(name, f"'{key}'")
+    if too_long:
+        raise reader.fail(too_long, data.value_mark(key))
+    if clean_name(name) != unicodedata.normalize("NFC", name):
+        raise reader.fail(
+            f"'{key}' must be one line of visible text: reports would show it as"
+            f" {clean_name(name)!r} (a newline, a tab or an invisible character shows as \ufffd,"
+            " spaces at either end are dropped)",
+            data.value_mark(key),
+        )
+    return name
 
 
 def _points(reader: FieldReader, top: YamlMap) -> float | None:
@@ -358,13 +395,13 @@ def _variants(
             reader.allowed(pose, ("x", "y", "heading"), "start")
             base = worlds[world].start
             start = (
-                reader.quantity(pose, "x", "distance", "mm") if "x" in pose else base.x_mm,
-                reader.quantity(pose, "y", "distance", "mm") if "y" in pose else base.y_mm,
+                _start_mm(reader, pose, "x") if "x" in pose else base.x_mm,
+                _start_mm(reader, pose, "y") if "y" in pose else base.y_mm,
                 reader.quantity(pose, "heading", "angle", "deg")
                 if "heading" in pose
                 else base.heading_deg,
             )
-        name = reader.text(data, "name") if "name" in data else ""
+        name = _shown_name(reader, data, "name") if "name" in data else ""
         hidden = _flag(reader, data, "hidden")
         variants.append(Variant(index, seed, world, start, name, hidden))
     return tuple(variants)

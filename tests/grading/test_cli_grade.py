@@ -352,3 +352,49 @@ def test_ten_megabytes_in_a_missions_name_or_error_is_invalid_saying_why(
     assert run["status"] == "invalid"  # the student's mistake, not the grading wire's
     assert run["message"].startswith(message), run["message"]
     assert len(run["message"]) < 2000
+
+
+@pytest.mark.parametrize(
+    ("line", "error"),
+    [
+        (
+            'test: "out\\nfake row ✓ 3/3 100%"',
+            (
+                "1:7: error: 'test' must be one line of visible text: reports would show it as"
+                " 'out\ufffdfake row ✓ 3/3 100%'"
+            ),
+        ),
+        ("test: x" + "y" * 300 + " z", "1:7: error: this 'test' is 303 characters long"),
+        (
+            'test: out\nruns: [{seed: 1, name: "a\\tb"}]',
+            "2:24: error: 'name' must be one line of visible text",
+        ),
+        (
+            "test: out\nexpect: [{outcome: success, weight: .inf}]",
+            "3:37: error: weight must be a finite number below a billion",
+        ),
+        (
+            "test: out\nexpect: [{outcome: success, weight: .nan}]",
+            "3:37: error: weight must be a finite number below a billion",
+        ),
+        (
+            "test: out\nruns: [{seed: 1, start: {x: 1e12 mm}}]",
+            "2:29: error: 'x' puts the start more than 1 km from the world's origin",
+        ),
+    ],
+    ids=["a newline in the name", "a long name", "a tab in a run's name", "weight inf",
+         "weight nan", "a start far away"],
+)  # fmt: skip
+def test_a_spec_a_report_would_show_wrongly_is_refused_where_it_is_wrong(
+    tmp_path: Path, line: str, error: str
+) -> None:
+    _one_student_class(tmp_path)
+    lines = ["test: out", "runs: [{seed: 1}]", "expect: [{outcome: success}]"]
+    written = line.split("\n")
+    for new in written:
+        lines = [new if old.split(":")[0] == new.split(":")[0] else old for old in lines]
+    (tmp_path / "test.yaml").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    result = run_cli("grade", "test.yaml", "--mission", "class", cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr.startswith(f"test.yaml:{error}"), result.stderr
+    assert "Traceback" not in result.stderr

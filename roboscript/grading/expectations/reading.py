@@ -57,6 +57,10 @@ def parse_expectation(
         value = data["weight"]
         if isinstance(value, bool) or not isinstance(value, int | float) or value <= 0:
             raise reader.fail("weight must be a number above 0", data.value_mark("weight"))
+        if not value < 1e9:  # infinity or NaN (YAML's .inf, .nan) would make every score NaN
+            raise reader.fail(
+                "weight must be a finite number below a billion", data.value_mark("weight")
+            )
         weight = float(value)
     required = False
     if "required" in data:
