@@ -484,9 +484,9 @@ def read_results(paths: Sequence[str], refused: Callable[[str], None] | None = N
                     )
                 if submission.student not in left_out:
                     refused(
-                        f"{submission.student} is left out of every report: their run in"
-                        f" {spec.name} ({variant.label}) was on a damaged line of {where};"
-                        " grade them again"
+                        f"{submission.student} is left out of every report: {where} has no"
+                        f" sound line for their run in {spec.name} ({variant.label}), which a"
+                        " damaged line may have held; grade them again"
                     )
                     left_out.add(submission.student)
     if left_out:
