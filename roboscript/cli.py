@@ -310,6 +310,10 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     specs = find_specs(args.specs)  # a SpecError prints file:line:col and exits 2
     everyone = _grade_submissions(args, specs)
     submissions = [s for s in everyone if shard is None or shard.holds(s.student)]
+    overwrites = _overwritten_input(args, _grading_inputs(specs, everyone))
+    if overwrites:  # said now: the teacher's tests and the students' work are never written
+        _err(f"error: {overwrites}")
+        return EXIT_INPUT
     # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.sandbox import detect_isolation
     from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S
@@ -389,6 +393,14 @@ def _cmd_gradebook(args: argparse.Namespace) -> int:
 
     refused: list[str] = []
     report = read_results(args.parts, refused.append)
+    inputs = _grading_inputs(report.specs, [])
+    inputs.update(
+        {Path(part).resolve(): (f"the results file {part}", False) for part in args.parts}
+    )
+    overwrites = _overwritten_input(args, inputs)
+    if overwrites:
+        _err(f"error: {overwrites}")
+        return EXIT_INPUT
     for sentence in refused:
         _err(f"error: {sentence}")
     if args.gradescope and len(report.submissions) != 1:
@@ -492,16 +504,7 @@ def _unwritable_report(args: argparse.Namespace) -> str:
     Checked before grading: a mistyped path must not cost the teacher a class's grading. A
     report's missing folders are made when it is written.
     """
-    return _unwritable(
-        [
-            ("--junit", args.junit, False),
-            ("--csv", args.csv, False),
-            ("--html", args.html, True),
-            ("--gradescope", args.gradescope, False),
-            ("--prairielearn", getattr(args, "prairielearn", None), False),
-            ("--results", getattr(args, "results", None), False),
-        ]
-    )
+    return _unwritable(_report_targets(args))
 
 
 def _unwritable_run_output(args: argparse.Namespace) -> str:
@@ -516,7 +519,7 @@ def _unwritable_run_output(args: argparse.Namespace) -> str:
     )
 
 
-def _unwritable(targets: list[tuple[str, str | None, bool]]) -> str:
+def _unwritable(targets: Sequence[tuple[str, str | None, bool]]) -> str:
     """Why one of ``(option, path or None, is a folder)`` cannot be written, or ``""``."""
     named: dict[Path, str] = {}
     for option, target, _ in targets:
@@ -544,6 +547,58 @@ def _make_parent_folders(path: str | Path) -> None:
     """Make the missing folders above ``path`` (an output file), as the grade reports do."""
     with contextlib.suppress(OSError):  # the write that follows says what is wrong
         Path(path).parent.mkdir(parents=True, exist_ok=True)
+
+
+def _report_targets(args: argparse.Namespace) -> list[tuple[str, str, bool]]:
+    """``(option, path, is a folder)`` of every report file or folder asked for."""
+    targets = [
+        ("--junit", args.junit, False),
+        ("--csv", args.csv, False),
+        ("--html", args.html, True),
+        ("--gradescope", args.gradescope, False),
+        ("--prairielearn", getattr(args, "prairielearn", None), False),
+        ("--results", getattr(args, "results", None), False),
+    ]
+    return [(option, path, folder) for option, path, folder in targets if path]
+
+
+def _grading_inputs(
+    specs: Sequence[Any], submissions: Sequence[Any]
+) -> dict[Path, tuple[str, bool]]:
+    """What grading reads, by resolved path: a name for a sentence, and whether it is a
+    student's (the specs and the worlds they name are not; every student's files and folder
+    are)."""
+    inputs: dict[Path, tuple[str, bool]] = {}
+    for spec in specs:
+        inputs[Path(spec.path).resolve()] = (f"the test spec {spec.path}", False)
+        for world in spec.worlds:
+            if Path(world).is_file():
+                inputs[Path(world).resolve()] = (f"the world {world} of {spec.name}", False)
+    for submission in submissions:
+        for file in submission.missions:
+            inputs[Path(file).resolve()] = (f"{submission.student}'s mission", True)
+        for file in submission.own:
+            inputs[Path(file).resolve()] = (f"{submission.student}'s file", True)
+        if submission.folder is not None:
+            inputs[Path(submission.folder).resolve()] = (f"{submission.student}'s folder", True)
+    return inputs
+
+
+def _overwritten_input(args: argparse.Namespace, inputs: dict[Path, tuple[str, bool]]) -> str:
+    """Why a report asked for would overwrite or sit among what grading reads (one
+    sentence), or ``""``: a report written over a student's mission destroys it, one written
+    in a student's folder is read by that student's next graded run, and a report folder
+    holding students' work would write its pages among them."""
+    for option, target, is_folder in _report_targets(args):
+        path = Path(target).resolve()
+        for known, (what, students) in inputs.items():
+            if path == known:
+                return f"{option} {target} is {what}: writing it would destroy it"
+            if students and known in path.parents:
+                return f"{option} {target} is inside {what}: write reports outside it"
+            if is_folder and students and path in known.parents:
+                return f"{option} {target} holds {what}: write the report to a folder of its own"
+    return ""
 
 
 def _write_grade_reports(args: argparse.Namespace, report: Any) -> bool:

@@ -398,3 +398,45 @@ def test_a_spec_a_report_would_show_wrongly_is_refused_where_it_is_wrong(
     assert result.returncode == 2
     assert result.stderr.startswith(f"test.yaml:{error}"), result.stderr
     assert "Traceback" not in result.stderr
+
+
+@pytest.mark.parametrize(
+    ("option", "error"),
+    [
+        (("--csv", "class/amy.yaml"), "--csv class/amy.yaml is amy's mission"),
+        (("--results", "test.yaml"), "--results test.yaml is the test spec test.yaml"),
+        (("--junit", "class/zed/m.yaml"), "--junit class/zed/m.yaml is zed's mission"),
+        (("--csv", "class/zed/grades.csv"), "--csv class/zed/grades.csv is inside zed's folder"),
+        (("--html", "class"), "--html class holds "),
+    ],
+    ids=["over a mission", "over the spec", "over a folder's mission", "inside a student's folder",
+         "around the students"],
+)  # fmt: skip
+def test_a_report_over_the_students_work_or_the_spec_is_refused_before_grading(
+    tmp_path: Path, option: tuple[str, str], error: str
+) -> None:
+    _one_student_class(tmp_path)
+    (tmp_path / "class" / "zed").mkdir()
+    (tmp_path / "class" / "zed" / "m.yaml").write_text(OUT_TURN_BEEP, encoding="utf-8")
+    before = {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file()}
+    result = run_cli("grade", "test.yaml", "--mission", "class", *option, cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr.startswith(f"error: {error}"), result.stderr
+    assert "[1/" not in result.stderr  # before any run
+    assert {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file()} == before
+
+
+def test_a_gradebook_report_over_its_results_file_is_refused(tmp_path: Path) -> None:
+    _one_student_class(tmp_path)
+    graded = run_cli(
+        "grade", "test.yaml", "--mission", "class", "--results", "all.jsonl", "--quiet",
+        cwd=tmp_path,
+    )  # fmt: skip
+    assert graded.returncode == 0, graded.stderr
+    results = (tmp_path / "all.jsonl").read_bytes()
+    merged = run_cli("gradebook", "all.jsonl", "--csv", "all.jsonl", cwd=tmp_path)
+    assert merged.returncode == 2
+    assert merged.stderr == (
+        "error: --csv all.jsonl is the results file all.jsonl: writing it would destroy it\n"
+    )
+    assert (tmp_path / "all.jsonl").read_bytes() == results
