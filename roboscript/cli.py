@@ -15,6 +15,7 @@ import contextlib
 import errno
 import json
 import logging
+import math
 import os
 import re
 import sys
@@ -928,9 +929,10 @@ def _cmd_robots(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------------------------ main
 
 
-def _seconds(option: str, example: str) -> Callable[[str], float]:
+def _seconds(option: str, example: str, most_s: float = math.inf) -> Callable[[str], float]:
     """An argparse type for ``option``: a time in seconds (``60``, or ``60s`` as a mission
-    writes it), greater than 0; a mistake is answered with ``option example`` to copy."""
+    writes it), greater than 0 and at most ``most_s``; a mistake is answered with ``option
+    example`` to copy."""
 
     def parse(text: str) -> float:
         number = text.strip()
@@ -947,10 +949,20 @@ def _seconds(option: str, example: str) -> Callable[[str], float]:
             ) from None
         if not value > 0:  # also refuses nan
             raise argparse.ArgumentTypeError(f"a time limit must be more than 0 s (got {text})")
+        if value > most_s:
+            raise argparse.ArgumentTypeError(
+                f"{option} is at most {most_s:g} s (got {text})"
+                f" (write it in seconds, e.g. {option} {example})"
+            )
         return value
 
     parse.__name__ = "seconds"
     return parse
+
+
+HANG_AFTER_MOST_S = 3600.0
+"""The longest ``--hang-after``: one tick's code running an hour is hung by any measure (and
+a timer of an infinite time cannot be set: every run would crash)."""
 
 
 def _whole_number(
@@ -1096,7 +1108,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     grade.add_argument(
         "--hang-after",
-        type=_seconds("--hang-after", "2"),
+        type=_seconds("--hang-after", "2", HANG_AFTER_MOST_S),
         metavar="SECONDS",
         help=(
             "end a run as hung when its code does not return for this many seconds of its"

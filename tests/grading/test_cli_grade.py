@@ -440,3 +440,19 @@ def test_a_gradebook_report_over_its_results_file_is_refused(tmp_path: Path) -> 
         "error: --csv all.jsonl is the results file all.jsonl: writing it would destroy it\n"
     )
     assert (tmp_path / "all.jsonl").read_bytes() == results
+
+
+@pytest.mark.parametrize("value", ["inf", "1e9", "3601"])
+def test_a_hang_limit_beyond_an_hour_is_refused_not_every_run_crashed(
+    tmp_path: Path, value: str
+) -> None:
+    # --hang-after inf made every run crash setting its timer.
+    spec = _one_student_class(tmp_path)
+    result = run_cli(
+        "grade", str(spec), "--mission", str(tmp_path / "class"), "--hang-after", value
+    )
+    assert result.returncode == 2
+    assert result.stderr.splitlines()[-1] == (
+        f"roboscript grade: error: argument --hang-after: --hang-after is at most 3600 s (got"
+        f" {value}) (write it in seconds, e.g. --hang-after 2)"
+    )
