@@ -13,6 +13,7 @@ run, none of which is started.
 from __future__ import annotations
 
 import re
+import unicodedata
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -76,11 +77,14 @@ def find_specs(paths: Sequence[str]) -> list[TestSpec]:
     specs = [load_test_spec(p) for p in dict.fromkeys(files)]
     seen: dict[str, str] = {}
     for spec in specs:
-        if spec.name in seen:
+        # names that look the same (José composed and decomposed) would make two columns
+        # no report tells apart
+        key = unicodedata.normalize("NFC", spec.name)
+        if key in seen:
             raise InputError(
-                f"two specs are both called '{spec.name}' ({seen[spec.name]} and {spec.path})"
+                f"two specs are both called '{spec.name}' ({seen[key]} and {spec.path})"
             )
-        seen[spec.name] = spec.path
+        seen[key] = spec.path
     return specs
 
 

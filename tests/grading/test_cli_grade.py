@@ -456,3 +456,15 @@ def test_a_hang_limit_beyond_an_hour_is_refused_not_every_run_crashed(
         f"roboscript grade: error: argument --hang-after: --hang-after is at most 3600 s (got"
         f" {value}) (write it in seconds, e.g. --hang-after 2)"
     )
+
+
+def test_two_specs_whose_names_look_the_same_are_refused_naming_both(tmp_path: Path) -> None:
+    _one_student_class(tmp_path)
+    for file, name in (("a.yaml", "Jos\u00e9"), ("b.yaml", "Jose\u0301")):
+        (tmp_path / file).write_text(
+            f"test: {name}\nruns: [{{seed: 1}}]\nexpect: [{{outcome: success}}]\n",
+            encoding="utf-8",
+        )
+    result = run_cli("grade", "a.yaml", "b.yaml", "--mission", "class", cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr == "error: two specs are both called 'Jose\u0301' (a.yaml and b.yaml)\n"
