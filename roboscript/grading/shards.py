@@ -311,24 +311,24 @@ def _check_header(header: dict[str, Any]) -> None:
         if not isinstance(entry, dict) or not all(
             isinstance(entry.get(key), str) for key in ("path", "sha256")
         ):
-            raise TypeError(f"a test spec on its first line is not a path and a hash: {entry!r}")
+            raise TypeError(
+                _capped(f"a test spec on its first line is not a path and a hash: {entry!r}")
+            )
     for entry in students:
         if not (
             isinstance(entry, dict)
             and isinstance(entry.get("name"), str)
-            and isinstance(entry.get("missions"), list)
-            and all(isinstance(m, str) for m in entry["missions"])
+            and _texts(entry.get("missions"))
         ):
-            raise TypeError(f"a student on its first line has no name or missions: {entry!r}"[:300])
+            raise TypeError(
+                _capped(f"a student on its first line has no name or missions: {entry!r}")
+            )
         for key, kind in _STUDENT_FIELDS.items():
-            if key in entry and not (
-                isinstance(entry[key], kind)
-                and all(isinstance(item, str) for item in entry[key] or () if key == "own")
-            ):
+            value = entry.get(key)
+            if key in entry and not (isinstance(value, kind) and (key != "own" or _texts(value))):
+                name = entry["name"]
                 raise TypeError(
-                    f"the student {entry['name']!r}'s {key!r} on its first line is {entry[key]!r}"[
-                        :300
-                    ]
+                    _capped(f"the student {name!r}'s {key!r} on its first line is {value!r}")
                 )
     shard = header.get("shard")
     if shard is not None and not (
@@ -337,7 +337,17 @@ def _check_header(header: dict[str, Any]) -> None:
         and all(isinstance(n, int) and not isinstance(n, bool) for n in shard)
         and 1 <= shard[0] <= shard[1]
     ):
-        raise TypeError(f"its first line's 'shard' is {shard!r}, not a part I of N"[:300])
+        raise TypeError(_capped(f"its first line's 'shard' is {shard!r}, not a part I of N"))
+
+
+def _texts(value: Any) -> bool:
+    """Whether ``value`` is a list of texts."""
+    return isinstance(value, list) and all(isinstance(item, str) for item in value)
+
+
+def _capped(sentence: str) -> str:
+    """``sentence`` cut to 300 characters: a damaged file's value may be megabytes long."""
+    return sentence if len(sentence) <= 300 else sentence[:299] + "…"
 
 
 _STUDENT_FIELDS: dict[str, Any] = {
