@@ -37,13 +37,14 @@ from roboscript import __version__
 from roboscript.errors import InputError
 from roboscript.grading.batch import ClassReport, find_specs
 from roboscript.grading.record import GradedRecord, RunResult
-from roboscript.grading.spec import MAX_START_MM, TestSpec
+from roboscript.grading.spec import TestSpec
 from roboscript.grading.submissions import Submission
 from roboscript.grading.text import clean_name
 from roboscript.replay.recording import replay_misfit
 from roboscript.run_record import misfit
 from roboscript.sim.body import MAX_CONTACTS, MAX_TONES
 from roboscript.sim.simulation import MAX_PATH_SAMPLES
+from roboscript.sim.world import WORLD_REACH_MM
 
 __all__ = [
     "RESULTS_FORMAT",
@@ -224,7 +225,7 @@ TIME_SLACK_S = 5.0
 tick the run ended in)."""
 FASTEST_MM_S = 10_000.0
 """Faster than any simulated robot moves (the fastest built-in robot drives at 350 mm/s):
-with the farthest start a spec allows, it bounds where a run's robot can be."""
+with the farthest a world (and so a start) reaches, it bounds where a run's robot can be."""
 MAX_LISTED = 100_000
 """The most entries of a run's state list (a run keeps at most 20 000 states)."""
 
@@ -288,7 +289,7 @@ def _record_out_of_range(record: GradedRecord, limit_s: float) -> str | None:
     times += [tone.t_s for tone in sim.tones] + [c.t_s for c in record.collisions]
     if any(not -limit_s <= t <= limit_s for t in times):
         return "a time in its record is outside the run"
-    farthest_mm = MAX_START_MM + FASTEST_MM_S * limit_s
+    farthest_mm = WORLD_REACH_MM + FASTEST_MM_S * limit_s
     places = [value for sample in sim.path for value in sample[1:3]]
     places += [sim.final_pose.x_mm, sim.final_pose.y_mm]
     places += [value for c in record.collisions for value in (c.x_mm, c.y_mm)]

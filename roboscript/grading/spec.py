@@ -54,7 +54,7 @@ from roboscript.inputs.source import (
 )
 from roboscript.mission.limits import MAX_TIME_S
 from roboscript.profiles import BUILTIN_PROFILES, get_profile
-from roboscript.sim.world import World, builtin_worlds, load_world
+from roboscript.sim.world import WORLD_REACH_MM, World, builtin_worlds, load_world
 
 __all__ = [
     "DEFAULT_MAX_TIME_S",
@@ -283,16 +283,13 @@ def load_test_spec(path: str | Path) -> TestSpec:
     )
 
 
-MAX_START_MM = 1e6
-"""The farthest a run's start may be from its world's origin, along x or along y (1 km)."""
-
-
 def _start_mm(reader: FieldReader, pose: YamlMap, key: str) -> float:
-    """A start's ``x`` or ``y``, mm, within :data:`MAX_START_MM` of the world's origin."""
+    """A start's ``x`` or ``y``, mm, as far from the world's origin as a world reaches
+    (:data:`~roboscript.sim.world.WORLD_REACH_MM`)."""
     value = reader.quantity(pose, key, "distance", "mm")
-    if not -MAX_START_MM <= value <= MAX_START_MM:
+    if not -WORLD_REACH_MM <= value <= WORLD_REACH_MM:
         raise reader.fail(
-            f"'{key}' puts the start more than {MAX_START_MM / 1e6:g} km from the world's"
+            f"'{key}' puts the start more than {WORLD_REACH_MM / 1e6:g} km from the world's"
             " origin: outside any world",
             pose.value_mark(key),
         )
