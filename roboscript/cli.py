@@ -30,7 +30,7 @@ from roboscript.errors import (
     InputError,
     RoboscriptError,
 )
-from roboscript.interrupts import exit_status_for, raise_dropped, reason_for
+from roboscript.interrupts import deferred, exit_status_for, raise_dropped, reason_for
 from roboscript.interrupts import install as install_interrupts
 from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
 
@@ -340,11 +340,14 @@ def _cmd_grade(args: argparse.Namespace) -> int:
 
     def progress(result: Any) -> None:
         nonlocal done
-        done += 1
-        if journal:
-            line = result.to_dict(replay=True)  # the replay: a gradebook's --html shows it
-            journal.write(json.dumps(line, ensure_ascii=False) + "\n")
-            journal.flush()  # a grader killed now keeps every finished run
+        # A signal waits until the run is counted and kept: what the sentence on Ctrl-C
+        # counts is what --results holds.
+        with deferred():
+            done += 1
+            if journal:
+                line = result.to_dict(replay=True)  # the replay: a gradebook's --html shows it
+                journal.write(json.dumps(line, ensure_ascii=False) + "\n")
+                journal.flush()  # a grader killed now keeps every finished run
         if not quiet:
             mark = "ok" if result.passed else result.status
             label = labels.get((result.test, result.variant), result.label)

@@ -95,7 +95,17 @@ def work(
 
 
 def _exit_on_term(signum: int, _frame: object) -> None:
+    # Cleaning up from now on: the parent's SIGTERM that follows a Ctrl-C must not cut the
+    # jail's removal short (the parent kills a worker that takes too long).
+    # (A handler that does nothing, not SIG_IGN: a signal already pending would then be
+    # reported as "ignored due to race condition", with a traceback.)
+    for other in HANDLED_SIGNALS:
+        signal.signal(other, _cleaning_up)
     raise SystemExit(128 + signum)
+
+
+def _cleaning_up(_signum: int, _frame: object) -> None:
+    """The handler while the worker cleans up after a signal: the first one said it all."""
 
 
 def _grade(task: RunTask, server: WarmJail | None) -> RunResult:
