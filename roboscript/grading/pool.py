@@ -35,6 +35,7 @@ from __future__ import annotations
 import math
 import multiprocessing
 import os
+import tempfile
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
@@ -88,8 +89,15 @@ def bounded_jobs(requested: int | None) -> tuple[int, str]:
     )
 
 
+_LONGEST_SOCKET_FOLDER = 64
+"""Longest temporary folder (bytes) the fork server's socket fits in: its path (the folder, a
+``pymp-`` folder and a ``listener-`` name, about 35 bytes more) must fit the 107 bytes of a
+Unix socket's address."""
+
+
 def _context() -> Any:
-    if "forkserver" in multiprocessing.get_all_start_methods():
+    long_folder = len(os.fsencode(tempfile.gettempdir())) > _LONGEST_SOCKET_FOLDER
+    if "forkserver" in multiprocessing.get_all_start_methods() and not long_folder:
         context = multiprocessing.get_context("forkserver")
         # Workers fork from a server that has imported the simulator, drivers and runner once.
         # That server looks modules up in the working folder first: one that holds a
@@ -98,6 +106,7 @@ def _context() -> Any:
         hidden = _working_folder_hides_package()
         context.set_forkserver_preload([] if hidden else ["roboscript.grading.worker"])
         return context
+    # Each worker then imports what it needs itself: slower to start, and the same grades.
     return multiprocessing.get_context("spawn")
 
 

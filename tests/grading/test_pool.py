@@ -476,3 +476,22 @@ def test_grading_from_a_folder_holding_a_roboscript_py_grades_as_anywhere_else(
     )
     assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
     assert [r["status"] for r in json.loads(done.stdout)["runs"]] == ["passed"]
+
+
+def test_a_class_grades_with_a_temporary_folder_too_long_for_a_socket(tmp_path: Path) -> None:
+    # The fork server listens on a Unix socket in the temporary folder, and a socket's path is
+    # at most 107 bytes: a deep TMPDIR made the whole class end in a traceback.
+    deep = tmp_path / ("t" * 40) / ("m" * 40) / ("p" * 40)
+    deep.mkdir(parents=True)
+    (tmp_path / "class").mkdir()
+    shutil.copy(MISSIONS / "square.yaml", tmp_path / "class" / "ana.yaml")
+    env = dict(os.environ, TMPDIR=str(deep))
+    spec = MISSIONS / "teacher" / "square" / "test.yaml"
+    graded = subprocess.run(
+        [sys.executable, "-m", "roboscript", "grade", str(spec),
+         "--mission", str(tmp_path / "class"), "--json"],
+        capture_output=True, text=True, env=env, timeout=HANG_BOUND_S, check=False,
+    )  # fmt: skip
+    assert graded.returncode == 0, graded.stderr
+    assert "Traceback" not in graded.stderr
+    assert [run["status"] for run in json.loads(graded.stdout)["runs"]] == ["passed"] * 3
