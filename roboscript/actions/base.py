@@ -20,6 +20,7 @@ import dataclasses
 import enum
 import functools
 import inspect
+import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal, cast, get_args
@@ -517,6 +518,13 @@ def _reading_its_arguments(init: Callable[..., None]) -> Callable[..., None]:
             if exc.__traceback__ is not None and exc.__traceback__.tb_next is not None:
                 if unread is not None:  # init compared text it could not read
                     raise unread from None
+                wrong = (
+                    _mistyped(type(self), signature, self, args, kwargs)
+                    if signature is not None and _raised_in_roboscript(exc)
+                    else None  # a student's own __init__ keeps Python's words, at its line
+                )
+                if wrong is not None:  # init compared a list or None with a number
+                    raise wrong from None
                 raise  # raised inside __init__, not by the call
             takes = None if signature is None else _positional(signature)
             if takes is not None and len(args) > len(takes):
@@ -565,6 +573,49 @@ def _quantities_read(
         except ValueError as exc:
             unread = unread or ValueError(f"{label} {param.name}: {exc}")
     return bound.args[1:], bound.kwargs, unread
+
+
+_PACKAGE_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "")
+
+
+def _raised_in_roboscript(exc: BaseException) -> bool:
+    """True if ``exc`` was raised by roboscript's own code (a built-in action's checks)."""
+    tb = exc.__traceback__
+    while tb is not None and tb.tb_next is not None:
+        tb = tb.tb_next
+    return tb is not None and os.path.abspath(tb.tb_frame.f_code.co_filename).startswith(
+        _PACKAGE_DIR
+    )
+
+
+def _mistyped(
+    cls: type[Action],
+    signature: inspect.Signature,
+    self: Action,
+    args: tuple[Any, ...],
+    kwargs: dict[str, Any],
+) -> ValueError | None:
+    """The error for the first quantity given as something that is no number or text
+    (``Wait(duration_s=[2])``, ``Wait(duration_s=None)``), said as a mission's check says it,
+    or ``None`` if every quantity given is a number."""
+    try:
+        bound = signature.bind_partial(self, *args, **kwargs)
+    except TypeError:
+        return None
+    label = getattr(cls, "name", cls.__name__)
+    for param in params_of(cls):
+        if param.kind not in DIMENSIONS or param.kwarg not in bound.arguments:
+            continue
+        value = bound.arguments[param.kwarg]
+        if param.kind == "count":
+            if isinstance(value, bool) or not isinstance(value, int):
+                return ValueError(f"{label} {param.name}: expected a whole number, got {value!r}")
+            continue
+        try:
+            parse_quantity(value, param.kind)
+        except ValueError as exc:
+            return ValueError(f"{label} {param.name}: {exc}")
+    return None
 
 
 def _positional(signature: inspect.Signature) -> list[str] | None:

@@ -210,8 +210,16 @@ class Repeat(Action):
             raise type(self).several()  # Repeat(Rotate(...), Drive(...)), Repeat([...], ...)
         if isinstance(times, bool) or not isinstance(times, int | float):
             action = _written(factory)
+            written = times.strip() if isinstance(times, str) else ""
+            if written.isdigit() and int(written) >= 1:  # Repeat(..., times="4")
+                raise UnderSpecifiedError(
+                    "repeat's times is a whole number, written without quotes",
+                    yaml=f"`times: {int(written)}`",
+                    python=f"Repeat({action}, times={int(written)})",
+                )
             raise UnderSpecifiedError(
-                "repeat needs 'times', a whole number of at least 1",
+                "repeat needs 'times', a whole number of at least 1"
+                + (f", and {times} is not a number" if isinstance(times, bool) else ""),
                 yaml=type(self).example()[0],
                 python=f"Repeat({action}, times=4)",
             )

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from roboscript import capabilities as cap
 from roboscript.actions.base import FROM_INIT, Action, ActionContext, Param, Result
 
@@ -63,6 +65,9 @@ class Display(Action):
     requires = frozenset({cap.DISPLAY})
 
     def __init__(self, text: str) -> None:
+        if text is None or isinstance(text, list | tuple | dict | set):
+            # str() would show "None" or "['a']" on the robot's screen
+            raise ValueError(f'display text: expected text such as "hello", got {text!r}')
         self.text = str(text)
 
     def update(self, ctx: ActionContext) -> Result | None:
@@ -93,7 +98,13 @@ class SetLed(Action):
         if index < 0:
             raise ValueError("LED index must not be negative")
         self.index = int(index)
-        self.color = parse_color(list(color)) if not isinstance(color, str) else parse_color(color)
+        # a list, a tuple or any other sequence of three numbers; None or a number is refused
+        # by parse_color with the forms a colour takes
+        given = list(color) if isinstance(color, Sequence) and not isinstance(color, str) else color
+        try:
+            self.color = parse_color(given)
+        except ValueError as exc:
+            raise ValueError(f"set_led color: {exc}") from None
 
     def update(self, ctx: ActionContext) -> Result | None:
         leds: cap.Leds = ctx.get(cap.LEDS)

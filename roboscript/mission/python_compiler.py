@@ -23,6 +23,7 @@ import contextlib
 import copy
 import inspect
 import keyword as pykeyword
+import math
 import re
 import typing
 import weakref
@@ -702,6 +703,7 @@ class _Compiler:
             return self.source.loc(found) if found is not None else where
 
         self.unnamed_numbers(kind, node)
+        self.numbers_as_text(kind, node)
         return self.build.action(
             kind,
             values,
@@ -739,6 +741,41 @@ class _Compiler:
                 f" {value} {unit}",
                 self.source.loc(arg),
                 f'name it: {kwarg}={value}; for {meant}, write {kwarg}="{meant}"',
+                "warning",
+            )
+
+    def numbers_as_text(self, kind: type[Action], node: ast.expr | None) -> None:
+        """Warn of a number written in quotes (``Drive(distance_mm="30")``): it is read in
+        the keyword's unit, as YAML reads ``distance: "30"``, and said so, since quotes make
+        text and a number in Python is written without them (a number with its unit in
+        quotes, ``distance_mm="30 cm"``, is read as written and needs no warning)."""
+        if not isinstance(node, ast.Call):
+            return
+        try:
+            positional = list(inspect.signature(kind).parameters)[: len(node.args)]
+        except (TypeError, ValueError):
+            positional = []
+        given = [*zip(node.args, positional, strict=False)]
+        given += [(k.value, k.arg) for k in node.keywords if k.arg is not None]
+        params = {p.kwarg: p for p in kind.params}
+        for value, kwarg in given:
+            param = params.get(kwarg)
+            text = value.value if isinstance(value, ast.Constant) else None
+            if param is None or param.kind not in DIMENSIONS or not isinstance(text, str):
+                continue
+            try:
+                number = float(text)
+            except ValueError:
+                continue  # a unit, or text the builder refuses at its keyword
+            if not math.isfinite(number) or "_" in text:
+                continue
+            written = text.strip()
+            unit = "" if param.kind == "count" else f" {DIMENSIONS[param.kind].base_unit}"
+            self.problem(
+                f'{kwarg}="{text}" is a number in quotes, which makes it text: taken as'
+                f" {written}{unit}",
+                self.source.loc(value),
+                f"write the number without quotes: {kwarg}={written}",
                 "warning",
             )
 

@@ -34,6 +34,7 @@ import re
 import sys
 import sysconfig
 import traceback
+from dataclasses import dataclass
 from pathlib import Path
 from types import FrameType, ModuleType, TracebackType
 from typing import Any
@@ -53,7 +54,9 @@ from roboscript.mission.python_api import LOADED_PREFIX, Mission, state
 from roboscript.watchdog import CodePlace
 
 __all__ = [
+    "EndlessCalls",
     "StudentCodeError",
+    "calls_without_end",
     "import_student_file",
     "is_student_class",
     "is_student_file",
@@ -184,7 +187,11 @@ class StudentCodeError(RoboscriptError, RuntimeError):
         self.error = error
         self.problem = problem
         self.where = where
-        if where is None and error is not None:
+        self.endless = calls_without_end(error) if problem is None else None
+        """What a RecursionError was, in the student's terms, or ``None``."""
+        if self.endless is not None and where is None:
+            self.where = self.endless.where  # the call that repeats, not where the limit hit
+        elif where is None and error is not None:
             self.where = _where(_student_frame(error.__traceback__))
         super().__init__(self.reason(None))
 
@@ -195,6 +202,8 @@ class StudentCodeError(RoboscriptError, RuntimeError):
         if isinstance(self.error, SystemExit) and self.problem is None:
             did = "called exit()"
             detail = "a mission ends by going to a final state, not by ending the program"
+        if self.endless is not None:
+            did, detail = "never returned", f"{self.endless.sentence}; {self.endless.fix}"
         text = f"your {self.what} {did}"
         if state is not None:
             text += f" in state '{state}'"
@@ -203,6 +212,66 @@ class StudentCodeError(RoboscriptError, RuntimeError):
         if self.where:
             text += f" ({self.where})"
         return text
+
+
+@dataclass(frozen=True)
+class EndlessCalls:
+    """Student code that called itself (or two functions each other) until Python's limit on
+    calls in progress ran out: a ``RecursionError``, in the student's terms.
+
+    Attributes:
+        sentence: What happened (``'close' calls itself again and again, ...``).
+        fix: What to do about it.
+        where: ``file:line`` of the call that repeats, as the student names the file.
+        line: That line, and ``filename`` its file as Python names it.
+    """
+
+    sentence: str
+    fix: str
+    where: str
+    filename: str
+    line: int
+
+
+_ENDLESS_TAIL = 60
+"""How many of the innermost frames of a RecursionError show which calls repeat."""
+
+
+def calls_without_end(error: BaseException | None) -> EndlessCalls | None:
+    """What a ``RecursionError`` out of a student's code was, in the student's terms, or
+    ``None`` for any other exception (or one whose repeating calls are not a student's).
+
+    The innermost frames of such a traceback are the same few functions over and over: the
+    student's among them name the function (or functions) that never stop calling.
+    """
+    if not isinstance(error, RecursionError):
+        return None
+    frames = [f for f in traceback.extract_tb(error.__traceback__) if is_student_file(f.filename)]
+    tail = frames[-_ENDLESS_TAIL:]
+    counts: dict[tuple[str, str], int] = {}
+    for frame in tail:
+        counts[frame.filename, frame.name] = counts.get((frame.filename, frame.name), 0) + 1
+    repeating = [key for key, count in counts.items() if count >= 3]
+    if not repeating:
+        return None
+    first = repeating[0]
+    lines = [f.lineno for f in tail if (f.filename, f.name) == first and f.lineno is not None]
+    line = max(set(lines), key=lines.count)  # the call that repeats, not where the limit hit
+    names = [f"'{name}'" for _, name in repeating]
+    who = (
+        f"{names[0]} calls itself"
+        if len(names) == 1
+        else f"{', '.join(names[:-1])} and {names[-1]} call each other"
+    )
+    return EndlessCalls(
+        f"{who} again and again, more deeply than Python allows",
+        "give it a way to return a value without calling itself"
+        if len(names) == 1
+        else "give one of them a way to return a value without calling the other",
+        f"{shown_path(first[0])}:{line}",
+        first[0],
+        line,
+    )
 
 
 def _student_action(tb: TracebackType | None) -> Any:
@@ -402,6 +471,9 @@ def _explain(
     call = _call_at(module, frame)
     if isinstance(exc, SystemExit):
         return f"the {kind} file called exit() while it was loaded", None
+    endless = calls_without_end(exc)
+    if endless is not None:
+        return endless.sentence, endless.fix
     if isinstance(exc, UnderSpecifiedError) and raised_by_roboscript:
         return exc.python_message, f"write {exc.python}"
     if isinstance(exc, RoboscriptError | ValueError) and raised_by_roboscript:
@@ -410,7 +482,7 @@ def _explain(
         match = _UNEXPECTED_KEYWORD.match(text)
         if match:
             owner, func, keyword = match.groups()
-            callee = owner if func == "__init__" and owner else func
+            callee = _called_name(call) or (owner if func == "__init__" and owner else func)
             meant = meant_in_state_call(keyword) if callee == "state" else None
             return f"{callee}() has no parameter '{keyword}'", meant or _meant_parameter(
                 callee, keyword, module, call
@@ -516,6 +588,21 @@ def _call_at(module: ModuleType, frame: traceback.FrameSummary | None) -> ast.Ca
         if isinstance(node, ast.Call) and (node.lineno, node.col_offset) == (frame.lineno, colno)
     ]
     return calls[0] if len(calls) == 1 else None
+
+
+def _called_name(call: ast.Call | None) -> str | None:
+    """The name the student called, as written (``Turn`` for ``Turn(angle_deg=90)``, whose
+    ``__init__`` Python names by the class that defines it, ``_GaitAction``), or ``None``."""
+    if call is None:
+        return None
+    func = call.func
+    return (
+        func.id
+        if isinstance(func, ast.Name)
+        else func.attr
+        if isinstance(func, ast.Attribute)
+        else None
+    )
 
 
 def _state_call_fixed(call: ast.Call | None) -> tuple[str, str] | None:

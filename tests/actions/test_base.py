@@ -247,3 +247,19 @@ def test_text_an_action_compares_but_cannot_read_is_named_not_pythons_comparison
     assert str(refused.value) == (
         "wait duration: 'deg' is a unit of angle, but this is a time (use s, sec, ms, min)"
     )
+
+
+@pytest.mark.parametrize(
+    ("given", "expected"),
+    [
+        ([2], "wait duration: expected a time such as '200 ms', got [2]"),
+        (None, "wait duration: expected a time such as '200 ms', got None"),
+        ({"s": 2}, "wait duration: expected a time such as '200 ms', got {'s': 2}"),
+    ],
+)
+def test_a_quantity_an_action_compares_but_is_no_number_is_named_not_pythons_comparison(
+    given: Any, expected: str
+) -> None:
+    with pytest.raises(ValueError) as refused:
+        Wait(duration_s=given)
+    assert str(refused.value) == expected

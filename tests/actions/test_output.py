@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
 from helpers import run_action
 
@@ -73,3 +75,15 @@ def test_an_led_past_the_end_of_the_strip_is_not_supported() -> None:
 )
 def test_colours(text: object, rgb: tuple[int, int, int]) -> None:
     assert parse_color(text) == rgb
+
+
+@pytest.mark.parametrize("text", [None, ["hello"], ("a", "b")])
+def test_display_refuses_what_is_not_text_instead_of_showing_its_python_form(text: Any) -> None:
+    with pytest.raises(ValueError, match=r'^display text: expected text such as "hello", got'):
+        Display(text=text)
+
+
+@pytest.mark.parametrize("color", [None, 5, [1, 2]])
+def test_set_led_refuses_what_is_no_colour_naming_its_parameter(color: Any) -> None:
+    with pytest.raises(ValueError, match=r"^set_led color: expected a colour \(off, black"):
+        SetLed(color=color)

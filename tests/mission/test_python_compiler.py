@@ -876,6 +876,53 @@ def test_a_number_without_its_keyword_in_the_unit_meant_is_no_warning(tmp_path: 
     assert warnings == []
 
 
+@pytest.mark.parametrize(
+    ("go", "expected"),
+    [
+        pytest.param(
+            'Drive(distance_mm="30")',
+            'lesson.py:9:34: warning: distance_mm="30" is a number in quotes, which makes it'
+            " text: taken as 30 mm (write the number without quotes: distance_mm=30)",
+            id="a-distance",
+        ),
+        pytest.param(
+            'Repeat(Rotate(angle_deg="90"), times=4)',
+            'lesson.py:9:40: warning: angle_deg="90" is a number in quotes, which makes it'
+            " text: taken as 90 deg (write the number without quotes: angle_deg=90)",
+            id="an-angle-inside-a-repeat",
+        ),
+        pytest.param(
+            'Wait("2")',
+            'lesson.py:9:21: warning: duration_s="2" is a number in quotes, which makes it'
+            " text: taken as 2 s (write the number without quotes: duration_s=2)",
+            id="a-time-without-its-keyword",
+        ),
+    ],
+)
+def test_a_number_in_quotes_is_warned_at_its_value_with_how_it_was_taken(
+    tmp_path: Path, go: str, expected: str
+) -> None:
+    _, warnings = compiled(
+        tmp_path,
+        "from roboscript import Repeat, Rotate\n\n"
+        "class Lesson(Mission):\n"
+        f'    go = state({go}, initial=True, on_done="end", on_failed="end")\n'
+        '    end = state(final="success")\n',
+    )
+    assert warnings == [expected]
+
+
+def test_a_number_in_quotes_with_its_unit_is_no_warning(tmp_path: Path) -> None:
+    _, warnings = compiled(
+        tmp_path,
+        "class Lesson(Mission):\n"
+        '    go = state(Drive(distance_mm="30 cm"), initial=True, on_done="end",'
+        ' on_failed="end")\n'
+        '    end = state(final="success")\n',
+    )
+    assert warnings == []
+
+
 def test_an_init_that_needs_a_value_is_refused_at_its_def(tmp_path: Path) -> None:
     assert problems(
         tmp_path,

@@ -333,6 +333,12 @@ LOAD_TIME = [
         id="a-def-without-its-indented-body",
     ),
     pytest.param(
+        "def far(n):\n    return far(n + 1)\n\n\nDISTANCE = far(1)\n",
+        "m.py:2:12: error: 'far' calls itself again and again, more deeply than Python allows"
+        " (give it a way to return a value without calling itself)",
+        id="a-function-calling-itself-without-end",
+    ),
+    pytest.param(
         "def near(self):\n        return 1\n    return 2\n",
         "m.py:3:5: error: syntax error: unindent does not match any outer indentation level"
         " (line it up, with spaces, with the lines of the block it belongs to)",
@@ -544,6 +550,72 @@ def test_a_behaviour_that_raises_is_named_with_its_state_and_line(
     assert record.exc_info is not None and record.exc_info[1] is info.value
 
 
+ENDLESS = """\
+from roboscript import Action
+
+
+def ping(n):
+    return pong(n)
+
+
+def pong(n):
+    return ping(n)
+
+
+class Spin(Action):
+    def update(self, ctx):
+        return self.update(ctx)
+
+
+class Twirl(Action):
+    def update(self, ctx):
+        return ping(ctx)
+"""
+
+
+def test_a_behaviour_that_calls_itself_without_end_is_told_at_the_call_that_repeats(
+    here: Path,
+) -> None:
+    module = import_student_file(_write(here, "spin.py", ENDLESS), kind="behaviour")
+    with pytest.raises(RecursionError) as info:
+        module.Spin().update(None)
+    assert student_fault(info.value, "go") == (
+        "your behaviour 'Spin' never returned in state 'go': 'update' calls itself again and"
+        " again, more deeply than Python allows; give it a way to return a value without"
+        " calling itself (spin.py:14)"
+    )
+    with pytest.raises(RecursionError) as info:
+        module.Twirl().update(None)
+    assert student_fault(info.value, "go") == (
+        "your behaviour 'Twirl' never returned in state 'go': 'ping' and 'pong' call each"
+        " other again and again, more deeply than Python allows; give one of them a way to"
+        " return a value without calling the other (spin.py:5)"
+    )
+
+
+def test_a_condition_that_calls_itself_without_end_ends_the_run_with_one_sentence(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "m.py").write_text(
+        "from roboscript import Drive, Mission, state\n\n\n"
+        "class M(Mission):\n"
+        '    go = state(Drive(distance_mm=300), initial=True, on_done="end", on_failed="end",\n'
+        '               when=[("close", "end")])\n'
+        '    end = state(final="success")\n\n'
+        "    def close(self) -> bool:\n"
+        "        return self.close()\n",
+        encoding="utf-8",
+    )
+    result = run_cli("run", "m.py", cwd=tmp_path)
+    assert result.returncode == 1, result.stderr
+    assert "Traceback" not in result.stdout + result.stderr
+    assert (
+        "failure: your condition 'close' never returned in state 'go': 'close' calls itself"
+        " again and again, more deeply than Python allows; give it a way to return a value"
+        " without calling itself (m.py:10)"
+    ) in result.stdout + result.stderr
+
+
 class _Broken(Action):
     name = "broken"
 
@@ -579,7 +651,7 @@ def test_two_actions_given_to_one_state_say_how_to_write_them(tmp_path: Path) ->
 
 
 PYTHON_MISSION = (
-    "from roboscript import Drive, Mission, Parallel, PlayTone, Repeat, Rotate, Wait, state\n"
+    "from roboscript import Drive, Mission, Parallel, PlayTone, Repeat, Rotate, Turn, Wait, state\n"
     "\n\nclass M(Mission):\n"
     "    go = {go}\n"
     '    end = state(final="success")\n'
@@ -613,9 +685,19 @@ PYTHON_MISSION = (
         ),
         pytest.param(
             'state(Repeat(Rotate(angle_deg=90), "4"), initial=True, on_done="end")',
-            "m.py:5:16: error: repeat needs 'times', a whole number of at least 1 (write"
+            "m.py:5:16: error: repeat's times is a whole number, written without quotes (write"
             " Repeat(Rotate(angle_deg=90), times=4))",
             id="repeat-times-as-text",
+        ),
+        pytest.param(
+            'state(Wait(duration_s=[2]), initial=True, on_done="end")',
+            "m.py:5:16: error: wait duration: expected a time such as '200 ms', got [2]",
+            id="a-time-in-a-list",
+        ),
+        pytest.param(
+            'state(Turn(angle_deg=90), initial=True, on_done="end")',
+            "m.py:5:16: error: Turn() has no parameter 'angle_deg' (its parameters: steps)",
+            id="a-walking-turn-given-an-angle",
         ),
         pytest.param(
             'state(Drive(500, 150, 2, 9), initial=True, on_done="end")',
