@@ -14,6 +14,7 @@ differs::
 from __future__ import annotations
 
 from collections.abc import Iterator, Mapping
+from copy import deepcopy
 from dataclasses import fields, replace
 from pathlib import Path
 from typing import Any
@@ -22,7 +23,14 @@ from roboscript.drivers import units
 from roboscript.errors import InputError, ProfileError, did_you_mean
 from roboscript.robot_profile import RobotProfile
 
-__all__ = ["BUILTIN_PROFILES", "RobotProfile", "get_profile", "register_profile"]
+__all__ = [
+    "BUILTIN_PROFILES",
+    "PROFILE_FILE_KEYS",
+    "BuiltinsKept",
+    "RobotProfile",
+    "get_profile",
+    "register_profile",
+]
 
 
 class _BuiltinProfiles(Mapping[str, RobotProfile]):
@@ -84,6 +92,38 @@ _NUMBER_FIELDS = {
 }
 
 
+PROFILE_FILE_KEYS = ("description", "gains", "ticks_per_rev", *_NUMBER_FIELDS, "options")
+"""What a profile file may change of the built-in robot it extends (besides its name)."""
+
+
+class BuiltinsKept:
+    """The built-in profiles as they are when made, to find (and undo) a change made to them
+    since: a student's file that changes a field of ``get_profile("mirto")`` (its ``gains``
+    dict, say) would change the robot the mission's side runs with, but not the simulated
+    board, which is made from the built-in's name alone (and, when grading, in another
+    process), so a built-in profile is kept as it is built."""
+
+    def __init__(self) -> None:
+        self._kept = [
+            (profile, deepcopy(vars(profile))) for unit in units() for profile in unit.profiles
+        ]
+
+    def changed(self) -> list[tuple[str, str]]:
+        """``(profile name, field)`` for each field changed since this was made, in the
+        profile's field order; each changed profile is put back as it was."""
+        found = []
+        for profile, kept in self._kept:
+            now = vars(profile)
+            if now == kept:
+                continue
+            found += [
+                (kept["name"], f.name) for f in fields(profile) if now.get(f.name) != kept[f.name]
+            ]
+            now.clear()
+            now.update(deepcopy(kept))
+        return found
+
+
 def _load_profile_file(path: Path) -> RobotProfile:
     # YAML loads only for a profile file, so codecs and drivers import profiles without it
     from roboscript.inputs.fields import FieldReader
@@ -104,8 +144,7 @@ def _load_profile_file(path: Path) -> RobotProfile:
             f"'extends' must name a built-in robot ({', '.join(BUILTIN_PROFILES)})", "extends"
         )
     changes: dict[str, Any] = {"name": str(data.get("name", path.stem))}
-    allowed = ("extends", "name", "description", "gains", "ticks_per_rev", *_NUMBER_FIELDS)
-    reader.allowed(data, (*allowed, "options"), "a profile")
+    reader.allowed(data, ("extends", "name", *PROFILE_FILE_KEYS), "a profile")
     for key, value in data.items():
         if key in _NUMBER_FIELDS or key == "ticks_per_rev":
             if isinstance(value, bool) or not isinstance(value, int | float) or value <= 0:

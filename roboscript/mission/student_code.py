@@ -34,7 +34,7 @@ import re
 import sys
 import sysconfig
 import traceback
-from dataclasses import dataclass
+from dataclasses import FrozenInstanceError, dataclass, fields
 from pathlib import Path
 from types import FrameType, ModuleType, TracebackType
 from typing import Any
@@ -51,6 +51,8 @@ from roboscript.errors import (
 from roboscript.mission.guards import guard_names
 from roboscript.mission.key_mistakes import meant_in_state_call
 from roboscript.mission.python_api import LOADED_PREFIX, Mission, state
+from roboscript.profiles import PROFILE_FILE_KEYS, BuiltinsKept
+from roboscript.robot_profile import RobotProfile
 from roboscript.watchdog import CodePlace
 
 __all__ = [
@@ -355,19 +357,76 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
     folder = str(file.resolve().parent)
     sys.modules[name] = module  # classes look their module up here (inspect, dataclasses)
     sys.path.insert(0, folder)
+    kept = BuiltinsKept()
     try:
         spec.loader.exec_module(module)
+        changed = kept.changed()
+        if changed:
+            raise _builtin_changed(changed, path, module)
     except SyntaxError as exc:
         del sys.modules[name]
         raise _syntax_problem(exc, path) from None
+    except MissionError:
+        del sys.modules[name]
+        raise
     except (Exception, SystemExit) as exc:  # noqa: BLE001 - reported in the student's terms
         del sys.modules[name]
+        kept.changed()  # a change made before the exception is undone too
         raise _import_problem(exc, path, module, kind) from None
     finally:
         if folder in sys.path:
             sys.path.remove(folder)
     _IMPORTED[key] = module
     return module
+
+
+def _builtin_changed(
+    changed: list[tuple[str, str]], path: str | Path, module: ModuleType
+) -> MissionError:
+    """The error for a file that changed a built-in robot profile while it was loaded, at
+    the first line that names the changed field."""
+    robot, field = changed[0]
+    line = _line_naming(module, {f for _, f in changed})
+    named = ", ".join(f for r, f in changed if r == robot)
+    return MissionError(
+        f"this file changes the built-in robot '{robot}' ({named}), and a built-in robot"
+        " stays as it is built: the simulated robot would not have the change",
+        path=str(path),
+        line=line,
+        hint=_robot_of_your_own(robot, field),
+    )
+
+
+def _profile_in(module: ModuleType) -> str:
+    """The name of the robot profile the student's file holds, for the hint (``mirto`` when
+    it holds none by a name of its own)."""
+    found = [value.name for value in vars(module).values() if isinstance(value, RobotProfile)]
+    return found[0] if found else "mirto"
+
+
+def _robot_of_your_own(robot: str, field: str) -> str:
+    """How to describe a robot that differs from the built-in ``robot`` in ``field``."""
+    if field not in PROFILE_FILE_KEYS:
+        return (
+            f"'{field}' is the board's own, which no profile file changes: keep '{robot}' as it is"
+        )
+    return (
+        f"a robot of your own is a profile file beside the mission, e.g. my_{robot}.yaml"
+        f" holding 'extends: {robot}' and '{field}: ...'; then write robot = \"my_{robot}.yaml\""
+    )
+
+
+def _line_naming(module: ModuleType, names: set[str]) -> int | None:
+    """The first line of the student's file that names one of ``names`` as an attribute
+    (``mirto.gains[...] = ...``) or as text (``setattr(mirto, "gains", ...)``)."""
+    tree = _tree(module)
+    lines = [
+        node.lineno
+        for node in (ast.walk(tree) if tree is not None else ())
+        if (isinstance(node, ast.Attribute) and node.attr in names)
+        or (isinstance(node, ast.Constant) and node.value in names)
+    ]
+    return min(lines) if lines else None
 
 
 def _syntax_problem(exc: SyntaxError, path: str | Path) -> MissionError:
@@ -438,6 +497,7 @@ _OTHER_WORDS = {
     "State": ("state", "a state is made with state(...), in lower case"),
 }
 """Names from the tutorials' words that roboscript spells otherwise: (its name, why)."""
+_FROZEN_FIELD = re.compile(r"^cannot assign to field '(\w+)'")
 _CANNOT_IMPORT = re.compile(r"^cannot import name '(\w+)' from '([\w.]+)'")
 
 
@@ -474,6 +534,16 @@ def _explain(
     endless = calls_without_end(exc)
     if endless is not None:
         return endless.sentence, endless.fix
+    frozen = _FROZEN_FIELD.match(text) if isinstance(exc, FrozenInstanceError) else None
+    if frozen is not None and frozen.group(1) in {f.name for f in fields(RobotProfile)}:
+        field = frozen.group(1)
+        return (
+            (
+                f"a built-in robot profile cannot be changed ({field}): the simulated robot is"
+                " made from the built-in robot as it is"
+            ),
+            _robot_of_your_own(_profile_in(module), field),
+        )
     if isinstance(exc, UnderSpecifiedError) and raised_by_roboscript:
         return exc.python_message, f"write {exc.python}"
     if isinstance(exc, RoboscriptError | ValueError) and raised_by_roboscript:

@@ -34,6 +34,7 @@ from roboscript.mission.student_code import (
     stuck_at,
     student_fault,
 )
+from roboscript.profiles import BUILTIN_PROFILES
 from roboscript.watchdog import CodePlace
 
 
@@ -375,10 +376,13 @@ def test_a_mistake_in_a_file_beside_it_names_that_file(here: Path) -> None:
 
 
 def test_a_class_imported_under_another_name_gets_no_borrowed_hint(here: Path) -> None:
-    # the file holds the class as `Sq`, and roboscript has no `Square`: no parameters to offer
+    # the file holds the class as `Sq`: named as the student wrote it, with its own parameters
+    # (roboscript has no `Square` to borrow any from)
     _write(here, "shapes.py", "class Square:\n    def __init__(self, side_mm):\n        pass\n")
     _write(here, "m.py", "from shapes import Square as Sq\n\nSq(sid_mm=1)\n")
-    assert _message("m.py") == "m.py:3:1: error: Square() has no parameter 'sid_mm'"
+    assert _message("m.py") == (
+        "m.py:3:1: error: Sq() has no parameter 'sid_mm' (did you mean 'side_mm'?)"
+    )
 
 
 def test_a_syntax_error_in_a_file_beside_it_names_that_file(here: Path) -> None:
@@ -502,6 +506,61 @@ def test_stuck_at_names_the_innermost_student_frame(here: Path) -> None:
 
 def test_stuck_at_nowhere_is_none() -> None:
     assert stuck_at(None) is None
+
+
+# A student who changes a built-in robot in their file would run the mission's side with the
+# change and the simulated board (made from the robot's name alone) without it.
+BUILT_IN_CHANGED = [
+    pytest.param(
+        """\
+        from roboscript.profiles import get_profile
+
+        mirto = get_profile("mirto")
+        mirto.max_speed_mm_s = 600
+        """,
+        "m.py:4:1: error: a built-in robot profile cannot be changed (max_speed_mm_s): the"
+        " simulated robot is made from the built-in robot as it is (a robot of your own is a"
+        " profile file beside the mission, e.g. my_mirto.yaml holding 'extends: mirto' and"
+        " 'max_speed_mm_s: ...'; then write robot = \"my_mirto.yaml\")",
+        id="a-field-set",
+    ),
+    pytest.param(
+        """\
+        from roboscript.profiles import get_profile
+
+        robot = get_profile("asip-basic")
+
+        robot.gains["wheel_speed"] = (1.0, 0.0, 0.0)
+        """,
+        "m.py:5: error: this file changes the built-in robot 'asip-basic' (gains), and a"
+        " built-in robot stays as it is built: the simulated robot would not have the change"
+        " (a robot of your own is a profile file beside the mission, e.g. my_asip-basic.yaml"
+        " holding 'extends: asip-basic' and 'gains: ...'; then write robot ="
+        ' "my_asip-basic.yaml")',
+        id="its-gains-changed-in-place",
+    ),
+    pytest.param(
+        """\
+        from roboscript.profiles import BUILTIN_PROFILES
+
+        object.__setattr__(BUILTIN_PROFILES["mirto"], "firmware_pid", False)
+        """,
+        "m.py:3: error: this file changes the built-in robot 'mirto' (firmware_pid), and a"
+        " built-in robot stays as it is built: the simulated robot would not have the change"
+        " ('firmware_pid' is the board's own, which no profile file changes: keep 'mirto' as"
+        " it is)",
+        id="a-field-forced",
+    ),
+]
+
+
+@pytest.mark.parametrize(("text", "expected"), BUILT_IN_CHANGED)
+def test_a_file_that_changes_a_built_in_robot_is_refused_and_the_robot_kept_as_built(
+    here: Path, text: str, expected: str
+) -> None:
+    before = {name: repr(profile) for name, profile in BUILTIN_PROFILES.items()}
+    assert _message(_write(here, "m.py", text).name) == expected
+    assert {name: repr(profile) for name, profile in BUILTIN_PROFILES.items()} == before
 
 
 # ---------------------------------------------------------------------------------- run time
