@@ -39,6 +39,7 @@ from roboscript.mission.limits import a_noun, example, param_problems, shown, ti
 from roboscript.mission.nested import SubMission
 from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec, TransitionSpec
 from roboscript.mission.student_code import StudentCodeError
+from roboscript.robot_profile import RobotProfile
 
 __all__ = ["MissionBuilder", "MissionProblemsError", "ParamProblem", "action_params"]
 
@@ -514,6 +515,15 @@ class MissionBuilder:
     def names_a(self, key: str, value: Any, where: Location, example: str) -> str | None:
         """``robot`` or ``world``: the name of one, or ``None`` (the default)."""
         if value is not None and not isinstance(value, str):
+            if key == "robot" and isinstance(value, RobotProfile):  # robot = get_profile(...)
+                given = value.name
+                self.problem(
+                    "'robot' is given a robot profile, and a mission names its robot",
+                    where,
+                    f'write robot = "{given}"; a robot of your own is a profile file beside'
+                    ' the mission, named the same way: robot = "my_robot.yaml"',
+                )
+                return None
             self.problem(f"'{key}' names a {key}, e.g. {example}", where)
             return None
         return value

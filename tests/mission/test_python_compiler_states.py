@@ -693,3 +693,27 @@ def test_checking_a_mission_reads_its_class_in_time_that_grows_with_its_states_n
         assert len(spec.states) == states + 1
         nodes.append(walked[0])
     assert nodes[1] <= 4 * nodes[0]
+
+
+def test_a_robot_given_as_a_profile_object_says_to_name_it(write: Write) -> None:
+    path = write(
+        "fast.py",
+        """\
+import dataclasses
+from roboscript import Mission, Wait, state
+from roboscript.profiles import get_profile
+
+
+class Fast(Mission):
+    robot = dataclasses.replace(get_profile("mirto"), max_speed_mm_s=600)
+    go = state(Wait(1), initial=True, on_done="end")
+    end = state(final=True)
+""",
+    )
+    assert messages(path) == [
+        (
+            "fast.py:7:13: error: 'robot' is given a robot profile, and a mission names its"
+            ' robot (write robot = "mirto"; a robot of your own is a profile file beside the'
+            ' mission, named the same way: robot = "my_robot.yaml")'
+        ),
+    ]
