@@ -70,6 +70,10 @@ def did_you_mean(word: str, choices: Iterable[str], *, cutoff: float = 0.5) -> s
         cutoff: How alike (0-1, :func:`difflib.get_close_matches`) a choice must be.
     """
     options = sorted(set(choices))
+    # Another case ("MIRTO", "Done") is the choice itself, however short the word.
+    same = [c for c in options if c.lower() == word.lower() and c != word]
+    if same:
+        return f"did you mean '{same[0]}'?"
     # A word cut short ("final_pose") means the choice it begins, before any look-alike.
     started = [c for c in options if len(word) >= 3 and c.startswith(word)]
     if started:

@@ -24,6 +24,11 @@ def test_did_you_mean_names_the_closest_choice_or_nothing() -> None:
     assert did_you_mean("xyzzy", ["drive", "rotate"]) is None
 
 
+def test_did_you_mean_names_the_choice_written_in_another_case() -> None:
+    assert did_you_mean("MIRTO", ["mirto", "asip-basic"]) == "did you mean 'mirto'?"
+    assert did_you_mean("Go", ["go", "end"]) == "did you mean 'go'?"
+
+
 def test_a_missing_file_suggests_the_file_of_a_like_name_beside_it(tmp_path: Path) -> None:
     (tmp_path / "square.yaml").write_text("", encoding="utf-8")
     assert nearby_file(tmp_path / "square.yml") == "did you mean 'square.yaml'?"

@@ -571,6 +571,21 @@ class _Compiler:
         known = [*_PLAIN, *(f"{r}.{a}" for r, attrs in _ATTRS.items() for a in attrs), "visits"]
         roots = [*_PLAIN, *_ATTRS, "visits", "in_region"]
         close = difflib.get_close_matches(name, roots, n=1)
+        # a sensor's value without its sensor (distance_cm for range.distance_cm), or without
+        # its sensor and unit (distance): the sensors that have it, in cm where there is a choice
+        owners = [f"{r}.{a}" for r, attrs in _ATTRS.items() for a in attrs if a == name]
+        if not owners:
+            owners = [
+                f"{r}.{a}" for r, attrs in _ATTRS.items() for a in attrs if a.startswith(f"{name}_")
+            ]
+            owners = [o for o in owners if o.endswith("_cm")] or owners
+        if owners and not close:
+            return self.fail(
+                f"unknown name '{name}' in a condition: a sensor's value is named with its"
+                " sensor" + ("" if owners[0].endswith(f".{name}") else " and its unit"),
+                node,
+                "write " + " or ".join(f"'{o}'" for o in owners[:3]),
+            )
         return self.fail(
             f"unknown name '{name}' in a condition",
             node,
@@ -599,6 +614,11 @@ _MISTAKES: tuple[tuple[re.Pattern[str], str, str], ...] = (
     (re.compile(r"&&"), "'&&' is not a condition word", "write 'and': {fixed}"),
     (re.compile(r"\|\|"), "'||' is not a condition word", "write 'or': {fixed}"),
     (re.compile(r"!(?!=)"), "'!' is not a condition word", "write 'not': {fixed}"),
+    (
+        re.compile(r"\b(?!(?:and|or|not)\b)(?i:and|or|not)\b"),
+        "'{found}' is written in lower case",
+        "write {fixed}",
+    ),
     (
         re.compile(r"=<|=>"),
         "'{found}' is not a comparison",
@@ -658,7 +678,9 @@ def _syntax_mistake(source: str) -> GuardError | None:
             continue
         found = match.group(match.lastindex or 0).strip()
         words = [_COMPARISON_WORDS[w] for w in found.split() if w in _COMPARISON_WORDS]
-        if found in _FIXES:
+        if found.lower() in ("and", "or", "not"):  # AND, Or: the words in lower case
+            fixed = pattern.sub(lambda word: word.group(0).lower(), source)
+        elif found in _FIXES:
             fixed = re.sub(r"\s+", " ", pattern.sub(_FIXES[found], source)).strip()
         elif words:
             fixed = re.sub(r"\s+", " ", pattern.sub(words[0], source)).strip()

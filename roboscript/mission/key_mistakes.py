@@ -17,9 +17,26 @@ from typing import Any
 
 from roboscript.inputs.source import YamlMap
 
-__all__ = ["meant_at_top", "meant_in_state", "meant_in_state_call"]
+__all__ = ["meant_at_top", "meant_in_state", "meant_in_state_call", "meant_outcome"]
 
 _OUTCOMES = ("done", "failed", "timeout")
+
+
+_OUTCOME_WORDS = {
+    **dict.fromkeys(
+        ("finished", "finish", "complete", "completed", "success", "succeeded", "ok", "arrived"),
+        "done",
+    ),
+    **dict.fromkeys(("fail", "failure", "error", "stalled", "stuck", "bumped"), "failed"),
+    **dict.fromkeys(("timed_out", "time_out", "timeout_s", "too_long", "time"), "timeout"),
+}
+"""Words a beginner writes for an action's outcome, and the outcome meant."""
+
+
+def meant_outcome(word: str) -> str | None:
+    """The outcome (``done``, ``failed``, ``timeout``) ``word`` stands for (``finished``:
+    ``done``; ``on_success``: ``done``), or ``None`` if it is no known word for one."""
+    return _OUTCOME_WORDS.get(word.lower().removeprefix("on_").replace("-", "_").strip())
 
 
 def _target(value: Any, fallback: str = "NEXT") -> str:
@@ -90,8 +107,9 @@ def meant_in_state_call(keyword: str) -> str | None:
         return "the action is state()'s first argument: write state(Drive(distance_mm=500), ...)"
     if word in ("next", "goto", "go_to", "then", "after", "transitions", "transition", "on"):
         return 'where a state goes next is named by outcome: write on_done="NEXT"'
-    if word in ("on_fail", "on_failure", "on_error"):
-        return 'write on_failed="NEXT"'
+    outcome = meant_outcome(word) if word.startswith("on_") else None
+    if outcome is not None:  # on_finished, on_success, on_fail, on_error, ...
+        return f'write on_{outcome}="NEXT"'
     if word in ("if_", "condition", "conditions", "until", "while_", "check"):
         return 'a condition checked while in the state goes in when: write when=[("cond", "NEXT")]'
     if word in ("end", "ends", "final_state", "is_final", "outcome", "result", "finish"):

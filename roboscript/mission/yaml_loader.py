@@ -21,7 +21,7 @@ from roboscript.mission.behaviours import behaviours_from_yaml
 from roboscript.mission.builder import MissionBuilder
 from roboscript.mission.channels import MAX_CHANNELS
 from roboscript.mission.files import FileReferenceError, beside_mission
-from roboscript.mission.key_mistakes import meant_at_top, meant_in_state
+from roboscript.mission.key_mistakes import meant_at_top, meant_in_state, meant_outcome
 from roboscript.mission.spec import (
     OUTCOMES,
     ActionSpec,
@@ -531,10 +531,13 @@ class _Reader:
                 )
                 continue
             if outcome not in OUTCOMES:
+                meant = meant_outcome(str(outcome))
                 self.problem(
                     f"unknown outcome '{outcome}' (outcomes: {', '.join(OUTCOMES)})",
                     raw.key_mark(outcome),
-                    did_you_mean(outcome, OUTCOMES),
+                    f"write {meant}: {value}"
+                    if meant is not None and isinstance(value, str)
+                    else did_you_mean(outcome, OUTCOMES),
                 )
                 continue
             vmark = raw.value_mark(outcome)

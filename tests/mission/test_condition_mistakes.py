@@ -72,6 +72,18 @@ from roboscript.mission.guards import GuardEnv, GuardError, compile_guard
             "finish it, or take away the last word",
         ),
         (
+            "bumper.any AND range.distance_cm < 20",
+            11,
+            "'AND' is written in lower case",
+            "write bumper.any and range.distance_cm < 20",
+        ),
+        (
+            "Not bumper.left Or bumper.right",
+            0,
+            "'Not' is written in lower case",
+            "write not bumper.left or bumper.right",
+        ),
+        (
             "range.distance_cm < 20 kg",
             23,
             "'kg' is not a unit a condition knows",
@@ -104,6 +116,32 @@ def test_a_condition_that_breaks_otherwise_keeps_the_plain_message(source: str) 
     with pytest.raises(GuardError) as caught:
         compile_guard(source)
     assert str(caught.value) == f"cannot read the condition '{source}'"
+
+
+@pytest.mark.parametrize(
+    ("source", "message", "hint"),
+    [
+        (
+            "distance_cm < 20",
+            "unknown name 'distance_cm' in a condition: a sensor's value is named with its sensor",
+            "write 'range.distance_cm' or 'side_range.distance_cm'",
+        ),
+        (
+            "distance < 20",
+            (
+                "unknown name 'distance' in a condition: a sensor's value is named with its sensor"
+                " and its unit"
+            ),
+            "write 'range.distance_cm' or 'side_range.distance_cm'",
+        ),
+    ],
+)
+def test_a_sensors_value_without_its_sensor_names_the_sensors_that_have_it(
+    source: str, message: str, hint: str
+) -> None:
+    with pytest.raises(GuardError) as caught:
+        compile_guard(source)
+    assert (str(caught.value), caught.value.offset, caught.value.hint) == (message, 0, hint)
 
 
 def test_a_unit_of_the_wrong_kind_names_both_kinds() -> None:

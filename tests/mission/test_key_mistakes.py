@@ -8,6 +8,8 @@ from pathlib import Path
 import pytest
 from helpers import refusal, run_cli
 
+from roboscript.mission.key_mistakes import meant_in_state_call
+
 YAML_MIXUPS = [
     (
         "name: square\nstates:\n  go: {final: success}\n",
@@ -108,3 +110,11 @@ def test_the_python_forms_state_gets_the_same_help(tmp_path: Path) -> None:
         f"{path}:5:10: error: state() has no parameter 'next'"
         ' (where a state goes next is named by outcome: write on_done="NEXT")'
     ) in result.stderr
+
+
+@pytest.mark.parametrize(
+    ("keyword", "meant"),
+    [("on_finished", "on_done"), ("on_success", "on_done"), ("on_error", "on_failed")],
+)
+def test_a_python_states_word_for_an_outcome_names_the_outcome(keyword: str, meant: str) -> None:
+    assert meant_in_state_call(keyword) == f'write {meant}="NEXT"'

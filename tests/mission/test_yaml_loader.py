@@ -75,6 +75,13 @@ def test_valid_mission_loads_with_units_converted(write_mission: Callable[..., P
             ),
         ),
         (
+            GOOD.replace("{done: end, failed: end}", "{finished: end, failed: end}"),
+            (
+                "M:6:10: error: unknown outcome 'finished' (outcomes: done, failed, timeout)"
+                " (write done: end)"
+            ),
+        ),
+        (
             GOOD.replace("initial: go", "initial: og"),
             "M:2:10: error: the initial state 'og' is not one of the states (did you mean 'go'?)",
         ),
@@ -1174,9 +1181,9 @@ MISTAKES = [
             ),
             "m.yaml:4:40: error: there is no state 'ned' (did you mean 'end'?)",
             (
-                "m.yaml:4:51: error: unknown name 'distance' in a condition (names:"
-                " heading_deg, elapsed, state_time, range.distance_mm, range.distance_cm,"
-                " side_range.distance_mm, side_range.distance_cm, bumper.left, ...)"
+                "m.yaml:4:51: error: unknown name 'distance' in a condition: a sensor's value is"
+                " named with its sensor and its unit (write 'range.distance_cm' or"
+                " 'side_range.distance_cm')"
             ),
             (
                 "m.yaml:4:78: error: a choice is a condition and the state it goes to"
