@@ -43,6 +43,7 @@ __all__ = [
     "ParamKind",
     "Result",
     "UnderSpecifiedError",
+    "UpdateReturnError",
     "params_of",
 ]
 
@@ -353,6 +354,9 @@ class Action(abc.ABC):
         if inspect.isfunction(init):
             # mypy refuses an assignment to a method, so the wrapper is set by name
             setattr(cls, "__init__", _reading_its_arguments(init))  # noqa: B010
+        update = vars(cls).get("update")
+        if inspect.isfunction(update) and not cls.__module__.startswith("roboscript."):
+            setattr(cls, "update", _returning_a_result(update))  # noqa: B010
         params = vars(cls).get("params")
         if "__init__" not in vars(cls) or not isinstance(params, tuple):
             return
@@ -448,6 +452,30 @@ class Action(abc.ABC):
             + ", and ".join(f"'{p.kwarg}', {p.doc}" for p in wanted),
         )
 
+    @classmethod
+    def misdefined(cls) -> tuple[str, str] | None:
+        """What is wrong with how this class defines the methods roboscript calls on it
+        (``def update(ctx):`` without ``self``), as ``(message, fix)``, or ``None``: each of
+        ``start``, ``update`` and ``stop`` is called with the context, ``method(self, ctx)``."""
+        for method in ("start", "update", "stop"):
+            function = getattr(cls, method, None)
+            function = getattr(function, "__wrapped__", function)
+            if not inspect.isfunction(function):
+                continue
+            try:
+                inspect.signature(function).bind(cls, None)
+            except TypeError:
+                return (
+                    (
+                        f"{cls.__name__}.{method} must take self and ctx, as roboscript calls it"
+                        " with the robot's context"
+                    ),
+                    f"def {method}(self, ctx):",
+                )
+            except ValueError:
+                continue
+        return None
+
     def written_call(self) -> str:
         """This action as a Python mission writes it, with the values it holds that are not
         its defaults (``Drive(distance_mm=500)``), for a fix that names the student's own
@@ -490,6 +518,49 @@ class Action(abc.ABC):
 
     def stop(self, ctx: ActionContext) -> None:  # noqa: B027 - optional hook
         """Called when the state is left, whether the action ended or was interrupted."""
+
+
+class UpdateReturnError(TypeError):
+    """A student's action whose ``update`` returned what is neither a :class:`Result` nor
+    ``None`` (``True``, ``Result.done`` without its brackets): told in the student's terms,
+    since the code that then reads the result is roboscript's, not theirs.
+
+    Attributes:
+        problem: What it returned (``returned True instead of a Result``).
+        fix: What to write instead.
+        filename: The file of its ``def update``, and ``line`` that line.
+    """
+
+    def __init__(self, problem: str, fix: str, filename: str, line: int) -> None:
+        self.problem = problem
+        self.fix = fix
+        self.filename = filename
+        self.line = line
+        super().__init__(f"{problem} ({fix})")
+
+
+_RESULT_HINT = "return Result.done() when it has finished, and None while it is still going"
+
+
+def _returning_a_result(update: Callable[..., Any]) -> Callable[..., Any]:
+    """A student's ``update``, its value checked: a :class:`Result` or ``None``."""
+
+    @functools.wraps(update)
+    def checked(self: Action, ctx: ActionContext) -> Result | None:
+        result = update(self, ctx)
+        if result is None or isinstance(result, Result):
+            return result
+        if getattr(result, "__self__", None) is Result:  # return Result.done
+            name = result.__name__
+            problem = f"returned Result.{name} without calling it"
+            fix = f"write return Result.{name}({'' if name == 'done' else '...'})"
+        else:
+            shown = repr(result) if len(repr(result)) <= 40 else type(result).__name__
+            problem, fix = f"returned {shown} instead of a Result", _RESULT_HINT
+        code = update.__code__
+        raise UpdateReturnError(problem, fix, code.co_filename, code.co_firstlineno)
+
+    return checked
 
 
 def _reading_its_arguments(init: Callable[..., None]) -> Callable[..., None]:

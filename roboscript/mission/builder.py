@@ -284,6 +284,10 @@ class MissionBuilder:
             name: The action's name in messages (default: ``cls.name``).
         """
         label = name or cls.name
+        misdefined = None if _is_built_in(cls) else cls.misdefined()
+        if misdefined is not None:  # def update(ctx): would raise at every tick
+            self.problem(misdefined[0], where, misdefined[1])
+            return None
         kwargs, problems = action_params(cls, values, state_names, written=instance is None)
         refused = False
         if not problems:

@@ -40,7 +40,7 @@ from types import FrameType, ModuleType, TracebackType
 from typing import Any
 
 import roboscript
-from roboscript.actions.base import Action, UnderSpecifiedError, params_of
+from roboscript.actions.base import Action, UnderSpecifiedError, UpdateReturnError, params_of
 from roboscript.errors import (
     LinkError,
     MissionError,
@@ -174,6 +174,7 @@ class StudentCodeError(RoboscriptError, RuntimeError):
             ``condition 'four_sides_done'``).
         error: The exception it raised, or ``None``.
         problem: What it did instead of raising (``returned None``), or ``None``.
+        fix: What to write instead, said after the state, or ``None``.
         where: ``file:line`` in the student's file, or ``None``.
     """
 
@@ -183,11 +184,13 @@ class StudentCodeError(RoboscriptError, RuntimeError):
         error: BaseException | None = None,
         *,
         problem: str | None = None,
+        fix: str | None = None,
         where: str | None = None,
     ) -> None:
         self.what = what
         self.error = error
         self.problem = problem
+        self.fix = fix
         self.where = where
         self.endless = calls_without_end(error) if problem is None else None
         """What a RecursionError was, in the student's terms, or ``None``."""
@@ -204,13 +207,16 @@ class StudentCodeError(RoboscriptError, RuntimeError):
         if isinstance(self.error, SystemExit) and self.problem is None:
             did = "called exit()"
             detail = "a mission ends by going to a final state, not by ending the program"
+        fix = self.fix
         if self.endless is not None:
-            did, detail = "never returned", f"{self.endless.sentence}; {self.endless.fix}"
+            did, detail, fix = "never returned", self.endless.sentence, self.endless.fix
         text = f"your {self.what} {did}"
         if state is not None:
             text += f" in state '{state}'"
         if detail:
             text += f": {detail}"
+        if fix:
+            text += f"; {fix}"
         if self.where:
             text += f" ({self.where})"
         return text
@@ -253,7 +259,11 @@ def calls_without_end(error: BaseException | None) -> EndlessCalls | None:
     counts: dict[tuple[str, str], int] = {}
     for frame in tail:
         counts[frame.filename, frame.name] = counts.get((frame.filename, frame.name), 0) + 1
-    repeating = [key for key, count in counts.items() if count >= 3]
+    first_seen: dict[tuple[str, str], int] = {}
+    for index, frame in enumerate(frames):
+        first_seen.setdefault((frame.filename, frame.name), index)
+    # the outermost first: the function the student's code called to begin with
+    repeating = sorted((k for k, n in counts.items() if n >= 3), key=first_seen.__getitem__)
     if not repeating:
         return None
     first = repeating[0]
@@ -305,6 +315,13 @@ def student_fault(exc: BaseException, state: str) -> str | None:
         return None
     if isinstance(exc, StudentCodeError):
         fault = exc
+    elif isinstance(exc, UpdateReturnError):
+        action = _student_action(exc.__traceback__)
+        name = getattr(type(action), "name", type(action).__name__)
+        where = f"{shown_path(exc.filename)}:{exc.line}"
+        fault = StudentCodeError(
+            f"behaviour '{name}'", problem=exc.problem, fix=exc.fix, where=where
+        )
     else:
         action = _student_action(exc.__traceback__)
         if action is None:

@@ -962,3 +962,83 @@ def test_a_students_own_action_named_with_self_is_not_called_a_state(
     assert (
         result.stderr.splitlines()[0] == "m.py:12:16: error: NameError: name 'self' is not defined"
     )
+
+
+WRONG_RESULTS = """\
+from roboscript import Action, Result
+
+
+class Yes(Action):
+    name = "yes"
+
+    def update(self, ctx):
+        return True
+
+
+class Later(Action):
+    name = "later"
+
+    def update(self, ctx):
+        return Result.failed
+"""
+
+
+def test_a_behaviour_that_returns_no_result_is_told_what_to_return_at_its_def(
+    here: Path,
+) -> None:
+    module = import_student_file(_write(here, "acts.py", WRONG_RESULTS), kind="behaviour")
+    with pytest.raises(TypeError) as info:
+        module.Yes().update(None)
+    assert student_fault(info.value, "go") == (
+        "your behaviour 'yes' returned True instead of a Result in state 'go'; return"
+        " Result.done() when it has finished, and None while it is still going (acts.py:7)"
+    )
+    with pytest.raises(TypeError) as info:
+        module.Later().update(None)
+    assert student_fault(info.value, "go") == (
+        "your behaviour 'later' returned Result.failed without calling it in state 'go'; write"
+        " return Result.failed(...) (acts.py:14)"
+    )
+
+
+def test_a_behaviour_returning_no_result_inside_a_parallel_ends_the_run_with_one_sentence(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "m.py").write_text(
+        "from roboscript import Action, Mission, Parallel, Wait, state\n\n\n"
+        "class Yes(Action):\n"
+        '    name = "yes"\n\n'
+        "    def update(self, ctx):\n"
+        "        return True\n\n\n"
+        "class M(Mission):\n"
+        "    go = state(Parallel([Yes(), Wait(duration_s=1)]), initial=True,"
+        ' on_done="end", on_failed="end")\n'
+        '    end = state(final="success")\n',
+        encoding="utf-8",
+    )
+    result = run_cli("run", "m.py", cwd=tmp_path)
+    assert result.returncode == 1, result.stderr
+    assert "Traceback" not in result.stdout + result.stderr
+    assert "failure: your behaviour 'yes' returned True instead of a Result in state 'go';" in (
+        result.stdout + result.stderr
+    )
+
+
+def test_a_behaviour_whose_update_forgets_self_is_refused_at_check(tmp_path: Path) -> None:
+    (tmp_path / "m.py").write_text(
+        "from roboscript import Action, Mission, Result, state\n\n\n"
+        "class Spin(Action):\n"
+        '    name = "spin"\n\n'
+        "    def update(ctx):\n"
+        "        return Result.done()\n\n\n"
+        "class M(Mission):\n"
+        '    go = state(Spin(), initial=True, on_done="end")\n'
+        '    end = state(final="success")\n',
+        encoding="utf-8",
+    )
+    result = run_cli("check", "m.py", cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr.splitlines()[0] == (
+        "m.py:12:16: error: Spin.update must take self and ctx, as roboscript calls it with the"
+        " robot's context (def update(self, ctx):)"
+    )
