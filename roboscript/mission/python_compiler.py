@@ -94,6 +94,13 @@ def _as_number(text: str, read: str) -> str:
     """How to write ``text`` (``"20 cm"``) as the number ``read`` (``self.range.distance_cm``)
     is compared with: in the unit its name ends with."""
     unit = read.rsplit(".", 1)[-1].rpartition("_")[2]
+    try:
+        number = float(text)  # "20": the number itself, in quotes
+    except ValueError:
+        pass
+    else:
+        if math.isfinite(number):
+            return f"write the number without quotes: {text.strip()}"
     for kind, dimension in DIMENSIONS.items():
         if unit not in dimension.units:
             continue
@@ -123,6 +130,19 @@ def _reading_value(node: ast.expr) -> str | None:
     number, True/False or a name such as a colour's; not a method), else ``None``."""
     found = _reading_property(node)
     return found[0] if found is not None else None
+
+
+def _reads_number(node: ast.expr) -> str | None:
+    """``self.range.distance_cm`` as written, when ``node`` reads a sensor value that is a
+    number (not True/False, nor text), else ``None``."""
+    found = _reading_property(node)
+    if found is None or found[1].fget is None:
+        return None
+    try:
+        returned = typing.get_type_hints(found[1].fget).get("return")
+    except (NameError, TypeError):
+        return None
+    return found[0] if returned in (float, int) else None
 
 
 def _reads_text(node: ast.expr) -> bool:
@@ -271,6 +291,17 @@ class MethodGuard:
                 problem=f"returned the text {value[:40]!r} instead of True or False",
                 where=self.where,
             )
+        if isinstance(value, float | list | tuple | dict | set):
+            # a distance (true unless 0) or a list (true unless empty): never what was meant
+            what = (
+                f"the number {value:g}" if isinstance(value, float) else f"a {type(value).__name__}"
+            )
+            raise StudentCodeError(
+                f"condition '{self.source}'",
+                problem=f"returned {what} instead of True or False",
+                fix="return a comparison, e.g. return self.range.distance_cm < 20",
+                where=self.where,
+            )
         return bool(value)
 
 
@@ -282,6 +313,8 @@ class _Scan:
     states: dict[str, ast.Constant] = field(default_factory=dict)
     returns_value: bool = False
     returns_text: ast.Constant | None = None  # the first ``return "..."``
+    # the first ``return self.range.distance_cm``: a number, which holds unless it is 0
+    returns_number: tuple[ast.expr, str] | None = None
     # ``self.range.distnce``: (the node, the sensor, the names it has), in the method's file
     misread: list[tuple[ast.Attribute, str, list[str]]] = field(default_factory=list)
     yields: ast.expr | None = None  # the first ``yield``: the method makes a generator
@@ -1022,6 +1055,14 @@ class _Compiler:
                 self.source_of(value.__code__.co_filename).loc(scan.returns_text),
                 "return True or False, e.g. return self.range.distance_cm < 20",
             )
+        if scan.returns_number is not None:
+            number, read = scan.returns_number
+            self.problem(
+                f"condition method '{name}' returns {read}, a number, and any number but 0"
+                " counts as true",
+                self.source_of(value.__code__.co_filename).loc(number),
+                f"return a comparison, e.g. return {read} < 20",
+            )
         if not scan.returns_value and scan.yields is None:
             self.problem(
                 f"condition method '{name}' never returns a value, so it never holds",
@@ -1138,6 +1179,11 @@ class _Compiler:
                     first = result.returns_text
                     if first is None or value.lineno < first.lineno:
                         result.returns_text = value
+                read = _reads_number(value)
+                if read is not None and (
+                    result.returns_number is None or value.lineno < result.returns_number[0].lineno
+                ):
+                    result.returns_number = (value, read)
             if not isinstance(child, ast.Attribute):
                 continue
             sensor = child.value

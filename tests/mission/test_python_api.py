@@ -835,3 +835,34 @@ def test_a_guard_method_reads_the_line_sensors() -> None:
     sched.run(until=lambda: runner.finished, max_duration_s=10)
     # success only through the guard: the wait running out leads to failure
     assert runner.result.outcome == "success"
+
+
+def test_a_condition_returning_a_distance_or_a_list_is_refused_at_load_and_when_run() -> None:
+    class Far(Mission):
+        go = state(Wait(duration_s=5), initial=True, on_done="end", when=[("far", "end")])
+        end = state(final=True)
+
+        def far(self) -> bool:
+            return self.range.distance_cm  # type: ignore[return-value] - the mistake under test
+
+    with pytest.raises(MissionError) as refused:
+        compile_mission(Far)
+    assert refused.value.message == (
+        "condition method 'far' returns self.range.distance_cm, a number, and any number but 0"
+        " counts as true"
+    )
+    assert refused.value.hint == "return a comparison, e.g. return self.range.distance_cm < 20"
+
+    class Listed(Mission):  # what the check cannot see: refused when the run reads it
+        go = state(Wait(duration_s=5), initial=True, on_done="end", when=[("near", "end")])
+        end = state(final=True)
+
+        def near(self) -> bool:
+            return [self.elapsed > 1]  # type: ignore[return-value]
+
+    runner = run(Listed)
+    assert runner.result.outcome == "failure"
+    assert (runner.result.reason or "").startswith(
+        "your condition 'near' returned a list instead of True or False in state 'go'; return a"
+        " comparison, e.g. return self.range.distance_cm < 20"
+    )

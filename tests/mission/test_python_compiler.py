@@ -764,6 +764,9 @@ class Lesson(Mission):
 
     def again(self):
         return self.visits(go) > 1
+
+    def closer(self):
+        return self.range.distance_cm < "20"
 """
     assert problems(tmp_path, body) == [
         (
@@ -778,6 +781,10 @@ class Lesson(Mission):
         (
             "lesson.py:18:28: error: visits(go) names the state 'go' without quotes (write"
             " self.visits('go'))"
+        ),
+        (
+            "lesson.py:21:41: error: self.range.distance_cm is compared with the text '20', and"
+            " a sensor's value is a number (or True/False) (write the number without quotes: 20)"
         ),
     ]
 
