@@ -302,22 +302,6 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                     "warning",
                 )
             )
-        routes = state.on.get("timeout")
-        if routes and state.timeout_s is None and not (action is not None and _times_out(action)):
-            # a route that nothing can take: the student meant the state to have a time bound
-            problems.append(
-                _problem(
-                    f"state '{name}' goes to '{routes[0].target}' when it times out, but it"
-                    + _Write(" has no 'timeout:'", " has no timeout_s=").at(state.location)
-                    + ", so it never times out",
-                    routes[0].location or state.location,
-                    _Write(
-                        "give the state a time bound, e.g. timeout: 10 s",
-                        "give the state a time bound, e.g. timeout_s=10",
-                    ),
-                    "warning",
-                )
-            )
         why = _failure(action) if action is not None else None
         if action is not None and why is not None and not state.on.get("failed"):
             what = (

@@ -49,21 +49,6 @@ def test_a_state_without_an_action_may_leave_by_its_timeout(tmp_path: Path) -> N
     assert load_mission(path)[0].states["w"].action is None
 
 
-def test_a_timeout_route_in_a_state_that_never_times_out_is_warned(tmp_path: Path) -> None:
-    path = tmp_path / "m.yaml"
-    path.write_text(
-        "states:\n  go:\n    do: {drive: {distance: 50 cm}}\n"
-        "    on: {done: end, failed: end, timeout: end}\n  end: {final: success}\n"
-    )
-    _, warnings = load_mission(path)
-    assert [w.format() for w in warnings] == [
-        (
-            f"{path}:4:43: warning: state 'go' goes to 'end' when it times out, but it has no"
-            " 'timeout:', so it never times out (give the state a time bound, e.g. timeout: 10 s)"
-        )
-    ]
-
-
 def test_a_python_state_without_an_action_but_a_done_route_is_the_same_error(
     tmp_path: Path,
 ) -> None:
