@@ -404,7 +404,7 @@ class _Compiler:
             reader, _ = self.name(node)
             return reader
         if isinstance(node, ast.Call):
-            raise self.fail("a condition cannot call functions", node)
+            raise self.fail("a condition cannot call functions", node, _call_meant(node))
         if isinstance(node, ast.Tuple):  # 'range.distance_cm < 0,5' reads as a pair
             raise _syntax_mistake(self.source) or self.fail("a condition has no ','", node)
         raise self.fail("this is not allowed in a condition", node)
@@ -516,6 +516,14 @@ class _Compiler:
                 )
             raise self.unknown(node.id, node)
         value = node.value
+        if isinstance(value, ast.Name) and value.id == "self":  # "self.close": a method's name
+            raise self.fail(
+                "a condition written as text names things without 'self.'",
+                value,
+                f"a condition method is named alone, in quotes: write '{node.attr}'"
+                if node.attr not in _PLAIN
+                else f"write {node.attr}",
+            )
         if (
             isinstance(value, ast.Attribute)
             and isinstance(value.value, ast.Name)
@@ -591,6 +599,23 @@ class _Compiler:
             node,
             f"did you mean '{close[0]}'?" if close else f"names: {', '.join(known[:8])}, ...",
         )
+
+
+def _call_meant(node: ast.Call) -> str | None:
+    """What a call in a condition written as text meant: ``visits('turn')`` (or
+    ``self.visits('turn')``) is ``visits.turn``; ``None`` for another call."""
+    func = node.func
+    name = (
+        func.id
+        if isinstance(func, ast.Name)
+        else func.attr
+        if isinstance(func, ast.Attribute)
+        else ""
+    )
+    given = node.args[0] if len(node.args) == 1 else None
+    if name == "visits" and isinstance(given, ast.Constant) and isinstance(given.value, str):
+        return f"a state's visits are read with a '.': write visits.{given.value}"
+    return None
 
 
 def _with_unit_suffix(node: ast.expr) -> ast.expr:

@@ -256,3 +256,34 @@ def test_python_and_text_forms_say_how_a_condition_writes_them(
     with pytest.raises(GuardError) as caught:
         compile_guard(source)
     assert (str(caught.value), caught.value.hint) == (message, hint)
+
+
+@pytest.mark.parametrize(
+    ("source", "message", "offset", "hint"),
+    [
+        (
+            "self.close",
+            "a condition written as text names things without 'self.'",
+            0,
+            "a condition method is named alone, in quotes: write 'close'",
+        ),
+        (
+            "self.visits('turn') >= 4",
+            "a condition cannot call functions",
+            0,
+            "a state's visits are read with a '.': write visits.turn",
+        ),
+        (
+            "visits('turn') >= 4",
+            "a condition cannot call functions",
+            0,
+            "a state's visits are read with a '.': write visits.turn",
+        ),
+    ],
+)
+def test_python_habits_in_a_condition_written_as_text_say_what_to_write(
+    source: str, message: str, offset: int, hint: str
+) -> None:
+    with pytest.raises(GuardError) as caught:
+        compile_guard(source)
+    assert (str(caught.value), caught.value.offset, caught.value.hint) == (message, offset, hint)
