@@ -145,6 +145,22 @@ def parse_quantity(value: object, dimension: str, default_unit: str | None = Non
         factor = 1.0 if default_unit is None else dim.units.get(default_unit, 1.0)
         return number * factor
     unit_factor = _unit_for(dim, unit)
+    zeros = re.match(r"[Oo]+(?=\s|$|[A-Za-z])", text[number_match.end() :])
+    if unit_factor is None and zeros is not None:  # "5O cm": a letter O typed for a zero
+        meant = (
+            number_match.group()
+            + "0" * len(zeros.group())
+            + text[number_match.end() + zeros.end() :]
+        )
+        try:
+            parse_quantity(meant, dimension, default_unit)
+        except QuantityError:
+            pass
+        else:
+            raise QuantityError(
+                f"'{text}' has the letter {zeros.group()[0]} where a zero was meant",
+                f"write {meant}",
+            )
     if unit_factor is None:
         other = next(
             (d for d in DIMENSIONS.values() if d is not dim and _unit_for(d, unit) is not None),

@@ -247,6 +247,19 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
             )
         if state.final:
             continue
+        for choice in state.when:
+            if choice.target == name:  # re-entered on every tick the condition holds
+                condition = choice.guard_text or "its condition"
+                problems.append(
+                    _problem(
+                        f"state '{name}' goes to itself when '{condition}' holds: it starts"
+                        " again at once, and again on every tick while that holds",
+                        choice.location or state.location,
+                        "go to another state, one that turns away, say; or leave the condition out",
+                        "warning",
+                    )
+                )
+                break
         if (
             name in reachable
             and name not in can_finish

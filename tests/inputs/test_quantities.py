@@ -52,3 +52,18 @@ def test_a_wrong_quantity_says_what_would_fit(value: object, dimension: str, mes
     with pytest.raises(QuantityError) as info:
         parse_quantity(value, dimension)
     assert str(info.value).startswith(message)
+
+
+@pytest.mark.parametrize(
+    ("text", "meant"), [("5O cm", "50 cm"), ("1OO mm", "100 mm"), ("2o", "20")]
+)
+def test_a_letter_o_typed_for_a_zero_is_named_with_the_number_meant(text: str, meant: str) -> None:
+    with pytest.raises(QuantityError) as refused:
+        parse_quantity(text, "distance")
+    assert refused.value.hint == f"write {meant}"
+    assert "where a zero was meant" in refused.value.message
+
+
+def test_a_unit_starting_with_o_after_a_space_is_an_unknown_unit() -> None:
+    with pytest.raises(QuantityError, match="unknown unit 'Oranges'"):
+        parse_quantity("3 Oranges", "distance")

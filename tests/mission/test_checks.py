@@ -49,6 +49,22 @@ def test_a_state_without_an_action_may_leave_by_its_timeout(tmp_path: Path) -> N
     assert load_mission(path)[0].states["w"].action is None
 
 
+def test_a_condition_that_sends_a_state_to_itself_is_warned(tmp_path: Path) -> None:
+    path = tmp_path / "m.yaml"
+    path.write_text(
+        "states:\n  go:\n    do: {drive: {distance: 3 m}}\n    on: {done: end, failed: end}\n"
+        "    when: [{if: range.distance_cm < 20, goto: go}]\n  end: {final: success}\n"
+    )
+    _, warnings = load_mission(path)
+    assert [w.format() for w in warnings] == [
+        (
+            f"{path}:5:12: warning: state 'go' goes to itself when 'range.distance_cm < 20' holds:"
+            " it starts again at once, and again on every tick while that holds (go to another"
+            " state, one that turns away, say; or leave the condition out)"
+        )
+    ]
+
+
 def test_a_python_state_without_an_action_but_a_done_route_is_the_same_error(
     tmp_path: Path,
 ) -> None:
