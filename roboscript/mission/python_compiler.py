@@ -132,6 +132,36 @@ def _reading_value(node: ast.expr) -> str | None:
     return found[0] if found is not None else None
 
 
+def _used_as_values(node: ast.AST) -> list[ast.expr]:
+    """The expressions ``node`` uses as a value to compare, to test or to return: the
+    operands of a comparison, of ``and``/``or``/``not``, a test of ``if``/``while`` and what a
+    ``return`` gives."""
+    if isinstance(node, ast.Compare):
+        return [node.left, *node.comparators]
+    if isinstance(node, ast.BoolOp):
+        return list(node.values)
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.Not):
+        return [node.operand]
+    if isinstance(node, ast.If | ast.While | ast.IfExp):
+        return [node.test]
+    if isinstance(node, ast.Return) and node.value is not None:
+        return [node.value]
+    return []
+
+
+def _whole_sensor(node: ast.expr) -> str | None:
+    """``range`` when ``node`` is ``self.range``, a sensor itself (not one of its values),
+    else ``None``."""
+    if (
+        isinstance(node, ast.Attribute)
+        and isinstance(node.value, ast.Name)
+        and node.value.id == "self"
+        and _reading_names(node.attr)
+    ):
+        return node.attr
+    return None
+
+
 def _reads_number(node: ast.expr) -> str | None:
     """``self.range.distance_cm`` as written, when ``node`` reads a sensor value that is a
     number (not True/False, nor text), else ``None``."""
@@ -327,6 +357,8 @@ class _Scan:
     text_compared: list[tuple[ast.Constant, str]] = field(default_factory=list)
     # ``self.visits(side)``: a state named without quotes
     unquoted_states: list[ast.Name] = field(default_factory=list)
+    # ``self.range < 20``, ``return self.bumper``: a sensor itself used as its value
+    whole_sensors: list[tuple[ast.Attribute, str]] = field(default_factory=list)
 
 
 def _walk_own(node: ast.AST) -> Iterator[ast.AST]:
@@ -1028,6 +1060,16 @@ class _Compiler:
                 f"run it in a state of its own, e.g. turn = state({action}(...), ...), and go"
                 f" there when the condition holds: when=[('{name}', 'turn')]",
             )
+        for used, sensor in scan.whole_sensors:
+            names = _reading_names(sensor)
+            shown = next((n for n in names if n in ("any", "distance_cm")), names[0])
+            self.problem(
+                f"self.{sensor} is the {sensor} sensor, not one of its values, so it is never"
+                " a number nor True or False",
+                where_in(used),
+                f"read one of its values, e.g. self.{sensor}.{shown}"
+                + (f" (it has {', '.join(names)})" if len(names) > 1 else ""),
+            )
         for call, read in scan.called_values:
             self.problem(
                 f"{read} is a value, not a function: it is read without ()",
@@ -1217,6 +1259,10 @@ class _Compiler:
         if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
             own_names.update(arg.arg for arg in ast.walk(node.args) if isinstance(arg, ast.arg))
         for child in _walk_own(node):
+            for used in _used_as_values(child):
+                sensor = _whole_sensor(used)
+                if sensor is not None:
+                    result.whole_sensors.append((used, sensor))
             if isinstance(child, ast.Call) and (read := _reading_value(child.func)) is not None:
                 result.called_values.append((child, read))
             if isinstance(child, ast.Compare):

@@ -48,6 +48,7 @@ from roboscript.errors import (
     did_you_mean,
     nearby_file,
 )
+from roboscript.inputs.quantities import DIMENSIONS
 from roboscript.mission.guards import guard_names
 from roboscript.mission.key_mistakes import meant_in_state_call
 from roboscript.mission.python_api import LOADED_PREFIX, Mission, state
@@ -460,6 +461,8 @@ def _syntax_problem(exc: SyntaxError, path: str | Path) -> MissionError:
         hint = "indent with spaces only: a tab looks like spaces but Python counts it apart"
     elif _YAML_MISSION.match(exc.text or "") and exc.lineno is not None and exc.lineno <= 3:
         hint = "this is a YAML mission: a YAML mission's file name ends in .yaml"
+    elif (unit := _NUMBER_WITH_UNIT.search(exc.text or "")) is not None:
+        hint = _without_unit(exc.text or "", unit)
     else:
         hint = next((h for start, h in _SYNTAX_HINTS if (exc.msg or "").startswith(start)), None)
     col = exc.offset
@@ -487,6 +490,30 @@ _SYNTAX_HINTS = (
     ),
 )
 """Python's words for a beginner's syntax slip, and what to do about it."""
+
+_NUMBER_WITH_UNIT = re.compile(r"\b(\d+(?:\.\d+)?)\s*(mm|cm|m|s|ms|sec|min|deg|Hz|hz)\b(?!\s*[=(])")
+"""A number written with its unit in Python code (``< 20 cm``), which Python cannot read."""
+
+_NAME_WITH_UNIT = re.compile(r"\b([a-z]\w*?)_(mm|cm|m|s|ms|deg|hz)\b")
+
+
+def _without_unit(line: str, found: re.Match[str]) -> str:
+    """The hint for a number written with its unit in Python (``distance_mm=50 cm``): the
+    number in the unit of the name before it (``500``), as far as the line shows one."""
+    named = list(_NAME_WITH_UNIT.finditer(line[: found.start()]))
+    number, unit = float(found.group(1)), found.group(2).lower()
+    if named:
+        name, name_unit = named[-1].group(0), named[-1].group(2)
+        for dimension in DIMENSIONS.values():
+            units = {u.lower(): f for u, f in dimension.units.items()}
+            if unit in units and name_unit in units:
+                value = number * units[unit] / units[name_unit]
+                return (
+                    f"a number in Python has no unit: for {found.group(0).strip()} write"
+                    f" {value:g}, as {name} is in {name_unit}"
+                )
+    return "a number in Python has no unit: write it in the unit its name ends in (_cm, _mm, _s)"
+
 
 _YAML_MISSION = re.compile(r"\s*(?:mission|states|initial|robot|world)\s*:")
 """The first lines of a YAML mission (saved by mistake with a .py ending)."""

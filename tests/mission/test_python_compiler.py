@@ -789,6 +789,33 @@ class Lesson(Mission):
     ]
 
 
+def test_a_sensor_used_as_its_own_value_is_refused_naming_its_values(tmp_path: Path) -> None:
+    body = """\
+class Lesson(Mission):
+    go = state(Drive(distance_mm=300), initial=True, on_done="end",
+               when=[("bumped", "end"), ("near", "end")])
+    end = state(final="success")
+
+    def bumped(self):
+        return self.bumper == True
+
+    def near(self):
+        return self.range < 20
+"""
+    assert problems(tmp_path, body) == [
+        (
+            "lesson.py:12:16: error: self.bumper is the bumper sensor, not one of its values, so"
+            " it is never a number nor True or False (read one of its values, e.g."
+            " self.bumper.any (it has left, right, any))"
+        ),
+        (
+            "lesson.py:15:16: error: self.range is the range sensor, not one of its values, so"
+            " it is never a number nor True or False (read one of its values, e.g."
+            " self.range.distance_cm (it has distance_mm, distance_cm))"
+        ),
+    ]
+
+
 def test_a_colour_name_as_text_and_a_state_name_in_a_variable_are_no_mistakes(
     tmp_path: Path,
 ) -> None:

@@ -334,6 +334,18 @@ LOAD_TIME = [
         id="a-def-without-its-indented-body",
     ),
     pytest.param(
+        "from roboscript import Drive\n\nGO = Drive(distance_mm=50 cm)\n",
+        "m.py:3:24: error: invalid syntax. Perhaps you forgot a comma? (a number in Python has"
+        " no unit: for 50 cm write 500, as distance_mm is in mm)",
+        id="a-number-with-its-unit-in-python",
+    ),
+    pytest.param(
+        "def near(self):\n    return self.range.distance_cm < 20 cm\n",
+        "m.py:2:40: error: invalid syntax (a number in Python has no unit: for 20 cm write 20,"
+        " as distance_cm is in cm)",
+        id="a-comparison-with-a-unit-in-python",
+    ),
+    pytest.param(
         "def far(n):\n    return far(n + 1)\n\n\nDISTANCE = far(1)\n",
         "m.py:2:12: error: 'far' calls itself again and again, more deeply than Python allows"
         " (give it a way to return a value without calling itself)",
