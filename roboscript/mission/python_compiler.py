@@ -601,17 +601,23 @@ class _Compiler:
         marked = [name for name, s in self.states.items() if s.initial is True]
         for name, definition in self.states.items():
             if definition.initial not in (True, False):
+                given = definition.initial
+                meant = isinstance(given, str) and given.strip().lower() in ("true", "false")
                 self.problem(
-                    f"state '{name}': initial is True or False, got {definition.initial!r}",
+                    f"state '{name}': initial is True or False, got {given!r}",
                     self.keyword_loc(name, "initial"),
+                    f"write initial={given.strip().capitalize()}, without quotes"
+                    if meant and isinstance(given, str)
+                    else None,
                 )
         if not marked:
-            first = next(iter(self.states))
-            self.problem(
-                f"mission {self.cls.__name__} has no initial state",
-                self.class_loc,
-                f"mark the first state, e.g. {first} = state(..., initial=True)",
-            )
+            if all(s.initial is False for s in self.states.values()):  # else said above
+                first = next(iter(self.states))
+                self.problem(
+                    f"mission {self.cls.__name__} has no initial state",
+                    self.class_loc,
+                    f"mark the first state, e.g. {first} = state(..., initial=True)",
+                )
             return None
         for extra in marked[1:]:
             self.problem(

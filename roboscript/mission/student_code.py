@@ -575,6 +575,15 @@ def _explain(
     call = _call_at(module, frame)
     if isinstance(exc, SystemExit):
         return f"the {kind} file called exit() while it was loaded", None
+    line = linecache.getline(frame.filename, frame.lineno or 0) if frame is not None else ""
+    if isinstance(exc, EOFError | OSError) and re.search(r"\binput\s*\(", line):
+        return (
+            (
+                f"the {kind} file asks for input() while it is loaded, and a mission runs with no"
+                " one at the keyboard"
+            ),
+            "write the value in the file instead, e.g. distance_mm = 300",
+        )
     endless = calls_without_end(exc)
     if endless is not None:
         return endless.sentence, endless.fix

@@ -717,3 +717,23 @@ class Fast(Mission):
             ' mission, named the same way: robot = "my_robot.yaml")'
         ),
     ]
+
+
+def test_initial_as_text_says_to_write_it_without_quotes(write: Write) -> None:
+    path = write(
+        "quoted.py",
+        """\
+from roboscript import Mission, Wait, state
+
+
+class Quoted(Mission):
+    go = state(Wait(1), initial="True", on_done="end")
+    end = state(final=True)
+""",
+    )
+    assert messages(path) == [
+        (
+            "quoted.py:5:33: error: state 'go': initial is True or False, got 'True' (write"
+            " initial=True, without quotes)"
+        ),
+    ]

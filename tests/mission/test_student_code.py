@@ -334,6 +334,13 @@ LOAD_TIME = [
         id="a-def-without-its-indented-body",
     ),
     pytest.param(
+        'DISTANCE = int(input("how far? "))\n',
+        "m.py:1:16: error: the mission file asks for input() while it is loaded, and a mission"
+        " runs with no one at the keyboard (write the value in the file instead, e.g."
+        " distance_mm = 300)",
+        id="input-while-loading",
+    ),
+    pytest.param(
         "from roboscript import Drive\n\nGO = Drive(distance_mm=50 cm)\n",
         "m.py:3:24: error: invalid syntax. Perhaps you forgot a comma? (a number in Python has"
         " no unit: for 50 cm write 500, as distance_mm is in mm)",
