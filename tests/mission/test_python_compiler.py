@@ -753,7 +753,8 @@ def test_a_sensor_value_misused_in_a_condition_method_is_found_at_check(tmp_path
     body = """\
 class Lesson(Mission):
     go = state(Drive(distance_mm=300), initial=True, on_done="end",
-               when=[("bumped", "end"), ("near", "end"), ("again", "end")])
+               when=[("bumped", "end"), ("near", "end"), ("again", "end"),
+                     ("closer", "end")])
     end = state(final="success")
 
     def bumped(self):
@@ -770,20 +771,20 @@ class Lesson(Mission):
 """
     assert problems(tmp_path, body) == [
         (
-            "lesson.py:12:16: error: self.bumper.any is a value, not a function: it is read"
+            "lesson.py:13:16: error: self.bumper.any is a value, not a function: it is read"
             " without () (write self.bumper.any)"
         ),
         (
-            "lesson.py:15:41: error: self.range.distance_cm is compared with the text '20 cm', and"
+            "lesson.py:16:41: error: self.range.distance_cm is compared with the text '20 cm', and"
             " a sensor's value is a number (or True/False) (compare it with a number in cm:"
             " '20 cm' is 20)"
         ),
         (
-            "lesson.py:18:28: error: visits(go) names the state 'go' without quotes (write"
+            "lesson.py:19:28: error: visits(go) names the state 'go' without quotes (write"
             " self.visits('go'))"
         ),
         (
-            "lesson.py:21:41: error: self.range.distance_cm is compared with the text '20', and"
+            "lesson.py:22:41: error: self.range.distance_cm is compared with the text '20', and"
             " a sensor's value is a number (or True/False) (write the number without quotes: 20)"
         ),
     ]
