@@ -15,7 +15,12 @@ from roboscript.actions import ACTION_WORDS, ACTIONS, Action, Parallel, Repeat
 from roboscript.actions.base import PARAM_EXAMPLES, params_of
 from roboscript.errors import InputError, MissionError, did_you_mean
 from roboscript.inputs.fields import FieldReader
-from roboscript.inputs.quantities import QuantityError, bare_number_warning, parse_quantity
+from roboscript.inputs.quantities import (
+    DIMENSIONS,
+    QuantityError,
+    bare_number_warning,
+    parse_quantity,
+)
 from roboscript.inputs.source import Location, Mark, YamlList, YamlMap, load_yaml, load_yaml_text
 from roboscript.mission.behaviours import behaviours_from_yaml
 from roboscript.mission.builder import MissionBuilder
@@ -329,7 +334,9 @@ class _Reader:
                 mark,
                 "to do one thing after another, give each its own state and go on with"
                 " on: {done: NEXT}"
+                + ("" if isinstance(raw, YamlList) else "; to do them at once, use parallel:")
                 if isinstance(raw, YamlList)
+                or (isinstance(raw, YamlMap) and sum(k in self.actions for k in raw) > 1)
                 else None,
             )
             return None
@@ -579,6 +586,13 @@ def _as_mapping(name: str, cls: type[Action], value: Any) -> str:
     params = params_of(cls)
     main = next((p for p in params if p.required), params[0] if params else None)
     given = value if isinstance(value, str | int | float) else None
+    if isinstance(given, int | float) and not isinstance(given, bool) and main is not None:
+        # {wait: 2}, {drive: 50}: the number with a unit, the one most likely meant (cm for
+        # 50) where a bare number's warning names one, else the unit it would be read in
+        note = bare_number_warning(given, main.kind)
+        if note is not None:
+            likely = note[1].removeprefix("or did you mean ").rstrip("?") if note[1] else None
+            given = likely or f"{given:g} {DIMENSIONS[main.kind].base_unit}"
     shown = [
         f"{p.name}: {given if p is main and given is not None else p.example_value}"
         for p in params

@@ -749,7 +749,11 @@ MISTAKES = [
             ),
         },
         [
-            "m.yaml:3:9: error: 'do' names one action, e.g. do: {drive: {distance: 50 cm}}",
+            (
+                "m.yaml:3:9: error: 'do' names one action, e.g. do: {drive: {distance: 50 cm}}"
+                " (to do one thing after another, give each its own state and go on with"
+                " on: {done: NEXT}; to do them at once, use parallel:)"
+            ),
         ],
         id="do_two_actions",
     ),
@@ -1669,3 +1673,24 @@ def test_states_named_by_numbers_are_gone_to_by_their_numbers() -> None:
     )
     assert [t.target for t in spec.states["1"].on["done"]] == ["2"]
     assert [t.target for t in spec.states["1"].when] == ["2"]
+
+
+@pytest.mark.parametrize(
+    ("do", "written"),
+    [
+        ("{wait: 500}", "{wait: {duration: 500 ms}}"),
+        ("{drive: 50}", "{drive: {distance: 50 cm}}"),
+        ("{wait: 2}", "{wait: {duration: 2 s}}"),
+    ],
+)
+def test_an_actions_bare_number_is_shown_as_a_mapping_with_the_unit_most_likely_meant(
+    tmp_path: Path, do: str, written: str
+) -> None:
+    path = tmp_path / "m.yaml"
+    path.write_text(
+        f"mission: m\nstates:\n  go:\n    do: {do}\n    on: {{done: end, failed: end}}\n"
+        "  end: {final: success}\n",
+        encoding="utf-8",
+    )
+    (problem,) = problems(path)
+    assert problem.endswith(f"must be a mapping, each with its name (write `{written}`)")
