@@ -290,7 +290,7 @@ def run_session(
                 robot.stop()
                 runner.finish("error", str(exc))
             if not runner.finished:
-                runner.finish("failure", f"the mission did not finish within {max_time_s:g} s")
+                runner.finish("failure", runner.out_of_time(max_time_s))
     except LinkError as exc:
         runner.finish("error", str(exc))
     except KeyboardInterrupt as exc:  # while the robot was told to stop and its port closed

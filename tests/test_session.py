@@ -44,3 +44,24 @@ def test_what_the_mission_prints_reaches_the_recording_and_the_print_hook_alike(
     assert recording.recorder is not None
     recorded = [line for f in recording.recorder.frames for line in f.get("print", [])]
     assert told == recorded == ["one second in"]
+
+
+def test_a_run_out_of_time_round_a_loop_names_the_states_it_kept_entering(
+    tmp_path: Path,
+) -> None:
+    path = tmp_path / "loop.yaml"
+    path.write_text(
+        "mission: loop\nstates:\n  go:\n    do: {drive: {distance: 10 cm}}\n"
+        "    on: {done: turn, failed: end}\n  turn:\n    do: {rotate: {angle: 90 deg}}\n"
+        "    on: {done: go, failed: end}\n  end: {final: success}\n",
+        encoding="utf-8",
+    )
+    spec, profile, _ = mission_for_robot(path)
+    result = run_session(spec, profile, max_time_s=20.0).result
+    assert result.outcome == "failure"
+    assert (result.reason or "").startswith(
+        "the mission did not finish within 20 s: it kept going round, 'go' entered"
+    )
+    assert (result.reason or "").endswith(
+        "(a loop needs a way out to a final state, e.g. a when condition on visits.go)"
+    )

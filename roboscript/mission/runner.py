@@ -559,6 +559,20 @@ class MissionRunner(GuardEnv):
 
     # ----------------------------------------------------------------------------- guards
 
+    def out_of_time(self, max_time_s: float) -> str:
+        """Why a run ended at its time limit, for its reason: ``the mission did not finish
+        within 30 s``, and, when it went round a loop, which states it kept entering (a loop
+        with no way out is the usual cause)."""
+        reason = f"the mission did not finish within {max_time_s:g} s"
+        looped = [(name, count) for name, count in self._visits.most_common(2) if count >= 3]
+        if not looped:
+            return reason
+        entered = " and ".join(f"'{name}' entered {count} times" for name, count in looped)
+        return (
+            f"{reason}: it kept going round, {entered} (a loop needs a way out to a final"
+            f" state, e.g. a when condition on visits.{looped[0][0]})"
+        )
+
     def visits(self, state: str) -> int:
         """How many times ``state`` has been entered."""
         count = self._visits[state]
