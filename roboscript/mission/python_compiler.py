@@ -1266,9 +1266,9 @@ class _Compiler:
             own_names.update(arg.arg for arg in ast.walk(node.args) if isinstance(arg, ast.arg))
         for child in _walk_own(node):
             for used in _used_as_values(child):
-                sensor = _whole_sensor(used)
-                if sensor is not None:
-                    result.whole_sensors.append((used, sensor))
+                whole = _whole_sensor(used) if isinstance(used, ast.Attribute) else None
+                if isinstance(used, ast.Attribute) and whole is not None:
+                    result.whole_sensors.append((used, whole))
             if isinstance(child, ast.Call) and (read := _reading_value(child.func)) is not None:
                 result.called_values.append((child, read))
             if isinstance(child, ast.Compare):
