@@ -205,6 +205,9 @@ class StudentCodeError(RoboscriptError, RuntimeError):
         """The one sentence a student reads, naming the state when it is known."""
         did = self.problem or f"raised {type(self.error).__name__}"
         detail = str(self.error) if self.error is not None and self.problem is None else ""
+        meant = _attribute_meant(self.error) if self.problem is None else None
+        if meant is not None:  # ctx.drive_base.set_speed: Python suggests only in a traceback
+            detail += f" ({meant})"
         if isinstance(self.error, SystemExit) and self.problem is None:
             did = "called exit()"
             detail = "a mission ends by going to a final state, not by ending the program"
@@ -221,6 +224,26 @@ class StudentCodeError(RoboscriptError, RuntimeError):
         if self.where:
             text += f" ({self.where})"
         return text
+
+
+def _attribute_meant(error: BaseException | None) -> str | None:
+    """``did you mean 'set_wheel_speeds'?`` for an ``AttributeError`` whose object has a
+    look-alike of the missing name, else ``None``."""
+    if not isinstance(error, AttributeError) or not isinstance(error.name, str):
+        return None
+    try:
+        names = [name for name in dir(error.obj) if not name.startswith("_")]
+    except Exception:  # noqa: BLE001 - a student's object may refuse dir()
+        return None
+    if isinstance(error.obj, Mission):
+        # self.count += 1 with no count yet: a value, not a method, is what was meant
+        kind = type(error.obj)
+        values = [n for n in names if not inspect.isfunction(inspect.getattr_static(kind, n, None))]
+        return did_you_mean(error.name, values) or (
+            f"self.{error.name} is read before anything sets it: give it a first value in the"
+            f" class, {error.name} = 0"
+        )
+    return did_you_mean(error.name, names)
 
 
 @dataclass(frozen=True)

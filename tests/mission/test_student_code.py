@@ -27,6 +27,7 @@ from helpers import run_cli
 from roboscript.actions.base import Action, Result
 from roboscript.errors import MissionError
 from roboscript.mission import student_code
+from roboscript.mission.python_api import Mission, state
 from roboscript.mission.student_code import (
     StudentCodeError,
     import_student_file,
@@ -1061,3 +1062,30 @@ def test_a_behaviour_whose_update_forgets_self_is_refused_at_check(tmp_path: Pat
         "m.py:12:16: error: Spin.update must take self and ctx, as roboscript calls it with the"
         " robot's context (def update(self, ctx):)"
     )
+
+
+class _Wheels:
+    def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
+        pass
+
+
+class _Counting(Mission):
+    go = state(final="success")
+
+
+def test_a_missing_attribute_is_told_with_the_name_meant_or_that_it_was_never_set() -> None:
+    try:
+        _Wheels().set_speed  # type: ignore[attr-defined] # noqa: B018 - the mistake under test
+    except AttributeError as exc:
+        assert StudentCodeError("behaviour 'spin'", exc, where="s.py:3").reason("go") == (
+            "your behaviour 'spin' raised AttributeError in state 'go': '_Wheels' object has no"
+            " attribute 'set_speed' (did you mean 'set_wheel_speeds'?) (s.py:3)"
+        )
+    try:
+        _Counting().count += 1  # type: ignore[attr-defined]
+    except AttributeError as exc:
+        assert StudentCodeError("condition 'counted'", exc, where="m.py:8").reason("go") == (
+            "your condition 'counted' raised AttributeError in state 'go': '_Counting' object"
+            " has no attribute 'count' (self.count is read before anything sets it: give it a"
+            " first value in the class, count = 0) (m.py:8)"
+        )
