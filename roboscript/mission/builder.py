@@ -19,6 +19,7 @@ import re
 from collections.abc import Callable, Mapping
 from typing import Any
 
+from roboscript import capabilities as cap
 from roboscript.actions import ACTIONS
 from roboscript.actions.base import Action, Param, UnderSpecifiedError
 from roboscript.actions.composite import Parallel, Repeat
@@ -204,6 +205,20 @@ def _as_written(held: object, converted: object) -> bool:
     return isinstance(held, str) or (type(held) is int and held == converted)
 
 
+_MOVING = {cap.DRIVE_BASE: "wheels", cap.WALKER: "legs"}
+"""Capabilities one action at a time moves, and what they move, for messages."""
+
+
+def _moves(action: ActionSpec) -> set[str]:
+    """What a built-in action (or a repeat or parallel of them) moves: ``{"wheels"}`` for
+    drive; nothing for a student's behaviour, which may only read what it requires."""
+    if action.children:
+        return set().union(*(_moves(child) for child in action.children))
+    if action.action_class is None or not _is_built_in(action.action_class):
+        return set()
+    return {what for needed, what in _MOVING.items() if needed in action.action_class.requires}
+
+
 def _guard_capabilities(kwargs: Mapping[str, Any]) -> frozenset[str]:
     found: set[str] = set()
     for value in kwargs.values():
@@ -356,6 +371,19 @@ class MissionBuilder:
 
     def parallel(self, mode: str, children: list[ActionSpec], where: Location) -> ActionSpec:
         """``parallel``: run ``children`` together, ``all`` or ``any`` of them to finish."""
+        movers: dict[str, list[str]] = {}
+        for child in children:
+            for part in _moves(child):
+                movers.setdefault(part, []).append(child.name)
+        for part, names in movers.items():
+            if len(names) > 1:  # drive and rotate at once: each sets the wheels every tick
+                self.problem(
+                    f"'{names[0]}' and '{names[1]}' both move the {part}, and a parallel runs"
+                    " its actions at the same time, so each would undo what the other does",
+                    where,
+                    "one after another, each in a state of its own; a parallel is for one move"
+                    " with actions that do not move the robot, such as play_tone or set_led",
+                )
         factories = [child.factory for child in children]
         return ActionSpec(
             name="parallel",

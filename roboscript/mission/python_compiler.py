@@ -25,6 +25,7 @@ import inspect
 import keyword as pykeyword
 import math
 import re
+import sys
 import typing
 import weakref
 from collections.abc import Callable, Iterator
@@ -450,6 +451,7 @@ class _Compiler:
             return None
         self.declared = self.requires()
         self.made_without_values()
+        self.states_written_twice()
         states: dict[str, StateSpec] = {}
         for state_name, definition in self.states.items():
             built = self.state(state_name, definition)
@@ -596,6 +598,26 @@ class _Compiler:
                     or f"capabilities: {', '.join(cap.CAPABILITY_NAMES)}",
                 )
         return frozenset(names)
+
+    def states_written_twice(self) -> None:
+        """Refuse a state written twice in the class body: Python keeps the second and drops
+        the first without a word, as YAML would not (``'go' is given twice``)."""
+        if self.class_node is None:
+            return
+        lines: dict[str, list[ast.expr]] = {}
+        for statement in self.class_node.body:
+            if isinstance(statement, ast.Assign):
+                for target in statement.targets:
+                    if isinstance(target, ast.Name) and target.id in self.states:
+                        lines.setdefault(target.id, []).append(target)
+        for name, targets in lines.items():
+            for again in targets[1:]:
+                self.problem(
+                    f"'{name}' is given twice (first on line {targets[0].lineno}), and Python"
+                    " keeps only the second",
+                    self.source.loc(again),
+                    "keep one of the two, or give one of them another name",
+                )
 
     def initial(self) -> str | None:
         marked = [name for name, s in self.states.items() if s.initial is True]
@@ -1020,11 +1042,17 @@ class _Compiler:
             return None
         if not inspect.isfunction(value) or hasattr(Mission, name):
             methods = _methods(self.cls)
+            outside = vars(sys.modules.get(self.cls.__module__, object())).get(name)
             self.problem(
                 f"{self.cls.__name__} has no method '{name}'",
                 where,
                 did_you_mean(name, methods)
-                or f"define it: def {name}(self) -> bool: ... (return True or False)",
+                or (
+                    f"'{name}' is written outside the class: indent its def under class"
+                    f" {self.cls.__name__}: to make it a method"
+                    if inspect.isfunction(outside) and value is None
+                    else f"define it: def {name}(self) -> bool: ... (return True or False)"
+                ),
             )
             return None
         signature = inspect.signature(value)

@@ -612,6 +612,21 @@ def test_parallel_all_of_bounded_actions_ends() -> None:
     assert _state_action(spec).factory().mode == "all"
 
 
+def test_a_parallel_of_two_moves_is_refused_since_each_undoes_the_other() -> None:
+    errors = _yaml_errors(
+        "  a:\n    do:\n      parallel:\n        all:\n"
+        "          - {drive: {distance: 30 cm}}\n"
+        "          - {repeat: {times: 2, do: {rotate: {angle: 90 deg}}}}\n"
+        "    on: {done: b, failed: b}\n" + END
+    )
+    assert errors[0] == (
+        "m.yaml:5:7: error: 'drive' and 'repeat' both move the wheels, and a parallel runs its"
+        " actions at the same time, so each would undo what the other does (one after another,"
+        " each in a state of its own; a parallel is for one move with actions that do not move"
+        " the robot, such as play_tone or set_led)"
+    )
+
+
 # ----------------------------------------------------------------------------------- repeat
 
 

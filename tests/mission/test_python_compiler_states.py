@@ -737,3 +737,49 @@ class Quoted(Mission):
             " initial=True, without quotes)"
         ),
     ]
+
+
+def test_a_state_written_twice_is_refused_at_the_second(write: Write) -> None:
+    path = write(
+        "twice.py",
+        """\
+from roboscript import Drive, Mission, Rotate, state
+
+
+class Twice(Mission):
+    go = state(Drive(distance_mm=300), initial=True, on_done="end", on_failed="end")
+    go = state(Rotate(angle_deg=90), initial=True, on_done="end", on_failed="end")
+    end = state(final=True)
+""",
+    )
+    assert messages(path) == [
+        (
+            "twice.py:6:5: error: 'go' is given twice (first on line 5), and Python keeps only the"
+            " second (keep one of the two, or give one of them another name)"
+        ),
+    ]
+
+
+def test_a_condition_written_outside_the_class_says_to_indent_it(write: Write) -> None:
+    path = write(
+        "outside.py",
+        """\
+from roboscript import Drive, Mission, state
+
+
+class Outside(Mission):
+    go = state(Drive(distance_mm=300), initial=True, on_done="end", on_failed="end",
+               when=[("near", "end")])
+    end = state(final=True)
+
+
+def near(self):
+    return self.range.distance_cm < 20
+""",
+    )
+    assert messages(path) == [
+        (
+            "outside.py:6:23: error: Outside has no method 'near' ('near' is written outside the"
+            " class: indent its def under class Outside: to make it a method)"
+        ),
+    ]
