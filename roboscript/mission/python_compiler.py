@@ -163,29 +163,30 @@ def _whole_sensor(node: ast.expr) -> str | None:
     return None
 
 
-def _reads_number(node: ast.expr) -> str | None:
-    """``self.range.distance_cm`` as written, when ``node`` reads a sensor value that is a
-    number (not True/False, nor text), else ``None``."""
+def _reading_returns(node: ast.expr) -> tuple[str, object] | None:
+    """``self.range.distance_cm`` as written and the type its value has (``float``), when
+    ``node`` reads a sensor value whose type is written on it, else ``None``."""
     found = _reading_property(node)
     if found is None or found[1].fget is None:
         return None
     try:
-        returned = typing.get_type_hints(found[1].fget).get("return")
+        return found[0], typing.get_type_hints(found[1].fget).get("return")
     except (NameError, TypeError):
         return None
-    return found[0] if returned in (float, int) else None
+
+
+def _reads_number(node: ast.expr) -> str | None:
+    """``self.range.distance_cm`` as written, when ``node`` reads a sensor value that is a
+    number (not True/False, nor text), else ``None``."""
+    found = _reading_returns(node)
+    return found[0] if found is not None and found[1] in (float, int) else None
 
 
 def _reads_text(node: ast.expr) -> bool:
     """``node`` reads a sensor value that is text (``self.color.name``), which may rightly
     be compared with text."""
-    found = _reading_property(node)
-    if found is None or found[1].fget is None:
-        return False
-    try:
-        returned = typing.get_type_hints(found[1].fget).get("return")
-    except (NameError, TypeError):
-        return False
+    found = _reading_returns(node)
+    returned = found[1] if found is not None else None
     return returned is str or str in typing.get_args(returned)
 
 
