@@ -454,9 +454,19 @@ class Action(abc.ABC):
 
     @classmethod
     def misdefined(cls) -> tuple[str, str] | None:
-        """What is wrong with how this class defines the methods roboscript calls on it
-        (``def update(ctx):`` without ``self``), as ``(message, fix)``, or ``None``: each of
-        ``start``, ``update`` and ``stop`` is called with the context, ``method(self, ctx)``."""
+        """What is wrong with how this class defines what roboscript reads and calls on it,
+        as ``(message, fix)``, or ``None``: :attr:`requires` is a set of capability names,
+        and each of ``start``, ``update`` and ``stop`` is called with the context,
+        ``method(self, ctx)`` (``def update(ctx):`` forgets ``self``)."""
+        requires = getattr(cls, "requires", frozenset())
+        if not isinstance(requires, set | frozenset) or not all(
+            isinstance(need, str) for need in requires
+        ):  # requires = "drive_base" would need each of its letters
+            written = f'{{"{requires}"}}' if isinstance(requires, str) else '{"drive_base"}'
+            return (
+                f"{cls.__name__}.requires is a set of capability names, not {requires!r}",
+                f"write requires = frozenset({written})",
+            )
         for method in ("start", "update", "stop"):
             function = getattr(cls, method, None)
             function = getattr(function, "__wrapped__", function)

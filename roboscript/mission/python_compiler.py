@@ -772,7 +772,11 @@ class _Compiler:
         kind = type(action)
         action_name = getattr(kind, "name", None)
         if not isinstance(action_name, str):
-            self.problem(f"action class {kind.__name__} has no name", where)
+            self.problem(
+                f"action class {kind.__name__} has no name",
+                where,
+                f'give it the word a mission uses for it: name = "{kind.__name__.lower()}"',
+            )
             return None
         template = self.conditions_in(action, node, where)
         if template is None:

@@ -783,3 +783,41 @@ def near(self):
             " class: indent its def under class Outside: to make it a method)"
         ),
     ]
+
+
+def test_a_behaviours_requires_as_text_or_missing_name_says_what_to_write(write: Write) -> None:
+    path = write(
+        "spin.py",
+        """\
+from roboscript import Action, Mission, Result, state
+
+
+class Spin(Action):
+    requires = "drive_base"
+    name = "spin"
+
+    def update(self, ctx):
+        return Result.done()
+
+
+class Nameless(Action):
+    def update(self, ctx):
+        return Result.done()
+
+
+class M(Mission):
+    go = state(Spin(), initial=True, on_done="next")
+    next = state(Nameless(), on_done="end")
+    end = state(final=True)
+""",
+    )
+    assert messages(path) == [
+        (
+            "spin.py:18:16: error: Spin.requires is a set of capability names, not 'drive_base'"
+            ' (write requires = frozenset({"drive_base"}))'
+        ),
+        (
+            "spin.py:19:18: error: action class Nameless has no name (give it the word a mission"
+            ' uses for it: name = "nameless")'
+        ),
+    ]
