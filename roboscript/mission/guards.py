@@ -457,6 +457,20 @@ class _Compiler:
 
     def compare(self, node: ast.Compare) -> _Eval:
         items = [node.left, *node.comparators]
+        known = {*_PLAIN, *_ATTRS, "visits", "in_region", "True", "False", *self.quantities}
+        for item in items:
+            others = [other for other in items if other is not item]
+            if (
+                isinstance(item, ast.Name)
+                and item.id not in known
+                and any(isinstance(other, ast.Attribute) for other in others)
+            ):  # bumper.any == yes, line.left == black: a word where a value goes
+                raise self.fail(
+                    f"'{item.id}' is not a value a condition knows",
+                    item,
+                    "a sensor's value is a number or true/false: compare it with a number in"
+                    " the unit its name ends in, or with true or false",
+                )
         if any(self.is_quantity(item) for item in items):
             # 'range.distance < 20 cm': the unit written on the number says which is meant
             items = [_with_unit_suffix(item) for item in items]

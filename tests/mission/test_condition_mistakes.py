@@ -287,3 +287,19 @@ def test_python_habits_in_a_condition_written_as_text_say_what_to_write(
     with pytest.raises(GuardError) as caught:
         compile_guard(source)
     assert (str(caught.value), caught.value.offset, caught.value.hint) == (message, offset, hint)
+
+
+@pytest.mark.parametrize(
+    ("source", "word"), [("bumper.any == yes", "yes"), ("line.left == black", "black")]
+)
+def test_a_word_where_a_sensors_value_is_compared_says_what_a_value_is(
+    source: str, word: str
+) -> None:
+    with pytest.raises(GuardError) as caught:
+        compile_guard(source)
+    assert str(caught.value) == f"'{word}' is not a value a condition knows"
+    assert caught.value.offset == source.index(word)
+    assert caught.value.hint == (
+        "a sensor's value is a number or true/false: compare it with a number in the unit its"
+        " name ends in, or with true or false"
+    )
