@@ -709,8 +709,41 @@ _COMPARISON_WORDS.update(dict.fromkeys(("equal", "equals"), "=="))
 _FIXES.update(dict.fromkeys("\u201c\u201d\u2018\u2019", ""))
 
 
+_HALF_COMPARISON = re.compile(
+    r"(?P<value>[\w.]+)\s*(?P<first>[<>]=?|==|!=)\s*(?P<limit>[^\s]+(?:\s+[a-z]+)?)\s+"
+    r"(?P<word>and|or)\s*(?P<second>[<>]=?|==|!=)"
+)
+_BETWEEN = re.compile(r"(?P<value>[\w.]+)\s+(?:is\s+)?between\s+(?P<low>\S+)\s+and\s+(?P<high>\S+)")
+
+
+def _half_comparison(source: str) -> GuardError | None:
+    """``range.distance_cm < 20 and > 5`` (the value left out of the second comparison) and
+    ``range.distance_cm between 5 and 20``, said with the condition written in full."""
+    half = _HALF_COMPARISON.search(source)
+    if half is not None:
+        at = half.start("second")
+        fixed = " ".join(f"{source[:at]}{half['value']} {source[at:]}".split())
+        return GuardError(
+            f"cannot read the condition '{source}': '{half['word']}' joins two whole comparisons",
+            at,
+            f"name the value again: {fixed}",
+        )
+    between = _BETWEEN.search(source)
+    if between is not None:
+        fixed = f"{between['low']} < {between['value']} < {between['high']}"
+        return GuardError(
+            f"cannot read the condition '{source}': 'between' is written with two '<'",
+            between.start() + source[between.start() :].index("between"),
+            f"write {source[: between.start()]}{fixed}{source[between.end() :]}".strip(),
+        )
+    return None
+
+
 def _syntax_mistake(source: str) -> GuardError | None:
     """A located message with a hint for a common mistake in a condition that did not parse."""
+    half = _half_comparison(source)
+    if half is not None:
+        return half
     for pattern, message, hint in _MISTAKES:
         match = pattern.search(source)
         if match is None:

@@ -84,6 +84,18 @@ from roboscript.mission.guards import GuardEnv, GuardError, compile_guard
             "write not bumper.left or bumper.right",
         ),
         (
+            "range.distance_cm < 20 and > 5",
+            27,
+            "'and' joins two whole comparisons",
+            "name the value again: range.distance_cm < 20 and range.distance_cm > 5",
+        ),
+        (
+            "range.distance_cm between 5 and 20",
+            18,
+            "'between' is written with two '<'",
+            "write 5 < range.distance_cm < 20",
+        ),
+        (
             "range.distance_cm < 20 kg",
             23,
             "'kg' is not a unit a condition knows",
