@@ -458,7 +458,7 @@ class Action(abc.ABC):
         as ``(message, fix)``, or ``None``: :attr:`requires` is a set of capability names,
         and each of ``start``, ``update`` and ``stop`` is called with the context,
         ``method(self, ctx)`` (``def update(ctx):`` forgets ``self``)."""
-        requires = getattr(cls, "requires", frozenset())
+        requires: object = getattr(cls, "requires", frozenset())
         if not isinstance(requires, set | frozenset) or not all(
             isinstance(need, str) for need in requires
         ):  # requires = "drive_base" would need each of its letters
