@@ -144,7 +144,10 @@ def test_golden_messages_for_mistakes_in_states_and_actions(write: Write) -> Non
             "mistakes.py:24:5: error: states 'go' and 'again' are both initial;"
             " a mission starts in one"
         ),
-        "mistakes.py:25:17: error: action class Nameless has no name",
+        (
+            "mistakes.py:25:17: error: action class Nameless has no name (give it the word a"
+            ' mission uses for it: name = "nameless")'
+        ),
         (
             "mistakes.py:26:18: error: state 'lock': locked cannot be copied for each visit"
             " (cannot pickle '_thread.lock' object)"
