@@ -392,7 +392,7 @@ def dynamic_imports_are_resolved(tree: Tree) -> list[str]:
 FUNCTION_LEVEL_IMPORTS: dict[str, int] = {
     "roboscript.api": 3,
     "roboscript.__main__": 1,
-    "roboscript.cli": 48,
+    "roboscript.cli": 49,
     "roboscript.grading.autograder": 1,
     "roboscript.grading.mission_host": 13,
     "roboscript.grading.pool": 1,
