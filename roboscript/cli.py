@@ -311,7 +311,7 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     specs = find_specs(args.specs)  # a SpecError prints file:line:col and exits 2
     everyone = _grade_submissions(args, specs)
     submissions = [s for s in everyone if shard is None or shard.holds(s.student)]
-    overwrites = _overwritten_input(args, _grading_inputs(specs, everyone))
+    overwrites = _overwritten_input(_report_targets(args), _grading_inputs(specs, everyone))
     if overwrites:  # said now: the teacher's tests and the students' work are never written
         _err(f"error: {overwrites}")
         return EXIT_INPUT
@@ -401,7 +401,7 @@ def _cmd_gradebook(args: argparse.Namespace) -> int:
     inputs.update(
         {Path(part).resolve(): (f"the results file {part}", False) for part in args.parts}
     )
-    overwrites = _overwritten_input(args, inputs)
+    overwrites = _overwritten_input(_report_targets(args), inputs)
     if overwrites:
         _err(f"error: {overwrites}")
         return EXIT_INPUT
@@ -517,10 +517,12 @@ def _unwritable_run_output(args: argparse.Namespace) -> str:
     Checked before the robot moves: a run on a real robot cannot be run again as it was, so a
     mistyped ``--record`` path must not lose it. Missing folders are made when it is written.
     """
-    outputs = [("--record", args.record), ("--plot", args.plot), ("--wire-log", args.wire_log)]
-    return _written_over(outputs, [("the mission", args.mission)]) or _unwritable(
-        [(option, target, False) for option, target in outputs]
-    )
+    outputs = [
+        ("--record", args.record, False),
+        ("--plot", args.plot, False),
+        ("--wire-log", args.wire_log, False),
+    ]
+    return _overwritten_input(outputs, _read(("the mission", args.mission))) or _unwritable(outputs)
 
 
 def _unwritable(targets: Sequence[tuple[str, str | None, bool]]) -> str:
@@ -588,12 +590,21 @@ def _grading_inputs(
     return inputs
 
 
-def _overwritten_input(args: argparse.Namespace, inputs: dict[Path, tuple[str, bool]]) -> str:
-    """Why a report asked for would overwrite or sit among what grading reads (one
-    sentence), or ``""``: a report written over a student's mission destroys it, one written
-    in a student's folder is read by that student's next graded run, and a report folder
-    holding students' work would write its pages among them."""
-    for option, target, is_folder in _report_targets(args):
+def _overwritten_input(
+    outputs: Sequence[tuple[str, str | None, bool]], inputs: dict[Path, tuple[str, bool]]
+) -> str:
+    """Why one of the ``(option, path or None, is a folder)`` a command writes would overwrite
+    or sit among what it reads (one sentence), or ``""``.
+
+    ``inputs`` maps each resolved path read to a name for the sentence and whether it is a
+    student's work. An output written over an input destroys it (a mistyped ``-o`` must never
+    cost a student's mission or a recorded run); a report written in a student's folder is read
+    by that student's next graded run; a report folder holding students' work would write its
+    pages among them.
+    """
+    for option, target, is_folder in outputs:
+        if not target:
+            continue
         path = Path(target).resolve()
         for known, (what, students) in inputs.items():
             if path == known:
@@ -729,24 +740,10 @@ def _cmd_autograder(args: argparse.Namespace) -> int:
 _GRAPH_SUFFIXES = {".svg": "svg", ".png": "png", ".dot": "dot", ".gv": "dot"}
 
 
-def _written_over(
-    outputs: list[tuple[str, str | None]], inputs: list[tuple[str, str | None]]
-) -> str:
-    """Why one of ``(option, path or None)`` would be written over one of the ``(what, path or
-    None)`` read, or over another output (one sentence), or ``""``: a student's mission or
-    recording must never be lost to a mistyped ``-o``."""
-    read = {Path(path).resolve(): what for what, path in inputs if path}
-    written: dict[Path, str] = {}
-    for option, target in outputs:
-        if not target:
-            continue
-        where = Path(target).resolve()
-        if where in read:
-            return f"{option} {target} is {read[where]} itself: give the output a new name"
-        other = written.setdefault(where, option)
-        if other != option:
-            return f"{other} and {option} both name {target}: one would overwrite the other"
-    return ""
+def _read(*named: tuple[str, str | None]) -> dict[Path, tuple[str, bool]]:
+    """The ``(what, path or None)`` a command reads, as :func:`_overwritten_input` takes them:
+    by resolved path, each named with its path, none of them a class folder's."""
+    return {Path(path).resolve(): (f"{what} {path}", False) for what, path in named if path}
 
 
 def _cmd_graph(args: argparse.Namespace) -> int:
@@ -763,8 +760,8 @@ def _cmd_graph(args: argparse.Namespace) -> int:
     if args.run and fmt not in ("svg", "png"):
         _err("error: --run highlights a run in a picture: add --format svg or --format png")
         return EXIT_INPUT
-    problem = _written_over(
-        [("-o", args.output)], [("the mission", args.mission), ("the run", args.run)]
+    problem = _overwritten_input(
+        [("-o", args.output, False)], _read(("the mission", args.mission), ("the run", args.run))
     )
     if problem:
         _err(f"error: {problem}")
@@ -809,9 +806,9 @@ def _cmd_view(args: argparse.Namespace) -> int:
     # recording and the replay page load only when a run is recorded or viewed
     from roboscript.replay.viewer import view_recording
 
-    overwrite = _written_over(
-        [("-o", args.output), ("--csv", args.csv)], [("the recording", args.recording)]
-    )
+    outputs = [("-o", args.output, False), ("--csv", args.csv, False)]
+    overwrite = _overwritten_input(outputs, _read(("the recording", args.recording)))
+    overwrite = overwrite or _unwritable(outputs)
     if overwrite:
         _err(f"error: {overwrite}")
         return EXIT_INPUT

@@ -364,7 +364,10 @@ def test_cli_never_draws_over_the_mission_or_the_run_it_reads(tmp_path: Path) ->
     ):
         result = run_cli("graph", "square.yaml", *args, cwd=tmp_path)
         assert result.returncode == 2
-        assert result.stderr.startswith("error: -o ") and "itself" in result.stderr
+        assert (
+            result.stderr.startswith("error: -o ")
+            and "writing it would destroy it" in result.stderr
+        )
     assert {path: path.read_bytes() for path in (mission, run)} == kept
 
 
