@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import html
+import operator
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, field, fields
@@ -254,9 +255,13 @@ def run(
     """
     if not max_time_s > 0:
         raise ValueError(f"max_time_s must be more than 0 (got {max_time_s})")
-    if isinstance(seed, bool) or not isinstance(seed, int):
+    try:  # any whole number a notebook holds (numpy's too), never 3.5, "3" or True
+        if isinstance(seed, bool):
+            raise TypeError
+        seed = operator.index(seed)
+    except TypeError:
         # a seed of 3.5 or "3" would reach the simulator's URL and be read there, or not
-        raise TypeError(f"seed must be a whole number, like seed=3 (got {seed!r})")
+        raise TypeError(f"seed must be a whole number, like seed=3 (got {seed!r})") from None
     note_mission_run()
     # Ctrl-C, SIGTERM and SIGHUP stop the robot on the way out here as on the command line;
     # the caller's program gets its own handlers back when the run ends.

@@ -300,6 +300,12 @@ def test_a_bad_mission_raises_with_its_location(tmp_path: Path) -> None:
         roboscript.run(42)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="max_time_s"):
         roboscript.run(MISSIONS / "square.yaml", max_time_s=0)
+
+    class Seed:  # a whole number of another type, as numpy's int64
+        def __index__(self) -> int:
+            return 2
+
+    assert roboscript.run(MISSIONS / "square.yaml", seed=Seed()).seed == 2  # type: ignore[arg-type]
     for seed in (3.5, "3", True, None):
         with pytest.raises(TypeError, match=r"^seed must be a whole number, like seed=3"):
             roboscript.run(MISSIONS / "square.yaml", seed=seed)  # type: ignore[arg-type]
