@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from typing_extensions import Self  # annotations only: not a dependency
 
 __all__ = [
+    "MAX_GRADED_STATES",
     "MISSION_REPORTED",
     "RUN_STATUSES",
     "Collision",
@@ -39,6 +40,11 @@ RunStatus = Literal[
     "passed", "failed", "too slow", "timeout", "hung", "crashed", "invalid", "missing"
 ]
 """How a run can end for the grader (the values of :data:`RUN_STATUSES`)."""
+
+MAX_GRADED_STATES = 20_000
+"""Most states a graded run's record lists: the world keeps the first this many the mission
+reports entering and counts the rest in ``states_dropped`` (a mission looping between states
+for its whole run would otherwise grow its record without bound)."""
 
 RUN_STATUSES: tuple[RunStatus, ...] = get_args(RunStatus)
 """How a run can end for the grader: ``passed`` (every expectation held), ``failed`` (one did

@@ -36,7 +36,7 @@ from typing import Any
 from roboscript import __version__
 from roboscript.errors import InputError
 from roboscript.grading.batch import ClassReport, find_specs
-from roboscript.grading.record import GradedRecord, RunResult
+from roboscript.grading.record import MAX_GRADED_STATES, GradedRecord, RunResult
 from roboscript.grading.spec import TestSpec
 from roboscript.grading.submissions import Submission
 from roboscript.grading.text import clean_name
@@ -226,8 +226,6 @@ tick the run ended in)."""
 FASTEST_MM_S = 10_000.0
 """Faster than any simulated robot moves (the fastest built-in robot drives at 350 mm/s):
 with the farthest a world (and so a start) reaches, it bounds where a run's robot can be."""
-MAX_LISTED = 100_000
-"""The most entries of a run's state list (a run keeps at most 20 000 states)."""
 
 
 def _out_of_range(run: RunResult, specs: dict[str, TestSpec]) -> str | None:
@@ -272,8 +270,8 @@ def _record_out_of_range(record: GradedRecord, limit_s: float) -> str | None:
         )
     sim = record.simulation
     sizes = (
-        ("states", len(record.states), MAX_LISTED),
-        ("transitions", len(record.transitions), MAX_LISTED),
+        ("states", len(record.states), MAX_GRADED_STATES),
+        ("transitions", len(record.transitions), MAX_GRADED_STATES),  # one per state
         ("path samples", len(sim.path), MAX_PATH_SAMPLES + 16),
         ("tones", len(sim.tones), MAX_TONES),
         ("collisions", len(record.collisions), MAX_CONTACTS),

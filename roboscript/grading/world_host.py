@@ -65,7 +65,7 @@ from roboscript.grading.cpu_time import (
 from roboscript.grading.judge import ended_in_time, simulation_record
 from roboscript.grading.latency import ask_short_slice
 from roboscript.grading.mission_host import LOAD_LIMIT_S, STATE_CLAIM_BYTES
-from roboscript.grading.record import RunRecord, RunStatus
+from roboscript.grading.record import MAX_GRADED_STATES, RunRecord, RunStatus
 from roboscript.grading.sandbox import Jail, JailedRun, Limits, WarmJail
 from roboscript.grading.spec import TestSpec, Variant
 from roboscript.grading.submissions import named_files
@@ -126,7 +126,6 @@ _MAX_BOARD_QUEUE_BYTES = MAX_PAYLOAD_BYTES // 2
 
 _NAME_CHARS = 100
 _REASON_CHARS = 500
-_MAX_STATES = 20_000
 _MAX_HOST_BYTES = 32 * 1024**2
 _START_SLACK_MM = 5.0
 _TIME_SLACK_S = 1.0
@@ -542,7 +541,7 @@ class _WorldSession:
         name = _name(head.decode("utf-8", "replace"))
         if not name:
             raise _ViolationError("it reported a state with no name")
-        if len(self.claims.states) >= _MAX_STATES:
+        if len(self.claims.states) >= MAX_GRADED_STATES:
             self.claims.dropped_states += 1
             return
         before = self.claimed_state

@@ -13,6 +13,7 @@ from typing import Any
 import pytest
 from helpers import OUT_TURN_BEEP, run_cli
 
+from roboscript.grading.record import MAX_GRADED_STATES
 from roboscript.grading.shards import Shard, shard_number
 
 STUDENTS = ("ada", "Bea", "cyd", "dan", "eve", "fay", "gus")
@@ -261,6 +262,7 @@ def _set(run: dict[str, Any], where: str, value: Any) -> None:
         ("record.sim.final_pose.x_mm", None, "record.sim.final_pose.x_mm"),
         ("record.sim.path", [[0.0, 0.0, 0.0, 0.0]] * 100_000, "path samples"),
         ("record.states.0.0", 1e12, "time"),
+        ("record.states", [[1.0, "go"]] * (MAX_GRADED_STATES + 1), "states, more than"),
         ("record.sim", 5, "SimulatedRun"),
         ("verdicts.0.weight", "x", "verdicts[0].weight"),
         ("verdicts.0", {"name": "x", "passed": True, "evil": 1}, "verdict"),
