@@ -215,7 +215,13 @@ def run_tasks(
             )
             still: list[_Running] = []
             for run in running:
-                for index, result, copies in _collect(run, ready):
+                # Whether the worker lives is read before its pipe: one that sends its last
+                # result and ends after ``wait`` returned is read now, not mistaken for a
+                # worker that died with its batch undone (and its batch done again).
+                alive = run.process.is_alive()
+                for index, result, copies in _collect(
+                    run, ready if alive else ready | {run.process.sentinel}
+                ):
                     deliver(index, result)
                     for other_index, other in copies:  # the worker ended them with this one
                         deliver(other_index, _same_as(result, other))
@@ -227,7 +233,7 @@ def run_tasks(
                         same_for_all(key, result)
                     else:
                         loaded.add(key)
-                if run.batch and run.process.is_alive():
+                if run.batch and alive:
                     still.append(run)
                     continue
                 if run.batch:  # the worker ended before doing them all: do them again

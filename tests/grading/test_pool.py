@@ -373,6 +373,41 @@ def test_a_mission_that_fails_to_load_costs_one_run_whatever_the_workers(
     assert report.cell("ann", "t").passed
 
 
+def test_a_worker_that_ends_just_after_the_parent_looked_is_read_not_run_again(
+    tmp_path: Path, workers_log: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # The worker sends its result and ends after the parent's wait() returned for another
+    # reason: its result is still in the pipe, and its batch must not be started again.
+    from multiprocessing.connection import wait as real_wait
+
+    from roboscript.grading import pool
+
+    late = [True]
+
+    def wait_that_looks_too_early(objects: list[Any], timeout: float | None = None) -> list[Any]:
+        ready = real_wait(objects, timeout)
+        if ready and late[0]:
+            late[0] = False
+            sentinels = [o for o in objects if isinstance(o, int)]
+            assert real_wait(sentinels, 60)  # every worker here ends after its one result
+            return []
+        return ready
+
+    monkeypatch.setattr(pool, "wait", wait_that_looks_too_early)
+    spec = _spec_with_runs(tmp_path, visible=3, hidden=0)
+    folder = tmp_path / "class"
+    folder.mkdir()
+    (folder / "zed.py").write_text(CRASHES_LOADING, encoding="utf-8")
+    report = grade_class(
+        find_specs([str(spec)]), find_submissions([str(folder)]).submissions, jobs=1
+    )
+    assert not late[0]
+    lines = workers_log.read_text(encoding="utf-8").splitlines()
+    assert lines == ["jail zed visible", "run zed 0"]
+    zed = report.cell("zed", "t").results
+    assert all(r.status == "invalid" and r.during_load for r in zed)
+
+
 SAYS_ITS_JAIL = """\
 import os, sys
 from roboscript import Mission, Wait, state
