@@ -8,8 +8,9 @@ scheduler, advancing its physics in fixed steps up to the scheduler's time on ev
 
 from __future__ import annotations
 
+import dataclasses
 import random
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
 from roboscript.angles import wrap_deg
 from roboscript.drivers import protocol_unit
@@ -210,7 +211,20 @@ def build_device(profile: RobotProfile, body: Body) -> SimDevice:
 
 
 def make_simulation(
-    robot: str = "mirto", world: str = "empty", seed: int = 1, start: Pose | None = None
+    robot: str = "mirto",
+    world: str = "empty",
+    seed: int = 1,
+    start: Pose | None = None,
+    *,
+    options: Mapping[str, object] | None = None,
 ) -> Simulation:
-    """Build a simulation from a profile name and a world name or path."""
-    return Simulation(load_world(world), get_profile(robot), seed, start=start)
+    """Build a simulation from a profile name and a world name or path; ``options`` change
+    the profile's options for the simulated board (``{"reset_on_connect": True}``).
+
+    Raises:
+        ProfileError: The robot's family has no such option, or a bad value.
+    """
+    profile = get_profile(robot)
+    if options:
+        profile = dataclasses.replace(profile, options={**profile.options, **options})
+    return Simulation(load_world(world), profile, seed, start=start)

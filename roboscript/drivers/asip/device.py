@@ -54,6 +54,14 @@ if TYPE_CHECKING:
 __all__ = ["BoardConfig", "MirtoBoard", "simulated_device"]
 
 _MOTOR_FRAME_S = 0.033  # 1000 / PID_FRAME_HZ in integer milliseconds
+RESET_UART_ON_S = 3.0013
+"""After a reset, when the sketch opens its UART (``Serial.begin`` in ``beginAsipComms()``,
+after ``pixelFun()``'s three 1 s delays and the LCD's start-up text), seconds. A byte that
+arrives before is lost; later ones wait in the receive ring until ``loop()`` reads them.
+Measured on the emulated ATmega328P build (the UART's RXEN0 bit is set at 3.00132 s)."""
+RESET_GREETING_S = 3.2014
+"""After a reset, when the sketch writes its first start-up byte (``delay(200)`` after
+``Serial.begin``), seconds. Measured on the emulated build (the first byte at 3.20138 s)."""
 _AUTO_STOP_S = 2.0
 _PARSE_TIMEOUT_S = 1.0
 
@@ -112,6 +120,10 @@ class BoardConfig:
             AsipOptions`).
         baud: A UART board's line speed, bits per second: bytes arrive one byte time
             apart, and a reply takes the firmware time (:mod:`~roboscript.drivers.asip.uart`).
+        resets_on_connect: Whether opening the port resets the board (an Arduino Uno-style
+            board whose DTR line drives its reset): it then starts afresh and is deaf until
+            its sketch opens the UART (:data:`RESET_UART_ON_S`), and greets at
+            :data:`RESET_GREETING_S`.
     """
 
     firmware_pid: bool = True
@@ -128,6 +140,7 @@ class BoardConfig:
     pixel_count: int = 9
     whole_lines: bool = True
     baud: int = 57600
+    resets_on_connect: bool = False
 
 
 @dataclass
@@ -196,6 +209,8 @@ class MirtoBoard:
         self._transmitter = Transmitter(self.config.baud)
         self._clock_s = 0.0
         self.state = self._power_on_state()
+        # After a reset: when the sketch opens its UART and when it greets (None: running).
+        self._booting: tuple[float, float] | None = None
 
     def _new_codec(self) -> AsipCodec:
         services = "".join(_SERVICE_NAMES)
@@ -228,9 +243,21 @@ class MirtoBoard:
     # ------------------------------------------------------------------------- SimDevice API
 
     def connect(self, now_s: float) -> None:
-        """Greet a new host the way the sketch's ``setup()`` does."""
+        """A host opened the port: greet it the way the sketch's ``setup()`` does, or, on a
+        board that resets when its port opens, start afresh and greet once booted."""
         self.codec = self._new_codec()
         self._line.clear()
+        if not self.config.resets_on_connect:
+            self._greet(now_s)
+            return
+        self.stop_all()
+        ticks = self.body.ticks
+        self.state = self._power_on_state()  # the encoders count from 0 again
+        for index, wheel in enumerate(self.state.wheels):
+            wheel.last_ticks = wheel.total_offset = ticks[index]
+        self._booting = (now_s + RESET_UART_ON_S, now_s + RESET_GREETING_S)
+
+    def _greet(self, now_s: float) -> None:
         self._clock_s = max(self._clock_s, now_s)
         services = tuple(_SERVICE_NAMES)
         self._send(m.StartupLine(self.config.sketch, self.config.chip, services))
@@ -242,12 +269,35 @@ class MirtoBoard:
             event.next_s = now_s + event.interval_s
         self.state.next_motor_frame_s = now_s + _MOTOR_FRAME_S
 
+    def _boot(self, now_s: float) -> bool:
+        """A board booting after a reset, up to ``now_s``: True while it is still booting.
+
+        Bytes that arrived before the sketch opened its UART are lost; later ones wait in the
+        receive ring and are read once the greeting is written (see :meth:`receive`)."""
+        if self._booting is None:
+            return False
+        uart_on_s, greeting_s = self._booting
+        if now_s < greeting_s - 1e-9:
+            return True
+        self._booting = None
+        self._line.take_arrived(uart_on_s - 1e-9)  # lost: the UART was off
+        self._greet(greeting_s)
+        if self.config.whole_lines:
+            self._wait_since_s = greeting_s
+            self._process(greeting_s)
+        return False
+
     def receive(self, data: bytes, now_s: float) -> None:
         """Parse and act on request bytes."""
         if not data:
             return
         if not self.config.whole_lines:
             self._line.send(data, now_s)  # read as it arrives, by step()
+            return
+        if self._booting is not None:
+            if now_s >= self._booting[0]:  # the UART is on: the bytes wait to be read
+                room = max(0, RECEIVE_RING_BYTES - self.codec.pending_bytes())
+                self.codec.receive_data(data[:room])
             return
         self._wait_since_s = now_s  # a byte ends the wait; the next one starts now
         self.codec.receive_data(data)
@@ -256,6 +306,8 @@ class MirtoBoard:
     def step(self, now_s: float) -> None:
         """Run timers: parse timeout, PID frames, auto-events, digital port changes (and, on a
         UART board, the requests whose bytes have arrived)."""
+        if self._boot(now_s):
+            return  # the sketch's start-up: nothing else runs
         codec = self.codec
         if not self.config.whole_lines:
             self._serve_line(now_s)
@@ -732,5 +784,6 @@ def simulated_device(profile: RobotProfile) -> Callable[[Body], MirtoBoard]:
         servo_count=options.servo_count,
         pixel_count=options.pixel_count,
         whole_lines=options.whole_lines,
+        resets_on_connect=options.reset_on_connect,
     )
     return lambda body: MirtoBoard(body, config)

@@ -49,12 +49,17 @@ class AsipOptions:
             cannot read pixel requests (``asipPixels.cpp`` reads ``,{`` with two plain
             ``read()`` calls straight after ``parseInt()``, before the ``{`` has arrived),
             so the driver offers no LEDs there.
+        reset_on_connect: Whether opening the port resets the board (an Arduino Uno-style
+            board, whose USB chip's DTR line drives the reset): the sketch then starts
+            again and answers nothing for its start-up, about 3.2 s for ``mirtle2017``.
+            The driver waits for the board either way; the simulated board follows it.
     """
 
     servo_count: int = 1
     pixel_count: int = 9
     lcd_columns: int = LCD_COLUMNS
     transport: str = "usb"
+    reset_on_connect: bool = False
 
     @property
     def whole_lines(self) -> bool:
@@ -71,7 +76,11 @@ class AsipOptions:
         return read_options(cls, options, profile=profile, family="ASIP", read=_read)
 
 
-def _read(name: str, value: object, profile: str) -> int | str:
+def _read(name: str, value: object, profile: str) -> int | str | bool:
+    if name == "reset_on_connect":
+        if not isinstance(value, bool):
+            raise ProfileError(f"{profile}: ASIP option 'reset_on_connect' must be true or false")
+        return value
     if name == "transport":
         if value not in TRANSPORTS:
             raise ProfileError(

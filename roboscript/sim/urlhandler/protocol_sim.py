@@ -1,4 +1,8 @@
-"""``sim://ROBOT?world=W&seed=N&x=MM&y=MM&heading=DEG``: an in-process simulated robot.
+"""``sim://ROBOT?world=W&seed=N&x=MM&y=MM&heading=DEG&reset=1``: an in-process simulated robot.
+
+``reset=1`` makes the board one that resets when its port opens (an ASIP board's
+``reset_on_connect`` option, an Arduino Uno-style board): it answers only once its sketch has
+started again, as the real board does.
 
 pyserial finds this module by name (``protocol_sim``) in one of the packages ``open_port``
 registers (:data:`roboscript.transport.ports.HANDLER_PACKAGES`). The port's
@@ -20,8 +24,9 @@ from roboscript.transport.device_port import DevicePort, SerialException
 __all__ = ["Serial", "parse_sim_url"]
 
 
-def parse_sim_url(url: str) -> tuple[str, str, int, Pose | None]:
-    """Split a ``sim://`` URL into (robot, world, seed, start pose or None).
+def parse_sim_url(url: str) -> tuple[str, str, int, Pose | None, dict[str, object]]:
+    """Split a ``sim://`` URL into (robot, world, seed, start pose or None, the profile
+    options the URL sets).
 
     Raises:
         ValueError: The URL is not a valid ``sim://`` URL.
@@ -50,7 +55,13 @@ def parse_sim_url(url: str) -> tuple[str, str, int, Pose | None]:
         start = Pose(
             number("x", "0", float), number("y", "0", float), number("heading", "0", float)
         )
-    return robot, world, seed, start
+    options: dict[str, object] = {}
+    if "reset" in query:
+        text = query["reset"][-1]
+        if text not in ("0", "1"):
+            raise ValueError(f"reset must be 0 or 1 (got {text!r})")
+        options["reset_on_connect"] = text == "1"
+    return robot, world, seed, start, options
 
 
 class Serial(DevicePort):
@@ -63,8 +74,8 @@ class Serial(DevicePort):
         if self.port is None:
             raise SerialException("port must be configured before it can be used")
         try:
-            robot, world, seed, start = parse_sim_url(str(self.port))
-            self.simulation = make_simulation(robot, world, seed, start)
+            robot, world, seed, start, options = parse_sim_url(str(self.port))
+            self.simulation = make_simulation(robot, world, seed, start, options=options)
         except InputError:
             raise  # a bad world or profile is the user's input: open_port lets it through
         except (ValueError, NotImplementedError) as exc:
