@@ -837,7 +837,8 @@ def _cmd_sim(args: argparse.Namespace) -> int:
         except ValueError as exc:
             _err(f"error: --tcp {exc}")
             return EXIT_INPUT
-    simulation = make_simulation(args.robot, args.world, args.seed)
+    options = {"reset_on_connect": True} if args.reset_on_connect else None
+    simulation = make_simulation(args.robot, args.world, args.seed, options=options)
 
     def announce(line: str) -> None:
         print(line, flush=True)
@@ -1194,6 +1195,12 @@ def _parser() -> argparse.ArgumentParser:
         "--tcp", metavar="HOST:PORT", help="listen on this TCP address (port 0: any)"
     )
     where.add_argument("--pty", action="store_true", help="open a pseudo-terminal; print its path")
+    sim.add_argument(
+        "--reset-on-connect",
+        action="store_true",
+        help="the board resets when a client opens it (an Arduino Uno's DTR line) and answers"
+        " once its sketch has started again (ASIP: about 3.2 s)",
+    )
     sim.add_argument(
         "--handshake-wait",
         type=_seconds("--handshake-wait", "5"),

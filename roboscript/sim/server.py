@@ -32,12 +32,14 @@ Fair to every client of a classroom (TCP):
 
 from __future__ import annotations
 
+import ctypes
 import errno
 import logging
 import os
 import pty
 import select
 import socket
+import struct
 import time
 import tty
 from collections.abc import Callable
@@ -331,32 +333,46 @@ class SimServer:
     # ---------------------------------------------------------------------------------- pty
 
     def serve_pty(self, *, max_runtime_s: float | None = None) -> None:
-        """Serve on a new pseudo-terminal until :meth:`stop`, Ctrl-C or ``max_runtime_s``."""
+        """Serve on a new pseudo-terminal until :meth:`stop`, Ctrl-C or ``max_runtime_s``.
+
+        A program opening the pty is a host opening the robot's port: the device greets it
+        (a board that resets on connect starts again first); when the last one closes it,
+        the motors are stopped. What the device sends while nobody has it open is lost, as
+        on a serial line nobody listens to.
+        """
         master, slave = pty.openpty()
         tty.setraw(slave)  # no echo, no line editing: bytes pass through as on a serial line
         os.set_blocking(master, False)
         self.announce(os.ttyname(slave))
-        self.simulation.connect()
+        # Not kept open here, so that the master reads EIO exactly while no program has it.
+        path = os.ttyname(slave)
+        os.close(slave)
+        watch = _PtyOpenings(path)
+        opened = False
         try:
             while not self._stop and not self._expired(max_runtime_s):
                 wait = self._advance()
-                self._pty_write(master)
-                ready, _, _ = select.select([master], [], [], wait)
-                if ready:
-                    try:
-                        data = os.read(master, _READ_CHUNK)
-                    except BlockingIOError:
-                        continue
-                    except OSError as exc:
-                        if exc.errno != errno.EIO:  # EIO: no process has the slave open
-                            raise
-                        continue
+                if opened:
+                    self._pty_write(master)
+                else:
+                    self.simulation.read(self.simulation.in_waiting)  # nobody hears it
+                # Without a program on the other side the master is always "ready" (EIO):
+                # it is then looked at once a physics step.
+                select.select([master, *watch.files()] if opened else watch.files(), [], [], wait)
+                data = _pty_read(master)
+                for now_open in watch.changes(has_reader=data is not None):
+                    if now_open:
+                        self.simulation.connect()  # the port opened (a board's DTR line)
+                    else:
+                        self.simulation.stop_all()
+                opened = data is not None
+                if data:
                     self.simulation.write(data)
                     self._pty_write(master)
         finally:
             self.simulation.stop_all()
+            watch.close()
             os.close(master)
-            os.close(slave)
 
     def _pty_write(self, master: int) -> None:
         data = self.simulation.read(self.simulation.in_waiting)
@@ -370,3 +386,88 @@ class SimServer:
         except OSError as exc:
             if exc.errno != errno.EIO:
                 raise
+
+
+def _pty_read(master: int) -> bytes | None:
+    """What the program on the pty wrote (``b""``: nothing yet), or None when no program
+    has the pty open."""
+    try:
+        return os.read(master, _READ_CHUNK)
+    except BlockingIOError:
+        return b""
+    except OSError as exc:
+        if exc.errno != errno.EIO:  # EIO: no process has the slave open
+            raise
+        return None
+
+
+_IN_OPEN, _IN_CLOSE = 0x20, 0x08 | 0x10  # inotify: opened; closed (written to or not)
+
+
+class _PtyOpenings:
+    """When programs open and close a pty: each time the first opens it (a port opening,
+    which resets a board whose DTR line drives its reset) and the last closes it.
+
+    On Linux, from inotify's open and close events on the pty, so that a program closing
+    the pty and another opening it at once is seen however busy the machine is; elsewhere,
+    from whether the master has a reader each time it is looked at.
+    """
+
+    def __init__(self, path: str) -> None:
+        self._fd: int | None = None
+        self._holders = 0
+        self._had_reader = False
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            fd = libc.inotify_init1(os.O_NONBLOCK | os.O_CLOEXEC)
+        except (OSError, AttributeError):  # not Linux
+            return
+        if fd < 0:
+            return
+        if libc.inotify_add_watch(fd, os.fsencode(path), _IN_OPEN | _IN_CLOSE) < 0:
+            os.close(fd)
+            return
+        self._fd = fd
+
+    def files(self) -> list[int]:
+        """What to wait on besides the pty (the inotify descriptor, if any)."""
+        return [] if self._fd is None else [self._fd]
+
+    def changes(self, *, has_reader: bool) -> list[bool]:
+        """Since the last call, in order: True where the pty was opened by a first program,
+        False where the last closed it. ``has_reader``: whether the master has one now."""
+        if self._fd is None:
+            changed = [has_reader] if has_reader != self._had_reader else []
+            self._had_reader = has_reader
+            return changed
+        changes: list[bool] = []
+        for mask in self._masks():
+            if mask & _IN_OPEN:
+                self._holders += 1
+                if self._holders == 1:
+                    changes.append(True)
+            elif mask & _IN_CLOSE and self._holders:
+                self._holders -= 1
+                if not self._holders:
+                    changes.append(False)
+        return changes
+
+    def _masks(self) -> list[int]:
+        assert self._fd is not None
+        masks: list[int] = []
+        while True:
+            try:
+                data = os.read(self._fd, 4096)
+            except BlockingIOError:
+                return masks
+            offset = 0
+            while offset + 16 <= len(data):
+                _, mask, _, name_bytes = struct.unpack_from("iIII", data, offset)
+                masks.append(mask)
+                offset += 16 + name_bytes
+
+    def close(self) -> None:
+        """Stop watching."""
+        if self._fd is not None:
+            os.close(self._fd)
+            self._fd = None

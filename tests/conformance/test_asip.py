@@ -253,7 +253,7 @@ def test_python_asip_client_requests_without_newlines_take_effect() -> None:
     assert board.lines()[0].startswith("@I,M,20,{")
     state = board.state
     assert state.encoder_events  # type: ignore[attr-defined]
-    assert state.auto["R"].interval_s == state.auto["B"].interval_s == 0.025  # type: ignore[attr-defined]
+    assert state.auto["R"].interval_ms == state.auto["B"].interval_ms == 25  # type: ignore[attr-defined]
     assert board.sim.log.display == "hi"
     assert board.sim.device.codec.waiting  # type: ignore[attr-defined]
     board.run(1.05)

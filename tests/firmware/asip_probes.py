@@ -166,4 +166,30 @@ VALUE_PROBES: tuple[Probe, ...] = (
 before the first, headers of builds the MIRTO sketch is not, and other malformed requests.
 They come last: the timing probes' answers depend on when they run (see ``TIMING_PROBES``)."""
 
-PROBES = DRIVER_PROBES + ERROR_PROBES + TIMING_PROBES + VALUE_PROBES
+INT16_PROBES: tuple[Probe, ...] = (
+    Probe("encoder events of 65536 are off", b"M,A,65536\n"),
+    Probe("encoder events off again", b"M,A,0\n"),
+    Probe("servo 65536 is servo 0", b"S,W,65536,45\n"),
+    Probe("servo -65535 is servo 1", b"S,W,-65535,45\n"),
+    Probe("lcd row 65537 is row 1", b"L,W,65537,hi\n"),
+    Probe("lcd column 65537 is column 1", b"L,w,0,65537,hi\n"),
+    Probe("lcd row 32768 is a row before the first", b"L,W,32768,hi\n"),
+    Probe("pixel count of strip 65536", b"P,I,65536\n"),
+    Probe("bump events every 65586 ms are every 50", b"B,A,65586\n"),
+    Probe("bump events off after 65586", b"B,A,0\n"),
+    Probe("bump events every 7 ms", b"B,A,7\n"),
+    Probe("bump events off after 7 ms", b"B,A,0\n"),
+    Probe("bump events every 2 ms", b"B,A,2\n"),
+    Probe("bump events off after 2 ms", b"B,A,0\n"),
+    Probe("bump events every -5 ms", b"B,A,-5\n"),
+    Probe("bump events off after -5 ms", b"B,A,0\n", 0.3),
+    Probe("motor rpm with a duration past an int", b"M,r,0,30,40000\n"),
+    Probe("motors stop after a long duration", b"M,S,0\n"),
+    Probe("version after the int probes", b"#,?\n"),
+)
+"""Values the MIRTO sketch keeps in an ATmega328P's 16-bit ``int`` (a motor request's
+arguments, a servo id, an LCD row and column, a pixel strip) or ``unsigned int`` (an
+auto-event interval, whose next due tick wraps: ``-5`` reports on every turn of ``loop()``,
+as fast as the line takes the events)."""
+
+PROBES = DRIVER_PROBES + ERROR_PROBES + TIMING_PROBES + VALUE_PROBES + INT16_PROBES

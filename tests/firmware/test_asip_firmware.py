@@ -22,12 +22,41 @@ KNOWN_DIFFERENCES: dict[str, str] = {
         "right-facing sensor (a sketch built with 2)"
     ),
     "distance measure": "the same second distance sensor",
+    **dict.fromkeys(
+        (
+            "bump events every 2 ms",
+            "bump events off after 2 ms",
+            "bump events every -5 ms",
+            "bump events off after -5 ms",
+        ),
+        "events as fast as the line takes them: the emulated UART sends a byte every 3000 "
+        "cycles (187.5 us, measured: the 418-byte greeting takes 78 ms), a 16 MHz 328P at 57600 "
+        "baud (UBRR 34, U2X) every 175 us, which the simulated board keeps: it fits 2 or 3 "
+        "events more in 0.12 s; the bytes the emulator has not sent by the end of a probe "
+        "come in the next probe's answer",
+    ),
     "an unknown strip's pixel count": (
         "asipPixels.cpp reads `stripPtr[stripIndex]` unchecked (`// todo - validate "
         "stripIndex range`), past its one strip: undefined; the simulated board answers "
         "~P,I,7{INVALID_DEVICE_NUMBER}"
     ),
 }
+
+
+JOINED_WITH_NEXT = frozenset({"bump events every 7 ms", "bump events every 65586 ms are every 50"})
+"""Probes whose events run until the next probe turns them off: the emulator gives a byte
+when it has crossed the line, the simulated board when the firmware writes it, so an event
+the line is still sending when a probe ends falls in the next answer on the emulator. Each
+is compared together with the next probe's answer (and that probe with nothing)."""
+
+
+def _answer(answers: list[bytes], index: int) -> bytes:
+    """A probe's answer as compared: joined with the next one's (see JOINED_WITH_NEXT)."""
+    if PROBES[index].name in JOINED_WITH_NEXT:
+        return answers[index] + answers[index + 1]
+    if index and PROBES[index - 1].name in JOINED_WITH_NEXT:
+        return b""
+    return answers[index]
 
 
 @pytest.fixture(scope="module")
@@ -49,7 +78,7 @@ def test_sim_answers_each_probe_as_the_firmware_does(
 ) -> None:
     (_, firmware_answers), (_, sim_answers) = transcripts
     index = PROBES.index(probe)
-    firmware, sim = firmware_answers[index], sim_answers[index]
+    firmware, sim = _answer(firmware_answers, index), _answer(sim_answers, index)
     if probe.name in KNOWN_DIFFERENCES:
         assert sim != firmware, f"no longer differs: drop {probe.name!r} from KNOWN_DIFFERENCES"
     else:

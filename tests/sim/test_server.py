@@ -105,3 +105,24 @@ def test_bad_tcp_address_is_invalid_input() -> None:
     )
     assert result.returncode == 2
     assert "expected HOST:PORT" in result.stderr
+
+
+@pytest.mark.skipif(not hasattr(os, "openpty"), reason="needs a POSIX pty")
+def test_a_pty_board_that_resets_on_connect_is_deaf_until_its_sketch_greets_each_opening() -> None:
+    with served_on_pty("mirto", "--reset-on-connect") as path:
+        for _ in range(2):  # every opening resets it again
+            with serial.Serial(path, 57600, timeout=0.05) as port:
+                opened_s = time.monotonic()
+                port.write(b"#,?\n")  # lost: the board is still starting
+                deadline = opened_s + HANG_BOUND_S  # a bound: the loop ends once it is seen
+                heard = b""
+                while time.monotonic() < deadline and b"is service P" not in heard:
+                    heard += port.read(4096)
+                greeted_s = time.monotonic()
+                # a lower bound on the wall clock: a busy machine only makes it later
+                assert greeted_s - opened_s >= 3.0
+                assert heard.startswith(b"!Mirtle2017 running on")
+                port.write(b"#,?\n")
+                while time.monotonic() < deadline and b"@#,?" not in heard:
+                    heard += port.read(4096)
+                assert heard.count(b"@#,?") == 1  # the first request was lost, not queued

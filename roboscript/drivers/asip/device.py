@@ -63,6 +63,9 @@ RESET_GREETING_S = 3.2014
 """After a reset, when the sketch writes its first start-up byte (``delay(200)`` after
 ``Serial.begin``), seconds. Measured on the emulated build (the first byte at 3.20138 s)."""
 _AUTO_STOP_S = 2.0
+_MOST_EVENTS_A_STEP = 64
+"""A bound on one service's events in one physics step (a wrapped interval reports on every
+turn of the loop: on a UART board the line's pace allows a few a step)."""
 _PARSE_TIMEOUT_S = 1.0
 
 # Pin map of the MIRTO 328 V2 board as the mirtle2017 sketch allocates it (robot_pins.h, the
@@ -161,8 +164,30 @@ class _Wheel:
 
 @dataclass
 class _AutoEvent:
-    interval_s: float = 0.0
-    next_s: float = 0.0
+    """A service's auto-events as ``asipService``'s ``setAutoreport`` keeps them: in 16-bit
+    ``unsigned int`` ticks of ``millis()``, so ``-5`` is 65531 ms and ``tick + interval``
+    wraps (the due tick is then below the tick now, and the board reports on every turn of
+    ``loop()``, as fast as its line takes the events, until ``millis()`` wraps too)."""
+
+    interval_ms: int = 0
+    next_tick: int = 0  # the 16-bit tick from which it reports
+    checked_ms: int = 0  # millis() when the firmware last looked
+
+    @property
+    def interval_s(self) -> float:
+        """The interval, seconds (0: off)."""
+        return self.interval_ms / 1000.0
+
+    def start(self, interval_ms: int, now_ms: int) -> None:
+        """``setAutoreport(interval)`` at ``millis()`` ``now_ms``."""
+        self.interval_ms = interval_ms & 0xFFFF
+        self.next_tick = (now_ms + self.interval_ms) & 0xFFFF
+        self.checked_ms = now_ms
+
+    def due_ms(self) -> int:
+        """The first ``millis()`` from the last look on at which ``tick >= nextTrigger``."""
+        low = self.checked_ms & 0xFFFF
+        return self.checked_ms if low >= self.next_tick else self.checked_ms + self.next_tick - low
 
 
 @dataclass
@@ -208,6 +233,7 @@ class MirtoBoard:
         self._line = ReceiveLine(self.config.baud)
         self._transmitter = Transmitter(self.config.baud)
         self._clock_s = 0.0
+        self._powered_s = 0.0  # when the board last started: millis() counts from it
         self.state = self._power_on_state()
         # After a reset: when the sketch opens its UART and when it greets (None: running).
         self._booting: tuple[float, float] | None = None
@@ -237,7 +263,7 @@ class MirtoBoard:
         state.analog_channels = {
             chan for pin, chan in _ANALOG_PINS.items() if modes[pin] == m.PinMode.ANALOG
         }
-        state.auto["I"].interval_s = 0.050
+        state.auto["I"].interval_ms = 50
         return state
 
     # ------------------------------------------------------------------------- SimDevice API
@@ -255,6 +281,7 @@ class MirtoBoard:
         self.state = self._power_on_state()  # the encoders count from 0 again
         for index, wheel in enumerate(self.state.wheels):
             wheel.last_ticks = wheel.total_offset = ticks[index]
+        self._powered_s = now_s
         self._booting = (now_s + RESET_UART_ON_S, now_s + RESET_GREETING_S)
 
     def _greet(self, now_s: float) -> None:
@@ -266,7 +293,7 @@ class MirtoBoard:
         for service, name in _SERVICE_NAMES.items():
             self._write(f"{name} is service {service}\r\n".encode("ascii"))
         for event in self.state.auto.values():
-            event.next_s = now_s + event.interval_s
+            event.start(event.interval_ms, self._millis(now_s))
         self.state.next_motor_frame_s = now_s + _MOTOR_FRAME_S
 
     def _boot(self, now_s: float) -> bool:
@@ -309,10 +336,12 @@ class MirtoBoard:
         if self._boot(now_s):
             return  # the sketch's start-up: nothing else runs
         codec = self.codec
+        idle_s = -math.inf  # from when the firmware's loop was free to report
         if not self.config.whole_lines:
             self._serve_line(now_s)
             if codec.waiting:
                 return  # the firmware is inside parseInt: nothing else runs
+            idle_s = self._clock_s  # from when the firmware's loop was free
             self._clock_s = max(self._clock_s, now_s)
         elif codec.waiting:
             # Stream's timed reads give up after a second without a byte; each has its own.
@@ -331,11 +360,34 @@ class MirtoBoard:
             if state.next_motor_frame_s < now_s:
                 state.next_motor_frame_s = now_s + _MOTOR_FRAME_S
         for service, event in state.auto.items():
-            if event.interval_s > 0 and now_s >= event.next_s - 1e-9:
+            if event.interval_ms:
+                self._auto_report(service, event, now_s, idle_s)
+
+    def _millis(self, time_s: float) -> int:
+        """The firmware's ``millis()`` at simulated ``time_s``: whole ms since power-on."""
+        return math.floor((time_s - self._powered_s) * 1000.0 + 1e-6)
+
+    def _auto_report(self, service: str, event: _AutoEvent, now_s: float, idle_s: float) -> None:
+        """The service's auto-events due up to ``now_s``: one each time the firmware's loop
+        finds ``tick >= nextTrigger``, then ``nextTrigger = tick + interval`` (16 bits). The
+        firmware is free to look from ``idle_s`` on, and again once it has written an event
+        (a USB board: at the next ms)."""
+        free_s = idle_s
+        for _ in range(_MOST_EVENTS_A_STEP):
+            at_s = max(self._powered_s + event.due_ms() / 1000.0, free_s)
+            if at_s > now_s + 1e-9:
+                return
+            tick = self._millis(at_s)
+            if self.config.whole_lines:
                 self._report(service)
-                event.next_s += event.interval_s
-                if event.next_s < now_s:
-                    event.next_s = now_s + event.interval_s
+                free_s = at_s + 0.001
+            else:  # written on the firmware's clock: it waits for the line once it is full
+                clock_s, self._clock_s = self._clock_s, at_s
+                self._report(service)
+                free_s = self._clock_s
+                self._clock_s = max(clock_s, free_s)
+            event.next_tick = (tick + event.interval_ms) & 0xFFFF
+            event.checked_ms = max(tick, self._millis(free_s))
 
     def pending_input_bytes(self) -> int:
         """Request bytes received and not yet a whole message (a frame the host has not
@@ -540,13 +592,11 @@ class MirtoBoard:
                 for mode in state.pin_modes
             ]
             for event in state.auto.values():
-                event.interval_s = 0.0
+                event.interval_ms = 0
             state.motor_frames = False  # reset() zeroes every auto-report, the PID's too
         elif isinstance(msg, m.SetAutoEventInterval):
             if msg.service in state.auto:
-                event = state.auto[msg.service]
-                event.interval_s = msg.interval_ms / 1000.0
-                event.next_s = now_s + event.interval_s
+                state.auto[msg.service].start(msg.interval_ms, self._millis(now_s))
         elif isinstance(msg, m.MeasureRequest):
             if msg.service == "D":
                 self._send(m.DistanceEvent(self._distances_cm()))

@@ -26,7 +26,10 @@ Requests
     which the board answers ``~,,?,1{INVALID_SERVICE}``). Such a request decodes as
     :class:`~roboscript.drivers.asip.messages.RefusedRequest` with the error the board sends.
     A number is kept in ``parseInt``'s 32-bit ``long``, which wraps as on the board (every
-    digit is read). A known request whose values the board reads and then does nothing with
+    digit is read), and then in the variable the firmware keeps it in: an ``int`` is 16 bits
+    on the ATmega328P the simulated board is (``M,A,65536`` turns encoder events off, ``L,W,
+    65537,hi`` writes row 1), an ``unsigned int`` (an auto-event interval) 16 bits unsigned,
+    a ``byte`` 8. A known request whose values the board reads and then does nothing with
     (a motor id past the wheels as a ``byte``, an LCD row before the first) decodes as
     :class:`~roboscript.drivers.asip.messages.IgnoredRequest`; a value no message can hold
     otherwise is an ``"out_of_range"`` fault, and the request is dropped.
@@ -79,6 +82,7 @@ _PARSE_HIGH = PARSE_INT[1]
 _LONG_MASK = 0xFFFF_FFFF  # parseInt's long: 32 bits on every ASIP board
 _LCD_ROW_BYTES = m.LCD_COLUMNS + 1  # asipLCD's row buffer: 20 characters and the NUL
 _NEWLINE = 0x0A
+_LONGEST_MS = 2_147_483_647  # the longest duration a motor message holds (24.8 days)
 _MAX_MOTOR_ID = 15  # the highest id a motor message holds; the board drives 0 and 1
 
 
@@ -157,8 +161,14 @@ class _Cursor:
             value = -value & _LONG_MASK
         return value - (_LONG_MASK + 1) if value > _PARSE_HIGH else value
 
+    def parse_int16(self) -> int:
+        """``int x = parseInt()`` on an ATmega328P: the ``long`` cut to a 16-bit ``int``."""
+        value = self.parse_int() & 0xFFFF
+        return value - 0x10000 if value >= 0x8000 else value
+
     def ints(self, count: int) -> tuple[int, ...]:
-        return tuple(self.parse_int() for _ in range(count))
+        """``count`` numbers, each kept in a 16-bit ``int``."""
+        return tuple(self.parse_int16() for _ in range(count))
 
     def find(self, target: bytes) -> bool:
         """``Stream::find``: read until ``target`` has been read; False on a timeout or NUL.
@@ -396,20 +406,21 @@ def _parse_io(cur: _Cursor, tag: str) -> m.AsipMessage:
 
 
 def _auto_event(cur: _Cursor, service: str) -> m.AsipMessage:
-    interval = cur.parse_int()
-    return m.SetAutoEventInterval(service, max(0, min(interval, 65535)))
+    # setAutoreport keeps the interval in an unsigned int: -5 is 65531
+    return m.SetAutoEventInterval(service, cur.parse_int() & 0xFFFF)
 
 
 def _parse_motor(cur: _Cursor, tag: str) -> m.AsipMessage:
-    first = cur.parse_int()
+    # processRequestMsg keeps its three arguments in ints
+    first = cur.parse_int16()
     if tag == "A":
         return m.EnableEncoderEvents(first != 0)
     if tag == "S":
         return m.StopMotors()
     if tag == "E":
         return m.ResetEncoders()
-    second = cur.parse_int()
-    third = cur.parse_int() if tag in "rR" else 0
+    second = cur.parse_int16()
+    third = cur.parse_int16() if tag in "rR" else 0
     args = (first, second, third) if tag in "rR" else (first, second)
     # setMotorPower, setMotorRPM and stopMotor take the id as a byte (-1 is 255) and do
     # nothing for one past the wheels, without a word.
@@ -422,12 +433,15 @@ def _parse_motor(cur: _Cursor, tag: str) -> m.AsipMessage:
             return m.SetMotorPower(first, max(-100, min(second, 100)))
         if tag == "M":
             return m.SetMotorsPower(max(-100, min(first, 100)), max(-100, min(second, 100)))
+        # the duration's int becomes setMotorRPM's unsigned long: -1 is 49 days (no run
+        # lasts the 24 days a message holds)
+        duration_ms = min(third & 0xFFFF_FFFF, _LONGEST_MS)
         if tag == "r":
-            return m.SetMotorRpm(first, second, max(third, 0))
+            return m.SetMotorRpm(first, second, duration_ms)
         if tag == "R":
-            return m.SetMotorsRpm(first, second, max(third, 0))
+            return m.SetMotorsRpm(first, second, duration_ms)
         if tag == "c":
-            return m.SetRobotSpeed(first, max(second, 0))
+            return m.SetRobotSpeed(first, min(second & 0xFFFF_FFFF, _LONGEST_MS))
         if tag == "a":
             return m.RotateRobot(first, second)
         if tag == "s":
@@ -478,10 +492,10 @@ def _parse_servo_counted(cur: _Cursor, tag: str, count: int) -> m.AsipMessage:
         return m.UnknownRequest("S", tag)
     if count == 0:
         return m.RefusedRequest("S", tag, int(m.ErrorCode.DEVICE_NOT_AVAILABLE))
-    servo = cur.parse_int()
+    servo = cur.parse_int16()
     if servo > count - 1:
         return m.RefusedRequest("S", tag, int(m.ErrorCode.INVALID_DEVICE_NUMBER))
-    angle = cur.parse_int()
+    angle = cur.parse_int16()
     if servo < 0:  # write() takes a byte: the id becomes 255 and no servo moves
         return m.UnknownRequest("S", tag, (servo, angle))
     return m.ServoWrite(servo, _servo_angle(angle))
@@ -500,7 +514,7 @@ def _parse_lcd(cur: _Cursor, tag: str) -> m.AsipMessage:
     """asipLCD: a line past the fifth reads nothing more (its text is left for the next
     request); the text ends at a newline, a timeout or the row buffer's 20 characters."""
     if tag == "W":
-        line = cur.parse_int()
+        line = cur.parse_int16()
         if line >= m.LCD_LINES or not cur.find(b","):
             return m.UnknownRequest("L", tag, (line,))
         if line < 0:
@@ -511,10 +525,10 @@ def _parse_lcd(cur: _Cursor, tag: str) -> m.AsipMessage:
         # The CR of a CRLF lands in the row too, where the font shows nothing: drop it.
         return m.LcdWrite(line, cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES).rstrip("\r"))
     if tag == "w":
-        line = cur.parse_int()
+        line = cur.parse_int16()
         if line >= m.LCD_LINES or not cur.find(b","):
             return m.UnknownRequest("L", tag, (line,))
-        column = cur.parse_int()
+        column = cur.parse_int16()
         if column >= _LCD_ROW_BYTES or cur.read() != 0x2C:
             return m.UnknownRequest("L", tag, (line, column))
         text = cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES - column)
@@ -523,7 +537,7 @@ def _parse_lcd(cur: _Cursor, tag: str) -> m.AsipMessage:
             return m.IgnoredRequest("L", tag, (line, column))
         return m.LcdWriteAt(line, column, text.rstrip("\r"))
     if tag == "G":
-        count = min(cur.parse_int(), _MAX_COUNT)
+        count = min(cur.parse_int16(), _MAX_COUNT)
         if not cur.find(b",{"):
             return m.UnknownRequest("L", tag)
         bars = tuple((line, max(0, min(value, 100))) for line, value in _pairs(cur, count))
@@ -535,8 +549,10 @@ def _parse_lcd(cur: _Cursor, tag: str) -> m.AsipMessage:
     return m.UnknownRequest("L", tag)
 
 
-def _pairs(cur: _Cursor, count: int) -> tuple[tuple[int, int], ...]:
-    return tuple((cur.parse_int(), cur.parse_int()) for _ in range(count))
+def _pairs(cur: _Cursor, count: int, *, long_second: bool = False) -> tuple[tuple[int, int], ...]:
+    """``count`` pairs of ``int``s (the second a ``long`` with ``long_second``)."""
+    second = cur.parse_int if long_second else cur.parse_int16
+    return tuple((cur.parse_int16(), second()) for _ in range(count))
 
 
 def _rgb(cur: _Cursor) -> tuple[int, int, int]:
@@ -563,15 +579,18 @@ def _parse_pixels_or_pressure(cur: _Cursor, tag: str) -> m.AsipMessage:
 def _parse_pixels(cur: _Cursor, tag: str) -> m.AsipMessage:
     if tag not in "PpSsBIC":
         return m.UnknownRequest("P", tag)
-    strip = cur.parse_int()
+    strip = cur.parse_int16()
     if tag in "PpSs":
         # A negative count would loop for ever on the board; a huge one waits a second a pixel.
-        count = max(0, min(cur.parse_int(), _MAX_COUNT))
-        first = cur.parse_int() if tag in "Ss" else 0
+        count = max(0, min(cur.parse_int16(), _MAX_COUNT))
+        first = cur.parse_int16() if tag in "Ss" else 0
         if not _open_brace(cur):
             count = 0  # nothing is set
         if tag == "P":
-            pairs = tuple((pixel & 0xFFFF, color & 0xFFFFFF) for pixel, color in _pairs(cur, count))
+            pairs = tuple(
+                (pixel & 0xFFFF, color & 0xFFFFFF)
+                for pixel, color in _pairs(cur, count, long_second=True)
+            )
             return m.PixelsSet(strip, pairs)
         if tag == "p":
             rgb_pairs = tuple((cur.parse_int() & 0xFFFF, _rgb(cur)) for _ in range(count))

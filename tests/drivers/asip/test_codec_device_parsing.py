@@ -164,9 +164,11 @@ def test_unknown_motor_tag_still_reads_two_numbers() -> None:
         pytest.param(b"M,m,0,150\n", m.SetMotorPower(0, 100), id="power-clamped-high"),
         pytest.param(b"M,M,-200,50\n", m.SetMotorsPower(-100, 50), id="powers-clamped-low"),
         pytest.param(b"M,A,7\n", m.EnableEncoderEvents(True), id="any-nonzero-enables"),
-        pytest.param(b"M,r,0,30,-5\n", m.SetMotorRpm(0, 30, 0), id="negative-duration"),
+        # the int -5 becomes setMotorRPM's unsigned long: 49 days, past what a message holds
+        pytest.param(b"M,r,0,30,-5\n", m.SetMotorRpm(0, 30, 2**31 - 1), id="negative-duration"),
         pytest.param(b"S,W,1,999\n", m.ServoWrite(1, 180), id="servo-clamped"),
-        pytest.param(b"I,A,70000\n", m.SetAutoEventInterval("I", 65535), id="interval-clamped"),
+        # setAutoreport keeps it in an unsigned int: 70000 is 4464
+        pytest.param(b"I,A,70000\n", m.SetAutoEventInterval("I", 4464), id="interval-16-bits"),
     ],
 )
 def test_out_of_range_numbers_are_clamped_as_on_the_board(wire: bytes, message: object) -> None:

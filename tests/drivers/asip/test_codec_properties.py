@@ -17,6 +17,9 @@ from roboscript.errors import RemoteProtocolError
 
 EXAMPLES = 250
 INT32 = 2_147_483_647
+INT16 = 32_767
+"""The largest ``int`` on the ATmega328P the simulated board is: the sketch keeps durations, tone
+frequencies and strip numbers in one, so only these round-trip through it."""
 Decoded = list[m.AsipMessage | RemoteProtocolError]
 
 # ------------------------------------------------------------------------------------------
@@ -29,8 +32,8 @@ pins = st.integers(0, 255)
 motors = st.integers(0, 15)
 percent = st.integers(-100, 100)
 rpm = st.integers(-1000, 1000)
-durations = st.integers(0, INT32)
-strips = st.integers(-INT32, INT32)
+durations = st.integers(0, INT16)  # the sketch keeps them in a 328P's int
+strips = st.integers(-INT16 - 1, INT16)
 colors = st.integers(0, 0xFFFFFF)
 rgb = st.tuples(st.integers(0, 255), st.integers(0, 255), st.integers(0, 255))
 lcd_lines = st.integers(0, m.LCD_LINES - 1)
@@ -81,7 +84,7 @@ REQUEST_STRATEGIES: dict[type, st.SearchStrategy[object]] = {
     m.ResetEncoders: st.just(m.ResetEncoders()),
     m.EnableEncoderEvents: st.builds(m.EnableEncoderEvents, st.booleans()),
     m.ServoWrite: st.builds(m.ServoWrite, pins, st.integers(0, 180)),
-    m.PlayTone: st.builds(m.PlayTone, st.integers(1, 65535), st.integers(1, INT32)),
+    m.PlayTone: st.builds(m.PlayTone, st.integers(1, INT16), st.integers(1, INT16)),
     m.LcdWrite: st.builds(m.LcdWrite, lcd_lines, lcd_text(0)),
     m.LcdWriteAt: st.integers(0, m.LCD_COLUMNS).flatmap(
         lambda column: st.builds(m.LcdWriteAt, lcd_lines, st.just(column), lcd_text(column))

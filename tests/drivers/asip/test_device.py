@@ -363,3 +363,40 @@ def test_a_uart_board_reads_a_request_after_quiet_steps_that_followed_an_unknown
     board.send(b"#,?\n")
     board.run(0.05)
     assert board.lines() == ["@#,?,1,1,ATmega328P,20,Mirtle2017"]
+
+
+def _bump_events(board: Board, seconds: float) -> int:
+    board.run(seconds)
+    return sum(line.startswith("@B,e") for line in board.lines())
+
+
+def test_an_auto_event_interval_is_an_unsigned_16_bit_int_as_on_the_board() -> None:
+    board = quiet_board(uart=True)
+    board.send(b"B,A,65586\n")  # 65586 is 50 in 16 bits
+    # read once its 10 bytes have crossed the line: the first at 51 ms, the last at 951 ms
+    assert _bump_events(board, 1.0) == 19
+
+
+def test_a_negative_interval_reports_on_every_turn_of_the_loop_at_the_lines_pace() -> None:
+    board = quiet_board(uart=True)
+    board.send(b"B,A,-5\n")  # 65531: the next due tick is 5 ms before the tick now
+    events = _bump_events(board, 1.0)
+    event_bytes = len(b"@B,e,2,{1,1}\n")
+    line_bytes = 57600 // 10  # what the line carries in that second
+    assert abs(events * event_bytes - line_bytes) <= 63 + event_bytes  # (its buffer, a partial)
+
+
+def test_an_interval_under_the_physics_step_reports_at_its_own_pace() -> None:
+    board = quiet_board(uart=True)
+    board.send(b"B,A,3\n")
+    assert _bump_events(board, 0.999) == 333
+
+
+def test_the_16_bit_tick_wraps_once_a_minute_into_a_burst_of_events() -> None:
+    board = quiet_board(uart=True)
+    board.send(b"B,A,50\n")
+    board.run(65.45 - board.now)
+    board.lines()
+    # in the last 50 ms before millis() passes 65536 the due tick wraps below the tick now
+    assert _bump_events(board, 0.15) > 10
+    assert _bump_events(board, 1.0) == 20  # and then every 50 ms again

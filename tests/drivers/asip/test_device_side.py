@@ -41,18 +41,19 @@ def feed(requests: RequestReader, *chunks: bytes, quiet: bool = False) -> list[o
 # The bound of a request number: a long
 
 
-def test_a_request_number_at_the_bounds_of_a_long_is_read() -> None:
-    got = feed(reader(), f"P,I,{INT32_MAX}\nP,I,{-INT32_MAX - 1}\n".encode())
-    assert got == [m.PixelsInfoRequest(INT32_MAX), m.PixelsInfoRequest(-INT32_MAX - 1)]
+def test_a_request_number_at_the_bounds_of_a_long_is_read_then_kept_in_a_16_bit_int() -> None:
+    got = feed(reader(), f"P,I,{INT32_MAX}\nP,I,{-INT32_MAX - 1}\nP,I,65537\n".encode())
+    # the strip is an int, 16 bits on the 328P: 0x7FFFFFFF is -1, -0x80000000 is 0
+    assert got == [m.PixelsInfoRequest(-1), m.PixelsInfoRequest(0), m.PixelsInfoRequest(1)]
 
 
 def test_a_request_number_past_a_long_wraps_as_on_the_board_and_the_request_goes_on() -> None:
     # parseInt's `value * 10 + digit` wraps its 32-bit long; the board answers with the
     # wrapped number (the firmware tier's "a number past a long" probes)
     got = feed(reader(), b"P,I,2147483648\nP,I,-2147483649\nP,I,4294967299\nI,M\n")
-    assert got == [
-        m.PixelsInfoRequest(-INT32_MAX - 1),
-        m.PixelsInfoRequest(INT32_MAX),
+    assert got == [  # then cut to the strip's 16-bit int
+        m.PixelsInfoRequest(0),
+        m.PixelsInfoRequest(-1),
         m.PixelsInfoRequest(3),
         m.PortMapRequest(),
     ]
@@ -92,7 +93,7 @@ def test_values_in_a_long_but_out_of_the_request_range_are_read_as_the_firmware_
     assert got == [
         m.SetPinMode(44, m.PinMode.INPUT),
         m.UnknownRequest("I", "P", (3, 9)),
-        m.SetMotorRpm(1, 30, 0),
+        m.SetMotorRpm(1, 30, 2**31 - 1),  # the int -5 as an unsigned long: 49 days
     ]
 
 
