@@ -247,6 +247,42 @@ and commands written in pieces."""
 
 _FRAME = b">MF03010060" + b"0010" * m.JOINT_COUNT
 
+
+def _frame(slot: int, index: int) -> bytes:
+    """A frame of 64 ms setting every joint to 16 (0x10), as a setter writes it."""
+    return b">MF%02x%02x0040" % (slot, index) + b"0010" * m.JOINT_COUNT
+
+
+SLOT_PROBES: tuple[Probe, ...] = (
+    probe("play an erased slot", b"$PM0a", settle_s=MOTION_S),
+    probe("stop the erased slot's motion", b"$SM"),
+    probe("home after the erased slot", b"$HP"),
+    probe("push an erased slot and pop it", b"#PU0a01#PO", settle_s=MOTION_S),
+    probe("stop the popped erased slot", b"$SM$HP"),
+    probe("play the last slot, erased", b"$PM59", settle_s=MOTION_S),
+    probe("stop the last slot", b"$SM$HP"),
+    probe("play slot -1", b"$PM-1<VI", settle_s=GETTER_S),
+    probe("push slot 90 alone, pop it", b"#PU5a01#PO<VI", settle_s=GETTER_S),
+    paced("a header of 3 frames", b">MH0bthree               0000000000003"),
+    paced("only its first frame", _frame(11, 0)),
+    probe("dump a motion missing frames", b"<MO0b", settle_s=GETTER_S),
+    probe("play a motion missing frames", b"$PM0b", settle_s=MOTION_S),
+    probe("stop the motion missing frames", b"$SM$HP"),
+    paced("a header of 2 frames", b">MH0ctwo                 0000000000002"),
+    paced("only its second frame", _frame(12, 1)),
+    probe("dump a motion missing its first frame", b"<MO0c", settle_s=GETTER_S),
+    probe("play a motion missing its first frame", b"$PM0c", settle_s=MOTION_S),
+    probe("stop the motion missing its first frame", b"$SM$HP"),
+    paced("a frame in a slot with no header", _frame(13, 0)),
+    probe("play a slot with a frame and no header", b"$PM0d", settle_s=MOTION_S),
+    probe("stop the slot with no header", b"$SM$HP"),
+    paced("a header rewritten shorter", b">MH0bshorter             0000000000001"),
+    probe("dump the shortened motion", b"<MO0b", settle_s=GETTER_S),
+)
+"""Motion slots at their edges: a slot never written (the EEPROM erased, 0xFF) played and
+pushed, the last slot and the ones past it, motions whose header and frames were written in
+part (a header without all its frames, frames without a header, a header rewritten)."""
+
 TIMING_PROBES: tuple[Probe, ...] = (
     probe("stray bytes ahead of a getter", b"x" * 60 + b"<VI", settle_s=GETTER_S),
     probe("a getter kept behind a long reply", b"<JS" + b"x" * 40 + b"<VI", settle_s=GETTER_S),
@@ -263,4 +299,11 @@ TIMING_PROBES: tuple[Probe, ...] = (
 loop (about 29 us, while the line brings one every 5 us) and none while a command runs (a
 reply, an EEPROM write); what arrives while its 64-byte receive ring is full is lost."""
 
-PROBES = DRIVER_PROBES + ERROR_PROBES + OUTSIDE_TABLE_PROBES + ARGUMENT_PROBES + TIMING_PROBES
+PROBES = (
+    DRIVER_PROBES
+    + ERROR_PROBES
+    + OUTSIDE_TABLE_PROBES
+    + ARGUMENT_PROBES
+    + SLOT_PROBES
+    + TIMING_PROBES
+)

@@ -45,12 +45,18 @@ the knee, a positive left thigh roll leans the robot right; the right side is mi
 (negative offsets), as its home angles are; a positive thigh-yaw offset turns that foot's toes
 outward. Ankles and arms do not move the body. Walls stop the body as they stop a wheeled one.
 
-Simplifications: an erased slot dumps as a motion of no frames and ``$PM`` of one does
-nothing. The firmware prints the erased header as it reads it (slot 255, a name of 0xFF
-bytes, a loop and a jump code) and then 255 frames (``MotionController::dump`` loops to the
-header's ``frame_length``; ``Frame::get`` refuses an index of 20 or more and leaves the
-previous frame in place), about 260 KB that no host reads as a motion. An ``>MF`` that was
-never written reads as an erased frame (65535 ms, every value −1).
+Slots never written are erased (0xFF) as the EEPROM is delivered. An erased header reads
+as slot 255 with every flag set, so ``$PM`` of an erased slot plays as the firmware plays
+it: ``Frame::get`` refuses slot 255 and leaves the frame buffer as the last motion left it,
+and the motion goes on between the two buffers, looping for ever, until ``$SM`` (a jump to
+a slot past the last one plays its own motion again; one to an erased slot plays that).
+An ``>MF`` that was never written reads as an erased frame (65535 ms, every value −1).
+
+Simplification: an erased slot dumps as a motion of no frames. The firmware prints the
+erased header as it reads it (slot 255, a name of 0xFF bytes, a loop and a jump code) and
+then 255 frames (``MotionController::dump`` loops to the header's ``frame_length``;
+``Frame::get`` refuses an index of 20 or more and leaves the previous frame in place), about
+260 KB that no host reads as a motion.
 """
 
 from __future__ import annotations
@@ -150,6 +156,38 @@ class _Frame:
     values: list[int]
 
 
+@dataclass(frozen=True)
+class _Header:
+    """The header of the motion playing, as ``MotionController`` holds it (the firmware edits
+    its loop and jump fields as it plays)."""
+
+    slot: int
+    frame_length: int
+    use_loop: bool
+    loop_begin: int
+    loop_end: int
+    loop_count: int
+    use_jump: bool
+    jump_slot: int
+
+    @classmethod
+    def of(cls, header: m.MotionHeader) -> _Header:
+        return cls(
+            header.slot,
+            header.frame_length,
+            header.use_loop,
+            header.loop_begin,
+            header.loop_end,
+            header.loop_count,
+            header.use_jump,
+            header.jump_slot,
+        )
+
+
+_ERASED_HEADER = _Header(0xFF, 0xFF, True, 0xFF, 0xFF, 0xFF, True, 0xFF)
+"""``Header::get`` of a slot never written: every byte 0xFF, every flag bit set."""
+
+
 class Plen2Board:
     """The simulated PLEN2 control board on a body (see the module docstring).
 
@@ -191,7 +229,7 @@ class Plen2Board:
         self.queue: deque[tuple[int, int]] = deque()
         """The interpreter's queue: (slot, loop count)."""
         self.playing = False
-        self.header: m.MotionHeader | None = None
+        self.header: _Header | None = None
         """The header of the motion playing (its loop and jump flags change as it plays)."""
         self._current = _Frame(0, 0, [0] * m.JOINT_COUNT)
         self._next = _Frame(0, 0, [0] * m.JOINT_COUNT)
@@ -310,6 +348,21 @@ class Plen2Board:
         self.headers[header.slot] = header
         for frame in frames:
             self.frames[(frame.slot, frame.index)] = frame
+
+    def _read_header(self, slot: int) -> _Header | None:
+        """``Header::get``: the slot's header, erased if never written; None past the last
+        slot (refused: the header held stays)."""
+        if not 0 <= slot < m.SLOT_COUNT:
+            return None
+        stored = self.headers.get(slot)
+        return _ERASED_HEADER if stored is None else _Header.of(stored)
+
+    def _read_frame(self, slot: int, index: int) -> _Frame | None:
+        """``Frame::get``: None for a slot or an index past the last (refused: the buffer
+        keeps what it held)."""
+        if not (0 <= slot < m.SLOT_COUNT and 0 <= index < m.FRAME_LENGTH_MAX):
+            return None
+        return self._frame(slot, index)
 
     def _frame(self, slot: int, index: int) -> _Frame:
         stored = self.frames.get((slot, index))
@@ -433,9 +486,10 @@ class Plen2Board:
     # -------------------------------------------------------------------------- playback
 
     def _play(self, slot: int) -> None:
-        if self.playing or slot not in self.headers:
+        header = self._read_header(slot)
+        if self.playing or header is None:
             return
-        self.header = self.headers[slot]
+        self.header = header
         self._setup(0)
         self.playing = True
 
@@ -459,11 +513,13 @@ class Plen2Board:
 
     def _stop(self) -> None:
         self.playing = False
-        self._current = self._next
+        self._current, self._next = self._next, self._current  # m_bufferingFrame
 
     def _setup(self, index: int) -> None:
         assert self.header is not None
-        self._next = self._frame(self.header.slot, index)
+        frame = self._read_frame(self.header.slot, index)
+        if frame is not None:  # a refused read leaves the buffer as it was
+            self._next = frame
         # MotionController.h keeps the count in a uint8_t: from 8192 ms on it wraps (10240 ms
         # is 64 updates). A count of 0 (under 32 ms, or a multiple of 8192 ms) divides by zero
         # in the firmware; here it takes one update.
@@ -501,7 +557,7 @@ class Plen2Board:
     def _load_next(self) -> None:
         header = self.header
         assert header is not None
-        self._current = self._next
+        self._current, self._next = self._next, self._current  # m_bufferingFrame
         index = self._current.index
         if header.use_loop and index >= header.loop_end:
             count = header.loop_count
@@ -511,15 +567,10 @@ class Plen2Board:
             self._setup(header.loop_begin)
             return
         if not header.use_loop and header.use_jump and index >= header.frame_length - 1:
-            jumped = self.headers.get(header.jump_slot)
-            if jumped is None:
-                self._stop()
-                return
-            self.header = jumped
+            jumped = self._read_header(header.jump_slot)
+            if jumped is not None:
+                self.header = jumped
             self._setup(0)
-            return
-        if index + 1 >= m.FRAME_LENGTH_MAX:
-            self._stop()
             return
         self._setup(index + 1)
 
