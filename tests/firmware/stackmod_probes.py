@@ -151,6 +151,20 @@ PARSER_PROBES: tuple[Probe, ...] = (
     Probe("hex and exponent values", (_mtr(b"1+0x1"), _mtr(b"2+1e2"))),
     Probe("five-digit value", (packet(b"Ep$MTR1+32767"),)),
     Probe("a write of the register byte alone", (b"2", b"{", _mtr(b"2+063"))),
+    Probe("close brace before a packet", (b"2}" + _mtr(b"1+064")[1:],)),
+    Probe("DEL byte in the text", (packet(b"Ep$MTR1+\x7f65"),)),
+    Probe("DEL byte as the checksum", (packet(b"Ep$MTR2+066", check=0x7F),)),
+    Probe("NUL as the checksum", (packet(b"Ep$MTR2+067", check=0),)),
+    Probe("0xFF as the checksum", (packet(b"Ep$MTR2+068", check=0xFF),)),
+    Probe(
+        "checksum counted with the braces",
+        (_mtr(b"1+069")[:-1] + bytes([checksum(b"{Ep$MTR1+069}")]),),
+    ),
+    Probe("text of eleven spaces", (packet(b" " * 11),)),
+    Probe("packet ending a 32-byte write", (b"2" * 18 + _mtr(b"1+070")[1:-1], _mtr(b"1+070")[-1:])),
+    Probe("brace split from its text", (b"2{", b"Ep$MTR2+071}" + _mtr(b"2+071")[-1:])),
+    Probe("a packet in 15 one-byte writes", tuple(bytes([b]) for b in _mtr(b"1+072"))),
+    Probe("value at the byte's edges", (_mtr(b"1+256"), _mtr(b"2-255"))),
 )
 """The parser's edge cases: framing, checksum, lengths, numbers, writes split and joined."""
 
