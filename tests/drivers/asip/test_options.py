@@ -23,6 +23,8 @@ def test_the_mirto_profile_is_the_mirtle2017_sketch() -> None:
         ({"servo_count": -1}, "'servo_count' must be a whole number 0-16"),
         ({"lcd_columns": 21}, "'lcd_columns' must be a whole number 1-20"),
         ({"pixel_count": True}, "'pixel_count' must be a whole number 0-1024"),
+        ({"reset_on_connect": "yes"}, "'reset_on_connect' must be true or false"),
+        ({"reset_on_connect": 1}, "'reset_on_connect' must be true or false"),
     ],
 )
 def test_a_bad_value_names_the_option_and_its_range(
@@ -49,3 +51,14 @@ def test_a_profile_file_builds_a_board_with_its_servos_and_pixels(tmp_path: Path
     sim.write(b"P,I,0\nS,W,1,30\n")
     assert sim.read(sim.in_waiting) == b"@P,I,0,4\n"
     assert sim.device.state.servos_deg == [90, 30]  # type: ignore[attr-defined]
+
+
+def test_a_board_that_resets_on_connect_is_built_from_the_option() -> None:
+    assert AsipOptions.from_mapping({}, profile="mirto").reset_on_connect is False
+    options = AsipOptions.from_mapping({"reset_on_connect": True}, profile="mirto")
+    assert options.reset_on_connect is True
+    simulation = make_simulation("mirto", options={"reset_on_connect": True})
+    simulation.connect()
+    assert simulation.in_waiting == 0  # starting again: no greeting yet
+    simulation.tick(3.3, 3.3)
+    assert simulation.read(simulation.in_waiting).startswith(b"!Mirtle2017 running on")
