@@ -343,11 +343,12 @@ class SimServer:
         master, slave = pty.openpty()
         tty.setraw(slave)  # no echo, no line editing: bytes pass through as on a serial line
         os.set_blocking(master, False)
-        self.announce(os.ttyname(slave))
-        # Not kept open here, so that the master reads EIO exactly while no program has it.
+        # Not kept open here, so that the master reads EIO exactly while no program has it;
+        # watched before its path is said, so that no program can open it unseen.
         path = os.ttyname(slave)
         os.close(slave)
         watch = _PtyOpenings(path)
+        self.announce(path)
         opened = False
         try:
             while not self._stop and not self._expired(max_runtime_s):
