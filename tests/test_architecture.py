@@ -97,6 +97,20 @@ def shared_codec_helpers_import_only_the_standard_library(tree: Tree) -> list[st
     ]
 
 
+LEAF_MODULES = ("roboscript.code_owner",)
+"""Rules that modules importing each other both follow: standard library only, and nothing of
+roboscript, so that any module can import them without a cycle."""
+
+
+def leaf_modules_import_only_the_standard_library(tree: Tree) -> list[str]:
+    return [
+        f"{imp}: a leaf module imports the standard library only"
+        for module in LEAF_MODULES
+        for imp in tree.imports(module)
+        if imp.runtime and (imp.own or imp.target == "?" or imp.top not in STDLIB)
+    ]
+
+
 THIRD_PARTY_OWNERS = {
     "serial": "roboscript.transport",
     "transitions": "roboscript.mission",
@@ -237,6 +251,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     (
         "roboscript",
         "roboscript.errors",
+        "roboscript.code_owner",
         "roboscript.angles",
         "roboscript.clock",
         "roboscript.capabilities",
@@ -469,6 +484,7 @@ def only_declared_dependencies_are_imported_at_run_time(tree: Tree) -> list[str]
 RULES: tuple[Callable[[Tree], list[str]], ...] = (
     codecs_import_only_the_standard_library,
     shared_codec_helpers_import_only_the_standard_library,
+    leaf_modules_import_only_the_standard_library,
     third_party_libraries_stay_in_their_package,
     the_input_layer_imports_only_errors,
     forbidden_pairs,
@@ -668,6 +684,12 @@ PLANTED = [
         no_import_cycles_between_modules,
     ),
     ("new package", "roboscript.gadgets", "X = 1", every_module_has_a_layer),
+    (
+        "leaf",
+        "roboscript.code_owner",
+        "from roboscript.errors import MissionError",
+        leaf_modules_import_only_the_standard_library,
+    ),
     ("eval", "roboscript.mission.guards", "eval('1')", no_eval_or_exec),
     (
         "undeclared",

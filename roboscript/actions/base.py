@@ -20,12 +20,12 @@ import dataclasses
 import enum
 import functools
 import inspect
-import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal, cast, get_args
 
 from roboscript import capabilities as cap
+from roboscript.code_owner import is_student_class, raised_by_roboscript
 from roboscript.errors import CapabilityError
 from roboscript.inputs.quantities import DIMENSIONS, parse_quantity
 
@@ -355,7 +355,7 @@ class Action(abc.ABC):
             # mypy refuses an assignment to a method, so the wrapper is set by name
             setattr(cls, "__init__", _reading_its_arguments(init))  # noqa: B010
         update = vars(cls).get("update")
-        if inspect.isfunction(update) and not cls.__module__.startswith("roboscript."):
+        if inspect.isfunction(update) and is_student_class(cls):
             setattr(cls, "update", _returning_a_result(update))  # noqa: B010
         params = vars(cls).get("params")
         if "__init__" not in vars(cls) or not isinstance(params, tuple):
@@ -601,7 +601,7 @@ def _reading_its_arguments(init: Callable[..., None]) -> Callable[..., None]:
                     raise unread from None
                 wrong = (
                     _mistyped(type(self), signature, self, args, kwargs)
-                    if signature is not None and _raised_in_roboscript(exc)
+                    if signature is not None and raised_by_roboscript(exc)
                     else None  # a student's own __init__ keeps Python's words, at its line
                 )
                 if wrong is not None:  # init compared a list or None with a number
@@ -654,19 +654,6 @@ def _quantities_read(
         except ValueError as exc:
             unread = unread or ValueError(f"{label} {param.name}: {exc}")
     return bound.args[1:], bound.kwargs, unread
-
-
-_PACKAGE_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "")
-
-
-def _raised_in_roboscript(exc: BaseException) -> bool:
-    """True if ``exc`` was raised by roboscript's own code (a built-in action's checks)."""
-    tb = exc.__traceback__
-    while tb is not None and tb.tb_next is not None:
-        tb = tb.tb_next
-    return tb is not None and os.path.abspath(tb.tb_frame.f_code.co_filename).startswith(
-        _PACKAGE_DIR
-    )
 
 
 def _mistyped(

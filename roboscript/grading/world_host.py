@@ -57,6 +57,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
+from roboscript.code_owner import is_student_file
 from roboscript.grading.cpu_time import (
     process_tree_cpu_s,
     process_tree_stopped,
@@ -858,11 +859,6 @@ _EXCEPTION_LINE = re.compile(
 )
 
 
-def _is_ours(path: str) -> bool:
-    package = str(Path(__file__).resolve().parents[1])
-    return path.startswith((package, sys.prefix, sys.base_prefix, "<"))
-
-
 def crash_message(stderr: str, exit_status: int | None, loaded: bool) -> str:
     """One sentence for a mission process that ended before its mission finished."""
     phase = "" if loaded else " while loading"
@@ -870,7 +866,7 @@ def crash_message(stderr: str, exit_status: int | None, loaded: bool) -> str:
     where = ""
     for line in lines:
         match = _TRACE_LINE.match(line)
-        if match and not _is_ours(match["file"]):
+        if match and is_student_file(match["file"]):
             where = f" ({Path(match['file']).name}:{match['line']})"
     for line in reversed(lines):
         if _EXCEPTION_LINE.match(line):

@@ -29,10 +29,8 @@ import importlib.util
 import inspect
 import linecache
 import logging
-import os
 import re
 import sys
-import sysconfig
 import traceback
 from dataclasses import FrozenInstanceError, dataclass, fields
 from pathlib import Path
@@ -41,6 +39,7 @@ from typing import Any
 
 import roboscript
 from roboscript.actions.base import Action, UnderSpecifiedError, UpdateReturnError, params_of
+from roboscript.code_owner import is_student_class, is_student_file, raised_by_roboscript
 from roboscript.errors import (
     LinkError,
     MissionError,
@@ -70,36 +69,6 @@ __all__ = [
 
 logger = logging.getLogger(__name__)
 
-_PACKAGE_DIR = Path(__file__).resolve().parent.parent
-_RUNTIME_PACKAGES = ("yaml", "transitions", "simple_pid", "serial")
-"""The installed packages roboscript runs on (a student's code calls into them, never the
-reverse)."""
-
-
-def _library_dirs(packages: tuple[str, ...] = _RUNTIME_PACKAGES) -> tuple[str, ...]:
-    """The folders whose code is Python's or an installed package's: Python's install paths,
-    and the folder each of ``packages`` was installed in (the browser page unpacks them in a
-    folder of its own, outside Python's install paths), each ending in a separator."""
-    folders = {
-        Path(path).resolve()
-        for key in ("stdlib", "platstdlib", "purelib", "platlib")
-        if (path := sysconfig.get_paths().get(key))
-    }
-    for name in packages:
-        try:
-            found = importlib.util.find_spec(name)  # the imported module's, else found unimported
-        except (ImportError, ValueError):
-            continue
-        if found is not None and found.origin and found.submodule_search_locations:
-            folders.add(Path(found.origin).resolve().parent.parent)  # .../site-packages/yaml/..
-        elif found is not None and found.origin:
-            folders.add(Path(found.origin).resolve().parent)  # a single-module package
-    return tuple(sorted(os.path.join(str(folder), "") for folder in folders))
-
-
-_LIBRARY_DIRS = (os.path.join(str(_PACKAGE_DIR), ""), *_library_dirs())
-"""roboscript's own folder and the library folders, each ending in a separator."""
-
 # (resolved path, modification time, size) -> module; a file is imported once per version, so
 # a behaviour class keeps its identity between `check` and `run` in one process.
 _IMPORTED: dict[tuple[str, int, int], ModuleType] = {}
@@ -111,25 +80,6 @@ def shown_path(path: str | Path) -> str:
         return str(Path(path).resolve().relative_to(Path.cwd().resolve()))
     except (ValueError, OSError):
         return str(path)
-
-
-def is_student_class(cls: type) -> bool:
-    """True if ``cls`` was written outside roboscript (by a student or a teacher)."""
-    module = cls.__module__ or ""
-    return module != "roboscript" and not module.startswith("roboscript.")
-
-
-def _is_library_file(filename: str) -> bool:
-    if filename.startswith("<"):
-        return True  # <frozen importlib._bootstrap>, <string>
-    resolved = str(Path(filename).resolve())
-    return resolved.startswith(_LIBRARY_DIRS)
-
-
-def is_student_file(filename: str) -> bool:
-    """True if code from ``filename`` (a code object's ``co_filename``) is a student's or a
-    teacher's: neither roboscript's, nor Python's, nor an installed package's."""
-    return not _is_library_file(filename)
 
 
 def _student_frame(tb: TracebackType | None) -> traceback.FrameSummary | None:
@@ -571,7 +521,6 @@ _CANNOT_IMPORT = re.compile(r"^cannot import name '(\w+)' from '([\w.]+)'")
 def _import_problem(
     exc: BaseException, path: str | Path, module: ModuleType, kind: str
 ) -> MissionError:
-    frames = traceback.extract_tb(exc.__traceback__)
     frame = _student_frame(exc.__traceback__)
     where, line, col = str(path), None, None
     if frame is not None:
@@ -580,8 +529,7 @@ def _import_problem(
         line = frame.lineno
         colno = getattr(frame, "colno", None)  # Python 3.11+
         col = colno + 1 if colno is not None else None
-    raised_by_roboscript = bool(frames) and frames[-1].filename.startswith(str(_PACKAGE_DIR))
-    message, hint = _explain(exc, module, raised_by_roboscript, kind, frame)
+    message, hint = _explain(exc, module, raised_by_roboscript(exc), kind, frame)
     return MissionError(message, path=where, line=line, col=col, hint=hint)
 
 

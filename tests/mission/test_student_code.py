@@ -12,22 +12,16 @@ import dataclasses
 import hashlib
 import logging
 import os
-import shutil
-import subprocess
 import sys
 import textwrap
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-import simple_pid
-import transitions
-import yaml
 from helpers import run_cli
 
 from roboscript.actions.base import Action, Result
 from roboscript.errors import MissionError
-from roboscript.mission import student_code
 from roboscript.mission.python_api import Mission, state
 from roboscript.mission.student_code import (
     StudentCodeError,
@@ -897,48 +891,6 @@ def test_an_action_or_value_kept_below_the_state_using_it_says_to_set_it_above(
         f"error: NameError: name '{name}' is not defined ('{name}' is set further down in the"
         " class, but Python runs a class from the top: set it above the line that uses it)"
     )
-
-
-def test_packages_unpacked_outside_pythons_paths_are_library_code_as_on_the_page(
-    tmp_path: Path,
-) -> None:
-    """The browser page unpacks yaml, transitions and simple_pid in a folder of its own, first
-    on the path: their code is still no student's (else the watchdog would watch it line by
-    line and blame it for a slow check)."""
-    site = tmp_path / "home" / "site-packages"
-    for package in (yaml, transitions, simple_pid):
-        folder = Path(str(package.__file__)).parent
-        shutil.copytree(folder, site / folder.name, ignore=shutil.ignore_patterns("__pycache__"))
-    probe = (
-        "import sys; sys.path.insert(0, sys.argv[1])\n"
-        "import yaml, transitions, simple_pid\n"
-        "from roboscript.mission.student_code import is_student_file\n"
-        "for module in (yaml, transitions, simple_pid):\n"
-        "    assert module.__file__.startswith(sys.argv[1]), module.__file__\n"
-        "    print(module.__name__, is_student_file(module.__file__))\n"
-        "print('mission', is_student_file(sys.argv[2]))\n"
-    )
-    mission = tmp_path / "home" / "square.py"
-    mission.write_text("x = 1\n", encoding="utf-8")
-    done = subprocess.run(
-        [sys.executable, "-c", probe, str(site), str(mission)],
-        capture_output=True,
-        text=True,
-        check=False,
-        cwd=tmp_path,
-    )
-    assert done.returncode == 0, done.stderr
-    assert done.stdout.split("\n")[:4] == [
-        "yaml False",
-        "transitions False",
-        "simple_pid False",
-        "mission True",
-    ]
-
-
-def test_a_folder_whose_name_starts_like_roboscripts_is_not_roboscript() -> None:
-    beside = Path(str(student_code._PACKAGE_DIR) + "_missions") / "square.py"
-    assert student_code.is_student_file(str(beside))
 
 
 OWN_ACTION = """\
