@@ -14,29 +14,15 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 
+from roboscript.grading.processes import (
+    CHILDREN_LISTED,
+    listed_children,
+    read_stat,
+    stats,
+    waited_s,
+)
+
 __all__ = ["process_tree_cpu_s", "process_tree_stopped", "process_tree_waited_s"]
-
-_TICKS_PER_S = float(os.sysconf("SC_CLK_TCK")) if hasattr(os, "sysconf") else 100.0
-_CHILDREN_LISTED = os.path.exists(f"/proc/{os.getpid()}/task/{os.getpid()}/children")
-"""Whether Linux lists each thread's children (``CONFIG_PROC_CHILDREN``, on in the common
-distributions' kernels)."""
-
-
-def _stat(pid: str) -> tuple[int, float] | None:
-    """A process's parent and its CPU seconds (its own and its reaped children's), or None."""
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as handle:
-            text = handle.read()
-    except OSError:
-        return None  # it ended meanwhile
-    # The name (field 2) may hold spaces and parentheses: fields follow the last ")".
-    fields = text[text.rfind(b")") + 2 :].split()
-    try:
-        parent = int(fields[1])
-        ticks = int(fields[11]) + int(fields[12]) + int(fields[13]) + int(fields[14])
-    except (IndexError, ValueError):
-        return None
-    return parent, ticks / _TICKS_PER_S
 
 
 def process_tree_cpu_s(root_pid: int) -> float | None:
@@ -59,7 +45,7 @@ def _scan(root_pid: int) -> dict[int, float] | None:
     """Each process of the tree and its CPU seconds, or None."""
     if not os.path.isdir("/proc/self"):
         return None
-    if _CHILDREN_LISTED:
+    if CHILDREN_LISTED:
         return _walk(root_pid)
     return _scan_all(root_pid)
 
@@ -67,46 +53,22 @@ def _scan(root_pid: int) -> dict[int, float] | None:
 def _walk(root_pid: int) -> dict[int, float] | None:
     """The tree, from each of its threads' list of children: a handful of files for a jail's
     few processes, where reading every process's ``stat`` takes milliseconds on a desktop."""
-    return _gather(root_pid, _listed_children, _own_cpu_s)
+    return _gather(root_pid, listed_children, _cpu_s)
 
 
-def _own_cpu_s(pid: int) -> float | None:
-    found = _stat(str(pid))
-    return None if found is None else found[1]
-
-
-def _listed_children(pid: int) -> list[int]:
-    children: list[int] = []
-    try:
-        threads = os.listdir(f"/proc/{pid}/task")
-    except OSError:
-        return children
-    for thread in threads:  # a child's parent is the thread that started it
-        try:
-            with open(f"/proc/{pid}/task/{thread}/children", "rb") as handle:
-                children.extend(int(child) for child in handle.read().split())
-        except (OSError, ValueError):
-            continue
-    return children
+def _cpu_s(pid: int) -> float | None:
+    """Process ``pid``'s CPU seconds, its own and its reaped children's; None if it ended."""
+    found = read_stat(pid)
+    return None if found is None else found.cpu_with_reaped_children_s
 
 
 def _scan_all(root_pid: int) -> dict[int, float] | None:
     """The tree, from every process's parent (where the system lists no children)."""
     children: dict[int, list[int]] = {}
     cpu: dict[int, float] = {}
-    try:
-        names = os.listdir("/proc")
-    except OSError:
-        return None
-    for name in names:
-        if not name.isdigit():
-            continue
-        found = _stat(name)
-        if found is None:
-            continue
-        pid = int(name)
-        cpu[pid] = found[1]
-        children.setdefault(found[0], []).append(pid)
+    for pid, found in stats():
+        cpu[pid] = found.cpu_with_reaped_children_s
+        children.setdefault(found.parent, []).append(pid)
     if root_pid not in cpu:
         return None
     return _gather(root_pid, lambda pid: children.get(pid, []), lambda pid: cpu.get(pid, 0.0))
@@ -141,14 +103,7 @@ def process_tree_waited_s(root_pid: int) -> float | None:
     pids = _tree(root_pid)
     if not pids:
         return None
-    total = 0.0
-    for pid in pids:
-        try:
-            with open(f"/proc/{pid}/schedstat", "rb") as handle:
-                total += int(handle.read().split()[1]) / 1e9
-        except (OSError, ValueError, IndexError):
-            continue  # it ended meanwhile
-    return total
+    return sum(waited or 0.0 for waited in map(waited_s, pids))
 
 
 def process_tree_stopped(root_pid: int) -> bool:
@@ -156,11 +111,7 @@ def process_tree_stopped(root_pid: int) -> bool:
     ``T`` or ``t`` in ``/proc/PID/stat``): it uses no CPU and waits for none, so neither rule on
     CPU time ever ends it. False where the system does not tell."""
     for pid in _tree(root_pid):
-        try:
-            with open(f"/proc/{pid}/stat", "rb") as handle:
-                text = handle.read()
-        except OSError:
-            continue  # it ended meanwhile
-        if text[text.rfind(b")") + 2 : text.rfind(b")") + 3] in (b"T", b"t"):
+        found = read_stat(pid)  # None: it ended meanwhile
+        if found is not None and found.state in ("T", "t"):
             return True
     return False

@@ -39,7 +39,7 @@ import struct
 import sys
 from collections.abc import Sequence
 
-from roboscript.grading.processes import kill_user_processes, reap_children
+from roboscript.grading.processes import kill_user_processes, read_stat, reap_children
 
 __all__ = ["main"]
 
@@ -161,11 +161,10 @@ def _ancestors() -> set[int]:
     pid = os.getppid()
     while pid > 0 and pid not in found:
         found.add(pid)
-        try:
-            with open(f"/proc/{pid}/stat", "rb") as handle:
-                pid = int(handle.read().rsplit(b")", 1)[1].split()[1])
-        except (OSError, ValueError, IndexError):
+        stat = read_stat(pid)
+        if stat is None:
             break
+        pid = stat.parent
     return found
 
 

@@ -39,7 +39,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from roboscript.grading.processes import kill_user_processes, reap_children, statuses, uid_of
+from roboscript.grading.processes import (
+    kill_user_processes,
+    read_stat,
+    read_status,
+    reap_children,
+    statuses,
+    uid_of,
+)
 
 if TYPE_CHECKING:
     from typing_extensions import Self
@@ -1419,13 +1426,8 @@ class JailedRun(_Output):
 
 def process_cpu_time_s(pid: int) -> float | None:
     """CPU seconds (user + system) process ``pid`` has used, from ``/proc``; None if gone."""
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as handle:
-            fields = handle.read().rsplit(b")", 1)[1].split()
-    except (OSError, IndexError):
-        return None
-    ticks = os.sysconf("SC_CLK_TCK")
-    return (int(fields[11]) + int(fields[12])) / ticks
+    found = read_stat(pid)
+    return None if found is None else found.cpu_s
 
 
 def _wait_readable(fds: Sequence[int], timeout_s: float) -> bool:
@@ -1472,12 +1474,8 @@ def _jail_init_fd(info: int) -> int | None:
         return None
     # Between bwrap writing the pid and us opening it, the pid could in principle have been
     # reused: accept it only if it is still the init of a nested PID namespace.
-    try:
-        with open(f"/proc/{pid}/status", "rb") as handle:
-            nspid = next(line for line in handle if line.startswith(b"NSpid:")).split()
-    except (OSError, StopIteration):
-        nspid = []
-    if len(nspid) < 3 or nspid[-1] != b"1":
+    nspid = (read_status(pid) or {}).get(b"NSpid", b"").split()  # its pid in each namespace
+    if len(nspid) < 2 or nspid[-1] != b"1":
         os.close(fd)
         return None
     return fd

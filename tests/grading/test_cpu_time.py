@@ -12,7 +12,7 @@ from contextlib import contextmanager
 import pytest
 from helpers import HANG_BOUND_S
 
-from roboscript.grading import cpu_time
+from roboscript.grading import cpu_time, processes
 from roboscript.grading.cpu_time import (
     process_tree_cpu_s,
     process_tree_stopped,
@@ -91,7 +91,7 @@ def test_the_tree_is_the_same_whether_read_from_children_or_from_parents() -> No
                 break
             time.sleep(0.01)
         assert found is not None and len(found) == expected
-        if cpu_time._CHILDREN_LISTED:
+        if processes.CHILDREN_LISTED:
             walked = cpu_time._walk(tree.pid)
             assert walked is not None and set(walked) == set(found)
     finally:
@@ -109,3 +109,29 @@ def test_a_tree_with_a_stopped_grandchild_is_stopped_and_one_running_is_not() ->
             time.sleep(0.01)
     with _burnt([sys.executable, "-c", BURN]) as root:
         assert not process_tree_stopped(root)
+
+
+RENAMED_AND_STOPPED = """
+import ctypes, os, signal
+# a name that reads as running, parent 1, to a reader splitting stat at the first ")"
+ctypes.CDLL(None).prctl(15, b"a) (R 1\\nb", 0, 0, 0)  # PR_SET_NAME
+print("burnt", flush=True)
+os.kill(os.getpid(), signal.SIGSTOP)
+"""
+
+
+def test_a_child_named_with_parentheses_and_a_newline_counts_and_is_seen_stopped() -> None:
+    parent = (
+        "import subprocess, sys, time;"
+        f" subprocess.Popen([sys.executable, '-c', {RENAMED_AND_STOPPED!r}]); time.sleep(600)"
+    )
+    with _burnt([sys.executable, "-c", parent]) as root:
+        deadline = time.monotonic() + HANG_BOUND_S  # a bound for a broken test only
+        while not process_tree_stopped(root):
+            assert time.monotonic() < deadline, "never seen stopped"
+            time.sleep(0.01)
+        scanned = cpu_time._scan_all(root)
+        assert scanned is not None and len(scanned) == 2  # the parent and its renamed child
+        if processes.CHILDREN_LISTED:
+            walked = cpu_time._walk(root)
+            assert walked is not None and set(walked) == set(scanned)
