@@ -111,6 +111,15 @@ def test_a_tree_with_a_stopped_grandchild_is_stopped_and_one_running_is_not() ->
         assert not process_tree_stopped(root)
 
 
+def _child_stopped(parent: int) -> bool:
+    """True once a child of ``parent`` is stopped, as its ``status`` file tells."""
+    mine = str(parent).encode()
+    return any(
+        fields.get(b"PPid") == mine and fields.get(b"State", b"").startswith(b"T")
+        for _pid, fields in processes.statuses()
+    )
+
+
 RENAMED_AND_STOPPED = """
 import ctypes, os, signal
 # a name that reads as running, parent 1, to a reader splitting stat at the first ")"
@@ -127,9 +136,10 @@ def test_a_child_named_with_parentheses_and_a_newline_counts_and_is_seen_stopped
     )
     with _burnt([sys.executable, "-c", parent]) as root:
         deadline = time.monotonic() + HANG_BOUND_S  # a bound for a broken test only
-        while not process_tree_stopped(root):
-            assert time.monotonic() < deadline, "never seen stopped"
+        while not _child_stopped(root):  # told by status, which escapes the name
+            assert time.monotonic() < deadline, "never stopped"
             time.sleep(0.01)
+        assert process_tree_stopped(root)
         scanned = cpu_time._scan_all(root)
         assert scanned is not None and len(scanned) == 2  # the parent and its renamed child
         if processes.CHILDREN_LISTED:

@@ -49,13 +49,21 @@ def _oddly_named(tmp_path: Path) -> Iterator[int]:
     child = subprocess.Popen(["sleep", "600"], executable=copy)
     try:
         deadline = time.monotonic() + HANG_BOUND_S  # a bound for a broken test only
-        while (found := read_stat(child.pid)) is None or found.name != ODD_NAME:
-            assert time.monotonic() < deadline, f"never renamed: {found}"
+        while not _runs(child.pid, copy):
+            assert time.monotonic() < deadline, "never ran its program"
             time.sleep(0.01)
         yield child.pid
     finally:
         child.kill()
         child.wait(HANG_BOUND_S)
+
+
+def _runs(pid: int, program: Path) -> bool:
+    """True once process ``pid`` runs ``program`` (Python's fork has become its exec)."""
+    try:
+        return os.readlink(f"/proc/{pid}/exe") == os.path.realpath(program)
+    except OSError:
+        return False
 
 
 @needs_proc
