@@ -52,8 +52,6 @@ from roboscript.grading.task import RunTask, crash_result
 __all__ = ["RunTask", "bounded_jobs", "crash_result", "default_jobs", "run_tasks"]
 
 _KILL_GRACE_S = 2.0
-_BACKSTOP_S = 15.0
-"""A worker enforces its run's limits itself; the parent ends one this far past them."""
 
 
 def default_jobs() -> int:
@@ -278,7 +276,7 @@ def _start(context: Any, batch: list[tuple[int, RunTask]], first: bool) -> _Runn
 
 
 def _deadline(started: float, task: RunTask) -> float:
-    return started + task.spec.wall_time_limit_s + _BACKSTOP_S
+    return started + task.spec.longest_wall_time_s
 
 
 def _worker_entry(connection: Connection, batch: list[tuple[int, RunTask]], first: bool) -> None:

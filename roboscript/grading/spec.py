@@ -59,6 +59,8 @@ from roboscript.sim.world import WORLD_REACH_MM, World, builtin_worlds, load_wor
 __all__ = [
     "DEFAULT_MAX_TIME_S",
     "DEFAULT_WALL_TIME_LIMIT_S",
+    "GRADER_BACKSTOP_S",
+    "WALL_TIME_STRETCH",
     "TestSpec",
     "Variant",
     "is_test_spec",
@@ -70,6 +72,14 @@ DEFAULT_MAX_TIME_S = 60.0
 DEFAULT_WALL_TIME_LIMIT_S = 60.0
 """Real time one run may take before the grader stops it. The simulator runs a 60 s mission
 in well under a second, so only a mission stuck in a loop of its own code comes near this."""
+GRADER_BACKSTOP_S = 15.0
+"""Real time past a test's ``wall_time_limit`` after which the grader ends a run's worker
+itself: the worker stops its run at the limit, and this is for a worker that could not."""
+WALL_TIME_STRETCH = 1000.0
+"""How many times its :attr:`TestSpec.longest_wall_time_s` a run's measured wall time may be.
+The grader does not hold against a run the time a busy machine kept it waiting for a CPU, nor
+a pause of the grader itself (Ctrl-Z, a suspended laptop): its wall time may pass its
+allowance by that much, and a results file's time beyond this many times it is no grading's."""
 
 _LONGEST_RUN = (MAX_TIME_S, f"1 hour ({MAX_TIME_S:g} s)")
 """Most seconds a run's ``max_time`` and ``wall_time_limit`` may give it, as a mission's own
@@ -162,6 +172,20 @@ class TestSpec:
     location: Location | None = None
     worlds: dict[str, World] = field(default_factory=dict, compare=False, repr=False)
     points: float | None = None
+
+    @property
+    def longest_wall_time_s(self) -> float:
+        """Real seconds the grader gives one run of this test before it ends the run's worker:
+        the ``wall_time_limit`` plus :data:`GRADER_BACKSTOP_S`, not counting the time a busy
+        machine kept the run waiting for a CPU."""
+        return self.wall_time_limit_s + GRADER_BACKSTOP_S
+
+    @property
+    def longest_wall_time_shown_s(self) -> float:
+        """The most real seconds a run of this test may show in a results file:
+        :attr:`longest_wall_time_s` stretched by a busy or paused machine
+        (:data:`WALL_TIME_STRETCH`)."""
+        return self.longest_wall_time_s * WALL_TIME_STRETCH
 
     @property
     def max_points(self) -> float:

@@ -15,10 +15,12 @@ from typing import Any
 import pytest
 from helpers import FORWARD_50CM, FORWARD_50CM_EXPECT, HANG_BOUND_S, MISSIONS
 
+from roboscript.grading import pool
 from roboscript.grading.batch import find_specs, find_submissions, grade_class
 from roboscript.grading.run import grade_run
 from roboscript.grading.sandbox import warm_jails_supported
 from roboscript.grading.spec import load_test_spec
+from roboscript.grading.task import RunTask
 
 SPEC = """\
 test: square
@@ -171,6 +173,13 @@ def test_results_do_not_depend_on_the_number_of_workers(batch: tuple[Path, Path]
         "flo",
         "flo",
     ]
+
+
+def test_the_parent_ends_a_worker_at_its_runs_longest_wall_time(batch: tuple[Path, Path]) -> None:
+    spec_path, folder = batch
+    spec = load_test_spec(spec_path)
+    task = RunTask(spec, str(folder / "ada.yaml"), spec.variants[0], "ada")
+    assert pool._deadline(100.0, task) == 100.0 + spec.longest_wall_time_s
 
 
 def test_a_run_in_process_equals_the_run_in_a_worker(batch: tuple[Path, Path]) -> None:

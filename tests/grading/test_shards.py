@@ -254,6 +254,9 @@ def _set(run: dict[str, Any], where: str, value: Any) -> None:
         ("label", 3, "label"),
         ("replay", 1, "replay"),
         ("variant", 9, "variant"),
+        ("wall_time_s", -1.0, "wall_time_s"),
+        # the spec's default wall_time_limit (60 s), the backstop, a busy or paused machine
+        ("wall_time_s", 75_000.5, "is not a time a run of out-and-turn takes (at most 75000 s)"),
         ("record.duration_s", 1e30, "duration_s"),
         ("record.duration_s", float("nan"), "NaN"),
         ("record.duration_s", -5, "duration_s"),
@@ -294,6 +297,21 @@ def test_a_damaged_run_line_is_one_sentence_and_the_others_are_still_reported(
     everyone = {*STUDENTS, "hal"} - {run["student"]}
     assert {row.split(",")[0] for row in rows} == everyone
     assert (root / "bad-html" / "index.html").is_file()
+
+
+def test_a_run_that_waited_long_on_a_busy_or_paused_machine_still_merges(
+    graded: dict[str, Any],
+) -> None:
+    root = graded["root"]
+    lines = (root / "all.jsonl").read_text(encoding="utf-8").splitlines()
+    run = json.loads(lines[1])
+    run["wall_time_s"] = 75_000.0  # (60 s + the backstop) a thousand times over: a night's pause
+    lines[1] = json.dumps(run)
+    (root / "paused.jsonl").write_text("\n".join(lines) + "\n")
+    merged = run_cli("gradebook", "paused.jsonl", "--json", cwd=root)
+    assert merged.returncode in (0, 1), merged.stderr
+    walls = [r["wall_time_s"] for r in json.loads(merged.stdout)["runs"]]
+    assert 75_000.0 in walls
 
 
 def test_a_run_line_given_twice_is_refused_naming_both_lines(graded: dict[str, Any]) -> None:

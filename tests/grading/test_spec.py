@@ -18,6 +18,8 @@ from roboscript.grading.expectations import (
 from roboscript.grading.spec import (
     DEFAULT_MAX_TIME_S,
     DEFAULT_WALL_TIME_LIMIT_S,
+    GRADER_BACKSTOP_S,
+    WALL_TIME_STRETCH,
     is_test_spec,
     load_test_spec,
 )
@@ -89,6 +91,17 @@ def test_weights_settle_and_world_files_next_to_the_spec(tmp_path: Path) -> None
     assert spec.expectations[1].rule == WallDistance(
         side="left", min_mm=150.0, max_mm=250.0, selection=Selection(state="follow", settle_s=2.0)
     )
+
+
+def test_a_run_is_given_its_wall_time_limit_plus_the_backstop_and_shows_at_most_a_stretch(
+    tmp_path: Path,
+) -> None:
+    spec = load_test_spec(
+        _write(tmp_path, "test: t\nwall_time_limit: 5 s\nexpect:\n  - outcome: success\n")
+    )
+    assert spec.longest_wall_time_s == 5.0 + GRADER_BACKSTOP_S
+    assert spec.longest_wall_time_shown_s == (5.0 + GRADER_BACKSTOP_S) * WALL_TIME_STRETCH
+    assert GRADER_BACKSTOP_S > 0 and WALL_TIME_STRETCH >= 1
 
 
 @pytest.mark.parametrize(
