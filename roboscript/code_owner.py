@@ -16,7 +16,7 @@ are):
 * **roboscript's**: a file inside roboscript's own folder, whoever put it there;
 * **a library's**: Python's and installed packages' folders (standard library, site-packages,
   the scripts folder of ``pip``'s console commands), the folder each of roboscript's runtime
-  packages was found in (the browser page unpacks them outside Python's paths), and code read
+  packages was imported from (the browser page unpacks them outside Python's paths), and code read
   from no file of this computer: a name in brackets (``<frozen importlib._bootstrap>``,
   ``<string>`` from ``exec``, ``<stdin>``), or a relative name that names no file in the working
   folder (bytecode compiled with its name in a zip, as the browser page's standard library);
@@ -36,7 +36,6 @@ graded run's jail the package and Python's folders are seen at the same paths as
 from __future__ import annotations
 
 import functools
-import importlib.util
 import os
 import sys
 import sysconfig
@@ -75,34 +74,40 @@ reverse)."""
 _SYSCONFIG_KEYS = ("stdlib", "platstdlib", "purelib", "platlib", "scripts")
 
 
-@functools.cache
 def _library_dirs() -> tuple[str, ...]:
     """The folders whose code is Python's or an installed package's, each ending in a
     separator: Python's install paths, and the folder each of :data:`RUNTIME_PACKAGES` was
-    found in (looked up once, when first needed, as the interpreter's path then is)."""
+    imported from.
+
+    Only an imported package counts, and only a package (a folder), never a module found on
+    the path: a student's own ``serial.py`` beside their mission, first on the path, must not
+    make their folder a library's.
+    """
+    files = []
+    for name in RUNTIME_PACKAGES:
+        module = sys.modules.get(name)
+        file = getattr(module, "__file__", None)
+        if isinstance(file, str) and hasattr(module, "__path__"):
+            files.append(file)
+    return _folders_with(tuple(files))
+
+
+@functools.cache
+def _folders_with(package_files: tuple[str, ...]) -> tuple[str, ...]:
     paths = sysconfig.get_paths()
     folders = {os.path.realpath(path) for key in _SYSCONFIG_KEYS if (path := paths.get(key))}
-    for name in RUNTIME_PACKAGES:
-        try:
-            found = importlib.util.find_spec(name)  # the imported module's, else found unimported
-        except (ImportError, ValueError):
-            continue
-        if found is None or not found.origin:
-            continue
-        origin = os.path.realpath(found.origin)
-        if found.submodule_search_locations:
-            origin = os.path.dirname(origin)  # .../site-packages/yaml/__init__.py -> .../yaml
-        folders.add(os.path.dirname(origin))
+    for file in package_files:  # .../site-packages/yaml/__init__.py -> .../site-packages
+        folders.add(os.path.dirname(os.path.dirname(os.path.realpath(file))))
     return tuple(sorted(os.path.join(folder, "") for folder in folders))
 
 
 @functools.lru_cache(maxsize=4096)
-def _owner_of_path(path: str) -> Owner:
+def _owner_of_path(path: str, library_dirs: tuple[str, ...]) -> Owner:
     """The owner of an absolute ``path`` (cached: the watchdog asks for each function called)."""
     real = os.path.realpath(path)
     if real.startswith(PACKAGE_DIR):
         return ROBOSCRIPT
-    if real.startswith(_library_dirs()):
+    if real.startswith(library_dirs):
         return LIBRARY
     return STUDENT
 
@@ -113,7 +118,7 @@ def owner_of_file(filename: str) -> Owner:
     if filename.startswith("<"):
         return LIBRARY  # <frozen importlib._bootstrap>, <string>, <stdin>
     if os.path.isabs(filename):
-        return _owner_of_path(filename)
+        return _owner_of_path(filename, _library_dirs())
     try:
         here = os.path.join(os.getcwd(), filename)
     except OSError:  # the working folder was removed: no relative name names a file
@@ -122,7 +127,7 @@ def owner_of_file(filename: str) -> Owner:
         # bytecode compiled under a name in its zip (the page's standard library: "json/
         # decoder.py"), a frozen application's module: nothing a student could open
         return LIBRARY
-    return _owner_of_path(here)
+    return _owner_of_path(here, _library_dirs())
 
 
 def is_student_file(filename: str) -> bool:

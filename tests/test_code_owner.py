@@ -374,3 +374,33 @@ def test_a_crashed_graded_run_names_the_students_line_not_roboscripts_nor_python
     assert crash_message(stderr, 1, loaded=True) == (
         "the run crashed: ZeroDivisionError: division by zero (square.py:12)"
     )
+
+
+def test_a_student_file_named_like_a_runtime_package_keeps_the_students_folder_theirs(
+    tmp_path: Path,
+) -> None:
+    """A student's ``serial.py`` beside their mission, first on the path before pyserial is
+    imported, is no installed package: their folder stays theirs (the watchdog watches it)."""
+    (tmp_path / "serial.py").write_text("BAUD = 9600\n", encoding="utf-8")
+    mission = tmp_path / "mission.py"
+    mission.write_text("import serial\n", encoding="utf-8")
+    probe = textwrap.dedent(
+        """
+        import sys
+        sys.path.insert(0, sys.argv[1])
+        from roboscript.code_owner import is_student_file
+        print(is_student_file(sys.argv[2]))
+        import serial  # the student's
+        print(is_student_file(sys.argv[2]), is_student_file(serial.__file__))
+        """
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", probe, str(tmp_path), str(mission)],
+        capture_output=True,
+        text=True,
+        check=False,
+        cwd=tmp_path,
+        timeout=HANG_BOUND_S,
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines() == ["True", "True True"]
