@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import sys
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
@@ -27,3 +28,15 @@ def write_mission(tmp_path: Path) -> Callable[..., Path]:
         return path
 
     return write
+
+
+@pytest.fixture
+def here(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
+    """The student works in ``tmp_path``, so messages name files as they typed them."""
+    monkeypatch.chdir(tmp_path)
+    before = set(sys.modules)
+    yield tmp_path
+    # files beside a mission (sizes.py, ...) are imported by name: forget them, so the next
+    # test's file of the same name is imported afresh
+    for name in set(sys.modules) - before:
+        del sys.modules[name]

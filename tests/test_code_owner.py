@@ -17,7 +17,6 @@ import sys
 import sysconfig
 import textwrap
 import zipfile
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -55,16 +54,6 @@ class Spin(Action):
         return True
 """
 """A student's action whose ``update`` forgets to return a :class:`Result`."""
-
-
-@pytest.fixture
-def here(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
-    """The student works in ``tmp_path``; modules their files import are forgotten after."""
-    monkeypatch.chdir(tmp_path)
-    before = set(sys.modules)
-    yield tmp_path
-    for name in set(sys.modules) - before:
-        del sys.modules[name]
 
 
 def _update_is_checked(cls: type[Action]) -> bool:
@@ -114,20 +103,28 @@ def test_a_symlinked_install_is_roboscripts_where_its_files_really_are(tmp_path:
             print(exc)
         """
     )
-    done = subprocess.run(
-        [sys.executable, "-S", "-c", probe, str(site)],
-        capture_output=True,
-        text=True,
-        check=False,
-        cwd=tmp_path,
-        env={**os.environ, "PYTHONPATH": os.pathsep.join(_dependency_folders())},
-        timeout=HANG_BOUND_S,
-    )
-    assert done.returncode == 0, done.stderr
-    assert done.stdout.splitlines() == [
+    out = _python(["-S", "-c", probe, str(site)], tmp_path, _dependency_folders())
+    assert out.splitlines() == [
         "False",
         "wait duration: expected a time such as '200 ms', got [2]",
     ]
+
+
+def _python(args: list[str], cwd: Path, path: list[str] | None = None) -> str:
+    """The standard output of this interpreter run with ``args`` in a fresh process (with
+    ``path`` as its ``PYTHONPATH`` when given), which must succeed."""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(path)} if path is not None else None
+    done = subprocess.run(
+        [sys.executable, *args],
+        capture_output=True,
+        text=True,
+        check=False,
+        cwd=cwd,
+        env=env,
+        timeout=HANG_BOUND_S,
+    )
+    assert done.returncode == 0, done.stderr
+    return done.stdout
 
 
 def _dependency_folders() -> list[str]:
@@ -288,16 +285,8 @@ def test_packages_unpacked_outside_pythons_paths_are_library_code_as_on_the_page
     )
     mission = tmp_path / "home" / "square.py"
     mission.write_text("x = 1\n", encoding="utf-8")
-    done = subprocess.run(
-        [sys.executable, "-c", probe, str(site), str(mission)],
-        capture_output=True,
-        text=True,
-        check=False,
-        cwd=tmp_path,
-        timeout=HANG_BOUND_S,
-    )
-    assert done.returncode == 0, done.stderr
-    assert done.stdout.split("\n")[:4] == [
+    out = _python(["-c", probe, str(site), str(mission)], tmp_path)
+    assert out.split("\n")[:4] == [
         "yaml False",
         "transitions False",
         "simple_pid False",
@@ -394,13 +383,5 @@ def test_a_student_file_named_like_a_runtime_package_keeps_the_students_folder_t
         print(is_student_file(sys.argv[2]), is_student_file(serial.__file__))
         """
     )
-    done = subprocess.run(
-        [sys.executable, "-c", probe, str(tmp_path), str(mission)],
-        capture_output=True,
-        text=True,
-        check=False,
-        cwd=tmp_path,
-        timeout=HANG_BOUND_S,
-    )
-    assert done.returncode == 0, done.stderr
-    assert done.stdout.splitlines() == ["True", "True True"]
+    out = _python(["-c", probe, str(tmp_path), str(mission)], tmp_path)
+    assert out.splitlines() == ["True", "True True"]

@@ -14,7 +14,6 @@ import logging
 import os
 import sys
 import textwrap
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -32,18 +31,6 @@ from roboscript.mission.student_code import (
 )
 from roboscript.profiles import BUILTIN_PROFILES
 from roboscript.watchdog import CodePlace
-
-
-@pytest.fixture
-def here(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
-    """The student works in ``tmp_path``, so messages name files as they typed them."""
-    monkeypatch.chdir(tmp_path)
-    before = set(sys.modules)
-    yield tmp_path
-    # files beside a mission (sizes.py, ...) are imported by name: forget them, so the next
-    # test's file of the same name is imported afresh
-    for name in set(sys.modules) - before:
-        del sys.modules[name]
 
 
 def _write(folder: Path, name: str, text: str) -> Path:
