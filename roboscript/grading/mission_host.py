@@ -34,6 +34,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from roboscript.interrupts import exit_status_for, reason_for
 from roboscript.interrupts import install as install_interrupts
 from roboscript.mission.channels import MAX_PRINTED_LINES, PRINTED_LINE_CHARS
 from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError
@@ -82,6 +83,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _run(channel, mission_path, robot, max_time_s, world_map, hang_after_s)
     except WorldStoppedError:
         return 3
+    except KeyboardInterrupt as exc:
+        # A signal before the session could stop a robot (while the mission loads): the run
+        # ends on it, and the teacher reads the plain sentence, not a traceback through
+        # roboscript's loader.
+        print(reason_for(exc), file=sys.stderr)
+        return exit_status_for(exc)
 
 
 def warm_up(robot: str = "") -> None:

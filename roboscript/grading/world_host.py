@@ -70,6 +70,7 @@ from roboscript.grading.record import MAX_GRADED_STATES, RunRecord, RunStatus
 from roboscript.grading.sandbox import Jail, JailedRun, Limits, WarmJail
 from roboscript.grading.spec import TestSpec, Variant
 from roboscript.grading.submissions import named_files
+from roboscript.interrupts import HANDLED_SIGNALS, Interrupted
 from roboscript.mission.cause import TransitionCause
 from roboscript.mission.channels import PRINTED_LINE_CHARS, printed_line
 from roboscript.mission.runner import MISSION_OUTCOMES
@@ -871,6 +872,9 @@ def crash_message(stderr: str, exit_status: int | None, loaded: bool) -> str:
     for line in reversed(lines):
         if _EXCEPTION_LINE.match(line):
             return f"the run crashed{phase}: {_text(line.strip(), _REASON_CHARS)}{where}"
+    signalled = exit_status is not None and exit_status - 128 in HANDLED_SIGNALS
+    if signalled and exit_status is not None:  # ended on a signal's sentence (mission_host)
+        return f"the run crashed{phase}: {Interrupted(exit_status - 128).reason}"
     if exit_status is not None and exit_status < 0:
         return (
             f"the run crashed{phase}: its process was killed by signal {-exit_status}"
