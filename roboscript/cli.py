@@ -377,9 +377,9 @@ def _report_class(args: argparse.Namespace, report: Any) -> int:
     """Print the table (or --json) and write the reports asked for; the exit status."""
     if args.json:
         # grading (sandbox, reports, worlds) loads only for the grading commands
-        from roboscript.grading.json_report import report_dict
+        from roboscript.grading.json_report import write_report_json
 
-        print(json.dumps(report_dict(report), indent=2, ensure_ascii=False))
+        write_report_json(report, sys.stdout)
     else:
         # grading (sandbox, reports, worlds) loads only for the grading commands
         from roboscript.grading.table import format_table
@@ -423,6 +423,7 @@ def _open_journal(path: str | None) -> Any:
     if not path:
         return None
     try:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)  # as every report's folder is
         return open(path, "w", encoding="utf-8")
     except OSError as exc:
         _err(f"error: cannot write {path}: {exc.strerror or exc}")

@@ -114,6 +114,9 @@ class ClassReport:
         worlds: The worlds the runs used, by the name or path the variants give.
         isolation: How the runs were isolated, one sentence
             (:attr:`~roboscript.grading.sandbox.Isolation.statement`), for every report.
+        full_run: Gives a run of :attr:`results` in full (record, replay, traceback) when
+            the report holds only its summary (the gradebook reads a run's line again
+            when a page draws it); ``None`` when the results are whole.
     """
 
     specs: list[TestSpec]
@@ -121,6 +124,14 @@ class ClassReport:
     results: list[RunResult]
     worlds: dict[str, World] = field(default_factory=dict)
     isolation: str = ""
+    full_run: Callable[[RunResult], RunResult] | None = field(
+        default=None, compare=False, repr=False
+    )
+
+    def in_full(self, result: RunResult) -> RunResult:
+        """``result`` with its record, replay and traceback, capped: what a report that draws
+        a run (a page, ``--json``) reads, one run at a time."""
+        return result if self.full_run is None else self.full_run(result)
 
     @property
     def passed(self) -> bool:

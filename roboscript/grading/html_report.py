@@ -375,6 +375,7 @@ def _run_sections(
     report: ClassReport, result: RunResult, spec: TestSpec, suffix: str = ""
 ) -> list[str]:
     """What happened in a run: pictures, verdicts, facts (``suffix`` keeps ids unique)."""
+    result = report.in_full(result)  # one run's record and replay at a time
     parts: list[str] = []
     record = result.record
     world = report.world_for(result)

@@ -6,12 +6,14 @@ Text is capped (:mod:`roboscript.grading.text`).
 
 from __future__ import annotations
 
-from typing import Any
+import json
+from collections.abc import Callable, Iterator
+from typing import Any, TextIO
 
 from roboscript import __version__
 from roboscript.grading.batch import Cell, ClassReport
 
-__all__ = ["report_dict"]
+__all__ = ["report_dict", "write_report_json"]
 
 
 def report_dict(report: ClassReport) -> dict[str, Any]:
@@ -22,19 +24,49 @@ def report_dict(report: ClassReport) -> dict[str, Any]:
     ``points`` what was earned.
     """
     report = report.capped()
-    runs = []
+    return _report(report, list(_runs(report)))
+
+
+def write_report_json(report: ClassReport, stream: TextIO) -> None:
+    """Write :func:`report_dict` to ``stream`` as indented JSON, one run at a time: no more
+    than one run's record is held, however large the class."""
+    report = report.capped()
+    runs = _Streamed(len(report.results), lambda: _runs(report))
+    encoder = json.JSONEncoder(indent=2, ensure_ascii=False)
+    stream.writelines(encoder.iterencode(_report(report, runs)))
+    stream.write("\n")
+
+
+class _Streamed(list[dict[str, Any]]):
+    """A list JSON's encoder writes item by item as ``make`` yields them (it takes lists
+    only), never holding them all."""
+
+    def __init__(self, length: int, make: Callable[[], Iterator[dict[str, Any]]]) -> None:
+        super().__init__()
+        self._length = length
+        self._make = make
+
+    def __len__(self) -> int:
+        return self._length
+
+    def __iter__(self) -> Iterator[dict[str, Any]]:
+        return self._make()
+
+
+def _runs(report: ClassReport) -> Iterator[dict[str, Any]]:
     cells: dict[tuple[str, str], Cell] = {}
     for result in report.results:
         key = (result.student, result.test)
         cell = cells.get(key) or cells.setdefault(key, report.cell(*key))
-        runs.append(
-            {
-                **result.to_dict(),
-                "hidden": report.is_hidden(result),
-                "points": cell.run_points(result),
-                "max_points": cell.run_max_points,
-            }
-        )
+        yield {
+            **report.in_full(result).to_dict(),
+            "hidden": report.is_hidden(result),
+            "points": cell.run_points(result),
+            "max_points": cell.run_max_points,
+        }
+
+
+def _report(report: ClassReport, runs: list[dict[str, Any]]) -> dict[str, Any]:
     return {
         "roboscript": __version__,
         "isolation": report.isolation,

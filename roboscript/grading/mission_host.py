@@ -87,7 +87,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         # A signal before the session could stop a robot (while the mission loads): the run
         # ends on it, and the teacher reads the plain sentence, not a traceback through
         # roboscript's loader.
-        print(reason_for(exc), file=sys.stderr)
+        sys.stderr.write(reason_for(exc) + "\n")
         return exit_status_for(exc)
 
 

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -39,7 +39,7 @@ from roboscript.grading.batch import ClassReport, find_specs
 from roboscript.grading.record import MAX_GRADED_STATES, GradedRecord, RunResult
 from roboscript.grading.spec import TestSpec
 from roboscript.grading.submissions import Submission
-from roboscript.grading.text import clean_name
+from roboscript.grading.text import cap_result, clean_name
 from roboscript.replay.recording import replay_misfit
 from roboscript.run_record import misfit
 from roboscript.sim.body import MAX_CONTACTS, MAX_TONES
@@ -143,29 +143,48 @@ def results_header(
 class _Part:
     path: str
     header: dict[str, Any]
-    runs: list[tuple[int, str]]  # (line number, text): read once the specs are known
 
 
-MAX_RUN_LINE_CHARS = 64 * 1024**2
-"""The longest run line a results file may hold (characters): a run's line is its record and
-its replay, a few hundred kilobytes for the longest graded run."""
+MAX_RUN_LINE_BYTES = 64 * 1024**2
+"""The longest run line a results file may hold (bytes): a run's line is its record and its
+replay, a few hundred kilobytes for the longest graded run."""
+
+
+def _lines(path: str) -> Iterator[tuple[int, int, str]]:
+    """Each line of a results file as it is read: (line number, byte offset, text).
+
+    One line at a time, so a class's file is never held whole (the gradebook keeps only what
+    the reports sum up, and reads a run's record and replay again when a page draws it).
+
+    Raises:
+        InputError: The file cannot be read, is not UTF-8, or holds a line longer than any
+            run writes.
+    """
+    try:
+        with Path(path).open("rb") as stream:
+            number = 0
+            while True:
+                offset = stream.tell()
+                raw = stream.readline(MAX_RUN_LINE_BYTES + 1)
+                if not raw:
+                    return
+                number += 1
+                if len(raw) > MAX_RUN_LINE_BYTES:
+                    raise InputError(
+                        f"{path} is damaged: line {number} is longer than"
+                        f" {MAX_RUN_LINE_BYTES:,} bytes, more than any run writes"
+                    )
+                yield number, offset, raw.decode("utf-8").rstrip("\n")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read {path}: {getattr(exc, 'strerror', None) or exc}") from None
 
 
 def _read_part(path: str) -> _Part:
-    lines: list[tuple[int, str]] = []
+    """A results file's header (its first line), checked; its runs are read later, one by
+    one."""
+    first = next(_lines(path), None)
     try:
-        with Path(path).open(encoding="utf-8", newline="\n") as stream:
-            for number, line in enumerate(iter(lambda: stream.readline(MAX_RUN_LINE_CHARS), ""), 1):
-                if not line.endswith("\n") and len(line) >= MAX_RUN_LINE_CHARS:
-                    raise InputError(
-                        f"{path} is damaged: line {number} is longer than"
-                        f" {MAX_RUN_LINE_CHARS:,} characters, more than any run writes"
-                    )
-                lines.append((number, line.rstrip("\n")))
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read {path}: {getattr(exc, 'strerror', None) or exc}") from None
-    try:
-        header = _json_object(lines[0][1]) if lines else None
+        header = _json_object(first[2]) if first is not None else None
         if (
             not isinstance(header, dict)
             or header.get("roboscript_results") not in READABLE_RESULTS_FORMATS
@@ -179,9 +198,15 @@ def _read_part(path: str) -> _Part:
         if isinstance(exc, InputError):
             raise
         raise InputError(f"{path} is damaged: {_reason(exc)}") from None
-    # A grader killed mid-line leaves a partial last line: the missing-run check names it.
-    whole = [(n, line) for n, line in lines[1:] if line.strip() and line.rstrip().endswith("}")]
-    return _Part(path, header, whole)
+    return _Part(path, header)
+
+
+def _run_lines(part: _Part) -> Iterator[tuple[int, int, str]]:
+    """The run lines of a part, one at a time (line 1 is the header). A grader killed
+    mid-line leaves a partial last line: skipped here, the missing-run check names it."""
+    for number, offset, line in _lines(part.path):
+        if number > 1 and line.strip() and line.rstrip().endswith("}"):
+            yield number, offset, line
 
 
 def _no_constant(name: str) -> Any:
@@ -217,7 +242,9 @@ def _read_run(part: _Part, number: int, text: str, specs: dict[str, TestSpec]) -
         problem = _reason(exc)
     if problem:
         raise InputError(f"{part.path} line {number} is damaged: {problem}")
-    return run
+    # Cleaned as the header's names are by Submission: a part graded by an older roboscript,
+    # which cleaned names less, still finds its students' runs.
+    return replace(run, student=clean_name(run.student))
 
 
 TIME_SLACK_S = 5.0
@@ -422,7 +449,12 @@ def read_results(paths: Sequence[str], refused: Callable[[str], None] | None = N
     """The class report the results files make together, as one ``grade`` would have made it.
 
     Every run line is checked field by field (types, finite numbers, times within its test's
-    ``max_time``, sizes no run reaches) before any report reads it.
+    ``max_time``, sizes no run reaches) before any report reads it. The files are read line
+    by line, and the report keeps of each run only what its summaries need (status, score,
+    verdicts, message): a report that draws a run (its record, replay and traceback) reads
+    that line again (:meth:`~roboscript.grading.batch.ClassReport.in_full`), so the memory
+    the gradebook needs does not grow with the runs' records and replays, however large the
+    class.
 
     Args:
         paths: The results files.
@@ -440,7 +472,7 @@ def read_results(paths: Sequence[str], refused: Callable[[str], None] | None = N
     specs = _load_specs(parts[0].header, parts[0].path)
     by_name = {spec.name: spec for spec in specs}
     submissions: list[Submission] = []
-    results: dict[tuple[str, str, int], tuple[RunResult, int]] = {}
+    results: dict[tuple[str, str, int], tuple[RunResult, _Line]] = {}
     damaged: set[str] = set()  # the parts with a damaged run line
     for part in parts:
         for entry in part.header["students"]:
@@ -454,17 +486,14 @@ def read_results(paths: Sequence[str], refused: Callable[[str], None] | None = N
                     tuple(entry.get("own", ())),
                 )
             )
-        for number, text in part.runs:
+        for number, offset, text in _run_lines(part):
             try:
                 run = _read_run(part, number, text, by_name)
-                # Cleaned as the header's names are by Submission: a part graded by an older
-                # roboscript, which cleaned names less, still finds its students' runs.
-                run = replace(run, student=clean_name(run.student))
                 key = (run.test, run.student, run.variant)
                 if key in results:
                     raise InputError(
                         f"{part.path} line {number} is damaged: it repeats the run of"
-                        f" {run.student} in {run.test} on line {results[key][1]}"
+                        f" {run.student} in {run.test} on line {results[key][1].number}"
                     )
             except InputError as exc:
                 if refused is None:
@@ -472,7 +501,9 @@ def read_results(paths: Sequence[str], refused: Callable[[str], None] | None = N
                 refused(exc.message)
                 damaged.add(part.path)
                 continue
-            results[key] = (run, number)
+            # what the summaries read; the record, replay and traceback are read again
+            summary = replace(run, record=None, replay=None, debug="")
+            results[key] = (summary, _Line(part, number, offset))
     names = [s.student for s in submissions]
     if len(set(names)) < len(names):
         twice = sorted(n for n in set(names) if names.count(n) > 1)
@@ -505,10 +536,40 @@ def read_results(paths: Sequence[str], refused: Callable[[str], None] | None = N
     if left_out:
         submissions = [s for s in submissions if s.student not in left_out]
         ordered = [r for r in ordered if r.student not in left_out]
+    lines = {key: line for key, (_, line) in results.items()}
+
+    def in_full(run: RunResult) -> RunResult:
+        line = lines[run.test, run.student, run.variant]
+        return cap_result(line.read(by_name))
+
     worlds = {name: world for spec in specs for name, world in spec.worlds.items()}
     # parts graded on different machines may have been isolated differently: say each way
     isolation = "; ".join(dict.fromkeys(str(p.header.get("isolation") or "") for p in parts))
-    return ClassReport(specs, submissions, ordered, worlds, isolation.strip("; "))
+    return ClassReport(specs, submissions, ordered, worlds, isolation.strip("; "), in_full)
+
+
+@dataclass(frozen=True)
+class _Line:
+    """Where a run's line is in its results file, to read it again when a report draws it."""
+
+    part: _Part
+    number: int
+    offset: int
+
+    def read(self, specs: dict[str, TestSpec]) -> RunResult:
+        """The run on this line, checked again (the file is read, not trusted, each time).
+
+        Raises:
+            InputError: The line is no longer the run it was (the file changed meanwhile).
+        """
+        with Path(self.part.path).open("rb") as stream:
+            stream.seek(self.offset)
+            raw = stream.readline(MAX_RUN_LINE_BYTES + 1)
+        try:
+            text = raw.decode("utf-8").rstrip("\n")
+        except UnicodeDecodeError:
+            text = ""
+        return _read_run(self.part, self.number, text, specs)
 
 
 def _students(header: dict[str, Any]) -> set[str]:

@@ -3,10 +3,12 @@ graded in parts, on any machines, merges into the reports one run would have wri
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import subprocess
 import sys
+import tracemalloc
 from pathlib import Path
 from typing import Any
 
@@ -329,3 +331,56 @@ def test_a_run_line_given_twice_is_refused_naming_both_lines(graded: dict[str, A
     ]
     rows = (root / "twice.csv").read_text(encoding="utf-8-sig").splitlines()[1:]
     assert len(rows) == len(STUDENTS) + 1  # nobody was lost: the first line counts
+
+
+def _class_copied(source: Path, target: Path, copies: int) -> None:
+    """The class of the results file ``source``, ``copies`` times over (each student again as
+    NAME-1, NAME-2, ...), written to ``target``: a larger class with the same runs."""
+    header, *runs = source.read_text(encoding="utf-8").splitlines()
+    head = json.loads(header)
+    students = head["students"]
+    head["students"] = [{**s, "name": f"{s['name']}-{i}"} for i in range(copies) for s in students]
+    with target.open("w", encoding="utf-8") as out:
+        out.write(json.dumps(head) + "\n")
+        for i in range(copies):
+            for line in runs:
+                run = json.loads(line)
+                run["student"] = f"{run['student']}-{i}"
+                out.write(json.dumps(run, ensure_ascii=False) + "\n")
+
+
+def _gradebook_peak_bytes(root: Path, part: Path, out: Path) -> int:
+    """The most memory ``roboscript gradebook`` held (bytes, as Python's allocator counts
+    them) writing every report of ``part``: the table, --json, --csv, --junit and --html."""
+    from roboscript.cli import _parser
+
+    args = _parser().parse_args(
+        ["gradebook", str(part), "--json", "--csv", str(out / "g.csv"), "--junit",
+         str(out / "j.xml"), "--html", str(out / "html")]
+    )  # fmt: skip
+    cwd = Path.cwd()
+    os.chdir(root)  # the gradebook reads the specs from where grade ran
+    tracemalloc.start()
+    try:
+        with open(os.devnull, "w", encoding="utf-8") as sink, contextlib.redirect_stdout(sink):
+            assert args.func(args) in (0, 1)
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+        os.chdir(cwd)
+
+
+def test_the_gradebook_holds_one_runs_record_at_a_time_however_large_the_class(
+    graded: dict[str, Any], tmp_path: Path
+) -> None:
+    # Counted, not timed: what the gradebook holds at its peak, for a class and for the same
+    # class eight times over. Kept whole, the runs' records and replays (tens of kilobytes
+    # each) would make the peak grow with the class; read one at a time, it barely moves.
+    root = graded["root"]
+    peaks = []
+    for copies in (1, 8):
+        part = tmp_path / f"class-{copies}.jsonl"
+        _class_copied(root / "all.jsonl", part, copies)
+        (tmp_path / str(copies)).mkdir()
+        peaks.append(_gradebook_peak_bytes(root, part, tmp_path / str(copies)))
+    assert peaks[1] < 2 * peaks[0], peaks  # whole, 8 times the class held 6.8 times more
