@@ -46,7 +46,12 @@ from roboscript.mission.guards import GuardEnv, guard_names
 from roboscript.mission.python_api import Mission, StateDef
 from roboscript.mission.python_source import PythonSource, item, keyword
 from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec, TransitionSpec
-from roboscript.mission.student_code import StudentCodeError, is_student_class, shown_path
+from roboscript.mission.student_code import (
+    PASSES_THROUGH_STUDENT_CODE,
+    StudentCodeError,
+    is_student_class,
+    shown_path,
+)
 
 __all__ = ["MethodGuard", "compile_mission", "mission_states", "nested_missions"]
 
@@ -265,7 +270,9 @@ class _Instances:
                 mission = self._cls()
             except (LinkError, StudentCodeError):
                 raise
-            except (Exception, SystemExit) as exc:  # exit() ends the run, not the program
+            except PASSES_THROUGH_STUDENT_CODE:
+                raise
+            except BaseException as exc:  # exit() ends the run, not the program
                 raise StudentCodeError(f"mission class {self._cls.__name__}", exc) from exc
             mission._bind(env, self._state_names)
             with contextlib.suppress(TypeError):  # unhashable runners use the last slot
@@ -303,7 +310,9 @@ class MethodGuard:
             value = self._read(mission)
         except (LinkError, StudentCodeError):
             raise
-        except (Exception, SystemExit) as exc:  # exit() ends the run, not the program
+        except PASSES_THROUGH_STUDENT_CODE:
+            raise
+        except BaseException as exc:  # exit() ends the run, not the program
             raise StudentCodeError(f"condition '{self.source}'", exc) from exc
         if value is None:
             raise StudentCodeError(

@@ -53,9 +53,10 @@ from roboscript.mission.key_mistakes import meant_in_state_call
 from roboscript.mission.python_api import LOADED_PREFIX, Mission, state
 from roboscript.profiles import PROFILE_FILE_KEYS, BuiltinsKept
 from roboscript.robot_profile import RobotProfile
-from roboscript.watchdog import CodePlace
+from roboscript.watchdog import CodePlace, RunawayCode
 
 __all__ = [
+    "PASSES_THROUGH_STUDENT_CODE",
     "EndlessCalls",
     "StudentCodeError",
     "calls_without_end",
@@ -66,6 +67,17 @@ __all__ = [
     "stuck_at",
     "student_fault",
 ]
+
+PASSES_THROUGH_STUDENT_CODE: tuple[type[BaseException], ...] = (
+    KeyboardInterrupt,
+    GeneratorExit,
+    RunawayCode,
+)
+"""What may come out of a student's code without being the student's error: a signal
+(Ctrl-C, SIGTERM, SIGHUP), a generator being closed, and the watchdog stopping code that does
+not return. Everything else a student's code raises, ``exit()`` and a class of their own
+derived from ``BaseException`` included, is the student's mistake: it ends their mission (or
+refuses their file) in their terms, never the program."""
 
 logger = logging.getLogger(__name__)
 
@@ -360,7 +372,10 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
     except MissionError:
         del sys.modules[name]
         raise
-    except (Exception, SystemExit) as exc:  # noqa: BLE001 - reported in the student's terms
+    except PASSES_THROUGH_STUDENT_CODE:
+        del sys.modules[name]
+        raise
+    except BaseException as exc:  # noqa: BLE001 - reported in the student's terms
         del sys.modules[name]
         kept.changed()  # a change made before the exception is undone too
         raise _import_problem(exc, path, module, kind) from None

@@ -125,6 +125,15 @@ KILLER = ONCE.replace("DO", "os.kill(-1, 9)")
 # leaves a thread that never stops spinning, and drives on
 SPINNER = ONCE.replace("DO", "threading.Thread(target=lambda: [0 for _ in iter(int, 1)]).start()")
 
+# raises a class of its own derived from BaseException (beyond `except Exception`)
+GONE = ONCE.replace("DO", "raise Gone('bye')").replace(
+    "class Forward", "class Gone(BaseException):\n    pass\n\n\nclass Forward"
+)
+# the same, while its file is loaded
+GONE_AT_LOAD = "class Gone(BaseException):\n    pass\n\n\nraise Gone('at load')\n"
+# sends itself SIGTERM while its file is loaded
+SIGTERM_AT_LOAD = "import os, signal\n\nos.kill(os.getpid(), signal.SIGTERM)\n"
+
 IDLE = """\
 from roboscript import Mission, Wait, state
 
@@ -187,6 +196,9 @@ def _hostile_class(subs: Path) -> None:
     _write(subs / "exiter" / "forward.py", EXITER)
     _write(subs / "killer" / "forward.py", KILLER)
     _write(subs / "spinner" / "forward.py", SPINNER)
+    _write(subs / "gone" / "forward.py", GONE)
+    _write(subs / "gone_at_load" / "forward.py", GONE_AT_LOAD + IDLE)
+    _write(subs / "sigterm" / "forward.py", SIGTERM_AT_LOAD + IDLE)
     _write(subs / "leaker" / "forward.py", LEAKER)
     _write(subs / "deep" / "mission.py", DEEP)
     _write(subs / "many" / "mission.py", MANY_STATES)
@@ -271,7 +283,7 @@ def test_the_whole_class_is_graded_and_every_report_written(graded: dict[str, An
     assert graded["exit"] == 1, graded["stderr"][-3000:]  # some failed: exit 1, no crash
     assert "Traceback" not in graded["stderr"]
     hostile = ["c01_ana.py", "deep", "many", "huge", "latin", "typo", "linker", "dave", "carl"]
-    hostile += ["ada�", "exiter", "killer"]
+    hostile += ["ada�", "exiter", "killer", "gone", "gone_at_load", "sigterm"]
     hostile += ["piper", "eve", "�bad"] + (["devin"] if AS_ROOT else [])
     assert sorted(_statuses(graded)) == sorted(HONEST_NAMES + hostile)
     assert all(len(statuses) == 2 for statuses in _statuses(graded).values())
@@ -312,6 +324,28 @@ def test_code_that_ends_or_kills_its_own_run_crashes_that_run_only(
     assert "called exit() in state 'go'" in _messages(graded, "exiter")[1]
     assert statuses["killer"] == ["crashed", "crashed"]
     assert statuses["spinner"] == ["passed", "passed"]  # its thread ends with its run
+
+
+def test_a_students_own_base_exception_is_their_error_not_an_unexplained_exit(
+    graded: dict[str, Any],
+) -> None:
+    statuses = _statuses(graded)
+    assert statuses["gone"] == ["crashed", "crashed"]
+    assert "your condition 'first' raised Gone in state 'go'" in _messages(graded, "gone")[1]
+    assert statuses["gone_at_load"] == ["invalid", "invalid"]
+    assert "forward.py:5:1: error: Gone: at load" in _messages(graded, "gone_at_load")[1]
+
+
+def test_a_signal_while_the_mission_loads_is_one_plain_sentence_not_a_traceback(
+    graded: dict[str, Any],
+) -> None:
+    statuses = _statuses(graded)
+    assert statuses["sigterm"] == ["crashed", "crashed"]
+    sentence = "stopped by SIGTERM (something asked roboscript to end)"
+    for run in (r for r in graded["runs"] if r["student"] == "sigterm"):
+        assert run["message"] == f"the run crashed while loading: {sentence}"
+        assert "Traceback" not in run["debug"]  # the teacher's field: the sentence alone
+        assert sentence in run["debug"]
 
 
 def test_the_class_grades_the_same_on_a_saturated_machine(

@@ -351,6 +351,27 @@ def test_a_guard_method_that_calls_exit_ends_the_run_not_the_program() -> None:
     )
 
 
+class Gone(BaseException):
+    """A student's own exception beyond ``Exception``: ``except Exception`` lets it through."""
+
+
+def test_a_guard_method_that_raises_its_own_base_exception_ends_the_run_not_the_program() -> None:
+    class Leaves(Mission):
+        go = state(Wait(duration_s=5), initial=True, on_done="end", when=[("leaves", "end")])
+        end = state(final=True)
+
+        def leaves(self) -> bool:
+            raise Gone("bye")
+
+    runner = run(Leaves)
+    assert runner.result.outcome == "failure"
+    assert runner.result.code_error
+    line = Leaves.leaves.__code__.co_firstlineno + 1
+    assert runner.result.reason == (
+        f"your condition 'leaves' raised Gone in state 'go': bye ({shown_path(__file__)}:{line})"
+    )
+
+
 def test_a_guard_method_without_return_is_a_warning_and_a_failure_when_run() -> None:
     class Forgot(Mission):
         go = state(Wait(duration_s=5), initial=True, on_done="end", when=[("forgot", "end")])

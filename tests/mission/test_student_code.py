@@ -221,6 +221,12 @@ LOAD_TIME = [
         id="exit",
     ),
     pytest.param(
+        # a class of the student's own beyond Exception is still the student's error
+        "class Gone(BaseException):\n    pass\n\nraise Gone('at load')\n",
+        "m.py:4:1: error: Gone: at load",
+        id="own-base-exception",
+    ),
+    pytest.param(
         "class Turn(Mission)\n    pass\n",
         "m.py:1:20: error: expected ':' (a line starting with class, def, if, elif, else, for"
         " or while ends with ':')",
