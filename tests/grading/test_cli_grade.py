@@ -468,3 +468,22 @@ def test_two_specs_whose_names_look_the_same_are_refused_naming_both(tmp_path: P
     result = run_cli("grade", "a.yaml", "b.yaml", "--mission", "class", cwd=tmp_path)
     assert result.returncode == 2
     assert result.stderr == "error: two specs are both called 'Jose\u0301' (a.yaml and b.yaml)\n"
+
+
+def test_results_go_to_a_folder_that_does_not_exist_yet_as_every_report_does(
+    tmp_path: Path,
+) -> None:
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(
+        "test: out\nworld: empty\nmax_time: 20 s\nexpect:\n  - outcome: success\n",
+        encoding="utf-8",
+    )
+    (tmp_path / "amy.yaml").write_text(OUT_TURN_BEEP, encoding="utf-8")
+    results = tmp_path / "parts" / "new" / "part.jsonl"
+    done = run_cli(
+        "grade", str(spec), "--mission", str(tmp_path / "amy.yaml"), "--results", str(results),
+        "--csv", str(tmp_path / "reports" / "g.csv"), "--quiet",
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    header, run = results.read_text(encoding="utf-8").splitlines()
+    assert json.loads(run)["status"] == "passed"
