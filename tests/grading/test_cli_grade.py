@@ -485,5 +485,5 @@ def test_results_go_to_a_folder_that_does_not_exist_yet_as_every_report_does(
         "--csv", str(tmp_path / "reports" / "g.csv"), "--quiet",
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
-    header, run = results.read_text(encoding="utf-8").splitlines()
+    _header, run = results.read_text(encoding="utf-8").splitlines()
     assert json.loads(run)["status"] == "passed"
