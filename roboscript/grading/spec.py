@@ -400,7 +400,8 @@ def _variants(
         raise reader.fail(
             "runs lists at least one run, such as - {seed: 1}", top.value_mark("runs")
         )
-    variants = []
+    variants: list[Variant] = []
+    targeted: set[int] = set()  # the runs with targets of their own
     for index, (item, mark) in enumerate(items):
         data = reader.mapping(item, "a run", mark)
         reader.allowed(data, _RUN_KEYS, "a run")
@@ -425,7 +426,47 @@ def _variants(
         name = _shown_name(reader, data, "name") if "name" in data else ""
         hidden = _flag(reader, data, "hidden")
         variants.append(Variant(index, seed, world, start, name, hidden))
+        if "expect" in data:
+            targeted.add(index)
+    _check_runs_differ(reader, variants, targeted, worlds, [mark for _, mark in items])
     return tuple(variants)
+
+
+def _check_runs_differ(
+    reader: FieldReader,
+    variants: list[Variant],
+    targeted: set[int],
+    worlds: dict[str, World],
+    marks: list[Mark | None],
+) -> None:
+    """A run copied without changing it (a spec written in a hurry) is an error: a simulated
+    run gives the same result every time, so it would only count one result twice, and
+    reports (JUnit, Gradescope) would list two runs no one can tell apart. Runs with targets
+    of their own (``targeted``, by index) are told apart by those (:func:`_run_overrides`)."""
+
+    def setup(run: Variant) -> tuple[str, int, tuple[float, float, float]]:
+        start = worlds[run.world].start
+        return run.world, run.seed, run.start or (start.x_mm, start.y_mm, start.heading_deg)
+
+    for later in variants:
+        for other in variants[: later.index]:
+            same = setup(other) == setup(later)
+            if same and {other.index, later.index} & targeted:
+                continue
+            if same:
+                raise reader.fail(
+                    f"this run is run {other.index + 1} again (seed {later.seed}, the same"
+                    " world and start): a simulated run gives the same result every time, so"
+                    " give it another seed or start",
+                    marks[later.index],
+                )
+            if other.label == later.label:
+                raise reader.fail(
+                    f"runs {other.index + 1} and {later.index + 1} are both named"
+                    f" '{later.label}': reports could not tell them apart; give each its own"
+                    " name",
+                    marks[later.index],
+                )
 
 
 def _flag(reader: FieldReader, data: YamlMap, key: str) -> bool:

@@ -185,6 +185,44 @@ def test_mistakes_are_located_with_a_suggestion(tmp_path: Path, text: str, expec
     assert caught.value.format().startswith(f"{path}:{expected}")
 
 
+@pytest.mark.parametrize(
+    ("runs", "expected"),
+    [
+        pytest.param(
+            "  - {seed: 1}\n  - {seed: 2}\n  - {seed: 1}\n",
+            "5:5: error: this run is run 1 again (seed 1, the same world and start): a simulated"
+            " run gives the same result every time, so give it another seed or start",
+            id="copied",
+        ),
+        pytest.param(
+            # the start the world gives, written out: still the same run (and a hidden copy of
+            # a visible run would show students the hidden one's start)
+            "  - {seed: 4}\n  - {seed: 4, start: {x: 0 mm, y: 0 mm, heading: 0 deg}, hidden: true}\n",
+            "4:5: error: this run is run 1 again (seed 4, the same world and start)",
+            id="copied-start-spelt-out",
+        ),
+        pytest.param(
+            "  - {seed: 1, name: wide}\n  - {seed: 2, name: wide}\n",
+            "4:5: error: runs 1 and 2 are both named 'wide': reports could not tell them apart;"
+            " give each its own name",
+            id="same-name",
+        ),
+        pytest.param(
+            "  - {seed: 3, name: 'seed 1'}\n  - {seed: 1}\n",
+            "4:5: error: runs 1 and 2 are both named 'seed 1'",
+            id="named-as-another-is-labelled",
+        ),
+    ],
+)
+def test_a_run_copied_without_a_change_or_named_as_another_is_refused(
+    tmp_path: Path, runs: str, expected: str
+) -> None:
+    path = _write(tmp_path, f"test: t\nruns:\n{runs}expect:\n  - outcome: success\n")
+    with pytest.raises(SpecError) as caught:
+        load_test_spec(path)
+    assert caught.value.format().startswith(f"{path}:{expected}")
+
+
 def test_a_check_function_is_found_without_running_it(tmp_path: Path) -> None:
     _write(
         tmp_path,
