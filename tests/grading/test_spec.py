@@ -197,7 +197,8 @@ def test_mistakes_are_located_with_a_suggestion(tmp_path: Path, text: str, expec
         pytest.param(
             # the start the world gives, written out: still the same run (and a hidden copy of
             # a visible run would show students the hidden one's start)
-            "  - {seed: 4}\n  - {seed: 4, start: {x: 0 mm, y: 0 mm, heading: 0 deg}, hidden: true}\n",
+            "  - {seed: 4}\n"
+            "  - {seed: 4, start: {x: 0 mm, y: 0 mm, heading: 0 deg}, hidden: true}\n",
             "4:5: error: this run is run 1 again (seed 4, the same world and start)",
             id="copied-start-spelt-out",
         ),
