@@ -495,19 +495,44 @@ def _jail_group(paths: Sequence[str]) -> int | None:
     return None
 
 
+_MOST_CHECKED_ENTRIES = 20_000
+"""Most files and folders of one visible folder checked for the jail's rights (discovery
+refuses a submission of more than 10,000)."""
+
+
+def _folder_entries(path: str) -> Iterator[str]:
+    """``path``, and when it is a folder every file and folder in it (links not followed),
+    at most :data:`_MOST_CHECKED_ENTRIES`."""
+    yield path
+    if not os.path.isdir(path):
+        return
+    count = 0
+    for folder, folders, files in os.walk(path):
+        for name in [*folders, *files]:
+            count += 1
+            if count > _MOST_CHECKED_ENTRIES:
+                return
+            yield os.path.join(folder, name)
+
+
 def _check_readable_by_jail(paths: Iterable[str], group: int | None, reach: bool = False) -> None:
     """A jail run as a user of its own reads what others may, or what its student's
     ``group`` may; with ``reach`` (no bubblewrap to show it the path) it must also be able
     to pass through every folder above."""
     for path in paths:
-        info = os.stat(path)
-        need = 0o5 if os.path.isdir(path) else 0o4
-        if info.st_mode & need != need and not (
-            info.st_gid == group and (info.st_mode >> 3) & need == need
-        ):
+        # a student's folder is read by the jail as a whole: each file and folder in it too
+        # (a file of mode 000 in a handed-in archive is that student's setup problem, said so)
+        for inside in _folder_entries(path):
+            info = os.lstat(inside)
+            need = 0o5 if stat.S_ISDIR(info.st_mode) else 0o4
+            if stat.S_ISLNK(info.st_mode) or info.st_mode & need == need:
+                continue
+            if info.st_gid == group and (info.st_mode >> 3) & need == need:
+                continue
             raise PermissionError(
-                f"{path} is not readable by other users (mode {info.st_mode & 0o777:o}): a"
-                " jail started by root reads only what any user may; chmod o+rX it"
+                f"{inside} is not readable by other users (mode {info.st_mode & 0o777:o}): a"
+                " jail started by root reads only what any user may; chmod -R o+rX the"
+                " submissions"
             )
         folder = os.path.dirname(path)
         while reach and folder != os.path.dirname(folder):

@@ -218,6 +218,10 @@ def _hostile_class(subs: Path) -> None:
     if AS_ROOT:
         _write(subs / "devin" / "forward.yaml", HONEST)
         os.mknod(subs / "devin" / "null.py", stat.S_IFCHR | 0o666, os.makedev(1, 3))
+    if AS_ROOT and ISOLATED:  # root reads it, a jail's user of its own could not
+        _write(subs / "locked" / "forward.yaml", HONEST)
+        _write(subs / "locked" / "helper.py", "X = 1\n")
+        (subs / "locked" / "helper.py").chmod(0)
     undecodable = os.fsencode(subs) + b"/\xffbad"  # a folder name that is not UTF-8
     os.mkdir(undecodable)
     with open(undecodable + b"/forward.yaml", "w", encoding="utf-8") as handle:
@@ -285,6 +289,7 @@ def test_the_whole_class_is_graded_and_every_report_written(graded: dict[str, An
     hostile = ["c01_ana.py", "deep", "many", "huge", "latin", "typo", "linker", "dave", "carl"]
     hostile += ["ada�", "exiter", "killer", "gone", "gone_at_load", "sigterm"]
     hostile += ["piper", "eve", "�bad"] + (["devin"] if AS_ROOT else [])
+    hostile += ["locked"] if AS_ROOT and ISOLATED else []
     assert sorted(_statuses(graded)) == sorted(HONEST_NAMES + hostile)
     assert all(len(statuses) == 2 for statuses in _statuses(graded).values())
     assert (graded["html"] / "index.html").is_file()
@@ -402,6 +407,17 @@ def test_links_pipes_devices_and_undecodable_names_are_refused_with_the_reason(
     for student, reason in expected.items():
         assert statuses[student] == ["invalid", "invalid"], student
         assert _messages(graded, student)[0].startswith(reason), _messages(graded, student)
+
+
+@pytest.mark.skipif(not (AS_ROOT and ISOLATED), reason="a jail's own user: root with bubblewrap")
+def test_a_file_no_other_user_may_read_is_that_students_setup_problem_said_before_any_run(
+    graded: dict[str, Any],
+) -> None:
+    assert _statuses(graded)["locked"] == ["invalid", "invalid"]
+    for message in _messages(graded, "locked"):
+        assert "helper.py is not readable by other users (mode 0)" in message
+        assert "chmod -R o+rX" in message
+        assert str(graded["root"]) not in message
 
 
 def test_no_student_facing_text_holds_a_folder_of_the_teachers(graded: dict[str, Any]) -> None:

@@ -38,6 +38,7 @@ from roboscript.grading.sandbox import (
     Jail,
     Limits,
     byte_compile_package,
+    check_visible,
     detect_isolation,
     private_class,
     warm_jails_supported,
@@ -610,8 +611,27 @@ def test_as_root_the_student_is_not_root_and_unreadable_files_are_refused(box: P
     secret = box / "secret.yaml"
     secret.write_text("x", encoding="utf-8")
     secret.chmod(0o600)
-    with pytest.raises(PermissionError, match="chmod o\\+rX"):
+    with pytest.raises(PermissionError, match="chmod -R o\\+rX"):
         Jail([sys.executable, "-c", ""], visible=[secret], workdir=box)
+
+
+@needs_bwrap
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="needs root")
+def test_as_root_a_file_no_other_user_may_read_inside_a_students_folder_is_refused(
+    tmp_path: Path,
+) -> None:
+    # the folder may be read, the helper in it (mode 000, kept from a handed-in archive) not:
+    # the student's setup problem, said before any run, not a run that fails to read it
+    tmp_path.chmod(0o755)
+    student = tmp_path / "student"
+    (student / "behaviours").mkdir(parents=True)
+    (student / "forward.yaml").write_text("x", encoding="utf-8")
+    (student / "behaviours" / "helper.py").write_text("X = 1\n", encoding="utf-8")
+    (student / "behaviours" / "helper.py").chmod(0)
+    with pytest.raises(PermissionError, match=r"helper\.py is not readable by other users"):
+        check_visible([student])
+    (student / "behaviours" / "helper.py").chmod(0o644)
+    check_visible([student])
 
 
 # The grader run by an ordinary user: bwrap's own user namespace, and the process limit
