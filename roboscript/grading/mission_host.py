@@ -43,7 +43,15 @@ from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
 if TYPE_CHECKING:
     from roboscript.mission.cause import TransitionCause
 
-__all__ = ["LOAD_LIMIT_S", "STATE_CLAIM_BYTES", "main", "print_payload", "state_payload", "warm_up"]
+__all__ = [
+    "LOAD_LIMIT_S",
+    "STATE_CLAIM_BYTES",
+    "WIRE_LOST_EXIT",
+    "main",
+    "print_payload",
+    "state_payload",
+    "warm_up",
+]
 
 _REASON_CHARS = 500
 _NAME_BYTES = 256
@@ -51,6 +59,10 @@ _NAME_BYTES = 256
 STATE_CLAIM_BYTES = 4096
 """Most bytes of the account that follows a state's name in a ``Q`` frame: a cause is a few
 hundred; a longer one is not sent (and the world ignores one that is)."""
+
+WIRE_LOST_EXIT = 3
+"""The mission process's exit status when its wire to the world closed under it: the world
+never closes it first, so the mission's own code did (a descriptor it did not open)."""
 
 LOAD_LIMIT_S = 10.0
 """Own seconds loading the mission (its file, and the modules it imports) may take: far
@@ -62,7 +74,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     Returns:
         0, or ``128 + N`` when signal N ended the run or came while it closed (as
-        ``roboscript run`` exits), 2 for a mission that did not load, 3 when the world hung up.
+        ``roboscript run`` exits), 2 for a mission that did not load,
+        :data:`WIRE_LOST_EXIT` when its wire to the world closed.
     """
     args = list(sys.argv[1:] if argv is None else argv)
     fd, mission_path, robot, max_time_s, hang_after_s = (
@@ -82,7 +95,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return _run(channel, mission_path, robot, max_time_s, world_map, hang_after_s)
     except WorldStoppedError:
-        return 3
+        return WIRE_LOST_EXIT
     except KeyboardInterrupt as exc:
         # A signal before the session could stop a robot (while the mission loads): the run
         # ends on it, and the teacher reads the plain sentence, not a traceback through

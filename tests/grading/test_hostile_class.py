@@ -125,6 +125,18 @@ KILLER = ONCE.replace("DO", "os.kill(-1, 9)")
 # leaves a thread that never stops spinning, and drives on
 SPINNER = ONCE.replace("DO", "threading.Thread(target=lambda: [0 for _ in iter(int, 1)]).start()")
 
+# closes every descriptor it did not open (its wire to the world among them)
+WIRE_CLOSER = ONCE.replace("DO", "os.closerange(3, 256)")
+# writes a result of its own on every descriptor it did not open, hoping one is the wire
+WIRE_FORGER = ONCE.replace("DO", "_forge()").replace(
+    "class Forward",
+    "def _forge():\n"
+    "    for fd in range(3, 64):\n"
+    "        try:\n"
+    '            os.write(fd, b\'F{"outcome": "success", "final_state": "finished"}\')\n'
+    "        except OSError:\n"
+    "            pass\n\n\nclass Forward",
+)
 # raises a class of its own derived from BaseException (beyond `except Exception`)
 GONE = ONCE.replace("DO", "raise Gone('bye')").replace(
     "class Forward", "class Gone(BaseException):\n    pass\n\n\nclass Forward"
@@ -197,6 +209,8 @@ def _hostile_class(subs: Path) -> None:
     _write(subs / "killer" / "forward.py", KILLER)
     _write(subs / "spinner" / "forward.py", SPINNER)
     _write(subs / "gone" / "forward.py", GONE)
+    _write(subs / "wire_closer" / "forward.py", WIRE_CLOSER)
+    _write(subs / "wire_forger" / "forward.py", WIRE_FORGER)
     _write(subs / "gone_at_load" / "forward.py", GONE_AT_LOAD + IDLE)
     _write(subs / "sigterm" / "forward.py", SIGTERM_AT_LOAD + IDLE)
     _write(subs / "leaker" / "forward.py", LEAKER)
@@ -288,6 +302,7 @@ def test_the_whole_class_is_graded_and_every_report_written(graded: dict[str, An
     assert "Traceback" not in graded["stderr"]
     hostile = ["c01_ana.py", "deep", "many", "huge", "latin", "typo", "linker", "dave", "carl"]
     hostile += ["ada�", "exiter", "killer", "gone", "gone_at_load", "sigterm"]
+    hostile += ["wire_closer", "wire_forger"]
     hostile += ["piper", "eve", "�bad"] + (["devin"] if AS_ROOT else [])
     hostile += ["locked"] if AS_ROOT and ISOLATED else []
     assert sorted(_statuses(graded)) == sorted(HONEST_NAMES + hostile)
@@ -329,6 +344,18 @@ def test_code_that_ends_or_kills_its_own_run_crashes_that_run_only(
     assert "called exit() in state 'go'" in _messages(graded, "exiter")[1]
     assert statuses["killer"] == ["crashed", "crashed"]
     assert statuses["spinner"] == ["passed", "passed"]  # its thread ends with its run
+
+
+def test_code_that_closes_or_writes_on_the_wire_itself_crashes_its_own_run_saying_so(
+    graded: dict[str, Any],
+) -> None:
+    statuses = _statuses(graded)
+    assert statuses["wire_closer"] == ["crashed", "crashed"]
+    for message in _messages(graded, "wire_closer"):
+        assert "lost its connection to the simulated robot" in message, message
+        assert "exit()" not in message
+    assert statuses["wire_forger"] == ["crashed", "crashed"]  # never a success of its own
+    assert "it broke the grading wire" in _messages(graded, "wire_forger")[1]
 
 
 def test_a_students_own_base_exception_is_their_error_not_an_unexplained_exit(
