@@ -52,6 +52,7 @@ from roboscript.inputs.limits import MAX_FILE_BYTES
 from roboscript.inputs.source import read_source
 
 __all__ = [
+    "MAX_DEPTH",
     "MAX_ENTRIES",
     "MAX_SOURCE_BYTES",
     "MISSION_SUFFIXES",
@@ -67,6 +68,14 @@ MISSION_SUFFIXES = (".yaml", ".yml", ".py")
 
 MAX_ENTRIES = 10_000
 """The most files and folders one student's folder may hold (counted before any is read)."""
+
+MAX_DEPTH = 32
+"""The deepest one student's folders may nest (folders inside folders): deeper, paths grow
+past what the system can open (4096 bytes), and no mission needs it."""
+
+SHOWN_PATH_CHARS = 160
+"""The longest path inside a submission a sentence shows whole; a longer one keeps its start
+and its end, so the sentence still says what is wrong."""
 
 MAX_SOURCE_BYTES = 16 * 1024 * 1024
 """The most ``.py``, ``.yaml`` and ``.yml`` bytes one student's folder may hold in all (16 MiB,
@@ -199,6 +208,14 @@ def _name_problem(name: str, shown: str) -> str:
     return ""
 
 
+def _shown_path(relative: str) -> str:
+    """``relative`` as a sentence shows it: whole, or its start and end around ``…``."""
+    if len(relative) <= SHOWN_PATH_CHARS:
+        return relative
+    half = SHOWN_PATH_CHARS // 2
+    return f"{relative[: half - 10]}…{relative[-half:]}"
+
+
 def _hidden(relative: str) -> bool:
     return any(part.startswith((".", "__")) for part in relative.split("/"))
 
@@ -211,18 +228,19 @@ def _walk(
     Nothing is followed: a symbolic link, a device, a pipe or a socket is a problem, named by
     its path relative to ``folder``. Folders in ``skip`` are not entered, nor hidden ones
     (``.git``) in a folder ``shared`` by students. At most :data:`MAX_ENTRIES` entries are
-    looked at.
+    looked at; a student's folder nesting deeper than :data:`MAX_DEPTH` is refused (a shared
+    one is not looked into below that).
     """
     files: list[tuple[str, Path]] = []
     problems: list[str] = []
-    stack = [(folder, "")]
+    stack = [(folder, "", 0)]
     count = 0
     while stack:
-        current, shown = stack.pop()
+        current, shown, depth = stack.pop()
         try:
             entries = os.scandir(current)
         except OSError as exc:
-            problems.append(f"{shown or '.'} cannot be read: {exc.strerror or exc}")
+            problems.append(f"{_shown_path(shown or '.')} cannot be read: {exc.strerror or exc}")
             continue
         with entries:
             for entry in entries:
@@ -235,20 +253,29 @@ def _walk(
                     return sorted(files), [too_many]
                 name = f"{shown}/{entry.name}" if shown else entry.name
                 if _name_problem(entry.name, name):
-                    problems.append(_name_problem(entry.name, name))
+                    problems.append(_name_problem(entry.name, _shown_path(name)))
                     continue
                 try:
                     mode = entry.stat(follow_symlinks=False).st_mode
                 except OSError as exc:
-                    problems.append(f"{name} cannot be read: {exc.strerror or exc}")
+                    problems.append(f"{_shown_path(name)} cannot be read: {exc.strerror or exc}")
                     continue
                 if stat.S_ISDIR(mode):
-                    if Path(entry.path) not in skip and not (shared and _hidden(entry.name)):
-                        stack.append((Path(entry.path), name))
+                    if Path(entry.path) in skip or (shared and _hidden(entry.name)):
+                        continue
+                    if depth + 1 > MAX_DEPTH and shared:
+                        continue  # no student's own file is that deep: a mission names none
+                    if depth + 1 > MAX_DEPTH:
+                        too_deep = (
+                            f"the folder nests folders more than {MAX_DEPTH} deep"
+                            f" ({_shown_path(name)}): hand in the mission and its own files only"
+                        )
+                        return sorted(files), [too_deep]
+                    stack.append((Path(entry.path), name, depth + 1))
                 elif stat.S_ISREG(mode):
                     files.append((name, Path(entry.path)))
                 else:
-                    problems.append(_entry_problem(mode, name))
+                    problems.append(_entry_problem(mode, _shown_path(name)))
     return sorted(files), sorted(problems)
 
 
@@ -281,7 +308,7 @@ def _folder_student(folder: Path) -> _Found | None:
         return _Found(folder, [], folder, too_much)
     missions: list[Path] = []
     for relative, path in sources:
-        is_mission, problem = _examine(path, relative)
+        is_mission, problem = _examine(path, _shown_path(relative))
         if problem:
             problems.append(problem)
         elif is_mission:

@@ -104,7 +104,7 @@ def clean_name(raw: str) -> str:
 
 # An absolute path's folders (POSIX or Windows): what is left of it is the file's name.
 _FOLDERS = re.compile(
-    r"(?<![\w.~/\\])(?:[A-Za-z]:)?(?:[/\\][^\s/\\:'\"()\[\],;]+)+[/\\](?=[^\s/\\])"
+    r"(?<![^\s'\"(\[<=,;:])(?:[A-Za-z]:)?(?:[/\\][^\s/\\:'\"()\[\],;]+)+[/\\](?=[^\s/\\])"
 )
 
 

@@ -193,6 +193,20 @@ def _write(path: Path, text: str | bytes) -> None:
         path.write_text(text, encoding="utf-8")
 
 
+def _nest(top: Path, name: str, depth: int) -> None:
+    """``depth`` folders called ``name``, each in the one before, under ``top`` (made through
+    descriptors: their path is longer than the system opens)."""
+    fd = os.open(top, os.O_RDONLY)
+    try:
+        for _ in range(depth):
+            os.mkdir(name, dir_fd=fd)
+            inner = os.open(name, os.O_RDONLY, dir_fd=fd)
+            os.close(fd)
+            fd = inner
+    finally:
+        os.close(fd)
+
+
 def _hostile_class(subs: Path) -> None:
     """Build the class folder: honest students beside every hostile file."""
     _write(subs / "ada" / "forward.yaml", HONEST)
@@ -210,6 +224,8 @@ def _hostile_class(subs: Path) -> None:
     _write(subs / "spinner" / "forward.py", SPINNER)
     _write(subs / "gone" / "forward.py", GONE)
     _write(subs / "wire_closer" / "forward.py", WIRE_CLOSER)
+    _write(subs / "nested" / "forward.yaml", HONEST)
+    _nest(subs / "nested", "folder-in-a-folder-", 300)  # 6000 characters: past PATH_MAX
     _write(subs / "wire_forger" / "forward.py", WIRE_FORGER)
     _write(subs / "gone_at_load" / "forward.py", GONE_AT_LOAD + IDLE)
     _write(subs / "sigterm" / "forward.py", SIGTERM_AT_LOAD + IDLE)
@@ -302,7 +318,7 @@ def test_the_whole_class_is_graded_and_every_report_written(graded: dict[str, An
     assert "Traceback" not in graded["stderr"]
     hostile = ["c01_ana.py", "deep", "many", "huge", "latin", "typo", "linker", "dave", "carl"]
     hostile += ["ada�", "exiter", "killer", "gone", "gone_at_load", "sigterm"]
-    hostile += ["wire_closer", "wire_forger"]
+    hostile += ["wire_closer", "wire_forger", "nested"]
     hostile += ["piper", "eve", "�bad"] + (["devin"] if AS_ROOT else [])
     hostile += ["locked"] if AS_ROOT and ISOLATED else []
     assert sorted(_statuses(graded)) == sorted(HONEST_NAMES + hostile)
@@ -415,6 +431,16 @@ def test_code_the_grader_could_choke_on_is_that_students_result(graded: dict[str
     assert statuses["deep"] == ["invalid", "invalid"]
     assert "mission.py: error: RecursionError" in _messages(graded, "deep")[0]
     assert "deep_helper" not in _statuses(graded)  # a helper is no student
+
+
+def test_folders_nested_past_what_the_system_opens_are_refused_in_a_sentence_that_fits(
+    graded: dict[str, Any],
+) -> None:
+    assert _statuses(graded)["nested"] == ["invalid", "invalid"]
+    message = _messages(graded, "nested")[1]
+    assert message.startswith("the folder nests folders more than 32 deep (folder-in-a-folder-/")
+    assert message.endswith("): hand in the mission and its own files only")
+    assert len(message) < 300  # the reason is read, not cut off after a path
 
 
 def test_links_pipes_devices_and_undecodable_names_are_refused_with_the_reason(
