@@ -399,6 +399,22 @@ def _class_folder(folder: Path) -> tuple[list[_Found], list[Path]]:
     return found, nobodys
 
 
+_ARCHIVES = (".zip", ".tar", ".gz", ".tgz", ".bz2", ".xz", ".7z", ".rar")
+
+
+def _holds(entries: list[Path]) -> str:
+    """What a folder with no mission holds instead, for the sentence that says so (a student
+    who handed in a zip learns why it was not graded), or ``""``."""
+    names = _unclaimed(entries, [])
+    if not names:
+        return ""
+    shown = ", ".join(names[:5]) + (f" and {len(names) - 5} more" if len(names) > 5 else "")
+    archive = any(name.lower().endswith(_ARCHIVES) for name in names)
+    return f" (it holds {shown}: a mission is a .yaml or .py file" + (
+        ", handed in as it is, not in an archive)" if archive else ")"
+    )
+
+
 def _unclaimed(nobodys: list[Path], found: list[_Found]) -> list[str]:
     """Entries that are no student, less the files a student who is a file owns by name
     (``alice_helpers.py``): by name, cleaned for a terminal, a folder ending in ``/``."""
@@ -509,7 +525,7 @@ def find_submissions(patterns: Sequence[str]) -> FoundSubmissions:
             students, left = _class_folder(path)
             nobodys += left
             if not students:
-                raise InputError(f"no mission files in the folder {pattern}")
+                raise InputError(f"no mission files in the folder {pattern}" + _holds(left))
         elif path.is_file() or path.is_symlink():
             if path.suffix.lower() not in MISSION_SUFFIXES:
                 raise InputError(f"{pattern} is not a mission file (.yaml or .py)")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import zipfile
 import shutil
 from pathlib import Path
 from typing import Any
@@ -181,6 +182,28 @@ def test_the_cli_writes_results_json_when_nothing_was_handed_in(tmp_path: Path) 
     assert_gradescope_shape(results)
     assert results["score"] == 0 and len(results["tests"]) == 3
     assert "no mission files in the folder" in results["output"]
+
+
+def test_a_submission_handed_in_as_a_zip_is_told_to_hand_in_the_files_themselves(
+    tmp_path: Path,
+) -> None:
+    submission = tmp_path / "submission"
+    submission.mkdir()
+    with zipfile.ZipFile(submission / "my robot.zip", "w") as archive:
+        archive.write(MISSIONS / "teacher" / "square" / "good.yaml", "square.yaml")
+    results_json = tmp_path / "results.json"
+    result = run_cli(
+        "grade", str(MISSIONS / "teacher" / "square" / "test.yaml"), "--mission",
+        str(submission), "--gradescope", str(results_json),
+    )  # fmt: skip
+    assert result.returncode == 2
+    results = json.loads(results_json.read_text(encoding="utf-8"))
+    assert results["score"] == 0
+    assert results["output"].startswith(
+        "error: no mission files in the folder submission (it holds my robot.zip: a mission is a"
+        " .yaml or .py file, handed in as it is, not in an archive)"
+    )
+    assert str(tmp_path) not in json.dumps(results)
 
 
 @pytest.mark.parametrize("platform", ["--gradescope", "--prairielearn"])
