@@ -77,7 +77,7 @@ def test_a_submission_the_sandbox_cannot_read_is_one_error_before_any_run(tmp_pa
     mission.chmod(0o600)
     spec = tmp_path / "spec.yaml"
     spec.write_text("test: t\nexpect:\n  - outcome: success\n", encoding="utf-8")
-    with pytest.raises(InputError, match=r"cannot grade ada: .*chmod o\+rX"):
+    with pytest.raises(InputError, match=r"cannot grade ada: .*chmod -R o\+rX"):
         grade_class(find_specs([str(spec)]), find_submissions([str(mission)]).submissions)
 
 
