@@ -158,11 +158,15 @@ _CLASS = re.compile(r"^[ \t]*class[ \t]+\w+[ \t]*\(([^)]{0,2000})\)", re.MULTILI
 _BASE = re.compile(r"(?:\w+\s*\.\s*)*Mission")
 _ALIAS = re.compile(r"\bMission[ \t]+as[ \t]+(\w{1,100})")
 _TOP_KEY = re.compile(r"^([A-Za-z_][\w-]{0,100})[ \t]*:(?=[ \t\r]|$)", re.MULTILINE)
+_TRIPLE_QUOTED = re.compile(r"(\"\"\"|\'\'\').*?(?:\1|\Z)", re.DOTALL)
+"""A triple-quoted string (a docstring, or old code kept in one): no class is defined in it."""
 
 
 def _defines_mission(text: str) -> bool:
     """Whether Python text defines a class with a base named ``Mission`` (or a name it is
-    imported as: ``from roboscript import Mission as M``), read as text."""
+    imported as: ``from roboscript import Mission as M``), read as text (outside
+    triple-quoted strings, where old code is often kept)."""
+    text = _TRIPLE_QUOTED.sub("", text)  # a mission kept in a docstring is no mission
     aliases = set(_ALIAS.findall(text))
     for match in _CLASS.finditer(text):
         bases = (part.strip() for part in match.group(1).split(","))
