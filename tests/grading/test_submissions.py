@@ -53,6 +53,19 @@ def test_a_mission_class_whose_base_is_imported_under_another_name_is_a_student(
     assert _found(tmp_path) == {"aliased": (["aliased.py"], "")}
 
 
+def test_a_mission_kept_in_a_docstring_is_no_second_mission(tmp_path: Path) -> None:
+    # old code kept in a triple-quoted string defines nothing: the student has one mission
+    # (two would make them "missing" in a test named otherwise), and a file holding only
+    # that is no mission at all
+    ana = tmp_path / "class" / "ana"
+    ana.mkdir(parents=True)
+    (ana / "mission.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    old = MISSION_PY.format(base="Mission")
+    (ana / "notes.py").write_text(f'"""My first try:\n\n{old}"""\n', encoding="utf-8")
+    (ana / "later.py").write_text(f"X = 1\n'''\n{old}'''\n", encoding="utf-8")
+    assert _found(tmp_path / "class") == {"ana": (["mission.yaml"], "")}
+
+
 def test_two_missions_with_one_name_in_one_folder_are_two_students(tmp_path: Path) -> None:
     (tmp_path / "ana.yaml").write_text(FORWARD_50CM, encoding="utf-8")
     (tmp_path / "ana.py").write_text(MISSION_PY.format(base="Mission"), encoding="utf-8")
