@@ -414,8 +414,10 @@ def _holds(entries: list[Path]) -> str:
         return ""
     shown = ", ".join(names[:5]) + (f" and {len(names) - 5} more" if len(names) > 5 else "")
     archive = any(name.lower().endswith(_ARCHIVES) for name in names)
-    return f" (it holds {shown}: a mission is a .yaml or .py file" + (
-        ", handed in as it is, not in an archive)" if archive else ")"
+    return (
+        f" (it holds {shown}: a mission is a .yaml file with 'mission:', 'initial:' and"
+        " 'states:', or a .py file defining a class based on Mission"
+        + (", handed in as it is, not in an archive)" if archive else ")")
     )
 
 

@@ -201,7 +201,8 @@ def test_a_submission_handed_in_as_a_zip_is_told_to_hand_in_the_files_themselves
     assert results["score"] == 0
     assert results["output"].startswith(
         "error: no mission files in the folder submission (it holds my robot.zip: a mission is a"
-        " .yaml or .py file, handed in as it is, not in an archive)"
+        " .yaml file with 'mission:', 'initial:' and 'states:', or a .py file defining a class"
+        " based on Mission, handed in as it is, not in an archive)"
     )
     assert str(tmp_path) not in json.dumps(results)
 
