@@ -46,7 +46,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from roboscript.errors import InputError
-from roboscript.grading.text import clean_name
+from roboscript.grading.text import clean_name, one_line
 from roboscript.inputs.kinds import file_kind, kind_of_keys, not_a_mission
 from roboscript.inputs.limits import MAX_FILE_BYTES
 from roboscript.inputs.source import read_source
@@ -213,7 +213,9 @@ def _name_problem(name: str, shown: str) -> str:
 
 
 def _shown_path(relative: str) -> str:
-    """``relative`` as a sentence shows it: whole, or its start and end around ``…``."""
+    """``relative`` as a sentence shows it: one line of visible text (a newline in a file's
+    name would print a line of its own), whole or its start and end around ``…``."""
+    relative = one_line(relative)
     if len(relative) <= SHOWN_PATH_CHARS:
         return relative
     half = SHOWN_PATH_CHARS // 2
@@ -345,10 +347,11 @@ def _student_at(path: Path, named: bool = False) -> _Found | None:
     try:
         mode = path.lstat().st_mode
     except OSError as exc:
-        return _Found(path, [], problem=f"{path.name} cannot be read: {exc.strerror or exc}")
+        problem = f"{_shown_path(path.name)} cannot be read: {exc.strerror or exc}"
+        return _Found(path, [], problem=problem)
     is_mission_name = path.suffix.lower() in MISSION_SUFFIXES
     if (is_mission_name or stat.S_ISDIR(mode)) and _name_problem(path.name, path.name):
-        return _Found(path, [], problem=_name_problem(path.name, path.name))
+        return _Found(path, [], problem=_name_problem(path.name, _shown_path(path.name)))
     if stat.S_ISDIR(mode):
         return _folder_student(path)
     if stat.S_ISLNK(mode) and not is_mission_name:
@@ -358,7 +361,7 @@ def _student_at(path: Path, named: bool = False) -> _Found | None:
     if not is_mission_name:
         return None
     if not stat.S_ISREG(mode):
-        return _Found(path, [], problem=_entry_problem(mode, path.name))
+        return _Found(path, [], problem=_entry_problem(mode, _shown_path(path.name)))
     is_mission, problem = _examine(path, path.name)
     if problem:
         return _Found(path, [], problem=problem)
@@ -380,7 +383,8 @@ def _matched(path: Path, pattern: str) -> _Found | None:
     for end in range(max(fixed, 1), len(path.parts)):
         below = Path(*path.parts[: end + 1])
         if below.is_symlink():
-            return _Found(path, [], problem=_entry_problem(below.lstat().st_mode, below.name))
+            problem = _entry_problem(below.lstat().st_mode, _shown_path(below.name))
+            return _Found(path, [], problem=problem)
     return _student_at(path)
 
 

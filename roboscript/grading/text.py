@@ -97,9 +97,14 @@ def clean_name(raw: str) -> str:
     :data:`NAME_CHARS`. An empty name becomes ``student``. Cleaning a clean name changes
     nothing.
     """
+    return cap(one_line(raw).strip(), NAME_CHARS) or "student"
+
+
+def one_line(raw: str) -> str:
+    """``raw`` as one line of visible text (a file's name in a sentence): what
+    :func:`clean_name` does to a name, without stripping or cutting it."""
     text = _NAME_UNSAFE.sub("\ufffd", unicodedata.normalize("NFC", raw))
-    text = "".join(map(_visible, text)).strip()
-    return cap(text, NAME_CHARS) or "student"
+    return "".join(map(_visible, text))
 
 
 # An absolute path's folders (POSIX or Windows): what is left of it is the file's name.

@@ -245,6 +245,8 @@ def _hostile_class(subs: Path) -> None:
     _write(subs / "piper" / "forward.yaml", HONEST)
     os.mkfifo(subs / "piper" / "pipe.py")
     os.mkfifo(subs / "eve.py")
+    _write(subs / "fifi" / "forward.yaml", HONEST)
+    os.mkfifo(subs / "fifi" / "\x1b[2Jline\nforged  forward  ✓ 2/2.py")  # a name of many lines
     if AS_ROOT:
         _write(subs / "devin" / "forward.yaml", HONEST)
         os.mknod(subs / "devin" / "null.py", stat.S_IFCHR | 0o666, os.makedev(1, 3))
@@ -318,7 +320,7 @@ def test_the_whole_class_is_graded_and_every_report_written(graded: dict[str, An
     assert "Traceback" not in graded["stderr"]
     hostile = ["c01_ana.py", "deep", "many", "huge", "latin", "typo", "linker", "dave", "carl"]
     hostile += ["ada�", "exiter", "killer", "gone", "gone_at_load", "sigterm"]
-    hostile += ["wire_closer", "wire_forger", "nested"]
+    hostile += ["wire_closer", "wire_forger", "nested", "fifi"]
     hostile += ["piper", "eve", "�bad"] + (["devin"] if AS_ROOT else [])
     hostile += ["locked"] if AS_ROOT and ISOLATED else []
     assert sorted(_statuses(graded)) == sorted(HONEST_NAMES + hostile)
@@ -431,6 +433,17 @@ def test_code_the_grader_could_choke_on_is_that_students_result(graded: dict[str
     assert statuses["deep"] == ["invalid", "invalid"]
     assert "mission.py: error: RecursionError" in _messages(graded, "deep")[0]
     assert "deep_helper" not in _statuses(graded)  # a helper is no student
+
+
+def test_a_refused_files_name_is_shown_on_one_line_in_every_report(
+    graded: dict[str, Any],
+) -> None:
+    assert _statuses(graded)["fifi"] == ["invalid", "invalid"]
+    wanted = "�[2Jline�forged  forward  ✓ 2/2.py is a named pipe, not an ordinary file"
+    for message in _messages(graded, "fifi"):  # the results file: what every report reads
+        assert message.startswith(wanted), message
+    for name, text in _student_facing(graded).items():
+        assert "\x1b[2J" not in text and "\nforged  forward" not in text, name
 
 
 def test_folders_nested_past_what_the_system_opens_are_refused_in_a_sentence_that_fits(

@@ -36,3 +36,10 @@ def test_a_path_inside_the_submission_is_kept_whole_whatever_its_folders_end_in(
     text: str,
 ) -> None:
     assert student_text(text) == text
+
+
+def test_a_file_name_in_a_sentence_is_one_line_of_visible_text() -> None:
+    from roboscript.grading.text import one_line
+
+    assert one_line("\x1b]0;pwned\x07\nforged\u202erow\u200b.py") == "�]0;pwned��forged�row�.py"
+    assert one_line(" kept as it is ") == " kept as it is "
