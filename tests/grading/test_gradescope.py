@@ -168,18 +168,25 @@ def test_the_cli_writes_results_json_for_one_submission(tmp_path: Path) -> None:
     assert result.stdout.startswith("student") and "\nsubmission  square-50cm" in result.stdout
 
 
-def test_the_cli_writes_results_json_when_nothing_was_handed_in(tmp_path: Path) -> None:
-    submission = tmp_path / "submission"
-    submission.mkdir()
-    (submission / "readme.txt").write_text("oops\n", encoding="utf-8")
-    results_json = tmp_path / "results.json"
+def _graded_without_a_mission(submission: Path) -> dict[str, Any]:
+    """The results.json ``grade --gradescope`` writes for a submission holding no mission
+    (exit status 2: the input is refused, and the student still learns why)."""
+    results_json = submission.parent / "results.json"
     result = run_cli(
         "grade", str(MISSIONS / "teacher" / "square" / "test.yaml"), "--mission",
         str(submission), "--gradescope", str(results_json),
     )  # fmt: skip
     assert result.returncode == 2
-    results = json.loads(results_json.read_text(encoding="utf-8"))
+    results: dict[str, Any] = json.loads(results_json.read_text(encoding="utf-8"))
     assert_gradescope_shape(results)
+    return results
+
+
+def test_the_cli_writes_results_json_when_nothing_was_handed_in(tmp_path: Path) -> None:
+    submission = tmp_path / "submission"
+    submission.mkdir()
+    (submission / "readme.txt").write_text("oops\n", encoding="utf-8")
+    results = _graded_without_a_mission(submission)
     assert results["score"] == 0 and len(results["tests"]) == 3
     assert "no mission files in the folder" in results["output"]
 
@@ -191,13 +198,7 @@ def test_a_submission_handed_in_as_a_zip_is_told_to_hand_in_the_files_themselves
     submission.mkdir()
     with zipfile.ZipFile(submission / "my robot.zip", "w") as archive:
         archive.write(MISSIONS / "teacher" / "square" / "good.yaml", "square.yaml")
-    results_json = tmp_path / "results.json"
-    result = run_cli(
-        "grade", str(MISSIONS / "teacher" / "square" / "test.yaml"), "--mission",
-        str(submission), "--gradescope", str(results_json),
-    )  # fmt: skip
-    assert result.returncode == 2
-    results = json.loads(results_json.read_text(encoding="utf-8"))
+    results = _graded_without_a_mission(submission)
     assert results["score"] == 0
     assert results["output"].startswith(
         "error: no mission files in the folder submission (it holds my robot.zip: a mission is a"
