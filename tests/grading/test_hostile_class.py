@@ -246,7 +246,7 @@ def _hostile_class(subs: Path) -> None:
     os.mkfifo(subs / "piper" / "pipe.py")
     os.mkfifo(subs / "eve.py")
     _write(subs / "fifi" / "forward.yaml", HONEST)
-    os.mkfifo(subs / "fifi" / "\x1b[2Jline\nforged  forward  ✓ 2/2.py")  # a name of many lines
+    os.mkfifo(subs / "fifi" / "\x1b[2Jline\nforged  forward  ✓ 2 of 2.py")  # a name of many lines
     if AS_ROOT:
         _write(subs / "devin" / "forward.yaml", HONEST)
         os.mknod(subs / "devin" / "null.py", stat.S_IFCHR | 0o666, os.makedev(1, 3))
@@ -439,7 +439,7 @@ def test_a_refused_files_name_is_shown_on_one_line_in_every_report(
     graded: dict[str, Any],
 ) -> None:
     assert _statuses(graded)["fifi"] == ["invalid", "invalid"]
-    wanted = "�[2Jline�forged  forward  ✓ 2/2.py is a named pipe, not an ordinary file"
+    wanted = "�[2Jline�forged  forward  ✓ 2 of 2.py is a named pipe, not an ordinary file"
     for message in _messages(graded, "fifi"):  # the results file: what every report reads
         assert message.startswith(wanted), message
     for name, text in _student_facing(graded).items():
