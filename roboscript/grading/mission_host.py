@@ -46,6 +46,7 @@ if TYPE_CHECKING:
 __all__ = [
     "LOAD_LIMIT_S",
     "STATE_CLAIM_BYTES",
+    "WIRE_LOST",
     "WIRE_LOST_EXIT",
     "main",
     "print_payload",
@@ -61,8 +62,11 @@ STATE_CLAIM_BYTES = 4096
 hundred; a longer one is not sent (and the world ignores one that is)."""
 
 WIRE_LOST_EXIT = 3
-"""The mission process's exit status when its wire to the world closed under it: the world
-never closes it first, so the mission's own code did (a descriptor it did not open)."""
+"""The mission process's exit status when its wire to the world closed under it (the world
+never closes it first, so the mission's own code did: a descriptor it did not open), after
+writing :data:`WIRE_LOST` on its standard error (a student's own ``os._exit(3)`` does not)."""
+
+WIRE_LOST = "roboscript: the wire to the simulated robot closed under the mission"
 
 LOAD_LIMIT_S = 10.0
 """Own seconds loading the mission (its file, and the modules it imports) may take: far
@@ -95,6 +99,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return _run(channel, mission_path, robot, max_time_s, world_map, hang_after_s)
     except WorldStoppedError:
+        sys.stderr.write(WIRE_LOST + "\n")
         return WIRE_LOST_EXIT
     except KeyboardInterrupt as exc:
         # A signal before the session could stop a robot (while the mission loads): the run

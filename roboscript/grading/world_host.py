@@ -65,7 +65,12 @@ from roboscript.grading.cpu_time import (
 )
 from roboscript.grading.judge import ended_in_time, simulation_record
 from roboscript.grading.latency import ask_short_slice
-from roboscript.grading.mission_host import LOAD_LIMIT_S, STATE_CLAIM_BYTES, WIRE_LOST_EXIT
+from roboscript.grading.mission_host import (
+    LOAD_LIMIT_S,
+    STATE_CLAIM_BYTES,
+    WIRE_LOST,
+    WIRE_LOST_EXIT,
+)
 from roboscript.grading.record import MAX_GRADED_STATES, RunRecord, RunStatus
 from roboscript.grading.sandbox import Jail, JailedRun, Limits, WarmJail
 from roboscript.grading.spec import TestSpec, Variant
@@ -872,14 +877,15 @@ def crash_message(stderr: str, exit_status: int | None, loaded: bool) -> str:
     for line in reversed(lines):
         if _EXCEPTION_LINE.match(line):
             return f"the run crashed{phase}: {_text(line.strip(), _REASON_CHARS)}{where}"
-    if exit_status == WIRE_LOST_EXIT:
+    if exit_status == WIRE_LOST_EXIT and lines and lines[-1] == WIRE_LOST:
         return (
             f"the run crashed{phase}: the mission's process lost its connection to the"
             " simulated robot (does its code close or use a file it did not open?)"
         )
-    signalled = exit_status is not None and exit_status - 128 in HANDLED_SIGNALS
-    if signalled and exit_status is not None:  # ended on a signal's sentence (mission_host)
-        return f"the run crashed{phase}: {Interrupted(exit_status - 128).reason}"
+    if exit_status is not None and exit_status - 128 in HANDLED_SIGNALS:
+        reason = Interrupted(exit_status - 128).reason
+        if lines and lines[-1] == reason:  # ended on a signal's sentence (mission_host)
+            return f"the run crashed{phase}: {reason}"
     if exit_status is not None and exit_status < 0:
         return (
             f"the run crashed{phase}: its process was killed by signal {-exit_status}"
