@@ -29,6 +29,7 @@ from roboscript.errors import (
     CapabilityError,
     InputError,
     RoboscriptError,
+    nearby_file,
 )
 from roboscript.interrupts import deferred, exit_status_for, raise_dropped, reason_for
 from roboscript.interrupts import install as install_interrupts
@@ -238,15 +239,20 @@ def _cmd_check(args: argparse.Namespace) -> int:
     from roboscript.mission.python_loader import is_python_mission
 
     files: list[Path] = []
+    missing = 0
     for raw in args.paths:
         path = Path(raw)
-        if path.is_dir():
+        if not path.suffix and not os.path.lexists(path):  # a folder named from the wrong place
+            missed = InputError("there is no such file or folder", path=raw, hint=nearby_file(path))
+            _print_problems(missed)
+            missing += 1
+        elif path.is_dir():
             files.extend(sorted(p for p in path.rglob("*.yaml") if p.is_file()))
             # A folder also holds behaviours and helpers: only .py files with a Mission class.
             files.extend(sorted(p for p in path.rglob("*.py") if is_python_mission(p)))
         else:
             files.append(path)
-    if not files:
+    if not files and not missing:
         _err("nothing to check: no mission files found")
         return EXIT_INPUT
     # grading (sandbox, reports, worlds) loads only for the grading commands
@@ -272,7 +278,8 @@ def _cmd_check(args: argparse.Namespace) -> int:
         except InputError as exc:
             _print_problems(exc)
             bad += 1
-    checked = len(files)
+    checked = len(files) + missing
+    bad += missing
     _err(f"checked {checked} file{'s' if checked != 1 else ''}: {bad} with errors")
     return EXIT_INPUT if bad else EXIT_OK
 

@@ -89,6 +89,8 @@ def nearby_file(path: str | Path) -> str | None:
     try:
         if wanted.exists():
             return None
+        if not wanted.parent.exists() or wanted.name == EXAMPLES_FOLDER:
+            return _missing_folder(wanted)
         names = [entry.name for entry in os.scandir(wanted.parent or ".") if entry.is_file()]
     except OSError:
         return None
@@ -100,6 +102,31 @@ def nearby_file(path: str | Path) -> str | None:
     if endings:
         return f"did you mean '{min(endings)}'?"
     return did_you_mean(wanted.name, names[:1000], cutoff=0.8)
+
+
+EXAMPLES_FOLDER = "missions"
+"""The folder of example missions the guides name (``missions/square.yaml``): it is in the
+roboscript folder, beside ``README.md``, and not in the installed package."""
+
+
+def _missing_folder(wanted: Path) -> str:
+    """For a path under a folder that is not there, or the examples' folder itself: which
+    folder, looked for where.
+
+    The guides' examples (``missions/square.yaml``) run from the roboscript folder; run from
+    anywhere else, the hint says where they are rather than only that they are not here.
+    """
+    missing = wanted if wanted.name == EXAMPLES_FOLDER else wanted.parent
+    while not missing.parent.exists():
+        missing = missing.parent
+    where = missing.parent.resolve()
+    hint = f"there is no folder '{missing.name}' in {where}"
+    if missing.name == EXAMPLES_FOLDER and not (where / "README.md").exists():
+        hint += (
+            ": the example missions are in the roboscript folder you installed from,"
+            " beside README.md; run this there"
+        )
+    return hint
 
 
 class RoboscriptError(Exception):

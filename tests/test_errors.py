@@ -37,7 +37,41 @@ def test_a_missing_file_suggests_the_file_of_a_like_name_beside_it(tmp_path: Pat
     assert nearby_file(tmp_path / "sqaure.yaml") == "did you mean 'square.yaml'?"
     assert nearby_file(tmp_path / "zigzag.yaml") is None
     assert nearby_file(tmp_path / "square.yaml") is None  # it is there: nothing to suggest
-    assert nearby_file(tmp_path / "no-folder" / "square.yaml") is None
+    assert nearby_file(tmp_path / "no-folder" / "square.yaml") == (
+        f"there is no folder 'no-folder' in {tmp_path.resolve()}"
+    )
+
+
+def test_a_file_under_a_missing_folder_names_the_first_folder_missing(tmp_path: Path) -> None:
+    (tmp_path / "class").mkdir()
+    assert nearby_file(tmp_path / "class" / "alice" / "v2" / "square.yaml") == (
+        f"there is no folder 'alice' in {(tmp_path / 'class').resolve()}"
+    )
+
+
+def test_the_guides_examples_named_from_another_folder_say_where_they_are(
+    tmp_path: Path,
+) -> None:
+    # The guides run `roboscript run missions/square.yaml` in the roboscript folder; typed
+    # anywhere else (a wheel install, another folder), the answer says where the examples are.
+    where = (
+        f"there is no folder 'missions' in {tmp_path.resolve()}: the example missions are in"
+        " the roboscript folder you installed from, beside README.md; run this there"
+    )
+    done = run_cli("run", "missions/square.yaml", cwd=tmp_path)
+    assert (done.returncode, done.stderr) == (
+        2,
+        f"missions/square.yaml: error: cannot read the file: No such file or directory ({where})\n",
+    )
+    done = run_cli("check", "missions/", cwd=tmp_path)
+    assert (done.returncode, done.stderr) == (
+        2,
+        f"missions/: error: there is no such file or folder ({where})\n"
+        "checked 1 file: 1 with errors\n",
+    )
+    # in the roboscript folder, a missing example is only missing
+    done = run_cli("run", "missions/squar.yaml")
+    assert done.stderr.rstrip().endswith("(did you mean 'square.yaml'?)"), done.stderr
 
 
 def test_running_a_misspelt_mission_file_names_the_one_beside_it(tmp_path: Path) -> None:
