@@ -1021,16 +1021,22 @@ def _parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     run = sub.add_parser("run", help="run a mission (on the built-in simulator by default)")
-    run.add_argument("mission", help="mission file (.yaml or .py)")
+    run.add_argument("mission", metavar="MISSION", help="mission file (.yaml or .py)")
     run.add_argument(
         "--robot", help="robot profile name or file (default: the mission's robot, or mirto)"
     )
-    run.add_argument("--port", help="serial port or URL (default: the in-process simulator)")
+    run.add_argument(
+        "--port", metavar="URL", help="serial port or URL (default: the in-process simulator)"
+    )
     run.add_argument(
         "--world", help="simulator world name or file (default: the mission's world, or empty)"
     )
     run.add_argument(
-        "--seed", type=_whole_number("--seed", "7"), default=1, help="simulator seed (default: 1)"
+        "--seed",
+        type=_whole_number("--seed", "7"),
+        default=1,
+        metavar="N",
+        help="simulator seed (default: 1)",
     )
     run.add_argument("--realtime", action="store_true", help="pace the simulator to the wall clock")
     run.add_argument(
@@ -1046,7 +1052,7 @@ def _parser() -> argparse.ArgumentParser:
         "--plot", metavar="FILE", help="draw the simulated run as a PNG (needs matplotlib)"
     )
     run.add_argument(
-        "--record", metavar="FILE", help="record the run tick by tick (JSON Lines; see `view`)"
+        "--record", metavar="RUN.jsonl", help="record the run tick by tick (JSON Lines; see `view`)"
     )
     run.add_argument(
         "--view", action="store_true", help="watch the run live in a web browser (this computer)"
@@ -1062,8 +1068,10 @@ def _parser() -> argparse.ArgumentParser:
     run.set_defaults(func=_cmd_run)
 
     view = sub.add_parser("view", help="write a recorded run's replay as one HTML page")
-    view.add_argument("recording", help="a file written by `run --record`")
-    view.add_argument("-o", "--output", metavar="FILE", help="the page (default: beside it)")
+    view.add_argument("recording", metavar="RUN.jsonl", help="a file written by `run --record`")
+    view.add_argument(
+        "-o", "--output", metavar="PAGE.html", help="the page (default: beside the recording)"
+    )
     view.add_argument("--open", action="store_true", help="open the page in a web browser")
     view.add_argument(
         "--csv", metavar="FILE", help="also write the run tick by tick as columns (CSV)"
@@ -1178,7 +1186,7 @@ def _parser() -> argparse.ArgumentParser:
     graph = sub.add_parser(
         "graph", help="draw a mission's state diagram (mermaid, dot, or an SVG or PNG picture)"
     )
-    graph.add_argument("mission", help="mission file")
+    graph.add_argument("mission", metavar="MISSION", help="mission file")
     graph.add_argument(
         "--format",
         choices=("mermaid", "dot", "svg", "png"),
@@ -1196,7 +1204,11 @@ def _parser() -> argparse.ArgumentParser:
     sim.add_argument("--robot", default="mirto", help="robot profile name (default: mirto)")
     sim.add_argument("--world", default="empty", help="simulator world name or file")
     sim.add_argument(
-        "--seed", type=_whole_number("--seed", "7"), default=1, help="simulator seed (default: 1)"
+        "--seed",
+        type=_whole_number("--seed", "7"),
+        default=1,
+        metavar="N",
+        help="simulator seed (default: 1)",
     )
     where = sim.add_mutually_exclusive_group(required=True)
     where.add_argument(

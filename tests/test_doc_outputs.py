@@ -86,6 +86,52 @@ def test_the_readme_command_summary_is_the_cli_references() -> None:
     assert summary(ROOT / "README.md") == summary(ROOT / "docs" / "reference" / "cli.md")
 
 
+def _summary_commands() -> dict[str, str]:
+    """The command line reference's summary, one entry per command (``run``, ``web build``)
+    with its continuation lines joined."""
+    found = re.search(
+        r"```\n(roboscript run .*?)```", _text(ROOT / "docs" / "reference" / "cli.md"), re.DOTALL
+    )
+    assert found is not None
+    commands: dict[str, str] = {}
+    name = ""
+    for line in found.group(1).splitlines():
+        if line.startswith("roboscript "):
+            words = line.split()
+            name = " ".join(words[1:3]) if words[1] == "web" else words[1]
+            commands[name] = line[len("roboscript " + name) :]
+        else:
+            commands[name] += " " + line.strip()
+    return commands
+
+
+def _as_usage(written: str) -> str:
+    """A metavar as the summary writes it, as ``--help`` does: ``SPEC...`` is ``SPEC``,
+    ``mermaid|dot`` is ``{mermaid,dot}``."""
+    written = written.removesuffix("...")
+    return "{" + written.replace("|", ",") + "}" if "|" in written else written
+
+
+_OPTION = re.compile(r"(?<![\w-])(-{1,2}[a-z][\w-]*)(?: ([^\s\[\]()]+))?")
+
+
+@pytest.mark.parametrize("command", sorted(_summary_commands()))
+def test_each_commands_help_shows_the_options_the_reference_summary_lists(command: str) -> None:
+    written = _summary_commands()[command]
+    done = run_cli(*command.split(), "--help")
+    assert done.returncode == 0, done.stderr
+    usage = " ".join(done.stdout.split("\n\n")[0].split())  # as one line, however wrapped
+    positionals = written.split(" -")[0].split(" [")[0].split()  # what comes before any option
+    for positional in positionals:
+        assert f" {_as_usage(positional)}" in usage, (positional, usage)
+    for option, metavar in _OPTION.findall(written):
+        shown = f"{option} {_as_usage(metavar)}" if metavar else option
+        assert re.search(rf"[\[( ]{re.escape(shown)}[\]) ]", usage + " "), (shown, usage)
+    listed = {option for option, _ in _OPTION.findall(written)}
+    for option, _ in _OPTION.findall(usage.removeprefix(f"usage: roboscript {command}")):
+        assert option in listed | {"-h"}, f"{option} of `{command}` is missing from the summary"
+
+
 COMMON_MISTAKES = ROOT / "docs" / "tutorial" / "common-mistakes.md"
 
 
