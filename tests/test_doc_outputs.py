@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import doctest
+import io
 import json
 import re
 from pathlib import Path
@@ -226,3 +228,51 @@ def test_docs_for_users_never_send_them_to_source_files() -> None:
             continue  # the developers' guide is about the source
         for line in _text(path).splitlines():
             assert not re.search(r"(?<![\w/])roboscript/\w+[/.]", line), f"{path.name}: {line}"
+
+
+def test_the_docs_python_prompt_sessions_print_what_they_show(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # typed at the Python prompt in the roboscript folder, as the tutorial says
+    monkeypatch.chdir(ROOT)
+    parser = doctest.DocTestParser()
+    runner = doctest.DocTestRunner(optionflags=doctest.NORMALIZE_WHITESPACE)
+    report = io.StringIO()
+    sessions = 0
+    for path in sorted([ROOT / "README.md", *(ROOT / "docs").rglob("*.md")]):
+        prompt: dict[str, object] = {}  # a page's sessions are typed at one prompt, in order
+        for session in re.findall(r"```python\n(>>> .*?)```", _text(path), re.DOTALL):
+            sessions += 1
+            typed = parser.get_doctest(session, prompt, path.name, str(path), 0)
+            runner.run(typed, out=report.write, clear_globs=False)
+            prompt = typed.globs  # a DocTest types at a copy of the names it is given
+    assert sessions >= 2
+    assert runner.summarize(verbose=False).failed == 0, report.getvalue()
+
+
+def _transcripts() -> list[tuple[str, str, str]]:
+    """Each ``$ roboscript ...`` transcript of a page that names only files of the roboscript
+    folder: (page, command, what it prints). ``...`` as the last line: more lines follow."""
+    found = []
+    pages = [*(ROOT / "docs").glob("*/*.md"), ROOT / "README.md"]
+    for path in sorted(p for p in pages if p != COMMON_MISTAKES):  # that page has its own test
+        for command, shown in re.findall(
+            r"```(?:text)?\n\$ roboscript (.*?)\n(.*?)```", _text(path), re.DOTALL
+        ):
+            files = [word for word in command.split() if "." in word or "/" in word]
+            if all((ROOT / word).exists() for word in files):
+                found.append((path.name, command, shown))
+    return found
+
+
+@pytest.mark.parametrize(
+    ("page", "command", "shown"), _transcripts(), ids=[f"{p}: {c}" for p, c, _ in _transcripts()]
+)
+def test_each_transcript_prints_what_its_page_shows(page: str, command: str, shown: str) -> None:
+    done = run_cli(*command.split())
+    printed = done.stderr + done.stdout
+    if shown.endswith("...\n"):
+        assert printed.startswith(shown.removesuffix("...\n")), printed
+    else:
+        assert printed == shown
+    assert (done.returncode != 0) == ("error:" in shown), done.returncode
