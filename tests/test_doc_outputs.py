@@ -276,3 +276,24 @@ def test_each_transcript_prints_what_its_page_shows(page: str, command: str, sho
     else:
         assert printed == shown
     assert (done.returncode != 0) == ("error:" in shown), done.returncode
+
+
+def test_a_page_that_shows_an_example_file_shows_it_as_it_is() -> None:
+    # a reader copies the page; the test suite runs the file: they must be one mission
+    shown = {
+        "missions/behaviours/zigzag.py": _text(
+            ROOT / "docs" / "tutorial" / "write-your-own-behaviour.md"
+        ).split("`missions/behaviours/zigzag.py`:\n\n```python\n")[1],
+        "missions/square.py": _text(ROOT / "docs" / "tutorial" / "python-missions.md").split(
+            "`missions/square.py` is the twin of `missions/square.yaml`:\n\n```python\n"
+        )[1],
+        "missions/square.yaml": _text(ROOT / "README.md").split(
+            "## Writing a mission\n\n```yaml\n"
+        )[1],
+    }
+    for path, page in shown.items():
+        text = page.split("```")[0]
+        actual = _text(ROOT / path)
+        if path.endswith("square.py"):  # its last two lines come in the tutorial's section 7
+            actual = actual.split('\n\nif __name__ == "__main__":')[0].rstrip() + "\n"
+        assert text == actual, path
