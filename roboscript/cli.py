@@ -429,6 +429,7 @@ def _open_journal(path: str | None) -> Any:
     """``--results FILE``, open for one JSON line per finished run; None, or False on error."""
     if not path:
         return None
+    _make_parent_folders(path)  # as every report's: `--results parts/part-1.jsonl` on a new day
     try:
         Path(path).parent.mkdir(parents=True, exist_ok=True)  # as every report's folder is
         return open(path, "w", encoding="utf-8")

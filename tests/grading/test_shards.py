@@ -65,12 +65,13 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
     assert whole.returncode in (0, 1), whole.stderr
     parts = []
     for i in (1, 2, 3):
+        # parts/ is not there yet: it is made, as the guide's Kubernetes Job needs on its first run
         part = run_cli(
             "grade", "spec.yaml", "--mission", "class", "--shard", f"{i}/3",
-            "--results", f"part{i}.jsonl", *PATIENT, cwd=root,
+            "--results", f"parts/part{i}.jsonl", *PATIENT, cwd=root,
         )  # fmt: skip
         assert part.returncode in (0, 1), part.stderr
-        parts.append(f"part{i}.jsonl")
+        parts.append(f"parts/part{i}.jsonl")
     return {"root": root, "whole": whole.stdout, "parts": parts}
 
 
