@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 from helpers import ROOT
 
 from roboscript.actions import ACTIONS
@@ -27,7 +30,28 @@ def test_every_condition_name_is_documented() -> None:
 
 def test_docs_index_links_exist() -> None:
     index = (ROOT / "docs" / "index.md").read_text(encoding="utf-8")
-    import re
-
     for target in re.findall(r"\]\(([^)#]+)\)", index):
         assert (ROOT / "docs" / target).exists(), f"docs/index.md links to missing {target}"
+
+
+def _anchors(page: Path) -> set[str]:
+    """The anchors GitHub makes of a page's headings: lower case, spaces as hyphens, other
+    punctuation dropped."""
+    found = set()
+    for heading in re.findall(r"^#+ (.*)$", page.read_text(encoding="utf-8"), re.MULTILINE):
+        found.add(re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-"))
+    return found
+
+
+def test_every_link_between_the_pages_leads_to_a_page_and_heading_that_exist() -> None:
+    pages = [ROOT / "README.md", *(ROOT / "docs").rglob("*.md"), *(ROOT / "drivers").rglob("*.md")]
+    for page in sorted(pages):
+        text = re.sub(r"```.*?```", "", page.read_text(encoding="utf-8"), flags=re.DOTALL)
+        for target in re.findall(r"\]\(([^)\s]+)\)", text):
+            if target.startswith(("http://", "https://", "mailto:")):
+                continue
+            path, _, anchor = target.partition("#")
+            linked = (page.parent / path).resolve() if path else page
+            assert linked.exists(), f"{page.relative_to(ROOT)} links to missing {target}"
+            if anchor and linked.suffix == ".md":
+                assert anchor in _anchors(linked), f"{page.relative_to(ROOT)}: no heading {target}"
