@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Self
+from typing import TYPE_CHECKING
 
 from roboscript.grading.expectations.base import Rule, SpecContext
 from roboscript.grading.expectations.words import by, seconds
 from roboscript.grading.record import RunRecord, Verdict
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.source import Mark, YamlMap
+
+if TYPE_CHECKING:
+    from typing_extensions import Self  # annotations only: Python 3.10 has no typing.Self
 
 __all__ = ["MaxDuration"]
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Self
+from typing import TYPE_CHECKING
 
 from roboscript.angles import wrap_deg
 from roboscript.grading.expectations.base import Canvas, Rule, SpecContext
@@ -12,6 +12,9 @@ from roboscript.grading.expectations.words import by, cm, deg
 from roboscript.grading.record import RunRecord, Verdict
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.source import Mark
+
+if TYPE_CHECKING:
+    from typing_extensions import Self  # annotations only: Python 3.10 has no typing.Self
 
 __all__ = ["DEFAULT_HEADING_TOLERANCE_DEG", "FinalPose", "final_pose_target"]
 

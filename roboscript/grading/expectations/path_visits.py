@@ -6,7 +6,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from itertools import pairwise
-from typing import Self
+from typing import TYPE_CHECKING
 
 from roboscript.errors import did_you_mean
 from roboscript.grading.expectations.base import Rule, SpecContext
@@ -15,6 +15,9 @@ from roboscript.grading.record import RunRecord, Verdict
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.source import Mark, YamlList, YamlMap
 from roboscript.sim.geometry import Segment, closest_point, heading_vector
+
+if TYPE_CHECKING:
+    from typing_extensions import Self  # annotations only: Python 3.10 has no typing.Self
 
 __all__ = ["DEFAULT_WAYPOINT_TOLERANCE_MM", "PathVisits", "Waypoint", "waypoint_position"]
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Self
+from typing import TYPE_CHECKING
 
 from roboscript.errors import did_you_mean
 from roboscript.grading.expectations.base import Rule, SpecContext
@@ -14,6 +14,9 @@ from roboscript.grading.regions import dense_path, signed_distance_mm
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.source import Mark, YamlMap
 from roboscript.sim.world import Region
+
+if TYPE_CHECKING:
+    from typing_extensions import Self  # annotations only: Python 3.10 has no typing.Self
 
 __all__ = ["NeverEnter", "RegionsInOrder", "read_region_names", "world_regions"]
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Self
+from typing import TYPE_CHECKING
 
 from roboscript.angles import wrap_deg
 from roboscript.grading.expectations.base import Rule, SpecContext
@@ -13,6 +13,9 @@ from roboscript.grading.expectations.words import at, by, deg, plural
 from roboscript.grading.record import RunRecord, Verdict
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.source import Mark
+
+if TYPE_CHECKING:
+    from typing_extensions import Self  # annotations only: Python 3.10 has no typing.Self
 
 __all__ = [
     "DEFAULT_TURN_TOLERANCE_DEG",

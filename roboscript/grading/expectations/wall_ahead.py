@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Self
+from typing import TYPE_CHECKING
 
 from roboscript.grading.expectations.base import Rule, SpecContext
 from roboscript.grading.expectations.words import by, cm
@@ -12,6 +12,9 @@ from roboscript.grading.record import RunRecord, Verdict
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.source import Mark
 from roboscript.sim.geometry import heading_vector, ray_cast
+
+if TYPE_CHECKING:
+    from typing_extensions import Self  # annotations only: Python 3.10 has no typing.Self
 
 __all__ = ["DEFAULT_WALL_AHEAD_TOLERANCE_MM", "WallAhead"]
 

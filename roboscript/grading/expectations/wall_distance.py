@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Self
+from typing import TYPE_CHECKING
 
 from roboscript.grading.expectations.base import Rule, SpecContext
 from roboscript.grading.expectations.selection import SELECTION_KEYS, Selection
@@ -13,6 +13,9 @@ from roboscript.grading.record import RunRecord, Verdict
 from roboscript.grading.regions import nearest_wall_gap_mm
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.source import Mark
+
+if TYPE_CHECKING:
+    from typing_extensions import Self  # annotations only: Python 3.10 has no typing.Self
 
 __all__ = ["WallDistance"]
 
