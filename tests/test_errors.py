@@ -64,10 +64,10 @@ def test_the_guides_examples_named_from_another_folder_say_where_they_are(
         f"missions/square.yaml: error: cannot read the file: No such file or directory ({where})\n",
     )
     done = run_cli("check", "missions/", cwd=tmp_path)
-    assert (done.returncode, done.stderr) == (
-        2,
+    assert done.returncode == 2
+    assert done.stderr == (
         f"missions/: error: there is no such file or folder ({where})\n"
-        "checked 1 file: 1 with errors\n",
+        "checked 1 file: 1 with errors\n"
     )
     # in the roboscript folder, a missing example is only missing
     done = run_cli("run", "missions/squar.yaml")
