@@ -117,7 +117,7 @@ def _missing_folder(wanted: Path) -> str:
     anywhere else, the hint says where they are rather than only that they are not here.
     """
     missing = wanted if wanted.name == EXAMPLES_FOLDER else wanted.parent
-    while not missing.parent.exists():
+    while missing.parent != missing and not missing.parent.exists():
         missing = missing.parent
     where = missing.parent.resolve()
     hint = f"there is no folder '{missing.name}' in {where}"
