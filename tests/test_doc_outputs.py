@@ -297,3 +297,10 @@ def test_a_page_that_shows_an_example_file_shows_it_as_it_is() -> None:
         if path.endswith("square.py"):  # its last two lines come in the tutorial's section 7
             actual = actual.split('\n\nif __name__ == "__main__":')[0].rstrip() + "\n"
         assert text == actual, path
+
+
+def test_the_browser_pages_examples_are_the_tutorials_missions() -> None:
+    # the page's Example menu offers "the tutorial's missions": the same files, not copies apart
+    examples = ROOT / "roboscript" / "web" / "examples"
+    assert _text(examples / "square.yaml") == _text(ROOT / "missions" / "square.yaml")
+    assert _text(examples / "hello.yaml") == _hello()
