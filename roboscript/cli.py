@@ -431,7 +431,6 @@ def _open_journal(path: str | None) -> Any:
         return None
     _make_parent_folders(path)  # as every report's: `--results parts/part-1.jsonl` on a new day
     try:
-        Path(path).parent.mkdir(parents=True, exist_ok=True)  # as every report's folder is
         return open(path, "w", encoding="utf-8")
     except OSError as exc:
         _err(f"error: cannot write {path}: {exc.strerror or exc}")
