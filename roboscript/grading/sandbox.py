@@ -1399,8 +1399,12 @@ class JailedRun(_Output):
         """The run's exit status once it and everything it started are gone, else None."""
         if self._status is not None:
             return self._status
+        # Whether the server lives is read before its socket: a server that sends the run's
+        # status and ends just after the socket was looked at is read now, not taken for a
+        # server that died under its run (which would lose the run's own status).
+        server_alive = self._server.alive
         if not _wait_readable([self._server._control.fileno()], 0):
-            if self._server.alive:
+            if server_alive:
                 return None
             self._ended(-signal.SIGKILL)  # its server (and jail) ended under it
             return self._status

@@ -36,7 +36,9 @@ from roboscript.grading.processes import live_processes
 from roboscript.grading.sandbox import (
     Isolation,
     Jail,
+    JailedRun,
     Limits,
+    WarmJail,
     byte_compile_package,
     check_visible,
     detect_isolation,
@@ -883,6 +885,36 @@ def test_a_warm_run_names_its_own_process_so_its_cpu_time_can_be_read(box: Path)
             assert run_.poll() is not None
             assert run_.cpu_time_s() is None  # gone, with everything it started
     ours.close()
+
+
+@needs_warm
+def test_a_runs_status_sent_as_its_server_ends_is_read_not_taken_for_a_kill() -> None:
+    # The jail's server sends the run's status and ends between the grader's two looks (is a
+    # message waiting? is the server alive?): the run keeps its own status, not a kill's.
+    ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+
+    class EndsAsItIsLookedAt:
+        """The server's jail: it sends the run's status and ends as its life is read."""
+
+        def poll(self) -> int | None:
+            if theirs.fileno() >= 0:
+                theirs.send(json.dumps({"status": 3}).encode())
+                theirs.close()
+            return 0
+
+    server = object.__new__(WarmJail)
+    server.limits, server.isolation = Limits(), detect_isolation()
+    server._control, server._jail = ours, EndsAsItIsLookedAt()
+    out_r, out_w = os.pipe()
+    err_r, err_w = os.pipe()
+    os.close(out_w)
+    os.close(err_w)
+    run_ = JailedRun(server, None, out_r, err_r)
+    try:
+        assert run_.poll() == 3
+    finally:
+        run_._close_output()
+        ours.close()
 
 
 # ------------------------------------------------------------- a user of its own (no bubblewrap)
