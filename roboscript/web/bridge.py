@@ -10,13 +10,15 @@ is written under ``/home/pyodide/specs`` and :func:`grade_text` gives the practi
 (:mod:`roboscript.grading.practice`): the grader's runs and judging, in the page's one process.
 
 A mission in the editor is written to a scratch folder (``/home/pyodide/missions`` in the
-browser) under the name the student gave it, so messages name the file as on the command
-line: ``hello.yaml:4:28: error: ...``.
+browser, a temporary folder of the process's own elsewhere) under the name the student gave
+it, so messages name the file as on the command line: ``hello.yaml:4:28: error: ...``.
 """
 
 from __future__ import annotations
 
+import atexit
 import contextlib
+import functools
 import json
 import os
 import re
@@ -68,9 +70,19 @@ opened in the page stays in its folder while the page is open, so a mission besi
 by its name."""
 
 
+@functools.cache
+def _own_home() -> Path:
+    """Outside the browser (CPython: the tests, a script), a folder of this process's own in
+    place of the page's home: two programs calling these functions at once each check and
+    grade their own files (a shared one was overwritten by the other's mission or spec)."""
+    home = Path(tempfile.mkdtemp(prefix="roboscript-page-"))
+    atexit.register(shutil.rmtree, home, ignore_errors=True)
+    return home
+
+
 def _folder() -> Path:
     browser_home = Path("/home/pyodide")
-    base = browser_home if browser_home.is_dir() else Path(tempfile.gettempdir())
+    base = browser_home if browser_home.is_dir() else _own_home()
     folder = base / "missions"
     folder.mkdir(parents=True, exist_ok=True)
     return folder

@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import json
 import re
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
-from helpers import MISSIONS, run_cli
+from helpers import HANG_BOUND_S, MISSIONS, run_cli
 from test_watchdog import LOOPING_BEHAVIOUR_FILE, SPIN, no_timer_signal
 
 from roboscript.web.bridge import _folder as scratch_folder
@@ -223,3 +226,14 @@ def test_the_pages_replay_keeps_what_the_mission_printed_while_it_loaded() -> No
     text = 'print("loading my square")\n' + (MISSIONS / "square.py").read_text(encoding="utf-8")
     viewer = json.loads(run_text("square.py", text))["viewer"]
     assert '"printed_before_start":["loading my square"]' in viewer
+
+
+def test_two_programs_using_the_page_functions_at_once_never_share_a_file() -> None:
+    # Each checks and grades its own mission and spec files, whatever the other writes.
+    code = "from roboscript.web.bridge import _folder; print(_folder())"
+    other = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True,
+        timeout=HANG_BOUND_S,
+    ).stdout.strip()  # fmt: skip
+    assert other and Path(other) != scratch_folder()
+    assert Path(other).parent != scratch_folder().parent  # the specs' folder is beside it
