@@ -507,8 +507,10 @@ class _WorldSession:
             if sent == len(frame):
                 return
             frame = frame[sent:]
+        had_backlog = bool(self.backlog)
         self.backlog += frame
-        self._flush()
+        if not had_backlog:  # else the socket was full a moment ago: the loop sends when it can
+            self._flush()
         if len(self.backlog) > _MAX_BACKLOG_BYTES:
             raise _ViolationError("it stopped reading the robot's answers")
 
