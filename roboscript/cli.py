@@ -29,6 +29,7 @@ from roboscript.errors import (
     CapabilityError,
     InputError,
     RoboscriptError,
+    grouped,
     nearby_file,
 )
 from roboscript.interrupts import deferred, exit_status_for, raise_dropped, reason_for
@@ -51,9 +52,8 @@ def _err(text: str) -> None:
 
 
 def _print_problems(error: InputError) -> None:
-    problems = getattr(error, "problems", None) or [error]
-    for problem in problems:
-        _err(problem.format())
+    for line in grouped(getattr(error, "problems", None) or [error]):
+        _err(line)
 
 
 # ------------------------------------------------------------------------------------- run
@@ -74,8 +74,8 @@ def _load_mission(path: str, robot: str | None, strict: bool = False) -> tuple[A
         raise MissionProblemsError(
             [type(w)(w.message, path=w.path, line=w.line, col=w.col, hint=w.hint) for w in warnings]
         )
-    for warning in warnings:
-        _err(warning.format())
+    for line in grouped(warnings):
+        _err(line)
     return spec, profile
 
 

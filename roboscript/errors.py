@@ -34,7 +34,8 @@ from __future__ import annotations
 
 import difflib
 import os
-from collections.abc import Iterable
+import re
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 __all__ = [
@@ -54,6 +55,7 @@ __all__ = [
     "SpecError",
     "WorldError",
     "did_you_mean",
+    "grouped",
     "nearby_file",
 ]
 
@@ -177,6 +179,55 @@ class InputError(RoboscriptError, ValueError):
         if self.hint:
             text += f" ({self.hint})"
         return text
+
+
+_QUOTED = re.compile(r"'[^']*'")
+
+REPEATS_SHOWN = 3
+"""How many problems that read alike (one typo copied down a file) are printed each in full,
+before the rest are counted on one line with their line numbers."""
+
+LINES_LISTED = 10
+"""How many line numbers that one line lists before it skips to the last."""
+
+
+def grouped(problems: Sequence[InputError]) -> list[str]:
+    """The lines that print ``problems`` (in file order) for a user: each in full, except that
+    of problems with the same file, severity, message and hint (only the place differs) the
+    first :data:`REPEATS_SHOWN` are printed and the rest told on one line after them,
+    ``m.yaml:13:10: error: and 297 more like it at lines 13, 16, ... 901``, at the first
+    one left out."""
+
+    def key(problem: InputError) -> tuple[object, ...]:
+        # A name in quotes may differ ("in state 's1'", "in state 's2'"): the same mistake
+        # made in another state; the hint (the fix) must be the same.
+        return (problem.path, problem.severity, _QUOTED.sub("'...'", problem.message), problem.hint)
+
+    alike: dict[tuple[object, ...], list[InputError]] = {}
+    for problem in problems:
+        alike.setdefault(key(problem), []).append(problem)
+    lines = []
+    for problem in problems:
+        same = alike[key(problem)]
+        place = next(i for i, p in enumerate(same) if p is problem)
+        if place < REPEATS_SHOWN:
+            lines.append(problem.format())
+        if place == REPEATS_SHOWN - 1 and len(same) > REPEATS_SHOWN:
+            rest = same[REPEATS_SHOWN:]
+            numbers = [str(p.line) for p in rest if p.line is not None]
+            if len(numbers) > LINES_LISTED:
+                numbers = [*numbers[: LINES_LISTED - 1], "...", numbers[-1]]
+            at = f" at lines {', '.join(numbers)}" if numbers else ""
+            first = rest[0]
+            told = InputError(
+                f"and {len(rest)} more like it{at}",
+                path=first.path,
+                line=first.line,
+                col=first.col,
+                severity=first.severity,
+            )
+            lines.append(told.format())
+    return lines
 
 
 class MissionError(InputError):

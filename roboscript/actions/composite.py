@@ -205,26 +205,87 @@ class Repeat(Action):
             python="Repeat(Steps, times=4), Steps being a Mission class with those states",
         )
 
+    most_times = 180_000
+    """Most runs a ``repeat`` may ask for: each run takes at least one 50 Hz tick, and a
+    mission runs at most an hour (``roboscript.mission.limits.MAX_TIME_S``), so a repeat of
+    more could never finish."""
+
+    @classmethod
+    def times_problem(cls, times: object, action: str = "") -> UnderSpecifiedError | None:
+        """The error for ``times`` that is not a whole number of runs from 1 to
+        :attr:`most_times`, in one sentence with the fix, or ``None`` if it is one.
+
+        Args:
+            times: The ``times`` as written (an int from Python; YAML's value as read).
+            action: The repeated action as a Python mission writes it, for the example.
+        """
+        action = action or Rotate.written()[1]
+        yaml, python = cls.example()[0], f"Repeat({action}, times=4)"
+        if isinstance(times, int) and not isinstance(times, bool):
+            if times > cls.most_times:
+                shown = f"{times:,}" if times.bit_length() <= 64 else "so many"
+                return UnderSpecifiedError(
+                    f"repeat times: {shown} runs cannot finish within a mission's longest"
+                    f" run (an hour, which holds at most {cls.most_times:,} runs)",
+                    yaml=f"`times: {cls.most_times}` or fewer",
+                    python=f"Repeat({action}, times={cls.most_times}) or fewer",
+                )
+            if times == 0:
+                return UnderSpecifiedError(
+                    "repeat times: 0 would not run the action at all (at least 1)",
+                    yaml=yaml,
+                    python=python,
+                )
+            if times < 0:
+                return UnderSpecifiedError(
+                    f"repeat times: {times} is not a number of runs (at least 1)",
+                    yaml=yaml,
+                    python=python,
+                )
+            return None
+        written = times.strip() if isinstance(times, str) else ""
+        try:  # YAML reads 1e9 as text
+            number = float(written) if written and not written.isdigit() else None
+        except ValueError:
+            number = None
+        if number is not None and number.is_integer() and number > cls.most_times:
+            return cls.times_problem(int(number), action)
+        if number is not None and number.is_integer() and number >= 1:
+            return UnderSpecifiedError(
+                f"repeat times is a whole number written out in digits, and {written} is not",
+                yaml=f"`times: {int(number)}`",
+                python=f"Repeat({action}, times={int(number)})",
+            )
+        if isinstance(times, float):
+            whole = times.is_integer() and 1 <= times <= cls.most_times
+            return UnderSpecifiedError(
+                f"repeat times is a whole number of runs, and {times!r} is not one"
+                + (" (a whole number has no decimal point)" if whole else ""),
+                yaml=f"`times: {int(times)}`" if whole else yaml,
+                python=f"Repeat({action}, times={int(times)})" if whole else python,
+            )
+        if written.isdigit() and 1 <= int(written) <= cls.most_times:  # times: "4"
+            return UnderSpecifiedError(
+                "repeat's times is a whole number, written without quotes",
+                yaml=f"`times: {int(written)}`",
+                python=f"Repeat({action}, times={int(written)})",
+            )
+        flag = isinstance(times, bool)
+        return UnderSpecifiedError(
+            "repeat needs 'times', a whole number of at least 1"
+            + (f", and {str(times).lower()} is not a number" if flag else ""),
+            yaml=yaml,
+            python=python,
+            python_message="repeat needs 'times', a whole number of at least 1"
+            + (f", and {times} is not a number" if flag else ""),
+        )
+
     def __init__(self, factory: Action | ActionFactory, times: int) -> None:
         if isinstance(times, Action) or isinstance(factory, list | tuple):
             raise type(self).several()  # Repeat(Rotate(...), Drive(...)), Repeat([...], ...)
-        if isinstance(times, bool) or not isinstance(times, int | float):
-            action = _written(factory)
-            written = times.strip() if isinstance(times, str) else ""
-            if written.isdigit() and int(written) >= 1:  # Repeat(..., times="4")
-                raise UnderSpecifiedError(
-                    "repeat's times is a whole number, written without quotes",
-                    yaml=f"`times: {int(written)}`",
-                    python=f"Repeat({action}, times={int(written)})",
-                )
-            raise UnderSpecifiedError(
-                "repeat needs 'times', a whole number of at least 1"
-                + (f", and {times} is not a number" if isinstance(times, bool) else ""),
-                yaml=type(self).example()[0],
-                python=f"Repeat({action}, times=4)",
-            )
-        if times < 1:
-            raise type(self).needs("repeat needs 'times' of at least 1")
+        problem = type(self).times_problem(times, _written(factory))
+        if problem is not None:
+            raise problem
         self.child_requires = _needs([factory])
         """Capabilities the repeated action needs."""
         self.action = factory

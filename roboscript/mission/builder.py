@@ -399,8 +399,9 @@ class MissionBuilder:
 
     def repeat(self, times: Any, child: ActionSpec, where: Location) -> ActionSpec | None:
         """``repeat``: run ``child`` ``times`` times in a row."""
-        if isinstance(times, bool) or not isinstance(times, int) or times < 1:
-            self.problem("repeat times must be a whole number of at least 1", where)
+        wrong = Repeat.times_problem(times)
+        if wrong is not None:  # a Python mission's Repeat refused it when made
+            self.problem(wrong.message, where, f"write {wrong.yaml}")
             return None
         make = child.factory
         return ActionSpec(

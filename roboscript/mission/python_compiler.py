@@ -1054,6 +1054,8 @@ class _Compiler:
                 "choose another name",
             )
             return None
+        if self.not_a_plain_method(name, value, where):
+            return None
         if not inspect.isfunction(value) or hasattr(Mission, name):
             methods = _methods(self.cls)
             outside = vars(sys.modules.get(self.cls.__module__, object())).get(name)
@@ -1234,6 +1236,45 @@ class _Compiler:
             capabilities=self.declared,
             where=f"{where.path}:{where.line}" if where.line else None,
         )
+
+    def not_a_plain_method(self, name: str, value: object, where: Location) -> bool:
+        """Report a condition ``name`` that the class holds as something other than a plain
+        method (a ``@staticmethod``, a ``@classmethod``, a method wrapped by another
+        decorator, or a value such as ``near = True``); True if it did."""
+        if isinstance(value, staticmethod | classmethod):
+            kind = type(value).__name__
+            self.problem(
+                f"condition '{name}' is a @{kind}, and a condition is a plain method that"
+                " reads the robot through self",
+                self.def_of(value.__func__)[0],
+                f"take away the @{kind} above it and write def {name}(self) -> bool:",
+            )
+            return True
+        wrapped = getattr(value, "__wrapped__", None)
+        if not inspect.isfunction(value) and inspect.isfunction(wrapped):
+            self.problem(
+                f"condition '{name}' has a decorator that makes it something other than a"
+                " method, and a condition is a plain method",
+                self.def_of(wrapped)[0],
+                f"take away the line starting with @ above def {name}(self)",
+            )
+            return True
+        if value is None or callable(value) or hasattr(Mission, name):
+            return False
+        shown = (
+            "text"
+            if isinstance(value, str)
+            else repr(value)
+            if isinstance(value, bool | int | float)
+            else f"a {type(value).__name__}"
+        )
+        self.problem(
+            f"'{name}' is {shown}, set once when the class is made, so it cannot be a"
+            " condition, which is asked again at every tick",
+            where,
+            f"define it as a method: def {name}(self) -> bool: return ... (True or False)",
+        )
+        return True
 
     def def_of(self, func: Callable[..., object]) -> tuple[Location, ast.AST | None]:
         code = getattr(func, "__code__", None)

@@ -51,6 +51,7 @@ from roboscript.inputs.quantities import DIMENSIONS
 from roboscript.mission.guards import guard_names
 from roboscript.mission.key_mistakes import meant_in_state_call
 from roboscript.mission.python_api import LOADED_PREFIX, Mission, state
+from roboscript.mission.roboscript_kept import Change, RoboscriptKept, changes_written
 from roboscript.profiles import PROFILE_FILE_KEYS, BuiltinsKept
 from roboscript.robot_profile import RobotProfile
 from roboscript.watchdog import CodePlace, RunawayCode
@@ -361,11 +362,14 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
     sys.modules[name] = module  # classes look their module up here (inspect, dataclasses)
     sys.path.insert(0, folder)
     kept = BuiltinsKept()
+    own = RoboscriptKept()
     try:
         spec.loader.exec_module(module)
         changed = kept.changed()
+        changes = own.changed()
         if changed:
             raise _builtin_changed(changed, path, module)
+        _refuse_changes(changes, path, module)
     except SyntaxError as exc:
         del sys.modules[name]
         raise _syntax_problem(exc, path) from None
@@ -378,12 +382,31 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
     except BaseException as exc:  # noqa: BLE001 - reported in the student's terms
         del sys.modules[name]
         kept.changed()  # a change made before the exception is undone too
+        own.changed()
         raise _import_problem(exc, path, module, kind) from None
     finally:
         if folder in sys.path:
             sys.path.remove(folder)
     _IMPORTED[key] = module
     return module
+
+
+def _refuse_changes(made: list[Change], path: str | Path, module: ModuleType) -> None:
+    """Refuse a file that changes roboscript's classes or names (``made`` while it loaded,
+    already put back), or has a line that would as it runs: at the first such line."""
+    written = changes_written(module, _tree(module))
+    if written:
+        node, change = written[0]
+        line, col = getattr(node, "lineno", None), getattr(node, "col_offset", None)
+    elif made:
+        change, col = made[0], None
+        line = _line_naming(module, {made[0].name})
+    else:
+        return
+    message, hint = change.sentence()
+    raise MissionError(
+        message, path=str(path), line=line, col=None if col is None else col + 1, hint=hint
+    )
 
 
 def _builtin_changed(

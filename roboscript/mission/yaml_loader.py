@@ -418,12 +418,9 @@ class _Reader:
                 self.problem("repeat takes 'times' and 'do', and nothing else", mark, again)
             return None
         times = body["times"]
-        if isinstance(times, bool) or not isinstance(times, int) or times < 1:
-            self.problem(
-                "repeat times must be a whole number of at least 1",
-                body.value_mark("times"),
-                "write `times: 4`",
-            )
+        wrong = Repeat.times_problem(times)
+        if wrong is not None:
+            self.problem(wrong.message, body.value_mark("times"), f"write {wrong.yaml}")
             return None
         child = self.action(body["do"], body.value_mark("do"), names, label)
         if child is None:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from roboscript import Drive, PlayTone, Rotate
@@ -9,6 +11,8 @@ from roboscript import capabilities as cap
 from roboscript.actions import ActionContext, Outcome, Result, Stop
 from roboscript.actions.base import Action, UnderSpecifiedError
 from roboscript.actions.composite import Parallel, Repeat
+from roboscript.mission.limits import MAX_TIME_S
+from roboscript.robot import DEFAULT_PERIOD_S
 
 
 class Log(list[str]):
@@ -248,7 +252,8 @@ def test_repeat_needs_at_least_one_run_and_its_actions_capabilities() -> None:
     with pytest.raises(ValueError) as refused:
         Repeat(Scripted(1, DONE, log, "a"), times=0)
     assert str(refused.value) == (
-        "repeat needs 'times' of at least 1 (write Repeat(Rotate(angle_deg=90), times=4))"
+        "repeat times: 0 would not run the action at all (at least 1)"
+        " (write Repeat(Scripted(...), times=4))"
     )
     assert Repeat(Driving(1, DONE, log, "a"), times=1).child_requires == {cap.DRIVE_BASE}
 
@@ -291,3 +296,28 @@ def test_repeat_of_two_actions_says_a_repeat_runs_one() -> None:
         Repeat(Rotate(angle_deg=90), Drive(distance_mm=100))  # type: ignore[arg-type]
     with pytest.raises(UnderSpecifiedError, match=r"^repeat runs one action"):
         Repeat(Rotate(angle_deg=90), Drive(distance_mm=100), 4)  # type: ignore[call-arg]
+
+
+@pytest.mark.parametrize(
+    ("times", "refused"),
+    [
+        (Repeat.most_times + 1, "runs cannot finish within a mission's longest run"),
+        (10**40, "repeat times: so many runs cannot finish"),
+        (-2, "repeat times: -2 is not a number of runs"),
+        (2.5, "and 2.5 is not one"),
+        (4.0, "a whole number has no decimal point"),
+        (float("nan"), "and nan is not one"),
+        (True, "and True is not a number"),
+        ("4", "written without quotes"),
+    ],
+)
+def test_repeat_refuses_times_that_are_not_a_whole_number_of_runs_within_an_hour(
+    times: object, refused: str
+) -> None:
+    with pytest.raises(ValueError, match=re.escape(refused)):
+        Repeat(Scripted(1, DONE, Log(), "a"), times=times)  # type: ignore[arg-type]
+
+
+def test_repeat_allows_as_many_runs_as_an_hour_of_ticks_holds() -> None:
+    assert Repeat.most_times == int(MAX_TIME_S / DEFAULT_PERIOD_S)
+    assert Repeat(Scripted(1, DONE, Log(), "a"), times=Repeat.most_times).times == 180_000

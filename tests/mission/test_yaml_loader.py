@@ -434,7 +434,6 @@ TOGETHER_HINT = (
 )
 TOGETHER = f"actions to run together {TOGETHER_HINT}"
 AGAIN = "(write `repeat: {times: 4, do: {rotate: {angle: 90 deg}}}`)"
-FOUR = "(write `times: 4`)"
 
 MISTAKES = [
     pytest.param(
@@ -911,9 +910,18 @@ MISTAKES = [
                 "m.yaml:6:10: error: repeat needs 'times', how many times, and 'do', the action"
                 f" to repeat {AGAIN}"
             ),
-            f"m.yaml:9:26: error: repeat times must be a whole number of at least 1 {FOUR}",
-            f"m.yaml:12:26: error: repeat times must be a whole number of at least 1 {FOUR}",
-            f"m.yaml:15:26: error: repeat times must be a whole number of at least 1 {FOUR}",
+            (
+                "m.yaml:9:26: error: repeat times: 0 would not run the action at all (at least 1)"
+                f" {AGAIN}"
+            ),
+            (
+                "m.yaml:12:26: error: repeat needs 'times', a whole number of at least 1, and"
+                f" true is not a number {AGAIN}"
+            ),
+            (
+                "m.yaml:15:26: error: repeat times is a whole number of runs, and 1.5 is not one"
+                f" {AGAIN}"
+            ),
             "m.yaml:18:34: error: unknown action 'dirve' (did you mean 'drive'?)",
             (
                 "m.yaml:24:45: error: wait_until condition: 'visits.og': there is no state"

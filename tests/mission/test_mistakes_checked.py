@@ -1,0 +1,302 @@
+"""A beginner's mistakes, as ``roboscript check`` answers them: one sentence at ``file:line:col``
+with the fix, never a traceback, and never a mission accepted that would not do what was meant.
+
+Every file below is checked by one ``roboscript check`` run (a program of its own, as a
+student runs it), so a mistake in one file cannot hide behind another's, and each test reads
+the lines printed for its own file.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from helpers import run_cli
+
+from roboscript.actions.composite import Repeat
+
+YAML_REPEAT = """\
+mission: m
+states:
+  go:
+    do: {repeat: {times: TIMES, do: {rotate: {angle: 90 deg}}}}
+    on: {done: end, failed: end}
+  end: {final: success}
+"""
+
+PY_REPEAT = """\
+from roboscript import Mission, Repeat, Rotate, state
+
+class M(Mission):
+    go = state(Repeat(Rotate(angle_deg=90), times=TIMES), initial=True, on_done="end",
+               on_failed="end")
+    end = state(final="success")
+"""
+
+CONDITION = """\
+import functools
+from roboscript import Drive, Mission, state
+
+class M(Mission):
+    go = state(Drive(distance_mm=500), initial=True, on_done="end", on_failed="end",
+               when=[("near", "end")])
+    end = state(final="success")
+
+    DEFINITION
+"""
+
+CHANGES = """\
+import roboscript
+from roboscript import Drive, Mission, state
+from roboscript.profiles import get_profile
+
+class MyDrive(Drive):
+    pass
+
+CHANGE
+
+class M(Mission):
+    go = state(Drive(distance_mm=500), initial=True, on_done="end", on_failed="end",
+               when=[("hack", "end")])
+    end = state(final="success")
+
+    def hack(self):
+        IN_METHOD
+        return False
+"""
+
+AGAIN = "(write `repeat: {times: 4, do: {rotate: {angle: 90 deg}}}`)"
+AGAIN_PY = "(write Repeat(Rotate(angle_deg=90), times=4))"
+AN_HOUR = (
+    "error: repeat times: 1,000,000,000 runs cannot finish within a mission's longest run"
+    " (an hour, which holds at most 180,000 runs)"
+)
+OWN_DRIVE = (
+    "error: this changes roboscript's own Drive (update), which every mission shares, so"
+    " roboscript keeps it as it is (make one of your own that extends it: class"
+    " MyDrive(Drive): ..., and use MyDrive(...) in your states)"
+)
+
+MISTAKES: dict[str, tuple[str, list[str]]] = {
+    # --- repeat's times: a whole number of runs that fits in an hour
+    "repeat_1e9.yaml": (
+        YAML_REPEAT.replace("TIMES", "1e9"),
+        [f"4:26: {AN_HOUR} (write `times: 180000` or fewer)"],
+    ),
+    "repeat_billion.yaml": (
+        YAML_REPEAT.replace("TIMES", "1000000000"),
+        [f"4:26: {AN_HOUR} (write `times: 180000` or fewer)"],
+    ),
+    "repeat_negative.yaml": (
+        YAML_REPEAT.replace("TIMES", "-1"),
+        [f"4:26: error: repeat times: -1 is not a number of runs (at least 1) {AGAIN}"],
+    ),
+    "repeat_zero.yaml": (
+        YAML_REPEAT.replace("TIMES", "0"),
+        [f"4:26: error: repeat times: 0 would not run the action at all (at least 1) {AGAIN}"],
+    ),
+    "repeat_half.yaml": (
+        YAML_REPEAT.replace("TIMES", "2.5"),
+        [f"4:26: error: repeat times is a whole number of runs, and 2.5 is not one {AGAIN}"],
+    ),
+    "repeat_point_zero.yaml": (
+        YAML_REPEAT.replace("TIMES", "4.0"),
+        [
+            (
+                "4:26: error: repeat times is a whole number of runs, and 4.0 is not one (a whole"
+                " number has no decimal point) (write `times: 4`)"
+            )
+        ],
+    ),
+    "repeat_yes.yaml": (
+        YAML_REPEAT.replace("TIMES", "true"),
+        [
+            (
+                "4:26: error: repeat needs 'times', a whole number of at least 1, and true is not"
+                f" a number {AGAIN}"
+            )
+        ],
+    ),
+    "repeat_e_notation.yaml": (
+        YAML_REPEAT.replace("TIMES", "12e3"),
+        [
+            (
+                "4:26: error: repeat times is a whole number written out in digits, and 12e3 is"
+                " not (write `times: 12000`)"
+            )
+        ],
+    ),
+    "repeat_billion.py": (
+        PY_REPEAT.replace("TIMES", "10**9"),
+        [f"4:16: {AN_HOUR} (write Repeat(Rotate(angle_deg=90), times=180000) or fewer)"],
+    ),
+    "repeat_negative.py": (
+        PY_REPEAT.replace("TIMES", "-3"),
+        [f"4:16: error: repeat times: -3 is not a number of runs (at least 1) {AGAIN_PY}"],
+    ),
+    "repeat_zero.py": (
+        PY_REPEAT.replace("TIMES", "0"),
+        [f"4:16: error: repeat times: 0 would not run the action at all (at least 1) {AGAIN_PY}"],
+    ),
+    "repeat_half.py": (
+        PY_REPEAT.replace("TIMES", "2.5"),
+        [f"4:16: error: repeat times is a whole number of runs, and 2.5 is not one {AGAIN_PY}"],
+    ),
+    "repeat_yes.py": (
+        PY_REPEAT.replace("TIMES", "True"),
+        [
+            (
+                "4:16: error: repeat needs 'times', a whole number of at least 1, and True is not"
+                f" a number {AGAIN_PY}"
+            )
+        ],
+    ),
+    # --- a condition that is not a plain method
+    "condition_static.py": (
+        CONDITION.replace("DEFINITION", "@staticmethod\n    def near():\n        return True"),
+        [
+            (
+                "10:5: error: condition 'near' is a @staticmethod, and a condition is a plain"
+                " method that reads the robot through self (take away the @staticmethod above it"
+                " and write def near(self) -> bool:)"
+            )
+        ],
+    ),
+    "condition_class.py": (
+        CONDITION.replace("DEFINITION", "@classmethod\n    def near(cls):\n        return True"),
+        [
+            (
+                "10:5: error: condition 'near' is a @classmethod, and a condition is a plain method"
+                " that reads the robot through self (take away the @classmethod above it and"
+                " write def near(self) -> bool:)"
+            )
+        ],
+    ),
+    "condition_cached.py": (
+        CONDITION.replace(
+            "DEFINITION", "@functools.lru_cache\n    def near(self):\n        return True"
+        ),
+        [
+            (
+                "10:5: error: condition 'near' has a decorator that makes it something other than"
+                " a method, and a condition is a plain method (take away the line starting with @"
+                " above def near(self))"
+            )
+        ],
+    ),
+    "condition_property.py": (
+        CONDITION.replace("DEFINITION", "@property\n    def near(self):\n        return True"),
+        [
+            (
+                "10:5: error: condition 'near' is a property, and a condition is a plain method"
+                " (take away the @property above def near(self))"
+            )
+        ],
+    ),
+    "condition_value.py": (
+        CONDITION.replace("DEFINITION", "near = True"),
+        [
+            (
+                "6:23: error: 'near' is True, set once when the class is made, so it cannot be a"
+                " condition, which is asked again at every tick (define it as a method: def"
+                " near(self) -> bool: return ... (True or False))"
+            )
+        ],
+    ),
+    # --- changing roboscript's own classes and names
+    "change_update.py": (
+        CHANGES.replace("CHANGE", "Drive.update = lambda self, ctx: None").replace(
+            "IN_METHOD", "pass"
+        ),
+        [f"8:1: {OWN_DRIVE}"],
+    ),
+    "change_setattr.py": (
+        CHANGES.replace("CHANGE", "setattr(Drive, 'update', lambda self, ctx: None)").replace(
+            "IN_METHOD", "pass"
+        ),
+        [f"8:1: {OWN_DRIVE}"],
+    ),
+    "change_name.py": (
+        CHANGES.replace("CHANGE", "roboscript.Drive = MyDrive").replace("IN_METHOD", "pass"),
+        [
+            (
+                "8:1: error: this puts something of its own in the place of roboscript's 'Drive',"
+                " and roboscript's names stay as roboscript makes them (give yours a name of its"
+                " own and use that name, e.g. MyDrive)"
+            )
+        ],
+    ),
+    "change_at_run_time.py": (
+        CHANGES.replace("CHANGE", "").replace("IN_METHOD", "Drive.update = lambda self, ctx: None"),
+        [f"16:9: {OWN_DRIVE}"],
+    ),
+    "change_robot_at_run_time.py": (
+        CHANGES.replace("CHANGE", "").replace(
+            "IN_METHOD", 'get_profile("mirto").gains["heading"] = (50.0, 0.0, 0.0)'
+        ),
+        [
+            (
+                "16:9: error: this changes the built-in robot 'mirto' (gains), and a built-in"
+                " robot stays as it is built: the simulated robot would not have the change (a"
+                " robot of your own is a profile file beside the mission, e.g. my_mirto.yaml"
+                " holding 'extends: mirto' and 'gains: ...'; then write robot = \"my_mirto.yaml\")"
+            )
+        ],
+    ),
+}
+
+
+@pytest.fixture(scope="module")
+def checked(tmp_path_factory: pytest.TempPathFactory) -> dict[str, list[str]]:
+    """What one ``roboscript check`` of every mistake's file prints, by file."""
+    folder: Path = tmp_path_factory.mktemp("mistakes")
+    # The one mission that changes Drive comes first: the files after it must still see
+    # roboscript's own Drive (a change is put back).
+    names = sorted(MISTAKES, key=lambda name: name != "change_update.py")
+    for name in names:
+        (folder / name).write_text(MISTAKES[name][0], encoding="utf-8")
+    result = run_cli("check", *names, cwd=folder)
+    assert "Traceback" not in result.stderr, result.stderr
+    printed: dict[str, list[str]] = {name: [] for name in names}
+    for line in result.stderr.splitlines():
+        name, _, rest = line.partition(":")
+        if name in printed:
+            printed[name].append(rest)
+    assert result.stderr.splitlines()[-1] == f"checked {len(names)} files: {len(names)} with errors"
+    return printed
+
+
+@pytest.mark.parametrize("name", sorted(MISTAKES))
+def test_each_beginners_mistake_is_answered_in_one_located_sentence(
+    checked: dict[str, list[str]], name: str
+) -> None:
+    assert checked[name] == MISTAKES[name][1]
+
+
+def test_a_repeat_may_run_as_many_times_as_an_hour_holds(tmp_path: Path) -> None:
+    (tmp_path / "most.yaml").write_text(
+        YAML_REPEAT.replace("TIMES", str(Repeat.most_times)), encoding="utf-8"
+    )
+    result = run_cli("check", "most.yaml", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+
+
+def test_the_same_typo_on_many_lines_is_told_in_full_three_times_then_counted(
+    tmp_path: Path,
+) -> None:
+    lines = ["mission: m", "states:"]
+    for i in range(300):
+        lines += [f"  s{i}:", "    do: {dirve: {distance: 10 cm}}", f"    on: {{done: s{i + 1}}}"]
+    (tmp_path / "many.yaml").write_text("\n".join([*lines, "  s300: {final: success}\n"]))
+    result = run_cli("check", "many.yaml", cwd=tmp_path)
+    typo = "error: unknown action 'dirve' (did you mean 'drive'?)"
+    assert result.stderr.splitlines() == [
+        f"many.yaml:4:10: {typo}",
+        f"many.yaml:7:10: {typo}",
+        f"many.yaml:10:10: {typo}",
+        (
+            "many.yaml:13:10: error: and 297 more like it at lines 13, 16, 19, 22, 25, 28, 31, 34,"
+            " 37, ..., 901"
+        ),
+        "checked 1 file: 1 with errors",
+    ]
