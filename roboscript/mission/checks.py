@@ -315,6 +315,23 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
                     "warning",
                 )
             )
+        timed_out = {t.target for t in state.on.get("timeout", ())}
+        elsewhere = {t.target for o, ts in state.on.items() if o != "timeout" for t in ts}
+        if (
+            timed_out - elsewhere  # a way of its own, not every outcome sent to one state
+            and state.timeout_s is None
+            and not (action is not None and (_times_out(action) or action.inner is not None))
+        ):
+            first = state.on["timeout"][0]
+            problems.append(
+                _problem(
+                    f"state '{name}' goes to '{first.target}' when it times out, but it has"
+                    " no timeout, so it never times out",
+                    first.location or state.location,
+                    _Write("add 'timeout: 10 s' to the state", "add timeout_s=10 to the state"),
+                    "warning",
+                )
+            )
         why = _failure(action) if action is not None else None
         if action is not None and why is not None and not state.on.get("failed"):
             what = (

@@ -182,6 +182,22 @@ def condition_slips(
                     )
                 )
         elif (
+            isinstance(child, ast.Attribute)
+            and isinstance(child.value, ast.Name)
+            and child.value.id not in own
+            and child.value.id not in func.__globals__
+            and child.value.id in dir(builtins)
+            and reading_names(child.value.id)
+        ):  # range.distance_cm: Python's own range, where the sensor self.range was meant
+            sensor = child.value.id
+            slips.append(
+                (
+                    child.value,
+                    f"'{sensor}' here is Python's own {sensor}, not the robot's {sensor} sensor",
+                    f"a sensor is read through self: self.{sensor}.{child.attr}",
+                )
+            )
+        elif (
             isinstance(child, ast.Name)
             and isinstance(child.ctx, ast.Load)
             and child.id not in own
@@ -259,7 +275,10 @@ def _name_hint(name: str, cls: type) -> str | None:
         return f"inside a method, the mission's own values are read through self: self.{name}"
     if name in sys.stdlib_module_names:
         return f"add 'import {name}' at the top of the file"
-    return None
+    capital = {"true": "True", "false": "False", "none": "None", "null": "None"}.get(name.lower())
+    if capital is not None:  # true, FALSE, null: another language's spelling
+        return f"Python writes it {capital}, with a capital letter"
+    return did_you_mean(name, [n for n in dir(builtins) if not n.startswith("_")], cutoff=0.8)
 
 
 def _self_hint(

@@ -316,8 +316,12 @@ class _Compiler:
             tree = ast.parse(text.strip(), mode="eval")
         except SyntaxError as exc:
             offset = (exc.offset or 1) - 1
-            raise _syntax_mistake(self.source) or GuardError(
-                f"cannot read the condition '{self.source}'", self._source_offset(offset)
+            raise (
+                _syntax_mistake(self.source)
+                or _unclosed(self.source)
+                or GuardError(
+                    f"cannot read the condition '{self.source}'", self._source_offset(offset)
+                )
             ) from None
         except (RecursionError, MemoryError):  # the parser's own depth limit
             raise self._too_deep() from None
@@ -378,6 +382,15 @@ class _Compiler:
                     "a condition cannot raise to a power ('**'); only + - * / are allowed",
                     node,
                     f"write the number itself, at most {GUARD_NUMBER_LIMIT:g}",
+                )
+            word = {ast.BitAnd: ("&", "and"), ast.BitOr: ("|", "or")}.get(type(node.op))
+            if word is not None and word[0] in self.source:  # one '&' of '&&', as elsewhere
+                fixed = " ".join(self.source.replace(word[0], f" {word[1]} ").split())
+                raise GuardError(
+                    f"cannot read the condition '{self.source}': '{word[0]}' is not a condition"
+                    " word",
+                    self.source.index(word[0]),
+                    f"write '{word[1]}': {fixed}",
                 )
             if op is None:
                 raise self.fail("only + - * / are allowed in a condition", node)
@@ -629,6 +642,33 @@ def _call_meant(node: ast.Call) -> str | None:
     given = node.args[0] if len(node.args) == 1 else None
     if name == "visits" and isinstance(given, ast.Constant) and isinstance(given.value, str):
         return f"a state's visits are read with a '.': write visits.{given.value}"
+    if name == "visits" and isinstance(given, ast.Name):  # visits(turn)
+        return f"a state's visits are read with a '.': write visits.{given.id}"
+    if not node.args and not node.keywords:  # elapsed(), bumper.any()
+        return f"a value is read without brackets: write {ast.unparse(func)}"
+    return None
+
+
+def _unclosed(source: str) -> GuardError | None:
+    """A condition with a ``(`` it never closes, or a ``)`` it never opened."""
+    open_at: list[int] = []
+    for at, char in enumerate(source):
+        if char == "(":
+            open_at.append(at)
+        elif char == ")":
+            if not open_at:
+                return GuardError(
+                    f"cannot read the condition '{source}': this ')' closes no '('",
+                    at,
+                    "take it away, or add the '(' it closes",
+                )
+            open_at.pop()
+    if open_at:
+        return GuardError(
+            f"cannot read the condition '{source}': this '(' is never closed",
+            open_at[-1],
+            "add ')' where what it groups ends",
+        )
     return None
 
 

@@ -414,6 +414,8 @@ class _Compiler:
         self.names = frozenset(self.states)
         self.instances = _Instances(cls, self.names)
         self.method_guards: dict[str, MethodGuard] = {}
+        self.missing_states: set[str] = set()
+        """Names of class attributes taken for states and told once: ``end = "success"``."""
         self.declared: frozenset[str] = frozenset()  # the class's `requires`
         self._slipped: set[tuple[str, str]] = set()  # (where, message) said by slips()
 
@@ -1000,6 +1002,25 @@ class _Compiler:
                 where,
                 "a choice made by a condition is a tuple of the condition and the state it goes"
                 f" to: ('{value}', 'STATE')",
+            )
+            return None
+        held = inspect.getattr_static(self.cls, value, None) if isinstance(value, str) else None
+        if isinstance(value, str) and value not in self.names and isinstance(held, str | Action):
+            if value in self.missing_states:
+                return None  # told once, where the first transition names it
+            self.missing_states.add(value)
+            made = (
+                f'state(final="{held}")'
+                if held in ("success", "failure")
+                else f"state({held.written_call()}, ...)"
+                if isinstance(held, Action)
+                else "state(...)"
+            )
+            self.problem(
+                f"'{value}' is {'an action' if isinstance(held, Action) else 'text'} in the"
+                " class, not a state",
+                where,
+                f"make it a state: {value} = {made}",
             )
             return None
         return self.build.target(value, self.names, where)

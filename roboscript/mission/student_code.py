@@ -474,6 +474,8 @@ def _syntax_problem(exc: SyntaxError, path: str | Path) -> MissionError:
         hint = "this is a YAML mission: a YAML mission's file name ends in .yaml"
     elif (unit := _NUMBER_WITH_UNIT.search(exc.text or "")) is not None:
         hint = _without_unit(exc.text or "", unit)
+    elif (other := _other_language(exc.text or "")) is not None:
+        hint = other
     else:
         hint = next((h for start, h in _SYNTAX_HINTS if (exc.msg or "").startswith(start)), None)
     col = exc.offset
@@ -502,10 +504,37 @@ _SYNTAX_HINTS = (
 )
 """Python's words for a beginner's syntax slip, and what to do about it."""
 
+_ELIF = "Python writes 'else if' as elif: elif CONDITION:"
+_AND_OR_NOT = "Python writes && as and, || as or, and ! as not"
+_OTHER_LANGUAGE = tuple(
+    (re.compile(pattern), hint)
+    for pattern, hint in (
+        (r"^\s*(?:else\s*:?\s*if|elseif|elsif)\b", _ELIF),
+        (
+            r"^\s*\}",
+            "Python has no braces: a block is the lines indented under a line ending in ':'",
+        ),
+        (
+            r"^\s*(?:if|elif|else|while|for|def|class)\b.*\{\s*$",
+            "Python has no braces: end the line with ':' and indent the lines of its block",
+        ),
+        (r"^\s*function\b", "Python defines a function with def: def name(self):"),
+        (r"^\s*(?:var|let|const)\s+\w+\s*=", "Python needs no var or let: write name = value"),
+        (r"&&|\|\||!\s*(?=self\b|\()", _AND_OR_NOT),
+    )
+)
+"""A line of a program in another language (JavaScript, C, Java) where Python's slipped, and
+how Python writes it."""
+
 _NUMBER_WITH_UNIT = re.compile(r"\b(\d+(?:\.\d+)?)\s*(mm|cm|m|s|ms|sec|min|deg|Hz|hz)\b(?!\s*[=(])")
 """A number written with its unit in Python code (``< 20 cm``), which Python cannot read."""
 
 _NAME_WITH_UNIT = re.compile(r"\b([a-z]\w*?)_(mm|cm|m|s|ms|deg|hz)\b")
+
+
+def _other_language(line: str) -> str | None:
+    """How Python writes what ``line`` wrote in another language, or ``None``."""
+    return next((hint for pattern, hint in _OTHER_LANGUAGE if pattern.search(line)), None)
 
 
 def _without_unit(line: str, found: re.Match[str]) -> str:

@@ -139,10 +139,15 @@ class _Reader:
                 else "write states: and under it, indented, each state, e.g. go: {final: success}",
             )
             return None
-        names = frozenset(str(name) for name in states_raw)
+        no_colon = {
+            str(name): self.colon_missing(name, raw, states_raw) for name, raw in states_raw.items()
+        }
+        names = frozenset(no_colon[str(name)] or str(name) for name in states_raw)
         states: dict[str, StateSpec] = {}
         previous: str | None = None
         for name, raw in states_raw.items():
+            if no_colon[str(name)]:
+                continue
             if previous is not None and self.dedented_state_key(
                 str(name), raw, previous, states_raw.key_mark(name)
             ):
@@ -196,6 +201,21 @@ class _Reader:
         return tuple(found)
 
     # ---------------------------------------------------------------------------- states
+
+    def colon_missing(self, name: object, raw: Any, states_raw: YamlMap) -> str | None:
+        """``end {final: success}``, read by YAML as a state called ``end {final``: the name
+        the student meant (``end``), once told, or ``None``."""
+        text = str(name)
+        meant = text.split("{", 1)[0].strip()
+        if "{" not in text or not meant or not meant.replace("_", "").isalnum():
+            return None
+        rest = text[len(meant) :].strip()
+        self.problem(
+            f"a ':' is missing after the state name '{meant}'",
+            states_raw.key_mark(name),
+            f"write {meant}: {rest}" + (f": {raw}" if raw is not None else ""),
+        )
+        return meant
 
     def dedented_state_key(self, name: str, raw: Any, previous: str, mark: Mark) -> bool:
         """True (and a problem said) when a state's own key, such as ``on:``, was indented

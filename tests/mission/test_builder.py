@@ -15,6 +15,7 @@ import pytest
 from helpers import MISSIONS, run_cli
 
 from roboscript.actions import ACTIONS
+from roboscript.actions.composite import Repeat
 from roboscript.errors import MissionError
 from roboscript.inputs.source import Location
 from roboscript.mission import load_mission
@@ -660,17 +661,20 @@ def test_repeat_of_an_endless_action_never_ends() -> None:
     ]
 
 
-@pytest.mark.parametrize("times", [0, -1, True, 1.5, "2"])
+@pytest.mark.parametrize("times", [0, -1, True, 1.5, "2", 10**9])
 def test_the_builder_refuses_a_repeat_count_that_is_not_a_whole_number_from_1(
     times: Any,
 ) -> None:
-    # the YAML reader checks the count before the builder; this is the builder's own guard
+    # the YAML reader checks the count before the builder; this is the builder's own guard,
+    # with the rule Repeat holds
     build = MissionBuilder("m.yaml")
     child = build.action(ACTIONS["stop"], {}, Location("m.yaml", 4, 20), frozenset({"a"}))
     assert child is not None
     assert build.repeat(times, child, Location("m.yaml", 4, 10)) is None
+    wrong = Repeat.times_problem(times)
+    assert wrong is not None
     assert [p.format() for p in build.problems] == [
-        "m.yaml:4:10: error: repeat times must be a whole number of at least 1"
+        f"m.yaml:4:10: error: {wrong.message} (write {wrong.yaml})"
     ]
 
 

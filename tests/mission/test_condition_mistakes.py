@@ -121,13 +121,57 @@ def test_the_right_forms_are_not_taken_for_mistakes(source: str) -> None:
     compile_guard(source)
 
 
-@pytest.mark.parametrize(
-    "source", ["elapsed > 3 and (", "range.distance_cm < 20 cm)", "elapsed > 2 s or )"]
-)
+@pytest.mark.parametrize("source", ["elapsed > > 3", "range.distance_cm < 20 cm <", "elapsed 2"])
 def test_a_condition_that_breaks_otherwise_keeps_the_plain_message(source: str) -> None:
     with pytest.raises(GuardError) as caught:
         compile_guard(source)
     assert str(caught.value) == f"cannot read the condition '{source}'"
+
+
+@pytest.mark.parametrize(
+    ("source", "offset", "message"),
+    [
+        ("elapsed > 3 and (", 16, "this '(' is never closed"),
+        ("(range.distance_cm < 20", 0, "this '(' is never closed"),
+        ("range.distance_cm < 20 cm)", 25, "this ')' closes no '('"),
+        ("elapsed > 2 s or )", 17, "this ')' closes no '('"),
+    ],
+)
+def test_a_bracket_left_open_or_never_opened_is_pointed_at(
+    source: str, offset: int, message: str
+) -> None:
+    with pytest.raises(GuardError) as caught:
+        compile_guard(source)
+    assert str(caught.value) == f"cannot read the condition '{source}': {message}"
+    assert caught.value.offset == offset
+
+
+@pytest.mark.parametrize(
+    ("source", "offset", "hint"),
+    [
+        ("bumper.left & bumper.right", 12, "write 'and': bumper.left and bumper.right"),
+        ("bumper.left | line.any", 12, "write 'or': bumper.left or line.any"),
+    ],
+)
+def test_one_ampersand_or_bar_is_told_as_and_or(source: str, offset: int, hint: str) -> None:
+    with pytest.raises(GuardError) as caught:
+        compile_guard(source)
+    assert caught.value.offset == offset
+    assert caught.value.hint == hint
+
+
+@pytest.mark.parametrize(
+    ("source", "hint"),
+    [
+        ("visits(turn) > 2", "a state's visits are read with a '.': write visits.turn"),
+        ("elapsed() > 2", "a value is read without brackets: write elapsed"),
+        ("bumper.any()", "a value is read without brackets: write bumper.any"),
+    ],
+)
+def test_a_call_in_a_condition_shows_the_value_it_meant(source: str, hint: str) -> None:
+    with pytest.raises(GuardError) as caught:
+        compile_guard(source, frozenset({"turn"}))
+    assert caught.value.hint == hint
 
 
 @pytest.mark.parametrize(

@@ -65,6 +65,17 @@ class M(Mission):
         return False
 """
 
+YAML_WHEN = """\
+mission: m
+states:
+  go:
+    do: {drive: {distance: 50 cm}}
+    on: {done: end, failed: end}
+    when:
+      - {if: "IF", goto: end}
+  end: {final: success}
+"""
+
 AGAIN = "(write `repeat: {times: 4, do: {rotate: {angle: 90 deg}}}`)"
 AGAIN_PY = "(write Repeat(Rotate(angle_deg=90), times=4))"
 AN_HOUR = (
@@ -243,6 +254,125 @@ MISTAKES: dict[str, tuple[str, list[str]]] = {
             )
         ],
     ),
+    # --- conditions written as another language writes them
+    "condition_ampersand.yaml": (
+        YAML_WHEN.replace("IF", "bumper.left & bumper.right"),
+        [
+            (
+                "7:27: error: cannot read the condition 'bumper.left & bumper.right': '&' is not a"
+                " condition word (write 'and': bumper.left and bumper.right)"
+            )
+        ],
+    ),
+    "condition_bar.yaml": (
+        YAML_WHEN.replace("IF", "bumper.left | line.any"),
+        [
+            (
+                "7:27: error: cannot read the condition 'bumper.left | line.any': '|' is not a"
+                " condition word (write 'or': bumper.left or line.any)"
+            )
+        ],
+    ),
+    "condition_visits_called.yaml": (
+        YAML_WHEN.replace("IF", "visits(go) > 2"),
+        [
+            (
+                "7:15: error: a condition cannot call functions (a state's visits are read with a"
+                " '.': write visits.go)"
+            )
+        ],
+    ),
+    "condition_elapsed_called.yaml": (
+        YAML_WHEN.replace("IF", "elapsed() > 2"),
+        [
+            (
+                "7:15: error: a condition cannot call functions (a value is read without brackets:"
+                " write elapsed)"
+            )
+        ],
+    ),
+    "condition_unclosed.yaml": (
+        YAML_WHEN.replace("IF", "(range.distance_cm < 20"),
+        [
+            (
+                "7:15: error: cannot read the condition '(range.distance_cm < 20': this '(' is"
+                " never closed (add ')' where what it groups ends)"
+            )
+        ],
+    ),
+    # --- a state's shape
+    "state_without_colon.yaml": (
+        (
+            "mission: m\nstates:\n  go:\n    do: {drive: {distance: 50 cm}}\n"
+            "    on: {done: end, failed: end}\n  end {final: success}\n"
+        ),
+        ["6:3: error: a ':' is missing after the state name 'end' (write end: {final: success})"],
+    ),
+    "timeout_without_timeout.yaml": (
+        (
+            "mission: m\nstates:\n  go:\n    do: {drive: {distance: 50 cm}}\n"
+            "    on: {done: end, failed: end, timeout: stuck}\n  end: {final: success}\n"
+            "  stuck: {final: failure}\n"
+        ),
+        [
+            (
+                "5:43: warning: state 'go' goes to 'stuck' when it times out, but it has no"
+                " timeout, so it never times out (add 'timeout: 10 s' to the state)"
+            )
+        ],
+    ),
+    "state_as_text.py": (
+        CONDITION.replace('end = state(final="success")', 'end = "success"').replace(
+            "DEFINITION", "def near(self):\n        return True"
+        ),
+        [
+            (
+                "5:62: error: 'end' is text in the class, not a state (make it a state: end ="
+                ' state(final="success"))'
+            )
+        ],
+    ),
+    # --- Python written as another language writes it
+    "lower_case_true.py": (
+        CONDITION.replace("DEFINITION", "def near(self):\n        return true"),
+        ["10:16: error: name 'true' is not defined (Python writes it True, with a capital letter)"],
+    ),
+    "builtin_for_sensor.py": (
+        CONDITION.replace("DEFINITION", "def near(self):\n        return range.distance_cm < 20"),
+        [
+            (
+                "10:16: error: 'range' here is Python's own range, not the robot's range sensor (a"
+                " sensor is read through self: self.range.distance_cm)"
+            )
+        ],
+    ),
+    "else_if.py": (
+        CONDITION.replace(
+            "DEFINITION",
+            "def near(self):\n        if self.bumper.any:\n            return True\n"
+            "        else if self.range.distance_cm < 20:\n            return True\n"
+            "        return False",
+        ),
+        ["12:14: error: expected ':' (Python writes 'else if' as elif: elif CONDITION:)"],
+    ),
+    "braces.py": (
+        CONDITION.replace(
+            "DEFINITION", "def near(self):\n        if (self.bumper.any) {\n            return True"
+        ),
+        [
+            (
+                "10:30: error: syntax error: '{' was never closed (Python has no braces: end the"
+                " line with ':' and indent the lines of its block)"
+            )
+        ],
+    ),
+    "double_ampersand.py": (
+        CONDITION.replace(
+            "DEFINITION",
+            "def near(self):\n        return self.bumper.left && self.bumper.right",
+        ),
+        ["10:34: error: invalid syntax (Python writes && as and, || as or, and ! as not)"],
+    ),
 }
 
 
@@ -262,7 +392,8 @@ def checked(tmp_path_factory: pytest.TempPathFactory) -> dict[str, list[str]]:
         name, _, rest = line.partition(":")
         if name in printed:
             printed[name].append(rest)
-    assert result.stderr.splitlines()[-1] == f"checked {len(names)} files: {len(names)} with errors"
+    refused = sum(any(": error:" in line for line in MISTAKES[name][1]) for name in names)
+    assert result.stderr.splitlines()[-1] == f"checked {len(names)} files: {refused} with errors"
     return printed
 
 
