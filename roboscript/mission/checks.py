@@ -322,12 +322,12 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
             and state.timeout_s is None
             and not (action is not None and (_times_out(action) or action.inner is not None))
         ):
-            first = state.on["timeout"][0]
+            way_out = state.on["timeout"][0]
             problems.append(
                 _problem(
-                    f"state '{name}' goes to '{first.target}' when it times out, but it has"
+                    f"state '{name}' goes to '{way_out.target}' when it times out, but it has"
                     " no timeout, so it never times out",
-                    first.location or state.location,
+                    way_out.location or state.location,
                     _Write("add 'timeout: 10 s' to the state", "add timeout_s=10 to the state"),
                     "warning",
                 )

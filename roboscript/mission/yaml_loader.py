@@ -202,7 +202,7 @@ class _Reader:
 
     # ---------------------------------------------------------------------------- states
 
-    def colon_missing(self, name: object, raw: Any, states_raw: YamlMap) -> str | None:
+    def colon_missing(self, name: str, raw: Any, states_raw: YamlMap) -> str | None:
         """``end {final: success}``, read by YAML as a state called ``end {final``: the name
         the student meant (``end``), once told, or ``None``."""
         text = str(name)
