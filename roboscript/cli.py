@@ -28,6 +28,7 @@ from roboscript import __version__
 from roboscript.errors import (
     CapabilityError,
     InputError,
+    MissionError,
     RoboscriptError,
     grouped,
     nearby_file,
@@ -65,8 +66,18 @@ def _load_mission(path: str, robot: str | None, strict: bool = False) -> tuple[A
     from roboscript.mission.student_code import is_student_file, stuck_at
 
     # a Python mission or behaviour file runs when imported: a loop there would hang `check`
-    with Watchdog(DEFAULT_LIMIT_S, stuck_at, watched=is_student_file):
-        spec, profile, warnings = mission_for_robot(path, robot)
+    try:
+        with Watchdog(DEFAULT_LIMIT_S, stuck_at, watched=is_student_file):
+            spec, profile, warnings = mission_for_robot(path, robot)
+    except RunawayCode as exc:  # the file's own top level loops: that file's mistake
+        raise MissionError(
+            f"the file did not finish loading in {exc.limit_s:g} s: a loop at its top level"
+            " (outside any def) never ends",
+            path=exc.file or path,
+            line=exc.line,
+            hint="a file only defines the mission when it loads; the robot is moved by the"
+            " states' actions, and a condition is a method the mission asks",
+        ) from None
     if strict and warnings:  # check --strict: each warning is an error
         # missions load only for the commands that read one
         from roboscript.mission.builder import MissionProblemsError

@@ -339,10 +339,16 @@ def test_check_ends_a_file_that_hangs_when_imported(tmp_path: Path, timer: str) 
     mission = tmp_path / "hang.py"
     mission.write_text(LOOPING_BEHAVIOUR_FILE, encoding="utf-8")
     run = run_cli if timer == "SIGALRM" else _run_without_sigalrm
-    result = run("check", str(mission))
-    assert result.returncode == 1
-    assert "did not return for 5 s and was stopped at" in result.stderr
-    assert re.search(r"hang\.py:[34] in <module>:", result.stderr)
+    square = ROOT / "missions" / "square.yaml"
+    result = run("check", str(mission), str(square))
+    assert result.returncode == 2
+    # that file's own mistake, at its line, and the next file is still checked
+    assert re.search(
+        r"hang\.py:[34]: error: the file did not finish loading in 5 s: a loop at its top"
+        r" level \(outside any def\) never ends",
+        result.stderr,
+    )
+    assert result.stderr.splitlines()[-1] == "checked 2 files: 1 with errors"
 
 
 # ------------------------------------------------------------------ the per-tick rule

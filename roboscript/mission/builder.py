@@ -164,7 +164,7 @@ def _convert(param: Param, value: Any, state_names: frozenset[str] | None = None
             raise ValueError(
                 f'expected a condition such as "range.distance_cm < 20", got {value!r}'
             )
-        return compile_guard(value, state_names)
+        return compile_guard(value, state_names, truth=True)
     if param.kind == "color":
         return parse_color(value)
     if param.kind == "text":
@@ -439,15 +439,23 @@ class MissionBuilder:
             return None
         return value
 
-    def expression(self, text: Any, names: frozenset[str], at: Callable[[int], Location]) -> Any:
-        """A condition written as an expression, compiled; ``at(offset)`` locates a mistake."""
+    def expression(
+        self,
+        text: Any,
+        names: frozenset[str],
+        at: Callable[[int], Location],
+        *,
+        truth: bool = True,
+    ) -> Any:
+        """A condition written as an expression, compiled; ``at(offset)`` locates a mistake
+        (``truth=False``: a value to record, which may be a number)."""
         if isinstance(text, bool):
             text = "true" if text else "false"
         if not isinstance(text, str):
             self.problem('a condition is text, e.g. if: "range.distance_cm < 20"', at(0))
             return None
         try:
-            return compile_guard(text, names)
+            return compile_guard(text, names, truth=truth)
         except GuardError as exc:
             self.problem(str(exc), at(exc.offset), exc.hint)
             return None

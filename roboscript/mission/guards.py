@@ -255,8 +255,11 @@ class _Quantity:
 
 
 class _Compiler:
-    def __init__(self, source: str, state_names: frozenset[str] | None) -> None:
+    def __init__(
+        self, source: str, state_names: frozenset[str] | None, *, truth: bool = False
+    ) -> None:
         self.source = source
+        self.truth = truth
         self.state_names = state_names
         self.capabilities: set[str] = set()
         self.states: set[str] = set()
@@ -327,6 +330,21 @@ class _Compiler:
             raise self._too_deep() from None
         if _depth(tree.body) > GUARD_MAX_DEPTH:
             raise self._too_deep()
+        whole = tree.body
+        if self.truth:
+            self._refuse_bare_numbers(whole)
+        if (
+            self.truth
+            and isinstance(whole, ast.Constant)
+            and isinstance(whole.value, int | float)
+            and not isinstance(whole.value, bool)
+        ):  # if: 20, a limit without what it limits
+            raise self.fail(
+                f"the condition '{self.source}' is only a number, which never changes, so it"
+                " would always count as true",
+                whole,
+                f"compare a value with it, e.g. range.distance_cm < {self.source.strip()}",
+            )
         evaluate = self.node(tree.body)
         return Guard(
             self.source,
@@ -421,6 +439,33 @@ class _Compiler:
         if isinstance(node, ast.Tuple):  # 'range.distance_cm < 0,5' reads as a pair
             raise _syntax_mistake(self.source) or self.fail("a condition has no ','", node)
         raise self.fail("this is not allowed in a condition", node)
+
+    def _refuse_bare_numbers(self, node: ast.expr) -> None:
+        """Refuse a value that is a number where true or false is asked (``if: visits.turn``,
+        ``range.distance_cm and bumper.any``): it would hold whenever it is not 0."""
+        if isinstance(node, ast.BoolOp):
+            for value in node.values:
+                self._refuse_bare_numbers(value)
+            return
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.Not):
+            self._refuse_bare_numbers(node.operand)
+            return
+        numeric = False
+        if isinstance(node, ast.Name):
+            numeric = bool(_PLAIN.get(node.id, (None, None))[0])
+        elif isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
+            root, attr = node.value.id, node.attr
+            unit = _ATTRS.get(root, {}).get(attr, (None, ""))[0]
+            numeric = root == "visits" or bool(unit) or (root, attr) == ("color", "reflection")
+        if numeric:
+            text = ast.unparse(node)
+            limit = ">= 2" if text.startswith("visits.") else "< 20"
+            raise GuardError(
+                f"'{text}' is a number, not true or false, so it would count as true"
+                " whenever it is not 0",
+                self._source_offset(node.col_offset),
+                f"compare it, e.g. {text} {limit}",
+            )
 
     def check_number(self, value: float, node: ast.AST | None) -> None:
         """Refuse a number no sensor, time or count comes near (``1e400`` is infinity)."""
@@ -824,19 +869,24 @@ def _default_unit(unit: str) -> str | None:
     return None
 
 
-def compile_guard(source: str, state_names: frozenset[str] | None = None) -> Guard:
+def compile_guard(
+    source: str, state_names: frozenset[str] | None = None, *, truth: bool = False
+) -> Guard:
     """Compile a guard expression.
 
     Args:
         source: The expression, e.g. ``"range.distance_cm < 20 and not bumper.any"``.
         state_names: The mission's states, to check ``visits.STATE`` (``None`` skips it).
+        truth: True for a condition, which must be true or false: a number alone (``20``,
+            ``range.distance_cm``, ``visits.turn and bumper.any``) is refused, as it would
+            hold whenever it is not 0. False for a value (a ``plot:`` channel).
 
     Raises:
         GuardError: With the offset of the problem and a hint where one fits.
     """
     if not isinstance(source, str) or not source.strip():
         raise GuardError("a condition cannot be empty")
-    return _Compiler(source, state_names).compile()
+    return _Compiler(source, state_names, truth=truth).compile()
 
 
 def guard_names() -> Mapping[str, str | None]:

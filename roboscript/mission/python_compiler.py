@@ -1271,6 +1271,14 @@ class _Compiler:
                 f"take away the @{kind} above it and write def {name}(self) -> bool:",
             )
             return True
+        if inspect.iscoroutinefunction(value) or inspect.isasyncgenfunction(value):
+            self.problem(
+                f"condition '{name}' is written 'async def', so calling it only makes a"
+                " coroutine, which counts as true at once",
+                self.def_of(value)[0],
+                f"write def {name}(self) -> bool:, without async",
+            )
+            return True
         wrapped = getattr(value, "__wrapped__", None)
         if not inspect.isfunction(value) and inspect.isfunction(wrapped):
             self.problem(

@@ -175,6 +175,15 @@ class StudentCodeError(RoboscriptError, RuntimeError):
             did = "called exit()"
             detail = "a mission ends by going to a final state, not by ending the program"
         fix = self.fix
+        local = _LOCAL_UNSET.search(detail) if isinstance(self.error, UnboundLocalError) else None
+        if local is not None and self.problem is None:  # count += 1 on a name of the file
+            name = local.group(1)
+            did = f"read '{name}' before giving it a value"
+            detail = (
+                f"a method that sets '{name}' has a '{name}' of its own, which starts with no"
+                " value each time the method runs"
+            )
+            fix = f"keep it on the mission: write self.{name} (with {name} = 0 in the class)"
         if self.endless is not None:
             did, detail, fix = "never returned", self.endless.sentence, self.endless.fix
         text = f"your {self.what} {did}"
@@ -187,6 +196,9 @@ class StudentCodeError(RoboscriptError, RuntimeError):
         if self.where:
             text += f" ({self.where})"
         return text
+
+
+_LOCAL_UNSET = re.compile(r"local variable '(\w+)'")
 
 
 def _attribute_meant(error: BaseException | None) -> str | None:
@@ -384,6 +396,11 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
         kept.changed()  # a change made before the exception is undone too
         own.changed()
         raise _import_problem(exc, path, module, kind) from None
+    except BaseException:  # stopped while it ran (a loop at its top level, Ctrl-C)
+        sys.modules.pop(name, None)
+        kept.changed()
+        own.changed()
+        raise
     finally:
         if folder in sys.path:
             sys.path.remove(folder)

@@ -190,7 +190,7 @@ class _Reader:
             return ()
         found: list[tuple[str, Any]] = []
         for item, item_mark in zip(raw, raw.item_marks, strict=True):
-            guard = self.build.expression(item, names, _at(self.loc(item_mark)))
+            guard = self.build.expression(item, names, _at(self.loc(item_mark)), truth=False)
             if guard is not None:
                 found.append((str(guard.source), guard))
         if len(found) > MAX_CHANNELS:
