@@ -383,6 +383,13 @@ def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, st
             hint = f"close it with `{closer}`"
             if got != "<stream end>" and at:
                 hint += f" before {at[0]}:{at[1]}"
+            end = text.find("\n", opened.index)
+            line_text = text[opened.index : end if end >= 0 else len(text)]
+            if " #" in line_text and closer in line_text.partition(" #")[2]:
+                hint = (  # {drive: {speed: 20 cm/s # fast}}: the comment took the `}}`
+                    f"a ' #' starts a comment, which hides the rest of the line, its `{closer}`"
+                    f" too: put the comment after the `{closer}`, or take it away"
+                )
             return f"this `{opener}` is never closed", _at(opened), hint
         return (
             f"expected `,` or `{closer}` here",

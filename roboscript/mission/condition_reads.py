@@ -293,4 +293,9 @@ def _self_hint(
     sensors = [name for name in public if attr in reading_names(name)]
     if sensors:
         return f"did you mean self.{sensors[0]}.{attr}?"
-    return did_you_mean(attr, public)
+    meant = did_you_mean(attr, public, cutoff=0.7)  # "camera" is not a misspelt "name"
+    if meant is not None:
+        return meant
+    readable = [name for name in public if reading_names(name)]
+    own = f"a value of your own needs a first value in the class, {attr} = 0"
+    return f"{own}; the robot's sensors are {', '.join(f'self.{n}' for n in readable)}"

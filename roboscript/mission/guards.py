@@ -774,6 +774,16 @@ _MISTAKES: tuple[tuple[re.Pattern[str], str, str], ...] = (
         "finish it, or take away the last word",
     ),
     (
+        re.compile(r":\s*$"),
+        "a condition has no ':' at its end",
+        "take it away: {fixed}",
+    ),
+    (
+        re.compile(r"(?<=\d)\s*%"),
+        "'%' is not a unit a condition knows",
+        "a value is in the unit its name ends in, a reflection in percent: {fixed}",
+    ),
+    (
         re.compile(r"\d,\d"),
         "a decimal comma in a condition",
         "write decimals with a point: {fixed}",
@@ -787,7 +797,16 @@ _MISTAKES: tuple[tuple[re.Pattern[str], str, str], ...] = (
         "use mm, cm, m, s, ms, min, deg or rad, e.g. range.distance < 20 cm",
     ),
 )
-_FIXES = {"&&": " and ", "||": " or ", "!": "not ", "=<": "<=", "=>": ">=", "=": "=="}
+_FIXES = {
+    "&&": " and ",
+    "||": " or ",
+    "!": "not ",
+    "=<": "<=",
+    "=>": ">=",
+    "=": "==",
+    "%": "",
+    ":": "",
+}
 _COMPARISON_WORDS = {"less": "<", "smaller": "<", "lower": "<", "fewer": "<", "greater": ">"}
 _COMPARISON_WORDS.update(dict.fromkeys(("more", "bigger", "higher", "larger"), ">"))
 _COMPARISON_WORDS.update(dict.fromkeys(("equal", "equals"), "=="))

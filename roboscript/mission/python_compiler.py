@@ -630,6 +630,22 @@ class _Compiler:
                     self.source.loc(again),
                     "keep one of the two, or give one of them another name",
                 )
+        defs: dict[str, list[ast.FunctionDef | ast.AsyncFunctionDef]] = {}
+        for statement in self.class_node.body:
+            # @x.setter and the like define a name again on purpose
+            if (
+                isinstance(statement, ast.FunctionDef | ast.AsyncFunctionDef)
+                and not statement.decorator_list
+            ):
+                defs.setdefault(statement.name, []).append(statement)
+        for name, written in defs.items():
+            for twice in written[1:]:  # two `def near`: the first is never used
+                self.problem(
+                    f"method '{name}' is written twice (first on line {written[0].lineno}), and"
+                    " Python keeps only the second",
+                    self.source.loc(twice),
+                    "keep one of the two, or give one of them another name",
+                )
 
     def initial(self) -> str | None:
         marked = [name for name, s in self.states.items() if s.initial is True]

@@ -32,6 +32,7 @@ import logging
 import re
 import sys
 import traceback
+import warnings
 from dataclasses import FrozenInstanceError, dataclass, fields
 from pathlib import Path
 from types import FrameType, ModuleType, TracebackType
@@ -376,12 +377,16 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
     kept = BuiltinsKept()
     own = RoboscriptKept()
     try:
-        spec.loader.exec_module(module)
+        with warnings.catch_warnings():
+            # told below as this file's own mistake, at its line, rather than as Python's
+            warnings.filterwarnings("ignore", '"is( not)?" with', SyntaxWarning)
+            spec.loader.exec_module(module)
         changed = kept.changed()
         changes = own.changed()
         if changed:
             raise _builtin_changed(changed, path, module)
         _refuse_changes(changes, path, module)
+        _refuse_is_with_a_value(path, module)
     except SyntaxError as exc:
         del sys.modules[name]
         raise _syntax_problem(exc, path) from None
@@ -406,6 +411,42 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
             sys.path.remove(folder)
     _IMPORTED[key] = module
     return module
+
+
+def _refuse_is_with_a_value(path: str | Path, module: ModuleType) -> None:
+    """Refuse ``x is 20`` (or ``is "go"``): ``is`` asks whether two things are one object,
+    which a number read from a sensor never is, so the comparison is always false."""
+    for node in ast.walk(_tree(module) or ast.Module(body=[], type_ignores=[])):
+        if not isinstance(node, ast.Compare):
+            continue
+        sides = [node.left, *node.comparators]
+        for op, left, right in zip(node.ops, sides[:-1], sides[1:], strict=True):
+            value = next(
+                (
+                    side.value
+                    for side in (left, right)
+                    if isinstance(side, ast.Constant)
+                    and isinstance(side.value, int | float | str | bytes)
+                    and not isinstance(side.value, bool)
+                ),
+                _NOTHING,
+            )
+            if isinstance(op, ast.Is | ast.IsNot) and value is not _NOTHING:
+                compare = "==" if isinstance(op, ast.Is) else "!="
+                word = "is" if isinstance(op, ast.Is) else "is not"
+                raise MissionError(
+                    f"'{word} {value!r}' asks whether two things are one and the same object,"
+                    f" which a value read from the robot never is, so it is always"
+                    f" {'false' if compare == '==' else 'true'}",
+                    path=str(path),
+                    line=node.lineno,
+                    col=node.col_offset + 1,
+                    hint=f"compare values with {compare}: {ast.unparse(left)} {compare}"
+                    f" {ast.unparse(right)}",
+                )
+
+
+_NOTHING = object()
 
 
 def _refuse_changes(made: list[Change], path: str | Path, module: ModuleType) -> None:
@@ -538,6 +579,7 @@ _OTHER_LANGUAGE = tuple(
         (r"^\s*function\b", "Python defines a function with def: def name(self):"),
         (r"^\s*(?:var|let|const)\s+\w+\s*=", "Python needs no var or let: write name = value"),
         (r"&&|\|\||!\s*(?=self\b|\()", _AND_OR_NOT),
+        (r"\b(?:AND|OR|NOT|And|Or|Not)\b", "Python writes and, or and not in lower case"),
     )
 )
 """A line of a program in another language (JavaScript, C, Java) where Python's slipped, and

@@ -134,7 +134,7 @@ class _Reader:
             self.problem(
                 "a mission needs 'states:', a mapping of state names to states",
                 data.key_mark("states") if "states" in data else data.mark,
-                None
+                "under states:, indented, write each state by its name, e.g. go: {final: success}"
                 if "states" in data
                 else "write states: and under it, indented, each state, e.g. go: {final: success}",
             )

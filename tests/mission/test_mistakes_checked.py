@@ -300,6 +300,114 @@ MISTAKES: dict[str, tuple[str, list[str]]] = {
             )
         ],
     ),
+    "condition_only_a_number.yaml": (
+        YAML_WHEN.replace("IF", "20"),
+        [
+            (
+                "7:15: error: the condition '20' is only a number, which never changes, so it would"
+                " always count as true (compare a value with it, e.g. range.distance_cm < 20)"
+            )
+        ],
+    ),
+    "condition_a_reading_alone.yaml": (
+        YAML_WHEN.replace("IF", "visits.go and bumper.any"),
+        [
+            (
+                "7:15: error: 'visits.go' is a number, not true or false, so it would count as true"
+                " whenever it is not 0 (compare it, e.g. visits.go >= 2)"
+            )
+        ],
+    ),
+    "condition_percent.yaml": (
+        YAML_WHEN.replace("IF", "color.reflection > 50%"),
+        [
+            (
+                "7:36: error: cannot read the condition 'color.reflection > 50%': '%' is not a unit"
+                " a condition knows (a value is in the unit its name ends in, a reflection in"
+                " percent: color.reflection > 50)"
+            )
+        ],
+    ),
+    "comment_in_braces.yaml": (
+        (
+            "mission: m\nstates:\n  go:\n    do: {drive: {distance: 50 cm # half a metre}}\n"
+            "    on: {done: end, failed: end}\n  end: {final: success}\n"
+        ),
+        [
+            (
+                "4:17: error: this `{` is never closed (a ' #' starts a comment, which hides the"
+                " rest of the line, its `}` too: put the comment after the `}`, or take it away)"
+            )
+        ],
+    ),
+    "condition_async.py": (
+        CONDITION.replace("DEFINITION", "async def near(self):\n        return True"),
+        [
+            (
+                "9:5: error: condition 'near' is written 'async def', so calling it only makes a"
+                " coroutine, which counts as true at once (write def near(self) -> bool:, without"
+                " async)"
+            )
+        ],
+    ),
+    "unknown_value_on_self.py": (
+        CONDITION.replace("DEFINITION", "def near(self):\n        return self.camera.sees_red"),
+        [
+            (
+                "10:16: error: M has no 'camera' (a value of your own needs a first value in the"
+                " class, camera = 0; the robot's sensors are self.bumper, self.buttons, self.color,"
+                " self.driven, self.line, self.pose, self.range, self.side_range)"
+            )
+        ],
+    ),
+    "condition_colon.yaml": (
+        YAML_WHEN.replace("IF", "bumper.any:"),
+        [
+            (
+                "7:25: error: cannot read the condition 'bumper.any:': a condition has no ':' at"
+                " its end (take it away: bumper.any)"
+            )
+        ],
+    ),
+    "states_empty.yaml": (
+        "mission: m\nstates: {}\n",
+        [
+            (
+                "2:1: error: a mission needs 'states:', a mapping of state names to states (under"
+                " states:, indented, write each state by its name, e.g. go: {final: success})"
+            )
+        ],
+    ),
+    "method_twice.py": (
+        CONDITION.replace(
+            "DEFINITION",
+            "def near(self):\n        return True\n\n    def near(self):\n        return False",
+        ),
+        [
+            (
+                "12:5: error: method 'near' is written twice (first on line 9), and Python keeps"
+                " only the second (keep one of the two, or give one of them another name)"
+            )
+        ],
+    ),
+    "is_a_number.py": (
+        CONDITION.replace(
+            "DEFINITION", "def near(self):\n        return self.range.distance_cm is 20"
+        ),
+        [
+            (
+                "10:16: error: 'is 20' asks whether two things are one and the same object, which a"
+                " value read from the robot never is, so it is always false (compare values with =="
+                ": self.range.distance_cm == 20)"
+            )
+        ],
+    ),
+    "and_in_capitals.py": (
+        CONDITION.replace(
+            "DEFINITION", "def near(self):\n        return self.bumper.left AND self.bumper.right"
+        ),
+        ["10:33: error: invalid syntax (Python writes and, or and not in lower case)"],
+    ),
     # --- a state's shape
     "state_without_colon.yaml": (
         (
@@ -431,3 +539,26 @@ def test_the_same_typo_on_many_lines_is_told_in_full_three_times_then_counted(
         ),
         "checked 1 file: 1 with errors",
     ]
+
+
+def test_a_count_kept_in_a_name_the_method_sets_is_told_in_a_sentence_as_it_runs(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "m.py").write_text(
+        "from roboscript import Mission, Rotate, state\n\ncount = 0\n\n\n"
+        "class M(Mission):\n"
+        '    turn = state(Rotate(angle_deg=90), initial=True, on_failed="end",\n'
+        '                 on_done=[("four_done", "end"), "turn"])\n'
+        '    end = state(final="success")\n\n'
+        "    def four_done(self):\n        count += 1\n        return count >= 4\n",
+        encoding="utf-8",
+    )
+    result = run_cli("run", "m.py", "--quiet", cwd=tmp_path)
+    assert result.returncode == 1
+    assert "Traceback" not in result.stderr and "UnboundLocalError" not in result.stderr
+    assert result.stderr.splitlines()[-1] == (
+        "failure: your condition 'four_done' read 'count' before giving it a value in state"
+        " 'turn': a method that sets 'count' has a 'count' of its own, which starts with no"
+        " value each time the method runs; keep it on the mission: write self.count (with"
+        " count = 0 in the class) (m.py:12)"
+    )
