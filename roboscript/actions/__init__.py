@@ -87,6 +87,7 @@ ACTION_WORDS: dict[str, str] = {
     "print": "display",
     "show": "display",
     "led": "set_led",
+    "loop": "repeat",
 }
 """Words a beginner writes for an action (in YAML, or called on ``self`` in a Python
 condition), and the built-in action that does it."""

@@ -378,6 +378,11 @@ class Action(abc.ABC):
             filled.append(param)
         cls.params = tuple(filled)
 
+    guessed_params: ClassVar[Mapping[str, str]] = {}
+    """Parameters a beginner guesses that the action does not have, and how it says that
+    instead (``direction``: a negative distance drives backward), for the message that
+    refuses them in YAML and in Python."""
+
     @classmethod
     def conflicts(cls, values: Mapping[str, Any]) -> list[tuple[str, str, str | None]]:
         """Parameters given together that the action cannot both follow (none by default).

@@ -281,6 +281,12 @@ class Repeat(Action):
         )
 
     def __init__(self, factory: Action | ActionFactory, times: int) -> None:
+        if isinstance(factory, int) and isinstance(times, Action):  # Repeat(4, Rotate(...))
+            raise UnderSpecifiedError(
+                "repeat takes the action first, then how many times",
+                yaml=f"`repeat: {{times: {factory}, do: ...}}`",
+                python=f"Repeat({_written(times)}, times={factory})",
+            )
         if isinstance(times, Action) or isinstance(factory, list | tuple):
             raise type(self).several()  # Repeat(Rotate(...), Drive(...)), Repeat([...], ...)
         problem = type(self).times_problem(times, _written(factory))

@@ -89,6 +89,10 @@ class Turn(_GaitAction):
     name = "turn"
     summary = "Turn a number of steps (positive = right) on a walking robot."
     params = (Param("steps", "steps", "count", "how many turning steps (positive = right)"),)
+    guessed_params = dict.fromkeys(
+        ("angle", "degrees", "direction"),
+        "turn is a walking robot's turn, by steps; a robot on wheels turns by an angle with rotate",
+    )
 
     def _start_gait(self, walker: cap.Walker) -> None:
         walker.turn(self.steps)

@@ -54,6 +54,10 @@ class Drive(WheelAction):
     requires = frozenset({cap.DRIVE_BASE})
     failure = "stalled"
     drive_speeds = ("speed",)
+    guessed_params = dict.fromkeys(
+        ("direction", "backward", "backwards", "reverse"),
+        "a drive has no direction: a negative distance drives backward",
+    ) | dict.fromkeys(("power", "percent"), "a drive is given its speed, not a power")
 
     CRAWL_MM_S = 40.0
 
@@ -170,6 +174,10 @@ class Rotate(WheelAction):
     requires = frozenset({cap.DRIVE_BASE})
     failure = "stalled"
     turn_rates = ("turn_rate",)
+    guessed_params = dict.fromkeys(
+        ("direction", "left", "right", "clockwise"),
+        "a rotate has no direction: a positive angle turns right, a negative one left",
+    ) | dict.fromkeys(("speed", "rate"), "a rotate's speed is its turn_rate")
 
     CRAWL_DEG_S = 20.0
     TOLERANCE_DEG = 1.0

@@ -102,8 +102,10 @@ def action_params(
                 spaced = f"put a space after the ':': {key.strip()}: {value.strip()}"
                 problems.append((name, f"'{cls.name}' has no parameter '{name}'", spaced, None))
                 continue
-            hint = did_you_mean(name, params) or (
-                f"'{cls.name}' takes {', '.join(params)}" if params else None
+            hint = (
+                cls.guessed_params.get(str(name).lower())
+                or did_you_mean(name, params)
+                or (f"'{cls.name}' takes {', '.join(params)}" if params else None)
             )
             problems.append((name, f"'{cls.name}' has no parameter '{name}'", hint, None))
     kwargs: dict[str, Any] = {}

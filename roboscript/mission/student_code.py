@@ -873,6 +873,8 @@ def _meant_parameter(
     converted (``distance_cm=50``: write ``distance_mm=500``), a look-alike, or the
     parameters there are."""
     cls = _action_class(callee, module)
+    if cls is not None and keyword.lower() in cls.guessed_params:
+        return cls.guessed_params[keyword.lower()]
     if cls is not None:
         given = [k.value for k in call.keywords if k.arg == keyword] if call is not None else []
         value = given[0].value if given and isinstance(given[0], ast.Constant) else None

@@ -385,7 +385,7 @@ class _Reader:
         """The hint for an unknown action: a look-alike, the action that does what its word
         says (``forward``: ``drive``), or the actions there are."""
         meant = ACTION_WORDS.get(name.lower())
-        if meant is not None and meant in self.actions:
+        if meant is not None and (meant in self.actions or meant in _COMPOSITES):
             return f"the action for that is '{meant}'"
         return did_you_mean(name, self.actions) or f"actions: {', '.join(sorted(self.actions))}"
 

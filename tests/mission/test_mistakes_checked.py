@@ -408,6 +408,60 @@ MISTAKES: dict[str, tuple[str, list[str]]] = {
         ),
         ["10:33: error: invalid syntax (Python writes and, or and not in lower case)"],
     ),
+    # --- words and parameters a beginner guesses
+    "loop.yaml": (
+        YAML_REPEAT.replace("repeat: {times: TIMES,", "loop: {times: 4,"),
+        ["4:10: error: unknown action 'loop' (the action for that is 'repeat')"],
+    ),
+    "drive_direction.yaml": (
+        YAML_REPEAT.replace(
+            "repeat: {times: TIMES, do: {rotate: {angle: 90 deg}}}",
+            "drive: {distance: 50 cm, direction: backward}",
+        ),
+        [
+            (
+                "4:35: error: 'drive' has no parameter 'direction' (a drive has no direction: a"
+                " negative distance drives backward)"
+            )
+        ],
+    ),
+    "turn_by_angle.yaml": (
+        YAML_REPEAT.replace(
+            "repeat: {times: TIMES, do: {rotate: {angle: 90 deg}}}", "turn: {angle: 90 deg}"
+        ),
+        [
+            (
+                "4:10: error: 'turn' needs 'steps', how many turning steps (positive = right)"
+                " (write `steps: 4`)"
+            ),
+            (
+                "4:17: error: 'turn' has no parameter 'angle' (turn is a walking robot's turn, by"
+                " steps; a robot on wheels turns by an angle with rotate)"
+            ),
+        ],
+    ),
+    "rotate_direction.py": (
+        PY_REPEAT.replace(
+            "Repeat(Rotate(angle_deg=90), times=TIMES)", "Rotate(angle_deg=90, direction='left')"
+        ),
+        [
+            (
+                "4:16: error: Rotate() has no parameter 'direction' (a rotate has no direction: a"
+                " positive angle turns right, a negative one left)"
+            )
+        ],
+    ),
+    "repeat_times_first.py": (
+        PY_REPEAT.replace(
+            "Repeat(Rotate(angle_deg=90), times=TIMES)", "Repeat(4, Rotate(angle_deg=90))"
+        ),
+        [
+            (
+                "4:16: error: repeat takes the action first, then how many times (write"
+                " Repeat(Rotate(angle_deg=90), times=4))"
+            )
+        ],
+    ),
     # --- a state's shape
     "state_without_colon.yaml": (
         (
