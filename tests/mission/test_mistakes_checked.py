@@ -616,3 +616,14 @@ def test_a_count_kept_in_a_name_the_method_sets_is_told_in_a_sentence_as_it_runs
         " value each time the method runs; keep it on the mission: write self.count (with"
         " count = 0 in the class) (m.py:12)"
     )
+
+
+@pytest.mark.parametrize("name", ["repeat_1e9.yaml", "change_update.py", "condition_static.py"])
+def test_run_refuses_a_beginners_mistake_as_check_does_before_the_robot_moves(
+    tmp_path: Path, checked: dict[str, list[str]], name: str
+) -> None:
+    (tmp_path / name).write_text(MISTAKES[name][0], encoding="utf-8")
+    result = run_cli("run", name, cwd=tmp_path)
+    assert result.returncode == 2
+    assert "Traceback" not in result.stderr
+    assert [f"{name}:{line}" for line in checked[name]] == result.stderr.splitlines()
