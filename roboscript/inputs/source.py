@@ -411,6 +411,19 @@ def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, st
     if long_key is not None:
         return long_key[0], long_key[1], None
     if problem == "mapping values are not allowed here":
+        index = exc.problem_mark.index if exc.problem_mark else 0
+        line_text = text[text.rfind("\n", 0, index) + 1 :].split("\n", 1)[0]
+        two = re.match(r"^(\s*(?:- )?[\w-]+):\s+([\w-]+):\s+(\S.*?)\s*$", line_text)
+        if two is not None:  # do: drive: {distance: 50 cm}
+            return (
+                "a ':' is not allowed here: this line holds two keys",
+                at,
+                (
+                    "a value that is itself a 'key: value' goes in braces:"
+                    f" {two.group(1).strip()}: {{{two.group(2)}: {two.group(3)}}}; text holding"
+                    " ': ' goes in quotes"
+                ),
+            )
         return (
             "a ':' is not allowed here",
             at,

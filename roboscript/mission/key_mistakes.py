@@ -68,7 +68,16 @@ def meant_at_top(key: str, value: Any) -> str | None:
         return f"a mission's name goes under 'mission:': write mission: {_target(value, 'square')}"
     if word in ("start", "first", "start_state", "initial_state", "first_state", "begin"):
         return f"the first state is named under 'initial:': write initial: {_target(value, 'go')}"
+    if is_a_state(value):  # `go:` at the left edge, under an empty `states:`
+        return f"'{key}' is a state: indent it two spaces, under 'states:'"
     return None
+
+
+def is_a_state(value: Any) -> bool:
+    """True if ``value`` reads as a state (a mapping with ``do:``, ``on:``, ``final:``...)."""
+    return isinstance(value, YamlMap) and any(
+        key in ("do", "on", "when", "final", "timeout") for key in value
+    )
 
 
 def meant_in_state(key: str, value: Any) -> str | None:
@@ -76,6 +85,11 @@ def meant_in_state(key: str, value: Any) -> str | None:
     word = key.lower()
     if word in ("action", "actions", "run", "command", "task", "does"):
         return f"a state's action goes under 'do:': write do: {_action(value)}"
+    if word in _OUTCOMES:  # on: with its outcomes not indented under it
+        return (
+            f"'{key}' is an outcome: it goes under 'on:', indented two more spaces"
+            f" (or write on: {{{word}: {_target(value)}}})"
+        )
     outcome = word.removeprefix("on_")
     if word.startswith("on_") and outcome in (*_OUTCOMES, "fail", "failure", "timeout_s"):
         outcome = {"fail": "failed", "failure": "failed", "timeout_s": "timeout"}.get(

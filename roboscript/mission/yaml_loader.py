@@ -26,7 +26,7 @@ from roboscript.mission.behaviours import behaviours_from_yaml
 from roboscript.mission.builder import MissionBuilder
 from roboscript.mission.channels import MAX_CHANNELS
 from roboscript.mission.files import FileReferenceError, beside_mission
-from roboscript.mission.key_mistakes import meant_at_top, meant_in_state, meant_outcome
+from roboscript.mission.key_mistakes import is_a_state, meant_at_top, meant_in_state, meant_outcome
 from roboscript.mission.spec import (
     OUTCOMES,
     ActionSpec,
@@ -56,7 +56,17 @@ _REPEAT = {"times": "how many times", "do": "the action to repeat"}
 def _first_key(items: YamlList) -> str:
     """The name of a list's first mapping's first key (a state written as ``- go:``)."""
     first = items[0] if items else None
+    if isinstance(first, YamlMap) and isinstance(first.get("name"), str):
+        return str(first["name"])  # - name: go
     return str(next(iter(first))) if isinstance(first, YamlMap) and first else "go"
+
+
+def _first_written(items: YamlList) -> str:
+    """How the first state of a list starts: ``go:``, or ``name: go`` when it is named so."""
+    first = items[0] if items else None
+    if isinstance(first, YamlMap) and isinstance(first.get("name"), str):
+        return f"name: {first['name']}"
+    return f"{_first_key(items)}:"
 
 
 _LOADING: set[str] = set()  # mission files being loaded, to refuse a file that includes itself
@@ -125,11 +135,13 @@ class _Reader:
                 " each state's name to the state",
                 data.value_mark("states"),
                 "take away the '- ' and line the names up: write"
-                f" {_first_key(states_raw)}: rather than - {_first_key(states_raw)}:",
+                f" {_first_key(states_raw)}: rather than - {_first_written(states_raw)}",
             )
             return None
         if "states" not in data and any(str(k).lower() in _STATES_MISSPELT for k in data):
             return None  # the key's own "did you mean 'states'?" says it
+        if not states_raw and any(is_a_state(v) for k, v in data.items() if k not in _TOP_KEYS):
+            return None  # each state at the left edge was told to go under states:
         if not isinstance(states_raw, YamlMap) or not states_raw:
             self.problem(
                 "a mission needs 'states:', a mapping of state names to states",

@@ -462,6 +462,59 @@ MISTAKES: dict[str, tuple[str, list[str]]] = {
             )
         ],
     ),
+    # --- YAML's indentation and colons
+    "states_at_the_left_edge.yaml": (
+        (
+            "mission: m\nstates:\ngo:\n  do: {drive: {distance: 50 cm}}\n"
+            "  on: {done: end, failed: end}\nend: {final: success}\n"
+        ),
+        [
+            (
+                "3:1: error: unknown key 'go' in a mission ('go' is a state: indent it two spaces,"
+                " under 'states:')"
+            ),
+            (
+                "6:1: error: unknown key 'end' in a mission ('end' is a state: indent it two"
+                " spaces, under 'states:')"
+            ),
+        ],
+    ),
+    "outcomes_not_under_on.yaml": (
+        (
+            "mission: m\nstates:\n  go:\n    do: {drive: {distance: 50 cm}}\n    on:\n"
+            "    done: end\n  end: {final: success}\n"
+        ),
+        [
+            "5:8: error: 'on' maps outcomes to states, e.g. on: {done: next, timeout: stuck}",
+            (
+                "6:5: error: unknown key 'done' in state 'go' ('done' is an outcome: it goes under"
+                " 'on:', indented two more spaces (or write on: {done: end}))"
+            ),
+        ],
+    ),
+    "states_listed_by_name.yaml": (
+        "mission: m\nstates:\n  - name: go\n    do: {drive: {distance: 50 cm}}\n",
+        [
+            (
+                "3:3: error: 'states:' is written as a list (its lines start with '- '), but it"
+                " maps each state's name to the state (take away the '- ' and line the names up:"
+                " write go: rather than - name: go)"
+            )
+        ],
+    ),
+    "two_keys_on_a_line.yaml": (
+        (
+            "mission: m\nstates:\n  go:\n    do: drive: {distance: 50 cm}\n"
+            "    on: {done: end, failed: end}\n  end: {final: success}\n"
+        ),
+        [
+            (
+                "4:14: error: a ':' is not allowed here: this line holds two keys (a value that is"
+                " itself a 'key: value' goes in braces: do: {drive: {distance: 50 cm}}; text"
+                " holding ': ' goes in quotes)"
+            )
+        ],
+    ),
     # --- a state's shape
     "state_without_colon.yaml": (
         (
