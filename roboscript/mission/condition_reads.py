@@ -59,6 +59,30 @@ def _walk_own(node: ast.FunctionDef | ast.AsyncFunctionDef) -> Iterator[ast.AST]
         todo.extend(ast.iter_child_nodes(child))
 
 
+def _bound_otherwise(node: ast.FunctionDef | ast.AsyncFunctionDef, target: ast.Name) -> bool:
+    """True if the method binds ``target``'s name other than by ``+=`` and its kind (an
+    argument, an assignment, a loop, ``global``...)."""
+    if target.id in {arg.arg for arg in ast.walk(node.args) if isinstance(arg, ast.arg)}:
+        return True
+    for child in _walk_own(node):
+        if isinstance(child, ast.Global | ast.Nonlocal) and target.id in child.names:
+            return True
+        if (
+            isinstance(child, ast.Name)
+            and child.id == target.id
+            and isinstance(child.ctx, ast.Store | ast.Del)
+            and not _is_aug_target(node, child)
+        ):
+            return True
+    return False
+
+
+def _is_aug_target(node: ast.FunctionDef | ast.AsyncFunctionDef, name: ast.Name) -> bool:
+    return any(
+        isinstance(child, ast.AugAssign) and child.target is name for child in _walk_own(node)
+    )
+
+
 def _own_names(node: ast.FunctionDef | ast.AsyncFunctionDef) -> set[str]:
     """Names the method binds itself: arguments, assignments, loop and ``with`` targets,
     ``except ... as``, imports, nested ``def`` and ``class``, ``global`` and ``nonlocal``."""
@@ -162,6 +186,26 @@ def condition_slips(
         for call in _walk_own(node)
         if isinstance(call, ast.Call) and _called(call) == "self.visits" and call.args
     }
+    for child in _walk_own(node):
+        if not (
+            isinstance(child, ast.AugAssign)
+            and isinstance(child.target, ast.Name)
+            and not _bound_otherwise(node, child.target)
+        ):
+            continue
+        name = child.target.id
+        # count += 1 on a name of the file: the method's own count, never given a value
+        slips.append(
+            (
+                child,
+                (
+                    f"'{name}' is read here before this method gives it a value: a method"
+                    f" that sets '{name}' has a '{name}' of its own, which starts with no"
+                    " value each time the method runs"
+                ),
+                f"keep it on the mission: write self.{name} (with {name} = 0 in the class)",
+            )
+        )
     for child in _walk_own(node):
         if isinstance(child, ast.Call):
             called = _called(child)

@@ -515,6 +515,23 @@ MISTAKES: dict[str, tuple[str, list[str]]] = {
             )
         ],
     ),
+    "count_in_a_name_of_the_file.py": (
+        (
+            "from roboscript import Mission, Rotate, state\n\ncount = 0\n\n\nclass M(Mission):\n"
+            '    turn = state(Rotate(angle_deg=90), initial=True, on_failed="end",\n'
+            '                 on_done=[("four_done", "end"), "turn"])\n'
+            '    end = state(final="success")\n\n'
+            "    def four_done(self):\n        count += 1\n        return count >= 4\n"
+        ),
+        [
+            (
+                "12:9: error: 'count' is read here before this method gives it a value: a method"
+                " that sets 'count' has a 'count' of its own, which starts with no value each time"
+                " the method runs (keep it on the mission: write self.count (with count = 0 in the"
+                " class))"
+            )
+        ],
+    ),
     # --- a state's shape
     "state_without_colon.yaml": (
         (
@@ -653,11 +670,12 @@ def test_a_count_kept_in_a_name_the_method_sets_is_told_in_a_sentence_as_it_runs
 ) -> None:
     (tmp_path / "m.py").write_text(
         "from roboscript import Mission, Rotate, state\n\ncount = 0\n\n\n"
+        "def counted():\n    count += 1\n    return count\n\n\n"
         "class M(Mission):\n"
         '    turn = state(Rotate(angle_deg=90), initial=True, on_failed="end",\n'
         '                 on_done=[("four_done", "end"), "turn"])\n'
         '    end = state(final="success")\n\n'
-        "    def four_done(self):\n        count += 1\n        return count >= 4\n",
+        "    def four_done(self):\n        return counted() >= 4\n",
         encoding="utf-8",
     )
     result = run_cli("run", "m.py", "--quiet", cwd=tmp_path)
@@ -667,7 +685,7 @@ def test_a_count_kept_in_a_name_the_method_sets_is_told_in_a_sentence_as_it_runs
         "failure: your condition 'four_done' read 'count' before giving it a value in state"
         " 'turn': a method that sets 'count' has a 'count' of its own, which starts with no"
         " value each time the method runs; keep it on the mission: write self.count (with"
-        " count = 0 in the class) (m.py:12)"
+        " count = 0 in the class) (m.py:7)"
     )
 
 

@@ -150,7 +150,11 @@ def test_valid_mission_loads_with_units_converted(write_mission: Callable[..., P
         ),
         (
             "mission: x\nstates: []\n",
-            "M:2:1: error: a mission needs 'states:', a mapping of state names to states",
+            (
+                "M:2:1: error: a mission needs 'states:', a mapping of state names to states"
+                " (under states:, indented, write each state by its name, e.g. go: {final:"
+                " success})"
+            ),
         ),
         (
             "states:\n  a:\n    final: success\n  a:\n    final: failure\n",
