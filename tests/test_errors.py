@@ -6,7 +6,14 @@ from pathlib import Path
 
 from helpers import ROOT, run_cli
 
-from roboscript.errors import FAULT_SAMPLE_BYTES, RemoteProtocolError, did_you_mean, nearby_file
+from roboscript.errors import (
+    FAULT_SAMPLE_BYTES,
+    MissionError,
+    RemoteProtocolError,
+    did_you_mean,
+    grouped,
+    nearby_file,
+)
 
 
 def test_a_fault_keeps_only_the_start_of_a_long_bad_frame() -> None:
@@ -84,3 +91,29 @@ def test_running_a_misspelt_mission_file_names_the_one_beside_it(tmp_path: Path)
         assert done.stderr.rstrip().endswith("(did you mean 'square.yaml'?)"), done.stderr
     done = run_cli("run", "square.yaml", "--world", "squareroom", cwd=tmp_path)
     assert "(did you mean 'square-room'?)" in done.stderr
+
+
+def _typo(line: int, state: str = "a", hint: str = "did you mean 'drive'?") -> MissionError:
+    return MissionError(
+        f"unknown action 'dirve' in state '{state}'", path="m.yaml", line=line, col=10, hint=hint
+    )
+
+
+def test_problems_that_read_alike_are_told_three_times_then_counted_with_their_lines() -> None:
+    problems = [_typo(3 * i + 4, state=f"s{i}") for i in range(14)]
+    lines = grouped(problems)
+    assert lines[:3] == [p.format() for p in problems[:3]]  # the first ones, each at its place
+    assert lines[3] == (
+        "m.yaml:13:10: error: and 11 more like it at lines 13, 16, 19, 22, 25, 28, 31, 34, 37,"
+        " ..., 43"
+    )
+    assert len(lines) == 4
+
+
+def test_problems_with_another_fix_or_file_are_not_counted_together() -> None:
+    other_fix = [_typo(line, hint="did you mean 'rotate'?") for line in (4, 5, 6, 7)]
+    same_fix = [_typo(line) for line in (8, 9)]
+    other_file = MissionError("unknown action 'dirve' in state 'a'", path="n.yaml", line=1)
+    lines = grouped([*other_fix, *same_fix, other_file])
+    assert lines[3] == "m.yaml:7:10: error: and 1 more like it at lines 7"
+    assert lines[4:] == [p.format() for p in [*same_fix, other_file]]
