@@ -165,7 +165,7 @@ class Repeat(Action):
 
     Args:
         factory: The action to repeat (copied afresh for each run), or a maker of it.
-        times: How many times (at least 1).
+        times: How many times: a whole number from 1 to :attr:`most_times` (an hour of ticks).
 
     Outcomes: ``done`` after the last run; the first run that does not end ``done`` ends the
     repeat with its outcome.
