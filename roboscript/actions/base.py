@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import abc
 import dataclasses
+import difflib
 import enum
 import functools
 import inspect
@@ -471,6 +472,15 @@ class Action(abc.ABC):
             return (
                 f"{cls.__name__}.requires is a set of capability names, not {requires!r}",
                 f"write requires = frozenset({written})",
+            )
+        unknown = sorted(need for need in requires if need not in cap.CAPABILITY_NAMES)
+        if unknown:  # requires = frozenset({"drivebase"}): no robot has it
+            close = difflib.get_close_matches(unknown[0], cap.CAPABILITY_NAMES, n=1)
+            return (
+                f"{cls.__name__}.requires names '{unknown[0]}', which is no part a robot has",
+                f"did you mean '{close[0]}'?"
+                if close
+                else f"the parts a robot has: {', '.join(cap.CAPABILITY_NAMES)}",
             )
         for method in ("start", "update", "stop"):
             function = getattr(cls, method, None)

@@ -640,6 +640,7 @@ _OTHER_WORDS = {
     "State": ("state", "a state is made with state(...), in lower case"),
 }
 """Names from the tutorials' words that roboscript spells otherwise: (its name, why)."""
+_ABSTRACT = re.compile(r"^Can't instantiate abstract class (\w+) with abstract methods? (\w+)")
 _FROZEN_FIELD = re.compile(r"^cannot assign to field '(\w+)'")
 _CANNOT_IMPORT = re.compile(r"^cannot import name '(\w+)' from '([\w.]+)'")
 
@@ -698,6 +699,18 @@ def _explain(
         return exc.python_message, f"write {exc.python}"
     if isinstance(exc, RoboscriptError | ValueError) and raised_by_roboscript:
         return text, None  # roboscript's own sentence, e.g. "drive speed must be positive"
+    abstract = _ABSTRACT.match(text) if isinstance(exc, TypeError) else None
+    if abstract is not None:  # an Action without update(): Python will not make one
+        return (
+            (
+                f"{abstract.group(1)} has no {abstract.group(2)}(self, ctx), the method roboscript"
+                " calls on an action each tick"
+            ),
+            (
+                f"write def {abstract.group(2)}(self, ctx): in the class, returning None while it"
+                " runs and Result.done() when it has finished"
+            ),
+        )
     if isinstance(exc, TypeError):
         match = _UNEXPECTED_KEYWORD.match(text)
         if match:

@@ -65,6 +65,24 @@ class M(Mission):
         return False
 """
 
+BEHAVIOUR = """\
+from roboscript import Action, Mission, Result, state
+
+
+class Spin(Action):
+    name = "spin"
+    requires = frozenset({"drive_base"})
+
+    def update(self, ctx):
+        ctx.drive_base.set_wheel_speeds(100, -100)
+        return None
+
+
+class M(Mission):
+    go = state(Spin(), initial=True, timeout_s=2, on_timeout="end")
+    end = state(final="success")
+"""
+
 YAML_WHEN = """\
 mission: m
 states:
@@ -529,6 +547,30 @@ MISTAKES: dict[str, tuple[str, list[str]]] = {
                 " that sets 'count' has a 'count' of its own, which starts with no value each time"
                 " the method runs (keep it on the mission: write self.count (with count = 0 in the"
                 " class))"
+            )
+        ],
+    ),
+    # --- a behaviour of the student's own
+    "behaviour_requires_typo.py": (
+        BEHAVIOUR.replace('"drive_base"', '"drivebase"'),
+        [
+            (
+                "14:16: error: Spin.requires names 'drivebase', which is no part a robot has (did"
+                " you mean 'drive_base'?)"
+            )
+        ],
+    ),
+    "behaviour_without_update.py": (
+        BEHAVIOUR.replace(
+            "    def update(self, ctx):\n        ctx.drive_base.set_wheel_speeds(100, -100)\n"
+            "        return None\n",
+            "    pass\n",
+        ),
+        [
+            (
+                "12:16: error: Spin has no update(self, ctx), the method roboscript calls on an"
+                " action each tick (write def update(self, ctx): in the class, returning None while"
+                " it runs and Result.done() when it has finished)"
             )
         ],
     ),
