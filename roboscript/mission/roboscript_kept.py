@@ -19,14 +19,11 @@ from types import ModuleType
 from typing import Any
 
 from roboscript.actions.base import Action
+from roboscript.code_owner import is_roboscript_module, is_student_class
 from roboscript.profiles import BUILTIN_PROFILES, get_profile
 from roboscript.robot_profile import RobotProfile
 
 __all__ = ["Change", "RoboscriptKept", "changes_written"]
-
-
-def _roboscript_name(name: str) -> bool:
-    return name == "roboscript" or name.startswith("roboscript.")
 
 
 def _classes() -> Iterator[type]:
@@ -36,7 +33,7 @@ def _classes() -> Iterator[type]:
     todo: list[type] = [Action, Mission]
     while todo:
         cls = todo.pop()
-        if _roboscript_name(cls.__module__):
+        if not is_student_class(cls):
             yield cls
             todo.extend(cls.__subclasses__())
 
@@ -97,7 +94,7 @@ class RoboscriptKept:
         self._modules = [
             (module, {k: v for k, v in vars(module).items() if not k.startswith("_")})
             for name, module in list(sys.modules.items())
-            if _roboscript_name(name) and isinstance(module, ModuleType)
+            if is_roboscript_module(name) and isinstance(module, ModuleType)
         ]
 
     def changed(self) -> list[Change]:
@@ -181,9 +178,9 @@ def _targets(node: ast.AST) -> Iterator[tuple[ast.expr, str]]:
 
 def _change(owner: ast.expr, name: str, names: dict[str, Any]) -> Change | None:
     value = _resolved(owner, names)
-    if isinstance(value, ModuleType) and _roboscript_name(value.__name__):
+    if isinstance(value, ModuleType) and is_roboscript_module(value.__name__):
         return Change(value.__name__, name, "module")
-    if isinstance(value, type) and _roboscript_name(value.__module__):
+    if isinstance(value, type) and not is_student_class(value):
         return Change(value.__name__, name, "class")
     if isinstance(value, RobotProfile) and BUILTIN_PROFILES.get(value.name) is value:
         return Change(value.name, name, "robot")
