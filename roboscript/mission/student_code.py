@@ -393,19 +393,16 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
     except MissionError:
         del sys.modules[name]
         raise
-    except PASSES_THROUGH_STUDENT_CODE:
+    except PASSES_THROUGH_STUDENT_CODE:  # stopped while it ran (a loop at its top, Ctrl-C)
         del sys.modules[name]
+        kept.changed()
+        own.changed()
         raise
     except BaseException as exc:  # noqa: BLE001 - reported in the student's terms
         del sys.modules[name]
         kept.changed()  # a change made before the exception is undone too
         own.changed()
         raise _import_problem(exc, path, module, kind) from None
-    except BaseException:  # stopped while it ran (a loop at its top level, Ctrl-C)
-        sys.modules.pop(name, None)
-        kept.changed()
-        own.changed()
-        raise
     finally:
         if folder in sys.path:
             sys.path.remove(folder)
