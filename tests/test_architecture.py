@@ -416,6 +416,7 @@ FUNCTION_LEVEL_IMPORTS: dict[str, int] = {
     "roboscript.mission.nested": 1,
     "roboscript.mission.python_api": 2,
     "roboscript.mission.references": 1,
+    "roboscript.mission.roboscript_kept": 1,
     "roboscript.profiles": 2,
     "roboscript.replay.header": 1,
     "roboscript.replay.viewer": 1,

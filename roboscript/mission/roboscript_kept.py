@@ -28,6 +28,8 @@ __all__ = ["Change", "RoboscriptKept", "changes_written"]
 
 def _classes() -> Iterator[type]:
     """roboscript's action classes and its Mission class."""
+    # here, not at the top: the mission package imports this module (through student_code)
+    # before python_api, so a top-level import would go round in a circle
     from roboscript.mission.python_api import Mission
 
     todo: list[type] = [Action, Mission]

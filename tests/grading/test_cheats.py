@@ -395,9 +395,11 @@ def test_the_honest_student_passes_whatever_the_class_did(graded: dict[str, Any]
 
 def test_patching_the_grader_from_the_mission_changes_nothing(graded: dict[str, Any]) -> None:
     runs = _runs(graded, "patcher")
-    assert [r["status"] for r in runs] == ["failed", "failed"], _shown(runs)
-    assert all(r["score"] < 1 for r in runs)
-    assert all("final_pose_within" in r["message"] for r in runs)
+    # refused where it puts its own in the place of the grader's (and the patch would only
+    # reach the mission's own process: the world judges in another)
+    assert [r["status"] for r in runs] == ["invalid", "invalid"], _shown(runs)
+    assert all(r["score"] == 0 for r in runs)
+    assert all("patch.py:" in r["message"] and "evaluate" in r["message"] for r in runs)
 
 
 def test_a_forged_result_on_any_descriptor_changes_nothing(graded: dict[str, Any]) -> None:

@@ -38,9 +38,11 @@ def forged(name, action, cause):
     return name.encode() + b"\\n" + claim.encode()
 
 
-for module in (sys.modules.get("__main__"), sys.modules.get("roboscript.grading.mission_host")):
-    if module is not None and hasattr(module, "state_payload"):
-        module.state_payload = forged
+def forge():
+    # at run time, by a name no check reads: a change while the file loads is refused
+    for module in (sys.modules.get("__main__"), sys.modules.get("roboscript.grading.mission_host")):
+        if module is not None and hasattr(module, "state_payload"):
+            setattr(module, "state_payload".strip(), forged)
 
 """
 
@@ -59,7 +61,12 @@ def _mission(folder: Path, forged: str) -> Path:
     folder.mkdir(exist_ok=True)
     path = folder / "square.py"
     honest = (MISSIONS / "square.py").read_text(encoding="utf-8")
-    path.write_text(HOSTILE.format(FORGED=forged) + honest, encoding="utf-8")
+    # the first condition the mission asks forges every account from then on
+    forging = (
+        "\n\n_hit = Square.bumper_hit\n\n\ndef _forging(self):\n    forge()\n"
+        "    return _hit(self)\n\n\nSquare.bumper_hit = _forging\n"
+    )
+    path.write_text(HOSTILE.format(FORGED=forged) + honest + forging, encoding="utf-8")
     return path
 
 
@@ -79,13 +86,14 @@ def test_a_forged_account_of_the_states_never_changes_the_verdict(
     assert result.record.to_dict() | {"mission": ""} == honest.record.to_dict() | {"mission": ""}
     frames = result.replay["frames"]
     encode_line(result.replay)  # JSON a page can hold: no NaN, no infinity
-    causes = [f["why"] for f in frames if "why" in f]
+    first, *causes = [f["why"] for f in frames if "why" in f]
+    assert first["text"].startswith("the mission started")  # told before the forging began
     actions = [f["action"] for f in frames if f.get("action")]
     assert all(a.isprintable() and len(a) <= 101 for a in actions)
     if forged != "scripts":
         assert causes == []  # too long, or not a cause: nothing is shown
         return
-    assert len(causes) == len(honest.record.states)
+    assert len(causes) == len(honest.record.states) - 1
     for cause in causes:
         assert cause["claimed"] is True
         assert cause["text"].startswith("'</script><script>window.owned=1</script>")
@@ -95,7 +103,7 @@ def test_a_forged_account_of_the_states_never_changes_the_verdict(
         assert cause["values"] == {EVIL_NAME[:CLAIM_TEXT_CHARS]: 1}
     # "from" is the state the world itself recorded before
     names = [name for _, name in result.record.states]
-    assert [c["from"] for c in causes] == [None, *names[:-1]]
+    assert [c["from"] for c in causes] == names[:-1]  # after the first state's, told honestly
 
 
 EVIL_NAME = "</script><script>window.owned=1</script><img src=x onerror='window.owned=2'>"
