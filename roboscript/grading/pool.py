@@ -17,6 +17,8 @@ loads a student's file. The parent
   first run gives its result to the rest of its own runs itself, without running them; the
   parent holds the mission's other workers back (its hidden runs, or runs past one worker's
   share) until that first run has ended, and gives them the same result;
+* keeps each worker, its jail and so its runs' two processes on one CPU core, cores shared
+  evenly among workers (:mod:`roboscript.grading.cores`: hand-overs on one core are cheaper);
 * gives each result to ``on_result`` the moment it arrives (the command line writes it out at
   once, so a grader that is killed keeps every finished run);
 * stops a worker that outlives its run's limits by a wide margin (it never should) and records
@@ -44,6 +46,7 @@ from multiprocessing.process import BaseProcess
 from pathlib import Path
 from typing import Any
 
+from roboscript.grading.cores import CoreShare, keep_on_core
 from roboscript.grading.cpu_time import process_tree_waited_s
 from roboscript.grading.record import RunResult, RunStatus
 from roboscript.grading.sandbox import byte_compile_package
@@ -125,6 +128,8 @@ class _Running:
     connection: Connection
     started: float
     deadline: float
+    core: int | None
+    """The core the worker keeps itself and its jail on (:mod:`roboscript.grading.cores`)."""
 
 
 def _jail_key(task: RunTask) -> tuple[object, ...]:
@@ -170,6 +175,7 @@ def run_tasks(
     # Before any jail starts: a jail cannot compile, so every run would compile from source.
     byte_compile_package()
     context = _context()
+    cores = CoreShare()
     waiting = _batches(tasks, jobs)
     results: dict[int, RunResult] = {}
     running: list[_Running] = []
@@ -200,7 +206,7 @@ def run_tasks(
                 if first:
                     probing.add(key)
                 waiting.remove(batch)
-                running.append(_start(context, batch, first))
+                running.append(_start(context, batch, first, cores.take()))
             if not running:
                 continue  # a batch was put back: start it
             now = time.monotonic()
@@ -241,6 +247,7 @@ def run_tasks(
                     run.process.join(_KILL_GRACE_S)
                 _stop(run.process)
                 run.connection.close()
+                cores.give(run.core)
             running = still
     finally:
         for run in running:  # interrupted (Ctrl-C): leave no worker behind
@@ -261,25 +268,33 @@ def _same_as(first: RunResult, task: RunTask) -> RunResult:
     )
 
 
-def _start(context: Any, batch: list[tuple[int, RunTask]], first: bool) -> _Running:
+def _start(
+    context: Any, batch: list[tuple[int, RunTask]], first: bool, core: int | None
+) -> _Running:
     receiver, sender = context.Pipe(duplex=False)
     process = context.Process(
         target=_worker_entry,
-        args=(sender, batch, first),
+        args=(sender, batch, first, core),
         name=f"roboscript-grade-{batch[0][0]}",
         daemon=True,
     )
     started = time.monotonic()
     process.start()
     sender.close()  # the parent keeps only its reading end, so a dead worker reads as EOF
-    return _Running(list(batch), process, receiver, started, _deadline(started, batch[0][1]))
+    deadline = _deadline(started, batch[0][1])
+    return _Running(list(batch), process, receiver, started, deadline, core)
 
 
 def _deadline(started: float, task: RunTask) -> float:
     return started + task.spec.longest_wall_time_s
 
 
-def _worker_entry(connection: Connection, batch: list[tuple[int, RunTask]], first: bool) -> None:
+def _worker_entry(
+    connection: Connection, batch: list[tuple[int, RunTask]], first: bool, core: int | None
+) -> None:
+    # First of all, so the jail and every run's mission inherit it: a run's two processes
+    # then hand over on one core instead of waking another (see roboscript.grading.cores).
+    keep_on_core(core)
     # the worker warms every simulated device when imported: only its process needs them
     from roboscript.grading.worker import work
 
