@@ -25,11 +25,12 @@ after. The script exits with status 1 when that ratio is over 1.5.
 
 What one process hand-over per tick costs this machine is measured beside it, the same way:
 the same in-process runs, but with each tick waiting for one round trip to an idle process (a
-byte out, the byte back; no jail, no wire protocol, no world in the other process). A sandboxed
-run hands over twice a tick (the mission asks, the world answers), so on a machine where that
-row is far over 1 the sandboxed ratio cannot be much under it: the row says how much of the
-isolation cost is the machine's context switches rather than the grader's work. It reads so
-on an idle machine only: on a busy one a process that waits often is woken ahead of the
+byte out, the byte back; no jail, no wire protocol, no world in the other process), the two
+kept on one core as the grader keeps a run's world and mission (:mod:`roboscript.grading.cores`).
+A sandboxed run hands over twice a tick (the mission asks, the world answers), so on a machine
+where that row is far over 1 the sandboxed ratio cannot be much under it: the row says how
+much of the isolation cost is the machine's context switches rather than the grader's work. It
+reads so on an idle machine only: on a busy one a process that waits often is woken ahead of the
 programs that keep the cores busy, so the round trips can even make the runs faster.
 """
 
@@ -56,6 +57,7 @@ for _path in (str(HERE), str(HERE.parent.parent)):
 from benchlib import Row, at_most, format_table, info, machine_header  # noqa: E402
 
 from roboscript.grading.batch import find_specs, find_submissions, grade_class  # noqa: E402
+from roboscript.grading.cores import keep_on_core, usable_cores  # noqa: E402
 from roboscript.grading.expectations import evaluate  # noqa: E402
 from roboscript.grading.pool import default_jobs  # noqa: E402
 from roboscript.grading.run import record_from_session  # noqa: E402
@@ -217,9 +219,16 @@ def _grade_in_process(
         context = multiprocessing.get_context("forkserver")
         context.set_forkserver_preload(["roboscript.grading.worker"])
         started = time.perf_counter()
+        workers = jobs or default_jobs()
         initializer = _hand_over_per_tick if hand_over else None
+        # Like the grader's workers: worker i on core i (shared evenly past the cores).
+        cores = usable_cores()
+        initargs = (context.Queue(),) if hand_over else ()
+        if hand_over:
+            for i in range(workers):
+                initargs[0].put(cores[i % len(cores)] if len(cores) > 1 else None)
         with concurrent.futures.ProcessPoolExecutor(
-            jobs or default_jobs(), context, initializer=initializer
+            workers, context, initializer=initializer, initargs=initargs
         ) as pool:
             list(pool.map(_in_process_run, *zip(*runs, strict=True)))
         return time.perf_counter() - started
@@ -229,9 +238,11 @@ _PARTNER: list[socket.socket] = []
 """The worker's end of the socket to its idle partner process (see :func:`_hand_over_per_tick`)."""
 
 
-def _hand_over_per_tick() -> None:
+def _hand_over_per_tick(cores: Any) -> None:
     """Pool initializer: every tick of every run in this worker first waits for one round
-    trip to an idle process of its own (a byte out, the same byte back)."""
+    trip to an idle process of its own (a byte out, the same byte back), both kept on one
+    core taken from ``cores`` (a queue), as the grader keeps a run's two processes."""
+    keep_on_core(cores.get())
     ours, theirs = socket.socketpair()
     if os.fork() == 0:  # the partner: answer each byte at once, until the worker goes
         ours.close()
@@ -356,7 +367,7 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="12 missions instead of 30")
     parser.add_argument("--jobs", type=int, help="workers at once (default: one per core)")
     args = parser.parse_args()
-    print("\n".join(machine_header("not pinned (one worker process per run)")))
+    print("\n".join(machine_header("each grading worker keeps its runs on one core")))
     rows = measure(args.quick, args.jobs)
     print(format_table(rows))
     isolation = next(row for row in rows if row.name == ISOLATION_ROW)
