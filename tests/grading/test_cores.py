@@ -9,7 +9,13 @@ from pathlib import Path
 import pytest
 
 from roboscript.grading.batch import find_specs, find_submissions, grade_class
-from roboscript.grading.cores import CoreShare, idle_ticks_by_core, keep_on_core, usable_cores
+from roboscript.grading.cores import (
+    SAMPLE_S,
+    CoreShare,
+    idle_ticks_by_core,
+    keep_on_core,
+    usable_cores,
+)
 
 STAT = """\
 cpu  {total}
@@ -29,8 +35,28 @@ def test_idle_time_is_read_per_core_from_proc_stat_with_io_wait() -> None:
     assert idle_ticks_by_core("cpu 1 2\ncpuX 1\ncpu3 1 2\n") == {}, "malformed lines are skipped"
 
 
+class _Clock:
+    """A clock that moves only when slept on, or by hand."""
+
+    def __init__(self) -> None:
+        self.now_s = 0.0
+        self.slept_s: list[float] = []
+
+    def __call__(self) -> float:
+        return self.now_s
+
+    def sleep(self, seconds: float) -> None:
+        self.slept_s.append(seconds)
+        self.now_s += seconds
+
+
+def _share(cores: list[int], read_stat: object, clock: _Clock | None = None) -> CoreShare:
+    clock = clock or _Clock()
+    return CoreShare(cores, read_stat=read_stat, clock=clock, sleep=clock.sleep)  # type: ignore[arg-type]
+
+
 def test_workers_spread_over_the_cores_before_any_core_is_shared() -> None:
-    share = CoreShare([0, 1, 2], read_stat=lambda: _stat(0, 0, 0))
+    share = _share([0, 1, 2], lambda: _stat(0, 0, 0))
     taken = [share.take() for _ in range(3)]
     assert sorted(taken) == [0, 1, 2]  # type: ignore[type-var]
     fourth = share.take()
@@ -39,16 +65,30 @@ def test_workers_spread_over_the_cores_before_any_core_is_shared() -> None:
     assert share.take() == taken[1], "a core given back is the least shared again"
 
 
-def test_a_core_idle_since_the_last_choice_is_taken_before_a_busy_one() -> None:
-    readings = iter([_stat(0, 0, 0), _stat(10, 500, 20), _stat(10, 500, 900)])
-    share = CoreShare([0, 1, 2], read_stat=lambda: next(readings))
-    assert share.take() == 1, "core 1 idled 500 ticks, the others 10 and 20"
-    assert share.take() == 2, "then core 2 idled the most, and core 1 is taken"
+def test_the_first_choice_looks_at_the_cores_for_a_moment_and_takes_the_idle_one() -> None:
+    clock = _Clock()
+    readings = iter([_stat(0, 0, 0), _stat(0, 3, 1)])
+    share = _share([0, 1, 2], lambda: next(readings), clock)
+    assert share.take() == 1, "core 1 idled 3 ticks, core 0 none (another program's), core 2 one"
+    assert clock.slept_s == [SAMPLE_S], "the first choice waited to compare the cores"
+
+
+def test_choices_made_at_once_keep_the_last_comparison_and_avoid_busy_cores() -> None:
+    clock = _Clock()
+    readings = iter([_stat(0, 0, 0), _stat(0, 3, 2), _stat(0, 6, 4)])
+    share = _share([0, 1, 2], lambda: next(readings), clock)
+    assert [share.take(), share.take()] == [1, 2], "core 0 is busy with another program"
+    assert clock.slept_s == [SAMPLE_S], "only the first choice waits"
+    clock.now_s += 10.0
+    share.give(1)
+    assert share.take() == 1, "a core given back is the least shared again"
 
 
 def test_with_one_core_there_is_nothing_to_choose() -> None:
-    share = CoreShare([3], read_stat=lambda: "")
+    clock = _Clock()
+    share = _share([3], lambda: "", clock)
     assert share.take() is None
+    assert clock.slept_s == [], "nor anything to wait for"
     share.give(None)  # nothing to give back either
 
 
