@@ -1383,6 +1383,9 @@ class JailedRun(_Output):
         self.isolation = server.isolation
         self.limits = server.limits
         self.pid = pid
+        # Held from the moment the run says it started: a signal sent through it reaches this
+        # process or nothing, never another that got its pid once the jail reaped the run.
+        self._pidfd, self._kill_by_pid = _pidfd(pid)
         self._server = server
         self._status: int | None = None
         self._attach(out_r, err_r)
@@ -1390,6 +1393,12 @@ class JailedRun(_Output):
     def _ended(self, status: int) -> None:
         self._status = status
         self._finish_output()
+        self._close_pidfd()
+
+    def _close_pidfd(self) -> None:
+        if self._pidfd is not None:
+            os.close(self._pidfd)
+            self._pidfd = None
 
     def cpu_time_s(self) -> float | None:
         """CPU seconds the run's process has used so far (None once it is gone)."""
@@ -1434,12 +1443,16 @@ class JailedRun(_Output):
         """End the run now (and what it started); the jail stays for the next run."""
         if self._closed:
             return
-        if self._status is None and self.pid is not None:
+        if self._status is None and self._pidfd is not None:
             with contextlib.suppress(OSError):
+                signal.pidfd_send_signal(self._pidfd, signal.SIGKILL)
+        elif self._status is None and self.pid is not None and self._kill_by_pid:
+            with contextlib.suppress(OSError):  # a system without pidfds
                 os.kill(self.pid, signal.SIGKILL)
         if self.wait(_TEARDOWN_TIMEOUT_S) is None:
             self._server._jail.kill()  # the server is stuck: the whole jail goes
             self._ended(-signal.SIGKILL)
+        self._close_pidfd()
         self._close_output()
 
     def _finish_output(self) -> None:
@@ -1451,6 +1464,24 @@ class JailedRun(_Output):
 
     def __exit__(self, *exc_info: object) -> None:
         self.kill()
+
+
+def _pidfd(pid: int | None) -> tuple[int | None, bool]:
+    """A descriptor that stands for process ``pid`` for as long as it is open (Linux), and
+    whether the process must instead be signalled by its pid (a system without pidfds).
+
+    ``(None, False)``: no pid, or the process has already ended and been reaped.
+    """
+    if pid is None:
+        return None, False
+    if not hasattr(os, "pidfd_open"):
+        return None, True
+    try:
+        return os.pidfd_open(pid), False
+    except ProcessLookupError:
+        return None, False
+    except OSError:  # a kernel without pidfd_open (before Linux 5.3)
+        return None, True
 
 
 def process_cpu_time_s(pid: int) -> float | None:

@@ -917,6 +917,65 @@ def test_a_runs_status_sent_as_its_server_ends_is_read_not_taken_for_a_kill() ->
         ours.close()
 
 
+def _run_of(pid: int, status_sent: int | None) -> tuple[JailedRun, socket.socket]:
+    """A run of a live stand-in server (its jail never ends) whose process is ``pid``; the
+    server has already sent ``status_sent`` (if not None), unread."""
+    ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+
+    class Lives:
+        def poll(self) -> int | None:
+            return None
+
+    server = object.__new__(WarmJail)
+    server.limits, server.isolation = Limits(), detect_isolation()
+    server._control, server._jail = ours, Lives()
+    out_r, out_w = os.pipe()
+    err_r, err_w = os.pipe()
+    os.close(out_w)
+    os.close(err_w)
+    if status_sent is not None:
+        theirs.send(json.dumps({"status": status_sent}).encode())
+    return JailedRun(server, pid, out_r, err_r), theirs
+
+
+needs_pidfd = pytest.mark.skipif(not hasattr(os, "pidfd_open"), reason="needs pidfds (Linux)")
+
+
+@needs_pidfd
+def test_killing_a_run_ends_its_process() -> None:
+    child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(600)"])
+    run_, theirs = _run_of(child.pid, status_sent=-signal.SIGKILL)
+    try:
+        run_.kill()
+        assert child.wait(timeout=HANG_BOUND_S) == -signal.SIGKILL
+    finally:
+        child.kill()
+        child.wait()
+        theirs.close()
+        run_._server._control.close()
+
+
+@needs_pidfd
+def test_killing_a_run_whose_process_was_reaped_never_signals_another_with_its_pid(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # The run ended and its jail reaped it before its status reached the grader: its pid is
+    # free, and any process may get it meanwhile. The kill must reach that run or nothing.
+    child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(600)"])
+    run_, theirs = _run_of(child.pid, status_sent=-signal.SIGKILL)
+    child.kill()
+    child.wait()  # reaped: the pid may now be anyone's
+    signalled: list[int] = []
+    monkeypatch.setattr(os, "kill", lambda pid, _signal: signalled.append(pid))
+    try:
+        run_.kill()
+        assert signalled == [], "no signal by a pid that may be another process's now"
+        assert run_.poll() == -signal.SIGKILL
+    finally:
+        theirs.close()
+        run_._server._control.close()
+
+
 # ------------------------------------------------------------- a user of its own (no bubblewrap)
 
 
