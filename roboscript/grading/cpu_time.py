@@ -1,4 +1,5 @@
-"""CPU time a process tree has used: what a student's code consumed, whatever the machine's load.
+"""CPU time (and memory) a process tree has used: what a student's code consumed, whatever the
+machine's load.
 
 The grader judges a mission process by the CPU time it used, never by wall time: on a busy
 machine an honest process waits for a CPU, and that wait is not its own. Linux tells every
@@ -17,12 +18,18 @@ from collections.abc import Callable
 from roboscript.grading.processes import (
     CHILDREN_LISTED,
     listed_children,
+    memory_bytes,
     read_stat,
     stats,
     waited_s,
 )
 
-__all__ = ["process_tree_cpu_s", "process_tree_stopped", "process_tree_waited_s"]
+__all__ = [
+    "process_tree_cpu_s",
+    "process_tree_memory_bytes",
+    "process_tree_stopped",
+    "process_tree_waited_s",
+]
 
 
 def process_tree_cpu_s(root_pid: int) -> float | None:
@@ -95,6 +102,15 @@ def _gather(
         tree[pid] = cpu_s
         queue.extend(children_of(pid))
     return tree
+
+
+def process_tree_memory_bytes(root_pid: int) -> int | None:
+    """Memory ``root_pid`` and every process below it hold together, in bytes (each page
+    counted once, shared ones split among their processes); None where unknown."""
+    pids = _tree(root_pid)
+    if not pids:
+        return None
+    return sum(held or 0 for held in map(memory_bytes, pids))
 
 
 def process_tree_waited_s(root_pid: int) -> float | None:

@@ -127,6 +127,24 @@ def waited_s(pid: int) -> float | None:
         return None
 
 
+def memory_bytes(pid: int) -> int | None:
+    """Memory ``pid`` holds, in bytes: its share of every page it uses (a page shared by ``n``
+    processes counts ``1/n`` in each, so a tree's shares add up to what it holds; Linux 4.14
+    and later), else its resident pages; None if it has ended."""
+    text = _read(pid, "smaps_rollup")
+    for line in (text or b"").splitlines():
+        if line.startswith(b"Pss:"):
+            try:
+                return int(line.split()[1]) * 1024
+            except (IndexError, ValueError):
+                break
+    text = _read(pid, "statm")
+    try:
+        return int((text or b"").split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (IndexError, ValueError, OSError):
+        return None
+
+
 def listed_children(pid: int) -> list[int]:
     """The children each thread of ``pid`` started, as Linux lists them (where
     :data:`CHILDREN_LISTED`): a child's parent is the thread that started it, not its

@@ -115,6 +115,9 @@ class Limits:
         scratch_bytes: Size of the private writable ``/tmp``, in bytes (bubblewrap only).
         output_bytes: Bytes kept of standard output and of standard error, each; the rest is
             counted and dropped.
+        total_memory_bytes: Memory all of a run's processes may hold together, in bytes: the
+            world reads it four times a second and ends a run over it (``memory_bytes`` is
+            each process's alone, and ``processes`` of them could hold that many times more).
     """
 
     memory_bytes: int = 1024**3
@@ -123,6 +126,7 @@ class Limits:
     file_size_bytes: int = 16 * 1024**2
     scratch_bytes: int = 64 * 1024**2
     output_bytes: int = 64 * 1024
+    total_memory_bytes: int = 2 * 1024**3
 
     def __post_init__(self) -> None:
         for name, value in vars(self).items():

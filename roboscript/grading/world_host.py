@@ -60,6 +60,7 @@ from typing import Any, Literal
 from roboscript.code_owner import is_student_file
 from roboscript.grading.cpu_time import (
     process_tree_cpu_s,
+    process_tree_memory_bytes,
     process_tree_stopped,
     process_tree_waited_s,
 )
@@ -406,6 +407,9 @@ class _WorldSession:
                     return self._stopped("timeout", self._timeout_message())
                 wall_deadline = now + max(self.spec.wall_time_limit_s - elapsed_s, _CHECK_EVERY_S)
             if now >= stall.next_check:
+                held = self._memory_held_bytes()
+                if held is not None and held > self.jail.limits.total_memory_bytes:
+                    return self._stopped("crashed", self._memory_message(held))
                 allowance = 2 * self.hang_after_s + 1.0 if self.loaded else _LOAD_CPU_S
                 stalled_s = stall.check(now, allowance, self.now_s)
                 if stalled_s is not None:
@@ -677,6 +681,18 @@ class _WorldSession:
         return (
             f"the mission stopped advancing {phase}: its code ran for {stalled_s:.1f} s of"
             f" {measured} without returning (an endless loop?)"
+        )
+
+    def _memory_held_bytes(self) -> int | None:
+        """Memory the run's processes hold together (None where the system does not tell)."""
+        return None if self.jail.pid is None else process_tree_memory_bytes(self.jail.pid)
+
+    def _memory_message(self, held_bytes: int) -> str:
+        limit = self.jail.limits.total_memory_bytes
+        return (
+            f"the mission's processes together used {held_bytes / 1024**3:.1f} GiB of memory,"
+            f" over the {limit / 1024**3:g} GiB a run may use: does it start processes that"
+            " each keep a lot of data?"
         )
 
     def _paused_message(self) -> str:

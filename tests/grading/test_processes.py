@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 import shutil
 import subprocess
+import sys
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -139,3 +140,13 @@ def test_without_proc_the_walk_finds_nothing(
 ) -> None:
     monkeypatch.setattr(processes, "_PROC", str(tmp_path / "none"))
     assert list(stats()) == [] and list(statuses()) == []
+
+
+def test_the_memory_a_process_holds_is_read_and_a_gone_process_reads_none() -> None:
+    if not os.path.isdir("/proc/self"):
+        pytest.skip("needs /proc")
+    held = processes.memory_bytes(os.getpid())
+    assert held is not None and 1024**2 < held < 64 * 1024**3, "this interpreter holds some MiB"
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()
+    assert processes.memory_bytes(child.pid) is None

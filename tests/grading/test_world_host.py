@@ -22,6 +22,7 @@ import pytest
 from helpers import HANG_BOUND_S, MISSIONS, SLEEPER, every_core_busy, run_cli
 
 from roboscript.grading.run import grade_run, record_from_session
+from roboscript.grading.sandbox import Limits
 from roboscript.grading.spec import TestSpec, load_test_spec
 from roboscript.mission import mission_for_robot
 from roboscript.session import run_session
@@ -486,3 +487,46 @@ def test_a_mission_that_stops_its_own_process_is_hung_at_once_not_waited_out(
         r" paused by a stop signal \(SIGSTOP\) and would never go on by itself",
         run["message"],
     ), run["message"]
+
+
+# Starts four processes that each keep 48 MiB (well under a process's own limit), and waits.
+HOARDS_IN_FOUR_PROCESSES = """\
+import multiprocessing
+import time
+from roboscript import Mission, Wait, state
+
+
+def hoard():
+    kept = bytearray(48 * 1024 * 1024)
+    for i in range(0, len(kept), 4096):
+        kept[i] = 1  # touched, so the pages are held, not only promised
+    time.sleep(60)
+
+
+_hoarders = []
+
+
+class Hoard(Mission):
+    go = state(Wait(duration_s=20), initial=True, on_done="end", when=[("start_hoarding", "end")])
+    end = state(final="success")
+
+    def start_hoarding(self) -> bool:
+        if not _hoarders:
+            context = multiprocessing.get_context("fork")
+            _hoarders.extend(context.Process(target=hoard, daemon=True) for _ in range(4))
+            for process in _hoarders:
+                process.start()
+        return False
+"""
+
+
+def test_a_run_whose_processes_together_hold_too_much_memory_is_ended(tmp_path: Path) -> None:
+    spec = _spec(tmp_path, "mirto", max_time="30 s")
+    mission = tmp_path / "hoard.py"
+    mission.write_text(HOARDS_IN_FOUR_PROCESSES, encoding="utf-8")
+    limits = Limits(total_memory_bytes=128 * 1024**2)  # four times 48 MiB is over it
+    result = grade_run(spec, str(mission), spec.variants[0], limits=limits)
+    assert result.status == "crashed", result.message
+    assert "processes together used" in result.message
+    assert "over the 0.125 GiB a run may use" in result.message
+    assert "roboscript problem" not in result.message
