@@ -23,6 +23,11 @@ sandboxed, in-process, in-process, sandboxed over the two halves of the class, s
 rises or falls while it runs weighs on both alike. The row gives the load average before and
 after. The script exits with status 1 when that ratio is over 1.5.
 
+The baseline does each run's record and judging only; a graded run also records its replay
+and watches each tick's code. A row measures, the same way, the runs in-process as the
+product's practice grade does them (:func:`roboscript.grading.practice.practice_run`: record,
+replay, watchdog, judging) against the baseline, and gives the sandboxed ratio against that.
+
 What one process hand-over per tick costs this machine is measured beside it, the same way:
 the same in-process runs, but with each tick waiting for one round trip to an idle process (a
 byte out, the byte back; no jail, no wire protocol, no world in the other process), the two
@@ -60,9 +65,11 @@ from roboscript.grading.batch import find_specs, find_submissions, grade_class  
 from roboscript.grading.cores import keep_on_core, usable_cores  # noqa: E402
 from roboscript.grading.expectations import evaluate  # noqa: E402
 from roboscript.grading.pool import default_jobs  # noqa: E402
+from roboscript.grading.practice import practice_run  # noqa: E402
 from roboscript.grading.run import record_from_session  # noqa: E402
 from roboscript.grading.sandbox import detect_isolation  # noqa: E402
 from roboscript.grading.spec import TestSpec, Variant  # noqa: E402
+from roboscript.grading.world_host import DEFAULT_HANG_AFTER_S  # noqa: E402
 from roboscript.mission import mission_for_robot  # noqa: E402
 from roboscript.scheduler import Scheduler  # noqa: E402
 from roboscript.session import run_session  # noqa: E402
@@ -197,8 +204,24 @@ def _in_process_run(spec: TestSpec, mission: str, variant: Variant) -> float:
     return record.duration_s
 
 
+def _practice_run(spec: TestSpec, mission: str, variant: Variant) -> float:
+    """One run as the product grades in-process (the browser's practice grade): the same
+    record, plus the replay's recording and the per-tick watchdog a graded run also has.
+
+    Returns:
+        Simulated seconds the mission ran.
+    """
+    run = practice_run(spec, mission, variant, hang_after_s=DEFAULT_HANG_AFTER_S)
+    record = run.result.record
+    return 0.0 if record is None else record.duration_s
+
+
 def _grade_in_process(
-    students: int, jobs: int | None, part: slice = slice(None), hand_over: bool = False
+    students: int,
+    jobs: int | None,
+    part: slice = slice(None),
+    hand_over: bool = False,
+    practice: bool = False,
 ) -> float:
     """Wall seconds to do the honest class's runs (its ``part`` of the students) in-process,
     ``jobs`` warm workers at a time.
@@ -230,7 +253,8 @@ def _grade_in_process(
         with concurrent.futures.ProcessPoolExecutor(
             workers, context, initializer=initializer, initargs=initargs
         ) as pool:
-            list(pool.map(_in_process_run, *zip(*runs, strict=True)))
+            run_one = _practice_run if practice else _in_process_run
+            list(pool.map(run_one, *zip(*runs, strict=True)))
         return time.perf_counter() - started
 
 
@@ -293,12 +317,30 @@ def _hand_over_cost(students: int, jobs: int | None) -> tuple[float, float, str]
     return with_s, without_s, f"{load_before:.1f} -> {os.getloadavg()[0]:.1f}"
 
 
+def _practice_cost(students: int, jobs: int | None) -> tuple[float, float, str]:
+    """The honest class in-process as the practice grade does it, and as the baseline does,
+    interleaved.
+
+    Returns:
+        Wall seconds as the practice grade, as the baseline, and the load average before and
+        after.
+    """
+    load_before = os.getloadavg()[0]
+    halves = (slice(None, students // 2), slice(students // 2, None))
+    practice_s = _grade_in_process(students, jobs, halves[0], practice=True)
+    plain_s = _grade_in_process(students, jobs, halves[0])
+    plain_s += _grade_in_process(students, jobs, halves[1])
+    practice_s += _grade_in_process(students, jobs, halves[1], practice=True)
+    return practice_s, plain_s, f"{load_before:.1f} -> {os.getloadavg()[0]:.1f}"
+
+
 def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
     """Grade the benchmark class once; return the rows (wall time against the goal, RTF)."""
     students = 12 if quick else STUDENTS
     wall_s, results, in_process_s, load = _isolation_cost(students, jobs)
     troubled_s, troubled = _grade(students, True, jobs)
     hand_over_s, plain_s, hand_over_load = _hand_over_cost(students, jobs)
+    practice_s, baseline_s, practice_load = _practice_cost(students, jobs)
     statuses = Counter(r.status for r in troubled.results)
     simulated_s = sum(r.record.duration_s for r in results if r.record is not None)
     unfinished = [r for r in results if r.record is None]
@@ -350,6 +392,16 @@ def measure(quick: bool = False, jobs: int | None = None) -> list[Row]:
             f" {plain_s:.1f} s without, {runs} runs, {workers} workers, load average"
             f" {hand_over_load}: this machine's cost of handing the CPU over, twice a tick in"
             " a sandboxed run (on an idle machine; see the module docstring)",
+        ),
+        info(
+            KEY,
+            "grading: in-process with replay and watchdog (practice grade) / in-process",
+            practice_s / baseline_s,
+            f"{practice_s:.1f} s as the practice grade runs (the record, the replay's recording"
+            f" and the per-tick watchdog, as a graded run has), {baseline_s:.1f} s as the"
+            f" baseline above (record and judge only), {runs} runs, {workers} workers, load"
+            f" average {practice_load}: the sandboxed ratio against that in-process grade is"
+            f" {wall_s / in_process_s / (practice_s / baseline_s):.2f} ×",
         ),
         info(
             KEY,
