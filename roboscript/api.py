@@ -212,10 +212,10 @@ def _spec_and_robot(
 
 def run(
     mission: str | Path | type[Mission] | MissionSpec,
-    *,
     robot: str | None = None,
     world: str | None = None,
     seed: int = 1,
+    *,
     port: str | None = None,
     max_time_s: float = 300.0,
     realtime: bool = False,

@@ -26,10 +26,12 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 from roboscript import __version__
 from roboscript.errors import (
+    EXAMPLES_FOLDER,
     CapabilityError,
     InputError,
     MissionError,
     RoboscriptError,
+    did_you_mean,
     grouped,
     nearby_file,
 )
@@ -60,7 +62,22 @@ def _print_problems(error: InputError) -> None:
 # ------------------------------------------------------------------------------------- run
 
 
+def _refuse_a_folder(path: str) -> None:
+    """A folder named where a mission file belongs (``roboscript run missions``): say so, with
+    a mission in it to name instead."""
+    folder = Path(path)
+    if not folder.is_dir():
+        return
+    inside = sorted(folder.glob("*.yaml"))[:1] or sorted(folder.glob("*.py"))[:1]
+    raise InputError(
+        "this is a folder, not a mission file",
+        path=path,
+        hint=f"name a mission in it, e.g. {inside[0]}" if inside else "name a mission file",
+    )
+
+
 def _load_mission(path: str, robot: str | None, strict: bool = False) -> tuple[Any, Any]:
+    _refuse_a_folder(path)
     # YAML loads only for the commands that read a file
     from roboscript.mission import mission_for_robot
     from roboscript.mission.student_code import is_student_file, stuck_at
@@ -251,9 +268,17 @@ def _cmd_check(args: argparse.Namespace) -> int:
 
     files: list[Path] = []
     missing = 0
-    for raw in args.paths:
+    paths = list(args.paths)
+    while paths:
+        raw = paths.pop(0)
         path = Path(raw)
-        if not path.suffix and not os.path.lexists(path):  # a folder named from the wrong place
+        spaced, words = ("", 0) if os.path.lexists(path) else _spaced_path_from(raw, paths)
+        if spaced:  # `check my mission.yaml`: one path with spaces, typed without quotes
+            hint = f'did you mean "{spaced}"? A path with spaces goes in quotes'
+            _print_problems(InputError("there is no such file or folder", path=raw, hint=hint))
+            del paths[:words]
+            missing += 1
+        elif not path.suffix and not os.path.lexists(path):  # a folder named from elsewhere
             missed = InputError("there is no such file or folder", path=raw, hint=nearby_file(path))
             _print_problems(missed)
             missing += 1
@@ -413,6 +438,13 @@ def _cmd_gradebook(args: argparse.Namespace) -> int:
     # grading (sandbox, reports, worlds) loads only for the grading commands
     from roboscript.grading.shards import read_results
 
+    for part in args.parts:
+        if Path(part).is_dir():
+            _err(
+                f"error: {part} is a folder: give the files `grade --results FILE` wrote"
+                f" (e.g. {Path(part) / 'part-*.jsonl'})"
+            )
+            return EXIT_INPUT
     refused: list[str] = []
     report = read_results(args.parts, refused.append)
     inputs = _grading_inputs(report.specs, [])
@@ -787,6 +819,9 @@ def _cmd_graph(args: argparse.Namespace) -> int:
         return EXIT_INPUT
     if fmt == "png":
         require_matplotlib()  # say so before loading anything
+    _refuse_a_folder(args.mission)
+    if args.run:
+        _refuse_a_non_recording(args.run)
     spec, _ = load_mission(args.mission)
     marks = None
     if args.run:
@@ -831,6 +866,7 @@ def _cmd_view(args: argparse.Namespace) -> int:
     if overwrite:
         _err(f"error: {overwrite}")
         return EXIT_INPUT
+    _refuse_a_non_recording(args.recording)
     page, problem = view_recording(
         args.recording, args.output, open_page=args.open, csv_path=args.csv
     )
@@ -839,6 +875,23 @@ def _cmd_view(args: argparse.Namespace) -> int:
         return EXIT_FAILED
     _err(f"replay: {page}")
     return EXIT_OK
+
+
+def _refuse_a_non_recording(path: str) -> None:
+    """A folder, or the summary ``run --json`` prints, named where a recording belongs: say
+    what it is and how a run is recorded."""
+    record = "a recorded run is the file `roboscript run MISSION --record RUN.jsonl` writes"
+    if Path(path).is_dir():
+        raise InputError("this is a folder, not a recorded run", path=path, hint=record)
+    # A recording is one JSON object a line; `run --json > run.json` writes one over many
+    # lines, beginning with a line of its own `{`.
+    with contextlib.suppress(OSError, UnicodeDecodeError), open(path, encoding="utf-8") as file:
+        if file.readline(16).strip() == "{":
+            raise InputError(
+                "this is a run's summary, as `roboscript run --json` prints it, not a recorded run",
+                path=path,
+                hint=record,
+            )
 
 
 # ------------------------------------------------------------------------------------- sim
@@ -946,6 +999,75 @@ def _cmd_robots(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+# -------------------------------------------------------------------------------- examples
+
+
+def _examples_source() -> Path | None:
+    """The example missions this installation carries, or ``None``.
+
+    A wheel carries them as ``roboscript/examples/`` (setup.py copies ``missions/`` there); an
+    editable install reads ``missions/`` beside the package, in the source folder.
+    """
+    package = Path(__file__).resolve().parent
+    for folder in (package / "examples", package.parent / EXAMPLES_FOLDER):
+        if (folder / "square.yaml").is_file():
+            return folder
+    return None
+
+
+def _cmd_examples(args: argparse.Namespace) -> int:
+    source = _examples_source()
+    if source is None:
+        _err("error: this installation of roboscript has no example missions: install it again")
+        return EXIT_FAILED
+    target = Path(args.dir)
+    unwritable = _unwritable([("DIR", args.dir, True)])
+    if unwritable:
+        _err(f"error: {unwritable}")
+        return EXIT_INPUT
+    if target.resolve() == source.resolve():
+        _err(f"{args.dir} holds the examples already (it is where they come from)")
+        return EXIT_OK
+    written: list[Path] = []
+    kept: list[Path] = []
+    for file in sorted(source.rglob("*")):
+        if not file.is_file() or "__pycache__" in file.parts or file.suffix in {".pyc", ".pyo"}:
+            continue
+        destination = target / file.relative_to(source)
+        data = file.read_bytes()
+        if destination.exists():
+            if not (destination.is_file() and destination.read_bytes() == data):
+                kept.append(destination)  # a student's own edit is never written over
+            continue
+        try:
+            destination.parent.mkdir(parents=True, exist_ok=True)
+            # the bytes, not a copy of the file: an installed file may be read-only, and a
+            # student edits these
+            destination.write_bytes(data)
+        except OSError as exc:
+            _err(f"error: cannot write {destination}: {exc.strerror or exc}")
+            return EXIT_FAILED
+        written.append(destination)
+    if kept:
+        shown = ", ".join(str(path) for path in kept[:_NOT_GRADED_SHOWN])
+        more = len(kept) - _NOT_GRADED_SHOWN
+        _err(
+            f"kept your own {shown}"
+            + (f" and {more} more" if more > 0 else "")
+            + " (not the example's text: rename yours to get the example too)"
+        )
+    if written:
+        square = str(target / "square.yaml")
+        square = f'"{square}"' if " " in square else square  # to be copied as typed
+        _err(
+            f"wrote {len(written)} example file{'s' if len(written) != 1 else ''} into"
+            f" {args.dir}: try roboscript run {square}"
+        )
+    elif not kept:
+        _err(f"{args.dir} holds the examples already: nothing to write")
+    return EXIT_OK
+
+
 # ------------------------------------------------------------------------------------ main
 
 
@@ -1022,8 +1144,83 @@ def _add_class_reports(command: argparse.ArgumentParser) -> None:
     )
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse's parser, answering a mistyped command or choice with the one meant.
+
+    A subcommand's parser is made by its parent as the same class (argparse's default).
+    """
+
+    def _check_value(self, action: argparse.Action, value: Any) -> None:
+        choices = action.choices
+        if choices is None or value in choices:
+            return
+        names = [str(choice) for choice in choices]
+        hint = did_you_mean(str(value), names, cutoff=0.6)
+        if isinstance(action, argparse._SubParsersAction):
+            what = f"'{value}' is not a {self.prog} command"
+            if hint is None and Path(str(value)).suffix.lower() in {".yaml", ".yml", ".py"}:
+                hint = f"to run a mission: {self.prog} run {value}"  # the command left out
+        else:
+            what = f"'{value}' is not one of {', '.join(names)}"
+        raise argparse.ArgumentError(
+            None, f"{what} ({hint})" if hint else f"{what} (choose from {', '.join(names)})"
+        )
+
+
+def _extra_arguments(
+    parser: argparse.ArgumentParser, args: argparse.Namespace, extras: Sequence[str]
+) -> str:
+    """What to say of the arguments ``parser`` (the command's) did not take: one sentence."""
+    options = [extra for extra in extras if extra.startswith("-") and len(extra) > 1]
+    if options:
+        written = options[0].split("=", 1)[0]
+        known = [
+            name
+            for action in parser._actions
+            if action.help != argparse.SUPPRESS
+            for name in action.option_strings
+            if name.startswith("--")
+        ]
+        hint = did_you_mean(written, known, cutoff=0.6)
+        return f"unknown option {written}" + (
+            f" ({hint})" if hint else f" (see {parser.prog} --help)"
+        )
+    joined = _spaced_path(args, extras)
+    if joined:
+        return (
+            f"one argument too many: '{extras[0]}' (did you mean \"{joined}\"? A path with"
+            " spaces goes in quotes)"
+        )
+    return (
+        f"'{extras[0]}' is one argument too many for {parser.prog} (a path with spaces goes in"
+        ' quotes: "my mission.yaml")'
+    )
+
+
+def _spaced_path(args: argparse.Namespace, extras: Sequence[str]) -> str:
+    """The existing path that an argument and the extra words after it make when joined with
+    spaces (a path with spaces typed without quotes), or ``""``."""
+    for value in vars(args).values():
+        for word in value if isinstance(value, list) else [value]:
+            joined = _spaced_path_from(word, extras)[0] if isinstance(word, str) else ""
+            if joined:
+                return joined
+    return ""
+
+
+def _spaced_path_from(first: str, following: Sequence[str]) -> tuple[str, int]:
+    """The longest existing path ``first`` and the words after it make, joined with spaces
+    (``my`` and ``mission.yaml``: ``my mission.yaml``), and how many words after it that
+    takes; ``("", 0)`` if none."""
+    for end in range(len(following), 0, -1):
+        joined = " ".join([first, *following[:end]])
+        if os.path.exists(joined):
+            return joined, end
+    return "", 0
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="roboscript",
         description="Run state-machine missions on educational robots and their simulator.",
     )
@@ -1270,7 +1467,21 @@ def _parser() -> argparse.ArgumentParser:
         help="test specs (or folders of them) to practise against in the page",
     )
     web_build.set_defaults(func=_cmd_web)
-    for command in sub.choices.values():
+
+    examples = sub.add_parser(
+        "examples", help="write the example missions the guides run into a folder"
+    )
+    examples.add_argument(
+        "dir",
+        nargs="?",
+        default=EXAMPLES_FOLDER,
+        metavar="DIR",
+        help=f"the folder (default: {EXAMPLES_FOLDER}); files already there are kept",
+    )
+    examples.set_defaults(func=_cmd_examples)
+    for command in [*sub.choices.values(), *web_sub.choices.values()]:
+        # which parser says what was not understood: the innermost command's
+        command.set_defaults(command_parser=command)
         # Global options are accepted after the command too (`roboscript run m.yaml --debug`);
         # SUPPRESS keeps a command not given --debug from resetting the global one.
         command.add_argument(
@@ -1287,7 +1498,15 @@ def main(argv: Sequence[str] | None = None) -> NoReturn:
     # them earlier still, before this module loads).
     install_interrupts()
     try:
-        args = _parser().parse_args(argv)
+        parser = _parser()
+        given = sys.argv[1:] if argv is None else list(argv)
+        if not given:  # `roboscript` alone: what it can do, rather than what is missing
+            parser.print_help(sys.stderr)
+            sys.exit(EXIT_INPUT)
+        args, extras = parser.parse_known_args(given)
+        if extras:
+            command = getattr(args, "command_parser", parser)
+            command.error(_extra_arguments(command, args, extras))
     except KeyboardInterrupt as exc:
         _err(f"error: {reason_for(exc)}")
         sys.exit(exit_status_for(exc))

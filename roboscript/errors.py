@@ -91,6 +91,8 @@ def nearby_file(path: str | Path) -> str | None:
     try:
         if wanted.exists():
             return None
+        if os.sep == "/" and "\\" in str(path):  # `missions\square.yaml` typed as on Windows
+            return _windows_path_hint(str(path))
         if not wanted.parent.exists() or wanted.name == EXAMPLES_FOLDER:
             return _missing_folder(wanted)
         names = [entry.name for entry in os.scandir(wanted.parent or ".") if entry.is_file()]
@@ -106,9 +108,17 @@ def nearby_file(path: str | Path) -> str | None:
     return did_you_mean(wanted.name, names[:1000], cutoff=0.8)
 
 
+def _windows_path_hint(path: str) -> str:
+    """For a path written as on Windows, on a computer whose folders are separated by ``/``."""
+    slashed = path.replace("\\", "/")
+    if re.match(r"[A-Za-z]:/", slashed):
+        return "this is a Windows path: here a path has no drive letter and '/' separates folders"
+    return f"folders are separated by '/' here: did you mean '{slashed}'?"
+
+
 EXAMPLES_FOLDER = "missions"
 """The folder of example missions the guides name (``missions/square.yaml``): it is in the
-roboscript folder, beside ``README.md``, and not in the installed package."""
+roboscript folder, beside ``README.md``, and ``roboscript examples`` writes it anywhere else."""
 
 
 def _missing_folder(wanted: Path) -> str:
@@ -124,10 +134,7 @@ def _missing_folder(wanted: Path) -> str:
     where = missing.parent.resolve()
     hint = f"there is no folder '{missing.name}' in {where}"
     if missing.name == EXAMPLES_FOLDER and not (where / "README.md").exists():
-        hint += (
-            ": the example missions are in the roboscript folder you installed from,"
-            " beside README.md; run this there"
-        )
+        hint += ": `roboscript examples` writes the example missions here"
     return hint
 
 

@@ -139,6 +139,20 @@ def test_robot_world_and_seed_are_those_asked_for() -> None:
     assert other.recording.header["robot"]["name"] == "asip-basic"
 
 
+def test_robot_world_and_seed_may_be_given_in_order_as_the_signature_shows_them() -> None:
+    # run(mission, robot=None, world=None, seed=1, ...): a student who writes them in that
+    # order, unnamed, gets the run they asked for
+    square = MISSIONS / "square.yaml"
+    by_position = roboscript.run(square, "asip-basic", "square-room", 2, record=False)
+    by_name = roboscript.run(square, robot="asip-basic", world="square-room", seed=2, record=False)
+    assert (by_position.robot, by_position.world, by_position.seed) == (
+        "asip-basic",
+        "square-room",
+        2,
+    )
+    assert by_position.path == by_name.path
+
+
 def test_the_recording_holds_every_tick_and_can_be_saved(tmp_path: Path) -> None:
     result = roboscript.run(MISSIONS / "square.yaml", max_time_s=6.0)
     assert result.outcome == "failure"

@@ -60,10 +60,10 @@ def test_the_guides_examples_named_from_another_folder_say_where_they_are(
     tmp_path: Path,
 ) -> None:
     # The guides run `roboscript run missions/square.yaml` in the roboscript folder; typed
-    # anywhere else (a wheel install, another folder), the answer says where the examples are.
+    # anywhere else (a wheel install, another folder), the answer says how to get them here.
     where = (
-        f"there is no folder 'missions' in {tmp_path.resolve()}: the example missions are in"
-        " the roboscript folder you installed from, beside README.md; run this there"
+        f"there is no folder 'missions' in {tmp_path.resolve()}: `roboscript examples` writes"
+        " the example missions here"
     )
     done = run_cli("run", "missions/square.yaml", cwd=tmp_path)
     assert (done.returncode, done.stderr) == (

@@ -1,14 +1,17 @@
-"""What must reach an installed wheel does: worlds and typing marker as package data."""
+"""What must reach an installed wheel does: worlds and typing marker as package data, and the
+example missions a user with only the wheel asks for."""
 
 from __future__ import annotations
 
 import ast
+import os
 import subprocess
 import sys
 import zipfile
 from pathlib import Path
 
-from helpers import HANG_BOUND_S, ROOT
+import pytest
+from helpers import HANG_BOUND_S, MISSIONS, ROOT
 
 from roboscript.sim.world import builtin_worlds
 
@@ -17,23 +20,20 @@ def test_builtin_worlds_are_found_through_the_package() -> None:
     assert {"empty", "square-room", "corridor"} <= set(builtin_worlds())
 
 
-def test_wheel_contains_the_package_data_and_nothing_from_the_top_level(tmp_path: Path) -> None:
+@pytest.fixture(scope="module")
+def wheel(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The wheel ``pip wheel .`` builds from the roboscript folder."""
+    folder = tmp_path_factory.mktemp("wheel")
     subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "pip",
-            "wheel",
-            "--no-deps",
-            "-w",
-            str(tmp_path),
-            str(ROOT),
-        ],
+        [sys.executable, "-m", "pip", "wheel", "--no-deps", "-w", str(folder), str(ROOT)],
         check=True,
         capture_output=True,
         timeout=HANG_BOUND_S,
     )
-    wheel = next(tmp_path.glob("roboscript-*.whl"))
+    return next(folder.glob("roboscript-*.whl"))
+
+
+def test_wheel_contains_the_package_data_and_nothing_from_the_top_level(wheel: Path) -> None:
     names = set(zipfile.ZipFile(wheel).namelist())
     assert "roboscript/py.typed" in names
     for world in builtin_worlds():
@@ -50,6 +50,69 @@ def test_wheel_contains_the_package_data_and_nothing_from_the_top_level(tmp_path
         and "__pycache__" not in path.parts
     }
     assert data_files <= names, data_files - names
+
+
+def test_wheel_carries_every_example_mission_as_it_is(wheel: Path) -> None:
+    examples = {
+        path.relative_to(MISSIONS).as_posix(): path.read_bytes()
+        for path in MISSIONS.rglob("*")
+        if path.is_file() and "__pycache__" not in path.parts
+    }
+    with zipfile.ZipFile(wheel) as archive:
+        carried = {
+            name.removeprefix("roboscript/examples/"): archive.read(name)
+            for name in archive.namelist()
+            if name.startswith("roboscript/examples/")
+        }
+    assert carried == examples
+
+
+def test_a_user_with_only_the_wheel_gets_the_examples_and_runs_the_quick_start(
+    wheel: Path, tmp_path: Path
+) -> None:
+    # installed from the wheel, in a folder of the user's own, far from the roboscript folder
+    site = tmp_path / "site"
+    install = ["install", "--no-deps", "--no-index", "--target", str(site), str(wheel)]
+    subprocess.run(
+        [sys.executable, "-m", "pip", *install],
+        check=True,
+        capture_output=True,
+        timeout=HANG_BOUND_S,
+    )
+    home = tmp_path / "my robots"
+    home.mkdir()
+    env = {**os.environ, "PYTHONPATH": str(site)}
+
+    def roboscript(*args: str) -> subprocess.CompletedProcess[str]:
+        return subprocess.run(
+            [sys.executable, "-m", "roboscript", *args],
+            cwd=home,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=HANG_BOUND_S,
+            check=False,
+        )
+
+    where = subprocess.run(
+        [sys.executable, "-c", "import roboscript; print(roboscript.__file__)"],
+        cwd=home,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert Path(where.stdout.strip()).is_relative_to(site)  # not the roboscript folder's
+    before = roboscript("run", "missions/square.yaml")
+    assert before.returncode == 2
+    assert "`roboscript examples` writes the example missions here" in before.stderr
+    done = roboscript("examples")
+    assert done.returncode == 0, done.stderr
+    done = roboscript("run", "missions/square.yaml")
+    assert (done.returncode, done.stderr.splitlines()[-1]) == (
+        0,
+        "success: square ended in 'finished' after 23.66 s",
+    )
 
 
 # What the standard library gained after Python 3.10, the oldest Python pyproject.toml claims:
