@@ -1154,17 +1154,16 @@ class _Parser(argparse.ArgumentParser):
         choices = action.choices
         if choices is None or value in choices:
             return
-        names = [str(choice) for choice in choices]
-        hint = did_you_mean(str(value), names, cutoff=0.6)
+        names = ", ".join(str(choice) for choice in choices)
+        hint = did_you_mean(str(value), [str(choice) for choice in choices], cutoff=0.6)
         if isinstance(action, argparse._SubParsersAction):
             what = f"'{value}' is not a {self.prog} command"
             if hint is None and Path(str(value)).suffix.lower() in {".yaml", ".yml", ".py"}:
                 hint = f"to run a mission: {self.prog} run {value}"  # the command left out
+            hint = hint or f"the commands: {names}"
         else:
-            what = f"'{value}' is not one of {', '.join(names)}"
-        raise argparse.ArgumentError(
-            None, f"{what} ({hint})" if hint else f"{what} (choose from {', '.join(names)})"
-        )
+            what = f"'{value}' is not one of {names}"
+        raise argparse.ArgumentError(None, f"{what} ({hint})" if hint else what)
 
 
 def _extra_arguments(

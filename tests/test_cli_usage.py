@@ -27,6 +27,13 @@ def _last_line(done: subprocess.CompletedProcess[str]) -> str:
          " roboscript command (to run a mission: roboscript run missions/square.yaml)")),
         (("web", "biuld", "app"), ("roboscript web: error: 'biuld' is not a roboscript web"
          " command (did you mean 'build'?)")),
+        (("autograder", "moodle", "x.yaml", "-o", "out"), ("roboscript autograder: error:"
+         " 'moodle' is not one of gradescope, classroom, prairielearn")),
+        (("robot",), ("roboscript: error: 'robot' is not a roboscript command (did you mean"
+         " 'robots'?)")),
+        (("simulate",), ("roboscript: error: 'simulate' is not a roboscript command (the"
+         " commands: run, view, check, grade, gradebook, autograder, graph, sim, ports, robots,"
+         " web, examples)")),
         (("graph", "missions/square.yaml", "--format", "svgg"), ("roboscript graph: error:"
          " 'svgg' is not one of mermaid, dot, svg, png (did you mean 'svg'?)")),
     ],
