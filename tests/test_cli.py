@@ -313,3 +313,19 @@ def test_a_closed_pipe_ends_quietly() -> None:
     os.close(write_end)
     assert done.returncode == 141  # 128 + SIGPIPE, as the shell reports for a C tool
     assert done.stderr == ""
+
+
+def test_a_recording_named_run_json_is_replayed_and_drawn_as_the_interfaces_write_it(
+    tmp_path: Path,
+) -> None:
+    # roboscript run MISSION --record RUN.json; view RUN.json --output FILE.html;
+    # graph MISSION --run RUN.json: any name, the format is the recording's
+    mission = str(ROOT / "missions" / "square.yaml")
+    done = run_cli("run", mission, "--record", "RUN.json", "--quiet", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    done = run_cli("view", "RUN.json", "--output", "FILE.html", cwd=tmp_path)
+    assert (done.returncode, done.stderr) == (0, "replay: FILE.html\n")
+    assert "<html" in (tmp_path / "FILE.html").read_text(encoding="utf-8").lower()
+    done = run_cli("graph", mission, "--format", "svg", "--run", "RUN.json", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert "<title>square: success in 'finished'</title>" in done.stdout
