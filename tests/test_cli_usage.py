@@ -186,3 +186,15 @@ def test_debug_is_accepted_after_a_command_of_a_command(tmp_path: Path) -> None:
     done = run_cli("web", "build", "app", "--pyodide", str(tmp_path), "--debug", cwd=tmp_path)
     assert "unrecognized" not in done.stderr and "unknown option" not in done.stderr
     assert "is not an unpacked pyodide package" in done.stderr
+
+
+def test_a_misspelt_key_of_a_sim_url_is_refused_with_the_one_meant() -> None:
+    # `?wrld=maze` ran the mission in the empty world, as if nothing had been asked
+    done = run_cli("run", "missions/square.yaml", "--port", "sim://mirto?wrld=maze")
+    assert (done.returncode, done.stderr) == (
+        1,
+        (
+            "error: cannot open sim://mirto?wrld=maze: a sim:// URL takes world, seed, x, y,"
+            " heading, reset, not 'wrld' (did you mean 'world'?)\n"
+        ),
+    )

@@ -16,12 +16,15 @@ from __future__ import annotations
 import math
 import urllib.parse
 
-from roboscript.errors import InputError
+from roboscript.errors import InputError, did_you_mean
 from roboscript.sim.simulation import Simulation, make_simulation
 from roboscript.sim.world import Pose
 from roboscript.transport.device_port import DevicePort, SerialException
 
-__all__ = ["Serial", "parse_sim_url"]
+__all__ = ["SIM_URL_KEYS", "Serial", "parse_sim_url"]
+
+SIM_URL_KEYS = ("world", "seed", "x", "y", "heading", "reset")
+"""What a ``sim://`` URL's query may set."""
 
 
 def parse_sim_url(url: str) -> tuple[str, str, int, Pose | None, dict[str, object]]:
@@ -36,6 +39,13 @@ def parse_sim_url(url: str) -> tuple[str, str, int, Pose | None, dict[str, objec
         raise ValueError(f"expected a sim:// URL, got {url!r}")
     robot = parts.netloc or "mirto"
     query = urllib.parse.parse_qs(parts.query)
+    for key in query:  # a misspelt key would leave its value unused: another run than asked
+        if key not in SIM_URL_KEYS:
+            hint = did_you_mean(key, SIM_URL_KEYS)
+            raise ValueError(
+                f"a sim:// URL takes {', '.join(SIM_URL_KEYS)}, not {key!r}"
+                + (f" ({hint})" if hint else "")
+            )
     world = query.get("world", ["empty"])[-1]
 
     def number(key: str, default: str, kind: type[int | float]) -> float:
