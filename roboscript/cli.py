@@ -1150,6 +1150,28 @@ class _Parser(argparse.ArgumentParser):
     A subcommand's parser is made by its parent as the same class (argparse's default).
     """
 
+    _given: Sequence[str] = ()
+
+    def parse_known_args(  # type: ignore[override]
+        self, args: Sequence[str] | None = None, namespace: argparse.Namespace | None = None
+    ) -> tuple[argparse.Namespace, list[str]]:
+        self._given = list(sys.argv[1:] if args is None else args)  # for error() to read
+        return super().parse_known_args(args, namespace)
+
+    def error(self, message: str) -> NoReturn:
+        missing = message.removeprefix("the following arguments are required: ")
+        for action in self._actions:
+            # `grade --mission class/ test.yaml`: the option took the spec for a mission
+            taken = set(action.option_strings) & set(self._given)
+            if taken and action.nargs == "+" and missing != message and "-" not in missing[:1]:
+                option = min(taken)
+                message += (
+                    f" (after {option}, every word is read as a {action.metavar}: write"
+                    f" {missing.split(',')[0]} before {option})"
+                )
+                break
+        super().error(message)
+
     def _check_value(self, action: argparse.Action, value: Any) -> None:
         choices = action.choices
         if choices is None or value in choices:

@@ -198,3 +198,14 @@ def test_a_misspelt_key_of_a_sim_url_is_refused_with_the_one_meant() -> None:
             " heading, reset, not 'wrld' (did you mean 'world'?)\n"
         ),
     )
+
+
+def test_a_spec_written_after_the_missions_is_answered_with_the_order() -> None:
+    done = run_cli("grade", "--mission", "missions/teacher/square", "missions/teacher/square")
+    assert (done.returncode, _last_line(done)) == (
+        2,
+        (
+            "roboscript grade: error: the following arguments are required: TEST_SPEC (after"
+            " --mission, every word is read as a MISSION: write TEST_SPEC before --mission)"
+        ),
+    )
