@@ -74,3 +74,13 @@ def test_examples_where_a_file_is_are_refused_before_anything_is_written(tmp_pat
     done = run_cli("examples", cwd=tmp_path)
     assert (done.returncode, done.stderr) == (2, "error: cannot write missions: it is a file\n")
     assert (tmp_path / "missions").read_text(encoding="utf-8") == "notes\n"
+
+
+def test_examples_in_the_roboscript_folder_leave_its_missions_as_they_are() -> None:
+    before = _example_files()
+    done = run_cli("examples")  # in the roboscript folder, whose missions/ they come from
+    assert (done.returncode, done.stderr) == (
+        0,
+        "missions holds the examples already (it is where they come from)\n",
+    )
+    assert _example_files() == before
