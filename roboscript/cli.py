@@ -19,6 +19,7 @@ import math
 import os
 import re
 import sys
+import tempfile
 import zipfile
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -35,7 +36,7 @@ from roboscript.errors import (
     grouped,
     nearby_file,
 )
-from roboscript.interrupts import deferred, exit_status_for, raise_dropped, reason_for
+from roboscript.interrupts import exit_status_for, raise_dropped, reason_for
 from roboscript.interrupts import install as install_interrupts
 from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
 
@@ -370,50 +371,39 @@ def _cmd_grade(args: argparse.Namespace) -> int:
     done = 0
     # A CI log is read by the student it graded: progress names a hidden run "hidden run N".
     labels = {(s.name, v.index): v.public_label for s in specs for v in s.variants}
-    journal = _open_journal(args.results)
-    if journal is False:
-        return EXIT_INPUT
-    if journal:
-        # grading (sandbox, reports, worlds) loads only for the grading commands
-        from roboscript.grading.shards import results_header
-
-        header = results_header(specs, submissions, shard, isolation.statement)
-        journal.write(json.dumps(header) + "\n")
-        journal.flush()
 
     def progress(result: Any) -> None:
         nonlocal done
-        # A signal waits until the run is counted and kept: what the sentence on Ctrl-C
-        # counts is what --results holds.
-        with deferred():
-            done += 1
-            if journal:
-                line = result.to_dict(replay=True)  # the replay: a gradebook's --html shows it
-                journal.write(json.dumps(line, ensure_ascii=False) + "\n")
-                journal.flush()  # a grader killed now keeps every finished run
+        done += 1
         if not quiet:
             mark = "ok" if result.passed else result.status
             label = labels.get((result.test, result.variant), result.label)
             _err(f"[{done}/{runs}] {result.student} {result.test} {label}: {mark}")
 
-    try:
-        report = grade_class(
-            specs,
-            submissions,
-            args.jobs,
-            progress,
-            hang_after_s=args.hang_after or DEFAULT_HANG_AFTER_S,
-        )
-    except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM, SIGHUP: every jail is ended by now
-        kept = ""
-        if journal and done:
-            kept = f" (the {done} finished {'are' if done > 1 else 'is'} in {args.results})"
-        _err(f"error: {reason_for(exc)} after {done} of {runs} runs: no report written{kept}")
-        return exit_status_for(exc)
-    finally:
-        if journal:
-            journal.close()
-    return _report_class(args, report)
+    with contextlib.ExitStack() as cleanup:
+        store = _run_store(args, specs, submissions, shard, isolation.statement, cleanup)
+        if store is None:
+            return EXIT_INPUT
+        try:
+            report = grade_class(
+                specs,
+                submissions,
+                args.jobs,
+                progress,
+                hang_after_s=args.hang_after or DEFAULT_HANG_AFTER_S,
+                store=store,
+            )
+        except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM, SIGHUP: every jail is ended by now
+            kept = ""
+            written = getattr(store, "written", 0)  # whole lines: a signal waits for one
+            if args.results and written:
+                kept = (
+                    f" (the {written} finished {'are' if written > 1 else 'is'} in {args.results})"
+                )
+            _err(f"error: {reason_for(exc)} after {done} of {runs} runs: no report written{kept}")
+            return exit_status_for(exc)
+        # while the results file is still there: the reports read each run in full from it
+        return _report_class(args, report)
 
 
 def _report_class(args: argparse.Namespace, report: Any) -> int:
@@ -468,16 +458,36 @@ def _cmd_gradebook(args: argparse.Namespace) -> int:
     return EXIT_INPUT if refused else status
 
 
-def _open_journal(path: str | None) -> Any:
-    """``--results FILE``, open for one JSON line per finished run; None, or False on error."""
+def _run_store(
+    args: argparse.Namespace,
+    specs: Any,
+    submissions: Any,
+    shard: Any,
+    isolation: str,
+    cleanup: contextlib.ExitStack,
+) -> Any:
+    """Where ``grade`` keeps each run in full while the report holds its summary, so a class
+    of any size is graded in the same memory: ``--results FILE``; a temporary results file
+    when a report draws runs (``--html``, ``--json``); else nowhere. None (said) when the
+    file cannot be written."""
+    # grading (sandbox, reports, worlds) loads only for the grading commands
+    from roboscript.grading.batch import SummariesOnly
+    from roboscript.grading.shards import ResultsFile
+
+    path = args.results
     if not path:
-        return None
+        if not (args.html or args.json):
+            return SummariesOnly()
+        folder = cleanup.enter_context(tempfile.TemporaryDirectory(prefix="roboscript-grade-"))
+        path = os.path.join(folder, "results.jsonl")
     _make_parent_folders(path)  # as every report's: `--results parts/part-1.jsonl` on a new day
     try:
-        return open(path, "w", encoding="utf-8")
+        results = ResultsFile(path, specs, submissions, shard, isolation)
     except OSError as exc:
         _err(f"error: cannot write {path}: {exc.strerror or exc}")
-        return False
+        return None
+    cleanup.callback(results.close)
+    return results
 
 
 def _grade_submissions(args: argparse.Namespace, specs: Any) -> Any:

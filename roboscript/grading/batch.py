@@ -17,6 +17,7 @@ import unicodedata
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Protocol
 
 from roboscript.errors import InputError
 from roboscript.grading.cell import Cell
@@ -39,11 +40,14 @@ __all__ = [
     "Cell",
     "ClassReport",
     "FoundSubmissions",
+    "RunStore",
     "Submission",
+    "SummariesOnly",
     "find_specs",
     "find_submissions",
     "grade_class",
     "mission_for_test",
+    "run_summary",
     "visible_files",
 ]
 
@@ -138,14 +142,26 @@ class ClassReport:
         """True if every run of every student passed."""
         return all(r.passed for r in self.results)
 
+    _index: _Index | None = field(default=None, init=False, compare=False, repr=False)
+
+    def _indexed(self) -> _Index:
+        """Runs by student and test, specs by name, students by name: built once, when a
+        report first asks, so a class of thousands is reported in time that grows with its
+        runs, not with their square. Built again if :attr:`results` is replaced."""
+        index = self._index
+        if index is None or index.results is not self.results or index.count != len(self.results):
+            index = _Index.of(self)
+            self._index = index
+        return index
+
     def cell(self, student: str, test: str) -> Cell:
         """One student in one test."""
-        found = tuple(r for r in self.results if r.student == student and r.test == test)
-        spec = next((s for s in self.specs if s.name == test), None)
+        index = self._indexed()
+        found = index.cells.get((student, test), ())
+        spec = index.specs.get(test)
         if spec is None:
             return Cell(student, test, found, float(len(found)))
-        hidden = frozenset(v.index for v in spec.variants if v.hidden)
-        return Cell(student, test, found, spec.max_points, hidden)
+        return Cell(student, test, found, spec.max_points, index.hidden[test])
 
     def student_score(self, student: str) -> float:
         """A student's mean score over the tests, 0 to 1."""
@@ -163,7 +179,7 @@ class ClassReport:
 
     def variant_of(self, result: RunResult) -> Variant | None:
         """The spec's variant a run was made on."""
-        spec = next((s for s in self.specs if s.name == result.test), None)
+        spec = self._indexed().specs.get(result.test)
         if spec is None or result.variant >= len(spec.variants):
             return None
         return spec.variants[result.variant]
@@ -188,21 +204,90 @@ class ClassReport:
 
     def shown_mission(self, result: RunResult) -> str:
         """The run's mission file as its student knows it (no folder of the teacher's)."""
-        submission = next((s for s in self.submissions if s.student == result.student), None)
+        submission = self._indexed().submissions.get(result.student)
         if submission is None:
             return Path(result.mission).name
         return submission.shown(result.mission)
 
     def world_for(self, result: RunResult) -> World | None:
         """The world a run happened in."""
-        spec = next((s for s in self.specs if s.name == result.test), None)
-        if spec is None or result.variant >= len(spec.variants):
-            return None
-        return self.worlds.get(spec.variants[result.variant].world)
+        variant = self.variant_of(result)
+        return None if variant is None else self.worlds.get(variant.world)
 
     def spec_for(self, test: str) -> TestSpec:
-        """The spec of a test by name."""
-        return next(s for s in self.specs if s.name == test)
+        """The spec of a test by name.
+
+        Raises:
+            KeyError: No spec of the report has that name.
+        """
+        return self._indexed().specs[test]
+
+
+@dataclass(frozen=True)
+class _Index:
+    """What :class:`ClassReport` looks up by name, gathered in one pass over its runs."""
+
+    results: list[RunResult]
+    count: int
+    cells: dict[tuple[str, str], tuple[RunResult, ...]]
+    specs: dict[str, TestSpec]
+    hidden: dict[str, frozenset[int]]
+    submissions: dict[str, Submission]
+
+    @classmethod
+    def of(cls, report: ClassReport) -> _Index:
+        cells: dict[tuple[str, str], list[RunResult]] = {}
+        for result in report.results:
+            cells.setdefault((result.student, result.test), []).append(result)
+        specs: dict[str, TestSpec] = {}
+        for spec in report.specs:
+            specs.setdefault(spec.name, spec)  # the first of a name, as a search finds
+        submissions: dict[str, Submission] = {}
+        for submission in report.submissions:
+            submissions.setdefault(submission.student, submission)
+        return cls(
+            report.results,
+            len(report.results),
+            {key: tuple(runs) for key, runs in cells.items()},
+            specs,
+            {name: frozenset(v.index for v in s.variants if v.hidden) for name, s in specs.items()},
+            submissions,
+        )
+
+
+def run_summary(result: RunResult) -> RunResult:
+    """What a class's report holds of a run while something else holds it in full: all that
+    its summaries read (status, score, verdicts, message), without the record, replay and
+    traceback, which a report reads again one run at a time to draw it
+    (:meth:`ClassReport.in_full`)."""
+    return replace(result, record=None, replay=None, debug="")
+
+
+class RunStore(Protocol):
+    """Where :func:`grade_class` puts each run in full the moment it ends, so the report holds
+    only summaries (a results file: :class:`~roboscript.grading.shards.ResultsFile`)."""
+
+    def keep(self, result: RunResult) -> RunResult:
+        """Keep ``result`` in full; return what the report holds of it
+        (:func:`run_summary`)."""
+        ...
+
+    def full_run(self, result: RunResult) -> RunResult:
+        """The run :meth:`keep` returned ``result`` for, in full and capped."""
+        ...
+
+
+class SummariesOnly:
+    """A :class:`RunStore` that keeps no run in full: for reports that draw no run (the
+    table, ``--csv``, ``--junit``, a platform's ``results.json``)."""
+
+    def keep(self, result: RunResult) -> RunResult:
+        """``result``'s :func:`run_summary`; the rest is let go."""
+        return run_summary(result)
+
+    def full_run(self, result: RunResult) -> RunResult:
+        """``result`` itself: nothing more of it was kept."""
+        return result
 
 
 def grade_class(
@@ -212,6 +297,7 @@ def grade_class(
     on_result: Callable[[RunResult], None] | None = None,
     *,
     hang_after_s: float = DEFAULT_HANG_AFTER_S,
+    store: RunStore | None = None,
 ) -> ClassReport:
     """Run every student's mission on every variant of every test, each in its own worker.
 
@@ -223,6 +309,10 @@ def grade_class(
             are not started (``missing``, and ``invalid`` for a submission with a problem),
             then the others in the order they end.
         hang_after_s: Own seconds one tick's code may run before the run is ``hung``.
+        store: Given each result in full the moment it is known (before ``on_result``);
+            the report then holds only what it returns (a summary), and reads a run in full
+            from it again to draw it, so a class of any size is graded in the same memory.
+            Without it, the report holds every run whole.
 
     Returns:
         The report; its results are in a fixed order (test, student, variant) whatever
@@ -260,9 +350,13 @@ def grade_class(
         # further; and no report, the results file included, holds a folder of the teacher's.
         return _for_students(cap_result(result), roots)
 
-    def report(result: RunResult) -> None:
+    def delivered(result: RunResult) -> RunResult:
+        """What the report holds of a result, once it is kept and told."""
+        result = arrived(result)
+        kept = result if store is None else store.keep(result)
         if on_result is not None:
-            on_result(arrived(result))
+            on_result(result)
+        return kept
 
     # Without bubblewrap, a run reads what file modes allow: only its own student's files.
     readable: dict[str, set[Path]] = {}
@@ -270,14 +364,18 @@ def grade_class(
         readable.setdefault(task.student, set()).update(task.visible or (Path(task.mission),))
     with private_class([sorted(p) for p in readable.values()], [Path(s.path) for s in specs]):
         tasks, slots = _check_setup(tasks, slots)
-        for slot in slots:  # known before any run starts: reported first
-            if isinstance(slot, RunResult):
-                report(slot)
-        done = run_tasks(tasks, jobs, report)
-    results = [arrived(slot if isinstance(slot, RunResult) else done[slot]) for slot in slots]
+        # known before any run starts: reported first
+        slots = [delivered(s) if isinstance(s, RunResult) else s for s in slots]
+        done = run_tasks(tasks, jobs, keep=delivered)
+    results = [slot if isinstance(slot, RunResult) else done[slot] for slot in slots]
     # Records come back through a pipe without their worlds; reports find them in `worlds`.
     return ClassReport(
-        list(specs), list(submissions), results, worlds, detect_isolation().statement
+        list(specs),
+        list(submissions),
+        results,
+        worlds,
+        detect_isolation().statement,
+        None if store is None else store.full_run,
     )
 
 

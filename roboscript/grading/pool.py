@@ -155,6 +155,7 @@ def run_tasks(
     tasks: Sequence[RunTask],
     jobs: int | None = None,
     on_result: Callable[[RunResult], None] | None = None,
+    keep: Callable[[RunResult], RunResult] | None = None,
 ) -> list[RunResult]:
     """Do every task in a worker process, ``jobs`` workers at a time.
 
@@ -167,9 +168,12 @@ def run_tasks(
         tasks: The runs.
         jobs: Workers at once (default: one per CPU core).
         on_result: Called in the parent with each result as it comes (for progress).
+        keep: What to hold of each result until the end, called with it as it comes (before
+            ``on_result``): a summary, when the full result is written elsewhere, so a class's
+            records and replays are not all held at once. By default, the whole result.
 
     Returns:
-        One result per task, in the order of ``tasks``.
+        One result per task (or what ``keep`` made of it), in the order of ``tasks``.
     """
     jobs = max(1, jobs or default_jobs())
     # Before any jail starts: a jail cannot compile, so every run would compile from source.
@@ -183,7 +187,7 @@ def run_tasks(
     loaded: set[tuple[str, str]] = set()  # keys whose mission is known to load
 
     def deliver(index: int, result: RunResult) -> None:
-        results[index] = result
+        results[index] = result if keep is None else keep(result)
         if on_result is not None:
             on_result(result)
 

@@ -35,11 +35,12 @@ from typing import Any
 
 from roboscript import __version__
 from roboscript.errors import InputError
-from roboscript.grading.batch import ClassReport, find_specs
+from roboscript.grading.batch import ClassReport, find_specs, run_summary
 from roboscript.grading.record import MAX_GRADED_STATES, GradedRecord, RunResult
 from roboscript.grading.spec import TestSpec
 from roboscript.grading.submissions import Submission
 from roboscript.grading.text import cap_result, clean_name
+from roboscript.interrupts import deferred
 from roboscript.replay.recording import replay_misfit
 from roboscript.run_record import misfit
 from roboscript.sim.body import MAX_CONTACTS, MAX_TONES
@@ -48,6 +49,7 @@ from roboscript.sim.world import WORLD_REACH_MM
 
 __all__ = [
     "RESULTS_FORMAT",
+    "ResultsFile",
     "Shard",
     "read_results",
     "results_header",
@@ -501,9 +503,7 @@ def read_results(paths: Sequence[str], refused: Callable[[str], None] | None = N
                 refused(exc.message)
                 damaged.add(part.path)
                 continue
-            # what the summaries read; the record, replay and traceback are read again
-            summary = replace(run, record=None, replay=None, debug="")
-            results[key] = (summary, _Line(part, number, offset))
+            results[key] = (run_summary(run), _Line(part, number, offset))
     names = [s.student for s in submissions]
     if len(set(names)) < len(names):
         twice = sorted(n for n in set(names) if names.count(n) > 1)
@@ -546,6 +546,74 @@ def read_results(paths: Sequence[str], refused: Callable[[str], None] | None = N
     # parts graded on different machines may have been isolated differently: say each way
     isolation = "; ".join(dict.fromkeys(str(p.header.get("isolation") or "") for p in parts))
     return ClassReport(specs, submissions, ordered, worlds, isolation.strip("; "), in_full)
+
+
+class ResultsFile:
+    """A results file (``grade --results FILE``) as ``grade`` writes it: the header, then
+    each run's line the moment the run ends.
+
+    It is where the class's runs are kept in full while they are graded
+    (a :class:`~roboscript.grading.batch.RunStore`): the report holds each run's
+    :func:`~roboscript.grading.batch.run_summary` and reads the run's line again when a
+    page draws it, so grading a class needs no more memory for a thousand students than for
+    ten.
+    """
+
+    def __init__(
+        self,
+        path: str | Path,
+        specs: Sequence[TestSpec],
+        submissions: Sequence[Submission],
+        shard: Shard | None = None,
+        isolation: str = "",
+    ) -> None:
+        """Create (or empty) ``path`` and write its header.
+
+        Raises:
+            OSError: The file cannot be written.
+        """
+        header = results_header(specs, submissions, shard, isolation)
+        self.path = str(path)
+        self.written = 0
+        """Run lines written so far (whole: a signal waits until a line is)."""
+        self._part = _Part(self.path, header)
+        self._specs = {spec.name: spec for spec in specs}
+        self._lines: dict[tuple[str, str, int], _Line] = {}
+        # bytes, so each line's offset is known; open until close(), as the class is graded
+        self._stream = Path(path).open("wb")  # noqa: SIM115
+        self._write(json.dumps(header) + "\n")
+
+    def _write(self, line: str) -> None:
+        self._stream.write(line.encode("utf-8"))
+        self._stream.flush()  # a grader killed now keeps every finished run
+
+    def keep(self, result: RunResult) -> RunResult:
+        """Write ``result`` in full (with its replay: a gradebook's --html shows it) as the
+        next line; return its :func:`~roboscript.grading.batch.run_summary`."""
+        line = json.dumps(result.to_dict(replay=True), ensure_ascii=False) + "\n"
+        with deferred():  # a Ctrl-C waits until the line is whole
+            offset = self._stream.tell()
+            self._write(line)
+            self.written += 1
+            number = self.written + 1  # the header is line 1
+        self._lines[result.test, result.student, result.variant] = _Line(self._part, number, offset)
+        return run_summary(result)
+
+    def full_run(self, result: RunResult) -> RunResult:
+        """The run of ``result`` (a summary :meth:`keep` gave) in full, capped, read again
+        from its line.
+
+        Raises:
+            InputError: The line is no longer the run written there (the file changed).
+        """
+        line = self._lines.get((result.test, result.student, result.variant))
+        if line is None:
+            return result
+        return cap_result(line.read(self._specs))
+
+    def close(self) -> None:
+        """Close the file (its runs can still be read again)."""
+        self._stream.close()
 
 
 @dataclass(frozen=True)

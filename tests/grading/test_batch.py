@@ -5,10 +5,12 @@ from __future__ import annotations
 import json
 import os
 import shutil
+from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import pytest
-from helpers import MISSIONS
+from helpers import HANG_BOUND_S, MISSIONS
 
 from roboscript.errors import InputError
 from roboscript.grading.batch import (
@@ -18,6 +20,8 @@ from roboscript.grading.batch import (
     grade_class,
     mission_for_test,
 )
+from roboscript.grading.record import RunResult
+from roboscript.grading.shards import ResultsFile
 from roboscript.grading.spec import load_test_spec
 
 SQUARE = MISSIONS / "square.yaml"
@@ -102,3 +106,132 @@ def test_one_submission_the_sandbox_cannot_read_is_that_students_result(tmp_path
     assert runs["ada"]["status"] == "invalid"
     assert runs["ada"]["message"].startswith("the grader's sandbox cannot show this submission")
     assert str(tmp_path) not in runs["ada"]["message"]
+
+
+STREAMED_SPEC = """\
+test: patrol
+runs:
+  - {seed: 1}
+  - {seed: 2, start: {heading: 30 deg}, hidden: true}
+max_time: 60 s
+expect:
+  - outcome: success
+  - max_duration: 25 s
+"""
+PATROL = """\
+mission: patrol
+initial: out
+states:
+  out:
+    do: {drive: {distance: 60 cm, speed: 6 cm/s}}
+    on: {done: turn}
+  turn:
+    do: {rotate: {angle: 180 deg}}
+    on: {done: back}
+  back:
+    do: {drive: {distance: 60 cm, speed: 6 cm/s}}
+    on: {done: finished}
+  finished:
+    final: success
+"""
+"""About 25 s of driving: a record and replay of tens of kilobytes, as a real exercise's."""
+
+
+@pytest.fixture(scope="module")
+def streamed(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    """One student graded for real with a results file as the store of the runs."""
+    root = tmp_path_factory.mktemp("streamed")
+    (root / "spec.yaml").write_text(STREAMED_SPEC, encoding="utf-8")
+    (root / "class").mkdir()
+    (root / "class" / "ada.yaml").write_text(PATROL, encoding="utf-8")
+    specs = find_specs([str(root / "spec.yaml")])
+    submissions = find_submissions([str(root / "class")]).submissions
+    results = ResultsFile(root / "r.jsonl", specs, submissions)
+    told: list[RunResult] = []
+    report = grade_class(
+        specs, submissions, 1, told.append, hang_after_s=HANG_BOUND_S, store=results
+    )
+    results.close()
+    return {"root": root, "report": report, "told": told, "file": root / "r.jsonl"}
+
+
+def test_a_graded_class_holds_summaries_and_reads_each_run_in_full_from_its_store(
+    streamed: dict[str, Any],
+) -> None:
+    report = streamed["report"]
+    assert [r.status for r in report.results] == ["passed", "passed"]
+    # the report holds no record or replay: the results file does, one line per run
+    assert all(r.record is None and r.replay is None for r in report.results)
+    lines = streamed["file"].read_text(encoding="utf-8").splitlines()
+    assert len(lines) == 3  # the header, then each run as it ended
+    for result in report.results:
+        full = report.in_full(result)
+        assert full.record is not None and full.replay
+        assert replace(full, record=None, replay=None, debug="") == result
+    # whoever watches the grading is still told each run in full as it ends
+    assert all(r.record is not None for r in streamed["told"])
+
+
+def _synthetic_class(
+    streamed: dict[str, Any], folder: Path, students: int
+) -> tuple[Any, list[Any]]:
+    """A class of ``students`` copies of the streamed class's student (the same files)."""
+    from roboscript.grading.batch import Submission
+
+    root = streamed["root"]
+    specs = find_specs([str(root / "spec.yaml")])
+    mission = folder / "m.yaml"
+    mission.write_text(PATROL, encoding="utf-8")
+    return specs, [Submission(f"s{i:04d}", (str(mission),)) for i in range(students)]
+
+
+def _graded_peak_bytes(
+    streamed: dict[str, Any], folder: Path, students: int, monkeypatch: pytest.MonkeyPatch
+) -> int:
+    """The most memory grading (with a results file) and writing every report of a class of
+    ``students`` held (bytes, as Python's allocator counts them), each run a copy of a real
+    run's full result handed over by a stand-in for the worker pool as it ends."""
+    import tracemalloc
+
+    from roboscript.grading import batch
+    from roboscript.grading.html_report import write_html
+    from roboscript.grading.json_report import write_report_json
+
+    first = streamed["file"].read_text(encoding="utf-8").splitlines()[1]
+    run = json.loads(first)
+
+    def pool(tasks: Any, jobs: Any = None, on_result: Any = None, keep: Any = None) -> Any:
+        kept = []
+        for task in tasks:  # a new full result for each, as a worker sends it
+            result = RunResult.from_dict({**run, "student": task.student})
+            kept.append(result if keep is None else keep(result))
+        return kept
+
+    monkeypatch.setattr(batch, "run_tasks", pool)
+    specs, submissions = _synthetic_class(streamed, folder, students)
+    tracemalloc.start()
+    try:
+        results = ResultsFile(folder / "r.jsonl", specs, submissions)
+        report = grade_class(specs, submissions, 1, store=results)
+        write_html(report, folder / "html")
+        with open(os.devnull, "w", encoding="utf-8") as sink:
+            write_report_json(report, sink)
+        results.close()
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def test_grading_a_class_holds_one_runs_record_at_a_time_however_large_the_class(
+    streamed: dict[str, Any], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Counted, not timed: what grading holds at its peak, for a class and the same class
+    # eight times over. Held whole until the end, the runs' records and replays (tens of
+    # kilobytes each) would make the peak grow with the class; streamed to the results
+    # file as they end, it barely moves.
+    peaks = []
+    for students in (6, 48):
+        folder = tmp_path / str(students)
+        folder.mkdir()
+        peaks.append(_graded_peak_bytes(streamed, folder, students, monkeypatch))
+    assert peaks[1] < 2 * peaks[0], peaks
