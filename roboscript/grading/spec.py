@@ -40,6 +40,7 @@ from roboscript.grading.expectations import (
     apply_run_targets,
     parse_expectation,
 )
+from roboscript.grading.expectations.contradictions import RunSetup, find_contradiction
 from roboscript.grading.record import RunResult, RunStatus
 from roboscript.grading.text import clean_name
 from roboscript.inputs.fields import FieldReader
@@ -291,6 +292,7 @@ def load_test_spec(path: str | Path) -> TestSpec:
     expectations = tuple(parse_expectation(reader, item, mark, context) for item, mark in items)
     runs = _run_overrides(top, variants, worlds)
     expectations = apply_run_targets(reader, expectations, items, runs, folder)
+    _refuse_contradictions(reader, expectations, variants, worlds, max_time)
     return TestSpec(
         name=name,
         path=shown,
@@ -305,6 +307,27 @@ def load_test_spec(path: str | Path) -> TestSpec:
         worlds=worlds,
         points=points,
     )
+
+
+def _refuse_contradictions(
+    reader: FieldReader,
+    expectations: tuple[Expectation, ...],
+    variants: tuple[Variant, ...],
+    worlds: dict[str, World],
+    max_time_s: float,
+) -> None:
+    """Expectations no run could meet together are an error at the later one
+    (:mod:`~roboscript.grading.expectations.contradictions`)."""
+    runs = []
+    for variant in variants:
+        world = worlds[variant.world]
+        start = variant.start or (world.start.x_mm, world.start.y_mm, world.start.heading_deg)
+        runs.append(RunSetup(variant.index + 1, world, start))
+    found = find_contradiction(expectations, runs, max_time_s)
+    if found is not None:
+        expectation, sentence = found
+        where = expectation.location or Location(reader.path, 1, 1)
+        raise reader.fail_at(sentence, where)
 
 
 def _start_mm(reader: FieldReader, pose: YamlMap, key: str) -> float:

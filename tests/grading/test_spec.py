@@ -276,3 +276,120 @@ def test_the_guides_example_spec_is_valid(tmp_path: Path) -> None:
     assert spec.name == "square-50cm"
     assert spec.variants[2].label == "turned start"
     assert spec.expectations[2].weight == 2.0
+
+
+@pytest.mark.parametrize(
+    ("expect", "expected"),
+    [
+        pytest.param(
+            "  - outcome: success\n  - outcome: failure\n",
+            "5:5: error: this outcome contradicts the outcome on line 4: a mission ends in"
+            " success or in failure, not both",
+            id="outcomes",
+        ),
+        pytest.param(
+            "  - final_state: home\n  - final_state: [dock, garage]\n",
+            "5:5: error: this final_state contradicts the final_state on line 4: a mission ends"
+            " in one state, and they name different ones ('home' and 'dock' or 'garage')",
+            id="final-states",
+        ),
+        pytest.param(
+            "  - never_enter: far-end\n  - regions_in_order: [start-zone, far-end]\n",
+            "5:5: error: this regions_in_order contradicts the never_enter on line 4: the robot"
+            " must enter 'far-end' for one and never enter it for the other",
+            id="never-enter-and-visit",
+        ),
+        pytest.param(
+            "  - never_enter: start-zone\n",
+            "4:5: error: no run can pass this never_enter: run 1 starts inside 'start-zone'"
+            " (-100, 0) mm, so the robot is in it before it moves",
+            id="never-enter-the-start",
+        ),
+        pytest.param(
+            "  - never_enter: far-end\n"
+            "  - final_pose_within: {x: 0 mm, y: 2750 mm, radius: 10 cm}\n",
+            "5:5: error: this final_pose_within contradicts the never_enter on line 4: the circle"
+            " the robot must end in lies wholly inside 'far-end', which it must never enter",
+            id="end-inside-a-forbidden-region",
+        ),
+        pytest.param(
+            "  - final_pose_within: {x: 0 mm, y: 0 mm, radius: 10 cm}\n"
+            "  - final_pose_within: {x: 0 mm, y: 50 cm, radius: 10 cm}\n",
+            "5:5: error: this final_pose_within contradicts the final_pose_within on line 4: the"
+            " robot cannot end in both circles: their centres are 50 cm apart, more than their"
+            " radii (10 cm and 10 cm) together",
+            id="two-far-circles",
+        ),
+        pytest.param(
+            "  - tones: {count: 4}\n  - tones: {min_count: 5}\n",
+            "5:5: error: this tones contradicts the tones on line 4: one wants 4 tones and the"
+            " other at least 5",
+            id="tone-counts",
+        ),
+        pytest.param(
+            "  - turns: {direction: left}\n  - turns: {direction: right, count: 2}\n",
+            "5:5: error: this turns contradicts the turns on line 4: one wants left turns only"
+            " and the other right turns only",
+            id="turn-directions",
+        ),
+        pytest.param(
+            "  - turns: {count: 0, direction: left}\n",
+            "4:5: error: no run can pass this turns: count: 0 means no turn, and direction: left"
+            " needs turns",
+            id="no-turn-that-turns",
+        ),
+        pytest.param(
+            "  - max_duration: 10 s\n"
+            "  - wall_distance: {side: left, min: 10 cm, during: {from: 20 s}}\n",
+            "5:5: error: this wall_distance contradicts the max_duration on line 4: the mission"
+            " must end within 10 s, but the wall_distance judges only from 21 s on (with its"
+            " settle time)",
+            id="judged-after-the-end",
+        ),
+        pytest.param(
+            "  - wall_distance: {side: left, min: 10 cm, during: {from: 70 s}}\n",
+            "4:5: error: no run can pass this wall_distance: it judges from 71 s on (with its"
+            " settle time), but every run ends by the spec's max_time of 60 s",
+            id="judged-after-max-time",
+        ),
+        pytest.param(
+            "  - wall_distance: {side: left, max: 10 cm}\n"
+            "  - wall_distance: {side: left, min: 20 cm}\n",
+            "5:5: error: this wall_distance contradicts the wall_distance on line 4: over the"
+            " same stretch the left gap cannot stay both at most 10.0 cm and at least 20.0 cm",
+            id="wall-bands",
+        ),
+        pytest.param(
+            "  - wall_ahead_at_end: {distance: 10 cm, tolerance: 2 cm}\n"
+            "  - wall_ahead_at_end: {distance: 30 cm, tolerance: 2 cm}\n",
+            "5:5: error: this wall_ahead_at_end contradicts the wall_ahead_at_end on line 4: the"
+            " wall ahead at the end cannot be both 10 cm ± 20 mm and 30 cm ± 20 mm away",
+            id="walls-ahead",
+        ),
+    ],
+)
+def test_expectations_no_run_can_meet_together_are_refused_naming_both_lines(
+    tmp_path: Path, expect: str, expected: str
+) -> None:
+    path = _write(tmp_path, f"test: t\nworld: corridor\nexpect:\n{expect}")
+    with pytest.raises(SpecError) as caught:
+        load_test_spec(path)
+    assert caught.value.format().startswith(f"{path}:{expected}"), caught.value.format()
+
+
+@pytest.mark.parametrize(
+    "expect",
+    [
+        "  - outcome: success\n  - outcome: success\n",
+        "  - never_enter: far-end\n  - regions_in_order: [start-zone]\n",
+        "  - final_pose_within: {x: 0 mm, y: 0 mm, radius: 10 cm}\n"
+        "  - final_pose_within: {x: 0 mm, y: 15 cm, radius: 10 cm}\n",
+        "  - tones: {min_count: 2}\n  - tones: {max_count: 4}\n",
+        "  - max_duration: 30 s\n  - wall_distance: {side: left, min: 10 cm, during: {from: 20 s}}\n",
+        "  - wall_distance: {side: left, max: 10 cm, during: {to: 5 s}}\n"
+        "  - wall_distance: {side: left, min: 20 cm, during: {from: 5 s}}\n",
+    ],
+)
+def test_expectations_a_run_can_meet_together_are_kept(tmp_path: Path, expect: str) -> None:
+    path = _write(tmp_path, f"test: t\nworld: corridor\nexpect:\n{expect}")
+    assert len(load_test_spec(path).expectations) == 2

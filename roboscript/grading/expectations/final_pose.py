@@ -72,10 +72,15 @@ class FinalPose(Rule):
     def in_world(self, record: RunRecord) -> FinalPose:
         """The target in world coordinates (a ``relative_to: start`` target moved to the
         start of ``record``)."""
+        return self.at_start(record.start_pose)
+
+    def at_start(self, start: tuple[float, float, float]) -> FinalPose:
+        """The target in world coordinates for a run that starts at ``start`` (``x_mm``,
+        ``y_mm``, ``heading_deg``): a ``relative_to: start`` target moved there."""
         if self.relative_to != "start":
             return self
         # The target is in the robot's start frame: x to its right, y ahead, heading from its own.
-        sx, sy, sh = record.start_pose
+        sx, sy, sh = start
         rad = math.radians(sh)
         return replace(
             self,
