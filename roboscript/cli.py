@@ -326,7 +326,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
 
 def _cmd_grade(args: argparse.Namespace) -> int:
     # grading (sandbox, reports, worlds) loads only for the grading commands
-    from roboscript.grading.batch import find_specs, grade_class
+    from roboscript.grading.batch import SummariesOnly, find_specs, grade_class
     from roboscript.grading.pool import bounded_jobs
 
     try:
@@ -382,8 +382,9 @@ def _cmd_grade(args: argparse.Namespace) -> int:
 
     with contextlib.ExitStack() as cleanup:
         store = _run_store(args, specs, submissions, shard, isolation.statement, cleanup)
-        if store is None:
+        if store is False:
             return EXIT_INPUT
+        store = store or SummariesOnly()  # no report draws a run: only summaries are kept
         try:
             report = grade_class(
                 specs,
@@ -467,17 +468,16 @@ def _run_store(
     cleanup: contextlib.ExitStack,
 ) -> Any:
     """Where ``grade`` keeps each run in full while the report holds its summary, so a class
-    of any size is graded in the same memory: ``--results FILE``; a temporary results file
-    when a report draws runs (``--html``, ``--json``); else nowhere. None (said) when the
-    file cannot be written."""
+    of any size is graded in the same memory: ``--results FILE``, or a temporary results file
+    when a report draws runs (``--html``, ``--json``); None when no report needs runs in
+    full; False (said) when the file cannot be written."""
     # grading (sandbox, reports, worlds) loads only for the grading commands
-    from roboscript.grading.batch import SummariesOnly
     from roboscript.grading.shards import ResultsFile
 
     path = args.results
     if not path:
         if not (args.html or args.json):
-            return SummariesOnly()
+            return None
         folder = cleanup.enter_context(tempfile.TemporaryDirectory(prefix="roboscript-grade-"))
         path = os.path.join(folder, "results.jsonl")
     _make_parent_folders(path)  # as every report's: `--results parts/part-1.jsonl` on a new day
@@ -485,7 +485,7 @@ def _run_store(
         results = ResultsFile(path, specs, submissions, shard, isolation)
     except OSError as exc:
         _err(f"error: cannot write {path}: {exc.strerror or exc}")
-        return None
+        return False
     cleanup.callback(results.close)
     return results
 

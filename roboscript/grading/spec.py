@@ -99,6 +99,19 @@ _TOP_KEYS = (
     "expect",
 )
 _RUN_KEYS = ("seed", "start", "world", "name", "hidden", "expect")
+_MISPLACED_KEYS = {
+    "seed": "a seed belongs to a run: runs: [{seed: 1}]",
+    "seeds": "each seed is a run: runs: [{seed: 1}, {seed: 2}]",
+    "start": "a start belongs to a run: runs: [{seed: 1, start: {x: 10 cm}}]",
+    "hidden": "a run is hidden, not the test: runs: [{seed: 1}, {seed: 2, hidden: true}]",
+    "expectations": "the expectations are listed under 'expect'",
+    "expects": "the expectations are listed under 'expect'",
+}
+"""Keys a quick spec puts at its top that belong elsewhere, and where."""
+
+MAX_RUNS = 200
+"""The most runs a test may list: every student's mission runs once per run, so a class of
+30 with this many is already 6,000 runs."""
 
 
 @dataclass(frozen=True)
@@ -266,6 +279,8 @@ def load_test_spec(path: str | Path) -> TestSpec:
     shown = str(path)
     reader = FieldReader(shown, SpecError)
     top = reader.mapping(load_yaml(path, error=SpecError), "a test spec", (1, 1))
+    for problem in reader.unknown_keys(top, _TOP_KEYS, "a test spec", _misplaced):
+        raise problem
     reader.allowed(top, _TOP_KEYS, "a test spec", required=("test", "expect"))
     folder = Path(path).resolve().parent
     name = _shown_name(reader, top, "test")
@@ -285,9 +300,14 @@ def load_test_spec(path: str | Path) -> TestSpec:
     )
     variants = _variants(reader, top, folder, default_world, worlds)
     points = _points(reader, top)
+    _refuse_unlisted(reader, top, "expect", "expectation", "- outcome: success")
     items = reader.items(top["expect"], "expect", top.value_mark("expect"))
     if not items:
-        raise reader.fail("expect lists at least one expectation", top.value_mark("expect"))
+        raise reader.fail(
+            "expect lists at least one expectation, such as - outcome: success: a test that"
+            " expects nothing would pass every mission",
+            top.value_mark("expect"),
+        )
     context = SpecContext(folder, tuple(worlds[v.world] for v in variants))
     expectations = tuple(parse_expectation(reader, item, mark, context) for item, mark in items)
     runs = _run_overrides(top, variants, worlds)
@@ -307,6 +327,32 @@ def load_test_spec(path: str | Path) -> TestSpec:
         worlds=worlds,
         points=points,
     )
+
+
+def _misplaced(key: str, value: object) -> str | None:
+    """Where a key a quick spec put at its top belongs (``seed`` goes in a run)."""
+    return _MISPLACED_KEYS.get(key)
+
+
+def _refuse_unlisted(reader: FieldReader, top: YamlMap, key: str, what: str, example: str) -> None:
+    """``key`` written as a mapping, a text or nothing where a list belongs (the ``- `` lines
+    forgotten, or ``runs: 3``): said in the spec's own terms, with the line to write."""
+    value = top[key]
+    mark = top.value_mark(key)
+    if isinstance(value, YamlMap) and value:
+        first = next(iter(value))
+        raise reader.fail(
+            f"{key} is a list: put '- ' before each {what}"
+            f" (here, '- {first}: ...' on line {value.key_mark(first)[0]})",
+            value.key_mark(first),
+        )
+    if value is None:
+        raise reader.fail(f"{key} is empty: list each {what} under it, such as {example}", mark)
+    if not isinstance(value, YamlList):
+        raise reader.fail(
+            f"{key} is a list of {what}s, one '- ' line each, such as {example} (got {value!r})",
+            mark,
+        )
 
 
 def _refuse_contradictions(
@@ -418,14 +464,27 @@ def _variants(
 ) -> tuple[Variant, ...]:
     if "runs" not in top:
         return (Variant(0, 1, default_world),)
+    _refuse_unlisted(reader, top, "runs", "run", "- {seed: 1}")
     items = reader.items(top["runs"], "runs", top.value_mark("runs"))
     if not items:
         raise reader.fail(
             "runs lists at least one run, such as - {seed: 1}", top.value_mark("runs")
         )
+    if len(items) > MAX_RUNS:
+        raise reader.fail(
+            f"a test lists at most {MAX_RUNS} runs, and this one lists {len(items):,}: every"
+            f" student's mission runs once per run (a class of 30 would need"
+            f" {30 * len(items):,} runs)",
+            top.value_mark("runs"),
+        )
     variants: list[Variant] = []
     targeted: set[int] = set()  # the runs with targets of their own
     for index, (item, mark) in enumerate(items):
+        if item is None or not isinstance(item, YamlMap):
+            got = "nothing" if item is None else repr(item)
+            raise reader.fail(
+                f"a run is a mapping such as - {{seed: {index + 1}}} (got {got})", mark
+            )
         data = reader.mapping(item, "a run", mark)
         reader.allowed(data, _RUN_KEYS, "a run")
         seed = reader.integer(data, "seed") if "seed" in data else index + 1
@@ -452,6 +511,12 @@ def _variants(
         if "expect" in data:
             targeted.add(index)
     _check_runs_differ(reader, variants, targeted, worlds, [mark for _, mark in items])
+    if all(v.hidden for v in variants):
+        raise reader.fail(
+            "every run is hidden: students would see no run's details, only 'hidden run N';"
+            " leave at least one run visible (without hidden: true) to show what the test does",
+            items[-1][1],
+        )
     return tuple(variants)
 
 
@@ -471,25 +536,31 @@ def _check_runs_differ(
         start = worlds[run.world].start
         return run.world, run.seed, run.start or (start.x_mm, start.y_mm, start.heading_deg)
 
+    # Looked up by setup and by label, not compared pair by pair: a test of many runs is
+    # read in time that grows with its runs.
+    untargeted: dict[tuple[str, int, tuple[float, float, float]], Variant] = {}
+    labels: dict[str, list[Variant]] = {}
     for later in variants:
-        for other in variants[: later.index]:
-            same = setup(other) == setup(later)
-            if same and {other.index, later.index} & targeted:
-                continue
-            if same:
+        other = untargeted.get(setup(later))
+        if other is not None and later.index not in targeted:
+            raise reader.fail(
+                f"this run is run {other.index + 1} again (seed {later.seed}, the same"
+                " world and start): a simulated run gives the same result every time, so"
+                " give it another seed or start",
+                marks[later.index],
+            )
+        for named in labels.get(later.label, []):
+            told_apart = setup(named) == setup(later) and {named.index, later.index} & targeted
+            if not told_apart:
                 raise reader.fail(
-                    f"this run is run {other.index + 1} again (seed {later.seed}, the same"
-                    " world and start): a simulated run gives the same result every time, so"
-                    " give it another seed or start",
-                    marks[later.index],
-                )
-            if other.label == later.label:
-                raise reader.fail(
-                    f"runs {other.index + 1} and {later.index + 1} are both named"
+                    f"runs {named.index + 1} and {later.index + 1} are both named"
                     f" '{later.label}': reports could not tell them apart; give each its own"
                     " name",
                     marks[later.index],
                 )
+        if later.index not in targeted:
+            untargeted.setdefault(setup(later), later)
+        labels.setdefault(later.label, []).append(later)
 
 
 def _flag(reader: FieldReader, data: YamlMap, key: str) -> bool:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import pytest
 from helpers import MISSIONS
@@ -382,14 +383,154 @@ def test_expectations_no_run_can_meet_together_are_refused_naming_both_lines(
     [
         "  - outcome: success\n  - outcome: success\n",
         "  - never_enter: far-end\n  - regions_in_order: [start-zone]\n",
-        "  - final_pose_within: {x: 0 mm, y: 0 mm, radius: 10 cm}\n"
-        "  - final_pose_within: {x: 0 mm, y: 15 cm, radius: 10 cm}\n",
+        (
+            "  - final_pose_within: {x: 0 mm, y: 0 mm, radius: 10 cm}\n"
+            "  - final_pose_within: {x: 0 mm, y: 15 cm, radius: 10 cm}\n"
+        ),
         "  - tones: {min_count: 2}\n  - tones: {max_count: 4}\n",
-        "  - max_duration: 30 s\n  - wall_distance: {side: left, min: 10 cm, during: {from: 20 s}}\n",
-        "  - wall_distance: {side: left, max: 10 cm, during: {to: 5 s}}\n"
-        "  - wall_distance: {side: left, min: 20 cm, during: {from: 5 s}}\n",
+        (
+            "  - max_duration: 30 s\n"
+            "  - wall_distance: {side: left, min: 10 cm, during: {from: 20 s}}\n"
+        ),
+        (
+            "  - wall_distance: {side: left, max: 10 cm, during: {to: 5 s}}\n"
+            "  - wall_distance: {side: left, min: 20 cm, during: {from: 5 s}}\n"
+        ),
     ],
 )
 def test_expectations_a_run_can_meet_together_are_kept(tmp_path: Path, expect: str) -> None:
     path = _write(tmp_path, f"test: t\nworld: corridor\nexpect:\n{expect}")
     assert len(load_test_spec(path).expectations) == 2
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        pytest.param(
+            "test: t\nruns:\n  seed: 1\nexpect:\n  - outcome: success\n",
+            "3:3: error: runs is a list: put '- ' before each run (here, '- seed: ...' on line 3)",
+            id="runs-without-dashes",
+        ),
+        pytest.param(
+            "test: t\nruns: 3\nexpect:\n  - outcome: success\n",
+            "2:7: error: runs is a list of runs, one '- ' line each, such as - {seed: 1} (got 3)",
+            id="runs-a-number",
+        ),
+        pytest.param(
+            "test: t\nruns: [1, 2]\nexpect:\n  - outcome: success\n",
+            "2:8: error: a run is a mapping such as - {seed: 1} (got 1)",
+            id="runs-of-bare-seeds",
+        ),
+        pytest.param(
+            "test: t\nruns:\n  -\nexpect:\n  - outcome: success\n",
+            "3:4: error: a run is a mapping such as - {seed: 1} (got nothing)",
+            id="an-empty-run",
+        ),
+        pytest.param(
+            "test: t\nseeds: [1, 2]\nexpect:\n  - outcome: success\n",
+            "2:1: error: unknown key 'seeds' in a test spec (each seed is a run: runs:"
+            " [{seed: 1}, {seed: 2}])",
+            id="seeds-at-the-top",
+        ),
+        pytest.param(
+            "test: t\nexpect:\n  outcome: success\n  no_collisions: true\n",
+            "3:3: error: expect is a list: put '- ' before each expectation (here, '- outcome:"
+            " ...' on line 3)",
+            id="expect-without-dashes",
+        ),
+        pytest.param(
+            "test: t\nexpect:\n",
+            "2:8: error: expect is empty: list each expectation under it, such as - outcome:"
+            " success",
+            id="expect-nothing",
+        ),
+        pytest.param(
+            "test: t\nexpect: []\n",
+            "2:9: error: expect lists at least one expectation, such as - outcome: success: a"
+            " test that expects nothing would pass every mission",
+            id="expect-an-empty-list",
+        ),
+        pytest.param(
+            "test: t\nexpect:\n  - outcome success\n",
+            "3:5: error: an expectation is KIND: VALUE, such as - outcome: success (got"
+            " 'outcome success': is the ':' after 'outcome' missing?)",
+            id="a-colon-missing",
+        ),
+        pytest.param(
+            "test: t\nruns:\n  - {seed: 1, hidden: true}\n  - {seed: 2, hidden: true}\n"
+            "expect:\n  - outcome: success\n",
+            "4:5: error: every run is hidden: students would see no run's details, only"
+            " 'hidden run N'; leave at least one run visible (without hidden: true) to show"
+            " what the test does",
+            id="only-hidden-runs",
+        ),
+        pytest.param(
+            "test: t\nruns:\n"
+            + "".join(f"  - {{seed: {i}}}\n" for i in range(1, 252))
+            + "expect:\n  - outcome: success\n",
+            "3:3: error: a test lists at most 200 runs, and this one lists 251: every student's"
+            " mission runs once per run (a class of 30 would need 7,530 runs)",
+            id="a-huge-number-of-runs",
+        ),
+        pytest.param(
+            "test: t\nmax_time: 10 s\nmax_time: 20 s\nexpect:\n  - outcome: success\n",
+            "3:1: error: 'max_time' is given twice (first on line 2)",
+            id="a-key-twice",
+        ),
+        pytest.param(
+            "test: t\nruns:\n  - {seed: 1, start: {heading: 5 mm/s}}\nexpect:\n"
+            "  - outcome: success\n",
+            "3:32: error: 'mm/s' is a unit of speed, but this is an angle",
+            id="a-speed-for-an-angle",
+        ),
+        pytest.param(
+            "test: t\nmax_time: 5 secs\nexpect:\n  - outcome: success\n",
+            "2:11: error: unknown unit 'secs' for a time (use s, sec, ms, min)",
+            id="a-unit-typo",
+        ),
+        pytest.param(
+            "test: t\nexpect:\n- outcome: success\n  - no_collisions: true\n",
+            "4:3: error: this line is indented differently from the lines above it",
+            id="wrong-indentation",
+        ),
+        pytest.param(
+            "test: t\nworld: coridor\nexpect:\n  - outcome: success\n",
+            "2:8: error: no world called 'coridor' (built-in worlds: corridor, empty,"
+            " line-track, maze, square-room; or a world file next to the spec) (did you mean"
+            " 'corridor'?)",
+            id="a-world-typo",
+        ),
+    ],
+)
+def test_a_quick_sloppy_spec_is_told_its_mistake_at_its_line(
+    tmp_path: Path, text: str, expected: str
+) -> None:
+    path = _write(tmp_path, text)
+    with pytest.raises(SpecError) as caught:
+        load_test_spec(path)
+    assert caught.value.format().startswith(f"{path}:{expected}"), caught.value.format()
+
+
+def test_the_runs_of_a_spec_are_told_apart_without_comparing_every_pair() -> None:
+    # Counted, not timed: each run's world is looked up a fixed number of times (comparing
+    # every pair of 3,000 runs took most of a minute on a busy machine).
+    from roboscript.grading.spec import Variant, _check_runs_differ
+    from roboscript.inputs.fields import FieldReader
+    from roboscript.sim.world import load_world
+
+    class Counted(dict[str, Any]):
+        lookups = 0
+
+        def __getitem__(self, key: str) -> Any:
+            Counted.lookups += 1
+            return super().__getitem__(key)
+
+    worlds = Counted(empty=load_world("empty"))
+    reader = FieldReader("spec.yaml", SpecError)
+    counts = []
+    for runs in (100, 400):
+        Counted.lookups = 0
+        variants = [Variant(i, i + 1, "empty") for i in range(runs)]
+        _check_runs_differ(reader, variants, set(), worlds, [(i + 3, 3) for i in range(runs)])
+        counts.append(Counted.lookups)
+    assert counts[1] <= 4.5 * counts[0], counts

@@ -36,6 +36,8 @@ def parse_expectation(
     Raises:
         SpecError: At the mistake, with a "did you mean" for a misspelt kind.
     """
+    if not isinstance(item, YamlMap):
+        raise reader.fail(_not_an_expectation(item), mark)
     data = reader.mapping(item, "an expectation", mark)
     kinds = [key for key in data if key not in _SCORING_KEYS]
     for key in kinds if len(kinds) > 1 else ():
@@ -75,6 +77,19 @@ def parse_expectation(
     rule = KINDS[kind].parse(reader, data[kind], data.value_mark(kind), ctx)
     line, col = data.key_mark(kind)
     return Expectation(rule, weight, Location(reader.path, line, col), required)
+
+
+def _not_an_expectation(item: object) -> str:
+    """Why an ``expect`` item that is not a mapping is none, in one sentence."""
+    sentence = "an expectation is KIND: VALUE, such as - outcome: success"
+    if item is None:
+        return f"{sentence} (this '- ' line has nothing after it)"
+    if isinstance(item, str):
+        first = item.split()[0] if item.split() else ""
+        kind = first if first in KINDS else did_you_mean(first, KINDS) and first
+        if kind:
+            return f"{sentence} (got {item!r}: is the ':' after '{kind}' missing?)"
+    return f"{sentence} (got {item!r})"
 
 
 @dataclass(frozen=True)

@@ -426,7 +426,10 @@ def test_runs_50_mm_apart_are_different_runs(tmp_path: Path) -> None:
             "expect:\n  - final_pose_within: {x: 1, y: 1}\n",
             "3:24: error: final_pose_within needs 'radius'",
         ),
-        ("expect:\n  - 5\n", "3:5: error: an expectation must be a mapping"),
+        (
+            "expect:\n  - 5\n",
+            "3:5: error: an expectation is KIND: VALUE, such as - outcome: success (got 5)",
+        ),
         (
             "expect:\n  - {outcome: success, max_duration: 5 s}\n",
             (
