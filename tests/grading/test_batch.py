@@ -235,3 +235,29 @@ def test_grading_a_class_holds_one_runs_record_at_a_time_however_large_the_class
         folder.mkdir()
         peaks.append(_graded_peak_bytes(streamed, folder, students, monkeypatch))
     assert peaks[1] < 2 * peaks[0], peaks
+
+
+def test_grade_draws_runs_read_back_from_a_temporary_results_file_it_then_removes(
+    streamed: dict[str, Any], tmp_path: Path
+) -> None:
+    # Without --results, --html still draws every run in full (read back one at a time from
+    # a results file of its own), and that file is gone once the reports are written.
+    import tempfile
+
+    from helpers import run_cli
+
+    root = streamed["root"]
+    spool = Path(tempfile.mkdtemp(prefix="rs-"))  # short: the fork server's socket lives here
+    try:
+        done = run_cli(
+            "grade", str(root / "spec.yaml"), "--mission", str(root / "class"),
+            "--html", str(tmp_path / "html"), "--quiet", "--hang-after", str(HANG_BOUND_S),
+            wrap=("env", f"TMPDIR={spool}"),
+        )  # fmt: skip
+        assert done.returncode == 0, done.stderr
+        pages = sorted((tmp_path / "html" / "runs").iterdir())
+        assert len(pages) == 2
+        assert all("Where the robot went" in p.read_text(encoding="utf-8") for p in pages)
+        assert not list(spool.glob("roboscript-grade-*"))
+    finally:
+        shutil.rmtree(spool, ignore_errors=True)
