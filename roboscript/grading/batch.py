@@ -119,8 +119,9 @@ class ClassReport:
         isolation: How the runs were isolated, one sentence
             (:attr:`~roboscript.grading.sandbox.Isolation.statement`), for every report.
         full_run: Gives a run of :attr:`results` in full (record, replay, traceback) when
-            the report holds only its summary (the gradebook reads a run's line again
-            when a page draws it); ``None`` when the results are whole.
+            the report holds only its summary (``grade`` and the gradebook read a run's
+            line of the results file again when a page draws it); ``None`` when the
+            results are whole.
     """
 
     specs: list[TestSpec]

@@ -328,6 +328,13 @@ def test_the_guides_example_spec_is_valid(tmp_path: Path) -> None:
             id="tone-counts",
         ),
         pytest.param(
+            "  - tones: {count: 2, frequency: 440 Hz}\n"
+            "  - tones: {frequencies: [440 Hz, 880 Hz]}\n",
+            "5:5: error: this tones contradicts the tones on line 4: tone 2 cannot be both"
+            " 440 Hz (±5) and 880 Hz (±5)",
+            id="tone-frequencies",
+        ),
+        pytest.param(
             "  - turns: {direction: left}\n  - turns: {direction: right, count: 2}\n",
             "5:5: error: this turns contradicts the turns on line 4: one wants left turns only"
             " and the other right turns only",
@@ -388,6 +395,7 @@ def test_expectations_no_run_can_meet_together_are_refused_naming_both_lines(
             "  - final_pose_within: {x: 0 mm, y: 15 cm, radius: 10 cm}\n"
         ),
         "  - tones: {min_count: 2}\n  - tones: {max_count: 4}\n",
+        "  - tones: {frequency: 440 Hz}\n  - tones: {frequencies: [443 Hz, 437 Hz]}\n",
         (
             "  - max_duration: 30 s\n"
             "  - wall_distance: {side: left, min: 10 cm, during: {from: 20 s}}\n"

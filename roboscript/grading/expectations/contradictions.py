@@ -141,11 +141,28 @@ def _final_states_clash(a: FinalState, b: FinalState, run: RunSetup) -> str | No
 def _tones_clash(a: Tones, b: Tones, run: RunSetup) -> str | None:
     low_a, high_a = _tone_counts(a)
     low_b, high_b = _tone_counts(b)
-    if low_a <= high_b and low_b <= high_a:
-        return None
-    return (
-        f"one wants {_count_range(low_a, high_a)} tones and the other {_count_range(low_b, high_b)}"
-    )
+    if low_a > high_b or low_b > high_a:
+        return (
+            f"one wants {_count_range(low_a, high_a)} tones and the other"
+            f" {_count_range(low_b, high_b)}"
+        )
+    for i in range(int(max(low_a, low_b))):  # the tones both say must be played
+        wanted_a, wanted_b = _tone_wanted_hz(a, i), _tone_wanted_hz(b, i)
+        if wanted_a is None or wanted_b is None:
+            continue
+        if abs(wanted_a - wanted_b) > a.tolerance_hz + b.tolerance_hz:
+            return (
+                f"tone {i + 1} cannot be both {wanted_a:g} Hz (±{a.tolerance_hz:g}) and"
+                f" {wanted_b:g} Hz (±{b.tolerance_hz:g})"
+            )
+    return None
+
+
+def _tone_wanted_hz(rule: Tones, index: int) -> float | None:
+    """The frequency ``rule`` wants of the tone at ``index`` (as :meth:`Tones.judge` reads)."""
+    if rule.frequencies_hz is not None:
+        return rule.frequencies_hz[index] if index < len(rule.frequencies_hz) else None
+    return rule.frequency_hz
 
 
 def _turns_clash(a: Turns, b: Turns, run: RunSetup) -> str | None:
