@@ -511,12 +511,6 @@ def _variants(
         if "expect" in data:
             targeted.add(index)
     _check_runs_differ(reader, variants, targeted, worlds, [mark for _, mark in items])
-    if all(v.hidden for v in variants):
-        raise reader.fail(
-            "every run is hidden: students would see no run's details, only 'hidden run N';"
-            " leave at least one run visible (without hidden: true) to show what the test does",
-            items[-1][1],
-        )
     return tuple(variants)
 
 
