@@ -55,6 +55,8 @@ class AsipCodec:
         max_buffer_bytes: Device role: bound on buffered request bytes.
         servo_count: Device role: the servos the sketch declares, so ``S,W`` is refused
             while it is read, as the firmware does; None reads every ``S,W`` in full.
+        int_bits: Device role: the width of the board's ``int`` (16 on an ATmega328P, 32 on
+            a Teensy 3.1), which each request number is cut to as the firmware keeps it.
 
     Example:
         >>> host = AsipCodec(Role.HOST)
@@ -98,11 +100,13 @@ class AsipCodec:
         max_line_bytes: int = 512,
         max_buffer_bytes: int = 4096,
         servo_count: int | None = None,
+        int_bits: int = 16,
     ) -> None:
         self.role = role
         self.stats = CodecStats()
         self.services = services
         self.servo_count = servo_count
+        self.int_bits = int_bits
         self._encoders = _ENCODERS[role]
         self._start_reader(max_line_bytes, max_buffer_bytes)
 
@@ -154,7 +158,12 @@ class _DeviceAsipCodec(AsipCodec, RequestReader):
 
     def _start_reader(self, max_line_bytes: int, max_buffer_bytes: int) -> None:
         RequestReader.__init__(
-            self, self.stats, self.services, max_buffer_bytes, servo_count=self.servo_count
+            self,
+            self.stats,
+            self.services,
+            max_buffer_bytes,
+            servo_count=self.servo_count,
+            int_bits=self.int_bits,
         )
 
 

@@ -123,6 +123,10 @@ class BoardConfig:
             AsipOptions`).
         baud: A UART board's line speed, bits per second: bytes arrive one byte time
             apart, and a reply takes the firmware time (:mod:`~roboscript.drivers.asip.uart`).
+        int_bits: The width of the firmware's ``int`` and ``unsigned int``, bits: 16 on a
+            UART board (an ATmega328P: ``M,A,65536`` turns encoder events off, an auto-event
+            interval's due tick wraps at 65536 ms), 32 on the USB board (the MIRTO's Teensy
+            3.1, an ARM).
         resets_on_connect: Whether opening the port resets the board (an Arduino Uno-style
             board whose DTR line drives its reset): it then starts afresh and is deaf until
             its sketch opens the UART (:data:`RESET_UART_ON_S`), and greets at
@@ -143,6 +147,7 @@ class BoardConfig:
     pixel_count: int = 9
     whole_lines: bool = True
     baud: int = 57600
+    int_bits: int = 32
     resets_on_connect: bool = False
 
 
@@ -164,13 +169,15 @@ class _Wheel:
 
 @dataclass
 class _AutoEvent:
-    """A service's auto-events as ``asipService``'s ``setAutoreport`` keeps them: in 16-bit
-    ``unsigned int`` ticks of ``millis()``, so ``-5`` is 65531 ms and ``tick + interval``
-    wraps (the due tick is then below the tick now, and the board reports on every turn of
-    ``loop()``, as fast as its line takes the events, until ``millis()`` wraps too)."""
+    """A service's auto-events as ``asipService``'s ``setAutoreport`` keeps them: in
+    ``unsigned int`` ticks of ``millis()``. On an ATmega328P those are 16 bits, so ``-5`` is
+    65531 ms and ``tick + interval`` wraps (the due tick is then below the tick now, and the
+    board reports on every turn of ``loop()``, as fast as its line takes the events, until
+    ``millis()`` wraps too); on a Teensy 3.1 they are 32 bits, and wrap after 49 days."""
 
+    tick_mask: int = 0xFFFF  # the unsigned int's values: 0xFFFF (16 bits) or 0xFFFF_FFFF
     interval_ms: int = 0
-    next_tick: int = 0  # the 16-bit tick from which it reports
+    next_tick: int = 0  # the tick from which it reports
     checked_ms: int = 0  # millis() when the firmware last looked
 
     @property
@@ -180,13 +187,13 @@ class _AutoEvent:
 
     def start(self, interval_ms: int, now_ms: int) -> None:
         """``setAutoreport(interval)`` at ``millis()`` ``now_ms``."""
-        self.interval_ms = interval_ms & 0xFFFF
-        self.next_tick = (now_ms + self.interval_ms) & 0xFFFF
+        self.interval_ms = interval_ms & self.tick_mask
+        self.next_tick = (now_ms + self.interval_ms) & self.tick_mask
         self.checked_ms = now_ms
 
     def due_ms(self) -> int:
         """The first ``millis()`` from the last look on at which ``tick >= nextTrigger``."""
-        low = self.checked_ms & 0xFFFF
+        low = self.checked_ms & self.tick_mask
         return self.checked_ms if low >= self.next_tick else self.checked_ms + self.next_tick - low
 
 
@@ -240,14 +247,19 @@ class MirtoBoard:
 
     def _new_codec(self) -> AsipCodec:
         services = "".join(_SERVICE_NAMES)
-        return AsipCodec(Role.DEVICE, services=services, servo_count=self.config.servo_count)
+        return AsipCodec(
+            Role.DEVICE,
+            services=services,
+            servo_count=self.config.servo_count,
+            int_bits=self.config.int_bits,
+        )
 
     def _power_on_state(self) -> _State:
         state = _State(encoder_events=self.config.encoder_events_on)
         state.servos_deg = [90] * self.config.servo_count
         state.pixels = [(0, 0, 0)] * self.config.pixel_count
         for service in "IBRD":
-            state.auto[service] = _AutoEvent()
+            state.auto[service] = _AutoEvent((1 << self.config.int_bits) - 1)
         modes = []
         for pin, owner in enumerate(_PIN_SERVICES):
             if owner == "@":
@@ -386,7 +398,7 @@ class MirtoBoard:
                 self._report(service)
                 free_s = self._clock_s
                 self._clock_s = max(clock_s, free_s)
-            event.next_tick = (tick + event.interval_ms) & 0xFFFF
+            event.next_tick = (tick + event.interval_ms) & event.tick_mask
             event.checked_ms = max(tick, self._millis(free_s))
 
     def pending_input_bytes(self) -> int:
@@ -834,6 +846,7 @@ def simulated_device(profile: RobotProfile) -> Callable[[Body], MirtoBoard]:
         servo_count=options.servo_count,
         pixel_count=options.pixel_count,
         whole_lines=options.whole_lines,
+        int_bits=options.int_bits,
         resets_on_connect=options.reset_on_connect,
     )
     return lambda body: MirtoBoard(body, config)

@@ -26,11 +26,12 @@ Requests
     which the board answers ``~,,?,1{INVALID_SERVICE}``). Such a request decodes as
     :class:`~roboscript.drivers.asip.messages.RefusedRequest` with the error the board sends.
     A number is kept in ``parseInt``'s 32-bit ``long``, which wraps as on the board (every
-    digit is read), and then in the variable the firmware keeps it in: an ``int`` is 16 bits
-    on the ATmega328P the simulated board is (``M,A,65536`` turns encoder events off, ``L,W,
-    65537,hi`` writes row 1), an ``unsigned int`` (an auto-event interval) 16 bits unsigned,
-    a ``byte`` 8. A known request whose values the board reads and then does nothing with
-    (a motor id past the wheels as a ``byte``, an LCD row before the first) decodes as
+    digit is read), and then in the variable the firmware keeps it in: an ``int`` is the
+    board's (``int_bits``): 16 bits on an ATmega328P (``M,A,65536`` turns encoder events off,
+    ``L,W,65537,hi`` writes row 1), 32 on the MIRTO's Teensy 3.1 (the ``long`` itself); an
+    ``unsigned int`` (an auto-event interval) as wide, unsigned; a ``byte`` 8. A known
+    request whose values the board reads and then does nothing with (a motor id past the
+    wheels as a ``byte``, an LCD row before the first) decodes as
     :class:`~roboscript.drivers.asip.messages.IgnoredRequest`; a value no message can hold
     otherwise is an ``"out_of_range"`` fault, and the request is dropped.
 
@@ -98,14 +99,15 @@ class _Cursor:
     -1 again, so a request read in pieces takes the same path as on the board.
     """
 
-    __slots__ = ("buf", "pos", "skip_line_after", "timed_ops", "timed_out")
+    __slots__ = ("buf", "int_bits", "pos", "skip_line_after", "timed_ops", "timed_out")
 
-    def __init__(self, buf: bytearray, timed_out: frozenset[int]) -> None:
+    def __init__(self, buf: bytearray, timed_out: frozenset[int], int_bits: int = 16) -> None:
         self.buf = buf
         self.pos = 0
         self.timed_ops = 0
         self.timed_out = timed_out
         self.skip_line_after = False
+        self.int_bits = int_bits
 
     def read(self) -> int:
         """``Stream::read``: the next byte, or -1 at once when none has arrived."""
@@ -161,14 +163,21 @@ class _Cursor:
             value = -value & _LONG_MASK
         return value - (_LONG_MASK + 1) if value > _PARSE_HIGH else value
 
-    def parse_int16(self) -> int:
-        """``int x = parseInt()`` on an ATmega328P: the ``long`` cut to a 16-bit ``int``."""
-        value = self.parse_int() & 0xFFFF
-        return value - 0x10000 if value >= 0x8000 else value
+    def parse_board_int(self) -> int:
+        """``int x = parseInt()``: the ``long`` cut to the board's ``int`` (16 bits on an
+        ATmega328P, 32 on a Teensy 3.1, where it is the ``long`` itself)."""
+        bits = self.int_bits
+        value = self.parse_int() & ((1 << bits) - 1)
+        return value - (1 << bits) if value >> (bits - 1) else value
+
+    def parse_board_uint(self) -> int:
+        """``unsigned int x = parseInt()``: the ``long`` cut to the board's ``unsigned int``
+        (16 bits on an ATmega328P: ``-5`` is 65531; 32 on a Teensy 3.1)."""
+        return self.parse_int() & ((1 << self.int_bits) - 1)
 
     def ints(self, count: int) -> tuple[int, ...]:
-        """``count`` numbers, each kept in a 16-bit ``int``."""
-        return tuple(self.parse_int16() for _ in range(count))
+        """``count`` numbers, each kept in the board's ``int``."""
+        return tuple(self.parse_board_int() for _ in range(count))
 
     def find(self, target: bytes) -> bool:
         """``Stream::find``: read until ``target`` has been read; False on a timeout or NUL.
@@ -222,6 +231,8 @@ class RequestReader:
             full; with a count, ``S,W`` is refused the way the firmware refuses it (error 8
             with no servos before reading the id, error 7 for an id past the last before
             reading the angle).
+        int_bits: The width of the board's ``int``, bits: 16 on an ATmega328P (``M,A,65536``
+            turns encoder events off), 32 on the MIRTO's Teensy 3.1 (it turns them on).
     """
 
     def __init__(
@@ -230,10 +241,14 @@ class RequestReader:
         services: str,
         max_buffer_bytes: int,
         servo_count: int | None = None,
+        int_bits: int = 16,
     ) -> None:
+        if int_bits not in (16, 32):
+            raise ValueError(f"a board's int is 16 or 32 bits, not {int_bits}")
         self.stats = stats
         self.services = services
         self.servo_count = servo_count
+        self.int_bits = int_bits
         self._max_buffer = max_buffer_bytes
         self._buf = bytearray()  # request bytes not yet parsed
         self._timed_out: set[int] = set()  # the timed reads of this request that ran out
@@ -293,7 +308,7 @@ class RequestReader:
             del buf[:skip]
         if len(buf) < _MIN_MSG_LEN:
             return None
-        cursor = _Cursor(buf, frozenset(self._timed_out))
+        cursor = _Cursor(buf, frozenset(self._timed_out), self.int_bits)
         try:
             message = self._parse_request(cursor)
         except _NeedMoreError:
@@ -406,21 +421,21 @@ def _parse_io(cur: _Cursor, tag: str) -> m.AsipMessage:
 
 
 def _auto_event(cur: _Cursor, service: str) -> m.AsipMessage:
-    # setAutoreport keeps the interval in an unsigned int: -5 is 65531
-    return m.SetAutoEventInterval(service, cur.parse_int() & 0xFFFF)
+    # setAutoreport keeps the interval in an unsigned int: -5 is 65531 on a 328P
+    return m.SetAutoEventInterval(service, cur.parse_board_uint())
 
 
 def _parse_motor(cur: _Cursor, tag: str) -> m.AsipMessage:
     # processRequestMsg keeps its three arguments in ints
-    first = cur.parse_int16()
+    first = cur.parse_board_int()
     if tag == "A":
         return m.EnableEncoderEvents(first != 0)
     if tag == "S":
         return m.StopMotors()
     if tag == "E":
         return m.ResetEncoders()
-    second = cur.parse_int16()
-    third = cur.parse_int16() if tag in "rR" else 0
+    second = cur.parse_board_int()
+    third = cur.parse_board_int() if tag in "rR" else 0
     args = (first, second, third) if tag in "rR" else (first, second)
     # setMotorPower, setMotorRPM and stopMotor take the id as a byte (-1 is 255) and do
     # nothing for one past the wheels, without a word.
@@ -492,20 +507,26 @@ def _parse_servo_counted(cur: _Cursor, tag: str, count: int) -> m.AsipMessage:
         return m.UnknownRequest("S", tag)
     if count == 0:
         return m.RefusedRequest("S", tag, int(m.ErrorCode.DEVICE_NOT_AVAILABLE))
-    servo = cur.parse_int16()
+    servo = cur.parse_board_int()
     if servo > count - 1:
         return m.RefusedRequest("S", tag, int(m.ErrorCode.INVALID_DEVICE_NUMBER))
-    angle = cur.parse_int16()
-    if servo < 0:  # write() takes a byte: the id becomes 255 and no servo moves
-        return m.UnknownRequest("S", tag, (servo, angle))
-    return m.ServoWrite(servo, _servo_angle(angle))
+    angle = cur.parse_board_int()
+    # write(byte servoId, ...) takes the id's low byte: -1 is 255 (no servo moves), while
+    # -256 is servo 0
+    if servo & 0xFF > count - 1:
+        return m.IgnoredRequest("S", tag, (servo, angle))
+    return m.ServoWrite(servo & 0xFF, _servo_angle(angle))
 
 
 def _parse_tone(cur: _Cursor, tag: str) -> m.AsipMessage:
     if tag == "P":
+        # asipTone keeps both in ints: on a 328P a duration past 32767 ms is negative, and
+        # the board plays nothing; tone() takes the pitch as 16 bits unsigned
         frequency, duration = cur.ints(2)
         if frequency > 0 and duration > 0:
-            return m.PlayTone(min(frequency, 65535), duration)
+            if not frequency & 0xFFFF:
+                return m.IgnoredRequest("T", tag, (frequency, duration))
+            return m.PlayTone(frequency & 0xFFFF, duration)
         return m.UnknownRequest("T", tag, (frequency, duration))
     return m.UnknownRequest("T", tag)
 
@@ -514,7 +535,7 @@ def _parse_lcd(cur: _Cursor, tag: str) -> m.AsipMessage:
     """asipLCD: a line past the fifth reads nothing more (its text is left for the next
     request); the text ends at a newline, a timeout or the row buffer's 20 characters."""
     if tag == "W":
-        line = cur.parse_int16()
+        line = cur.parse_board_int()
         if line >= m.LCD_LINES or not cur.find(b","):
             return m.UnknownRequest("L", tag, (line,))
         if line < 0:
@@ -525,10 +546,10 @@ def _parse_lcd(cur: _Cursor, tag: str) -> m.AsipMessage:
         # The CR of a CRLF lands in the row too, where the font shows nothing: drop it.
         return m.LcdWrite(line, cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES).rstrip("\r"))
     if tag == "w":
-        line = cur.parse_int16()
+        line = cur.parse_board_int()
         if line >= m.LCD_LINES or not cur.find(b","):
             return m.UnknownRequest("L", tag, (line,))
-        column = cur.parse_int16()
+        column = cur.parse_board_int()
         if column >= _LCD_ROW_BYTES or cur.read() != 0x2C:
             return m.UnknownRequest("L", tag, (line, column))
         text = cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES - column)
@@ -537,7 +558,7 @@ def _parse_lcd(cur: _Cursor, tag: str) -> m.AsipMessage:
             return m.IgnoredRequest("L", tag, (line, column))
         return m.LcdWriteAt(line, column, text.rstrip("\r"))
     if tag == "G":
-        count = min(cur.parse_int16(), _MAX_COUNT)
+        count = min(cur.parse_board_int(), _MAX_COUNT)
         if not cur.find(b",{"):
             return m.UnknownRequest("L", tag)
         bars = tuple((line, max(0, min(value, 100))) for line, value in _pairs(cur, count))
@@ -551,8 +572,8 @@ def _parse_lcd(cur: _Cursor, tag: str) -> m.AsipMessage:
 
 def _pairs(cur: _Cursor, count: int, *, long_second: bool = False) -> tuple[tuple[int, int], ...]:
     """``count`` pairs of ``int``s (the second a ``long`` with ``long_second``)."""
-    second = cur.parse_int if long_second else cur.parse_int16
-    return tuple((cur.parse_int16(), second()) for _ in range(count))
+    second = cur.parse_int if long_second else cur.parse_board_int
+    return tuple((cur.parse_board_int(), second()) for _ in range(count))
 
 
 def _rgb(cur: _Cursor) -> tuple[int, int, int]:
@@ -579,11 +600,11 @@ def _parse_pixels_or_pressure(cur: _Cursor, tag: str) -> m.AsipMessage:
 def _parse_pixels(cur: _Cursor, tag: str) -> m.AsipMessage:
     if tag not in "PpSsBIC":
         return m.UnknownRequest("P", tag)
-    strip = cur.parse_int16()
+    strip = cur.parse_board_int()
     if tag in "PpSs":
         # A negative count would loop for ever on the board; a huge one waits a second a pixel.
-        count = max(0, min(cur.parse_int16(), _MAX_COUNT))
-        first = cur.parse_int16() if tag in "Ss" else 0
+        count = max(0, min(cur.parse_board_int(), _MAX_COUNT))
+        first = cur.parse_board_int() if tag in "Ss" else 0
         if not _open_brace(cur):
             count = 0  # nothing is set
         if tag == "P":

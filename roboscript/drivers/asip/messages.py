@@ -257,7 +257,8 @@ class SetAutoEventInterval:
 
     def __post_init__(self) -> None:
         _check(self.service in AUTO_EVENT_SERVICES, f"service {self.service!r} has no auto-events")
-        _check_range("interval_ms", self.interval_ms, 0, 65535)
+        # the firmware's unsigned int: 16 bits on an ATmega328P, 32 on a Teensy 3.1
+        _check_range("interval_ms", self.interval_ms, 0, 0xFFFF_FFFF)
 
 
 @dataclass(frozen=True, slots=True)

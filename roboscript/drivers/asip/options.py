@@ -62,6 +62,12 @@ class AsipOptions:
     reset_on_connect: bool = False
 
     @property
+    def int_bits(self) -> int:
+        """The width of the firmware's ``int``, bits: 16 on a ``uart`` board (an
+        ATmega328P), 32 on the ``usb`` board (the MIRTO's Teensy 3.1, an ARM)."""
+        return 16 if self.transport == "uart" else 32
+
+    @property
     def whole_lines(self) -> bool:
         """Whether the firmware sees a written line at once (USB) rather than byte by byte."""
         return self.transport == "usb"

@@ -377,6 +377,98 @@ def test_an_auto_event_interval_is_an_unsigned_16_bit_int_as_on_the_board() -> N
     assert _bump_events(board, 1.0) == 19
 
 
+@pytest.mark.parametrize(
+    ("uart", "events"),
+    # a 328P's unsigned int keeps 65586's low 16 bits, 50; a Teensy 3.1's all 32
+    [(True, 19), (False, 0)],
+    ids=["uart-328p-16-bits", "usb-teensy-32-bits"],
+)
+def test_an_auto_event_interval_is_the_boards_unsigned_int(uart: bool, events: int) -> None:
+    board = quiet_board(uart=uart)
+    board.send(b"B,A,65586\n")
+    assert _bump_events(board, 1.0) == events
+
+
+@pytest.mark.parametrize(
+    ("uart", "sent", "state"),
+    [
+        # int 16 bits: 65536 is 0, 65537 is 1
+        (True, b"M,A,1\nM,A,65536\n", ("encoder events", False)),
+        (True, b"S,W,65536,45\n", ("servo", 45)),
+        (True, b"L,W,65537,hi\n", ("row 1", "hi")),
+        # int 32 bits: each number is itself
+        (False, b"M,A,1\nM,A,65536\n", ("encoder events", True)),
+        (False, b"S,W,65536,45\n", ("servo", 90)),
+        (False, b"L,W,65537,hi\n", ("row 1", "")),
+    ],
+    ids=[
+        "uart-encoders-off",
+        "uart-servo-0",
+        "uart-row-1",
+        "usb-encoders-on",
+        "usb-no-servo-65536",
+        "usb-no-row-65537",
+    ],
+)
+def test_a_request_number_is_kept_in_the_boards_int(
+    uart: bool, sent: bytes, state: tuple[str, object]
+) -> None:
+    board = quiet_board(uart=uart)
+    device = board.sim.device
+    board.send(sent)
+    board.run(0.05)
+    held = {
+        "encoder events": device.state.encoder_events,  # type: ignore[attr-defined]
+        "servo": device.state.servos_deg[0],  # type: ignore[attr-defined]
+        "row 1": device.state.lcd_rows[1],  # type: ignore[attr-defined]
+    }
+    assert (state[0], held[state[0]]) == state
+
+
+@pytest.mark.parametrize("uart", [False, True], ids=["usb", "uart"])
+def test_a_servo_id_is_written_as_its_low_byte(uart: bool) -> None:
+    # asipServos: `servoId > nbrElements-1` lets a negative id through, and write(byte
+    # servoId, ...) keeps its low byte: -256 is servo 0, -255 servo 1 (not on this sketch)
+    board = quiet_board(uart=uart)
+    board.send(b"S,W,-255,30\n")
+    board.run(0.05)
+    assert board.sim.device.state.servos_deg == [90]  # type: ignore[attr-defined]
+    board.send(b"S,W,-256,45\n")
+    board.run(0.05)
+    assert board.lines() == []
+    assert board.sim.device.state.servos_deg == [45]  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize(
+    ("uart", "sent", "tone_s"),
+    [
+        # asipTone keeps the duration in an int: past 32767 ms it is negative on a 328P,
+        # and `duration > 0` fails: no tone; 65636 is 100
+        (True, b"T,P,440,40000\n", None),
+        (True, b"T,P,440,65636\n", 0.1),
+        (False, b"T,P,440,40000\n", 40.0),
+        (False, b"T,P,440,65636\n", 65.636),
+    ],
+    ids=["uart-40-s-plays-nothing", "uart-65.636-s-is-0.1", "usb-40-s", "usb-65.636-s"],
+)
+def test_a_tones_duration_is_the_boards_int(uart: bool, sent: bytes, tone_s: float | None) -> None:
+    board = quiet_board(uart=uart)
+    board.send(sent)
+    board.run(0.05)
+    tones = [duration_s for _, _, duration_s in board.sim.log.tones]
+    assert tones == ([] if tone_s is None else [pytest.approx(tone_s)])
+
+
+def test_the_32_bit_tick_of_a_usb_board_does_not_wrap_at_65536_ms() -> None:
+    board = quiet_board(uart=False)
+    board.send(b"B,A,50\n")
+    board.run(65.45 - board.now)
+    board.lines()
+    # a 328P bursts here (its 16-bit due tick wraps); a Teensy's 32-bit one goes on
+    assert _bump_events(board, 0.15) == 3
+    assert _bump_events(board, 1.0) == 20
+
+
 def test_a_negative_interval_reports_on_every_turn_of_the_loop_at_the_lines_pace() -> None:
     board = quiet_board(uart=True)
     board.send(b"B,A,-5\n")  # 65531: the next due tick is 5 ms before the tick now

@@ -8,6 +8,7 @@ bounded.
 
 from __future__ import annotations
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -45,6 +46,22 @@ def test_a_request_number_at_the_bounds_of_a_long_is_read_then_kept_in_a_16_bit_
     got = feed(reader(), f"P,I,{INT32_MAX}\nP,I,{-INT32_MAX - 1}\nP,I,65537\n".encode())
     # the strip is an int, 16 bits on the 328P: 0x7FFFFFFF is -1, -0x80000000 is 0
     assert got == [m.PixelsInfoRequest(-1), m.PixelsInfoRequest(0), m.PixelsInfoRequest(1)]
+
+
+def test_a_request_number_is_kept_whole_in_a_32_bit_boards_int() -> None:
+    # a Teensy 3.1's int is its long: nothing is cut
+    teensy = RequestReader(CodecStats(), DEFAULT_SERVICES, 4096, int_bits=32)
+    got = feed(teensy, b"P,I,65537\nM,A,65536\nB,A,-5\n")
+    assert got == [
+        m.PixelsInfoRequest(65537),
+        m.EnableEncoderEvents(True),
+        m.SetAutoEventInterval("B", 0xFFFF_FFFB),
+    ]
+
+
+def test_a_board_int_is_16_or_32_bits() -> None:
+    with pytest.raises(ValueError, match="16 or 32 bits"):
+        RequestReader(CodecStats(), DEFAULT_SERVICES, 4096, int_bits=8)
 
 
 def test_a_request_number_past_a_long_wraps_as_on_the_board_and_the_request_goes_on() -> None:

@@ -18,6 +18,14 @@ def test_the_mirto_profile_is_the_mirtle2017_sketch() -> None:
 
 
 @pytest.mark.parametrize(
+    ("transport", "int_bits"), [("usb", 32), ("uart", 16)], ids=["teensy", "atmega328p"]
+)
+def test_the_boards_int_width_follows_its_transport(transport: str, int_bits: int) -> None:
+    options = AsipOptions.from_mapping({"transport": transport}, profile="x")
+    assert options.int_bits == int_bits
+
+
+@pytest.mark.parametrize(
     ("options", "message"),
     [
         ({"servo_count": -1}, "'servo_count' must be a whole number 0-16"),
