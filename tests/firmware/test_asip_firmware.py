@@ -10,8 +10,12 @@ difference that goes away fails its test too, so the list stays true.
 from __future__ import annotations
 
 import pytest
-from firmware.asip_probes import PROBES, Probe
-from firmware.transcripts import firmware_transcript, sim_transcript
+from firmware.asip_probes import PROBES, SETTLE_S, Probe
+from firmware.avr import Board, build
+from firmware.recipes import MIRTLE_BAUD, MIRTLE_F_CPU_HZ, MIRTLE_MCU, mirtle_328p
+from firmware.transcripts import BOOT_S, firmware_transcript, sim_transcript
+
+from roboscript.drivers.asip.device import RESET_GREETING_S
 
 KNOWN_DIFFERENCES: dict[str, str] = {
     "ir events": (
@@ -83,3 +87,26 @@ def test_sim_answers_each_probe_as_the_firmware_does(
         assert sim != firmware, f"no longer differs: drop {probe.name!r} from KNOWN_DIFFERENCES"
     else:
         assert sim == firmware, f"{probe.data!r}: firmware {firmware!r}, sim {sim!r}"
+
+
+def _services_read(answer: bytes) -> str:
+    """The service letters a run of ``~S,?,1{INVALID_SERVICE}`` errors answered, in order."""
+    return "".join(chr(line[1]) for line in answer.split(b"\n") if line.startswith(b"~"))
+
+
+def test_which_digits_the_firmware_reads_turns_on_microseconds_of_its_loop() -> None:
+    """``X,`` and 80 digits: what is skipped after each error is what has arrived when the
+    error is written, so a request moved by 6 us (a sixth of a turn of ``loop()``) is read
+    otherwise by the firmware itself; the simulated board gives one of its answers
+    (docs/robots/mirto.md, "Timing on a uart board")."""
+    probe = b"X," + b"0123456789" * 8 + b"\n"
+    firmware = set()
+    for moved_s in (0.0, 6e-6):
+        with Board(build(mirtle_328p()), MIRTLE_MCU, MIRTLE_F_CPU_HZ, baud=MIRTLE_BAUD) as board:
+            board.advance_to(BOOT_S + moved_s)
+            firmware.add(_services_read(board.exchange(probe, SETTLE_S)))
+    assert firmware == {"X38348", "X38359"}
+    (_, [sim]) = sim_transcript(
+        [Probe("digits", probe)], after_greeting_s=BOOT_S - RESET_GREETING_S
+    )
+    assert _services_read(sim) in firmware

@@ -25,13 +25,17 @@ def firmware_transcript(probes: Sequence[Probe]) -> tuple[bytes, list[bytes]]:
     return greeting, answers
 
 
-def sim_transcript(probes: Sequence[Probe]) -> tuple[bytes, list[bytes]]:
+def sim_transcript(
+    probes: Sequence[Probe], *, after_greeting_s: float = 0.0
+) -> tuple[bytes, list[bytes]]:
     """``roboscript sim``'s MIRTO board, on a UART like the emulated 328P build: its start-up
-    bytes and its answer to each probe in turn."""
+    bytes and its answer to each probe in turn, the first sent ``after_greeting_s`` after
+    the board greeted."""
     mirto = get_profile("mirto")
     profile = dataclasses.replace(mirto, options={**mirto.options, "transport": "uart"})
     simulation = Simulation(load_world("empty"), profile, seed=1)
     simulation.connect()
+    simulation.tick(after_greeting_s, after_greeting_s)
     greeting = simulation.read(simulation.in_waiting)
     answers = []
     for probe in probes:
