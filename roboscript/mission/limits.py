@@ -9,7 +9,9 @@ Two kinds of check:
   rule (:meth:`Action.conflicts <roboscript.actions.base.Action.conflicts>`).
 * :func:`profile_problems`, against the robot a mission runs on: speeds and turn rates above
   what the robot can do are held at its top speed, and those too slow to overcome the wheels'
-  static friction may not move it at all. These are warnings that say what will happen.
+  static friction may not move it at all; a tone longer than an ASIP board's ``int`` holds
+  (32.767 s on an ATmega328P) is cut short or not played. These are warnings that say what
+  will happen.
 """
 
 from __future__ import annotations
@@ -263,15 +265,15 @@ def profile_problems(spec: MissionSpec, profile: Any) -> list[InputError]:
         speed) or below :data:`MIN_SPEED_MM_S` (the wheels may not turn), and the same for
         ``rotate`` turn rates, located at the parameter.
     """
+    problems = _tone_problems(spec, profile)
     if cap.DRIVE_BASE not in getattr(profile, "capabilities", frozenset()):
-        return []
+        return problems
     robot = profile.name
     top_mm_s = float(profile.max_speed_mm_s)
     track_mm = float(profile.track_mm)
     # Turning in place, each wheel runs at rate * track / 2.
     top_deg_s = math.degrees(2.0 * top_mm_s / track_mm)
     low_deg_s = math.degrees(2.0 * MIN_SPEED_MM_S / track_mm)
-    problems: list[InputError] = []
     for action, param, value, speed in _speeds(spec):
         if speed:
             unit, top, low, verb = "mm/s", top_mm_s, MIN_SPEED_MM_S, "drive"
@@ -301,4 +303,32 @@ def profile_problems(spec: MissionSpec, profile: Any) -> list[InputError]:
                     f"write {param}: {math.ceil(low):.0f} {unit} or more",
                 )
             )
+    return problems
+
+
+def _tone_problems(spec: MissionSpec, profile: Any) -> list[InputError]:
+    """A warning for each ``play_tone`` longer than the robot's board plays: an ASIP board
+    on an ATmega328P keeps a tone's length in a 16-bit ``int`` (32.767 s)."""
+    if getattr(profile, "protocol", None) != "asip":
+        return []
+    from roboscript.drivers.asip.options import AsipOptions  # only an ASIP board has the limit
+
+    options = AsipOptions.from_mapping(profile.options, profile=profile.name)
+    longest_s = options.longest_tone_ms / 1000.0
+    problems: list[InputError] = []
+    for action in _actions(spec):
+        duration = action.kwargs.get("duration_s") if action.name == "play_tone" else None
+        if not isinstance(duration, int | float) or not longest_s < duration < math.inf:
+            continue
+        problems.append(
+            _warning(
+                f"{action.name} duration: {shown(float(duration), 's')} is longer than "
+                f"{profile.name}'s board can play a tone ({longest_s:g} s): it keeps a tone's "
+                "length in a small number that runs over, so the tone is cut short or not "
+                "played at all",
+                action.param_locations.get("duration", action.location),
+                f"write duration: {math.floor(longest_s):.0f} s or less; for a longer sound, "
+                "repeat a shorter play_tone",
+            )
+        )
     return problems

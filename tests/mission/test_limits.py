@@ -626,3 +626,36 @@ def test_a_drive_or_rotate_of_zero_is_an_error_that_says_it_would_end_at_once(
 
 def test_a_servo_at_zero_degrees_is_no_mistake(write_mission: Callable[..., Path]) -> None:
     assert report(one_action(write_mission, "{servo: {angle: 0 deg}}"), "mirto") == []
+
+
+@pytest.mark.parametrize(
+    ("transport", "duration", "expected"),
+    [
+        (
+            "uart",
+            "40 s",
+            [
+                (
+                    "M:4:51: warning: play_tone duration: 40 s is longer than mirto-uno's board"
+                    " can play a tone (32.767 s): it keeps a tone's length in a small number that"
+                    " runs over, so the tone is cut short or not played at all (write duration:"
+                    " 32 s or less; for a longer sound, repeat a shorter play_tone)"
+                )
+            ],
+        ),
+        ("uart", "32.767 s", []),
+        ("usb", "40 s", []),  # the MIRTO's Teensy keeps it in 32 bits
+    ],
+    ids=["uart-over", "uart-at-the-edge", "usb"],
+)
+def test_a_tone_longer_than_the_asip_board_plays_is_a_warning(
+    write_mission: Callable[..., Path],
+    tmp_path: Path,
+    transport: str,
+    duration: str,
+    expected: list[str],
+) -> None:
+    robot = tmp_path / "mirto-uno.yaml"
+    robot.write_text(f"extends: mirto\nname: mirto-uno\noptions:\n  transport: {transport}\n")
+    action = f"{{play_tone: {{frequency: 440 Hz, duration: {duration}}}}}"
+    assert report(one_action(write_mission, action), str(robot)) == expected

@@ -68,6 +68,14 @@ class AsipOptions:
         return 16 if self.transport == "uart" else 32
 
     @property
+    def longest_tone_ms(self) -> int:
+        """The longest tone the firmware plays, milliseconds: ``asipTone.cpp`` keeps the
+        duration in an ``int``, so 32767 on a ``uart`` board (a longer one wraps: it is cut
+        short, or, as a negative number, not played at all) and 2**31 - 1 on the ``usb``
+        board."""
+        return (1 << (self.int_bits - 1)) - 1
+
+    @property
     def whole_lines(self) -> bool:
         """Whether the firmware sees a written line at once (USB) rather than byte by byte."""
         return self.transport == "usb"
