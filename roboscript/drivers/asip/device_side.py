@@ -3,7 +3,9 @@
 Requests
     :class:`RequestReader` reads requests the way the V1.1 firmware (``asip.cpp``
     ``asipClass::service`` and each service's ``processRequestMsg``) does, on Arduino
-    ``Stream`` semantics as the Teensy 3 core implements them:
+    ``Stream`` semantics as the board's core implements them (the Teensy 3 core on the
+    MIRTO's Teensy 3.1, the Arduino AVR core on an ATmega328P; they differ in
+    ``readBytesUntil``, which reads one byte more on the AVR):
 
     * nothing starts before four bytes are buffered; bytes up to ``' '`` between requests are
       skipped; a known service letter must be followed by ``,``, otherwise (and for an
@@ -195,10 +197,12 @@ class _Cursor:
         return False
 
     def read_bytes_until(self, terminator: int, length: int) -> str:
-        """``Stream::readBytesUntil`` of the Teensy 3 core: at most ``length - 1`` bytes, up
-        to ``terminator`` (consumed, not kept) or a timeout."""
+        """``Stream::readBytesUntil``: up to ``terminator`` (consumed, not kept) or a timeout,
+        at most ``length - 1`` bytes in the Teensy 3 core (a 32-bit board), ``length`` in the
+        Arduino AVR core (an ATmega328P, a 16-bit board)."""
+        most = length if self.int_bits == 16 else length - 1
         text = bytearray()
-        while len(text) < length - 1:
+        while len(text) < most:
             byte = self.timed_read()
             if byte == terminator or byte < 0:
                 break
@@ -543,8 +547,10 @@ def _parse_lcd(cur: _Cursor, tag: str) -> m.AsipMessage:
             # first row's buffer, where no row shows it.
             cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES)
             return m.IgnoredRequest("L", tag, (line,))
-        # The CR of a CRLF lands in the row too, where the font shows nothing: drop it.
-        return m.LcdWrite(line, cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES).rstrip("\r"))
+        # strlcpy shows 20 of the characters read (the AVR core reads 21); the CR of a CRLF
+        # lands in the row too, where the font shows nothing: drop it.
+        text = cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES)[: m.LCD_COLUMNS]
+        return m.LcdWrite(line, text.rstrip("\r"))
     if tag == "w":
         line = cur.parse_board_int()
         if line >= m.LCD_LINES or not cur.find(b","):
@@ -552,7 +558,7 @@ def _parse_lcd(cur: _Cursor, tag: str) -> m.AsipMessage:
         column = cur.parse_board_int()
         if column >= _LCD_ROW_BYTES or cur.read() != 0x2C:
             return m.UnknownRequest("L", tag, (line, column))
-        text = cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES - column)
+        text = cur.read_bytes_until(_NEWLINE, _LCD_ROW_BYTES - column)[: m.LCD_COLUMNS - column]
         if line < 0 or column < 0:
             # read as the board reads it; it lands outside the row (this model shows nothing)
             return m.IgnoredRequest("L", tag, (line, column))

@@ -400,13 +400,27 @@ def test_lcd_text_runs_to_the_end_of_the_line(wire: bytes, message: object) -> N
     assert codec.pending_bytes() == 0
 
 
-def test_lcd_text_is_cut_at_twenty_characters() -> None:
-    # readBytesUntil reads at most 20 bytes into the 21-byte row; the rest is a new request.
-    codec = device()
-    got = feed(codec, b"L,W,0,abcdefghijklmnopqrstUVWX\n")
-    assert got == [m.LcdWrite(0, "abcdefghijklmnopqrst"), m.InvalidServiceRequest("U")]
-    got = feed(device(), b"L,w,0,20,-1\nI,M\n")
-    assert got == [m.LcdWriteAt(0, 20, ""), m.InvalidServiceRequest("-"), m.PortMapRequest()]
+@pytest.mark.parametrize(
+    ("int_bits", "next_service", "after_column_20"),
+    # readBytesUntil(..., 21): the Teensy 3 core reads at most 20 bytes, the AVR core 21
+    [(32, "U", "-"), (16, "V", "1")],
+    ids=["teensy-core", "avr-core"],
+)
+def test_lcd_text_is_cut_at_twenty_characters(
+    int_bits: int, next_service: str, after_column_20: str
+) -> None:
+    # the row shows 20; what the core has not read is a new request
+    got = feed(AsipCodec(Role.DEVICE, int_bits=int_bits), b"L,W,0,abcdefghijklmnopqrstUVWX\n")
+    assert got == [
+        m.LcdWrite(0, "abcdefghijklmnopqrst"),
+        m.InvalidServiceRequest(next_service),
+    ]
+    got = feed(AsipCodec(Role.DEVICE, int_bits=int_bits), b"L,w,0,20,-1\nI,M\n")
+    assert got == [
+        m.LcdWriteAt(0, 20, ""),
+        m.InvalidServiceRequest(after_column_20),
+        m.PortMapRequest(),
+    ]
 
 
 def test_lcd_line_past_the_fifth_leaves_its_text_to_be_read_as_requests() -> None:

@@ -492,3 +492,23 @@ def test_the_16_bit_tick_wraps_once_a_minute_into_a_burst_of_events() -> None:
     # in the last 50 ms before millis() passes 65536 the due tick wraps below the tick now
     assert _bump_events(board, 0.15) > 10
     assert _bump_events(board, 1.0) == 20  # and then every 50 ms again
+
+
+@pytest.mark.parametrize(
+    ("uart", "answer", "row"),
+    [
+        # readBytesUntil(..., 21): the AVR core reads 21 characters, the Teensy 3 core 20;
+        # strlcpy shows 20 either way, and the rest is read as new requests
+        (True, "~v,?,1{INVALID_SERVICE}", "abcdefghijklmnopqrst"),
+        (False, "~u,?,1{INVALID_SERVICE}", "abcdefghijklmnopqrst"),
+    ],
+    ids=["uart-avr-core-reads-21", "usb-teensy-core-reads-20"],
+)
+def test_a_long_lcd_row_is_read_as_the_boards_core_reads_it(
+    uart: bool, answer: str, row: str
+) -> None:
+    board = quiet_board(uart=uart)
+    board.send(b"L,W,2,abcdefghijklmnopqrstuvwxyz\n")
+    board.run(0.05)
+    assert board.lines() == [answer]
+    assert board.sim.device.state.lcd_rows[2] == row  # type: ignore[attr-defined]
