@@ -192,4 +192,86 @@ arguments, a servo id, an LCD row and column, a pixel strip) or ``unsigned int``
 auto-event interval, whose next due tick wraps: ``-5`` reports on every turn of ``loop()``,
 as fast as the line takes the events)."""
 
-PROBES = DRIVER_PROBES + ERROR_PROBES + TIMING_PROBES + VALUE_PROBES + INT16_PROBES
+EDGE_PROBES: tuple[Probe, ...] = (
+    # requests cut short: each waits out parseInt where a number is missing
+    Probe("partial: service and comma", b"M,\n"),
+    Probe("partial: tag, no number", b"M,M,\n", PARSE_WAIT_S),
+    Probe("partial: one number of two", b"M,M,10\n", PARSE_WAIT_S),
+    Probe("partial: trailing comma", b"M,M,10,\n", PARSE_WAIT_S),
+    Probe("partial: system header alone", b"#\n#,?\n"),
+    Probe("partial: system comma only", b"#,\n#,?\n"),
+    Probe("partial: three bytes", b"#,?"),
+    Probe("partial: the newline later", b"\n"),
+    # lines far past what a request holds
+    Probe("long: 200 letters", b"Q" * 200 + b"\n"),
+    Probe("long: 120 commas", b"," * 120 + b"\n"),
+    Probe("long: lcd row of 100", b"L,W,0," + b"x" * 100 + b"\n"),
+    Probe("long: version then 100 spaces", b"#,?" + b" " * 100 + b"\n"),
+    Probe("long: lcd row from column 5", b"L,w,1,5," + _ALPHABET.upper() + b"\n"),
+    Probe("long: lcd row of 20 digits and 4 more", b"L,W,3,12345678901234567890XYZW\n"),
+    # bytes above 127
+    Probe("high: four bytes above 127", b"\x80\x81\x82\x83\n"),
+    Probe("high: tag above 127", b"M,\xff,1\n"),
+    Probe("high: lcd text above 127", b"L,W,0,h\xe9llo\n"),
+    Probe("high: number with a byte above 127", b"M,M,1\xb02,3\n"),
+    Probe("high: 0xFF run", b"\xff" * 10 + b"\n"),
+    # line ends
+    Probe("crlf: CR only", b"#,?\r"),
+    Probe("crlf: CR CR LF", b"#,?\r\r\n"),
+    Probe("crlf: LF CR", b"#,?\n\r"),
+    Probe("crlf: CRLF before", b"\r\n#,?\n"),
+    Probe("crlf: motors CRLF", b"M,M,0,0\r\n"),
+    Probe("crlf: lcd CRLF", b"L,W,1,ab\r\n"),
+    Probe("crlf: NUL before", b"\x00#,?\n"),
+    Probe("crlf: tab before", b"\t#,?\n"),
+    # service and tag letters the sketch lacks
+    Probe("unknown: lower-case services", b"a,\nb,\nc,\nd,\n"),
+    Probe("unknown: io tags", b"I,x\nI,?\n"),
+    Probe("unknown: motor tags", b"M,x,0\nM,?,0\n"),
+    Probe("unknown: lower-case system tags", b"#,n\n#,s\n#,r\n"),
+    # pins and ids past the board's
+    Probe("range: digital write pin 20", b"I,d,20,1\n"),
+    Probe("range: digital write pin -1", b"I,d,-1,1\n"),
+    Probe("range: digital write pin 256", b"I,d,256,1\n"),
+    Probe("range: pin mode 255", b"I,P,255,1\n"),
+    Probe("range: input on an encoder pin", b"I,P,7,2\n"),
+    Probe("range: output on an encoder pin", b"I,P,7,3\n"),
+    Probe("range: analog write pin 261", b"I,a,261,10\n"),
+    Probe("range: motor 2 power", b"M,m,2,50\n"),
+    Probe("range: motor stop 2", b"M,s,2,0\n"),
+    Probe("range: servo 1", b"S,W,1,90\n"),
+    Probe("range: servo -1", b"S,W,-1,90\n"),
+    Probe("range: servo -256 is servo 0", b"S,W,-256,90\n"),
+    Probe("range: lcd column 20", b"L,w,0,20,hi\n"),
+    Probe("range: lcd column 21", b"L,w,0,21,hi\n"),
+    Probe("range: lcd bar on line 9", b"L,G,1,{9:50}\n"),
+    Probe("range: pixel strip 1", b"P,I,1\n"),
+    Probe("range: tone of 0 Hz", b"T,P,0,100\n"),
+    Probe("range: tone of -5 ms", b"T,P,440,-5\n"),
+    Probe("range: tone past an int", b"T,P,440,40000\n"),
+    # one request in two writes
+    Probe("split: header", b"M,", 0.01),
+    Probe("split: rest", b"M,0,0\n"),
+    Probe("split: number", b"M,M,0", 0.01),
+    Probe("split: number rest", b",0\n"),
+    # the cores' find and parseInt
+    Probe("find: bar graph with a doubled comma", b"L,G,1,,{0:50}\n"),
+    Probe("find: bar graph without brace", b"L,G,1,0:50\n", PARSE_WAIT_S),
+    Probe("parse: double minus", b"M,M,--5,3\n"),
+    Probe("parse: minus inside", b"M,M,5-3,2\n"),
+    Probe("parse: plus sign", b"M,M,+5,+3\n"),
+    Probe("parse: decimal point", b"M,M,1.5,2\n"),
+    Probe("parse: spaces in numbers", b"M,M, 4 , 5\n"),
+    Probe("parse: lone minus", b"M,M,-,0\n"),
+    Probe("motors stopped after the edges", b"M,S,0\nM,M,0,0\n"),
+    # a restart, and what it leaves
+    Probe("system: restart", b"#,R\n"),
+    Probe("system: version after restart", b"#,?\n"),
+    Probe("system: pin modes after restart", b"I,p\n"),
+)
+"""Malformed and partial requests, long lines, bytes above 127, line ends, letters the sketch
+lacks, pins and ids past the board's, requests written in two pieces, and where the Arduino
+AVR core's ``Stream`` differs from the Teensy 3 core's (``readBytesUntil`` takes one byte
+more, ``find`` walks back). Last: a restart changes what every later probe meets."""
+
+PROBES = DRIVER_PROBES + ERROR_PROBES + TIMING_PROBES + VALUE_PROBES + INT16_PROBES + EDGE_PROBES

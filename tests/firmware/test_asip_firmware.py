@@ -39,6 +39,11 @@ KNOWN_DIFFERENCES: dict[str, str] = {
         "events more in 0.12 s; the bytes the emulator has not sent by the end of a probe "
         "come in the next probe's answer",
     ),
+    "range: pixel strip 1": (
+        "asipPixels.cpp reads `stripPtr[stripIndex]` unchecked past its one strip "
+        "(undefined: this build reads a count of 9 there); the simulated board answers "
+        "~P,I,7{INVALID_DEVICE_NUMBER}"
+    ),
     "an unknown strip's pixel count": (
         "asipPixels.cpp reads `stripPtr[stripIndex]` unchecked (`// todo - validate "
         "stripIndex range`), past its one strip: undefined; the simulated board answers "

@@ -79,6 +79,10 @@ _PORT_MAP = tuple([(4, 1 << i) for i in range(8)] + [(2, 1 << i) for i in range(
 _ANALOG_PINS = {14 + i: i for i in range(6)}
 _PWM_PINS = {3, 5, 6, 9, 10, 11}
 _BUMP_PINS = (9, 10)  # left, right: INPUT_PULLUP, so 0 while pressed
+_ENCODER_PINS = {3: (0, 0), 7: (0, 1), 2: (1, 0), 4: (1, 1)}  # pin -> (wheel, 0 A / 1 B)
+_QUADRATURE = ((1, 1), (1, 0), (0, 0), (0, 1))
+"""The encoder lines' levels (A, B) at each tick modulo 4, forward: the Encoder library
+pulls both lines up, and a wheel at tick 0 reads them high, as the emulated board does."""
 _SERVICE_NAMES = {  # in the order of the sketch's services[]
     "I": "ASIP core IO",
     "M": "Motors",
@@ -816,6 +820,9 @@ class MirtoBoard:
             pressed = self.body.bumpers_pressed()
             index = _BUMP_PINS.index(pin)
             return 0 if index < len(pressed) and pressed[index] else 1
+        if pin in _ENCODER_PINS:
+            wheel, line = _ENCODER_PINS[pin]
+            return _QUADRATURE[self.body.ticks[wheel] % 4][line]
         return 1 if self.state.pin_modes[pin] == m.PinMode.INPUT_PULLUP else 0
 
     def _send_port_changes(self, *, force: bool) -> None:

@@ -182,10 +182,15 @@ class _Cursor:
         return tuple(self.parse_board_int() for _ in range(count))
 
     def find(self, target: bytes) -> bool:
-        """``Stream::find``: read until ``target`` has been read; False on a timeout or NUL.
+        """``Stream::find``: read until ``target`` has been read; False on a timeout (or, in
+        the Teensy 3 core, a NUL).
 
-        Like the core, a mismatch restarts the match without looking at the byte again.
+        Like the Teensy 3 core, a mismatch restarts the match without looking at the byte
+        again; the AVR core's ``findMulti`` (a 16-bit board) walks back to the longest match
+        that byte continues (``,,{`` holds ``,{``).
         """
+        if self.int_bits == 16:
+            return self._find_avr(target)
         index = 0
         while (byte := self.timed_read()) > 0:
             if byte == target[index]:
@@ -194,6 +199,25 @@ class _Cursor:
                     return True
             else:
                 index = 0
+        return False
+
+    def _find_avr(self, target: bytes) -> bool:
+        """The AVR core's ``Stream::findMulti`` with one target: only a timeout ends it."""
+        index = 0
+        while (byte := self.timed_read()) >= 0:
+            if byte == target[index]:
+                index += 1
+                if index == len(target):
+                    return True
+                continue
+            matched = index
+            while index:  # the longest shorter match that this byte continues
+                index -= 1
+                if byte == target[index]:
+                    diff = matched - index
+                    if all(target[i] == target[i + diff] for i in range(index)):
+                        index += 1
+                        break
         return False
 
     def read_bytes_until(self, terminator: int, length: int) -> str:

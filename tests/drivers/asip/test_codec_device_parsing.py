@@ -658,3 +658,13 @@ def test_byte_by_byte_gives_the_same_requests() -> None:
     got = feed(codec, *(SPLIT_STREAM[i : i + 1] for i in range(len(SPLIT_STREAM))))
     assert messages(got) == SPLIT_REQUESTS
     assert not codec.stats.faults
+
+
+def test_an_avr_boards_find_walks_back_to_the_match_a_byte_continues() -> None:
+    # the AVR core's findMulti: ",," then "{" still holds ",{"; the Teensy 3 core restarts
+    # the match without looking at the "{" again, and reads on to its timeout
+    got = feed(AsipCodec(Role.DEVICE, int_bits=16), b"L,G,1,,{0:50}\n#,?\n")
+    assert got == [m.LcdBarGraph(((0, 50),)), m.InvalidServiceRequest("}"), m.VersionRequest()]
+    teensy = AsipCodec(Role.DEVICE, int_bits=32)
+    assert feed(teensy, b"L,G,1,,{0:50}\n") == []
+    assert teensy.waiting

@@ -512,3 +512,21 @@ def test_a_long_lcd_row_is_read_as_the_boards_core_reads_it(
     board.run(0.05)
     assert board.lines() == [answer]
     assert board.sim.device.state.lcd_rows[2] == row  # type: ignore[attr-defined]
+
+
+def test_an_encoder_pin_reads_its_pulled_up_lines_and_follows_the_wheel() -> None:
+    # the Encoder library pulls its lines up: pin 7 (wheel 0's B line) reads high at rest;
+    # I,P joins it to port 4's report mask even though the motor service owns it
+    board = quiet_board(uart=True)
+    board.send(b"I,P,7,1\n")
+    board.run(0.05)
+    assert board.lines() == ["@I,d,4,80", "~I,P,4{MODE_UNAVAILABLE}"]
+    board.send(b"M,m,0,40\n")
+    board.run(0.3)
+    board.send(b"M,S,0\n")
+    board.run(0.5)
+    reports = [line for line in board.lines() if line.startswith("@I,d,4,")]
+    ticks = board.sim.body.ticks[0]
+    assert ticks > 8 and len(reports) >= 2  # the B line went low and high as the wheel turned
+    # forward, (A, B) go (1, 1), (1, 0), (0, 0), (0, 1): B is high at ticks 0 and 3 (mod 4)
+    assert reports[-1] == ("@I,d,4,80" if ticks % 4 in (0, 3) else "@I,d,4,0")
