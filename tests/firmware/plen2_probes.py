@@ -283,6 +283,35 @@ SLOT_PROBES: tuple[Probe, ...] = (
 pushed, the last slot and the ones past it, motions whose header and frames were written in
 part (a header without all its frames, frames without a header, a header rewritten)."""
 
+
+def timed_frame(slot: int, index: int, time_ms: int, value: int) -> bytes:
+    """A frame of ``time_ms`` setting every joint to ``value``, as a setter writes it."""
+    return b">MF%02x%02x%04x" % (slot, index, time_ms) + b"%04x" % (value & 0xFFFF) * 24
+
+
+EDGE_PROBES: tuple[Probe, ...] = (
+    probe("long: 500 junk bytes, then a getter", b"q" * 500 + b"<VI", settle_s=GETTER_S),
+    probe("long: 1000 headers", b"<" * 1000 + b"<VI", settle_s=GETTER_S),
+    probe("high: a byte above 127 in an angle", b"$AN0a\x8064<VI", settle_s=GETTER_S),
+    probe("high: 0xFF as a header", b"\xffVI<VI", settle_s=GETTER_S),
+    paced("high: a name above 127", b">MH0ecaf\xe9               0000000000001<MO0e", GETTER_S),
+    probe("crlf: CR around a getter", b"\r<VI\r", settle_s=GETTER_S),
+    probe("crlf: LF LF around a getter", b"\n\n<VI\n\n", settle_s=GETTER_S),
+    probe("crlf: CRLF inside a setter", b">HO0\r\n1064<JS", settle_s=GETTER_S),
+    probe("unknown: header lookalikes", b"!VI@VI&VI*VI<VI", settle_s=GETTER_S),
+    probe("range: joint 23", b"$AN17100"),
+    probe("range: joint 25", b"$AN19100"),
+    probe("range: home again", b"$HP"),
+    Probe("split: 100 ms apart", (b"$AN0", b"a064"), 0.04, 0.1),
+    Probe("split: a getter 300 ms apart", (b"<V", b"I"), GETTER_S, 0.3),
+    probe("split: an empty write between", b"<", b"", b"V", b"I", settle_s=GETTER_S),
+    probe("burst: 20 getters", b"<VI" * 20, settle_s=0.3),
+    probe("burst: home after it", b"$HP"),
+)
+"""Long runs, bytes above 127, line ends, header lookalikes, joints at their edges, a frame of
+8192 ms (its count of updates is 0 in a ``uint8_t``: ``MotionController``
+divides by zero, and avr-gcc's division gives -1), commands in pieces far apart, bursts."""
+
 TIMING_PROBES: tuple[Probe, ...] = (
     probe("stray bytes ahead of a getter", b"x" * 60 + b"<VI", settle_s=GETTER_S),
     probe("a getter kept behind a long reply", b"<JS" + b"x" * 40 + b"<VI", settle_s=GETTER_S),
@@ -304,6 +333,7 @@ PROBES = (
     + ERROR_PROBES
     + OUTSIDE_TABLE_PROBES
     + ARGUMENT_PROBES
+    + EDGE_PROBES
     + SLOT_PROBES
     + TIMING_PROBES
 )

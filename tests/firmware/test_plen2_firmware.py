@@ -25,11 +25,12 @@ from dataclasses import dataclass
 import pytest
 from firmware.avr import Board, build, symbol_address
 from firmware.plen2_lockstep import PWMS, servo_pwm
-from firmware.plen2_probes import PROBES, Probe
+from firmware.plen2_probes import PROBES, Probe, timed_frame
 from firmware.recipes import PLEN2_BAUD, PLEN2_EEPROM, PLEN2_F_CPU_HZ, PLEN2_MCU, plen2_32u4
 
 from roboscript.drivers.plen import messages as m
 from roboscript.drivers.plen.device import Plen2Board
+from roboscript.drivers.plen.driver import CHUNK_GAP_S
 from roboscript.profiles import get_profile
 from roboscript.sim.simulation import Simulation
 from roboscript.sim.world import load_world
@@ -152,3 +153,54 @@ def test_an_erased_slot_is_the_one_dump_that_differs() -> None:
     assert firmware.startswith(b'{\r\n\t"slot": 255,\r\n\t"name": "' + b"\xff" * 20)
     assert len(firmware) > 10_000
     assert sim.startswith(b'{\r\n\t"slot": 0,') and sim.endswith(b'"frames": [\r\n\t]\r\n}\r\n')
+
+
+def _servo_outputs_over(writes: list[tuple[bytes, float]]) -> list[tuple[tuple[int, ...], ...]]:
+    """Both boards from power-on, each ``(bytes, then run seconds)`` in turn: the servo
+    outputs of each after every write's run, firmware first."""
+    elf = build(plen2_32u4())
+    pwms = symbol_address(elf, PWMS)
+    plen2 = get_profile("plen2")
+    profile = dataclasses.replace(plen2, options={"transport": "uart"})
+    simulation = Simulation(load_world("empty"), profile, seed=1, physics_dt_s=PROBE_STEP_S)
+    simulation.connect()
+    device = simulation.device
+    assert isinstance(device, Plen2Board)
+    outputs = []
+    with Board(
+        elf, PLEN2_MCU, PLEN2_F_CPU_HZ, uart="1", baud=PLEN2_BAUD, eeprom=PLEN2_EEPROM
+    ) as board:
+        board.advance_to(BOOT_S)
+        simulation.tick(BOOT_S, BOOT_S)
+        for data, run_s in writes:
+            board.exchange(data, run_s)
+            simulation.write(data)
+            simulation.tick(board.time_s, run_s)
+            firmware = struct.unpack(f"<{m.JOINT_COUNT}H", board.peek(pwms, 2 * m.JOINT_COUNT))
+            sim = tuple(servo_pwm(angle) for angle in device.angles_ddeg)
+            outputs.append((firmware, sim))
+    return outputs
+
+
+def test_an_erased_slot_played_on_a_new_board_moves_as_the_firmware_does() -> None:
+    """A new board's frame buffers hold frames of 0 ms: the erased slot's refused frame
+    reads leave one in place, and ``MotionController`` divides by its count of 0
+    (avr-gcc's division gives -1): every joint goes a tenth of a degree below home."""
+    [(firmware, sim)] = _servo_outputs_over([(b"$PM0a", 0.3)])
+    assert sim == firmware
+
+
+def test_a_frame_of_8192_ms_inside_a_motion_is_passed_over_as_the_firmware_does() -> None:
+    """8192 ms is 256 updates, 0 in ``MotionController``'s ``uint8_t`` count: loaded just
+    after an update, the frame is finished before the next one, and the frame after it
+    starts from its values."""
+    header = b">MH0bzero-count          0000000000003"
+    frames = [timed_frame(11, 0, 64, 100), timed_frame(11, 1, 8192, -100)]
+    frames.append(timed_frame(11, 2, 96, 50))
+    writes = [(header[i : i + 32], CHUNK_GAP_S) for i in range(0, len(header), 32)]
+    for frame in frames:
+        writes += [(frame[i : i + 32], CHUNK_GAP_S) for i in range(0, len(frame), 32)]
+    writes += [(b"$PM0b", 0.05), (b"", 0.05), (b"", 0.05), (b"", 0.5)]
+    outputs = _servo_outputs_over(writes)[-4:]
+    assert [sim for _, sim in outputs] == [firmware for firmware, _ in outputs]
+    assert len({firmware for firmware, _ in outputs}) >= 3  # it moved on the way

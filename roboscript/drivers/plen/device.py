@@ -124,6 +124,9 @@ SETTINGS_S = 1.9e-3
 
 _UPDATE_INTERVAL_MS = 32
 _FIXED_BITS = 16
+_MOST_PASSED_FRAMES = 256
+"""A bound on frames of no updates passed in one turn of the loop (a looping motion of such
+frames spins in the firmware until its next update)."""
 _QUEUE_SIZE = 32
 _ERASED_TIME_MS = 0xFFFF
 _ERASED_VALUE = -1
@@ -492,6 +495,7 @@ class Plen2Board:
         self.header = header
         self._setup(0)
         self.playing = True
+        self._pass_finished_frames()
 
     def _pop(self) -> None:
         if not self.queue:
@@ -521,17 +525,36 @@ class Plen2Board:
         if frame is not None:  # a refused read leaves the buffer as it was
             self._next = frame
         # MotionController.h keeps the count in a uint8_t: from 8192 ms on it wraps (10240 ms
-        # is 64 updates). A count of 0 (under 32 ms, or a multiple of 8192 ms) divides by zero
-        # in the firmware; here it takes one update.
-        self._count = max(1, (self._next.transition_time_ms // _UPDATE_INTERVAL_MS) & 0xFF)
+        # is 64 updates). A count of 0 (under 32 ms, or a multiple of 8192 ms) divides by
+        # zero: avr-gcc's __divmodsi4 then gives -1 (+1 for a negative difference).
+        self._count = (self._next.transition_time_ms // _UPDATE_INTERVAL_MS) & 0xFF
         for joint in range(m.JOINT_COUNT):
             self._fixed[joint] = self._current.values[joint] << _FIXED_BITS
-            target = self._next.values[joint] << _FIXED_BITS
-            self._step[joint] = _cdiv(target - self._fixed[joint], self._count)
+            diff = (self._next.values[joint] << _FIXED_BITS) - self._fixed[joint]
+            if self._count:
+                self._step[joint] = _cdiv(diff, self._count)
+            else:
+                self._step[joint] = 1 if diff < 0 else -1
+
+    def _pass_finished_frames(self) -> None:
+        """The firmware's loop after a frame is set up: an update falls due first when one is
+        (``frameUpdatable``), and a count of 0 then wraps to 255 (the frame takes 256
+        updates); otherwise a frame of no updates is finished at once, so the next one is
+        loaded (or the motion stops) without the angles moving. Frames of no updates that
+        loop for ever spin until the next update falls due."""
+        for _ in range(_MOST_PASSED_FRAMES):
+            if not self.playing or self._count or self._update_due:
+                return
+            if self._next_loadable():
+                self._load_next()
+            else:
+                self._stop()
+                if self.queue:
+                    self._pop()
 
     def _update(self) -> None:
         self.update_count += 1
-        self._count -= 1
+        self._count = (self._count - 1) & 0xFF  # a uint8_t: 0 wraps to 255
         for joint in range(m.JOINT_COUNT):
             self._fixed[joint] += self._step[joint]
             self._set_angle(joint, self.home_ddeg[joint] + (self._fixed[joint] >> _FIXED_BITS))
@@ -540,6 +563,7 @@ class Plen2Board:
             return
         if self._next_loadable():
             self._load_next()
+            self._pass_finished_frames()
             if not self.playing and self.queue:
                 self._pop()
         else:

@@ -137,6 +137,35 @@ def test_a_frame_never_written_reads_as_erased_memory() -> None:
     assert set(reply.frames[2].offsets_ddeg) == {-1}
 
 
+def test_a_frame_of_no_updates_divides_by_zero_as_the_avr_does() -> None:
+    # an erased slot's header is slot 255, whose frames Frame::get refuses: the buffer keeps
+    # its frame of 0 ms, the count is 0, and `diff /= 0` gives -1 (avr-gcc's __divmodsi4):
+    # at the first update every joint goes one tenth of a degree below its home, and stays
+    rig = Rig()
+    rig.send(b"$pm0a")
+    assert rig.board.playing and rig.board.angles_ddeg == list(FACTORY_HOME_DDEG)
+    rig.run(0.6)
+    assert rig.board.angles_ddeg == [home - 1 for home in FACTORY_HOME_DDEG]
+
+
+def test_a_frame_of_no_updates_is_passed_over_without_moving() -> None:
+    # a frame of 8192 ms is 256 updates, 0 in the firmware's uint8_t: played when no update
+    # is due, it is finished at once, the next frame is set up from it, and the joints
+    # move from there
+    rig = Rig()
+    header = knee_motion()
+    frames = [
+        dataclasses.replace(KNEE_FRAMES[0], transition_time_ms=8192),
+        *KNEE_FRAMES[1:],
+    ]
+    rig.store(header, frames)
+    rig.send(b"$pm05")
+    rig.run(UPDATE_INTERVAL_S)
+    assert rig.board.update_count == 1
+    # from frame 0's 100 toward frame 1's 250 in three updates: 150 after the first
+    assert rig.board.angles_ddeg[KNEE] == FACTORY_HOME_DDEG[KNEE] + 150
+
+
 def feed_host(data: bytes) -> list[object]:
     codec = PlenCodec(Role.HOST)
     codec.receive_data(data)
