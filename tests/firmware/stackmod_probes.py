@@ -181,4 +181,26 @@ DRIVE_PROBES: tuple[Probe, ...] = (
 )
 """Packets after which the motor outputs are compared too (besides :data:`DRIVER_PROBES`)."""
 
-PROBES = DRIVER_PROBES + PARSER_PROBES + DRIVE_PROBES
+EDGE_PROBES: tuple[Probe, ...] = (
+    Probe("CR LF after a packet", (_mtr(b"1+011") + b"\r\n",)),
+    Probe("CR LF before a packet", (b"\r\n" + _mtr(b"2+012")[1:],)),
+    Probe("LF inside the text", (packet(b"Ep$MTR1\n+13"),)),
+    Probe("a write of bytes above 127 only", (bytes(range(0x80, 0xA0)),)),
+    Probe("0xFF run, then a packet", (b"\xff" * 10 + _mtr(b"1+014")[1:],)),
+    Probe("unknown command letters", (packet(b"Ep$QQQ1+015"),)),
+    Probe("motor 1 at +255", (_mtr(b"1+255"),), drives=True),
+    Probe("motor 2 at -255", (_mtr(b"2-255"),), drives=True),
+    Probe("motor 4", (_mtr(b"4+016"),)),
+    Probe("motor 255", (_mtr(b"255+1"),)),
+    Probe("a packet in one-byte writes", tuple(bytes([b]) for b in _mtr(b"2+017"))),
+    Probe(
+        "two packets, the second split",
+        (_mtr(b"1+018") + _mtr(b"2+019")[1:8], _mtr(b"2+019")[8:]),
+    ),
+    Probe("a 40-byte write", (b"2" * 26 + _mtr(b"1+020")[1:],)),
+    Probe("both stopped", (_mtr(b"1+000"), _mtr(b"2+000")), drives=True),
+)
+"""Line ends around and inside packets, bytes above 127, unknown command letters, motors past
+the module's, a packet in pieces and a write past the I2C buffer's 32 bytes."""
+
+PROBES = DRIVER_PROBES + PARSER_PROBES + EDGE_PROBES + DRIVE_PROBES
