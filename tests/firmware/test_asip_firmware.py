@@ -35,7 +35,7 @@ KNOWN_DIFFERENCES: dict[str, str] = {
         ),
         "events as fast as the line takes them: the emulated UART sends a byte every 3000 "
         "cycles (187.5 us, measured: the 418-byte greeting takes 78 ms), a 16 MHz 328P at 57600 "
-        "baud (UBRR 34, U2X) every 175 us, which the simulated board keeps: it fits 2 or 3 "
+        "baud (UBRR 34, U2X) every 175 us, the simulated board every 173.6 us: it fits 2 or 3 "
         "events more in 0.12 s; the bytes the emulator has not sent by the end of a probe "
         "come in the next probe's answer",
     ),
