@@ -22,6 +22,7 @@ from typing import Any
 
 from roboscript import capabilities as cap
 from roboscript.actions.base import PARAM_EXAMPLES, Param
+from roboscript.drivers.asip.options import AsipOptions
 from roboscript.errors import InputError, MissionError
 from roboscript.inputs.quantities import DIMENSIONS
 from roboscript.inputs.source import Location
@@ -311,8 +312,6 @@ def _tone_problems(spec: MissionSpec, profile: Any) -> list[InputError]:
     on an ATmega328P keeps a tone's length in a 16-bit ``int`` (32.767 s)."""
     if getattr(profile, "protocol", None) != "asip":
         return []
-    from roboscript.drivers.asip.options import AsipOptions  # only an ASIP board has the limit
-
     options = AsipOptions.from_mapping(profile.options, profile=profile.name)
     longest_s = options.longest_tone_ms / 1000.0
     problems: list[InputError] = []
