@@ -49,6 +49,7 @@ from roboscript.errors import (
     nearby_file,
 )
 from roboscript.inputs.quantities import DIMENSIONS
+from roboscript.mission.error_column import error_column
 from roboscript.mission.guards import guard_names
 from roboscript.mission.key_mistakes import meant_in_state_call
 from roboscript.mission.python_api import LOADED_PREFIX, Mission, state
@@ -651,10 +652,16 @@ def _import_problem(
         if Path(frame.filename).resolve() != Path(path).resolve():
             where = shown_path(frame.filename)
         line = frame.lineno
-        colno = getattr(frame, "colno", None)  # Python 3.11+
+        colno = error_column(exc, frame)
         col = colno + 1 if colno is not None else None
     message, hint = _explain(exc, module, raised_by_roboscript(exc), kind, frame)
     return MissionError(message, path=where, line=line, col=col, hint=hint)
+
+
+_OLD_UNBOUND = re.compile(r"^local variable '(\w+)' referenced before assignment$")
+_UNBOUND = r"cannot access local variable '\1' where it is not associated with a value"
+"""Python 3.10's words for an UnboundLocalError, and 3.11's, which say it as every Python
+after: a student reads the same sentence whichever Python runs the mission."""
 
 
 def _explain(
@@ -666,8 +673,9 @@ def _explain(
 ) -> tuple[str, str | None]:
     """A message and a hint for an exception raised while a student's file was imported
     (``frame``: the student's line it was raised at)."""
-    text = str(exc)
-    call = _call_at(module, frame)
+    text = _OLD_UNBOUND.sub(_UNBOUND, str(exc))
+    colno = error_column(exc, frame) if frame is not None else None
+    call = _call_at(module, frame, colno)
     if isinstance(exc, SystemExit):
         return f"the {kind} file called exit() while it was loaded", None
     line = linecache.getline(frame.filename, frame.lineno or 0) if frame is not None else ""
@@ -741,7 +749,7 @@ def _explain(
             return f"NameError: {text}", f"add 'from roboscript import {name}'"
         if name == "self" and frame is not None:
             line = linecache.getline(frame.filename, frame.lineno or 0)
-            meant = _self_in_class_body(line[getattr(frame, "colno", None) or 0 :], module)
+            meant = _self_in_class_body(line[colno or 0 :], module)
             if meant is not None:
                 return f"NameError: {text}", meant
         what = _class_members(module).get(name)
@@ -805,10 +813,11 @@ def _mission_class(value: object) -> type[Mission] | None:
     return cls if issubclass(cls, Mission) else None
 
 
-def _call_at(module: ModuleType, frame: traceback.FrameSummary | None) -> ast.Call | None:
-    """The call in the student's file that Python says failed (Python 3.11 and later, which
-    keep the column), or ``None``."""
-    colno = getattr(frame, "colno", None)
+def _call_at(
+    module: ModuleType, frame: traceback.FrameSummary | None, colno: int | None
+) -> ast.Call | None:
+    """The call in the student's file that failed (``frame``'s line, at 0-based ``colno``), or
+    ``None``."""
     tree = _tree(module) if frame is not None and colno is not None else None
     if tree is None or frame is None:
         return None

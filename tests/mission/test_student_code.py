@@ -21,6 +21,7 @@ from helpers import run_cli
 
 from roboscript.actions.base import Action, Result
 from roboscript.errors import MissionError
+from roboscript.mission import error_column
 from roboscript.mission.python_api import Mission, state
 from roboscript.mission.student_code import (
     StudentCodeError,
@@ -361,6 +362,35 @@ def test_a_mistake_at_load_time_is_told_at_the_students_line(
     here: Path, text: str, expected: str
 ) -> None:
     assert _message(_write(here, "m.py", text).name) == expected
+
+
+@pytest.mark.parametrize(("text", "expected"), LOAD_TIME)
+def test_a_mistake_is_told_at_the_same_column_on_a_python_that_keeps_none(
+    here: Path, text: str, expected: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Python 3.10 keeps no column in a traceback: the column is found in the line itself
+    monkeypatch.setattr(error_column, "python_column", lambda frame: None)
+    assert _message(_write(here, "m.py", text).name) == expected
+
+
+@pytest.mark.parametrize(
+    ("go", "expected"),
+    [
+        ('state(Drive(distance_mm=500, speed_mm_s=-5), initial=True, on_done="end")', "5:16"),
+        ('state(Drive(distnce_mm=500), initial=True, on_done="end")', "5:16"),
+        ('state(Drive(distance_mm=500), "end")', "5:10"),
+        ('state(Parallel(Drive(distance_mm=500), Rotate(angle_deg=90)), on_done="end")', "5:16"),
+        ('state(Repeat(Rotate(angle_deg=90), times=0), initial=True, on_done="end")', "5:16"),
+        ("state(Wait(duration_s=1), initial=True, on_done=self.end)", "5:58"),
+        ('state(Drvie(distance_mm=500), initial=True, on_done="end")', "5:16"),
+    ],
+)
+def test_a_mistake_in_a_state_call_is_told_at_its_column_on_a_python_that_keeps_none(
+    here: Path, go: str, expected: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(error_column, "python_column", lambda frame: None)
+    _write(here, "m.py", PYTHON_MISSION.format(go=go))
+    assert _message("m.py").startswith(f"m.py:{expected}: error: ")
 
 
 def test_a_behaviour_file_that_exits_is_called_a_behaviour_file(here: Path) -> None:
