@@ -138,6 +138,9 @@ def parse_quantity(value: object, dimension: str, default_unit: str | None = Non
         )
     number_match = _NUMBER.match(text)
     unit = text[number_match.end() :].strip() if number_match else ""
+    fraction = _FRACTION.match(text) if unit.startswith("/") else None
+    if fraction is not None:  # "1/2 m"
+        raise QuantityError(f"'{text}' is a fraction", _fraction_written(fraction, dim))
     if not number_match or unit[:1].isdigit():
         raise QuantityError(f"expected {_a(dim.name)} such as {_example(dim)}, got {value!r}")
     number = float(number_match.group())
@@ -171,8 +174,103 @@ def parse_quantity(value: object, dimension: str, default_unit: str | None = Non
             raise QuantityError(
                 f"'{unit}' is a unit of {other.name}, but this is {_a(dim.name)} (use {fits})"
             )
-        raise QuantityError(f"unknown unit '{unit}' for {_a(dim.name)} (use {fits})")
+        meant = _written_otherwise(number, unit, dim)
+        raise QuantityError(
+            f"unknown unit '{unit}' for {_a(dim.name)}" + ("" if meant else f" (use {fits})"),
+            meant,
+        )
     return number * unit_factor
+
+
+_WORDS = {
+    "millimeter": "mm",
+    "millimetre": "mm",
+    "centimeter": "cm",
+    "centimetre": "cm",
+    "centímetro": "cm",
+    "centimetro": "cm",
+    "meter": "m",
+    "metre": "m",
+    "metro": "m",
+    "mtr": "m",
+    "inch": "in",
+    "second": "s",
+    "secs": "s",
+    "segundo": "s",
+    "millisecond": "ms",
+    "msec": "ms",
+    "minute": "min",
+    "mins": "min",
+    "degree": "deg",
+    "degre": "deg",
+    "degs": "deg",
+    "grad": "deg",
+    "grados": "deg",
+    "º": "deg",
+    "˚": "deg",
+    "radian": "rad",
+    "rads": "rad",
+    "revolution": "rev",
+    "revs": "rev",
+    "hertz": "Hz",
+    "kilohertz": "kHz",
+}
+"""Units written out, in the plural, in another language or with a look-alike sign, and the
+unit roboscript spells them with."""
+_CONVERTED = {
+    "foot": ("in", 12.0),
+    "feet": ("in", 12.0),
+    "ft": ("in", 12.0),
+    "dm": ("cm", 10.0),
+    "turn": ("deg", 360.0),
+    "rotation": ("deg", 360.0),
+    "km/h": ("cm/s", 100_000 / 3600),
+    "kph": ("cm/s", 100_000 / 3600),
+    "mph": ("cm/s", 160_934.4 / 3600),
+}
+"""Units roboscript has no name for, as a number of a unit it has."""
+_PER_SECOND = re.compile(r"\s*(?:/|per|a|an)\s*(?:s|sec|secs|second|seconds)$", re.IGNORECASE)
+_FRACTION = re.compile(r"^([-+]?\d+)\s*/\s*(\d+)\s*(.*)$")
+
+
+def _fraction_written(fraction: re.Match[str], dim: Dimension) -> str | None:
+    """How to write a quantity written as a fraction (``1/2 m``: ``0.5 m``), or ``None``."""
+    if int(fraction.group(2)) == 0:
+        return None
+    value = int(fraction.group(1)) / int(fraction.group(2))
+    unit = fraction.group(3).strip()
+    written = f"{value:g} {unit}".strip()
+    if unit and _unit_for(dim, unit) is None:
+        otherwise = _written_otherwise(value, unit, dim)
+        return None if otherwise is None else f"a quantity is one number: {otherwise}"
+    return f"a quantity is one number and its unit: write {written}"
+
+
+def _written_otherwise(number: float, unit: str, dim: Dimension) -> str | None:
+    """How to write a quantity whose unit roboscript does not know with one it does
+    (``10 centimeters``: ``write 10 cm``), or ``None``."""
+    per_second = _PER_SECOND.search(unit)
+    base = unit[: per_second.start()] if per_second else unit
+    known = _known_unit(base.strip().rstrip(".").removesuffix("'s").lower())
+    if known is None:
+        return None
+    name, factor = known
+    written_unit = f"{name}/s" if per_second and "/" not in name else name
+    if _unit_for(dim, written_unit) is None:
+        return None
+    return f"write {number * factor:.4g} {written_unit}"
+
+
+def _known_unit(word: str) -> tuple[str, float] | None:
+    """The unit roboscript names ``word`` by, and how many of it one ``word`` is."""
+    for spelled in (word, word.removesuffix("s"), word.removesuffix("es")):
+        if spelled in _WORDS:
+            return _WORDS[spelled], 1.0
+        if spelled in _CONVERTED:
+            return _CONVERTED[spelled]
+        if any(spelled == unit.lower() for d in DIMENSIONS.values() for unit in d.units):
+            return spelled, 1.0
+    return None
 
 
 def bare_number_warning(

@@ -67,3 +67,52 @@ def test_a_letter_o_typed_for_a_zero_is_named_with_the_number_meant(text: str, m
 def test_a_unit_starting_with_o_after_a_space_is_an_unknown_unit() -> None:
     with pytest.raises(QuantityError, match="unknown unit 'Oranges'"):
         parse_quantity("3 Oranges", "distance")
+
+
+@pytest.mark.parametrize(
+    ("text", "dimension", "meant"),
+    [
+        ("10 centimeters", "distance", "write 10 cm"),
+        ("10 centimetres", "distance", "write 10 cm"),
+        ("10 inches", "distance", "write 10 in"),
+        ("10 cms", "distance", "write 10 cm"),
+        ("10cm.", "distance", "write 10 cm"),
+        ("50 cm's", "distance", "write 50 cm"),
+        ("1 foot", "distance", "write 12 in"),
+        ("5 dm", "distance", "write 50 cm"),
+        ("10 metros", "distance", "write 10 m"),
+        ("90º", "angle", "write 90 deg"),
+        ("90 degres", "angle", "write 90 deg"),
+        ("1 turn", "angle", "write 360 deg"),
+        ("2 secs", "time", "write 2 s"),
+        ("2 seconds", "time", "write 2 s"),
+        ("440 hertz", "frequency", "write 440 Hz"),
+        ("10 cm per second", "speed", "write 10 cm/s"),
+        ("10 centimeters per second", "speed", "write 10 cm/s"),
+        ("10 cm/sec", "speed", "write 10 cm/s"),
+        ("1 km/h", "speed", "write 27.78 cm/s"),
+    ],
+)
+def test_a_unit_written_out_or_another_way_is_told_how_roboscript_writes_it(
+    text: str, dimension: str, meant: str
+) -> None:
+    with pytest.raises(QuantityError) as info:
+        parse_quantity(text, dimension)
+    assert info.value.hint == meant
+
+
+@pytest.mark.parametrize(
+    ("text", "dimension", "meant"),
+    [
+        ("1/2 m", "distance", "a quantity is one number and its unit: write 0.5 m"),
+        ("3/4 centimeters", "distance", "a quantity is one number: write 0.75 cm"),
+        ("1/4 turn", "angle", "a quantity is one number: write 90 deg"),
+    ],
+)
+def test_a_quantity_written_as_a_fraction_is_told_as_one_number(
+    text: str, dimension: str, meant: str
+) -> None:
+    with pytest.raises(QuantityError) as info:
+        parse_quantity(text, dimension)
+    assert info.value.message == f"'{text}' is a fraction"
+    assert info.value.hint == meant
