@@ -575,6 +575,12 @@ _OTHER_LANGUAGE = tuple(
             "Python has no braces: end the line with ':' and indent the lines of its block",
         ),
         (r"^\s*function\b", "Python defines a function with def: def name(self):"),
+        (
+            r"^\s*(?:void|int|float|bool|char)\s+\w+\s*\(",
+            "this line is C or Arduino code: a roboscript mission is written in Python or YAML",
+        ),
+        (r"<>", "Python writes 'is not equal to' as !="),
+        (r"\b\d+[lL]\b", "a number in Python has no L at its end: write 500, not 500L"),
         (r"^\s*(?:var|let|const)\s+\w+\s*=", "Python needs no var or let: write name = value"),
         (r"&&|\|\||!\s*(?=self\b|\()", _AND_OR_NOT),
         (r"\b(?:AND|OR|NOT|And|Or|Not)\b", "Python writes and, or and not in lower case"),
@@ -778,6 +784,11 @@ def _explain(
             "take this line away, roboscript run runs the file's mission; to run it with python"
             f' too, write {mission.__name__}.main() under if __name__ == "__main__":'
         )
+    top = (getattr(exc, "name", None) or "").split(".")[0]
+    if isinstance(exc, ModuleNotFoundError) and top in _OTHER_ROBOTS_LIBRARIES:
+        return _other_robots_library(top)
+    if isinstance(exc, ModuleNotFoundError) and top.lower().replace("_", "") == "roboscript":
+        return f"ModuleNotFoundError: {text}", "write it in lower case, in one word: roboscript"
     if isinstance(exc, ModuleNotFoundError) and exc.name and "." not in exc.name:
         file = Path(getattr(module, "__file__", None) or f"{kind}.py")
         return f"ModuleNotFoundError: {text}", (
@@ -786,6 +797,15 @@ def _explain(
         )
     if isinstance(exc, ImportError):
         match = _CANNOT_IMPORT.match(text)
+        if (
+            match
+            and match.group(2).startswith("roboscript.")
+            and match.group(1) in _roboscript_names()
+        ):
+            return f"{match.group(2)} has no '{match.group(1)}' to import", (
+                f"a mission imports from roboscript itself: write from roboscript import"
+                f" {match.group(1)}"
+            )
         if match and match.group(2) == "roboscript":
             name = match.group(1)
             other = _OTHER_WORDS.get(name)
@@ -805,6 +825,51 @@ def _explain(
         if base is not None:
             return f"'{base.group(2)}' is a module, not a class to extend", None
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__, None
+
+
+_OTHER_ROBOTS_LIBRARIES = {
+    "pybricks": "Pybricks",
+    "spike": "the LEGO SPIKE app",
+    "mindstorms": "the LEGO MINDSTORMS app",
+    "hub": "the LEGO SPIKE app",
+    "motor": "the LEGO SPIKE app",
+    "motor_pair": "the LEGO SPIKE app",
+    "runloop": "the LEGO SPIKE app",
+    "color_sensor": "the LEGO SPIKE app",
+    "distance_sensor": "the LEGO SPIKE app",
+    "force_sensor": "the LEGO SPIKE app",
+    "ev3dev": "ev3dev (LEGO EV3)",
+    "ev3dev2": "ev3dev (LEGO EV3)",
+    "vex": "VEXcode",
+    "vexiq": "VEXcode",
+    "vexcode": "VEXcode",
+    "vexcode_vr": "VEXcode VR",
+    "microbit": "the micro:bit",
+    "cyberpi": "mBlock (CyberPi)",
+    "mbot": "mBlock (mBot)",
+    "buildhat": "the Raspberry Pi Build HAT",
+}
+"""Libraries of code written for another robot's own software, which a student copies from
+its examples: the modules a file imports first, and whose they are."""
+
+
+def _other_robots_library(top: str) -> tuple[str, str]:
+    """The sentence for a file importing ``top``, another robot's library, and the hint."""
+    spike = (
+        'write robot = "spike-prime" in the mission class; '
+        if "SPIKE" in (_OTHER_ROBOTS_LIBRARIES[top]) or top == "pybricks"
+        else ""
+    )
+    return (
+        (
+            f"'{top}' is a library of {_OTHER_ROBOTS_LIBRARIES[top]}, for code that runs on"
+            " that robot's own software: a roboscript mission does not use it"
+        ),
+        (
+            f"{spike}a mission is a class of states, e.g. from roboscript import Drive, Mission,"
+            ' state, then go = state(Drive(distance_mm=500), initial=True, on_done="end")'
+        ),
+    )
 
 
 def _mission_class(value: object) -> type[Mission] | None:

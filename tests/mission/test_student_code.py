@@ -1066,3 +1066,67 @@ def test_a_missing_attribute_is_told_with_the_name_meant_or_that_it_was_never_se
             " has no attribute 'count' (self.count is read before anything sets it: give it a"
             " first value in the class, count = 0) (m.py:8)"
         )
+
+
+@pytest.mark.parametrize(
+    ("first_line", "library", "whose"),
+    [
+        ("from pybricks.hubs import PrimeHub", "pybricks", "Pybricks"),
+        ("import motor_pair", "motor_pair", "the LEGO SPIKE app"),
+        ("from spike import PrimeHub, MotorPair", "spike", "the LEGO SPIKE app"),
+        ("from hub import port", "hub", "the LEGO SPIKE app"),
+        ("from vex import *", "vex", "VEXcode"),
+        ("from ev3dev2.motor import MoveTank", "ev3dev2", "ev3dev (LEGO EV3)"),
+        ("from microbit import *", "microbit", "the micro:bit"),
+    ],
+)
+def test_code_copied_from_another_robots_examples_names_whose_library_it_imports(
+    here: Path, first_line: str, library: str, whose: str
+) -> None:
+    _write(here, "m.py", f"{first_line}\n")
+    message = _message("m.py")
+    assert message.startswith(
+        f"m.py:1:1: error: '{library}' is a library of {whose}, for code that runs on that"
+        " robot's own software: a roboscript mission does not use it ("
+    )
+    assert "from roboscript import Drive, Mission, state" in message
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        (
+            "from RoboScript import Mission\n",
+            "m.py:1:1: error: ModuleNotFoundError: No module named 'RoboScript' (write it in"
+            " lower case, in one word: roboscript)",
+        ),
+        (
+            "from robo_script import Mission\n",
+            "m.py:1:1: error: ModuleNotFoundError: No module named 'robo_script' (write it in"
+            " lower case, in one word: roboscript)",
+        ),
+        (
+            "from roboscript.mission import Mission, state\n",
+            "m.py:1:1: error: roboscript.mission has no 'Mission' to import (a mission imports"
+            " from roboscript itself: write from roboscript import Mission)",
+        ),
+        (
+            "void setup() {\n}\n",
+            "m.py:1:6: error: invalid syntax (this line is C or Arduino code: a roboscript"
+            " mission is written in Python or YAML)",
+        ),
+        (
+            "x = 1\nif x <> 2:\n    pass\n",
+            "m.py:2:6: error: invalid syntax (Python writes 'is not equal to' as !=)",
+        ),
+        (
+            "distance_mm = 500L\n",
+            "m.py:1:17: error: syntax error: invalid decimal literal (a number in Python has no"
+            " L at its end: write 500, not 500L)",
+        ),
+    ],
+)
+def test_roboscript_misspelt_imported_from_its_parts_or_code_of_another_language_is_told(
+    here: Path, text: str, expected: str
+) -> None:
+    assert _message(_write(here, "m.py", text).name) == expected
