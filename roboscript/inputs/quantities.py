@@ -174,10 +174,10 @@ def parse_quantity(value: object, dimension: str, default_unit: str | None = Non
             raise QuantityError(
                 f"'{unit}' is a unit of {other.name}, but this is {_a(dim.name)} (use {fits})"
             )
-        meant = _written_otherwise(number, unit, dim)
+        written = _written_otherwise(number, unit, dim)
         raise QuantityError(
-            f"unknown unit '{unit}' for {_a(dim.name)}" + ("" if meant else f" (use {fits})"),
-            meant,
+            f"unknown unit '{unit}' for {_a(dim.name)}" + ("" if written else f" (use {fits})"),
+            written,
         )
     return number * unit_factor
 
