@@ -499,6 +499,24 @@ class Action(abc.ABC):
                 )
             except ValueError:
                 continue
+            waits = (
+                "async def"
+                if inspect.iscoroutinefunction(function) or inspect.isasyncgenfunction(function)
+                else "yield"
+                if inspect.isgeneratorfunction(function)
+                else None
+            )
+            if waits is not None:  # copied from SPIKE's runloop: update() would never run
+                return (
+                    (
+                        f"{cls.__name__}.{method} is written with {waits}, but roboscript calls"
+                        " it once every tick and does not wait for it, so it would never run"
+                    ),
+                    (
+                        f"write def {method}(self, ctx): without await or yield, returning at"
+                        " once: None while it is still going, Result.done() when it has finished"
+                    ),
+                )
         return None
 
     def written_call(self) -> str:

@@ -1041,6 +1041,36 @@ def test_a_behaviour_whose_update_forgets_self_is_refused_at_check(tmp_path: Pat
     )
 
 
+@pytest.mark.parametrize(
+    ("update", "written"),
+    [
+        ("    async def update(self, ctx):\n        return Result.done()\n", "async def"),
+        ("    def update(self, ctx):\n        yield None\n", "yield"),
+    ],
+)
+def test_a_behaviour_whose_update_waits_with_async_or_yield_is_refused_at_check(
+    tmp_path: Path, update: str, written: str
+) -> None:
+    (tmp_path / "m.py").write_text(
+        "from roboscript import Action, Mission, Result, state\n\n\n"
+        "class Spin(Action):\n"
+        '    name = "spin"\n\n'
+        f"{update}\n\n"
+        "class M(Mission):\n"
+        '    go = state(Spin(), initial=True, on_done="end")\n'
+        '    end = state(final="success")\n',
+        encoding="utf-8",
+    )
+    result = run_cli("check", "m.py", cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr.splitlines()[0] == (
+        f"m.py:12:16: error: Spin.update is written with {written}, but roboscript calls it"
+        " once every tick and does not wait for it, so it would never run (write def"
+        " update(self, ctx): without await or yield, returning at once: None while it is still"
+        " going, Result.done() when it has finished)"
+    )
+
+
 class _Wheels:
     def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
         pass
@@ -1097,23 +1127,31 @@ def test_code_copied_from_another_robots_examples_names_whose_library_it_imports
     [
         (
             "from RoboScript import Mission\n",
-            "m.py:1:1: error: ModuleNotFoundError: No module named 'RoboScript' (write it in"
-            " lower case, in one word: roboscript)",
+            (
+                "m.py:1:1: error: ModuleNotFoundError: No module named 'RoboScript' (write it in"
+                " lower case, in one word: roboscript)"
+            ),
         ),
         (
             "from robo_script import Mission\n",
-            "m.py:1:1: error: ModuleNotFoundError: No module named 'robo_script' (write it in"
-            " lower case, in one word: roboscript)",
+            (
+                "m.py:1:1: error: ModuleNotFoundError: No module named 'robo_script' (write it in"
+                " lower case, in one word: roboscript)"
+            ),
         ),
         (
             "from roboscript.mission import Mission, state\n",
-            "m.py:1:1: error: roboscript.mission has no 'Mission' to import (a mission imports"
-            " from roboscript itself: write from roboscript import Mission)",
+            (
+                "m.py:1:1: error: roboscript.mission has no 'Mission' to import (a mission imports"
+                " from roboscript itself: write from roboscript import Mission)"
+            ),
         ),
         (
             "void setup() {\n}\n",
-            "m.py:1:6: error: invalid syntax (this line is C or Arduino code: a roboscript"
-            " mission is written in Python or YAML)",
+            (
+                "m.py:1:6: error: invalid syntax (this line is C or Arduino code: a roboscript"
+                " mission is written in Python or YAML)"
+            ),
         ),
         (
             "x = 1\nif x <> 2:\n    pass\n",
@@ -1121,8 +1159,10 @@ def test_code_copied_from_another_robots_examples_names_whose_library_it_imports
         ),
         (
             "distance_mm = 500L\n",
-            "m.py:1:17: error: syntax error: invalid decimal literal (a number in Python has no"
-            " L at its end: write 500, not 500L)",
+            (
+                "m.py:1:17: error: syntax error: invalid decimal literal (a number in Python has no"
+                " L at its end: write 500, not 500L)"
+            ),
         ),
     ],
 )
