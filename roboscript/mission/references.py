@@ -9,6 +9,7 @@ wrote it, with a "did you mean" over the built-in ones and the files nearby, so 
 from __future__ import annotations
 
 import dataclasses
+import re
 from pathlib import Path, PurePath
 from typing import Any
 
@@ -39,7 +40,9 @@ def _close(name: str, spec: MissionSpec, builtin: list[str], kind: FileKind) -> 
     mission (a mission beside it is no world to suggest)."""
     folder = Path(spec.path).parent
     files = [f for f in nearby_files(folder, _YAML) if file_kind(folder / f) == kind]
-    return did_you_mean(name, [*builtin, *files])
+    written = re.sub(r"[\s_]+", "-", name.strip().lower()).removeprefix("lego-")
+    # "SPIKE Prime", "LEGO spike_prime", "PLEN2": a robot's name as its maker writes it
+    return did_you_mean(name, [*builtin, *files]) or did_you_mean(written, builtin)
 
 
 def mission_robot(spec: MissionSpec, robot: str | None = None) -> Any:

@@ -128,6 +128,21 @@ def test_an_unknown_robot_is_reported_where_the_mission_names_it(tmp_path: Path)
     ]
 
 
+@pytest.mark.parametrize(
+    ("written", "meant"),
+    [
+        ("SPIKE Prime", "spike-prime"),
+        ("LEGO SPIKE Prime", "spike-prime"),
+        ("spike_prime", "spike-prime"),
+        ("StackMod Rover", "stackmod-rover"),
+    ],
+)
+def test_a_robot_named_as_its_maker_writes_it_is_offered_roboscripts_name(
+    tmp_path: Path, written: str, meant: str
+) -> None:
+    assert report(write(tmp_path, f"robot: {written}"))[0].endswith(f"(did you mean '{meant}'?)")
+
+
 def test_a_robot_profile_file_beside_the_mission_sets_its_limits(tmp_path: Path) -> None:
     (tmp_path / "slow-bot.yaml").write_text("extends: mirto\nname: slow-bot\nmax_speed_mm_s: 200\n")
     assert report(write(tmp_path, "robot: slow-bot.yaml")) == [
