@@ -359,3 +359,54 @@ def test_a_word_where_a_sensors_value_is_compared_says_what_a_value_is(
         "a sensor's value is a number or true/false: compare it with a number in the unit its"
         " name ends in, or with true or false"
     )
+
+
+@pytest.mark.parametrize(
+    ("source", "message", "hint"),
+    [
+        (
+            "range.distance_cm < 0",
+            (
+                "the condition 'range.distance_cm < 0' can never be true: a distance sensor reads 0"
+                " or more, never below 0"
+            ),
+            "compare with a distance it can read, e.g. range.distance_cm < 20",
+        ),
+        (
+            "range.distance_cm < 20 and range.distance_cm > 30",
+            (
+                "the condition 'range.distance_cm < 20 and range.distance_cm > 30' can never be"
+                " true: range.distance_cm is never below 20 and above 30 at once"
+            ),
+            "to go when either holds, write or: range.distance_cm < 20 or range.distance_cm > 30",
+        ),
+        (
+            "20 < range.distance_cm < 10",
+            (
+                "the condition '20 < range.distance_cm < 10' can never be true:"
+                " range.distance_cm is never below 10 and above 20 at once"
+            ),
+            None,
+        ),
+    ],
+)
+def test_a_condition_no_reading_can_make_true_is_refused_with_what_was_meant(
+    source: str, message: str, hint: str | None
+) -> None:
+    with pytest.raises(GuardError) as info:
+        compile_guard(source, truth=True)
+    assert (str(info.value), info.value.hint) == (message, hint)
+
+
+@pytest.mark.parametrize(
+    "source",
+    [
+        "range.distance_cm < 20 or range.distance_cm > 30",
+        "range.distance_cm > 20 and range.distance_cm < 30",
+        "range.distance_cm >= 20 and range.distance_cm <= 20",
+        "range.distance_cm <= 0",
+        "heading_deg < 0",
+    ],
+)
+def test_a_condition_some_reading_makes_true_is_kept(source: str) -> None:
+    compile_guard(source, truth=True)
