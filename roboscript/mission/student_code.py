@@ -39,7 +39,14 @@ from types import FrameType, ModuleType, TracebackType
 from typing import Any
 
 import roboscript
-from roboscript.actions.base import Action, UnderSpecifiedError, UpdateReturnError, params_of
+from roboscript.actions.base import (
+    Action,
+    ActionContext,
+    UnderSpecifiedError,
+    UpdateReturnError,
+    params_of,
+)
+from roboscript.capabilities import CAPABILITY_NAMES
 from roboscript.code_owner import is_student_class, is_student_file, raised_by_roboscript
 from roboscript.errors import (
     LinkError,
@@ -212,6 +219,13 @@ def _attribute_meant(error: BaseException | None) -> str | None:
         names = [name for name in dir(error.obj) if not name.startswith("_")]
     except Exception:  # noqa: BLE001 - a student's object may refuse dir()
         return None
+    if isinstance(error.obj, ActionContext) and error.name in CAPABILITY_NAMES:
+        # ctx.range.distance_cm, as a condition reads self.range: a behaviour asks ctx.get
+        shown = _READ_IN_A_BEHAVIOUR.get(error.name, "")
+        return (
+            f'a behaviour reads the robot\'s {error.name} with ctx.get("{error.name}"):'
+            f' write ctx.get("{error.name}"){shown}'
+        )
     if isinstance(error.obj, Mission):
         # self.count += 1 with no count yet: a value, not a method, is what was meant
         kind = type(error.obj)
@@ -221,6 +235,17 @@ def _attribute_meant(error: BaseException | None) -> str | None:
             f" class, {error.name} = 0"
         )
     return did_you_mean(error.name, names)
+
+
+_READ_IN_A_BEHAVIOUR = {
+    "range": ".distance_mm() (mm, or None for no echo)",
+    "side_range": ".distance_mm() (mm, or None for no echo)",
+    "bumper": '.pressed() (the set of pressed switches, e.g. {"left"})',
+    "line": ".values() (0 for white to 1023 for black)",
+    "heading": ".heading_deg() (degrees clockwise)",
+}
+"""How a behaviour reads each sensor it most often reads, as write-your-own-behaviour.md
+shows it."""
 
 
 @dataclass(frozen=True)

@@ -1071,6 +1071,36 @@ def test_a_behaviour_whose_update_waits_with_async_or_yield_is_refused_at_check(
     )
 
 
+@pytest.mark.parametrize(
+    ("read", "written"),
+    [
+        ("ctx.range.distance_cm", 'ctx.get("range").distance_mm() (mm, or None for no echo)'),
+        ("ctx.bumper.any", 'ctx.get("bumper").pressed() (the set of pressed switches, e.g.'),
+    ],
+)
+def test_a_behaviour_reading_a_sensor_as_a_condition_does_is_told_to_ask_ctx_get(
+    tmp_path: Path, read: str, written: str
+) -> None:
+    (tmp_path / "m.py").write_text(
+        "from roboscript import Action, Mission, Result, state\n\n\n"
+        "class Look(Action):\n"
+        '    name = "look"\n\n'
+        "    def update(self, ctx):\n"
+        f"        return Result.done() if {read} else None\n\n\n"
+        "class M(Mission):\n"
+        '    go = state(Look(), initial=True, on_done="end", on_failed="end")\n'
+        '    end = state(final="success")\n',
+        encoding="utf-8",
+    )
+    result = run_cli("run", "m.py", cwd=tmp_path)
+    name = read.split(".")[1]
+    assert "Traceback" not in result.stdout + result.stderr
+    assert (
+        f"'ActionContext' object has no attribute '{name}' (a behaviour reads the robot's"
+        f' {name} with ctx.get("{name}"): write {written}'
+    ) in result.stdout + result.stderr
+
+
 class _Wheels:
     def set_wheel_speeds(self, left_mm_s: float, right_mm_s: float) -> None:
         pass
