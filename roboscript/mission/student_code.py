@@ -557,6 +557,11 @@ def _syntax_problem(exc: SyntaxError, path: str | Path) -> MissionError:
         hint = _without_unit(exc.text or "", unit)
     elif (other := _other_language(exc.text or "")) is not None:
         hint = other
+    elif _def_inside_brackets(exc):
+        hint = (
+            "a def is a line of its own in the class, not a value inside state(...): write the"
+            ' method below the states, and name it in quotes there, e.g. when=[("near", "end")]'
+        )
     else:
         hint = next((h for start, h in _SYNTAX_HINTS if (exc.msg or "").startswith(start)), None)
     col = exc.offset
@@ -618,6 +623,15 @@ _NUMBER_WITH_UNIT = re.compile(r"\b(\d+(?:\.\d+)?)\s*(mm|cm|m|s|ms|sec|min|deg|H
 """A number written with its unit in Python code (``< 20 cm``), which Python cannot read."""
 
 _NAME_WITH_UNIT = re.compile(r"\b([a-z]\w*?)_(mm|cm|m|s|ms|deg|hz)\b")
+
+
+def _def_inside_brackets(exc: SyntaxError) -> bool:
+    """Whether the line Python could not read is a ``def`` written inside brackets, as a
+    value of ``state(...)`` or a list (the line before it leaves a bracket open)."""
+    if not (exc.text or "").lstrip().startswith("def ") or exc.lineno is None or not exc.filename:
+        return False
+    before = linecache.getline(exc.filename, exc.lineno - 1).split("#")[0].rstrip()
+    return before.endswith(("(", "[", ",", "="))
 
 
 def _other_language(line: str) -> str | None:

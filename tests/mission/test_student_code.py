@@ -1188,6 +1188,14 @@ def test_code_copied_from_another_robots_examples_names_whose_library_it_imports
             "m.py:2:6: error: invalid syntax (Python writes 'is not equal to' as !=)",
         ),
         (
+            "class M:\n    go = state(\n        def run(self):\n            return 1\n    )\n",
+            (
+                "m.py:3:9: error: invalid syntax (a def is a line of its own in the class, not a"
+                " value inside state(...): write the method below the states, and name it in"
+                ' quotes there, e.g. when=[("near", "end")])'
+            ),
+        ),
+        (
             "distance_mm = 500L\n",
             (
                 "m.py:1:17: error: syntax error: invalid decimal literal (a number in Python has no"
