@@ -253,7 +253,18 @@ class _Reader:
         if raw is None:
             raw = YamlMap.at(mark)
         if not isinstance(raw, YamlMap):
-            self.problem(f"state '{name}' must be a mapping (do:, on:, when:, final:)", mark)
+            items = raw if isinstance(raw, list) else []
+            keys = [next(iter(item)) for item in items if isinstance(item, dict) and len(item) == 1]
+            listed = bool(keys) and len(keys) == len(items) and all(k in _STATE_KEYS for k in keys)
+            self.problem(
+                f"state '{name}' must be a mapping (do:, on:, when:, final:)",
+                mark,
+                # "- do: ...", "- on: ...": a list of one-key items where its keys were meant
+                f"write {' and '.join(f'{k}:' for k in keys)} without the '- ' before them: a"
+                " state's keys are one under the other, not a list"
+                if listed
+                else None,
+            )
             return None
         misplaced = [key for key in raw if key not in _STATE_KEYS and key in self.actions]
         for key in misplaced:

@@ -118,3 +118,19 @@ def test_the_python_forms_state_gets_the_same_help(tmp_path: Path) -> None:
 )
 def test_a_python_states_word_for_an_outcome_names_the_outcome(keyword: str, meant: str) -> None:
     assert meant_in_state_call(keyword) == f'write {meant}="NEXT"'
+
+
+def test_a_states_keys_written_as_a_list_are_told_to_lose_their_dashes(tmp_path: Path) -> None:
+    path = tmp_path / "m.yaml"
+    path.write_text(
+        "mission: m\nstates:\n  go:\n    - do: {drive: {distance: 50 cm}}\n"
+        "    - on: {done: end}\n  end: {final: success}\n",
+        encoding="utf-8",
+    )
+    assert refusal(path) == [
+        (
+            "M:4:5: error: state 'go' must be a mapping (do:, on:, when:, final:) (write do: and"
+            " on: without the '- ' before them: a state's keys are one under the other, not a"
+            " list)"
+        )
+    ]
