@@ -715,6 +715,13 @@ class _Compiler:
                 f"{r}.{a}" for r, attrs in _ATTRS.items() for a in attrs if a.startswith(f"{name}_")
             ]
             owners = [o for o in owners if o.endswith("_cm")] or owners
+        if name.lower() in _TIME_WORDS:  # time > 5: which clock was meant
+            return self.fail(
+                f"unknown name '{name}' in a condition: a condition reads two clocks",
+                node,
+                "write elapsed, the seconds since the mission started, or state_time, the"
+                " seconds since this state began: e.g. state_time > 5",
+            )
         if owners and not close:
             return self.fail(
                 f"unknown name '{name}' in a condition: a sensor's value is named with its"
@@ -728,6 +735,9 @@ class _Compiler:
             f"did you mean '{close[0]}'?" if close else f"names: {', '.join(known[:8])}, ...",
         )
 
+
+_TIME_WORDS = frozenset({"time", "timer", "time_s", "seconds", "secs", "clock", "t", "duration"})
+"""Words a student reads the time with, where a condition has elapsed and state_time."""
 
 _FLIPPED: dict[type[ast.cmpop], ast.cmpop] = {
     ast.Lt: ast.Gt(),

@@ -410,3 +410,15 @@ def test_a_condition_no_reading_can_make_true_is_refused_with_what_was_meant(
 )
 def test_a_condition_some_reading_makes_true_is_kept(source: str) -> None:
     compile_guard(source, truth=True)
+
+
+@pytest.mark.parametrize("word", ["time", "timer", "seconds", "Time"])
+def test_a_condition_reading_the_time_by_another_word_is_told_its_two_clocks(word: str) -> None:
+    with pytest.raises(GuardError) as info:
+        compile_guard(f"{word} > 5", truth=True)
+    assert str(info.value) == f"unknown name '{word}' in a condition: a condition reads two clocks"
+    assert info.value.hint == (
+        "write elapsed, the seconds since the mission started, or state_time, the seconds since"
+        " this state began: e.g. state_time > 5"
+    )
+    assert info.value.offset == 0
