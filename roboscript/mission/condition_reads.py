@@ -22,6 +22,7 @@ from types import FunctionType
 
 from roboscript.actions import ACTION_WORDS, ACTIONS
 from roboscript.errors import did_you_mean
+from roboscript.mission.guards import TIME_WORDS
 
 __all__ = ["Slip", "condition_slips"]
 
@@ -333,6 +334,11 @@ def _self_hint(
             "a condition cannot make the robot act: run the action in a state of its own,"
             " e.g. turn = state(Rotate(angle_deg=90), ...), and go there when the condition"
             " holds"
+        )
+    if attr.lower() in TIME_WORDS and "elapsed" in public:  # self.time > 5
+        return (
+            "a mission has two clocks: self.elapsed, the seconds since the mission started, and"
+            " self.state_time, the seconds since this state began"
         )
     sensors = [name for name in public if attr in reading_names(name)]
     if sensors:

@@ -55,7 +55,15 @@ from roboscript import capabilities as cap
 from roboscript.inputs.quantities import DIMENSIONS, QuantityError, parse_quantity
 from roboscript.mission.limits import GUARD_NUMBER_LIMIT, shown
 
-__all__ = ["COLOR_NAMES", "RGB_NAMES", "Guard", "GuardEnv", "GuardError", "compile_guard"]
+__all__ = [
+    "COLOR_NAMES",
+    "RGB_NAMES",
+    "TIME_WORDS",
+    "Guard",
+    "GuardEnv",
+    "GuardError",
+    "compile_guard",
+]
 
 COLOR_NAMES = (
     "black",
@@ -715,7 +723,7 @@ class _Compiler:
                 f"{r}.{a}" for r, attrs in _ATTRS.items() for a in attrs if a.startswith(f"{name}_")
             ]
             owners = [o for o in owners if o.endswith("_cm")] or owners
-        if name.lower() in _TIME_WORDS:  # time > 5: which clock was meant
+        if name.lower() in TIME_WORDS:  # time > 5: which clock was meant
             return self.fail(
                 f"unknown name '{name}' in a condition: a condition reads two clocks",
                 node,
@@ -736,8 +744,9 @@ class _Compiler:
         )
 
 
-_TIME_WORDS = frozenset({"time", "timer", "time_s", "seconds", "secs", "clock", "t", "duration"})
-"""Words a student reads the time with, where a condition has elapsed and state_time."""
+TIME_WORDS = frozenset({"time", "timer", "time_s", "seconds", "secs", "clock", "t", "duration"})
+"""Words a student reads the time with, where a condition has elapsed and state_time (a YAML
+condition, and ``self.`` in a Python one)."""
 
 _FLIPPED: dict[type[ast.cmpop], ast.cmpop] = {
     ast.Lt: ast.Gt(),

@@ -378,6 +378,37 @@ MISTAKES: dict[str, tuple[str, list[str]]] = {
             )
         ],
     ),
+    "time_on_self.py": (
+        CONDITION.replace("DEFINITION", "def near(self):\n        return self.time > 5"),
+        [
+            (
+                "10:16: error: M has no 'time' (a mission has two clocks: self.elapsed, the"
+                " seconds since the mission started, and self.state_time, the seconds since this"
+                " state began)"
+            )
+        ],
+    ),
+    "time_in_yaml.yaml": (
+        YAML_WHEN.replace("IF", "timer > 5"),
+        [
+            (
+                "7:15: error: unknown name 'timer' in a condition: a condition reads two clocks"
+                " (write elapsed, the seconds since the mission started, or state_time, the"
+                " seconds since this state began: e.g. state_time > 5)"
+            )
+        ],
+    ),
+    "never_true.yaml": (
+        YAML_WHEN.replace("IF", "range.distance_cm < 20 and range.distance_cm > 30"),
+        [
+            (
+                "7:15: error: the condition 'range.distance_cm < 20 and range.distance_cm > 30'"
+                " can never be true: range.distance_cm is never below 20 and above 30 at once"
+                " (to go when either holds, write or: range.distance_cm < 20 or"
+                " range.distance_cm > 30)"
+            )
+        ],
+    ),
     "condition_colon.yaml": (
         YAML_WHEN.replace("IF", "bumper.any:"),
         [
