@@ -814,6 +814,12 @@ def _explain(
             )
         if name in sys.stdlib_module_names:
             return f"NameError: {text}", f"add 'import {name}' at the top of the file"
+        times = re.search(rf"\b(\d+(?:\.\d+)?)\s*\*\s*{re.escape(name)}\b", line)
+        if times is not None:  # distance_mm=50 * cm: a unit as a name, as some libraries have
+            written = f"{line[: times.start()]}{times.group(1)} {name}"
+            unit = _NUMBER_WITH_UNIT.search(written, times.start())
+            if unit is not None:
+                return f"NameError: {text}", _without_unit(written, unit)
         known = [*vars(module), *dir(builtins)]
         # only a close look-alike: "near" is not a misspelt "setattr"
         return f"NameError: {text}", did_you_mean(name, [*known, *_roboscript_names()], cutoff=0.7)

@@ -1196,6 +1196,13 @@ def test_code_copied_from_another_robots_examples_names_whose_library_it_imports
             ),
         ),
         (
+            "from roboscript import Drive\n\nforward = Drive(distance_mm=50 * cm)\n",
+            (
+                "m.py:3:34: error: NameError: name 'cm' is not defined (a number in Python has no"
+                " unit: for 50 cm write 500, as distance_mm is in mm)"
+            ),
+        ),
+        (
             "distance_mm = 500L\n",
             (
                 "m.py:1:17: error: syntax error: invalid decimal literal (a number in Python has no"
