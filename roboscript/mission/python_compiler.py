@@ -965,6 +965,13 @@ class _Compiler:
         self, name: str, route: object, node: ast.expr | None, *, need_condition: bool
     ) -> tuple[TransitionSpec, ...]:
         items = route if isinstance(route, list) else [route]
+        if need_condition and isinstance(route, list) and self._pair_without_brackets(route):
+            self.problem(  # when=["near", "end"]: the pair's own brackets left out
+                f"state '{name}': each 'when' entry is (condition, state), in its own brackets",
+                self.source.loc(node) if node is not None else self.state_loc(name),
+                f'write when=[("{route[0]}", "{route[1]}")]',
+            )
+            return ()
         found = []
         for index, entry in enumerate(items):
             entry_node = item(node, index, len(items)) if isinstance(route, list) else node
@@ -972,6 +979,16 @@ class _Compiler:
             if transition is not None:
                 found.append(transition)
         return tuple(found)
+
+    def _pair_without_brackets(self, route: list[object]) -> bool:
+        """Whether ``route`` is a condition method's name and a state's, written as the
+        list itself rather than a pair in it."""
+        if len(route) != 2 or not all(isinstance(part, str) for part in route):
+            return False
+        condition, target = (str(part) for part in route)
+        return inspect.isfunction(inspect.getattr_static(self.cls, condition, None)) and not (
+            inspect.isfunction(inspect.getattr_static(self.cls, target, None))
+        )
 
     def choice(
         self, name: str, entry: object, node: ast.expr | None, *, need_condition: bool

@@ -409,6 +409,17 @@ MISTAKES: dict[str, tuple[str, list[str]]] = {
             )
         ],
     ),
+    "when_pair_without_brackets.py": (
+        CONDITION.replace('when=[("near", "end")]', 'when=["near", "end"]').replace(
+            "DEFINITION", "def near(self):\n        return self.bumper.any"
+        ),
+        [
+            (
+                "6:21: error: state 'go': each 'when' entry is (condition, state), in its own"
+                ' brackets (write when=[("near", "end")])'
+            )
+        ],
+    ),
     "condition_colon.yaml": (
         YAML_WHEN.replace("IF", "bumper.any:"),
         [
