@@ -408,13 +408,15 @@ def test_python_my_mission_exits_with_the_run_status(tmp_path: Path) -> None:
     assert done.returncode == 2 and "Traceback" not in done.stderr
 
 
-def test_a_mission_file_without_main_says_how_to_run_it(tmp_path: Path) -> None:
+def test_a_mission_file_without_main_runs_its_mission_with_python(tmp_path: Path) -> None:
     script = tmp_path / "hop.py"
     script.write_text(HOP)
-    done = _python(str(script), cwd=tmp_path)
-    assert done.returncode == 0
-    assert "hop.py defines the mission Hop but does not run it" in done.stderr
-    assert "Hop.main()" in done.stderr and "roboscript run hop.py" in done.stderr
+    done = _python(str(script), "--max-time", "0.5", cwd=tmp_path)
+    assert done.returncode == 1, "the run's own status, as roboscript run hop.py gives"
+    assert "hop.py defines the mission Hop: running it (roboscript run hop.py)" in done.stderr
+    assert done.stderr.strip().splitlines()[-1] == (
+        "failure: the mission did not finish within 0.5 s"
+    )
     script.write_text(HOP + "\n\nimport roboscript\nprint(roboscript.run(Hop).outcome)\n")
     done = _python(str(script), cwd=tmp_path)
     assert (done.stdout, done.stderr) == ("success\n", "")

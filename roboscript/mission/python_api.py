@@ -549,12 +549,12 @@ class _Script:
 
 
 def note_mission_run() -> None:
-    """Say that this program runs a mission, so no reminder is printed at exit."""
+    """Say that this program runs a mission, so the script's own is not run again at exit."""
     _Script.ran = True
 
 
 def _remind_to_run(cls: type[Mission]) -> None:
-    """Remember a mission the script itself defines, to remind its author how to run it.
+    """Remember a mission the script itself defines, to run it when the script ends.
 
     ``python my_mission.py`` on a file without ``Mission.main()`` would otherwise end
     silently, as if the mission had done nothing.
@@ -563,12 +563,15 @@ def _remind_to_run(cls: type[Mission]) -> None:
     if cls.__module__ != "__main__" or script is None:  # imported, a notebook, the REPL
         return
     if not _Script.missions:
-        atexit.register(_remind, script)
+        atexit.register(_run_at_exit, script)
     _Script.missions.append(cls)
 
 
-def _remind(script: str) -> None:
-    if _Script.ran or not _Script.missions:
+def _run_at_exit(script: str) -> None:
+    """``python my_mission.py`` runs the mission the file defines, as
+    ``roboscript run my_mission.py`` does, with the script's own options (``--robot``,
+    ``--world``, ...), when the script ran no mission itself and did not end on an error."""
+    if _Script.ran or not _Script.missions or _ended_on_an_error():
         return
     nested = {
         id(definition.action)
@@ -579,8 +582,12 @@ def _remind(script: str) -> None:
     leaves = [cls for cls in _Script.missions if id(cls) not in nested]
     name = (leaves or _Script.missions)[-1].__name__
     file = Path(script).name
-    sys.stderr.write(
-        f"{file} defines the mission {name} but does not run it. To run it, end the file with\n"
-        f'    if __name__ == "__main__":\n        {name}.main()\n'
-        f"or run: roboscript run {file}\n"
-    )
+    sys.stderr.write(f"{file} defines the mission {name}: running it (roboscript run {file})\n")
+    _Script.ran = True
+    run_command(["run", script, *sys.argv[1:]])
+
+
+def _ended_on_an_error() -> bool:
+    """Whether the script stopped on an exception no one caught (Python printed it, Ctrl-C
+    included): its mission is then not run."""
+    return getattr(sys, "last_value", None) is not None

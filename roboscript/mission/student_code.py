@@ -825,9 +825,9 @@ def _explain(
         return f"NameError: {text}", did_you_mean(name, [*known, *_roboscript_names()], cutoff=0.7)
     mission = _mission_class(getattr(exc, "obj", None))
     if isinstance(exc, AttributeError) and mission is not None:
-        return f"a mission has no {exc.name}(), and a mission file does not run itself", (
-            "take this line away, roboscript run runs the file's mission; to run it with python"
-            f' too, write {mission.__name__}.main() under if __name__ == "__main__":'
+        return f"a mission has no {exc.name}(): take this line away", (
+            "roboscript run and python both run the mission a file defines; to say so in the"
+            f' file, write {mission.__name__}.main() under if __name__ == "__main__":'
         )
     top = (getattr(exc, "name", None) or "").split(".")[0]
     if isinstance(exc, ModuleNotFoundError) and top in _OTHER_ROBOTS_LIBRARIES:

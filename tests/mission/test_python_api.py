@@ -12,7 +12,7 @@ from types import ModuleType
 from typing import Any, NoReturn
 
 import pytest
-from helpers import ROOT
+from helpers import MISSIONS, ROOT
 from helpers import refusal as messages
 
 from roboscript import Drive, Mission, PlayTone, Rotate, Wait, WaitUntil, state
@@ -21,7 +21,7 @@ from roboscript.clock import SimClock
 from roboscript.errors import MissionError
 from roboscript.mission import load_mission, python_api
 from roboscript.mission.checks import check_capabilities
-from roboscript.mission.python_api import _remind, _Script, note_mission_run
+from roboscript.mission.python_api import _run_at_exit, _Script, note_mission_run
 from roboscript.mission.python_compiler import compile_mission
 from roboscript.mission.runner import MissionRunner
 from roboscript.mission.sensor_readings import color_or_buttons
@@ -596,14 +596,14 @@ def test_the_python_tutorial_lists_every_action_with_its_keywords() -> None:
             assert f"`{param.kwarg}`" in row, f"{cls.__name__}({param.kwarg}=) is undocumented"
 
 
-# -------- Mission files run as scripts: main(), the reminder, visits and a state's name
+# -------- Mission files run as scripts: main(), the run at exit, visits and a state's name
 #
-# Python missions run as scripts: ``Mission.main``, the reminder printed when a script
-# defines a mission but never runs it, ``visits``, and how a state shows itself.
+# Python missions run as scripts: ``Mission.main``, the mission a script defines but never
+# runs (``python my_mission.py`` runs it at exit), ``visits``, and how a state shows itself.
 #
-# The reminder is what ``python my_mission.py`` prints at exit; it is driven here in-process
-# (a fake ``__main__`` module, ``atexit.register`` recorded) because a child process cannot run
-# under mutation testing.
+# The run at exit is driven here in-process (a fake ``__main__`` module, ``atexit.register``
+# and the command it hands over to recorded) because a child process cannot run under
+# mutation testing; one test runs a real script too.
 
 
 SCRIPT = "/home/ada/robots/square.py"
@@ -635,50 +635,82 @@ def _leg() -> type[Mission]:
     )
 
 
-REMINDER = (
-    "square.py defines the mission Square but does not run it. To run it, end the file with\n"
-    '    if __name__ == "__main__":\n'
-    "        Square.main()\n"
-    "or run: roboscript run square.py\n"
-)
+@pytest.fixture
+def handed_over(monkeypatch: pytest.MonkeyPatch) -> list[list[str]]:
+    """The commands the process would hand itself over to (recorded, not run)."""
+    commands: list[list[str]] = []
+    monkeypatch.setattr(python_api, "run_command", lambda args: commands.append(list(args)))
+    monkeypatch.delattr(sys, "last_value", raising=False)
+    monkeypatch.setattr(sys, "argv", [SCRIPT, "--seed", "3"])
+    return commands
 
 
-def test_a_script_that_defines_missions_but_runs_none_is_reminded_of_the_outer_one(
+def test_a_script_that_defines_missions_but_runs_none_runs_the_outer_one_at_exit(
     registered: list[tuple[Callable[..., Any], tuple[Any, ...]]],
+    handed_over: list[list[str]],
     capsys: pytest.CaptureFixture[str],
 ) -> None:
     leg = _leg()
     _define("Square", one=state(leg, initial=True, on_done="end"), end=state(final=True))
     _define("Imported", module="helpers_of_square", end=state(final=True, initial=True))
-    # one reminder for the script, however many missions it defines
-    assert registered == [(_remind, (SCRIPT,))]
+    # one run at exit for the script, however many missions it defines
+    assert registered == [(_run_at_exit, (SCRIPT,))]
     assert [m.__name__ for m in _Script.missions] == ["Leg", "Square"]
-    _remind(SCRIPT)
-    assert capsys.readouterr().err == REMINDER
+    _run_at_exit(SCRIPT)
+    assert handed_over == [["run", SCRIPT, "--seed", "3"]], "with the script's own options"
+    assert capsys.readouterr().err == (
+        "square.py defines the mission Square: running it (roboscript run square.py)\n"
+    )
 
 
-def test_a_script_that_ran_a_mission_is_not_reminded(
+def test_a_script_that_ran_a_mission_does_not_run_it_again(
     registered: list[tuple[Callable[..., Any], tuple[Any, ...]]],
+    handed_over: list[list[str]],
     capsys: pytest.CaptureFixture[str],
 ) -> None:
     _define(
         "Square", go=state(Wait(duration_s=1), initial=True, on_done="end"), end=state(final=True)
     )
     # registered with the first mission the script defines
-    assert registered == [(_remind, (SCRIPT,))]
+    assert registered == [(_run_at_exit, (SCRIPT,))]
     note_mission_run()
-    _remind(SCRIPT)
-    assert capsys.readouterr().err == ""
+    _run_at_exit(SCRIPT)
+    assert handed_over == [] and capsys.readouterr().err == ""
 
 
-def test_a_script_without_missions_of_its_own_is_not_reminded(
+def test_a_script_that_ended_on_an_error_does_not_run_its_mission(
     registered: list[tuple[Callable[..., Any], tuple[Any, ...]]],
+    handed_over: list[list[str]],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    _define("Square", end=state(final=True, initial=True))
+    monkeypatch.setattr(sys, "last_value", NameError("name 'Drvie' is not defined"), raising=False)
+    _run_at_exit(SCRIPT)
+    assert handed_over == [], "the error Python printed is the script's last word"
+
+
+def test_a_script_without_missions_of_its_own_runs_nothing(
+    registered: list[tuple[Callable[..., Any], tuple[Any, ...]]],
+    handed_over: list[list[str]],
     capsys: pytest.CaptureFixture[str],
 ) -> None:
     _define("Imported", module="helpers_of_square", end=state(final=True, initial=True))
     assert registered == []
-    _remind(SCRIPT)
-    assert capsys.readouterr().err == ""
+    _run_at_exit(SCRIPT)
+    assert handed_over == [] and capsys.readouterr().err == ""
+
+
+def test_python_runs_the_mission_a_file_defines_without_main(tmp_path: Path) -> None:
+    square = (MISSIONS / "square.py").read_text(encoding="utf-8")
+    script = tmp_path / "square.py"
+    script.write_text(square.split('if __name__ == "__main__":')[0], encoding="utf-8")
+    assert "main()" not in script.read_text(encoding="utf-8")
+    done = subprocess.run(
+        [sys.executable, str(script)], capture_output=True, text=True, cwd=tmp_path, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    assert "square.py defines the mission Square: running it" in done.stderr
+    assert "success: square ended in 'finished'" in done.stdout + done.stderr, done.stderr
 
 
 def test_no_reminder_in_a_notebook_or_the_repl(

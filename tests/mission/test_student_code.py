@@ -300,9 +300,9 @@ LOAD_TIME = [
     ),
     pytest.param(
         "from roboscript import Mission\n\n\nclass Go(Mission):\n    pass\n\n\nGo().run()\n",
-        "m.py:8:1: error: a mission has no run(), and a mission file does not run itself (take"
-        " this line away, roboscript run runs the file's mission; to run it with python too,"
-        ' write Go.main() under if __name__ == "__main__":)',
+        "m.py:8:1: error: a mission has no run(): take this line away (roboscript run and"
+        " python both run the mission a file defines; to say so in the file, write Go.main()"
+        ' under if __name__ == "__main__":)',
         id="a-mission-run-by-its-own-file",
     ),
     pytest.param(
