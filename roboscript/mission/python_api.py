@@ -580,11 +580,19 @@ def _run_at_exit(script: str) -> None:
         if isinstance(definition, StateDef)
     }
     leaves = [cls for cls in _Script.missions if id(cls) not in nested]
-    name = (leaves or _Script.missions)[-1].__name__
-    file = Path(script).name
+    chosen = (leaves or _Script.missions)[-1]
+    if not _held_by_its_module(chosen):  # made by code the script ran (exec), not written in it
+        return
+    name, file = chosen.__name__, Path(script).name
     sys.stderr.write(f"{file} defines the mission {name}: running it (roboscript run {file})\n")
     _Script.ran = True
     run_command(["run", script, *sys.argv[1:]])
+
+
+def _held_by_its_module(cls: type[Mission]) -> bool:
+    """Whether ``cls`` is a class its module holds by its name (what ``roboscript run`` finds
+    in the script), not one code the script ran made in a namespace of its own."""
+    return getattr(sys.modules.get(cls.__module__), cls.__qualname__, None) is cls
 
 
 def _ended_on_an_error() -> bool:

@@ -624,7 +624,10 @@ def registered(monkeypatch: pytest.MonkeyPatch) -> list[tuple[Callable[..., Any]
 
 def _define(name: str, module: str = "__main__", **states: Any) -> type[Mission]:
     """``class NAME(Mission): ...`` as written in a file run as ``module``."""
-    return type(name, (Mission,), {"__module__": module, "__qualname__": name, **states})
+    cls = type(name, (Mission,), {"__module__": module, "__qualname__": name, **states})
+    if module == "__main__":  # the script holds it by its name, as a class statement does
+        setattr(sys.modules["__main__"], name, cls)
+    return cls
 
 
 def _leg() -> type[Mission]:
@@ -687,6 +690,23 @@ def test_a_script_that_ended_on_an_error_does_not_run_its_mission(
     monkeypatch.setattr(sys, "last_value", NameError("name 'Drvie' is not defined"), raising=False)
     _run_at_exit(SCRIPT)
     assert handed_over == [], "the error Python printed is the script's last word"
+
+
+def test_a_mission_made_by_code_the_script_ran_is_not_run_at_exit(
+    registered: list[tuple[Callable[..., Any], tuple[Any, ...]]],
+    handed_over: list[list[str]],
+) -> None:
+    # exec(code, {"__name__": "__main__"}) makes a class of module __main__ that the script
+    # does not hold: roboscript run would not find it in the file either
+    namespace: dict[str, Any] = {"__name__": "__main__"}
+    exec(  # noqa: S102 - what a script that makes classes with exec does
+        "from roboscript import Mission, state\nclass Made(Mission):\n"
+        "    end = state(final=True, initial=True)\n",
+        namespace,
+    )
+    assert registered == [(_run_at_exit, (SCRIPT,))]
+    _run_at_exit(SCRIPT)
+    assert handed_over == []
 
 
 def test_a_script_without_missions_of_its_own_runs_nothing(
