@@ -1,6 +1,12 @@
 /* roboscript in a browser tab: the editor, check as you type, a run on the simulator, the
  * replay and the state diagram, all from roboscript itself running in Pyodide. Works from
  * file:// with no network: every binary comes from the page's own scripts (window.rsAssets).
+ *
+ * The student's code runs in a worker of its own (worker.js), never in the page's thread: a
+ * loop, a flood of print() or a runaway allocation cannot freeze the page, and Stop ends the
+ * worker whole and starts a fresh one. A run on a real robot needs the browser's USB and
+ * Bluetooth objects, which live in the page: it has a Python of its own in the page, started
+ * when the student first connects a robot.
  */
 (function () {
   "use strict";
@@ -24,7 +30,103 @@
     });
   };
 
-  var py = null, bridge = null, editor = null, checkTimer = null, marked = [];
+  var editor = null, checkTimer = null, marked = [];
+  var written = {};  // every file checked, by name: the page keeps them till it closes
+  var worker = null, ready = false, calls = {}, nextCall = 0, busy = 0, checked = 0;
+  var runtimeScripts = ["pyodide.asm.wasm", "python_stdlib.zip", "site-packages.zip"];
+
+  /* The worker's Python: started (or started again after Stop), answering calls in order. */
+  function startPython() {
+    ready = false;
+    var started = performance.now();
+    var source = new Blob([window.rsWorkerSource], { type: "text/javascript" });
+    worker = new Worker(URL.createObjectURL(source));
+    var assets = {};
+    runtimeScripts.forEach(function (name) { assets[name] = window.rsAssets[name]; });
+    return new Promise(function (resolve, reject) {
+      worker.onmessage = function (event) {
+        var message = event.data;
+        if (message.type === "ready") {
+          ready = true;
+          resolve({ runtimeMs: started + message.runtimeMs });
+        } else if (message.type === "failed") {
+          reject(new Error(message.error));
+        } else if (message.type === "answer") {
+          var waiting = calls[message.id];
+          delete calls[message.id];
+          if (!waiting) return;
+          if (message.error === undefined) waiting.resolve(message.value);
+          else waiting.reject({ crashed: message.error, fatal: message.fatal });
+        }
+      };
+      worker.onerror = function (event) {
+        event.preventDefault();
+        if (!ready) reject(new Error(event.message));
+        else endPython({ crashed: event.message, fatal: true });
+      };
+      worker.postMessage({
+        type: "boot", assets: assets, lock: window.rsPyodideLock,
+        indexURL: new URL("roboscript-web/", document.baseURI).href
+      });
+    });
+  }
+
+  /* A promise of what Python's ``module.fn(args...)`` answered (JSON text); rejected with
+   * {stopped: reason} when the worker was ended first, {crashed: error} when Python failed. */
+  function call(module, fn) {
+    var args = Array.prototype.slice.call(arguments, 2);
+    var id = ++nextCall;
+    return new Promise(function (resolve, reject) {
+      calls[id] = { resolve: resolve, reject: reject };
+      worker.postMessage({ type: "call", id: id, module: module, fn: fn, args: args });
+    });
+  }
+
+  /* End the worker at once (a loop in it never returns), and start a fresh one. */
+  function endPython(why) {
+    if (worker) worker.terminate();
+    worker = null;
+    ready = false;
+    var waiting = calls;
+    calls = {};
+    Object.keys(waiting).forEach(function (id) { waiting[id].reject(why); });
+    say("Starting Python again…");
+    document.body.setAttribute("data-ready", "restarting");
+    showProblems([]);
+    startPython().then(function () {
+      // the files the student had in the page are written again in the fresh worker
+      Object.keys(written).forEach(function (name) {
+        if (name !== $("name").value) call("bridge", "check_text", name, written[name], "");
+      });
+      document.dispatchEvent(new CustomEvent("roboscript-restarted"));
+      document.body.setAttribute("data-ready", "1");
+      check();
+    }).catch(failedToStart);
+  }
+
+  function failedToStart(error) {
+    say("roboscript could not start in this browser: " + (error && error.message || error));
+    document.body.setAttribute("data-ready", "error");
+  }
+
+  /* What the page says of a call that did not answer: ended by Stop, or Python itself gave
+   * way (out of memory): the worker is started again in both cases. */
+  function notAnswered(failure) {
+    if (failure && failure.stopped) return failure.stopped;
+    var text = String(failure && failure.crashed || failure);
+    var memory = /memory|allocat/i.test(text);
+    endPython({ stopped: text });
+    return memory ?
+      "Python in this page ran out of memory (does your code keep making lists or strings " +
+      "that grow without end?); the page started it again: fix the code, then run again." :
+      "Python in this page stopped unexpectedly (" + text + "); the page started it again.";
+  }
+
+  function busyWith(delta) {
+    busy += delta;
+    button("stop-run").disabled = busy === 0;
+    refreshButtons();
+  }
 
   function mode(name) { return /\.py$/.test(name) ? "python" : "yaml"; }
 
@@ -89,49 +191,67 @@
     });
     var errors = problems.filter(function (p) { return p.severity === "error"; }).length;
     list.setAttribute("data-errors", String(errors));
-    button("run").disabled = py === null || errors > 0 || robotRunning;
-    button("run-robot").disabled = !robotPort || errors > 0 || robotRunning;
+    refreshButtons();
     return errors;
   }
 
-  function call(fn) {
-    var args = Array.prototype.slice.call(arguments, 1);
-    return JSON.parse(bridge[fn].apply(null, args));
+  function refreshButtons() {
+    var errors = Number($("problems").getAttribute("data-errors") || 0);
+    button("run").disabled = !ready || errors > 0 || robotRunning || busy > 0;
+    button("run-robot").disabled = !robotPort || errors > 0 || robotRunning || busy > 0;
   }
 
+  /* Check the editor's text in the worker; an answer to an older text is left unshown. */
   function check() {
-    if (!bridge) return;
-    var found = call("check_text", $("name").value, editor.getValue(), $("robot").value);
-    var errors = showProblems(found.problems);
-    say(errors ? errors + (errors === 1 ? " error" : " errors") + ": fix it, then run"
-               : "No errors: ready to run");
-    drawDiagram(errors);
-  }
-
-  function drawDiagram(errors) {
-    var image = $("diagram");
-    var svg = errors ? "" : bridge.diagram_text($("name").value, editor.getValue());
-    if (!svg) { image.removeAttribute("src"); return; }
-    // an <img> shows the picture and runs nothing in it, whatever names it holds
-    image.src = "data:image/svg+xml;charset=utf-8," + encodeURIComponent(svg);
+    if (!ready) return;
+    var mine = ++checked, name = $("name").value, text = editor.getValue();
+    written[name] = text;
+    call("bridge", "check_text", name, text, $("robot").value).then(function (found) {
+      if (mine !== checked) return null;
+      var errors = showProblems(JSON.parse(found).problems);
+      if (!busy) {
+        say(errors ? errors + (errors === 1 ? " error" : " errors") + ": fix it, then run"
+                   : "No errors: ready to run");
+      }
+      return errors ? "" : call("bridge", "diagram_text", name, text);
+    }).then(function (svg) {
+      if (mine !== checked || svg === null) return;
+      var image = $("diagram");
+      if (!svg) { image.removeAttribute("src"); return; }
+      // an <img> shows the picture and runs nothing in it, whatever names it holds
+      image.src = "data:image/svg+xml;charset=utf-8," + encodeURIComponent(svg);
+    }).catch(function () {});  // ended by Stop: the fresh worker checks again
   }
 
   function run() {
-    say("Running on the simulator…");
-    button("run").disabled = true;
-    window.setTimeout(function () {  // let the page say so before the run holds the tab
-      var started = performance.now();
-      var seed = parseInt($("seed").value, 10) || 0;
-      var answer = call("run_text", $("name").value, editor.getValue(), $("robot").value,
-                        $("world").value, seed);
+    say("Running on the simulator… (■ Stop ends it)");
+    busyWith(1);
+    var started = performance.now();
+    var seed = parseInt($("seed").value, 10) || 0;
+    $("result").removeAttribute("data-stopped");
+    call("bridge", "run_text", $("name").value, editor.getValue(), $("robot").value,
+         $("world").value, seed).then(function (text) {
       var wallS = (performance.now() - started) / 1000;
-      var s = showRun(answer);
+      var s = showRun(JSON.parse(text));
       if (!s) return;
       var factor = wallS > 0 ? s.duration_s / wallS : Infinity;
       document.body.setAttribute("data-real-time-factor", String(factor));
       say("Done: " + s.duration_s.toFixed(1) + " s of robot time in " + wallS.toFixed(1) +
           " s");
-    }, 20);
+    }, function (failure) {
+      var text = notAnswered(failure);
+      var result = $("result");
+      result.removeAttribute("data-outcome");
+      result.textContent = text;
+      result.setAttribute("data-stopped", text);
+    }).then(function () { busyWith(-1); });
+  }
+
+  /* The Stop beside Run: a run or a practice grade in the worker ends now, whatever it does. */
+  function stopRun() {
+    if (!busy) return;
+    endPython({ stopped: "Stopped with the Stop button: the run was ended and nothing of " +
+                         "it was kept." });
   }
 
   /* A run's answer in the page (on the simulator or a robot); its summary, or null. */
@@ -159,14 +279,43 @@
   /* ---- a real robot: the browser's chooser, a run on it, and its stop (roboscript.web.connect).
    * The run waits on the robot with Pyodide's run_sync, so it is called with callPromising;
    * while it waits the page stays alive, and Stop or closing the tab send the stop at once. */
-  var robotPort = null, robotRunning = false, connectPy = null;
+  var robotPort = null, robotRunning = false, connectPy = null, bridge = null;
+  var pagePython = null, choosers = { serial: {}, bluetooth: null };
+
+  /* The page's own Python, for runs on a robot (started once, on the first Connect). */
+  function robotPython() {
+    if (pagePython) return pagePython;
+    say("Starting Python for the robot…");
+    pagePython = window.loadPyodide({
+      indexURL: new URL("roboscript-web/", document.baseURI).href,
+      createPyodideModule: window.rsCreatePyodide,
+      lockFileContents: Promise.resolve(JSON.parse(window.rsPyodideLock)),
+      stdout: function (line) { console.log(line); },
+      stderr: function (line) { console.log(line); }
+    }).then(function (py) {
+      return window.fetch("site-packages.zip").then(function (response) {
+        return response.arrayBuffer();
+      }).then(function (zip) {
+        py.unpackArchive(zip, "zip", { extractDir: "/home/pyodide/site-packages" });
+        py.runPython("import sys; sys.path.insert(0, '/home/pyodide/site-packages')");
+        bridge = py.pyimport("roboscript.web.bridge");
+        connectPy = py.pyimport("roboscript.web.connect");
+        say("Python for the robot is ready");
+        return py;
+      });
+    });
+    return pagePython;
+  }
 
   function connectRobot(choice) {
     var robot = choice.getAttribute("data-robot"), via = choice.getAttribute("data-via");
+    // asked at once, within the click: the browser opens its chooser for a click only
     var asked = via === "bluetooth" ?
-      navigator.bluetooth.requestDevice(JSON.parse(connectPy.bluetooth_options())) :
-      navigator.serial.requestPort({ filters: JSON.parse(connectPy.serial_filters(robot)) });
+      navigator.bluetooth.requestDevice(choosers.bluetooth) :
+      navigator.serial.requestPort({ filters: choosers.serial[robot] });
     asked.then(function (device) {
+      return robotPython().then(function () { return device; });
+    }).then(function (device) {
       robotPort = connectPy.remember(via === "bluetooth" ? "webbluetooth" : "webserial", device);
       if (!$("robot").value) $("robot").value = robot;
       $("connected").textContent = "Connected: " + choice.textContent + ".";
@@ -223,8 +372,21 @@
     if (robotRunning && connectPy) connectPy.stop_robot(reason);
   }
 
+  /* The choosers' filters, from the worker's Python (the page's starts only on Connect). */
   function connectPanel() {
-    connectPy = py.pyimport("roboscript.web.connect");
+    var robots = {};
+    Array.prototype.forEach.call(document.querySelectorAll("[data-action=connect]"),
+      function (choice) { robots[choice.getAttribute("data-robot")] = true; });
+    return Promise.all(Object.keys(robots).map(function (robot) {
+      return call("connect", "serial_filters", robot).then(function (filters) {
+        choosers.serial[robot] = JSON.parse(filters);
+      });
+    }).concat([call("connect", "bluetooth_options").then(function (options) {
+      choosers.bluetooth = JSON.parse(options);
+    })])).then(connectButtons);
+  }
+
+  function connectButtons() {
     var serial = "serial" in navigator, bluetooth = "bluetooth" in navigator;
     var waits = typeof WebAssembly.Suspending === "function";  // JSPI: a run can wait
     Array.prototype.forEach.call(document.querySelectorAll("[data-action=connect]"),
@@ -284,41 +446,28 @@
     makeEditor();
     hardwareNote();
     button("run").addEventListener("click", run);
+    button("stop-run").addEventListener("click", stopRun);
     button("save").addEventListener("click", save);
     button("open").addEventListener("click", open);
-    window.loadPyodide({
-      indexURL: new URL("roboscript-web/", document.baseURI).href,
-      createPyodideModule: window.rsCreatePyodide,
-      lockFileContents: Promise.resolve(JSON.parse(window.rsPyodideLock)),
-      stdout: function (line) { console.log(line); },
-      stderr: function (line) { console.log(line); }
-    }).then(function (runtime) {
-      py = runtime;
+    startPython().then(function (started) {
       // how much of the start is the runtime itself (tests/bench/bench_web.py reports it)
-      document.body.setAttribute("data-runtime-ms", String(Math.round(performance.now())));
-      return window.fetch("site-packages.zip");
-    }).then(function (response) {
-      return response.arrayBuffer();
-    }).then(function (zip) {
-      py.unpackArchive(zip, "zip", { extractDir: "/home/pyodide/site-packages" });
-      py.runPython("import sys; sys.path.insert(0, '/home/pyodide/site-packages')");
-      bridge = py.pyimport("roboscript.web.bridge");
-      connectPanel();
+      document.body.setAttribute("data-runtime-ms", String(Math.round(started.runtimeMs)));
+      return connectPanel();
+    }).then(function () {
+      // the practice grade (grade.js) starts now, with what it needs of the editor; the page
+      // is ready once it has read the shipped specs too
+      var detail = { call: call, say: say, busy: busyWith, notAnswered: notAnswered, pending: [],
+        name: function () { return $("name").value; },
+        text: function () { return editor.getValue(); } };
+      document.dispatchEvent(new CustomEvent("roboscript-ready", { detail: detail }));
+      return Promise.all(detail.pending);
+    }).then(function () {
       // from the moment the page started loading, its big scripts (the runtime) included
       var readyMs = Math.round(performance.now());
       document.body.setAttribute("data-ready-ms", String(readyMs));
       document.body.setAttribute("data-ready", "1");
       check();
-      // the practice grade (grade.js) starts now, with what it needs of the editor
-      document.dispatchEvent(new CustomEvent("roboscript-ready", { detail: {
-        bridge: bridge, say: say,
-        name: function () { return $("name").value; },
-        text: function () { return editor.getValue(); }
-      } }));
-    }).catch(function (error) {
-      say("roboscript could not start in this browser: " + error);
-      document.body.setAttribute("data-ready", "error");
-    });
+    }).catch(failedToStart);
   }
 
   if (document.readyState === "loading") document.addEventListener("DOMContentLoaded", boot);

@@ -225,15 +225,25 @@ def _asset_script(name: str, data: bytes) -> str:
     return f'(window.rsAssets = window.rsAssets || {{}})[{json.dumps(name)}] = "{encoded}";\n'
 
 
-def _classic_runtime(module_text: str) -> str:
+def _classic_runtime(module_text: str, base: str = "document.baseURI") -> str:
     """Pyodide's runtime module as a classic script (``file://`` pages cannot import modules):
-    its one export becomes a global the loader is handed."""
+    its one export becomes a global the loader is handed, and ``base`` stands for the module's
+    own URL (a worker has no document: it is given its base in a global)."""
     text = module_text.replace(
         "export default _createPyodideModule;", "globalThis.rsCreatePyodide=_createPyodideModule;"
     )
     if "rsCreatePyodide" not in text:
         raise WebBuildError("this Pyodide's runtime has a shape the app does not know")
-    return text.replace("import.meta.url", "document.baseURI")
+    return text.replace("import.meta.url", base)
+
+
+def _worker_script(loader: str, runtime_module: str, worker: str) -> str:
+    """The page's Python worker as text in a classic script (``window.rsWorkerSource``): a
+    ``file://`` page may start no worker from a file, only from text it holds (a Blob).
+    roboscript's worker (``worker.js``) comes first, to prepare the ground Pyodide's loader
+    looks at as it loads; then the loader and the runtime it calls when the page says boot."""
+    source = "\n".join((worker, loader, _classic_runtime(runtime_module, "self.rsBaseURI")))
+    return f"window.rsWorkerSource = {json.dumps(source)};\n"
 
 
 def _specs_script(specs: Sequence[TestSpec]) -> str:
@@ -293,6 +303,11 @@ def build_web_app(
             "pyodide.js": (runtime / "pyodide.js").read_text(encoding="utf-8"),
             "pyodide-runtime.js": _classic_runtime(
                 (runtime / "pyodide.asm.mjs").read_text(encoding="utf-8")
+            ),
+            "worker-source.js": _worker_script(
+                (runtime / "pyodide.js").read_text(encoding="utf-8"),
+                (runtime / "pyodide.asm.mjs").read_text(encoding="utf-8"),
+                (here / "worker.js").read_text(encoding="utf-8"),
             ),
             "pyodide-lock.js": "window.rsPyodideLock = "
             + json.dumps((runtime / "pyodide-lock.json").read_text(encoding="utf-8"))

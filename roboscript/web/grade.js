@@ -19,9 +19,16 @@
   function points(value) { return String(Math.round(value * 100) / 100); }
 
   var app = null, specs = { shipped: [], opened: [] }, lastRuns = [];
+  var sent = { shipped: null, opened: null };  // each slot's files, for a fresh worker
 
   function load(files, slot) {
-    var answer = JSON.parse(app.bridge.load_specs(JSON.stringify(files), slot));
+    sent[slot] = files;
+    return app.call("bridge", "load_specs", JSON.stringify(files), slot).then(function (text) {
+      loaded(JSON.parse(text), slot);
+    }, function (failure) { app.say(app.notAnswered(failure)); });
+  }
+
+  function loaded(answer, slot) {
     specs[slot] = answer.specs;
     var problems = $("spec-problems");
     problems.textContent = "";
@@ -148,22 +155,24 @@
     var spec = chosen();
     if (!spec) return;
     button("grade").disabled = true;
-    app.say("Grading against " + spec.test + " (" + plural(spec.runs.length, "run") + ")…");
-    window.setTimeout(function () {  // let the page say so before the runs hold the tab
-      var answer;
-      try {
-        answer = JSON.parse(app.bridge.grade_text(app.name(), app.text(), spec.path));
-      } catch (error) {
-        app.say("The practice grade stopped: " + error);
-        button("grade").disabled = false;
-        return;
-      }
+    app.busy(1);
+    app.say("Grading against " + spec.test + " (" + plural(spec.runs.length, "run") +
+            ")… (■ Stop ends it)");
+    app.call("bridge", "grade_text", app.name(), app.text(), spec.path).then(function (text) {
+      var answer = JSON.parse(text);
       showGrade(answer);
-      button("grade").disabled = false;
       app.say(answer.grade ? "Graded: " + points(answer.grade.points) + " of " +
         plural(answer.grade.max_points, "point") : "The test spec has errors");
       document.body.setAttribute("data-graded", String(Date.now()));
-    }, 20);
+    }, function (failure) {
+      var out = $("grade");
+      out.textContent = "";
+      out.appendChild(element("p", app.notAnswered(failure), "rs-error"));
+      document.body.setAttribute("data-graded", String(Date.now()));
+    }).then(function () {
+      app.busy(-1);
+      button("grade").disabled = !chosen();
+    });
   }
 
   document.addEventListener("roboscript-ready", function (event) {
@@ -174,7 +183,12 @@
     button("open-spec").disabled = false;
     button("grade").addEventListener("click", grade);
     var shipped = window.rsSpecs || {};
-    if (Object.keys(shipped).length) load(shipped, "shipped");
+    if (Object.keys(shipped).length) app.pending.push(load(shipped, "shipped"));
     else fill(null);
+  });
+
+  // Python started again (after Stop): its fresh worker is given the specs again
+  document.addEventListener("roboscript-restarted", function () {
+    ["shipped", "opened"].forEach(function (slot) { if (sent[slot]) load(sent[slot], slot); });
   });
 })();

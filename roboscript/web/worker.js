@@ -1,0 +1,90 @@
+/* roboscript's Python for the page, in a Web Worker of its own: checking as the student types,
+ * runs on the simulator and practice grades run here, never in the page's own thread, so a
+ * student's code that loops, prints or allocates without end cannot freeze the page; its Stop
+ * ends this worker whole and the page starts a fresh one.
+ *
+ * The page makes this worker from text (a file:// page may load no worker script by URL):
+ * this part comes first in the text, then Pyodide's loader and runtime. Messages:
+ *   page -> worker: {type: "boot", assets: {name: base64}, lock, indexURL}
+ *                   {type: "call", id, module, fn, args}
+ *   worker -> page: {type: "ready", runtimeMs, readyMs} | {type: "failed", error}
+ *                   {type: "answer", id, value} | {type: "answer", id, error}
+ */
+(function () {
+  "use strict";
+
+  // Pyodide refuses a classic worker (it would load packages with importScripts, which this
+  // app never does), and a file:// page can start no module worker: hide importScripts.
+  self.importScripts = undefined;
+
+  var assets = {}, py = null, modules = {}, printed = 0;
+  var PRINTED_TO_CONSOLE = 200;  // a flood of print() reaches the run's record, not the console
+
+  /* Pyodide asks for its binaries with fetch(); they are answered from the base64 the page
+   * handed over (a worker made from text may fetch no file of the page's folder). */
+  var realFetch = self.fetch;
+  self.fetch = function (url) {
+    var name = String(url).split("/").pop().split("?")[0];
+    var data = assets[name];
+    if (data === undefined) return realFetch.apply(this, arguments);
+    var type = /\.wasm$/.test(name) ? "application/wasm" : "application/octet-stream";
+    return realFetch("data:" + type + ";base64," + data).then(function (response) {
+      return response.arrayBuffer();
+    }).then(function (bytes) {
+      return new Response(bytes, { headers: { "Content-Type": type } });
+    });
+  };
+
+  function out(line) {
+    printed += 1;
+    if (printed <= PRINTED_TO_CONSOLE) console.log(line);
+  }
+
+  function boot(message) {
+    var started = performance.now();
+    assets = message.assets;
+    self.rsBaseURI = message.indexURL;
+    self.loadPyodide({
+      indexURL: message.indexURL,
+      createPyodideModule: self.rsCreatePyodide,
+      lockFileContents: Promise.resolve(JSON.parse(message.lock)),
+      stdout: out,
+      stderr: out
+    }).then(function (runtime) {
+      py = runtime;
+      var runtimeMs = performance.now() - started;
+      return self.fetch("site-packages.zip").then(function (response) {
+        return response.arrayBuffer();
+      }).then(function (zip) {
+        py.unpackArchive(zip, "zip", { extractDir: "/home/pyodide/site-packages" });
+        py.runPython("import sys; sys.path.insert(0, '/home/pyodide/site-packages')");
+        modules.bridge = py.pyimport("roboscript.web.bridge");
+        modules.connect = py.pyimport("roboscript.web.connect");
+        assets = {};  // unpacked: the page's copy is the only one kept
+        self.postMessage({ type: "ready", runtimeMs: runtimeMs,
+                           readyMs: performance.now() - started });
+      });
+    }).catch(function (error) {
+      self.postMessage({ type: "failed", error: String(error && error.message || error) });
+    });
+  }
+
+  function call(message) {
+    var answer = { type: "answer", id: message.id };
+    try {
+      printed = 0;
+      answer.value = modules[message.module][message.fn].apply(null, message.args);
+    } catch (error) {
+      // a Python error here is a roboscript bug or Python itself out of memory: say which
+      answer.error = String(error && error.message || error);
+      answer.fatal = !!(py && py._api && py._api.fatal_error_occurred);
+    }
+    self.postMessage(answer);
+  }
+
+  self.onmessage = function (event) {
+    var message = event.data;
+    if (message.type === "boot") boot(message);
+    else if (message.type === "call") call(message);
+  };
+})();
