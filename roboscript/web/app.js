@@ -418,15 +418,44 @@
     link.remove();
   }
 
-  function open() {
-    var input = $("file");
-    input.onchange = function () {
-      var file = input.files && input.files[0];
-      if (!file) return;
-      file.text().then(function (text) { load(file.name, text); });
-      input.value = "";
-    };
-    input.click();
+  function open() { $("file").click(); }
+
+  var MAX_OPENED_BYTES = 1000000;  // a mission, a world or a profile is a few kB of text
+
+  /* A file the student opened, into the editor, unless it cannot be a mission: too big, or
+   * not text. Text not saved as UTF-8 (an old Windows editor) is read as Windows-1252, and
+   * said so, rather than losing its accented letters to the replacement character. */
+  function opened() {
+    var input = $("file"), file = input.files && input.files[0], note = $("file-note");
+    if (!file) return;
+    input.value = "";
+    note.textContent = "";
+    note.removeAttribute("data-refused");
+    function refuse(text) {
+      note.textContent = text;
+      note.setAttribute("data-refused", "1");
+    }
+    if (file.size > MAX_OPENED_BYTES) {
+      refuse("Not opened: " + file.name + " is " + (file.size / 1e6).toFixed(1) + " MB, far " +
+        "too big for a mission (a mission is a few kB of text). Did you pick the right file?");
+      return;
+    }
+    file.arrayBuffer().then(function (buffer) {
+      var bytes = new Uint8Array(buffer), text;
+      if (bytes.indexOf(0) >= 0) {
+        refuse("Not opened: " + file.name + " is not a text file (it holds binary data, " +
+          "like a picture or a program). Open a mission: a .yaml or .py file.");
+        return;
+      }
+      try {
+        text = new TextDecoder("utf-8", { fatal: true }).decode(bytes);
+      } catch (notUtf8) {
+        text = new TextDecoder("windows-1252").decode(bytes);
+        note.textContent = file.name + " was not saved as UTF-8, so it was read as Western " +
+          "(Windows-1252) text: check its accented letters. Save writes it as UTF-8.";
+      }
+      load(file.name, text);
+    });
   }
 
   function hardwareNote() {
@@ -449,6 +478,7 @@
     button("stop-run").addEventListener("click", stopRun);
     button("save").addEventListener("click", save);
     button("open").addEventListener("click", open);
+    $("file").addEventListener("change", opened);
     startPython().then(function (started) {
       // how much of the start is the runtime itself (tests/bench/bench_web.py reports it)
       document.body.setAttribute("data-runtime-ms", String(Math.round(started.runtimeMs)));

@@ -57,11 +57,14 @@ STAND_IN = """
     return btoa(raw);
   }
   function StandInPort(n) {
-    var port = this, incoming = null;
+    var port = this, incoming = null, gone = [];
     this.readable = null;
     this.writable = null;
-    this.addEventListener = function () {};
-    this.removeEventListener = function () {};
+    this.addEventListener = function (type, f) { if (type === "disconnect") gone.push(f); };
+    this.removeEventListener = function (type, f) {
+      var i = gone.indexOf(f);
+      if (i >= 0) gone.splice(i, 1);
+    };
     this.getInfo = function () { return { usbVendorId: 0x2341, usbProductId: 0x8037 }; };
     this.open = function (options) {
       window.rsStandInOpen(JSON.stringify({ port: n, baudRate: options.baudRate }));
@@ -85,6 +88,10 @@ STAND_IN = """
     this.lose = function () {  // a cable pulled out: the stream fails, and no new one comes
       incoming.error(new DOMException("The device has been lost.", "NetworkError"));
       port.readable = null;
+    };
+    this.unplug = function () {  // as a real unplug: the stream fails and the port says so
+      port.lose();
+      gone.slice().forEach(function (f) { f({ type: "disconnect", target: port }); });
     };
   }
   var serial = {
@@ -126,7 +133,18 @@ STAND_IN = """
         return Promise.resolve(uuid.indexOf("fd02-0001") >= 0 ? rx : tx);
       }
     };
-    this.addEventListener = function () {};
+    var dropped = [];
+    this.addEventListener = function (type, f) {
+      if (type === "gattserverdisconnected") dropped.push(f);
+    };
+    this.removeEventListener = function (type, f) {
+      var i = dropped.indexOf(f);
+      if (i >= 0) dropped.splice(i, 1);
+    };
+    this.lose = function () {  // the hub switched off or out of reach: the link drops
+      hub.gatt.connected = false;
+      dropped.slice().forEach(function (f) { f({ type: "gattserverdisconnected", target: hub }); });
+    };
     this.gatt = {
       connected: false,
       connect: function () {
@@ -468,3 +486,83 @@ def test_a_robot_that_answers_as_another_is_named_as_the_student_chose_it(page: 
         " run again"
     )
     assert page.errors == []
+
+
+def _robot_stop_bytes(folder: Path, robot: str) -> bytes:
+    """What ``robot``'s driver sends to stop, by its own path (on the in-process simulator)."""
+    log = folder / f"stop-{robot}.log"
+    with Robot.connect(robot, wire_log=str(log)) as connected:
+        wire_log = connected.driver.link.wire_log
+        assert wire_log is not None
+        wire_log.flush()
+        before = len(read_wire_log(log))
+        connected.stop()
+        wire_log.flush()
+        records = read_wire_log(log)[before:]
+    return b"".join(data for _, direction, data in records if direction == ">")
+
+
+def _mission_in_editor(page: Browser, path: Path) -> None:
+    page.evaluate(
+        "document.querySelector('.CodeMirror').CodeMirror.setValue("
+        + json.dumps(path.read_text(encoding="utf-8"))
+        + f"); document.querySelector('[data-role=name]').value = {json.dumps(path.name)}"
+    )
+
+
+HELLO = Path(__file__).parents[2] / "roboscript" / "web" / "examples" / "hello.yaml"
+RESULT = "document.querySelector('[data-role=result]')"
+
+
+def test_a_mirto_that_resets_when_its_port_opens_runs_its_mission_from_the_page(
+    page: Browser,
+) -> None:
+    # the board is deaf for 3 s after the port opens, and greets at 3.2 s (an Arduino's reset)
+    _mission_in_editor(page, HELLO)
+    with served_simulator("mirto", "--reset-on-connect") as tcp_port:
+        bridge = StandInBridge(page, tcp_port)
+        _connect_and_run(page, bridge, "[data-robot=mirto]")
+        bridge.pump("document.body.dataset.wireLog", timeout_s=LONG_S)
+    summary = json.loads(page.evaluate(f"{RESULT}.dataset.json"))
+    assert (summary["outcome"], summary["final_state"]) == ("success", "beep")
+    assert page.errors == []
+
+
+def test_a_mirto_unplugged_mid_run_is_stopped_and_told_in_one_sentence(
+    page: Browser, tmp_path: Path
+) -> None:
+    stop = _robot_stop_bytes(tmp_path, "mirto")
+    _mission_in_editor(page, HELLO)
+    with served_simulator("mirto", "--reset-on-connect") as tcp_port:
+        bridge = StandInBridge(page, tcp_port)
+        _connect_and_run(page, bridge, "[data-robot=mirto]")
+        bridge.pump("document.body.dataset.robotReady === '1'")
+        before = len(bridge.writes)
+        page.evaluate(f"rsStandIn[{bridge.port_index}].unplug()")
+        bridge.pump(None)
+    after = b"".join(bridge.writes[before:])
+    assert stop and after.startswith(stop)  # the motors' stop went out first
+    result = page.wait_for(f"{RESULT}.textContent", LONG_S)
+    assert result.startswith("error: hello ended in ")
+    assert result.endswith("(the robot's USB connection was lost (was the cable pulled out?))")
+    assert result.count("(the robot's USB connection was lost") == 1
+    assert "Traceback" not in result and page.errors == []
+
+
+def test_a_spike_hub_that_loses_its_bluetooth_link_mid_run_is_told_in_one_sentence(
+    page: Browser,
+) -> None:
+    _mission_in_editor(page, MISSIONS / "spike_square.yaml")
+    with served_simulator("spike-prime") as tcp_port:
+        bridge = StandInBridge(page, tcp_port)
+        _connect_and_run(page, bridge, "[data-via=bluetooth]")
+        bridge.pump("document.body.dataset.robotReady === '1'")
+        page.evaluate(f"rsStandIn[{bridge.port_index}].lose()")
+        bridge.pump(f"{RESULT}.textContent", timeout_s=LONG_S)
+    result = page.evaluate(f"{RESULT}.textContent")
+    assert result.startswith("error: spike-square ended in "), result
+    assert result.endswith(
+        "(the Bluetooth connection to the hub was lost (is it still on, and near the computer?))"
+    )
+    assert "Traceback" not in result and page.errors == []
+    assert page.wait_for("document.querySelector('[data-action=stop]').disabled", LONG_S)
