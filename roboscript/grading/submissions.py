@@ -40,6 +40,7 @@ import glob
 import os
 import re
 import stat
+import unicodedata
 from collections import Counter
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
@@ -471,19 +472,27 @@ def _name(found: list[_Found]) -> list[str]:
             for f in group:
                 f.name = sources[_identity(f)]
     # A name already as reports show it keeps it; one that only looks the same (José written
-    # decomposed, a trailing space) is the one numbered, and named in a warning.
+    # decomposed, a trailing space, a ligature or a full-width letter: "ﬁona" beside
+    # "fiona") is the one numbered, and named in a warning.
     taken: dict[str, Path] = {}
     alike: dict[str, dict[Path, _Found]] = {}
-    for f in sorted(found, key=lambda f: clean_name(f.name) != f.name):
+    for f in sorted(found, key=lambda f: (clean_name(f.name) != f.name, _looks(f.name) != f.name)):
         base = name = clean_name(f.name)
         n = 1
-        while taken.get(name, _identity(f)) != _identity(f):
+        while taken.get(_looks(name), _identity(f)) != _identity(f):
             n += 1
             name = clean_name(f"{base}-{n}")
-        taken[name] = _identity(f)
-        alike.setdefault(base, {}).setdefault(_identity(f), f)
+        taken[_looks(name)] = _identity(f)
+        alike.setdefault(_looks(base), {}).setdefault(_identity(f), f)
         f.name = name
     return [_lookalike(list(group.values())) for group in alike.values() if len(group) > 1]
+
+
+def _looks(name: str) -> str:
+    """What a name looks like in a report: its compatibility form (NFKC), in which a ligature
+    (``ﬁ``), a full-width letter (``ａ``) or a superscript reads as the plain letters it is
+    drawn as."""
+    return unicodedata.normalize("NFKC", name)
 
 
 def _lookalike(group: list[_Found]) -> str:

@@ -189,3 +189,18 @@ def test_a_student_named_after_an_earlier_report_sees_only_their_mission_files(
         "index": ["index.yaml"],
         "results": ["results.yaml"],
     }
+
+
+def test_names_drawn_alike_by_a_ligature_or_full_width_letters_are_told_apart(
+    tmp_path: Path,
+) -> None:
+    # "ﬁona" (one ligature character) and "ｂo" (a full-width b) look like "fiona" and "bo" in
+    # every report: the plain name keeps it, the other is numbered and named in a warning.
+    for name in ("ﬁona", "fiona", "ｂo", "bo"):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "forward.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    found = find_submissions([str(tmp_path)])
+    assert sorted(s.student for s in found.submissions) == ["bo", "fiona", "ﬁona-2", "ｂo-2"]
+    told = sorted(found.lookalikes)
+    assert len(told) == 2
+    assert "'fiona' and 'ﬁona-2'" in told[1] and "\\ufb01ona" in told[1], told
