@@ -11,7 +11,7 @@ from __future__ import annotations
 import contextlib
 import json
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
 
 from roboscript.errors import LinkError
@@ -90,6 +90,9 @@ class Session:
         code_stopped: ``"hung"`` when the mission's code did not return and was stopped,
             ``"too slow"`` when it took too long per tick too often (:mod:`roboscript.watchdog`),
             else ``""``.
+        interrupted_by: The exception that ended the run when ``interrupted`` is set (its
+            traceback says where it came from: a graded run has no Ctrl-C, so one raised
+            there is the student's own code's), else ``None``.
     """
 
     result: MissionResult
@@ -98,6 +101,7 @@ class Session:
     start_time_s: float
     interrupted: int = 0
     code_stopped: Literal["", "hung", "too slow"] = ""
+    interrupted_by: KeyboardInterrupt | None = field(default=None, repr=False, compare=False)
 
     @property
     def interruption(self) -> Interrupted | None:
@@ -264,6 +268,7 @@ def run_session(
         robot.close()
         raise
     interrupted = 0
+    interrupted_by: KeyboardInterrupt | None = None
     code_stopped: Literal["", "hung", "too slow"] = ""
     try:
         with robot:
@@ -284,7 +289,7 @@ def run_session(
                 runner.finish("error", exc.reason)
             except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM, SIGHUP (roboscript.interrupts)
                 robot.stop()
-                interrupted = exit_status_for(exc)
+                interrupted, interrupted_by = exit_status_for(exc), exc
                 runner.finish("error", reason_for(exc))
             except LinkError as exc:
                 robot.stop()
@@ -294,9 +299,18 @@ def run_session(
     except LinkError as exc:
         runner.finish("error", str(exc))
     except KeyboardInterrupt as exc:  # while the robot was told to stop and its port closed
-        interrupted = interrupted or exit_status_for(exc)  # the first signal is the reason
+        if not interrupted:  # the first signal is the reason
+            interrupted, interrupted_by = exit_status_for(exc), exc
         runner.finish("error", reason_for(exc))  # a mission that had ended keeps its outcome
-    session = Session(runner.result, robot, profile, runner.start_time_s, interrupted, code_stopped)
+    session = Session(
+        runner.result,
+        robot,
+        profile,
+        runner.start_time_s,
+        interrupted,
+        code_stopped,
+        interrupted_by,
+    )
     if recording is not None:
         recording.finish(session_record(session))
     return session

@@ -46,7 +46,7 @@ from roboscript.grading.svg import (
     timeline_svg,
     trajectory_svg,
 )
-from roboscript.grading.text import advice, format_points, public_reason
+from roboscript.grading.text import advice, format_points, one_line, public_reason
 from roboscript.replay.recording import Recording, fill_frames
 from roboscript.replay.viewer import viewer_block, viewer_script, viewer_style
 
@@ -353,7 +353,8 @@ def _run_page(report: ClassReport, result: RunResult) -> str:
         "</header><main>",
         *_run_sections(report, result, spec),
         (
-            f'<p class="muted">Mission <code>{escape(result.mission or "none")}</code>; test'
+            f'<p class="muted">Mission <code>{escape(one_line(result.mission or "none"))}'
+            "</code>; test"
             f" spec <code>{escape(spec.path)}</code>; seed {result.seed}.</p>"
         ),
         "</main>",
@@ -525,7 +526,8 @@ def _student_run(report: ClassReport, result: RunResult, spec: TestSpec, cell: C
     parts += _run_sections(report, result, spec, suffix=f"-{_anchor(spec.name, result.variant)}")
     if result.mission:
         parts.append(
-            f'<p class="muted">Mission <code>{escape(Path(result.mission).name)}</code>.</p>'
+            f'<p class="muted">Mission <code>{escape(one_line(Path(result.mission).name))}'
+            "</code>.</p>"
         )
     return parts
 

@@ -21,20 +21,30 @@ report says which, so the world can name it; a report can only make the student'
 worse, and the world bounds the process's CPU time itself for a process that does not report.
 No diagnostic runs on another thread: reading a running thread's frames from elsewhere is not
 safe, and a stack-dumping timer once crashed healthy runs on a busy machine.
+
+What only the mission's own code can have done is said so: a ``KeyboardInterrupt`` (no one
+presses Ctrl-C in a graded run) is its crash at its line, a wire that fails under it is a
+connection it broke itself, and ``os.fork()`` is refused, as a copy of the process would drive
+the same robot.
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import itertools
 import json
 import logging
+import os
+import signal
 import sys
+import traceback
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from roboscript.interrupts import exit_status_for, reason_for
+from roboscript.code_owner import is_student_file
+from roboscript.interrupts import Interrupted, exit_status_for, reason_for
 from roboscript.interrupts import install as install_interrupts
 from roboscript.mission.channels import MAX_PRINTED_LINES, PRINTED_LINE_CHARS
 from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError
@@ -45,7 +55,9 @@ if TYPE_CHECKING:
 
 __all__ = [
     "LOAD_LIMIT_S",
+    "ONE_PROCESS",
     "STATE_CLAIM_BYTES",
+    "WIRE_BROKEN",
     "WIRE_LOST",
     "WIRE_LOST_EXIT",
     "main",
@@ -67,6 +79,23 @@ never closes it first, so the mission's own code did: a descriptor it did not op
 writing :data:`WIRE_LOST` on its standard error (a student's own ``os._exit(3)`` does not)."""
 
 WIRE_LOST = "roboscript: the wire to the simulated robot closed under the mission"
+
+WIRE_BROKEN = (
+    "the mission's process broke its own connection to the simulated robot: its code closed"
+    " or changed a connection it did not open (a socket or file descriptor)"
+)
+"""Why a run whose wire failed under the mission crashed. The world never closes the wire
+first, so a wire that fails (closed, replaced with ``dup2``, made non-blocking, shut down,
+given a timeout) was broken by the mission's own code; said the same whether the mission could
+still send its end (:func:`main`) or not (the world's ``crash_message``)."""
+
+ONE_PROCESS = (
+    "a graded mission runs in one process: os.fork() would copy it, and the copy would"
+    " drive the same robot"
+)
+"""What ``os.fork()`` raises in a graded run (a :class:`PermissionError`): two copies of a
+mission on one wire would each take the other's answers, and the world could only say the
+wire broke. Programs started with ``subprocess`` are not copies, and still run."""
 
 LOAD_LIMIT_S = 10.0
 """Own seconds loading the mission (its file, and the modules it imports) may take: far
@@ -95,6 +124,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     # interrupted, saying which (by default they would end the process mid-tick, the robot
     # still driving, read by the world as a crash of the student's).
     install_interrupts()
+    _one_process()
     channel = WorldChannel.for_fd(fd)
     try:
         return _run(channel, mission_path, robot, max_time_s, world_map, hang_after_s)
@@ -105,6 +135,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         # A signal before the session could stop a robot (while the mission loads): the run
         # ends on it, and the teacher reads the plain sentence, not a traceback through
         # roboscript's loader.
+        own = _own_interrupt(exc)
+        if own is not None:  # the mission's own code, between loading and its first tick
+            did, where = own
+            place = f" ({where})" if where else ""
+            sys.stderr.write(f"KeyboardInterrupt: the mission's code {did}{place}: {_NO_CTRL_C}\n")
+            return 1
         sys.stderr.write(reason_for(exc) + "\n")
         return exit_status_for(exc)
 
@@ -175,6 +211,14 @@ def _run(
         message = problems[0][:_REASON_CHARS]
         channel.send_json(Kind.LOAD_ERROR, {"message": message, "more": len(problems) - 1})
         return 2
+    except KeyboardInterrupt as exc:
+        own = _own_interrupt(exc)
+        if own is None:  # SIGTERM, SIGHUP: main() ends the run on the signal's sentence
+            raise
+        did, where = own
+        message = f"{where + ': ' if where else ''}error: {did}: {_NO_CTRL_C}"
+        channel.send_json(Kind.LOAD_ERROR, {"message": message[:_REASON_CHARS]})
+        return 2
     channel.send_json(Kind.LOADED, {"mission": mission.name[:_NAME_BYTES]})
 
     # the run machinery loads only for a mission that loaded: a broken one is answered at once
@@ -203,18 +247,68 @@ def _run(
         channel.send_json(Kind.LOAD_ERROR, {"message": message})
         return 2
     result = session.result
+    said, code_error = result.reason, result.code_error
+    ended_by = session.interrupted_by if result.outcome == "error" else None
+    own = None if ended_by is None else _own_interrupt(ended_by)
+    if not code_error and own is not None:  # it ended the run (a finished one keeps its end)
+        did, where = own
+        said = f"your code {did} in state '{result.final_state}': {_NO_CTRL_C}"
+        said += f" ({where})" if where else ""
+        code_error = True
+    elif not code_error and result.outcome == "error" and channel.broken:
+        said, code_error = WIRE_BROKEN, True
     channel.send_json(
         Kind.FINISH,
         {
             "outcome": result.outcome,
             "final_state": result.final_state,
-            "reason": (result.reason or "")[:_REASON_CHARS] or None,
-            "code_error": result.code_error,
+            "reason": (said or "")[:_REASON_CHARS] or None,
+            "code_error": code_error,
             "code_stopped": session.code_stopped,
         },
     )
     # a signal that ended the run, or came while the port closed after it: its own status
     return session.interrupted
+
+
+_NO_CTRL_C = "no one presses Ctrl-C in a graded run; a mission ends by going to a final state"
+
+
+def _own_interrupt(exc: KeyboardInterrupt) -> tuple[str, str] | None:
+    """What the mission's own code did, and where (``file:line``, or ``""``), when ``exc`` is
+    a ``KeyboardInterrupt`` it caused; ``None`` for SIGTERM or SIGHUP.
+
+    A graded run's process has no terminal and a session of its own, and the grader ends it
+    with SIGKILL: a bare ``raise KeyboardInterrupt``, or SIGINT (``signal.raise_signal``,
+    ``os.kill(os.getpid(), ...)``), can only come from the mission's own code. SIGTERM and
+    SIGHUP keep their own sentence (see the teachers' guide).
+    """
+    if isinstance(exc, Interrupted) and exc.signum != signal.SIGINT:
+        return None
+    did = (
+        "sent its own process SIGINT (Ctrl-C's signal)"
+        if isinstance(exc, Interrupted)
+        else f"raised {type(exc).__name__}"
+    )
+    from roboscript.mission.student_code import shown_path
+
+    student = [f for f in traceback.extract_tb(exc.__traceback__) if is_student_file(f.filename)]
+    where = f"{shown_path(student[-1].filename)}:{student[-1].lineno}" if student else ""
+    return did, where
+
+
+def _one_process() -> None:
+    """Keep the mission in this one process: ``os.fork()`` raises (see :data:`ONE_PROCESS`).
+    A copy made all the same (``ctypes``' fork goes around it) ends at its first word on the
+    wire, before a byte (:class:`~roboscript.transport.lockstep.WorldChannel`)."""
+
+    def refused(*_args: object, **_kwargs: object) -> int:
+        raise PermissionError(errno.EPERM, ONE_PROCESS)
+
+    for module in (os, sys.modules.get("posix")):
+        for name in ("fork", "forkpty"):
+            if module is not None and hasattr(module, name):
+                setattr(module, name, refused)
 
 
 def state_payload(name: str, action: str | None, cause: TransitionCause) -> bytes:

@@ -49,6 +49,7 @@ from __future__ import annotations
 import math
 import re
 import select
+import signal
 import socket
 import sys
 import tempfile
@@ -69,6 +70,7 @@ from roboscript.grading.latency import ask_short_slice
 from roboscript.grading.mission_host import (
     LOAD_LIMIT_S,
     STATE_CLAIM_BYTES,
+    WIRE_BROKEN,
     WIRE_LOST,
     WIRE_LOST_EXIT,
 )
@@ -131,6 +133,14 @@ again, so the backlog is one frame at most."""
 
 _MAX_BOARD_QUEUE_BYTES = MAX_PAYLOAD_BYTES // 2
 """Bytes the simulated board may hold for the host between two answers."""
+
+_QUESTIONS = frozenset((Kind.TICK, Kind.SYNC, Kind.OPEN))
+"""Frames the mission sends and then waits for the answer to, one at a time."""
+
+_MAX_QUESTIONS_AT_ONCE = 16
+"""Questions one read from the mission may hold (an honest mission's reads hold one)."""
+
+_NOT_READING = "it stopped reading the robot's answers"
 
 _NAME_CHARS = 100
 _REASON_CHARS = 500
@@ -433,6 +443,15 @@ class _WorldSession:
             frames = list(self.decoder.feed(data))
         except FrameError as exc:
             raise _ViolationError(f"it broke the grading wire ({exc})") from None
+        # An honest mission asks one question and reads its answer before the next, and the
+        # answer goes out only once this read is done: a read holding many questions comes
+        # from a mission that does not wait for its answers. Ended here, at once, a flood gets
+        # this one sentence however busy the machine (before, its unread answers had to pile
+        # up first, and a flood its own load limit cut short meanwhile read as a broken wire
+        # or a hang). A few at once are let through, to be judged frame by frame.
+        many = len(frames) > _MAX_QUESTIONS_AT_ONCE
+        if many and sum(kind in _QUESTIONS for kind, _ in frames) > _MAX_QUESTIONS_AT_ONCE:
+            raise _ViolationError(_NOT_READING)
         for kind, payload in frames:
             self._frame(kind, payload)
             if self.claims.finish is not None or self.time_up:
@@ -516,7 +535,7 @@ class _WorldSession:
         if not had_backlog:  # else the socket was full a moment ago: the loop sends when it can
             self._flush()
         if len(self.backlog) > _MAX_BACKLOG_BYTES:
-            raise _ViolationError("it stopped reading the robot's answers")
+            raise _ViolationError(_NOT_READING)
 
     def _flush(self) -> None:
         while self.backlog:
@@ -643,9 +662,10 @@ class _WorldSession:
 
     def _ended(self) -> WorldRun:
         """The wire closed before the mission finished."""
-        self._wait_exit()
+        # None when the process went on without its wire, and this side ended it
+        status = self.jail.wait(_EXIT_GRACE_S)
+        self.jail.kill()
         output = self._output()
-        status = self.jail.poll()
         return WorldRun(
             status="crashed",
             message=crash_message(self.jail.stderr, status, self.loaded),
@@ -883,8 +903,36 @@ _EXCEPTION_LINE = re.compile(
 )
 
 
+_OUTSIDE_SIGNALS = tuple(s for s in HANDLED_SIGNALS if s != signal.SIGINT)
+
+_CRASHED_INSIDE = (
+    "Python itself crashed: code that reaches past Python (ctypes) or a recursion limit set"
+    " too high (sys.setrecursionlimit) can do that"
+)
+_KILLED_WHY = {
+    "SIGKILL": "its own code may have sent it, or it used more memory or CPU time than a run may",
+    "SIGXCPU": "it used more CPU time than a run may",
+    "SIGSEGV": _CRASHED_INSIDE,
+    "SIGBUS": _CRASHED_INSIDE,
+    "SIGABRT": _CRASHED_INSIDE + ", and so does os.abort()",
+}
+
+
+def _killed_by(signum: int) -> str:
+    """Why a mission process a signal killed ended, in one clause: the grader never sends
+    one to a run it has not already ended itself, so it came from the kernel or the
+    mission's own processes."""
+    try:
+        name = signal.Signals(signum).name
+    except ValueError:
+        name = f"signal {signum}"
+    why = _KILLED_WHY.get(name, "its own code sent it (the grader sends a run no signal)")
+    return f"its process was killed by {name} ({why})"
+
+
 def crash_message(stderr: str, exit_status: int | None, loaded: bool) -> str:
-    """One sentence for a mission process that ended before its mission finished."""
+    """One sentence for a mission process that ended before its mission finished
+    (``exit_status``: None when it went on running without its wire, and was ended)."""
     phase = "" if loaded else " while loading"
     lines = [line for line in stderr.splitlines() if line.strip()]
     where = ""
@@ -895,20 +943,17 @@ def crash_message(stderr: str, exit_status: int | None, loaded: bool) -> str:
     for line in reversed(lines):
         if _EXCEPTION_LINE.match(line):
             return f"the run crashed{phase}: {_text(line.strip(), _REASON_CHARS)}{where}"
-    if exit_status == WIRE_LOST_EXIT and lines and lines[-1] == WIRE_LOST:
-        return (
-            f"the run crashed{phase}: the mission's process lost its connection to the"
-            " simulated robot (does its code close or use a file it did not open?)"
-        )
-    if exit_status is not None and exit_status - 128 in HANDLED_SIGNALS:
+    if exit_status is None or (
+        exit_status == WIRE_LOST_EXIT and lines and lines[-1] == WIRE_LOST
+    ):  # its wire closed under it, or it closed its wire and went on without it
+        return f"the run crashed{phase}: {WIRE_BROKEN}"
+    # SIGINT is never the grader's (a jail has no terminal): mission_host says whose it was
+    if exit_status is not None and exit_status - 128 in _OUTSIDE_SIGNALS:
         reason = Interrupted(exit_status - 128).reason
         if lines and lines[-1] == reason:  # ended on a signal's sentence (mission_host)
             return f"the run crashed{phase}: {reason}"
     if exit_status is not None and exit_status < 0:
-        return (
-            f"the run crashed{phase}: its process was killed by signal {-exit_status}"
-            " (it may have used too much memory or CPU time)"
-        )
+        return f"the run crashed{phase}: {_killed_by(-exit_status)}"
     return (
         f"the run stopped unexpectedly{phase} (its process ended with exit code {exit_status}"
         " before the mission finished): does the mission call exit()?"

@@ -73,6 +73,7 @@ __all__ = [
     "import_student_file",
     "is_student_class",
     "is_student_file",
+    "message_of",
     "shown_path",
     "stuck_at",
     "student_fault",
@@ -176,7 +177,7 @@ class StudentCodeError(RoboscriptError, RuntimeError):
     def reason(self, state: str | None) -> str:
         """The one sentence a student reads, naming the state when it is known."""
         did = self.problem or f"raised {type(self.error).__name__}"
-        detail = str(self.error) if self.error is not None and self.problem is None else ""
+        detail = message_of(self.error) if self.error is not None and self.problem is None else ""
         meant = _attribute_meant(self.error) if self.problem is None else None
         if meant is not None:  # ctx.drive_base.set_speed: Python suggests only in a traceback
             detail += f" ({meant})"
@@ -205,6 +206,15 @@ class StudentCodeError(RoboscriptError, RuntimeError):
         if self.where:
             text += f" ({self.where})"
         return text
+
+
+def message_of(error: BaseException) -> str:
+    """``str(error)``, or a sentence saying it could not be shown: a student's exception class
+    may define a ``__str__`` that raises, and telling the student so must not fail."""
+    try:
+        return str(error)
+    except Exception as problem:  # noqa: BLE001 - whatever a student's __str__ raises
+        return f"(its message cannot be shown: its __str__ raised {type(problem).__name__})"
 
 
 _LOCAL_UNSET = re.compile(r"local variable '(\w+)'")
@@ -718,7 +728,7 @@ def _explain(
 ) -> tuple[str, str | None]:
     """A message and a hint for an exception raised while a student's file was imported
     (``frame``: the student's line it was raised at)."""
-    text = _OLD_UNBOUND.sub(_UNBOUND, str(exc))
+    text = _OLD_UNBOUND.sub(_UNBOUND, message_of(exc))
     colno = error_column(exc, frame) if frame is not None else None
     call = _call_at(module, frame, colno)
     if isinstance(exc, SystemExit):

@@ -50,6 +50,7 @@ endpoint. Everything the mission side sends is a claim; the world validates it
 from __future__ import annotations
 
 import json
+import os
 import socket
 import struct
 from collections import deque
@@ -226,6 +227,10 @@ class WorldChannel:
         self._inbox = bytearray(MAX_PAYLOAD_BYTES)
         self._held = bytearray()  # frames that need no answer, not sent yet
         self.stopped = False
+        # True once the socket itself failed (closed, made non-blocking, shut down): the world
+        # never closes first, so in a graded run the mission's own code broke it
+        self.broken = False
+        self._pid = os.getpid()  # a copy of this process (a fork) must not speak on the wire
 
     @classmethod
     def for_fd(cls, fd: int) -> WorldChannel:
@@ -257,6 +262,7 @@ class WorldChannel:
         """
         if not self._held:
             return
+        self._check_same_process()
         data, self._held = self._held, bytearray()
         with _WIRE_WAIT:  # a busy world's time, never the mission's own
             self._send_all(data)
@@ -275,6 +281,7 @@ class WorldChannel:
         """
         if self.stopped:
             raise WorldStoppedError("the simulated world has stopped the run")
+        self._check_same_process()
         frame = encode_frame(kind, payload)
         data, self._held = self._held, bytearray()
         data += frame
@@ -286,10 +293,18 @@ class WorldChannel:
             raise WorldStoppedError("the simulated world has stopped the run (time is up)")
         return answer
 
+    def _check_same_process(self) -> None:
+        """A forked copy of the process that opened the wire ends its run on it at once, before
+        a byte: two processes on one wire would each take the other's answers."""
+        if os.getpid() != self._pid:
+            self.stopped = self.broken = True
+            raise WorldStoppedError("a copy of the mission's process cannot use its wire")
+
     def _send_all(self, data: bytearray) -> None:
         try:
             self._sock.sendall(data)
         except OSError as exc:
+            self.broken = True
             raise WorldStoppedError(f"the simulated world hung up: {exc}") from None
 
     def _next_frame(self) -> tuple[bytes, bytes]:
@@ -299,8 +314,10 @@ class WorldChannel:
             try:
                 size = self._sock.recv_into(self._inbox)
             except OSError as exc:
+                self.broken = True
                 raise WorldStoppedError(f"the simulated world hung up: {exc}") from None
             if not size:
+                self.broken = True
                 raise WorldStoppedError("the simulated world hung up")
             try:  # the decoder copies what it keeps
                 frames.extend(self._decoder.feed(memoryview(self._inbox)[:size]))

@@ -11,6 +11,12 @@ process they can reach or leave a thread spinning. The class is graded once, wit
 written; each test then checks one promise: every student gets exactly the verdict their own
 work earns, and no report can be broken, forged or made to leak. It is graded once more beside
 a spinner on every core, with the default hang limit: the verdicts must not change.
+
+A second class (``ATTACKS``, below) is a table of attacks, one student each, in families: the
+sentences the grader once got wrong (a student's own Ctrl-C, a wire the mission broke, copies
+of its process, a flood), resource abuse, reading what is not its own, the wire, Python's own
+machinery, report forgery, timing and names. Each row gives the verdict and the sentence the
+student's own work earns; the class is graded once, and every report checked.
 """
 
 from __future__ import annotations
@@ -31,6 +37,7 @@ import pytest
 from helpers import FORWARD_50CM, FORWARD_50CM_EXPECT, HANG_BOUND_S, every_core_busy
 
 from roboscript.grading.sandbox import detect_isolation
+from roboscript.grading.text import clean_name
 
 SPEC = """\
 test: forward
@@ -370,7 +377,7 @@ def test_code_that_closes_or_writes_on_the_wire_itself_crashes_its_own_run_sayin
     statuses = _statuses(graded)
     assert statuses["wire_closer"] == ["crashed", "crashed"]
     for message in _messages(graded, "wire_closer"):
-        assert "lost its connection to the simulated robot" in message, message
+        assert "broke its own connection to the simulated robot" in message, message
         assert "exit()" not in message
     assert statuses["wire_forger"] == ["crashed", "crashed"]  # never a success of its own
     assert "it broke the grading wire" in _messages(graded, "wire_forger")[1]
@@ -609,3 +616,414 @@ def test_a_glob_through_a_link_to_a_classmates_folder_is_refused(tmp_path: Path)
     assert runs["ada"]["status"] == "passed", done.stderr[-2000:]
     assert runs["dave"]["status"] == "invalid"
     assert runs["dave"]["message"].startswith("dave is a symbolic link")
+
+
+# --------------------------------------------------------------------------- a second class
+#
+# Round two: a class of students who each try one attack, in families (the sentences the grader
+# once got wrong, resource abuse, reading what is not theirs, the wire, Python's own machinery,
+# report forgery, timing, names), beside honest classmates. It is graded once through
+# `roboscript grade`, with every report written and a secret in the grader's environment.
+# ATTACKS is the record: what each student did, the status each run must get (the hidden run
+# first), and a part of the sentence it must say (None: no sentence, the run passed or the
+# sentence does not matter).
+
+_ROUND = """\
+import os, signal, socket, stat, sys, threading, time
+from roboscript import Drive, Mission, state
+
+
+class Forward(Mission):
+    go = state(Drive(distance_mm=MM, speed_mm_s=200), initial=True, on_done="finished",
+               when=[("first", "finished")])
+    finished = state(final="success")
+
+    def first(self):
+        if not getattr(self, "asked", False):
+            self.asked = True
+            DO  # the attack
+        return False
+
+
+PRE
+"""
+_ATTACK_LINE = _ROUND.splitlines().index("            DO  # the attack") + 1
+_PRE_LINE = len(_ROUND.splitlines())  # the first line of PRE, the file's top-level code
+
+_WIRES = '''
+def wires():
+    """The mission process's sockets: its wire to the world among them."""
+    found = []
+    for fd in range(3, 64):
+        try:
+            if stat.S_ISSOCK(os.fstat(fd).st_mode):
+                found.append(fd)
+        except OSError:
+            pass
+    return found
+
+
+def flood():
+    for fd in wires():
+        for _ in range(40):
+            os.write(fd, b"Y\\0\\0\\0\\0" * 100_000)
+    time.sleep(600)
+
+
+KEEP = []
+'''
+
+_LIFT = """
+def lift():
+    import resource
+    for limit in (resource.RLIMIT_AS, resource.RLIMIT_NPROC, resource.RLIMIT_CPU):
+        try:
+            resource.setrlimit(limit, (resource.RLIM_INFINITY, resource.RLIM_INFINITY))
+        except (ValueError, OSError):
+            pass
+"""
+
+_NICE = """
+def be_nice():
+    os.nice(19)
+    try:
+        os.nice(-40)
+    except OSError:
+        pass
+"""
+
+_CHANNEL = """
+def channel():
+    from roboscript.transport.lockstep import _CHANNELS
+    return next(iter(_CHANNELS.values()))
+"""
+
+_SECRET_ENV = "ROBOSCRIPT_TEST_TEACHER_SECRET"
+_SECRET = "TEACHER-ONLY-7f3a"  # in the grader's environment; no student may read it
+
+_PEEK = """
+def peek():
+    import glob
+    paths = ["/proc/1/environ", f"/proc/{os.getppid()}/environ", "/proc/self/environ",
+             "../bea.yaml", "../bea_helpers.py", "../../teacher/forward.yaml"]
+    for pattern in ("/proc/*/cmdline", "/proc/*/environ", "/proc/self/fd/*", "/tmp/*"):
+        paths += glob.glob(pattern)
+    seen = [repr(dict(os.environ)).encode()]
+    for path in paths:
+        try:
+            with open(path, "rb") as handle:
+                seen.append(handle.read(1_000_000))
+        except OSError:
+            pass
+    blob = b"".join(seen)
+    # built from parts, so that reading this file is not a find
+    for secret in ("TEACHER" + "-ONLY-7f3a", "BEA" + "-SECRET", "test: " + "forward"):
+        if secret.encode() in blob:
+            raise RuntimeError("SNOOPED " + secret)
+"""
+
+_LINKS = """
+def links():
+    for target in ("../bea.yaml", "/proc/1/cwd", "/proc/self/cwd/../bea_helpers.py"):
+        for make in (os.symlink, os.link):
+            try:
+                make(target, f"/tmp/{make.__name__}-{len(target)}")
+            except OSError:
+                pass
+    peek()
+"""
+
+_WORLD_OBJECTS = """
+def world_objects():
+    import gc
+    gc.unfreeze()
+    kinds = {"Simulation", "_WorldSession", "WorldRun", "TestSpec", "RunRecord", "Verdict"}
+    found = sorted({type(o).__name__ for o in gc.get_objects()} & kinds)
+    if found:
+        raise RuntimeError(f"THE WORLD IS HERE {found}")
+"""
+
+
+def _attack(do: str = "pass", pre: str = "", mm: int = 500) -> str:
+    code = _ROUND.replace("PRE", pre.strip("\n")).replace("DO", do).replace("MM", str(mm))
+    return code
+
+
+_NO_CTRL_C = "no one presses Ctrl-C in a graded run; a mission ends by going to a final state"
+_BROKE = (
+    "the run crashed: the mission's process broke its own connection to the simulated robot:"
+    " its code closed or changed a connection it did not open"
+)
+_HONEST_FILES = {"forward.yaml": HONEST}
+_STR_RAISED = "its __str__ raised ZeroDivisionError"
+_ONE_PROCESS = "a graded mission runs in one process: os.fork() would copy it"
+_AT = f"(forward.py:{_ATTACK_LINE})"
+_FAILED, _PASSED = ("failed", "failed"), ("passed", "passed")
+_CRASHED, _INVALID, _HUNG = ("crashed", "crashed"), ("invalid", "invalid"), ("hung", "hung")
+
+ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]] = [
+    # (family, student, the mission (or files), statuses: hidden run then visible, sentence)
+    # -- sentences once wrong: the student's own Ctrl-C, a wire it broke, copies of itself
+    ("sentence", "ctrl_c", _attack("raise KeyboardInterrupt"), _CRASHED,
+     f"the run crashed: your code raised KeyboardInterrupt in state 'go': {_NO_CTRL_C} {_AT}"),
+    ("sentence", "sigint", _attack("signal.raise_signal(signal.SIGINT)"), _CRASHED,
+     f"your code sent its own process SIGINT (Ctrl-C's signal) in state 'go': {_NO_CTRL_C} {_AT}"),
+    ("sentence", "interrupt_main", _attack("import _thread; _thread.interrupt_main()"), _CRASHED,
+     "your code sent its own process SIGINT (Ctrl-C's signal) in state 'go'"),
+    ("sentence", "ctrl_c_at_load", _attack(pre="raise KeyboardInterrupt"), _INVALID,
+     f"forward.py:{_PRE_LINE}: error: raised KeyboardInterrupt: {_NO_CTRL_C}"),
+    ("sentence", "nonblocking", _attack(
+        "[os.set_blocking(fd, False) for fd in wires()]", _WIRES), _CRASHED, _BROKE),
+    ("sentence", "shutdown", _attack(
+        "[socket.socket(fileno=os.dup(fd)).shutdown(socket.SHUT_RD) for fd in wires()]", _WIRES),
+     _CRASHED, _BROKE),
+    ("sentence", "timeout", _attack(
+        "[KEEP.append(socket.socket(fileno=os.dup(fd))) or KEEP[-1].settimeout(1e-4)"
+        " for fd in wires()]", _WIRES), _CRASHED, _BROKE),
+    ("sentence", "dup2", _attack("[os.dup2(0, fd) for fd in wires()]", _WIRES), _CRASHED, _BROKE),
+    ("sentence", "close_and_go_on", _attack(
+        "os.closerange(3, 64); [time.sleep(0.01) for _ in iter(int, 1)]"), _CRASHED, _BROKE),
+    ("sentence", "fork_bomb", _attack("[os.fork() for _ in iter(int, 1)]"), _CRASHED,
+     f"your condition 'first' raised PermissionError in state 'go': [Errno 1] {_ONE_PROCESS}"),
+    ("sentence", "fork_at_load", _attack(pre="for _ in range(6):\n    os.fork()"), _INVALID,
+     f"forward.py:{_PRE_LINE + 1}:5: error: PermissionError: [Errno 1] {_ONE_PROCESS}"),
+    # a copy made around os.fork is cut off before its first byte: the run is the mission's
+    ("sentence", "fork_ctypes", _attack("import ctypes; ctypes.CDLL(None).fork()"), _PASSED, None),
+    ("sentence", "flood_at_load", _attack(pre=_WIRES + "\nflood()"), _CRASHED,
+     "the run was stopped: it stopped reading the robot's answers"),
+    ("sentence", "flood", _attack("flood()", _WIRES), _CRASHED,
+     "the run was stopped: it stopped reading the robot's answers"),
+    # -- resource abuse
+    ("resources", "memory", _attack("KEEP = bytearray(3 * 1024**3)"), _CRASHED,
+     f"your condition 'first' raised MemoryError in state 'go' {_AT}"),
+    ("resources", "lifts_limits", _attack("lift(); KEEP = bytearray(3 * 1024**3)", _LIFT),
+     _CRASHED, "raised MemoryError"),
+    ("resources", "threads", _attack(
+        "exec('try:\\n    while True:\\n        threading.Thread(target=time.sleep, args=(600,),"
+        " daemon=True).start()\\nexcept RuntimeError:\\n    pass')"), _PASSED, None),
+    ("resources", "descriptors", _attack(
+        "exec('try:\\n    while True:\\n        KEEP.append(open(\"/dev/null\"))\\n"
+        "except OSError:\\n    pass')", _WIRES), _PASSED, None),
+    ("resources", "tmp_filler", _attack(
+        "exec('try:\\n    with open(\"/tmp/fill\", \"wb\") as f:\\n        while True:\\n"
+        "            f.write(bytes(1 << 20))\\nexcept OSError:\\n    pass')"), _PASSED, None),
+    ("resources", "huge_print", _attack("print('x' * 5_000_000)"), _PASSED, None),
+    ("resources", "recursion", _attack("again()", "def again():\n    return again()"), _CRASHED,
+     "'again' calls itself again and again"),
+    ("resources", "kill_self", _attack("os.kill(os.getpid(), signal.SIGKILL)"), _CRASHED,
+     "its process was killed by SIGKILL (its own code may have sent it"),
+    ("resources", "kill_parent", _attack("os.kill(os.getppid(), signal.SIGKILL)"), _CRASHED,
+     "its process was killed by SIGKILL (its own code may have sent it"),
+    ("resources", "stop_self", _attack("os.kill(os.getpid(), signal.SIGSTOP)"), _HUNG,
+     "its process was paused by a stop signal (SIGSTOP)"),
+    ("resources", "segfault", _attack("import ctypes; ctypes.string_at(0)"), _CRASHED,
+     "its process was killed by SIGSEGV (Python itself crashed"),
+    ("resources", "abort", _attack("os.abort()"), _CRASHED, "its process was killed by SIGABRT"),
+    ("resources", "nofile_limit", _attack(
+        "import resource; resource.setrlimit(resource.RLIMIT_NOFILE, (3, 3))"), _PASSED, None),
+    ("resources", "nice", _attack("be_nice()", _NICE), _PASSED, None),
+    ("resources", "affinity", _attack("os.sched_setaffinity(0, {0})"), _PASSED, None),
+    ("resources", "ptrace", _attack(
+        "import ctypes; print(ctypes.CDLL(None).ptrace(16, os.getppid(), 0, 0))"), _PASSED, None),
+    # -- reading what is not its own: /proc, the environment, relative paths, links
+    ("reading", "proc_reader", _attack("peek()", _PEEK), _PASSED, None),
+    ("reading", "link_maker", _attack("links()", _PEEK + _LINKS), _PASSED, None),
+    # -- the wire: bytes the device must refuse, claims, a clock of its own
+    ("wire", "device_garbage", _attack(
+        "channel().send(b'W', bytes(range(256)) * 8)", _CHANNEL), _FAILED, "drive failed"),
+    ("wire", "early_finish", _attack(
+        "channel().send(b'Q', b'finished');"
+        " channel().send_json(b'F', {'outcome': 'success', 'final_state': 'finished'})",
+        _CHANNEL, mm=5000), _FAILED, "final_pose_within failed by 45.0 cm"),
+    ("wire", "state_claims", _attack(
+        "[channel().send(b'Q', ('passed 100%' + chr(27) + '[2J<b>x' + 'x' * 5000).encode())"
+        " for _ in range(3)]", _CHANNEL), _PASSED, None),
+    ("wire", "clock_back", _attack(
+        "channel().request(b'T', __import__('struct').pack('>d', -1.0))", _CHANNEL), _CRASHED,
+     "the run was stopped: its clock went backwards"),
+    ("wire", "clock_jump", _attack(
+        "channel().request(b'T', __import__('struct').pack('>d', 1e9))", _CHANNEL), _FAILED,
+     "the mission did not finish within 20 s"),
+    # -- Python's own machinery
+    ("python", "builtins", _attack(
+        "import builtins; builtins.open = builtins.print = builtins.__import__ = None"),
+     _PASSED, None),
+    ("python", "sys_modules", _attack(
+        "[sys.modules.pop(n) for n in list(sys.modules) if n[:4] == 'json' or 'transport' in n]"),
+     _PASSED, None),
+    ("python", "json_forger", _attack(
+        "import json; json.dumps = lambda *a, **k: '{\"outcome\": \"success\","
+        " \"final_state\": \"finished\", \"code_error\": false}'", mm=50), _FAILED,
+     "final_pose_within failed"),
+    ("python", "world_objects", _attack("world_objects()", _WORLD_OBJECTS), _PASSED, None),
+    ("python", "atexit", _attack(
+        pre="import atexit\natexit.register(lambda: [os.write(fd, b'F\\0\\0\\0\\2{}')"
+        " for fd in range(3, 20)])"), _PASSED, None),
+    ("python", "del_forever", _attack(
+        "globals()['KEEPER'] = type('K', (), {'__del__': lambda s: [0 for _ in iter(int, 1)]})()"),
+     _PASSED, None),
+    ("python", "os_exit", _attack("getattr(os, '_exit')(0)"), _CRASHED,
+     "the run stopped unexpectedly (its process ended with exit code 0"),
+    ("python", "os_exit_130", _attack(
+        "print('interrupted by Ctrl-C', file=sys.stderr, flush=True); getattr(os, '_exit')(130)"),
+     _CRASHED, "its process ended with exit code 130"),
+    ("python", "str_raises", _attack(
+        "raise type('Evil', (Exception,), {'__str__': lambda s: 1 / 0})()"), _CRASHED,
+     f"raised Evil in state 'go': (its message cannot be shown: {_STR_RAISED}) {_AT}"),
+    ("python", "exit_object", _attack(
+        "raise SystemExit(type('X', (), {'__str__': lambda s: 1 / 0, '__repr__': lambda s: 1 / 0})"
+        "())"), _CRASHED, "your condition 'first' called exit() in state 'go'"),
+    ("python", "str_huge", _attack(
+        "raise type('Big', (Exception,), {'__str__': lambda s: 'y' * 50_000_000})()"), _CRASHED,
+     "raised Big in state 'go': yyy"),
+    ("python", "name_huge", _attack("raise type('E' * 100_000, (Exception,), {})()"), _CRASHED,
+     "raised EEE"),
+    ("python", "str_forever", _attack(
+        "raise type('Slow', (Exception,), {'__str__': lambda s: [0 for _ in iter(int, 1)]})()"),
+     _HUNG, "the mission's code did not return for 2 s"),
+    # -- report forgery: what it raises and prints
+    ("forgery", "html_raiser", _attack(
+        "raise RuntimeError('<script>alert(1)</script>]]><![CDATA[' + chr(0) + chr(27) + '[31m'"
+        " + chr(0xD800) + chr(0xFFFE) + '\"},{\"score\": 100')"), _CRASHED,
+     "raised RuntimeError in state 'go': <script>alert(1)</script>]]>"),
+    ("forgery", "row_raiser", _attack(
+        "raise RuntimeError(chr(10) + 'ada  forward  ✓ 2/2  100%' + chr(10) + chr(27) + '[1A')"),
+     _CRASHED, "raised RuntimeError"),
+    ("forgery", "printer", _attack(
+        "print('<script>alert(2)</script>' + chr(27) + '[2J]]>' + chr(0x202E), flush=True);"
+        " sys.stdout.write(chr(0) * 100)"), _PASSED, None),
+    # -- timing
+    ("timing", "slow_import", _attack(pre="time.sleep(3)"), _PASSED, None),
+    ("timing", "endless_import", _attack(pre="time.sleep(600)"), _HUNG,
+     "the mission stopped while loading: the mission's code did not return for 10 s"),
+    ("timing", "busy_condition", _attack("spin()", "def spin():\n    while True:\n        pass"),
+     _HUNG, "the mission's code did not return for 2 s and was stopped at forward.py:"),
+    ("timing", "thread_after", _attack(
+        "threading.Thread(target=lambda: [print('x') for _ in iter(int, 1)]).start()"),
+     _PASSED, None),
+    # -- names and files that try to break a report
+    ("names", "<img src=x onerror=alert(4)>", _HONEST_FILES, _PASSED, None),
+    ("names", "-1+2", _HONEST_FILES, _PASSED, None),
+    ("names", "@SUM(A1)", _HONEST_FILES, _PASSED, None),
+    ("names", "\tcell=1+1", _HONEST_FILES, _PASSED, None),
+    ("names", "ada\u202eevil", _HONEST_FILES, _PASSED, None),
+    ("names", "x" * 240, _HONEST_FILES, _PASSED, None),
+    ("names", "fiona", _HONEST_FILES, _PASSED, None),
+    ("names", "\ufb01ona", _HONEST_FILES, _PASSED, None),  # a ligature: drawn as "fiona"
+    ("names", "socket_file", {"forward.yaml": HONEST, "s.py": "SOCKET"}, _INVALID,
+     "s.py is a socket, not an ordinary file"),
+    ("names", "odd_helper", {"forward.yaml": HONEST, "he\x1b[2Jlp\u202eer.py": "X = 1\n"},
+     _PASSED, None),
+]  # fmt: skip
+_SHOWN = {"\ufb01ona": "\ufb01ona-2"}  # numbered: it looks like "fiona"
+
+
+def _shown_name(student: str) -> str:
+    """A student's name as every report shows it."""
+    return _SHOWN.get(student, clean_name(student))
+
+
+def _round_two_class(subs: Path) -> None:
+    import socket
+
+    _write(subs / "ada" / "forward.yaml", HONEST)
+    _write(subs / "bea.yaml", HONEST)
+    _write(subs / "bea_helpers.py", "CLASSMATE = 'BEA" + "-SECRET'\n")
+    for _family, student, mission, *_ in ATTACKS:
+        files = mission if isinstance(mission, dict) else {"forward.py": mission}
+        for name, text in files.items():
+            if text == "SOCKET":
+                with socket.socket(socket.AF_UNIX) as bound:
+                    bound.bind(str(subs / student / name))
+            else:
+                _write(subs / student / name, text)
+
+
+@pytest.fixture(scope="module")
+def attacked(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    """Round two, graded once by the real command line with every report written."""
+    root = tmp_path_factory.mktemp("round-two")
+    spec = root / "teacher" / "forward.yaml"
+    _write(spec, SPEC)
+    subs = root / "class"
+    _round_two_class(subs)
+    out = root / "out"
+    out.mkdir()
+    command = [
+        sys.executable, "-m", "roboscript", "grade", str(spec), "--mission", str(subs),
+        "--jobs", "2", "--hang-after", "2",
+        "--junit", str(out / "junit.xml"), "--csv", str(out / "grades.csv"),
+        "--html", str(out / "html"), "--results", str(out / "results.jsonl"),
+    ]  # fmt: skip
+    environment = {**os.environ, _SECRET_ENV: _SECRET}
+    done = subprocess.run(
+        command, capture_output=True, text=True, timeout=HANG_BOUND_S, check=False, env=environment
+    )
+    lines = (out / "results.jsonl").read_text().splitlines()
+    return {
+        "root": root,
+        "exit": done.returncode,
+        "stdout": done.stdout,
+        "stderr": done.stderr,
+        "runs": [json.loads(line) for line in lines[1:]],
+        "junit": (out / "junit.xml").read_text(encoding="utf-8"),
+        "csv": (out / "grades.csv").read_text(encoding="utf-8-sig"),
+        "html": out / "html",
+    }
+
+
+@pytest.mark.parametrize(
+    ("student", "statuses", "says"),
+    [pytest.param(s, st, says, id=f"{family}-{s[:20]}") for family, s, _, st, says in ATTACKS],
+)
+def test_each_attack_gets_the_verdict_and_the_sentence_its_own_work_earns(
+    attacked: dict[str, Any], student: str, statuses: tuple[str, str], says: str | None
+) -> None:
+    name = _shown_name(student)
+    runs = sorted((r for r in attacked["runs"] if r["student"] == name), key=lambda r: r["variant"])
+    shown = [(r["status"], r["message"][:600], r["debug"][-1500:]) for r in runs]
+    assert tuple(r["status"] for r in runs) == statuses, shown
+    for run in runs:
+        assert "roboscript problem" not in run["message"], shown
+        assert len(run["message"]) < 3000, shown
+        if says is not None:
+            assert says in run["message"], shown
+
+
+def test_round_two_grades_everyone_and_writes_every_report(attacked: dict[str, Any]) -> None:
+    assert attacked["exit"] == 1, attacked["stderr"][-3000:]
+    assert "Traceback" not in attacked["stderr"]
+    assert "the students 'fiona' and 'ﬁona-2' have names that look the same" in attacked["stderr"]
+    statuses = _statuses(attacked)
+    assert statuses["ada"] == ["passed", "passed"] and statuses["bea"] == ["passed", "passed"]
+    assert sorted(statuses) == sorted(["ada", "bea", *(_shown_name(a[1]) for a in ATTACKS)])
+    cases = list(ET.fromstring(attacked["junit"]).iter("testcase"))
+    assert len(cases) == len(attacked["runs"])
+    assert len(list((attacked["html"] / "students").glob("*.html"))) == len(statuses)
+    assert len(list((attacked["html"] / "runs").glob("*.html"))) == len(attacked["runs"])
+
+
+def test_no_attack_reads_the_teachers_secrets_or_a_classmates_file(
+    attacked: dict[str, Any],
+) -> None:
+    everything = json.dumps(attacked["runs"]) + attacked["stdout"] + attacked["stderr"]
+    assert "SNOOPED" not in everything and "THE WORLD IS HERE" not in everything
+    assert _SECRET not in everything
+
+
+def test_no_attack_forges_a_line_a_cell_or_markup_in_any_report(attacked: dict[str, Any]) -> None:
+    for stream in (attacked["stdout"], attacked["stderr"]):
+        assert not re.search("[\x00-\x08\x0b-\x1f\x7f-\x9f\u202e]", stream)
+        assert not any(line.startswith("ada  forward") for line in stream.splitlines())
+    for page in attacked["html"].rglob("*.html"):
+        text = page.read_text(encoding="utf-8")
+        assert "<script>alert(" not in text and "<img src=x" not in text, page.name
+        assert not re.search("[\x00\x1b\u202e]", text), page.name
+    rows = list(csv.reader(io.StringIO(attacked["csv"])))
+    names = [row[0] for row in rows[1:]]
+    assert "'-1+2" in names and "'@SUM(A1)" in names
+    for row in rows:
+        for cell in row:
+            for part in [*re.split("[,;\t|]", cell)[1:], cell]:
+                assert not part.lstrip(" ").startswith(("=", "+", "-", "@")), cell
+    assert not re.search("[\ud800-\udfff\ufffe]", attacked["junit"])

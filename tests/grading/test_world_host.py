@@ -334,13 +334,9 @@ def test_a_mission_that_floods_the_wire_and_never_reads_is_ended_as_its_own_faul
 ) -> None:
     run = _graded(tmp_path, "flood.py", FLOODER)
     assert run["status"] == "crashed"
-    # The mission floods while it loads. On a busy machine the world may take the answers it
-    # cannot send for longer than the mission's loading may last: the load limit then cuts
-    # the mission's own write mid-frame, and the world reads the cut as what it is.
-    assert run["message"] == "the run was stopped: it stopped reading the robot's answers" or (
-        run["message"].startswith("the run was stopped: it broke the grading wire (")
-    )
-    assert "roboscript problem" not in run["message"]
+    # The mission floods while it loads: one sentence, however busy the machine (the world
+    # ends it at the first read holding many questions, before its load limit could cut it)
+    assert run["message"] == "the run was stopped: it stopped reading the robot's answers"
 
 
 NON_READER = FORGER.format(
