@@ -39,7 +39,7 @@ import os
 import signal
 import sys
 import traceback
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -188,7 +188,7 @@ def _run(
     from roboscript.errors import CapabilityError, InputError
     from roboscript.mission import mission_for_robot
     from roboscript.mission.channels import copied_prints
-    from roboscript.mission.student_code import is_student_file, stuck_at
+    from roboscript.mission.student_code import is_student_file, shown_path, stuck_at
 
     printed = itertools.count(1)
 
@@ -212,7 +212,7 @@ def _run(
         channel.send_json(Kind.LOAD_ERROR, {"message": message, "more": len(problems) - 1})
         return 2
     except KeyboardInterrupt as exc:
-        own = _own_interrupt(exc)
+        own = _own_interrupt(exc, shown_path)
         if own is None:  # SIGTERM, SIGHUP: main() ends the run on the signal's sentence
             raise
         did, where = own
@@ -249,7 +249,7 @@ def _run(
     result = session.result
     said, code_error = result.reason, result.code_error
     ended_by = session.interrupted_by if result.outcome == "error" else None
-    own = None if ended_by is None else _own_interrupt(ended_by)
+    own = None if ended_by is None else _own_interrupt(ended_by, shown_path)
     if not code_error and own is not None:  # it ended the run (a finished one keeps its end)
         did, where = own
         said = f"your code {did} in state '{result.final_state}': {_NO_CTRL_C}"
@@ -274,14 +274,17 @@ def _run(
 _NO_CTRL_C = "no one presses Ctrl-C in a graded run; a mission ends by going to a final state"
 
 
-def _own_interrupt(exc: KeyboardInterrupt) -> tuple[str, str] | None:
+def _own_interrupt(
+    exc: KeyboardInterrupt, shown: Callable[[str], str] = os.path.basename
+) -> tuple[str, str] | None:
     """What the mission's own code did, and where (``file:line``, or ``""``), when ``exc`` is
     a ``KeyboardInterrupt`` it caused; ``None`` for SIGTERM or SIGHUP.
 
     A graded run's process has no terminal and a session of its own, and the grader ends it
     with SIGKILL: a bare ``raise KeyboardInterrupt``, or SIGINT (``signal.raise_signal``,
     ``os.kill(os.getpid(), ...)``), can only come from the mission's own code. SIGTERM and
-    SIGHUP keep their own sentence (see the teachers' guide).
+    SIGHUP keep their own sentence (see the teachers' guide). ``shown`` names the student's
+    file as the student would (their path inside the submission).
     """
     if isinstance(exc, Interrupted) and exc.signum != signal.SIGINT:
         return None
@@ -290,10 +293,8 @@ def _own_interrupt(exc: KeyboardInterrupt) -> tuple[str, str] | None:
         if isinstance(exc, Interrupted)
         else f"raised {type(exc).__name__}"
     )
-    from roboscript.mission.student_code import shown_path
-
     student = [f for f in traceback.extract_tb(exc.__traceback__) if is_student_file(f.filename)]
-    where = f"{shown_path(student[-1].filename)}:{student[-1].lineno}" if student else ""
+    where = f"{shown(student[-1].filename)}:{student[-1].lineno}" if student else ""
     return did, where
 
 

@@ -163,7 +163,7 @@ except OSError as exc:
 # keeps trying to plant in the reports for as long as it lives. The mission says "DAEMON UP"
 # only once that process has started and spoken, so the test knows it existed.
 DAEMON = """\
-import os, sys
+import os, subprocess, sys
 LOOP = '''
 import os, pathlib, sys, time
 os.write(int(sys.argv[2]), b"up")
@@ -177,13 +177,11 @@ while True:
     time.sleep(0.05)
 '''
 ready, tell = os.pipe()
-if os.fork() == 0:
-    os.close(ready)
-    os.setsid()
-    if os.fork() == 0:
-        os.set_inheritable(tell, True)
-        os.execv(sys.executable, [sys.executable, "-I", "-c", LOOP, {marker!r}, str(tell)])
-    os._exit(0)
+# in a session of its own, as a double fork would leave it (a graded run refuses os.fork())
+subprocess.Popen(
+    [sys.executable, "-I", "-c", LOOP, {marker!r}, str(tell)],
+    pass_fds=(tell,), start_new_session=True,
+)
 os.close(tell)
 print("DAEMON UP" if os.read(ready, 2) == b"up" else "DAEMON NEVER STARTED", flush=True)
 """
