@@ -948,11 +948,11 @@ def crash_message(stderr: str, exit_status: int | None, loaded: bool) -> str:
     ):  # its wire closed under it, or it closed its wire and went on without it
         return f"the run crashed{phase}: {WIRE_BROKEN}"
     # SIGINT is never the grader's (a jail has no terminal): mission_host says whose it was
-    if exit_status is not None and exit_status - 128 in _OUTSIDE_SIGNALS:
+    if exit_status - 128 in _OUTSIDE_SIGNALS:
         reason = Interrupted(exit_status - 128).reason
         if lines and lines[-1] == reason:  # ended on a signal's sentence (mission_host)
             return f"the run crashed{phase}: {reason}"
-    if exit_status is not None and exit_status < 0:
+    if exit_status < 0:
         return f"the run crashed{phase}: {_killed_by(-exit_status)}"
     return (
         f"the run stopped unexpectedly{phase} (its process ended with exit code {exit_status}"

@@ -485,20 +485,20 @@ def test_a_mission_that_stops_its_own_process_is_hung_at_once_not_waited_out(
     ), run["message"]
 
 
-# Starts four processes that each keep 48 MiB (well under a process's own limit), and waits.
+# Starts four processes that each keep 48 MiB (well under a process's own limit), and waits
+# (with subprocess: a graded mission's os.fork() is refused).
 HOARDS_IN_FOUR_PROCESSES = """\
-import multiprocessing
-import time
+import subprocess
+import sys
 from roboscript import Mission, Wait, state
 
-
-def hoard():
-    kept = bytearray(48 * 1024 * 1024)
-    for i in range(0, len(kept), 4096):
-        kept[i] = 1  # touched, so the pages are held, not only promised
-    time.sleep(60)
-
-
+HOARD = (
+    "import time\\n"
+    "kept = bytearray(48 * 1024 * 1024)\\n"
+    "for i in range(0, len(kept), 4096):\\n"
+    "    kept[i] = 1  # touched, so the pages are held, not only promised\\n"
+    "time.sleep(60)\\n"
+)
 _hoarders = []
 
 
@@ -508,10 +508,7 @@ class Hoard(Mission):
 
     def start_hoarding(self) -> bool:
         if not _hoarders:
-            context = multiprocessing.get_context("fork")
-            _hoarders.extend(context.Process(target=hoard, daemon=True) for _ in range(4))
-            for process in _hoarders:
-                process.start()
+            _hoarders.extend(subprocess.Popen([sys.executable, "-c", HOARD]) for _ in range(4))
         return False
 """
 
