@@ -9,14 +9,13 @@ computer finds only the page's own (virtual) disk. Nothing here is timed.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 from browser import Browser
 from helpers import MISSIONS, run_cli
 from test_watchdog import SPIN
-from web_app import LONG_S, open_offline
+from web_app import LONG_S
 
 from roboscript.web.bridge import run_text
 
@@ -54,16 +53,6 @@ class Peek(Mission):
         except OSError:
             return False
 """
-
-
-@pytest.fixture(scope="module")
-def page(app: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Browser]:
-    browser = open_offline(app, tmp_path_factory.mktemp("profile"))
-    try:
-        browser.wait_for("document.body.dataset.ready === '1'", LONG_S)
-        yield browser
-    finally:
-        browser.close()
 
 
 def _run(page: Browser, name: str, text: str) -> dict[str, object]:

@@ -11,13 +11,11 @@ clock.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator
-from pathlib import Path
 
 import pytest
 from browser import Browser
 from test_watchdog import SPIN
-from web_app import LONG_S, open_offline
+from web_app import LONG_S
 
 from roboscript.mission.channels import MAX_PRINTED_LINES
 
@@ -45,16 +43,6 @@ FLOOD = BUSY.format(
 HOG = BUSY.format(name="Hog", body="        self.kept.append([0] * 2_000_000_000)")
 
 RESULT = "document.querySelector('[data-role=result]')"
-
-
-@pytest.fixture(scope="module")
-def page(app: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Browser]:
-    browser = open_offline(app, tmp_path_factory.mktemp("profile"))
-    try:
-        browser.wait_for("document.body.dataset.ready === '1'", LONG_S)
-        yield browser
-    finally:
-        browser.close()
 
 
 def _start(page: Browser, name: str, text: str) -> dict[str, object]:
@@ -115,11 +103,16 @@ def test_stop_ends_a_run_at_once_and_the_next_run_gets_a_fresh_python(page: Brow
 
 
 def test_a_flood_of_print_keeps_the_page_and_the_record_bounded(page: Browser) -> None:
-    shown = _start(page, "flood.py", FLOOD)
-    assert shown["result"] == "" and shown["stop"] is True
+    # (whether Stop is still offered once the click is read depends on how soon printing
+    # this much makes the run too slow: the page answering mid-run is the loop's test)
+    _start(page, "flood.py", FLOOD)
     summary = _summary(page)
-    assert summary["outcome"] == "error"  # printing this much makes every tick too slow
-    assert "flood.py:" in str(summary["reason"]) and "too slow" in str(summary["reason"])
+    # printing this much may make the ticks too slow (named at its line) or not: that is the
+    # machine's speed; what the record keeps is not
+    if summary["outcome"] == "error":
+        assert "flood.py:" in str(summary["reason"]) and "too slow" in str(summary["reason"])
+    else:
+        assert summary["outcome"] == "failure", summary  # the run's time ran out
     printed = page.evaluate(
         "JSON.parse(document.querySelector('.rs-viewer script.rs-data').textContent)"
         ".frames.reduce(function (n, f) { return n + (f.print ? f.print.length : 0); }, 0)"

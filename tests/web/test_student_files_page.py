@@ -11,13 +11,12 @@ Nothing here is timed.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 from browser import Browser
 from helpers import MISSIONS, run_cli
-from web_app import LONG_S, open_offline
+from web_app import LONG_S
 
 pytestmark = pytest.mark.timeout(1200)
 
@@ -35,16 +34,6 @@ class Go(Mission):
 PROBLEMS = "document.querySelector('[data-role=problems]')"
 EDITOR = "document.querySelector('.CodeMirror').CodeMirror"
 NOTE = "document.querySelector('[data-role=file-note]')"
-
-
-@pytest.fixture(scope="module")
-def page(app: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Browser]:
-    browser = open_offline(app, tmp_path_factory.mktemp("profile"))
-    try:
-        browser.wait_for("document.body.dataset.ready === '1'", LONG_S)
-        yield browser
-    finally:
-        browser.close()
 
 
 def _type(page: Browser, name: str, text: str) -> None:
