@@ -485,7 +485,7 @@ def test_expectations_a_run_can_meet_together_are_kept(tmp_path: Path, expect: s
         ),
         pytest.param(
             "test: t\nmax_time: 5 secs\nexpect:\n  - outcome: success\n",
-            "2:11: error: unknown unit 'secs' for a time (use s, sec, ms, min)",
+            "2:11: error: unknown unit 'secs' for a time (write 5 s)",
             id="a-unit-typo",
         ),
         pytest.param(
