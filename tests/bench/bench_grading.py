@@ -95,7 +95,7 @@ max_time: 75 s
 expect:
   - outcome: success
   - no_collisions: true
-  - never_enter: [centre]
+  - never_enter: [north-wall]
   - wall_distance: {{state: follow, side: right, min: 5 cm, max: 60 cm}}
   - max_duration: 70 s
 """
