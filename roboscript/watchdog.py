@@ -58,6 +58,7 @@ if TYPE_CHECKING:
 __all__ = [
     "DEFAULT_LIMIT_S",
     "REPEAT_S",
+    "RETURN_AT_ONCE",
     "TICK_BUDGET",
     "CodeClock",
     "CodePlace",
@@ -77,6 +78,13 @@ DEFAULT_LIMIT_S = 5.0
 
 REPEAT_S = 0.25
 """After the first alarm, how often it is raised again until the stuck code lets it out."""
+
+
+RETURN_AT_ONCE = (
+    "a condition or update() must return at once; wait with a state's action or timeout,"
+    " never time.sleep"
+)
+"""What code that runs every tick must do, as each warning about slow code says it."""
 
 
 @dataclass(frozen=True)
@@ -114,8 +122,7 @@ class TickBudget:
             f"warning: the mission's code{at} took {spent_s:.2f} s in one tick (a tick is"
             f" {self.slow_tick_s:g} s; meanwhile the robot keeps doing what it was last told):"
             f" once slow ticks add up to {self.too_slow_after_s:g} s the run ends as too slow,"
-            " here and when graded (a condition or update() must return at once; wait with a"
-            " state's action or timeout, never time.sleep)"
+            f" here and when graded ({RETURN_AT_ONCE})"
         )
 
 
@@ -379,8 +386,7 @@ class TooSlow(RunawayCode):
         return (
             f"the mission was too slow: its code{at} took up to {self.slowest_s:.2f} s per tick"
             f" (a tick is {self.budget.slow_tick_s:g} s) and was stopped once slow ticks added up"
-            f" to {self.budget.too_slow_after_s:g} s (a condition or update() must return at"
-            " once; wait with a state's action or timeout, never time.sleep)"
+            f" to {self.budget.too_slow_after_s:g} s ({RETURN_AT_ONCE})"
         )
 
 

@@ -26,6 +26,7 @@ __all__ = [
     "Dimension",
     "QuantityError",
     "bare_number_warning",
+    "clock_time",
     "parse_quantity",
     "radians_warning",
 ]
@@ -88,6 +89,40 @@ class QuantityError(ValueError):
         super().__init__(f"{message} ({hint})" if hint else message)
 
 
+_CLOCK = re.compile(r"([-+]?)(\d[\d_]*(?::\d[\d_]*)+(?:\.[\d_]*)?)")
+
+
+def clock_time(text: str) -> tuple[float, str] | None:
+    """A time written as a clock writes it (``1:30``, ``1:00:00``): the seconds it reads as
+    counted in sixties, and how to write it with a unit; ``None`` for any other text.
+
+    Example:
+        >>> clock_time("1:30")
+        (90.0, 'for 1 min 30 s, write `90 s` or `1.5 min`')
+    """
+    found = _CLOCK.fullmatch(text.strip())
+    if found is None:
+        return None
+    parts = found.group(2).replace("_", "").split(":")
+    seconds = 0.0
+    for part in parts:
+        seconds = seconds * 60 + float(part)
+    sign = found.group(1).replace("+", "")
+    if seconds == 0:
+        return 0.0, "write `0 s`"
+    minutes = seconds / 60
+    in_minutes = f" or `{sign}{minutes:g} min`" if (minutes * 10).is_integer() else ""
+    if len(parts) > 3:
+        return float(f"{sign}{seconds}"), f"write `{sign}{seconds:g} s`{in_minutes}"
+    read = " ".join(
+        f"{float(part):g} {unit}"
+        for part, unit in zip(parts, ("h", "min", "s")[-len(parts) :], strict=True)
+        if float(part)
+    )
+    written = f"for {sign}{read}, write `{sign}{seconds:g} s`{in_minutes}"
+    return float(f"{sign}{seconds}"), written
+
+
 def _unit_for(dimension: Dimension, unit: str) -> float | None:
     if unit in dimension.units:
         return dimension.units[unit]
@@ -135,6 +170,13 @@ def parse_quantity(value: object, dimension: str, default_unit: str | None = Non
         raise QuantityError(
             f"'{text}' has a decimal comma",
             f"use a decimal point: {comma.group().replace(',', '.')}{text[comma.end() :]}",
+        )
+    clock = clock_time(text)
+    if clock is not None:  # "1:30", quoted (unquoted, YAML refuses it as a number)
+        raise QuantityError(
+            f"'{text}' is written as a clock writes a time, and {_a(dim.name)} is one number"
+            " with its unit",
+            clock[1] if dimension == "time" else None,
         )
     number_match = _NUMBER.match(text)
     unit = text[number_match.end() :].strip() if number_match else ""

@@ -33,6 +33,7 @@ from roboscript.inputs.limits import (
     MAX_VALUES,
     name_too_long,
 )
+from roboscript.inputs.quantities import clock_time
 
 __all__ = [
     "Location",
@@ -130,6 +131,37 @@ _WHOLE_NUMBER = re.compile(r"[-+]?\d+")
 _SHORT_TAG = "tag:yaml.org,2002:"
 
 
+_OCTAL = re.compile(r"[-+]?0[0-7_]+")
+"""``010``, which YAML 1.1 reads as an octal number: 8."""
+
+
+def _refuse_yaml_1_1_number(node: yaml.ScalarNode) -> None:
+    """Refuse the numbers YAML 1.1 reads as other than what is written, with no word:
+    ``1:30`` (90, counted in sixties as a clock counts) and ``010`` (8, in octal).
+
+    In quotes they are text, which a quantity's reader explains in its own terms."""
+    if node.style is not None:  # !!int "010": the writer's own choice
+        return
+    text = str(node.value)
+    clock = clock_time(text)
+    if clock is not None:
+        raise _RefusedError(
+            f"YAML reads {text} as the number {clock[0]:g}, counting in sixties as a clock"
+            " does, and roboscript reads a number with its unit",
+            _mark(node),
+            clock[1],
+        )
+    if _OCTAL.fullmatch(text):
+        plain = text.lstrip("+-").replace("_", "").lstrip("0") or "0"
+        sign = "-" if text.startswith("-") else ""
+        raise _RefusedError(
+            f"{text} starts with a 0, so YAML reads it as an octal number:"
+            f" {int(text.replace('_', ''), 8)}",
+            _mark(node),
+            f"write {sign}{plain}, without the leading 0",
+        )
+
+
 class _RefusedError(Exception):
     """A limit or rule of this module broken while PyYAML is mid-parse: a message and a mark.
 
@@ -224,6 +256,7 @@ class _Loader(yaml.SafeLoader):
             raise _RefusedError(f"cannot read {shown!r} as {tag} ({exc})", _mark(node)) from None
 
     def construct_yaml_int(self, node: yaml.ScalarNode) -> int:
+        _refuse_yaml_1_1_number(node)
         digits = len(str(node.value).replace("_", "").lstrip("+-"))
         if digits > MAX_INTEGER_DIGITS:
             raise _RefusedError(
@@ -231,6 +264,11 @@ class _Loader(yaml.SafeLoader):
                 _mark(node),
             )
         value: int = super().construct_yaml_int(node)
+        return value
+
+    def construct_yaml_float(self, node: yaml.ScalarNode) -> float:
+        _refuse_yaml_1_1_number(node)
+        value: float = super().construct_yaml_float(node)
         return value
 
     def construct_yaml_str(self, node: yaml.ScalarNode) -> str:
@@ -320,6 +358,7 @@ _Loader.add_implicit_resolver(
 _Loader.add_constructor("tag:yaml.org,2002:map", _Loader.construct_yaml_map_with_marks)
 _Loader.add_constructor("tag:yaml.org,2002:seq", _Loader.construct_yaml_seq_with_marks)
 _Loader.add_constructor("tag:yaml.org,2002:int", _Loader.construct_yaml_int)
+_Loader.add_constructor("tag:yaml.org,2002:float", _Loader.construct_yaml_float)
 _Loader.add_constructor("tag:yaml.org,2002:str", _Loader.construct_yaml_str)
 # Explicit tags for values no reader expects (!!set, !!timestamp...) are refused like
 # !!python/object: no roboscript file needs them.

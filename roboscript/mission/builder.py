@@ -17,6 +17,7 @@ import copy
 import functools
 import re
 from collections.abc import Callable, Mapping
+from pathlib import Path
 from typing import Any
 
 from roboscript import capabilities as cap
@@ -35,11 +36,13 @@ from roboscript.inputs.quantities import (
 )
 from roboscript.inputs.source import Location
 from roboscript.mission.checks import check_mission
+from roboscript.mission.condition_reads import PY_WAIT, YAML_WAIT, action_sleeps, sleep_warning
 from roboscript.mission.guards import GuardError, compile_guard
 from roboscript.mission.limits import a_noun, example, param_problems, shown, time_problem
 from roboscript.mission.nested import SubMission
+from roboscript.mission.python_source import PythonSource
 from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec, TransitionSpec
-from roboscript.mission.student_code import StudentCodeError
+from roboscript.mission.student_code import StudentCodeError, shown_path
 from roboscript.robot_profile import RobotProfile
 
 __all__ = ["MissionBuilder", "MissionProblemsError", "ParamProblem", "action_params"]
@@ -247,6 +250,7 @@ class MissionBuilder:
     def __init__(self, path: str) -> None:
         self.path = path
         self.problems: list[InputError] = []
+        self._sleeps_told: set[type[Action]] = set()  # a class used in many states: once
 
     def problem(
         self, message: str, where: Location | None, hint: str | None = None, severity: str = "error"
@@ -305,6 +309,9 @@ class MissionBuilder:
         if misdefined is not None:  # def update(ctx): would raise at every tick
             self.problem(misdefined[0], where, misdefined[1])
             return None
+        if not _is_built_in(cls) and cls not in self._sleeps_told:
+            self._sleeps_told.add(cls)
+            self.tell_sleeps(cls)
         kwargs, problems = action_params(cls, values, state_names, written=instance is None)
         refused = False
         if not problems:
@@ -370,6 +377,18 @@ class MissionBuilder:
             param_locations=param_locations,
             action_class=cls,
         )
+
+    def tell_sleeps(self, cls: type[Action]) -> None:
+        """Warn about each ``time.sleep`` in a student's action class (its ``update`` is run
+        every tick, and holds up the robot while it sleeps), at its line."""
+        example = PY_WAIT if self.path.endswith(".py") else YAML_WAIT
+        mission_file = Path(self.path).resolve()
+        for function, call in action_sleeps(cls):
+            filename = function.__code__.co_filename
+            shown = self.path if Path(filename).resolve() == mission_file else shown_path(filename)
+            message, hint = sleep_warning(call, f"{cls.__name__}.{function.__name__}()", example)
+            where = PythonSource(filename, shown).loc(call)
+            self.problem(message, where, hint, "warning")
 
     def parallel(self, mode: str, children: list[ActionSpec], where: Location) -> ActionSpec:
         """``parallel``: run ``children`` together, ``all`` or ``any`` of them to finish."""

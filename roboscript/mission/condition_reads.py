@@ -17,18 +17,36 @@ import ast
 import builtins
 import inspect
 import sys
+import time
 from collections.abc import Callable, Iterable, Iterator
 from types import FunctionType
 
 from roboscript.actions import ACTION_WORDS, ACTIONS
+from roboscript.code_owner import is_student_file
 from roboscript.errors import did_you_mean
 from roboscript.mission.guards import TIME_WORDS
+from roboscript.mission.python_source import PythonSource
+from roboscript.watchdog import RETURN_AT_ONCE, TICK_BUDGET
 
-__all__ = ["Slip", "condition_slips"]
+__all__ = [
+    "PY_WAIT",
+    "YAML_WAIT",
+    "Slip",
+    "action_sleeps",
+    "condition_slips",
+    "sleep_warning",
+    "sleeps_in",
+]
 
 Slip = tuple[ast.AST, str, str | None]
 """Where in the method, what is wrong, and what to write instead."""
 
+
+PY_WAIT = 'pause = state(Wait(duration_s=2), on_done="next")'
+"""A wait, as a Python mission writes it (in a sleep's fix)."""
+
+YAML_WAIT = "pause: {do: {wait: {duration: 2 s}}, on: {done: next}}"
+"""A wait, as a YAML mission writes it (in a sleep's fix)."""
 
 _ENDS_PROGRAM = frozenset({"exit", "quit", "sys.exit", "os._exit"})
 _NO_KEYBOARD = "input() waits for someone to type, and a running mission has no one at the keyboard"
@@ -349,3 +367,95 @@ def _self_hint(
     readable = [name for name in public if reading_names(name)]
     own = f"a value of your own needs a first value in the class, {attr} = 0"
     return f"{own}; the robot's sensors are {', '.join(f'self.{n}' for n in readable)}"
+
+
+def sleeps_in(
+    node: ast.FunctionDef | ast.AsyncFunctionDef, namespace: dict[str, object]
+) -> list[ast.Call]:
+    """The calls of ``time.sleep`` in a function's own body (``time.sleep(2)``,
+    ``sleep(2)`` after ``from time import sleep``, ``t.sleep(2)`` after ``import time as
+    t``), as its module's ``namespace`` names them; ``time.sleep(0)`` waits for nothing."""
+    own = _own_names(node)
+    found = []
+    for child in _walk_own(node):
+        if not isinstance(child, ast.Call):
+            continue
+        func = child.func
+        if isinstance(func, ast.Name):
+            sleeps = func.id not in own and namespace.get(func.id) is time.sleep
+        elif isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name):
+            sleeps = (
+                func.attr == "sleep"
+                and func.value.id not in own
+                and namespace.get(func.value.id) is time
+            )
+        else:
+            sleeps = False
+        first = child.args[0] if child.args else None
+        if sleeps and not (isinstance(first, ast.Constant) and first.value == 0):
+            found.append(child)
+    return sorted(found, key=lambda call: (call.lineno, call.col_offset))
+
+
+def action_sleeps(cls: type) -> list[tuple[FunctionType, ast.Call]]:
+    """Each ``time.sleep`` in the ``start``, ``update`` and ``stop`` of a student's action
+    class, and in the methods of the class they call on ``self``, with the function it is in
+    (whose code names its file and line)."""
+    found: list[tuple[FunctionType, ast.Call]] = []
+    todo = ["start", "update", "stop"]
+    seen: set[str] = set()
+    while todo:
+        name = todo.pop(0)
+        if name in seen:
+            continue
+        seen.add(name)
+        function = inspect.getattr_static(cls, name, None)
+        function = getattr(function, "__wrapped__", function)
+        if not isinstance(function, FunctionType) or not is_student_file(
+            function.__code__.co_filename
+        ):
+            continue
+        node = _def_of(function)
+        if node is None:
+            continue
+        found.extend((function, call) for call in sleeps_in(node, function.__globals__))
+        todo.extend(
+            child.func.attr
+            for child in _walk_own(node)
+            if isinstance(child, ast.Call)
+            and isinstance(child.func, ast.Attribute)
+            and isinstance(child.func.value, ast.Name)
+            and child.func.value.id == "self"
+        )
+    return found
+
+
+def _def_of(function: FunctionType) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+    """The ``def`` of ``function`` in its file's syntax tree, or ``None``."""
+    code = function.__code__
+    return PythonSource(code.co_filename, code.co_filename).function_def(
+        code.co_name, code.co_firstlineno
+    )
+
+
+def sleep_warning(call: ast.Call, runs: str, example: str) -> tuple[str, str]:
+    """The warning for ``time.sleep`` in code that runs every tick (``runs``: ``update()``,
+    ``near()``): ``(message, fix)``, the fix showing ``example``, a wait as the mission's
+    syntax writes it."""
+    written = ast.unparse(call)
+    if len(written) > 40:
+        written = "time.sleep(...)"
+    first = call.args[0] if call.args else None
+    seconds = (
+        f" for {first.value:g} s"
+        if isinstance(first, ast.Constant)
+        and isinstance(first.value, int | float)
+        and not isinstance(first.value, bool)
+        else ""
+    )
+    message = (
+        f"{written} in {runs} holds up the whole robot{seconds}: {runs} is run once every"
+        f" tick ({TICK_BUDGET.slow_tick_s:g} s), and while it sleeps no condition is checked,"
+        " no timeout counted and no other action run"
+    )
+    return message, f"{RETURN_AT_ONCE}: e.g. a state of its own, {example}"

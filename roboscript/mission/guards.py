@@ -54,6 +54,7 @@ from typing import Any
 from roboscript import capabilities as cap
 from roboscript.inputs.quantities import DIMENSIONS, QuantityError, parse_quantity
 from roboscript.mission.limits import GUARD_NUMBER_LIMIT, shown
+from roboscript.mission.never_true import bounds_of, never_true
 
 __all__ = [
     "COLOR_NAMES",
@@ -373,50 +374,24 @@ class _Compiler:
             if isinstance(whole, ast.BoolOp) and isinstance(whole.op, ast.And)
             else [whole]
         )
-        bounds: dict[str, list[tuple[float, str, ast.expr]]] = {}
-        for part in parts:
-            if not isinstance(part, ast.Compare):
-                continue
-            items = [part.left, *part.comparators]
-            for left, op, right in zip(items, part.ops, items[1:], strict=False):
-                for read, number, sign in (
-                    (left, right, op),
-                    (right, left, _FLIPPED.get(type(op))),
-                ):
-                    value = _plain_number(number)
-                    if (
-                        sign is None
-                        or value is None
-                        or not isinstance(read, ast.Name | ast.Attribute)
-                    ):
-                        continue
-                    word = _BOUND.get(type(sign))
-                    if word is not None:
-                        bounds.setdefault(ast.unparse(read), []).append((value, word, part))
-        for reading, limits in bounds.items():
-            below = [(v, w, n) for v, w, n in limits if w in ("<", "<=", "==")]
-            above = [(v, w, n) for v, w, n in limits if w in (">", ">=", "==")]
-            if reading.endswith(("distance_cm", "distance_mm")):
-                for value, word, node in below:
-                    if value < 0 or (value == 0 and word == "<"):
-                        raise self.fail(
-                            f"the condition '{self.source.strip()}' can never be true: a distance"
-                            f" sensor reads 0 or more, never {_WORDS[word]} {value:g}",
-                            node,
-                            f"compare with a distance it can read, e.g. {reading} < 20",
-                        )
-            for high, high_word, high_node in below:
-                for low, low_word, _ in above:
-                    if low < high or (low == high and "=" in low_word and "=" in high_word):
-                        continue
-                    fix = self.source.replace(" and ", " or ") if len(parts) == 2 else None
-                    raise self.fail(
-                        f"the condition '{self.source.strip()}' can never be true: {reading}"
-                        f" is never {_WORDS[high_word]} {high:g} and {_WORDS[low_word]} {low:g}"
-                        " at once",
-                        high_node,
-                        f"to go when either holds, write or: {fix.strip()}" if fix else None,
-                    )
+        found = never_true(
+            bounds_of(
+                parts,
+                lambda read: (
+                    ast.unparse(read) if isinstance(read, ast.Name | ast.Attribute) else None
+                ),
+            )
+        )
+        if found is None:
+            return
+        fix = self.source.replace(" and ", " or ") if len(parts) == 2 else None
+        raise self.fail(
+            f"the condition '{self.source.strip()}' can never be true: {found.why}",
+            found.node,
+            (f"to go when either holds, write or: {fix.strip()}" if fix else None)
+            if found.apart
+            else f"compare with a distance it can read, e.g. {found.reading} < 20",
+        )
 
     def _refuse_unreadable(self) -> None:
         """Refuse conditions no one writes by hand before Python's parser sees them."""
@@ -747,41 +722,6 @@ class _Compiler:
 TIME_WORDS = frozenset({"time", "timer", "time_s", "seconds", "secs", "clock", "t", "duration"})
 """Words a student reads the time with, where a condition has elapsed and state_time (a YAML
 condition, and ``self.`` in a Python one)."""
-
-_FLIPPED: dict[type[ast.cmpop], ast.cmpop] = {
-    ast.Lt: ast.Gt(),
-    ast.LtE: ast.GtE(),
-    ast.Gt: ast.Lt(),
-    ast.GtE: ast.LtE(),
-    ast.Eq: ast.Eq(),
-}
-"""A comparison read from its other side: ``20 > x`` is ``x < 20``."""
-_BOUND: dict[type[ast.cmpop], str] = {
-    ast.Lt: "<",
-    ast.LtE: "<=",
-    ast.Gt: ">",
-    ast.GtE: ">=",
-    ast.Eq: "==",
-}
-_WORDS = {
-    "<": "below",
-    "<=": "at most",
-    ">": "above",
-    ">=": "at least",
-    "==": "equal to",
-}
-"""How a bound is said in a sentence."""
-
-
-def _plain_number(node: ast.expr) -> float | None:
-    """The number ``node`` is written as (``20``, ``-5``), or ``None`` for anything else."""
-    sign = 1.0
-    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
-        sign, node = -1.0, node.operand
-    number = node.value if isinstance(node, ast.Constant) else None
-    if isinstance(number, int | float) and not isinstance(number, bool):
-        return sign * float(number)
-    return None
 
 
 def _call_meant(node: ast.Call) -> str | None:

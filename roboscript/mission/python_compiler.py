@@ -41,8 +41,9 @@ from roboscript.errors import InputError, LinkError, did_you_mean
 from roboscript.inputs.quantities import DIMENSIONS, bare_number_warning, parse_quantity
 from roboscript.inputs.source import Location
 from roboscript.mission.builder import MissionBuilder
-from roboscript.mission.condition_reads import condition_slips
+from roboscript.mission.condition_reads import PY_WAIT, condition_slips, sleep_warning, sleeps_in
 from roboscript.mission.guards import GuardEnv, guard_names
+from roboscript.mission.never_true import bounds_of, never_true
 from roboscript.mission.python_api import Mission, StateDef
 from roboscript.mission.python_source import PythonSource, item, keyword
 from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec, TransitionSpec
@@ -193,6 +194,27 @@ def _reads_text(node: ast.expr) -> bool:
     found = _reading_returns(node)
     returned = found[1] if found is not None else None
     return returned is str or str in typing.get_args(returned)
+
+
+def _compared_with_none(node: ast.expr) -> tuple[str, str] | None:
+    """``(self.range.distance_cm, "a number")`` when ``node`` asks whether a sensor value that
+    is never None is None (``== None``, ``is None``), else ``None``."""
+    if not (
+        isinstance(node, ast.Compare)
+        and len(node.ops) == 1
+        and isinstance(node.ops[0], ast.Eq | ast.Is)
+    ):
+        return None
+    left, right = node.left, node.comparators[0]
+    if isinstance(left, ast.Constant) and left.value is None:
+        left, right = right, left
+    if not (isinstance(right, ast.Constant) and right.value is None):
+        return None
+    found = _reading_returns(left)
+    if found is None:
+        return None
+    kind = {float: "a number", int: "a number", bool: "True or False"}.get(found[1])  # type: ignore[call-overload]
+    return (found[0], kind) if kind is not None else None
 
 
 def _always_returns(body: list[ast.stmt]) -> bool:
@@ -1187,6 +1209,8 @@ class _Compiler:
                 where_in(text),
                 _as_number(str(text.value), read),
             )
+        for never, message, hint, severity in self.never_true(value):
+            self.problem(message, where_in(never), hint, severity)
         for unquoted in scan.unquoted_states:
             self.problem(
                 f"visits({unquoted.id}) names the state '{unquoted.id}' without quotes",
@@ -1236,6 +1260,65 @@ class _Compiler:
         self.method_guards[name] = guard
         return guard
 
+    def never_true(self, func: Callable[..., object]) -> list[tuple[ast.AST, str, str, str]]:
+        """Comparisons in condition method ``func`` that no reading can make true
+        (``self.range.distance_cm < 0``, ``x < 20 and x > 30``, ``self.bumper.any == None``),
+        as ``(where, message, fix, severity)``: an error when the method returns it, as a
+        YAML condition is refused; a warning elsewhere in the method."""
+        _, node = self.def_of(func)
+        if not isinstance(node, ast.FunctionDef):
+            return []
+        returned = {id(child.value) for child in _walk_own(node) if isinstance(child, ast.Return)}
+        within_and = {
+            id(part)
+            for child in _walk_own(node)
+            if isinstance(child, ast.BoolOp) and isinstance(child.op, ast.And)
+            for part in child.values
+        }
+        found: list[tuple[ast.AST, str, str, str]] = []
+        for child in _walk_own(node):
+            if isinstance(child, ast.BoolOp) and isinstance(child.op, ast.And):
+                parts = list(child.values)
+            elif isinstance(child, ast.Compare) and id(child) not in within_and:
+                parts = [child]
+            else:
+                continue
+            severity = "error" if id(child) in returned else "warning"
+            written = ast.unparse(child)
+            never = never_true(bounds_of(parts, _reading_value))
+            if never is not None:
+                either = written.replace(" and ", " or ") if len(parts) == 2 else None
+                found.append(
+                    (
+                        never.node,
+                        f"'{written}' can never be true: {never.why}",
+                        (f"to go when either holds, write or: {either}" if either else "")
+                        if never.apart
+                        else f"compare with a distance it can read, e.g. {never.reading} < 20",
+                        severity,
+                    )
+                )
+            for part in parts:
+                none = _compared_with_none(part)
+                if none is not None:
+                    read, kind = none
+                    why = f"{read} is {kind}, never None"
+                    found.append(
+                        (
+                            part,
+                            f"'{ast.unparse(part)}' can never be true: {why}",
+                            (
+                                f"compare it with a number, e.g. {read} < 20"
+                                if kind == "a number"
+                                else f"use it as it is: {read} (or not {read})"
+                            ),
+                            severity,
+                        )
+                    )
+        return sorted(
+            found, key=lambda f: (getattr(f[0], "lineno", 0), getattr(f[0], "col_offset", 0))
+        )
+
     def slips(self, func: Callable[..., object], seen: set[str]) -> None:
         """Say what condition code ``func``, and each method of the mission it calls, reads
         that is not there (``self.bumpr``, ``bumper`` without ``self.``), once each."""
@@ -1257,6 +1340,9 @@ class _Compiler:
             if (str(loc), message) not in self._slipped:
                 self._slipped.add((str(loc), message))
                 self.problem(message, loc, hint)
+        for call in sleeps_in(node, func.__globals__):
+            message, hint = sleep_warning(call, f"{name}()", PY_WAIT)
+            self.problem(message, source.loc(call), hint, "warning")
         for child in ast.walk(node):
             if (
                 isinstance(child, ast.Attribute)

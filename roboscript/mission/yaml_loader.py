@@ -49,6 +49,16 @@ _INNER_KEYS = ("states", "initial", "description")
 _CHOICE_KEYS = ("if", "goto")
 _COMPOSITES = ("parallel", "repeat", "states", "mission")
 
+_STATE_EXAMPLES = {
+    "do": "write the action it runs, e.g. do: {drive: {distance: 50 cm}}",
+    "during": "write a list of actions, or leave 'during' out",
+    "on": "write where each outcome goes, e.g. on: {done: NEXT}",
+    "when": "write a list of choices, e.g. when: [{if: bumper.any, goto: NEXT}]",
+    "timeout": "write how long it may last, e.g. timeout: 10 s, or leave 'timeout' out",
+    "final": "write final: success or final: failure, or leave 'final' out",
+}
+"""What each of a state's keys written with no value is given, as the fix says."""
+
 _REPEAT = {"times": "how many times", "do": "the action to repeat"}
 """What a ``repeat:`` holds, and what each is."""
 
@@ -108,6 +118,25 @@ class _Reader:
     ) -> None:
         self.problems.extend(self.fields.unknown_keys(data, keys, what, meant))
 
+    def valued(self, data: YamlMap, what: str, examples: Mapping[str, str]) -> YamlMap:
+        """``data`` without the keys of ``examples`` written with no value (``speed: ~``,
+        ``done:`` with nothing after it), each told once with its example, so no second
+        message says the key is missing or holds 'None'."""
+        empty = [key for key in examples if key in data and data[key] is None]
+        for key in empty:
+            self.problem(
+                f"'{key}' {what}has no value: YAML reads `~`, `null` and nothing after the"
+                " ':' as no value",
+                data.value_mark(key),
+                examples[key],
+            )
+        if not empty:
+            return data
+        kept = YamlMap.at(data.mark, {k: v for k, v in data.items() if k not in empty})
+        kept.key_marks, kept.value_marks = data.key_marks, data.value_marks
+        kept.quoted = data.quoted
+        return kept
+
     # ------------------------------------------------------------------------------ top
 
     def read(self, data: Any, inner_of: str | None = None) -> MissionSpec | None:
@@ -122,6 +151,11 @@ class _Reader:
             return None
         if inner_of is None:
             self.unknown_keys(data, _TOP_KEYS, "a mission", meant_at_top)
+        states_written = data.get("states")
+        first = next(iter(states_written), "go") if isinstance(states_written, YamlMap) else "go"
+        data = self.valued(
+            data, "", {"initial": f"write the state to start in, e.g. initial: {first}"}
+        )
         if inner_of is None and "behaviours" in data:
             extra, problems, self.broken = behaviours_from_yaml(
                 data["behaviours"], data.value_mark("behaviours"), self.path
@@ -284,6 +318,13 @@ class _Reader:
         self.unknown_keys(
             raw, (*_STATE_KEYS, *misplaced, *mission_keys), f"state '{name}'", meant_in_state
         )
+        # on: with its outcomes under it not indented: the outcomes' own message says it
+        dedented = any(key in OUTCOMES for key in raw)
+        raw = self.valued(
+            raw,
+            f"in state '{name}' ",
+            {k: v for k, v in _STATE_EXAMPLES.items() if k != "on" or not dedented},
+        )
         action = None
         if "do" in raw:
             action = self.action(raw["do"], raw.value_mark("do"), names, label=name)
@@ -384,6 +425,17 @@ class _Reader:
             )
             return None
         cls = self.actions.get(name)
+        if cls is not None and any(params.get(p.name, "") is None for p in params_of(cls)):
+            self.valued(
+                params,
+                f"of '{name}' ",
+                {
+                    p.name: f"write {p.name}: {p.example_value}"
+                    + (f", or leave {p.name} out for its default" if p.default is not None else "")
+                    for p in params_of(cls)
+                },
+            )
+            return None
         if cls is None:
             if name not in self.broken:  # else its behaviour file's errors say why
                 self.problem(f"unknown action '{name}'", name_mark, self.action_meant(name))
@@ -520,6 +572,16 @@ class _Reader:
             )
             return None
         self.unknown_keys(item, _CHOICE_KEYS, "a choice")
+        if any(item.get(key, "") is None for key in _CHOICE_KEYS):
+            self.valued(
+                item,
+                "in this choice ",
+                {
+                    "if": f"write the condition, e.g. if: {PARAM_EXAMPLES['guard']}",
+                    "goto": f"write the state it goes to, e.g. goto: {_a_state(names)}",
+                },
+            )
+            return None
         if "goto" not in item:
             # `then: stuck`, `next: stuck`: the state written under another key
             written = [
@@ -568,6 +630,11 @@ class _Reader:
                 f"write on: {{done: {raw}}}" if isinstance(raw, str) and raw in names else None,
             )
             return {}
+        raw = self.valued(
+            raw,
+            "",
+            {o: f"write the state it goes to, e.g. {o}: {_a_state(names)}" for o in OUTCOMES},
+        )
         result: dict[str, tuple[TransitionSpec, ...]] = {}
         for outcome, value in raw.items():
             if outcome not in OUTCOMES and outcome.partition(":")[0] in OUTCOMES:
