@@ -57,10 +57,18 @@ __all__ = [
     "did_you_mean",
     "grouped",
     "nearby_file",
+    "pasted_with_it",
+    "wrong_ending",
 ]
 
 FAULT_SAMPLE_BYTES = 64
 """How many of a bad frame's bytes a :class:`RemoteProtocolError` keeps, for the log."""
+
+
+_INVISIBLE = "\u200b\u200c\u200d\u2060\ufeff\u00a0\u00ad"
+"""Characters that show as nothing (or as a plain space) where a web page or a document put
+them: zero-width spaces and joiners, a byte-order mark, a non-breaking space, a soft hyphen."""
+_INVISIBLE_RUN = re.compile(f"[{_INVISIBLE}]")
 
 
 def did_you_mean(word: str, choices: Iterable[str], *, cutoff: float = 0.5) -> str | None:
@@ -72,6 +80,13 @@ def did_you_mean(word: str, choices: Iterable[str], *, cutoff: float = 0.5) -> s
         cutoff: How alike (0-1, :func:`difflib.get_close_matches`) a choice must be.
     """
     options = sorted(set(choices))
+    hidden = [char for char in word if char in _INVISIBLE]
+    if hidden and _INVISIBLE_RUN.sub("", word) in options:  # drive\u200b: copied from a page
+        visible = _INVISIBLE_RUN.sub("", word)
+        return (
+            f"'{visible}' holds an invisible character, U+{ord(hidden[0]):04X}, copied from a web"
+            f" page or a document: type '{visible}' again"
+        )
     # Another case ("MIRTO", "Done") is the choice itself, however short the word.
     same = [c for c in options if c.lower() == word.lower() and c != word]
     if same:
@@ -314,3 +329,95 @@ class LinkTimeoutError(LinkError, TimeoutError):
 
 class LinkClosedError(LinkError, ConnectionError):
     """The link to the robot was closed or lost."""
+
+
+_SHELL = "take away '>>> ' and '... ' at the start of each line, keeping the indentation after them"
+_IPYTHON = (
+    "take away 'In [1]: ' and '...: ' at the start of each line, keeping the indentation after them"
+)
+_PROMPTS = (
+    (re.compile(r">>>(?: |$)"), "'>>> ', the prompt of Python's interactive shell", _SHELL),
+    (
+        re.compile(r"\.\.\. +\S"),
+        "'... ', the prompt Python's interactive shell shows inside a block",
+        _SHELL,
+    ),
+    (re.compile(r"In \[\d*\]: "), "'In [1]: ', the prompt of IPython or a notebook", _IPYTHON),
+    (re.compile(r"\.\.\.: "), "'...: ', the prompt IPython shows inside a block", _IPYTHON),
+)
+_COMMAND = re.compile(
+    r"(?:\$|%|PS [^>]*>|[A-Za-z]:\\[^>]*>)\s*(?:\.venv/bin/)?(?:roboscript|python)"
+)
+"""A terminal's prompt and a command (``$ roboscript run m.yaml``), copied into a file."""
+
+
+def pasted_with_it(text: str, python: bool) -> tuple[int, int, str, str] | None:
+    """The first line of a file that was copied with what surrounded it on the page it was
+    copied from: a Markdown fence (```), a terminal's command, or (in Python) a prompt of
+    Python's interactive shell (``>>> ``). Asked only of a file that does not parse, so an
+    honest file is never told.
+
+    Returns:
+        ``(line, column, message, hint)``, 1-based, or ``None``.
+    """
+    for number, line in enumerate(text.splitlines(), 1):
+        stripped = line.lstrip().lstrip("\ufeff")
+        col = len(line) - len(stripped) + 1
+        if stripped.startswith("```"):
+            return (
+                number,
+                col,
+                "this line is a Markdown code fence (```), copied with the mission",
+                "take away each ``` line: the file holds the mission alone",
+            )
+        if _COMMAND.match(stripped):
+            return (
+                number,
+                col,
+                "this line is a command typed in a terminal, copied with the mission",
+                "take it away: type commands in the terminal, and keep the file for the mission",
+            )
+        if not python:
+            continue
+        for prompt, what, hint in _PROMPTS:
+            if prompt.match(stripped):
+                return number, col, f"this line starts with {what}, copied with the code", hint
+    return None
+
+
+_DOCUMENTS = {
+    ".docx": "a Word document",
+    ".doc": "a Word document",
+    ".odt": "a LibreOffice document",
+    ".rtf": "a rich-text document",
+    ".pages": "a Pages document",
+    ".pdf": "a PDF",
+    ".gdoc": "a Google Docs link",
+}
+
+
+def wrong_ending(path: str | Path) -> str | None:
+    """How to save a mission kept in a file whose name ends otherwise than a mission's
+    (``m.yaml.txt``, ``m.docx``), or ``None`` when nothing more fitting than a file of a like
+    name beside it can be said."""
+    name = Path(path).name
+    suffix = Path(path).suffix.lower()
+    inner = Path(Path(path).stem).suffix.lower()
+    if suffix == ".txt" and inner in (".yaml", ".yml", ".py"):
+        return (
+            f"rename it to {Path(path).stem}: the editor added '.txt', which Windows hides"
+            " from the file's name"
+        )
+    document = _DOCUMENTS.get(suffix)
+    if document is not None:
+        return (
+            f"{name} is {document}, not plain text: copy the mission into a plain-text editor"
+            f" (the one you write code in) and save it as {Path(path).stem}.yaml, or .py for a"
+            " Python mission"
+        )
+    if suffix == ".txt":
+        return (
+            f"save it as {Path(path).stem}.yaml, or {Path(path).stem}.py for a Python"
+            " mission: the ending tells roboscript how to read it"
+        )
+    return None

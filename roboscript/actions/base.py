@@ -582,7 +582,8 @@ class UpdateReturnError(TypeError):
         super().__init__(f"{problem} ({fix})")
 
 
-_RESULT_HINT = "return Result.done() when it has finished, and None while it is still going"
+RESULT_HINT = "return Result.done() when it has finished, and None while it is still going"
+"""What an action's ``update`` returns, as every message about what it returned says it."""
 
 
 def _returning_a_result(update: Callable[..., Any]) -> Callable[..., Any]:
@@ -599,7 +600,7 @@ def _returning_a_result(update: Callable[..., Any]) -> Callable[..., Any]:
             fix = f"write return Result.{name}({'' if name == 'done' else '...'})"
         else:
             shown = repr(result) if len(repr(result)) <= 40 else type(result).__name__
-            problem, fix = f"returned {shown} instead of a Result", _RESULT_HINT
+            problem, fix = f"returned {shown} instead of a Result", RESULT_HINT
         code = update.__code__
         raise UpdateReturnError(problem, fix, code.co_filename, code.co_firstlineno)
 

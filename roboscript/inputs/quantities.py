@@ -89,6 +89,12 @@ class QuantityError(ValueError):
         super().__init__(f"{message} ({hint})" if hint else message)
 
 
+_CURLY = "‘’“”„‚«»"
+"""Quotes a word processor puts in place of typed ones."""
+_DASHES = "–—−"
+"""An en dash, an em dash and the minus sign, which a word processor or a web page writes
+for a typed minus."""
+
 _CLOCK = re.compile(r"([-+]?)(\d[\d_]*(?::\d[\d_]*)+(?:\.[\d_]*)?)")
 
 
@@ -170,6 +176,17 @@ def parse_quantity(value: object, dimension: str, default_unit: str | None = Non
         raise QuantityError(
             f"'{text}' has a decimal comma",
             f"use a decimal point: {comma.group().replace(',', '.')}{text[comma.end() :]}",
+        )
+    if text[:1] in _CURLY or text[-1:] in _CURLY:  # ‘50 cm’, from a word processor
+        bare = text.strip("".join(_CURLY))
+        raise QuantityError(
+            f"'{text}' is in curly quotes, as a word processor writes them",
+            f"type straight quotes, or none: {bare}",
+        )
+    if text[:1] in _DASHES:  # –90 deg, from a word processor
+        raise QuantityError(
+            f"'{text}' starts with a dash, as a word processor writes a minus",
+            f"type the minus key: -{text[1:].strip()}",
         )
     clock = clock_time(text)
     if clock is not None:  # "1:30", quoted (unquoted, YAML refuses it as a number)

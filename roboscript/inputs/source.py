@@ -25,7 +25,7 @@ from typing import Any
 
 import yaml
 
-from roboscript.errors import InputError, nearby_file
+from roboscript.errors import InputError, nearby_file, pasted_with_it
 from roboscript.inputs.limits import (
     MAX_DEPTH,
     MAX_FILE_BYTES,
@@ -393,6 +393,28 @@ _SIGN_CONTEXTS = (
 
 def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, str | None]:
     """A PyYAML syntax error in a beginner's terms: ``(message, where, hint)``."""
+    pasted = pasted_with_it(text, python=False)
+    if pasted is not None:  # a Markdown fence or a terminal's command copied with the mission
+        return pasted[2], (pasted[0], pasted[1]), pasted[3]
+    for number, text_line in enumerate(text.splitlines(), 1):
+        indent = text_line[: len(text_line) - len(text_line.lstrip())]
+        if "\u00a0" in indent:  # copied from a web page: it shows as a space
+            message = (
+                "this line is indented with non-breaking spaces, copied from a web page or a"
+                " document, and YAML indents with plain spaces"
+            )
+            return (
+                message,
+                (number, indent.index("\u00a0") + 1),
+                "indent it again with the space bar",
+            )
+    wide = text.find("\uff1a")
+    if wide >= 0:  # a keyboard set to Chinese or Japanese
+        return (
+            "'\uff1a' is a full-width colon, and YAML reads only ':'",
+            _offset_mark(text, wide),
+            "type ':' with the keyboard set to English",
+        )
     python = _PYTHON_LINE.search(text)
     if python is not None:  # a Python mission saved with a .yaml ending
         return (
@@ -463,6 +485,9 @@ def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, st
                     " ': ' goes in quotes"
                 ),
             )
+        glued = _glued_above(text, index)
+        if glued is not None:
+            return glued
         return (
             "a ':' is not allowed here",
             at,
@@ -516,6 +541,36 @@ def _explain(exc: yaml.MarkedYAMLError, text: str) -> tuple[str, Mark | None, st
         tag = problem.split()[-1].strip("'").replace(_SHORT_TAG, "!!")
         return f"tag {tag} is not allowed in roboscript files", at, None
     return problem, at or (_at(opened) if opened else None), None
+
+
+_GLUED_DASH = re.compile(r"^(\s*)-([\[{A-Za-z_\"'].*)$")
+_GLUED_COLON = re.compile(r"^(\s*)([A-Za-z_][\w-]*):([A-Za-z_\"'\[{].*)$")
+
+
+def _glued_above(text: str, index: int) -> tuple[str, Mark | None, str | None] | None:
+    """The line at or above ``index`` whose '-' or ':' lacks the space after it, which made
+    YAML read it as one word (``-{if: ...}``, ``mission:m``) and fail further on."""
+    end = text.find("\n", index)
+    lines = text[: end if end >= 0 else len(text)].split("\n")
+    for number in range(len(lines), 0, -1):
+        line = lines[number - 1].rstrip("\r")
+        dash = _GLUED_DASH.match(line)
+        if dash is not None:
+            return (
+                "'-' starts a list item only with a space after it",
+                (number, len(dash.group(1)) + 1),
+                f"write - {dash.group(2)}",
+            )
+        colon = _GLUED_COLON.match(line)
+        if colon is not None and "://" not in line:
+            key, value = colon.group(2), colon.group(3)
+            word = f"{key}:{value.split()[0] if value.split() else value}"
+            return (
+                f"'{word}' has no space after its ':', so YAML reads it as one word",
+                (number, len(colon.group(1)) + len(key) + 1),
+                f"write {key}: {value}",
+            )
+    return None
 
 
 def _long_key(

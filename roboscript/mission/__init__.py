@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from roboscript.errors import InputError, MissionError, nearby_file
+from roboscript.errors import InputError, MissionError, nearby_file, wrong_ending
 
 if TYPE_CHECKING:
     from roboscript.mission.spec import MissionSpec
@@ -47,7 +47,7 @@ def load_mission(
     raise MissionError(
         f"a mission file ends in .yaml or .py (got '{suffix or Path(path).name}')",
         path=str(path),
-        hint=nearby_file(path),
+        hint=wrong_ending(path) or nearby_file(path),
     )
 
 

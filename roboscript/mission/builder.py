@@ -36,7 +36,13 @@ from roboscript.inputs.quantities import (
 )
 from roboscript.inputs.source import Location
 from roboscript.mission.checks import check_mission
-from roboscript.mission.condition_reads import PY_WAIT, YAML_WAIT, action_sleeps, sleep_warning
+from roboscript.mission.condition_reads import (
+    PY_WAIT,
+    YAML_WAIT,
+    action_sleeps,
+    sleep_warning,
+    update_returns,
+)
 from roboscript.mission.guards import GuardError, compile_guard
 from roboscript.mission.limits import a_noun, example, param_problems, shown, time_problem
 from roboscript.mission.nested import SubMission
@@ -135,9 +141,17 @@ def action_params(
 _NOT_FINITE = re.compile(r"^\s*[-+]?(inf|infinity|nan)\b", re.IGNORECASE)
 
 
+_PLACEHOLDERS = frozenset({"NEXT", "STATE", "NAME", "TARGET", "NEXT_STATE", "STATE_NAME"})
+"""Words the documentation's examples write where a state's name goes."""
+
+
 def _convert(param: Param, value: Any, state_names: frozenset[str] | None = None) -> Any:
     if value is None and not param.required:
         return param.default
+    if value is Ellipsis:  # Drive(...), as an example writes what is left to the reader
+        raise ValueError(
+            f"'...' stands for the value an example leaves to you: write {param.python_example}"
+        )
     if param.kind == "count":
         if isinstance(value, bool) or not isinstance(value, int):
             raise ValueError(f"expected a whole number, got {value!r}")
@@ -380,7 +394,8 @@ class MissionBuilder:
 
     def tell_sleeps(self, cls: type[Action]) -> None:
         """Warn about each ``time.sleep`` in a student's action class (its ``update`` is run
-        every tick, and holds up the robot while it sleeps), at its line."""
+        every tick, and holds up the robot while it sleeps), and refuse each ``return`` of its
+        ``update`` that gives no Result (``return True``), at its line."""
         example = PY_WAIT if self.path.endswith(".py") else YAML_WAIT
         mission_file = Path(self.path).resolve()
         for function, call in action_sleeps(cls):
@@ -389,6 +404,15 @@ class MissionBuilder:
             message, hint = sleep_warning(call, f"{cls.__name__}.{function.__name__}()", example)
             where = PythonSource(filename, shown).loc(call)
             self.problem(message, where, hint, "warning")
+        for function, returned, what, fix in update_returns(cls):
+            filename = function.__code__.co_filename
+            shown = self.path if Path(filename).resolve() == mission_file else shown_path(filename)
+            self.problem(
+                f"{cls.__name__}.update() returns {what}, and roboscript reads what update()"
+                " returns as how the action is going: a Result, or None while it runs",
+                PythonSource(filename, shown).loc(returned),
+                fix,
+            )
 
     def parallel(self, mode: str, children: list[ActionSpec], where: Location) -> ActionSpec:
         """``parallel``: run ``children`` together, ``all`` or ``any`` of them to finish."""
@@ -456,7 +480,17 @@ class MissionBuilder:
         if not self.short_name(value, where, "state name"):
             return None
         if value not in names:
-            self.problem(f"there is no state '{value}'", where, did_you_mean(value, names))
+            self.problem(
+                f"there is no state '{value}'",
+                where,
+                did_you_mean(value, names)
+                or (
+                    f"{value} stands for a state of yours in the examples: write the name of"
+                    f" one of them ({', '.join(sorted(names))})"
+                    if value in _PLACEHOLDERS
+                    else None
+                ),
+            )
             return None
         return value
 

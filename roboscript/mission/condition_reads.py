@@ -22,6 +22,7 @@ from collections.abc import Callable, Iterable, Iterator
 from types import FunctionType
 
 from roboscript.actions import ACTION_WORDS, ACTIONS
+from roboscript.actions.base import RESULT_HINT, Action, Result
 from roboscript.code_owner import is_student_file
 from roboscript.errors import did_you_mean
 from roboscript.mission.guards import TIME_WORDS
@@ -36,6 +37,7 @@ __all__ = [
     "condition_slips",
     "sleep_warning",
     "sleeps_in",
+    "update_returns",
 ]
 
 Slip = tuple[ast.AST, str, str | None]
@@ -94,6 +96,48 @@ def _bound_otherwise(node: ast.FunctionDef | ast.AsyncFunctionDef, target: ast.N
         ):
             return True
     return False
+
+
+def _set_name(statement: ast.AST) -> str:
+    """The name ``count += 1`` or ``count = count + 1`` sets."""
+    if isinstance(statement, ast.AugAssign) and isinstance(statement.target, ast.Name):
+        return statement.target.id
+    if isinstance(statement, ast.Assign) and isinstance(statement.targets[0], ast.Name):
+        return statement.targets[0].id
+    return ""
+
+
+def _reads_before_set(node: ast.FunctionDef | ast.AsyncFunctionDef, statement: ast.AST) -> bool:
+    """True for ``count = count + 1`` where the method gives ``count`` no value anywhere else,
+    nor takes it as an argument, nor declares it ``global``: the method's own ``count``,
+    read before it has one (Python's UnboundLocalError)."""
+    if not (
+        isinstance(statement, ast.Assign)
+        and len(statement.targets) == 1
+        and isinstance(statement.targets[0], ast.Name)
+    ):
+        return False
+    name = statement.targets[0].id
+    if not any(
+        isinstance(read, ast.Name) and read.id == name and isinstance(read.ctx, ast.Load)
+        for read in ast.walk(statement.value)
+    ):
+        return False
+    if name in {arg.arg for arg in ast.walk(node.args) if isinstance(arg, ast.arg)}:
+        return False
+    target = statement.targets[0]
+    for child in _walk_own(node):
+        if isinstance(child, ast.Global | ast.Nonlocal) and name in child.names:
+            return False
+        if child is target:
+            continue
+        if isinstance(child, ast.Name) and child.id == name and isinstance(child.ctx, ast.Store):
+            return False  # set elsewhere too (perhaps first, in a loop): not certain
+        if isinstance(child, ast.alias) and (child.asname or child.name) == name:
+            return False
+        if isinstance(child, ast.FunctionDef | ast.ClassDef) and child.name == name:
+            return False
+    return True
 
 
 def _is_aug_target(node: ast.FunctionDef | ast.AsyncFunctionDef, name: ast.Name) -> bool:
@@ -210,9 +254,9 @@ def condition_slips(
             isinstance(child, ast.AugAssign)
             and isinstance(child.target, ast.Name)
             and not _bound_otherwise(node, child.target)
-        ):
+        ) and not _reads_before_set(node, child):
             continue
-        name = child.target.id
+        name = _set_name(child)
         # count += 1 on a name of the file: the method's own count, never given a value
         slips.append(
             (
@@ -428,6 +472,59 @@ def action_sleeps(cls: type) -> list[tuple[FunctionType, ast.Call]]:
             and child.func.value.id == "self"
         )
     return found
+
+
+_ACTION_RETURNED = (
+    f"run it in a state of its own, and go there when this one is done; {RESULT_HINT}"
+)
+
+
+def update_returns(cls: type) -> list[tuple[FunctionType, ast.Return, str, str]]:
+    """Each ``return`` in the ``update`` of a student's action class that gives what is no
+    :class:`~roboscript.actions.base.Result` (``return True``, ``return Drive(...)``,
+    ``return Result.done`` without its call), with the function, what it returns and the
+    fix; run, it would end the mission in failure."""
+    function = inspect.getattr_static(cls, "update", None)
+    function = getattr(function, "__wrapped__", function)
+    if not isinstance(function, FunctionType) or not is_student_file(function.__code__.co_filename):
+        return []
+    node = _def_of(function)
+    if node is None:
+        return []
+    found = []
+    for child in _walk_own(node):
+        if not isinstance(child, ast.Return) or child.value is None:
+            continue
+        value = child.value
+        called = value.func if isinstance(value, ast.Call) else None
+        made = function.__globals__.get(called.id) if isinstance(called, ast.Name) else None
+        if isinstance(value, ast.Constant) and value.value is not None:
+            found.append((function, child, repr(value.value), RESULT_HINT))
+        elif isinstance(made, type) and issubclass(made, Action):
+            found.append(
+                (
+                    function,
+                    child,
+                    f"{called.id}(...), an action, which update() cannot run"
+                    if isinstance(called, ast.Name)
+                    else "an action",
+                    _ACTION_RETURNED,
+                )
+            )
+        elif (
+            isinstance(value, ast.Attribute)
+            and isinstance(value.value, ast.Name)
+            and function.__globals__.get(value.value.id) is Result
+        ):
+            found.append(
+                (
+                    function,
+                    child,
+                    f"Result.{value.attr} without calling it",
+                    f"write return Result.{value.attr}({'' if value.attr == 'done' else '...'})",
+                )
+            )
+    return sorted(found, key=lambda item: item[1].lineno)
 
 
 def _def_of(function: FunctionType) -> ast.FunctionDef | ast.AsyncFunctionDef | None:

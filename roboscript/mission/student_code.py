@@ -54,6 +54,7 @@ from roboscript.errors import (
     RoboscriptError,
     did_you_mean,
     nearby_file,
+    pasted_with_it,
 )
 from roboscript.inputs.quantities import DIMENSIONS
 from roboscript.mission.error_column import error_column
@@ -553,12 +554,17 @@ def _syntax_problem(exc: SyntaxError, path: str | Path) -> MissionError:
     where = str(path)
     if exc.filename and Path(exc.filename).resolve() != Path(path).resolve():
         where = shown_path(exc.filename)
+    pasted = pasted_with_it("".join(linecache.getlines(exc.filename or str(path))), python=True)
+    if pasted is not None:  # >>> or ``` copied with the code: Python's own words would puzzle
+        return MissionError(pasted[2], path=where, line=pasted[0], col=pasted[1], hint=pasted[3])
     message = exc.msg or "invalid syntax"
     if not message.startswith(("invalid syntax", "expected", "unexpected")):
         message = f"syntax error: {message}"
     hint = None
     if any(quote in message for quote in _CURLY_QUOTES):
         hint = "a curly quote, as a word processor writes it: type straight quotes, \" or '"
+    elif "'–' (U+2013)" in message or "'—' (U+2014)" in message:
+        hint = "a dash, as a word processor writes a minus: type the minus key, -"
     elif isinstance(exc, TabError):
         hint = "indent with spaces only: a tab looks like spaces but Python counts it apart"
     elif _YAML_MISSION.match(exc.text or "") and exc.lineno is not None and exc.lineno <= 3:

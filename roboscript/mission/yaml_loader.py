@@ -425,6 +425,13 @@ class _Reader:
             )
             return None
         cls = self.actions.get(name)
+        if cls is not None and "..." in params:  # {drive: {...}}, copied from an example
+            self.problem(
+                "'...' stands for the parameters an example leaves to you",
+                params.key_mark("..."),
+                f"write them: {_as_mapping(name, cls, None)}",
+            )
+            return None
         if cls is not None and any(params.get(p.name, "") is None for p in params_of(cls)):
             self.valued(
                 params,
