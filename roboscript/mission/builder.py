@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import copy
 import functools
+import html
 import re
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -140,6 +141,19 @@ def action_params(
 
 _NOT_FINITE = re.compile(r"^\s*[-+]?(inf|infinity|nan)\b", re.IGNORECASE)
 
+
+_YES_NO = {
+    "yes": "success",
+    "y": "success",
+    "on": "success",
+    "no": "failure",
+    "n": "failure",
+    "off": "failure",
+}
+"""YAML 1.1's words for true and false, which roboscript's YAML reads as words: a final
+state's outcome meant by each."""
+
+_HTML_ENTITY = re.compile(r"&(?:lt|gt|amp);")
 
 _PLACEHOLDERS = frozenset({"NEXT", "STATE", "NAME", "TARGET", "NEXT_STATE", "STATE_NAME"})
 """Words the documentation's examples write where a state's name goes."""
@@ -509,6 +523,15 @@ class MissionBuilder:
         if not isinstance(text, str):
             self.problem('a condition is text, e.g. if: "range.distance_cm < 20"', at(0))
             return None
+        entity = _HTML_ENTITY.search(text)
+        if entity is not None:  # &lt; copied from a web page's source
+            sign = html.unescape(entity.group())
+            self.problem(
+                f"'{entity.group()}' is how a web page's source writes '{sign}'",
+                at(entity.start()),
+                f"write {html.unescape(text)}",
+            )
+            return None
         try:
             return compile_guard(text, names, truth=truth)
         except GuardError as exc:
@@ -563,10 +586,15 @@ class MissionBuilder:
         if value == "failure":
             return "failure"
         if value not in (None, False):
+            word = _YES_NO.get(value.lower()) if isinstance(value, str) else None
             self.problem(
                 f"state '{state}': final is 'success' or 'failure', got {value!r}",
                 where,
-                did_you_mean(value, ("success", "failure")) if isinstance(value, str) else None,
+                f"'{value}' is a word here, not true or false: write final: {word}"
+                if word is not None
+                else did_you_mean(value, ("success", "failure"))
+                if isinstance(value, str)
+                else None,
             )
         return None
 
