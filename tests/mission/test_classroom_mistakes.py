@@ -1641,11 +1641,15 @@ def test_a_sleep_in_a_yaml_missions_behaviour_is_told_at_its_line_with_a_yaml_wa
         encoding="utf-8",
     )
     result = run_cli("check", "m.yaml", cwd=tmp_path)
+    told = (
+        "spin.py:11:9: warning: time.sleep(1) in Spin.update() holds up the whole robot"
+        " for 1 s: Spin.update() is run once every tick (0.02 s), and while it sleeps no"
+        " condition is checked, no timeout counted and no other action run (a condition"
+        " or update() must return at once; wait with a state's action or timeout, never"
+        " time.sleep: e.g. a state of its own, pause: {do: {wait: {duration: 2 s}}, on:"
+        " {done: next}})"
+    )
     assert result.stderr.splitlines() == [
-        "spin.py:11:9: warning: time.sleep(1) in Spin.update() holds up the whole robot for 1 s:"
-        " Spin.update() is run once every tick (0.02 s), and while it sleeps no condition is"
-        " checked, no timeout counted and no other action run (a condition or update() must"
-        " return at once; wait with a state's action or timeout, never time.sleep: e.g. a state"
-        " of its own, pause: {do: {wait: {duration: 2 s}}, on: {done: next}})",
+        told,
         "checked 1 file: 0 with errors",
     ]
