@@ -548,11 +548,12 @@ _GLUED_COLON = re.compile(r"^(\s*)([A-Za-z_][\w-]*):([A-Za-z_\"'\[{].*)$")
 
 
 def _glued_above(text: str, index: int) -> tuple[str, Mark | None, str | None] | None:
-    """The line at or above ``index`` whose '-' or ':' lacks the space after it, which made
-    YAML read it as one word (``-{if: ...}``, ``mission:m``) and fail further on."""
+    """The line at ``index``, or one of the two above it, whose '-' or ':' lacks the space
+    after it, which made YAML read it as one word (``-{if: ...}``, ``mission:m``) and fail
+    a little further on."""
     end = text.find("\n", index)
     lines = text[: end if end >= 0 else len(text)].split("\n")
-    for number in range(len(lines), 0, -1):
+    for number in range(len(lines), max(0, len(lines) - 3), -1):  # YAML fails within two lines
         line = lines[number - 1].rstrip("\r")
         dash = _GLUED_DASH.match(line)
         if dash is not None:

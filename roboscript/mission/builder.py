@@ -408,7 +408,7 @@ class MissionBuilder:
 
     def tell_sleeps(self, cls: type[Action]) -> None:
         """Warn about each ``time.sleep`` in a student's action class (its ``update`` is run
-        every tick, and holds up the robot while it sleeps), and refuse each ``return`` of its
+        every tick, and holds up the robot while it sleeps), and about each ``return`` of its
         ``update`` that gives no Result (``return True``), at its line."""
         example = PY_WAIT if self.path.endswith(".py") else YAML_WAIT
         mission_file = Path(self.path).resolve()
@@ -426,6 +426,7 @@ class MissionBuilder:
                 " returns as how the action is going: a Result, or None while it runs",
                 PythonSource(filename, shown).loc(returned),
                 fix,
+                "warning",  # the run ends in failure, with its sentence, if it is reached
             )
 
     def parallel(self, mode: str, children: list[ActionSpec], where: Location) -> ActionSpec:

@@ -1087,7 +1087,7 @@ MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
         ),
         [
             (
-                "11:9: error: Pause.update() returns Drive(...), an action, which update() cannot"
+                "11:9: warning: Pause.update() returns Drive(...), an action, which update() cannot"
                 " run, and roboscript reads what update() returns as how the action is going: a"
                 " Result, or None while it runs (run it in a state of its own, and go there when"
                 " this one is done; return Result.done() when it has finished, and None while it"
@@ -1099,7 +1099,7 @@ MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
         pa("return True"),
         [
             (
-                "11:9: error: Pause.update() returns True, and roboscript reads what update()"
+                "11:9: warning: Pause.update() returns True, and roboscript reads what update()"
                 " returns as how the action is going: a Result, or None while it runs (return"
                 " Result.done() when it has finished, and None while it is still going)"
             ),
@@ -1109,7 +1109,7 @@ MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
         pa('return "done"'),
         [
             (
-                "11:9: error: Pause.update() returns 'done', and roboscript reads what update()"
+                "11:9: warning: Pause.update() returns 'done', and roboscript reads what update()"
                 " returns as how the action is going: a Result, or None while it runs (return"
                 " Result.done() when it has finished, and None while it is still going)"
             ),

@@ -58,7 +58,14 @@ def test_a_python_mission_is_checked_against_the_robot_given(tmp_path: Path) -> 
 @pytest.mark.parametrize(
     ("name", "expected"),
     [
-        ("mission.txt", "{path}: error: a mission file ends in .yaml or .py (got '.txt')"),
+        (
+            "mission.txt",
+            (
+                "{path}: error: a mission file ends in .yaml or .py (got '.txt') (save it as"
+                " mission.yaml, or mission.py for a Python mission: the ending tells roboscript how"
+                " to read it)"
+            ),
+        ),
         ("Makefile", "{path}: error: a mission file ends in .yaml or .py (got 'Makefile')"),
     ],
 )
