@@ -591,8 +591,11 @@ class MissionBuilder:
             self.problem(
                 f"state '{state}': final is 'success' or 'failure', got {value!r}",
                 where,
-                f"'{value}' is a word here, not true or false: write final: {word}"
-                if word is not None
+                f"'{value}' is a word here, not true: write final: success"
+                if word == "success"
+                else f"'{value}' is a word here, not false: a state that does not end the"
+                " mission has no 'final', so take it away; final: failure ends it in failure"
+                if word == "failure"
                 else did_you_mean(value, ("success", "failure"))
                 if isinstance(value, str)
                 else None,

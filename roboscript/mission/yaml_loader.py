@@ -59,6 +59,9 @@ _STATE_EXAMPLES = {
 }
 """What each of a state's keys written with no value is given, as the fix says."""
 
+_NO_LIMIT = frozenset({"off", "no", "none", "never", "false", "n", "unlimited", "infinite"})
+"""What a timeout is written as when no time limit is meant."""
+
 _REPEAT = {"times": "how many times", "do": "the action to repeat"}
 """What a ``repeat:`` holds, and what each is."""
 
@@ -352,7 +355,17 @@ class _Reader:
             try:
                 seconds = parse_quantity(raw["timeout"], "time")
             except QuantityError as exc:
-                self.build.problem(f"state '{name}': timeout: {exc}", where)
+                written = str(raw["timeout"]).strip().lower()
+                self.build.problem(
+                    f"state '{name}': timeout: {exc}",
+                    where,
+                    "a state with no time limit has no 'timeout', so take it away"
+                    if isinstance(raw["timeout"], bool)
+                    else f"'{raw['timeout']}' is a word here: a state with no time limit has no"
+                    " 'timeout', so take it away"
+                    if written in _NO_LIMIT
+                    else None,
+                )
             else:
                 timeout_s = self.build.timeout(name, "timeout", seconds, where, raw["timeout"])
                 note = bare_number_warning(raw["timeout"], "time")

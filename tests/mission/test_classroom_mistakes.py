@@ -310,7 +310,38 @@ MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
         [
             (
                 "6:16: error: state 'end': final is 'success' or 'failure', got 'yes' ('yes' is a"
-                " word here, not true or false: write final: success)"
+                " word here, not true: write final: success)"
+            ),
+        ],
+    ),
+    "yaml_timeout_off.yaml": (
+        GOOD_Y.replace("    on:", "    timeout: off\n    on:"),
+        [
+            (
+                "5:14: error: state 'go': timeout: expected a time such as '200 ms', got 'off'"
+                " ('off' is a word here: a state with no time limit has no 'timeout', so take it"
+                " away)"
+            ),
+        ],
+    ),
+    "yaml_timeout_false.yaml": (
+        GOOD_Y.replace("    on:", "    timeout: false\n    on:"),
+        [
+            (
+                "5:14: error: state 'go': timeout: expected a time, got False (a state with no"
+                " time limit has no 'timeout', so take it away)"
+            ),
+        ],
+    ),
+    "yaml_final_no.yaml": (
+        GOOD_Y.replace(
+            "    on: {done: end, failed: end}", "    on: {done: end, failed: end}\n    final: no"
+        ),
+        [
+            (
+                "6:12: error: state 'go': final is 'success' or 'failure', got 'no' ('no' is a"
+                " word here, not false: a state that does not end the mission has no 'final', so"
+                " take it away; final: failure ends it in failure)"
             ),
         ],
     ),
