@@ -55,6 +55,7 @@ from roboscript.errors import (
     did_you_mean,
     nearby_file,
     pasted_with_it,
+    typed_number_hint,
 )
 from roboscript.inputs.quantities import DIMENSIONS
 from roboscript.mission.error_column import error_column
@@ -565,6 +566,8 @@ def _syntax_problem(exc: SyntaxError, path: str | Path) -> MissionError:
         hint = "a curly quote, as a word processor writes it: type straight quotes, \" or '"
     elif "'–' (U+2013)" in message or "'—' (U+2014)" in message:
         hint = "a dash, as a word processor writes a minus: type the minus key, -"
+    elif (typed := typed_number_hint(exc.msg or "", exc.text or "")) is not None:
+        hint = typed  # 010, 5O0, 90°, 1:30
     elif isinstance(exc, TabError):
         hint = "indent with spaces only: a tab looks like spaces but Python counts it apart"
     elif _YAML_MISSION.match(exc.text or "") and exc.lineno is not None and exc.lineno <= 3:

@@ -349,6 +349,43 @@ MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
         GOOD_Y.replace("final: success", "final: true"),
         [],
     ),
+    "python_clock_time.py": (
+        ps("Wait(duration_s=1:30)"),
+        [
+            (
+                "5:33: error: invalid syntax (a time is one number in its keyword's unit: for 1"
+                " min 30 s, write duration_s=90)"
+            ),
+        ],
+    ),
+    "python_leading_zero.py": (
+        ps("Drive(distance_mm=010)"),
+        [
+            (
+                "5:34: error: syntax error: leading zeros in decimal integer literals are not"
+                " permitted; use an 0o prefix for octal integers (write 10, without the leading"
+                " 0)"
+            ),
+        ],
+    ),
+    "python_letter_o.py": (
+        ps("Drive(distance_mm=5O0)"),
+        [
+            (
+                "5:34: error: syntax error: invalid decimal literal ('5O0' has the letter O where"
+                " a zero was meant: write 500)"
+            ),
+        ],
+    ),
+    "python_degree_sign.py": (
+        ps("Rotate(angle_deg=90°)"),
+        [
+            (
+                "5:35: error: syntax error: invalid character '°' (U+00B0) (a number in code has"
+                " no unit sign: its keyword says the unit, e.g. angle_deg=90)"
+            ),
+        ],
+    ),
     # ---- Python conditions no reading can make true
     "never_negative_distance.py": (
         p("return self.range.distance_cm < 0"),
