@@ -35,6 +35,7 @@ __all__ = [
     "Slip",
     "action_sleeps",
     "condition_slips",
+    "endless_waits",
     "sleep_warning",
     "sleeps_in",
     "update_returns",
@@ -556,3 +557,87 @@ def sleep_warning(call: ast.Call, runs: str, example: str) -> tuple[str, str]:
         " no timeout counted and no other action run"
     )
     return message, f"{RETURN_AT_ONCE}: e.g. a state of its own, {example}"
+
+
+_CLOCKS = frozenset({"elapsed", "state_time", "heading_deg"})
+"""Values of a mission's own that, like its sensors' readings, stay as they are while a
+condition runs."""
+_OPPOSITE: dict[type[ast.cmpop], ast.cmpop] = {
+    ast.Lt: ast.GtE(),
+    ast.LtE: ast.Gt(),
+    ast.Gt: ast.LtE(),
+    ast.GtE: ast.Lt(),
+    ast.Eq: ast.NotEq(),
+    ast.NotEq: ast.Eq(),
+}
+
+
+def _fixed_reads(test: ast.expr, reading_names: Callable[[str], list[str]]) -> list[str] | None:
+    """The readings ``test`` reads (``self.bumper.any``), when it reads nothing else but
+    constants; else ``None``."""
+    reads: list[str] = []
+    for child in ast.walk(test):
+        if isinstance(child, ast.Attribute):
+            inner = child.value
+            if (
+                isinstance(inner, ast.Attribute)
+                and isinstance(inner.value, ast.Name)
+                and inner.value.id == "self"
+                and child.attr in reading_names(inner.attr)
+            ):
+                reads.append(ast.unparse(child))
+            elif not (
+                isinstance(inner, ast.Name)
+                and inner.id == "self"
+                and (child.attr in _CLOCKS or reading_names(child.attr))
+            ):
+                return None
+            elif child.attr in _CLOCKS:
+                reads.append(ast.unparse(child))
+        elif (isinstance(child, ast.Name) and child.id != "self") or isinstance(
+            child, ast.Call | ast.Subscript | ast.NamedExpr | ast.Lambda
+        ):  # a value of the method's own, or what a call gives: it may change
+            return None
+    return reads or None
+
+
+def _ends(body: list[ast.stmt]) -> bool:
+    """True if ``body`` may leave its loop (a break, return, raise or yield) or call what
+    could (anything but a built-in function, such as print, or time.sleep)."""
+    for statement in body:
+        for child in ast.walk(statement):
+            if isinstance(child, ast.Break | ast.Return | ast.Raise | ast.Yield | ast.YieldFrom):
+                return True
+            if isinstance(child, ast.Call):
+                called = _called(child)
+                if called in _ENDS_PROGRAM or called not in (*dir(builtins), "time.sleep"):
+                    return True
+    return False
+
+
+def endless_waits(
+    node: ast.FunctionDef | ast.AsyncFunctionDef, reading_names: Callable[[str], list[str]]
+) -> list[tuple[ast.While, str, str]]:
+    """Each ``while`` loop in a condition method that waits for a reading to change (``while
+    not self.bumper.any: pass``): what a condition reads stays as it is while it runs, so the
+    loop never ends. With what it waits for and what to return instead."""
+    found = []
+    for child in _walk_own(node):
+        if not isinstance(child, ast.While) or _ends(child.body):
+            continue
+        reads = _fixed_reads(child.test, reading_names)
+        if reads is None:
+            continue
+        test = child.test
+        if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
+            meant = ast.unparse(test.operand)
+        elif (
+            isinstance(test, ast.Compare) and len(test.ops) == 1 and type(test.ops[0]) in _OPPOSITE
+        ):
+            meant = ast.unparse(
+                ast.Compare(test.left, [_OPPOSITE[type(test.ops[0])]], test.comparators)
+            )
+        else:
+            meant = f"not ({ast.unparse(test)})"
+        found.append((child, reads[0], meant))
+    return found

@@ -41,7 +41,13 @@ from roboscript.errors import InputError, LinkError, did_you_mean
 from roboscript.inputs.quantities import DIMENSIONS, bare_number_warning, parse_quantity
 from roboscript.inputs.source import Location
 from roboscript.mission.builder import MissionBuilder
-from roboscript.mission.condition_reads import PY_WAIT, condition_slips, sleep_warning, sleeps_in
+from roboscript.mission.condition_reads import (
+    PY_WAIT,
+    condition_slips,
+    endless_waits,
+    sleep_warning,
+    sleeps_in,
+)
 from roboscript.mission.guards import GuardEnv, guard_names
 from roboscript.mission.never_true import bounds_of, never_true
 from roboscript.mission.python_api import Mission, StateDef
@@ -1340,6 +1346,15 @@ class _Compiler:
             if (str(loc), message) not in self._slipped:
                 self._slipped.add((str(loc), message))
                 self.problem(message, loc, hint)
+        for loop, read, meant in endless_waits(node, _reading_names):
+            self.problem(
+                f"this loop waits for {read} to change, but what a condition reads stays as it"
+                " is while the condition runs (the next reading comes at the next tick), so the"
+                " loop never ends",
+                source.loc(loop),
+                f"return at once, e.g. return {meant}: roboscript asks the condition again at"
+                " every tick",
+            )
         for call in sleeps_in(node, func.__globals__):
             message, hint = sleep_warning(call, f"{name}()", PY_WAIT)
             self.problem(message, source.loc(call), hint, "warning")

@@ -1277,6 +1277,36 @@ MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
     ),
     "while_loop_wait.py": (
         p("while not self.bumper.any:\n            pass\n        return True"),
+        [
+            (
+                "10:9: error: this loop waits for self.bumper.any to change, but what a condition"
+                " reads stays as it is while the condition runs (the next reading comes at the"
+                " next tick), so the loop never ends (return at once, e.g. return self.bumper.any:"
+                " roboscript asks the condition again at every tick)"
+            ),
+        ],
+    ),
+    "while_loop_wait_for_time.py": (
+        p("while self.state_time < 2:\n            print('waiting')\n        return True"),
+        [
+            (
+                "10:9: error: this loop waits for self.state_time to change, but what a condition"
+                " reads stays as it is while the condition runs (the next reading comes at the"
+                " next tick), so the loop never ends (return at once, e.g. return self.state_time"
+                " >= 2: roboscript asks the condition again at every tick)"
+            ),
+        ],
+    ),
+    # a loop with a way out: check cannot tell whether it is taken; run stops it at its line
+    "loop_until_return.py": (
+        p("while True:\n            if self.bumper.any:\n                return True"),
+        [],
+    ),
+    "honest_loop_counting.py": (
+        p(
+            "n = 0\n        while n < 3 and self.bumper.any:\n            n += 1\n"
+            "        return n == 3"
+        ),
         [],
     ),
     "indent_mixed_tabs.py": (
