@@ -219,8 +219,9 @@ def _compared_with_none(node: ast.expr) -> tuple[str, str] | None:
     found = _reading_returns(left)
     if found is None:
         return None
-    kind = {float: "a number", int: "a number", bool: "True or False"}.get(found[1])  # type: ignore[call-overload]
-    return (found[0], kind) if kind is not None else None
+    if found[1] in (float, int):
+        return found[0], "a number"
+    return (found[0], "True or False") if found[1] is bool else None
 
 
 def _always_returns(body: list[ast.stmt]) -> bool:
@@ -1266,7 +1267,7 @@ class _Compiler:
         self.method_guards[name] = guard
         return guard
 
-    def never_true(self, func: Callable[..., object]) -> list[tuple[ast.AST, str, str, str]]:
+    def never_true(self, func: Callable[..., object]) -> list[tuple[ast.AST, str, str | None, str]]:
         """Comparisons in condition method ``func`` that no reading can make true
         (``self.range.distance_cm < 0``, ``x < 20 and x > 30``, ``self.bumper.any == None``),
         as ``(where, message, fix, severity)``: an error when the method returns it, as a
@@ -1281,7 +1282,7 @@ class _Compiler:
             if isinstance(child, ast.BoolOp) and isinstance(child.op, ast.And)
             for part in child.values
         }
-        found: list[tuple[ast.AST, str, str, str]] = []
+        found: list[tuple[ast.AST, str, str | None, str]] = []
         for child in _walk_own(node):
             if isinstance(child, ast.BoolOp) and isinstance(child.op, ast.And):
                 parts = list(child.values)
@@ -1298,7 +1299,7 @@ class _Compiler:
                     (
                         never.node,
                         f"'{written}' can never be true: {never.why}",
-                        (f"to go when either holds, write or: {either}" if either else "")
+                        (f"to go when either holds, write or: {either}" if either else None)
                         if never.apart
                         else f"compare with a distance it can read, e.g. {never.reading} < 20",
                         severity,
