@@ -146,8 +146,11 @@ def _tones_clash(a: Tones, b: Tones, run: RunSetup) -> str | None:
             f"one wants {_count_range(low_a, high_a)} tones and the other"
             f" {_count_range(low_b, high_b)}"
         )
-    for i in range(int(max(low_a, low_b))):  # the tones both say must be played
-        wanted_a, wanted_b = _tone_wanted_hz(a, i), _tone_wanted_hz(b, i)
+    # Past the longer list of frequencies every tone is wanted alike, so one index more tells
+    # them all: a count of a billion is not a billion comparisons.
+    listed = max((len(r.frequencies_hz) for r in (a, b) if r.frequencies_hz is not None), default=0)
+    for i in range(int(min(max(low_a, low_b), listed + 1))):  # tones both say must be played
+        wanted_a, wanted_b = a.wanted_hz(i), b.wanted_hz(i)
         if wanted_a is None or wanted_b is None:
             continue
         if abs(wanted_a - wanted_b) > a.tolerance_hz + b.tolerance_hz:
@@ -156,13 +159,6 @@ def _tones_clash(a: Tones, b: Tones, run: RunSetup) -> str | None:
                 f" {wanted_b:g} Hz (±{b.tolerance_hz:g})"
             )
     return None
-
-
-def _tone_wanted_hz(rule: Tones, index: int) -> float | None:
-    """The frequency ``rule`` wants of the tone at ``index`` (as :meth:`Tones.judge` reads)."""
-    if rule.frequencies_hz is not None:
-        return rule.frequencies_hz[index] if index < len(rule.frequencies_hz) else None
-    return rule.frequency_hz
 
 
 def _turns_clash(a: Turns, b: Turns, run: RunSetup) -> str | None:
@@ -260,11 +256,8 @@ def _final_poses_clash(a: FinalPose, b: FinalPose, run: RunSetup) -> str | None:
 
 
 def _tone_counts(rule: Tones) -> tuple[float, float]:
-    """The tone counts ``rule`` allows, as ``(fewest, most)`` (as :meth:`Tones.judge` reads)."""
-    low: float | None = rule.count if rule.count is not None else rule.min_count
-    high: float | None = rule.count if rule.count is not None else rule.max_count
-    if rule.frequencies_hz is not None and low is None and high is None:
-        low = high = len(rule.frequencies_hz)
+    """The tone counts ``rule`` allows, as ``(fewest, most)``, unbounded ones made numbers."""
+    low, high = rule.counts()
     return (low or 0.0, math.inf if high is None else high)
 
 

@@ -84,15 +84,28 @@ class Tones(Rule):
             ),
         )
 
+    def counts(self) -> tuple[int | None, int | None]:
+        """The fewest and the most tones a run may play (``None``: no bound that way); a list
+        of ``frequencies`` alone asks for exactly that many."""
+        low = self.count if self.count is not None else self.min_count
+        high = self.count if self.count is not None else self.max_count
+        if self.frequencies_hz is not None and low is None and high is None:
+            low = high = len(self.frequencies_hz)
+        return low, high
+
+    def wanted_hz(self, index: int) -> float | None:
+        """The frequency wanted of the tone at ``index`` (0 for the first), in Hz, or ``None``
+        when any frequency will do (past the end of ``frequencies``, or none given)."""
+        if self.frequencies_hz is not None:
+            return self.frequencies_hz[index] if index < len(self.frequencies_hz) else None
+        return self.frequency_hz
+
     def judge(self, record: RunRecord) -> Verdict:
         played = record.tones
         n = len(played)
         heard = ", ".join(f"{t.frequency_hz:g} Hz" for t in played[:8]) + (" ..." if n > 8 else "")
         detail = f"{plural(n, 'tone')} played" + (f" ({heard})" if played else "")
-        low = self.count if self.count is not None else self.min_count
-        high = self.count if self.count is not None else self.max_count
-        if self.frequencies_hz is not None and low is None and high is None:
-            low = high = len(self.frequencies_hz)
+        low, high = self.counts()
         # Problems, each with the moment it happened (None: only knowable at the end).
         problems: list[tuple[float | None, str, float]] = []
         if high is not None and n > high:
@@ -100,9 +113,7 @@ class Tones(Rule):
         if low is not None and n < low:
             problems.append((None, f"{plural(low - n, 'tone')} too few", low - n))
         for i, tone in enumerate(played):
-            wanted = self.frequency_hz
-            if self.frequencies_hz is not None:
-                wanted = self.frequencies_hz[i] if i < len(self.frequencies_hz) else None
+            wanted = self.wanted_hz(i)
             if wanted is not None and abs(tone.frequency_hz - wanted) > self.tolerance_hz:
                 problems.append(
                     (
