@@ -212,10 +212,13 @@ class StudentCodeError(RoboscriptError, RuntimeError):
 
 def message_of(error: BaseException) -> str:
     """``str(error)``, or a sentence saying it could not be shown: a student's exception class
-    may define a ``__str__`` that raises, and telling the student so must not fail."""
+    may define a ``__str__`` that raises (even a ``BaseException`` of their own), and telling
+    the student so must not fail."""
     try:
         return str(error)
-    except Exception as problem:  # noqa: BLE001 - whatever a student's __str__ raises
+    except PASSES_THROUGH_STUDENT_CODE:
+        raise
+    except BaseException as problem:  # noqa: BLE001 - whatever a student's __str__ raises
         return f"(its message cannot be shown: its __str__ raised {type(problem).__name__})"
 
 

@@ -1215,3 +1215,41 @@ def test_roboscript_misspelt_imported_from_its_parts_or_code_of_another_language
     here: Path, text: str, expected: str
 ) -> None:
     assert _message(_write(here, "m.py", text).name) == expected
+
+
+_UNSHOWABLE = """\
+from roboscript import Drive, Mission, state
+
+
+class Gone(BaseException):
+    def __str__(self):
+        raise Gone()
+
+
+class M(Mission):
+    go = state(Drive(distance_mm=500), initial=True, on_done="end", when=[("near", "end")])
+    end = state(final="success")
+
+    def near(self):
+        raise Gone()
+"""
+
+
+def test_a_base_exception_of_the_students_whose_str_raises_is_told_without_a_traceback(
+    tmp_path: Path,
+) -> None:
+    loading = _write(tmp_path, "m.py", _UNSHOWABLE + "\n\nraise Gone()\n")
+    checked = run_cli("check", str(loading), cwd=tmp_path)
+    assert "Traceback" not in checked.stderr
+    assert "m.py:17:1: error: Gone: (its message cannot be shown: its __str__ raised Gone)" in (
+        checked.stderr
+    )
+    assert checked.returncode == 2
+    running = _write(tmp_path, "r.py", _UNSHOWABLE)
+    ran = run_cli("run", str(running), cwd=tmp_path)
+    assert "Traceback" not in ran.stderr
+    assert (
+        "failure: your condition 'near' raised Gone in state 'go': (its message cannot be shown:"
+        " its __str__ raised Gone) (r.py:14)" in ran.stderr
+    )
+    assert ran.returncode == 1
