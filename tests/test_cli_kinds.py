@@ -7,6 +7,8 @@ from pathlib import Path
 
 from helpers import ROOT, run_cli
 
+from roboscript.cli import _parser
+
 WORLD = ROOT / "roboscript" / "sim" / "worlds" / "square-room.yaml"
 SPEC = ROOT / "missions" / "teacher" / "square" / "test.yaml"
 
@@ -41,11 +43,15 @@ def test_run_says_a_world_is_a_world_and_how_to_use_it() -> None:
     )
 
 
-def test_run_says_a_test_spec_is_a_test_spec() -> None:
+def test_run_says_a_test_spec_is_a_test_spec_with_a_grade_command_that_works() -> None:
     done = run_cli("run", str(SPEC))
     assert done.returncode == 2
     assert "this is a test spec file, not a mission" in done.stderr
-    assert f"roboscript grade {SPEC} MISSIONS" in done.stderr
+    said = done.stderr.split("'roboscript ", 1)[1].split("'", 1)[0]
+    assert said == f"grade {SPEC} --mission MISSIONS"
+    # the command as said, with the missions named, is one the command line takes
+    typed = [*said.replace("MISSIONS", str(ROOT / "missions" / "square.yaml")).split()]
+    assert _parser().parse_args(typed).missions == [str(ROOT / "missions" / "square.yaml")]
 
 
 def test_grade_never_lists_a_world_or_a_profile_as_a_student(tmp_path: Path) -> None:

@@ -57,7 +57,9 @@ OWN_KEYS: dict[FileKind, frozenset[str]] = {
 ON_THE_COMMAND_LINE: Mapping[FileKind, str] = {
     "world": "a simulator world: run a mission in it with 'roboscript run MISSION --world {path}'",
     "profile": "a robot profile: run a mission on it with 'roboscript run MISSION --robot {path}'",
-    "test spec": "a teacher's test spec: grade missions with 'roboscript grade {path} MISSIONS'",
+    "test spec": (
+        "a teacher's test spec: grade missions with 'roboscript grade {path} --mission MISSIONS'"
+    ),
 }
 """What each kind of file is and how it is used, on the command line (``{path}``: the file)."""
 
