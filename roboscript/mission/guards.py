@@ -374,14 +374,7 @@ class _Compiler:
             if isinstance(whole, ast.BoolOp) and isinstance(whole.op, ast.And)
             else [whole]
         )
-        found = never_true(
-            bounds_of(
-                parts,
-                lambda read: (
-                    ast.unparse(read) if isinstance(read, ast.Name | ast.Attribute) else None
-                ),
-            )
-        )
+        found = never_true(bounds_of(parts, self._reading, self._in_its_unit))
         if found is None:
             return
         fix = self.source.replace(" and ", " or ") if len(parts) == 2 else None
@@ -392,6 +385,44 @@ class _Compiler:
             if found.apart
             else f"compare with a distance it can read, e.g. {found.reading} < 20",
         )
+
+    def _reading(self, node: ast.expr) -> str | None:
+        """The reading ``node`` names (``range.distance_cm``; ``range.distance`` beside a number
+        with its unit reads ``range.distance_mm``, as :meth:`compare` does), or ``None``."""
+        read = _with_unit_suffix(node)
+        if not isinstance(read, ast.Name | ast.Attribute) or self.is_quantity(read):
+            return None
+        return ast.unparse(read)
+
+    def _in_its_unit(self, number: ast.expr, read: ast.expr) -> float | None:
+        """The number with its unit ``number`` (``20 cm``, ``-10 cm``) in the unit of the
+        reading ``read`` compares it with (``range.distance_mm``: 200), or ``None`` when
+        ``number`` is none."""
+        unsigned = _unsigned(number)
+        read = _with_unit_suffix(read)
+        if not (isinstance(unsigned, ast.Name) and self.is_quantity(unsigned)):
+            return None
+        if not isinstance(read, ast.Name | ast.Attribute) or self.is_quantity(read):
+            return None
+        value = self._in_unit(unsigned, self.unit_of(read))
+        return -value if unsigned is not number else value
+
+    def _in_unit(self, node: ast.Name, unit: str | None) -> float:
+        """The number with its unit at ``node`` (``20 cm``) in ``unit`` (``mm``: 200), or in
+        its dimension's own unit when ``unit`` is ``None``."""
+        quantity = self.quantities[node.id]
+        target = unit or _default_unit(quantity.unit)
+        dimension = _UNIT_DIMENSION.get(target or "")
+        if dimension is None:
+            raise self.fail(
+                f"'{quantity.value:g} {quantity.unit}' is compared with a value that has no unit",
+                node,
+            )
+        try:
+            base = parse_quantity(f"{quantity.value} {quantity.unit}", dimension)
+        except QuantityError as exc:
+            raise self.fail(str(exc), node) from None
+        return base / _UNIT_FACTOR[target or "mm"]
 
     def _refuse_unreadable(self) -> None:
         """Refuse conditions no one writes by hand before Python's parser sees them."""
@@ -534,21 +565,8 @@ class _Compiler:
             return lambda env: -magnitude(env)
         if self.is_quantity(node):
             assert isinstance(node, ast.Name)
-            quantity = self.quantities[node.id]
-            target = unit or _default_unit(quantity.unit)
-            dimension = _UNIT_DIMENSION.get(target or "")
-            if dimension is None:
-                raise self.fail(
-                    f"'{quantity.value:g} {quantity.unit}' is compared with a value"
-                    " that has no unit",
-                    node,
-                )
-            try:
-                base = parse_quantity(f"{quantity.value} {quantity.unit}", dimension)
-            except QuantityError as exc:
-                raise self.fail(str(exc), node) from None
-            value = base / _UNIT_FACTOR[target or "mm"]
-            self.check_number(quantity.value, node)
+            value = self._in_unit(node, unit)
+            self.check_number(self.quantities[node.id].value, node)
             return lambda env: value
         return self.node(node)
 

@@ -6,7 +6,7 @@ something that never comes. A YAML condition (:mod:`roboscript.mission.guards`) 
 condition method (:mod:`roboscript.mission.python_compiler`) are read by the same rule here:
 each says which comparisons a condition makes of which readings, and :func:`never_true` says
 whether they can ever hold together. Only what is certain is told: a reading compared with
-anything but a plain number is left alone.
+anything but a plain number, or a number with its unit the caller converts, is left alone.
 """
 
 from __future__ import annotations
@@ -86,11 +86,14 @@ def _plain_number(node: ast.expr) -> float | None:
 
 
 def bounds_of(
-    parts: Iterable[ast.expr], reading: Callable[[ast.expr], str | None]
+    parts: Iterable[ast.expr],
+    reading: Callable[[ast.expr], str | None],
+    in_its_unit: Callable[[ast.expr, ast.expr], float | None] | None = None,
 ) -> dict[str, list[Bound]]:
     """The bounds that comparisons ``parts`` (all of which must hold) put on readings, by
     reading; ``reading(node)`` names what ``node`` reads (``range.distance_cm``), or gives
-    ``None`` for what is no reading."""
+    ``None`` for what is no reading; ``in_its_unit(number, read)``, where given, is a number
+    with its unit (``20 cm``) in the unit of the reading ``read``, or ``None``."""
     bounds: dict[str, list[Bound]] = {}
     for part in parts:
         if not isinstance(part, ast.Compare):
@@ -99,6 +102,8 @@ def bounds_of(
         for left, op, right in zip(items, part.ops, items[1:], strict=False):
             for read, number, sign in ((left, right, op), (right, left, _FLIPPED.get(type(op)))):
                 value = _plain_number(number)
+                if value is None and in_its_unit is not None:
+                    value = in_its_unit(number, read)
                 name = reading(read) if sign is not None and value is not None else None
                 word = _BOUND.get(type(sign)) if sign is not None else None
                 if name is not None and value is not None and word is not None:

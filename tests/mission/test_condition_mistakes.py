@@ -6,7 +6,10 @@ docs/tutorial/common-mistakes.md; these pin the offset and the hint for each for
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
+from helpers import run_cli
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -388,6 +391,44 @@ def test_a_word_where_a_sensors_value_is_compared_says_what_a_value_is(
             ),
             None,
         ),
+        (
+            "range.distance_cm > 20 cm and range.distance_cm < 10 cm",
+            (
+                "the condition 'range.distance_cm > 20 cm and range.distance_cm < 10 cm' can"
+                " never be true: range.distance_cm is never below 10 and above 20 at once"
+            ),
+            (
+                "to go when either holds, write or: range.distance_cm > 20 cm or"
+                " range.distance_cm < 10 cm"
+            ),
+        ),
+        (
+            "range.distance_cm > 200 mm and range.distance_cm < 10",
+            (
+                "the condition 'range.distance_cm > 200 mm and range.distance_cm < 10' can"
+                " never be true: range.distance_cm is never below 10 and above 20 at once"
+            ),
+            (
+                "to go when either holds, write or: range.distance_cm > 200 mm or"
+                " range.distance_cm < 10"
+            ),
+        ),
+        (
+            "range.distance_cm < -5 cm",
+            (
+                "the condition 'range.distance_cm < -5 cm' can never be true: a distance sensor"
+                " reads 0 or more, never below -5"
+            ),
+            "compare with a distance it can read, e.g. range.distance_cm < 20",
+        ),
+        (
+            "elapsed > 2 min and elapsed < 100 s",
+            (
+                "the condition 'elapsed > 2 min and elapsed < 100 s' can never be true: elapsed"
+                " is never below 100 and above 120 at once"
+            ),
+            "to go when either holds, write or: elapsed > 2 min or elapsed < 100 s",
+        ),
     ],
 )
 def test_a_condition_no_reading_can_make_true_is_refused_with_what_was_meant(
@@ -422,3 +463,21 @@ def test_a_condition_reading_the_time_by_another_word_is_told_its_two_clocks(wor
         " this state began: e.g. state_time > 5"
     )
     assert info.value.offset == 0
+
+
+def test_check_refuses_a_condition_never_true_written_with_units_at_its_column(
+    tmp_path: Path,
+) -> None:
+    mission = tmp_path / "m.yaml"
+    mission.write_text(
+        "mission: m\ninitial: go\nstates:\n  go:\n    do: {drive: {distance: 1 m}}\n"
+        '    when:\n      - {if: "range.distance_cm > 30 cm and range.distance_cm < 10 cm",'
+        " goto: end}\n    on: {done: end}\n  end: {final: success}\n",
+        encoding="utf-8",
+    )
+    done = run_cli("check", "m.yaml", cwd=tmp_path)
+    assert done.returncode == 2
+    assert done.stderr.startswith(
+        "m.yaml:7:45: error: the condition 'range.distance_cm > 30 cm and range.distance_cm <"
+        " 10 cm' can never be true: range.distance_cm is never below 10 and above 30 at once"
+    ), done.stderr
