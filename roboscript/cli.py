@@ -821,10 +821,11 @@ def _cmd_graph(args: argparse.Namespace) -> int:
     if args.run and fmt not in ("svg", "png"):
         _err("error: --run highlights a run in a picture: add --format svg or --format png")
         return EXIT_INPUT
+    outputs = [("-o", args.output, False)]
     problem = _overwritten_input(
-        [("-o", args.output, False)], _read(("the mission", args.mission), ("the run", args.run))
-    )
-    if problem:
+        outputs, _read(("the mission", args.mission), ("the run", args.run))
+    ) or _unwritable(outputs)
+    if problem:  # said before the mission is read, as view and run say it
         _err(f"error: {problem}")
         return EXIT_INPUT
     if fmt == "png":

@@ -329,3 +329,22 @@ def test_a_recording_named_run_json_is_replayed_and_drawn_as_the_interfaces_writ
     done = run_cli("graph", mission, "--format", "svg", "--run", "RUN.json", cwd=tmp_path)
     assert done.returncode == 0, done.stderr
     assert "<title>square: success in 'finished'</title>" in done.stdout
+
+
+@pytest.mark.parametrize("fmt", ["mermaid", "svg"])
+def test_graph_refuses_a_folder_given_as_its_output_as_invalid_input(
+    tmp_path: Path, fmt: str
+) -> None:
+    mission = str(ROOT / "missions" / "square.yaml")
+    done = run_cli("graph", mission, "--format", fmt, "-o", str(tmp_path))
+    assert (done.returncode, done.stderr) == (
+        2,
+        f"error: cannot write {tmp_path}: it is a folder\n",
+    )
+    under_a_file = tmp_path / "notes.txt"
+    under_a_file.write_text("mine", encoding="utf-8")
+    done = run_cli("graph", mission, "-o", str(under_a_file / "g.svg"))
+    assert (done.returncode, done.stderr) == (
+        2,
+        f"error: cannot write {under_a_file / 'g.svg'}: {under_a_file} is a file, not a folder\n",
+    )
