@@ -1229,6 +1229,22 @@ def _extra_arguments(
     )
 
 
+def _empty_argument(parser: argparse.ArgumentParser, args: argparse.Namespace) -> str:
+    """What to say of an argument given as an empty text (``roboscript check "$FILE"`` with
+    ``FILE`` unset), or ``""``: an empty path would otherwise name the current folder, and an
+    empty option would be taken as not given."""
+    for action in parser._actions:
+        value = getattr(args, action.dest, None)
+        values = value if isinstance(value, list) else [value]
+        if any(isinstance(given, str) and not given.strip() for given in values):
+            name = "/".join(action.option_strings) or action.metavar or action.dest
+            return (
+                f'argument {name} is empty (a variable that is not set, as in "$FILE", gives'
+                " an empty argument)"
+            )
+    return ""
+
+
 def _spaced_path(args: argparse.Namespace, extras: Sequence[str]) -> str:
     """The existing path that an argument and the extra words after it make when joined with
     spaces (a path with spaces typed without quotes), or ``""``."""
@@ -1536,9 +1552,12 @@ def main(argv: Sequence[str] | None = None) -> NoReturn:
             parser.print_help(sys.stderr)
             sys.exit(EXIT_INPUT)
         args, extras = parser.parse_known_args(given)
+        command = getattr(args, "command_parser", parser)
         if extras:
-            command = getattr(args, "command_parser", parser)
             command.error(_extra_arguments(command, args, extras))
+        empty = _empty_argument(command, args)
+        if empty:
+            command.error(empty)
     except KeyboardInterrupt as exc:
         _err(f"error: {reason_for(exc)}")
         sys.exit(exit_status_for(exc))

@@ -209,3 +209,33 @@ def test_a_spec_written_after_the_missions_is_answered_with_the_order() -> None:
             " --mission, every word is read as a MISSION: write TEST_SPEC before --mission)"
         ),
     )
+
+
+@pytest.mark.parametrize(
+    ("args", "named"),
+    [
+        (("check", ""), "roboscript check: error: argument PATH"),
+        (("check", "missions/square.yaml", ""), "roboscript check: error: argument PATH"),
+        (("run", ""), "roboscript run: error: argument MISSION"),
+        (("run", "missions/square.yaml", "--robot", ""), "roboscript run: error: argument --robot"),
+        (("run", "missions/square.yaml", "--world", ""), "roboscript run: error: argument --world"),
+        (("run", "missions/square.yaml", "--port", ""), "roboscript run: error: argument --port"),
+        (("examples", ""), "roboscript examples: error: argument DIR"),
+        (("web", "build", ""), "roboscript web build: error: argument DIR"),
+        (
+            ("grade", "missions/teacher/square/test.yaml", "--mission", ""),
+            "roboscript grade: error: argument --mission",
+        ),
+    ],
+)
+def test_an_empty_argument_is_refused_not_read_as_this_folder_or_as_not_given(
+    tmp_path: Path, args: tuple[str, ...], named: str
+) -> None:
+    shutil.copytree(MISSIONS, tmp_path / "missions")
+    before = sorted(tmp_path.rglob("*"))
+    done = run_cli(*args, cwd=tmp_path)
+    assert (done.returncode, _last_line(done)) == (
+        2,
+        f'{named} is empty (a variable that is not set, as in "$FILE", gives an empty argument)',
+    )
+    assert sorted(tmp_path.rglob("*")) == before  # nothing checked, run or written here
