@@ -888,12 +888,28 @@ def _cmd_view(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _as_typed(path: str) -> str:
+    """``path`` as it is typed in a command to copy: in quotes when it holds a space."""
+    return f'"{path}"' if " " in path else path
+
+
 def _refuse_a_non_recording(path: str) -> None:
     """A folder, or the summary ``run --json`` prints, named where a recording belongs: say
     what it is and how a run is recorded."""
     record = "a recorded run is the file `roboscript run MISSION --record RUN.jsonl` writes"
     if Path(path).is_dir():
         raise InputError("this is a folder, not a recorded run", path=path, hint=record)
+    if Path(path).suffix.lower() in _MISSION_SUFFIXES and Path(path).is_file():
+        # `view square.yaml`: the mission named where its run belongs
+        # files are told apart only for the commands that read one
+        from roboscript.inputs.kinds import file_kind
+
+        kind = file_kind(path)
+        raise InputError(
+            f"this is a {kind} file, not a recorded run",
+            path=path,
+            hint=record.replace("MISSION", _as_typed(path)) if kind == "mission" else record,
+        )
     # A recording is one JSON object a line; `run --json > run.json` writes one over many
     # lines, beginning with a line of its own `{`.
     with contextlib.suppress(OSError, UnicodeDecodeError), open(path, encoding="utf-8") as file:
@@ -903,6 +919,11 @@ def _refuse_a_non_recording(path: str) -> None:
                 path=path,
                 hint=record,
             )
+
+
+_MISSION_SUFFIXES = (".yaml", ".yml", ".py")
+"""How the files roboscript reads other than recordings end (missions, worlds, profiles,
+specs): never a recorded run."""
 
 
 # ------------------------------------------------------------------------------------- sim
@@ -1068,8 +1089,7 @@ def _cmd_examples(args: argparse.Namespace) -> int:
             + " (not the example's text: rename yours to get the example too)"
         )
     if written:
-        square = str(target / "square.yaml")
-        square = f'"{square}"' if " " in square else square  # to be copied as typed
+        square = _as_typed(str(target / "square.yaml"))
         _err(
             f"wrote {len(written)} example file{'s' if len(written) != 1 else ''} into"
             f" {args.dir}: try roboscript run {square}"

@@ -239,3 +239,27 @@ def test_an_empty_argument_is_refused_not_read_as_this_folder_or_as_not_given(
         f'{named} is empty (a variable that is not set, as in "$FILE", gives an empty argument)',
     )
     assert sorted(tmp_path.rglob("*")) == before  # nothing checked, run or written here
+
+
+def test_view_given_a_mission_or_a_spec_says_what_it_is_and_how_a_run_is_recorded(
+    tmp_path: Path,
+) -> None:
+    shutil.copy(MISSIONS / "square.yaml", tmp_path / "my square.yaml")
+    shutil.copy(MISSIONS / "teacher" / "square" / "test.yaml", tmp_path)
+    done = run_cli("view", "my square.yaml", cwd=tmp_path)
+    assert (done.returncode, done.stderr) == (
+        2,
+        (
+            "my square.yaml: error: this is a mission file, not a recorded run (a recorded run"
+            ' is the file `roboscript run "my square.yaml" --record RUN.jsonl` writes)\n'
+        ),
+    )
+    done = run_cli("graph", "my square.yaml", "--format", "svg", "--run", "test.yaml", cwd=tmp_path)
+    assert (done.returncode, done.stderr) == (
+        2,
+        (
+            "test.yaml: error: this is a test spec file, not a recorded run (a recorded run is"
+            " the file `roboscript run MISSION --record RUN.jsonl` writes)\n"
+        ),
+    )
+    assert not list(tmp_path.glob("*.html")) and not list(tmp_path.glob("*.svg"))
