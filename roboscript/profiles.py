@@ -127,6 +127,7 @@ class BuiltinsKept:
 def _load_profile_file(path: Path) -> RobotProfile:
     # YAML loads only for a profile file, so codecs and drivers import profiles without it
     from roboscript.inputs.fields import FieldReader
+    from roboscript.inputs.kinds import refuse_another_kind
     from roboscript.inputs.source import YamlMap, load_yaml
 
     data = load_yaml(path, error=ProfileError)
@@ -138,6 +139,7 @@ def _load_profile_file(path: Path) -> RobotProfile:
 
     if not isinstance(data, YamlMap):
         raise fail("a profile file must be a mapping with 'extends:' and the values to change")
+    refuse_another_kind(data, path, "profile", ProfileError)  # --robot square.yaml
     base_name = data.get("extends")
     if not isinstance(base_name, str) or base_name not in BUILTIN_PROFILES:
         raise fail(

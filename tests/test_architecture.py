@@ -407,7 +407,7 @@ def dynamic_imports_are_resolved(tree: Tree) -> list[str]:
 FUNCTION_LEVEL_IMPORTS: dict[str, int] = {
     "roboscript.api": 3,
     "roboscript.__main__": 1,
-    "roboscript.cli": 49,
+    "roboscript.cli": 50,
     "roboscript.grading.autograder": 1,
     "roboscript.grading.mission_host": 13,
     "roboscript.grading.pool": 1,
@@ -417,7 +417,7 @@ FUNCTION_LEVEL_IMPORTS: dict[str, int] = {
     "roboscript.mission.python_api": 2,
     "roboscript.mission.references": 1,
     "roboscript.mission.roboscript_kept": 1,
-    "roboscript.profiles": 2,
+    "roboscript.profiles": 3,
     "roboscript.replay.header": 1,
     "roboscript.replay.viewer": 1,
     "roboscript.transport.ports": 1,

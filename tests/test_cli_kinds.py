@@ -72,3 +72,42 @@ def test_grade_says_a_world_given_as_the_test_spec_is_a_world() -> None:
     done = run_cli("grade", str(WORLD), "--mission", str(ROOT / "missions" / "square.yaml"))
     assert done.returncode == 2
     assert f"{WORLD}:1:1: error: this is a world file, not a test spec" in done.stderr
+
+
+def test_run_says_a_mission_or_a_spec_given_as_the_robot_or_the_world_is_what_it_is() -> None:
+    mission = ROOT / "missions" / "square.yaml"
+    done = run_cli("run", str(mission), "--robot", str(mission))
+    assert (done.returncode, done.stderr) == (
+        2,
+        (
+            f"{mission}:1:1: error: this is a mission file, not a robot profile (it is a mission:"
+            f" run it with 'roboscript run {mission}')\n"
+        ),
+    )
+    done = run_cli("run", str(mission), "--world", str(SPEC))
+    assert (done.returncode, done.stderr) == (
+        2,
+        (
+            f"{SPEC}:1:1: error: this is a test spec file, not a simulator world (it is a"
+            f" teacher's test spec: grade missions with 'roboscript grade {SPEC} --mission"
+            " MISSIONS')\n"
+        ),
+    )
+    done = run_cli("sim", "--robot", str(WORLD), "--tcp", "127.0.0.1:0")
+    assert (done.returncode, done.stderr) == (
+        2,
+        (
+            f"{WORLD}:1:1: error: this is a world file, not a robot profile (it is a simulator"
+            f" world: run a mission in it with 'roboscript run MISSION --world {WORLD}')\n"
+        ),
+    )
+
+
+def test_a_profile_or_world_whose_keys_tell_nothing_is_judged_by_its_own_reader(
+    tmp_path: Path,
+) -> None:
+    nameless = tmp_path / "fast.yaml"
+    nameless.write_text("name: fast\n", encoding="utf-8")
+    done = run_cli("run", str(ROOT / "missions" / "square.yaml"), "--robot", str(nameless))
+    assert done.returncode == 2
+    assert f"{nameless}:1:1: error: 'extends' must name a built-in robot" in done.stderr

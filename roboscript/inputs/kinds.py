@@ -28,6 +28,7 @@ __all__ = [
     "file_kind",
     "kind_of_keys",
     "not_a_mission",
+    "refuse_another_kind",
 ]
 
 FileKind = Literal["mission", "world", "profile", "test spec"]
@@ -135,3 +136,38 @@ class NotAMissionError(InputError):
 def not_a_mission(path: str | Path, kind: FileKind) -> NotAMissionError:
     """The error for a world, profile or test spec given where a mission is expected."""
     return NotAMissionError(path, kind)
+
+
+_NAMED: dict[FileKind, str] = {
+    "mission": "a mission",
+    "world": "a simulator world",
+    "profile": "a robot profile",
+    "test spec": "a test spec",
+}
+"""Each kind of file as a sentence names what was expected."""
+
+_RUN_IT = "a mission: run it with 'roboscript run {path}'"
+
+
+def refuse_another_kind(
+    data: YamlMap, path: str | Path, expected: FileKind, error: type[InputError]
+) -> None:
+    """Raise ``error`` when the YAML ``data`` read from ``path`` where ``expected`` belongs
+    (``--robot square.yaml``, ``--world test.yaml``) is, by its own keys, another kind of file,
+    saying what it is and how that kind is used; a file with keys of ``expected``, or none
+    that tell, is left to ``expected``'s reader to judge."""
+    keys = {str(key) for key in data}
+    if keys & OWN_KEYS[expected]:
+        return
+    kind = kind_of_keys(keys)
+    if kind == expected or not keys & OWN_KEYS[kind]:
+        return
+    article = "an" if kind[0] in "aeiou" else "a"
+    use = _RUN_IT if kind == "mission" else ON_THE_COMMAND_LINE[kind]
+    raise error(
+        f"this is {article} {kind} file, not {_NAMED[expected]}",
+        path=str(path),
+        line=1,
+        col=1,
+        hint=f"it is {use.format(path=path)}",
+    )

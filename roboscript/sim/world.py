@@ -34,6 +34,7 @@ from typing import Any
 
 from roboscript.errors import WorldError, did_you_mean, nearby_file
 from roboscript.inputs.fields import FieldReader
+from roboscript.inputs.kinds import refuse_another_kind
 from roboscript.inputs.source import Mark, YamlList, YamlMap, load_yaml, load_yaml_text
 from roboscript.sim.geometry import Segment, point_in_polygon
 
@@ -145,7 +146,10 @@ def load_world(name_or_path: str) -> World:
             f"no world called '{name_or_path}' (built-in worlds: {known}; or give a file path)",
             hint=did_you_mean(name_or_path, builtin_worlds()) or nearby_file(path),
         )
-    return _WorldReader(str(path)).read(load_yaml(path, error=WorldError))
+    data = load_yaml(path, error=WorldError)
+    if isinstance(data, YamlMap):  # --world square.yaml: said as what the file is
+        refuse_another_kind(data, path, "world", WorldError)
+    return _WorldReader(str(path)).read(data)
 
 
 _TOP_KEYS = (
