@@ -1477,7 +1477,7 @@ def _parser() -> argparse.ArgumentParser:
     sim = sub.add_parser(
         "sim", help="serve a simulated robot's protocol bytes on a TCP port or a pty"
     )
-    sim.add_argument("--robot", default="mirto", help="robot profile name (default: mirto)")
+    sim.add_argument("--robot", default="mirto", help="robot profile name or file (default: mirto)")
     sim.add_argument("--world", default="empty", help="simulator world name or file")
     sim.add_argument(
         "--seed",
@@ -1506,7 +1506,13 @@ def _parser() -> argparse.ArgumentParser:
         " nothing this long after connecting, or stopped this long in the middle of a message"
         " (default: 5; a quiet client is never dropped while nobody else wants the robot)",
     )
-    sim.add_argument("--max-runtime", type=float, metavar="SECONDS", help=argparse.SUPPRESS)
+    # how long a test's server serves before it ends by itself: a time as --max-time is
+    sim.add_argument(
+        "--max-runtime",
+        type=_seconds("--max-runtime", "5"),
+        metavar="SECONDS",
+        help=argparse.SUPPRESS,
+    )
     sim.set_defaults(func=_cmd_sim)
 
     ports = sub.add_parser("ports", help="list serial ports with a hint of which robot each is")

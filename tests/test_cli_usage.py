@@ -263,3 +263,18 @@ def test_view_given_a_mission_or_a_spec_says_what_it_is_and_how_a_run_is_recorde
         ),
     )
     assert not list(tmp_path.glob("*.html")) and not list(tmp_path.glob("*.svg"))
+
+
+@pytest.mark.parametrize("limit", ["nan", "-1", "0"])
+def test_sim_refuses_a_serving_time_that_is_no_time_rather_than_serving_for_ever(
+    limit: str,
+) -> None:
+    done = run_cli("sim", "--tcp", "127.0.0.1:0", "--max-runtime", limit)
+    assert (done.returncode, _last_line(done)) == (
+        2,
+        (
+            "roboscript sim: error: argument --max-runtime: a time limit must be more than 0 s"
+            f" (got {limit})"
+        ),
+    )
+    assert done.stdout == ""  # it never listened
