@@ -532,17 +532,20 @@ def _note_not_graded(names: Sequence[str]) -> None:
     """Say which entries of a class folder are no student's work (``ana.zip``, ``notes/``):
     a student who handed in the wrong thing is otherwise simply not in the table."""
     if names:
-        shown = ", ".join(names[:_NOT_GRADED_SHOWN])
-        more = len(names) - _NOT_GRADED_SHOWN
         _err(
-            f"note: not graded, as no student's work: {shown}"
-            + (f" and {more} more" if more > 0 else "")
-            + " (a student is a .yaml or .py mission, or a folder holding one)"
+            f"note: not graded, as no student's work: {_first_few(names)}"
+            " (a student is a .yaml or .py mission, or a folder holding one)"
         )
 
 
-_NOT_GRADED_SHOWN = 10
-"""Most entries the note on what was not graded names."""
+_FEW_SHOWN = 10
+"""Most names a one-line note lists before saying how many more there are."""
+
+
+def _first_few(names: Sequence[str]) -> str:
+    """``names`` joined for one line of a note: the first few, then ``and N more``."""
+    more = len(names) - _FEW_SHOWN
+    return ", ".join(names[:_FEW_SHOWN]) + (f" and {more} more" if more > 0 else "")
 
 
 def _write_platform_results(args: argparse.Namespace, results: dict[str, Any]) -> None:
@@ -1081,12 +1084,9 @@ def _cmd_examples(args: argparse.Namespace) -> int:
             return EXIT_FAILED
         written.append(destination)
     if kept:
-        shown = ", ".join(str(path) for path in kept[:_NOT_GRADED_SHOWN])
-        more = len(kept) - _NOT_GRADED_SHOWN
         _err(
-            f"kept your own {shown}"
-            + (f" and {more} more" if more > 0 else "")
-            + " (not the example's text: rename yours to get the example too)"
+            f"kept your own {_first_few([str(path) for path in kept])}"
+            " (not the example's text: rename yours to get the example too)"
         )
     if written:
         square = _as_typed(str(target / "square.yaml"))
@@ -1647,16 +1647,19 @@ def _output_failed(exc: OSError) -> int:
     """
     what = exc.filename or "the output"
     _err(f"error: cannot write {what}: {exc.strerror or exc}")
-    devnull = os.open(os.devnull, os.O_WRONLY)  # Python's own flush at exit would fail again
-    os.dup2(devnull, sys.stdout.fileno())
-    os.close(devnull)
+    _stdout_to_nowhere()
     return EXIT_FAILED
 
 
 def _closed_pipe() -> int:
     """The reader of our output went away (``| head``): end quietly, as a C tool would."""
-    # Python flushes stdout again at exit and would report the closed pipe a second time
+    _stdout_to_nowhere()
+    return EXIT_CLOSED_PIPE
+
+
+def _stdout_to_nowhere() -> None:
+    """Point standard output at the null device once it can no longer be written: Python
+    flushes it again at exit and would report the same failure a second time."""
     devnull = os.open(os.devnull, os.O_WRONLY)
     os.dup2(devnull, sys.stdout.fileno())
     os.close(devnull)
-    return EXIT_CLOSED_PIPE

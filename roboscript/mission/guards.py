@@ -119,8 +119,7 @@ class GuardEnv:
         raise NotImplementedError
 
 
-# name -> (unit dimension or None, capability needed or None)
-_ATTRS: dict[str, dict[str, tuple[str | None, str]]] = {
+_ATTRS: dict[str, dict[str, tuple[str, str]]] = {
     "range": {
         "distance_mm": ("mm", cap.RANGE),
         "distance_cm": ("cm", cap.RANGE),
@@ -146,6 +145,9 @@ _ATTRS: dict[str, dict[str, tuple[str | None, str]]] = {
         "heading_deg": ("deg", cap.DRIVE_BASE),
     },
 }
+"""Each sensor's values a condition reads as ``root.attr``: the unit its number is in (``mm``,
+``cm``, ``deg``; ``""`` for a yes/no value or a reading without one) and the capability it
+needs."""
 _DOTTED_EXAMPLES = {
     "range": "range.distance_cm < 20",
     "side_range": "side_range.distance_cm < 20",
@@ -168,11 +170,13 @@ def _dotted_example(root: str) -> str:
     return f"write {_DOTTED_EXAMPLES[root]}"
 
 
-_PLAIN: dict[str, tuple[str | None, str | None]] = {
+_PLAIN: dict[str, tuple[str, str | None]] = {
     "heading_deg": ("deg", cap.DRIVE_BASE),
     "elapsed": ("s", None),
     "state_time": ("s", None),
 }
+"""The values a condition reads by a name alone: the unit each is in, and the capability it
+needs (``None``: the mission's own clock)."""
 _UNIT_DIMENSION = {"mm": "distance", "cm": "distance", "deg": "angle", "s": "time"}
 _UNIT_FACTOR = {"mm": 1.0, "cm": 10.0, "deg": 1.0, "s": 1.0}
 
