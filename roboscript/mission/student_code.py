@@ -771,7 +771,36 @@ def _explain(
         return exc.python_message, f"write {exc.python}"
     if isinstance(exc, RoboscriptError | ValueError) and raised_by_roboscript:
         return text, None  # roboscript's own sentence, e.g. "drive speed must be positive"
-    abstract = _ABSTRACT.match(text) if isinstance(exc, TypeError) else None
+    if isinstance(exc, TypeError):
+        said = _explain_type_error(exc, text, module, call, frame)
+        if said is not None:
+            return said
+    if isinstance(exc, NameError) and not isinstance(exc, UnboundLocalError):
+        return _explain_name_error(exc, text, module, frame, colno)
+    mission = _mission_class(getattr(exc, "obj", None))
+    if isinstance(exc, AttributeError) and mission is not None:
+        return f"a mission has no {exc.name}(): take this line away", (
+            "roboscript run and python both run the mission a file defines; to say so in the"
+            f' file, write {mission.__name__}.main() under if __name__ == "__main__":'
+        )
+    if isinstance(exc, ImportError):
+        said = _explain_import_error(exc, text, module, kind)
+        if said is not None:
+            return said
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__, None
+
+
+def _explain_type_error(
+    exc: TypeError,
+    text: str,
+    module: ModuleType,
+    call: ast.Call | None,
+    frame: traceback.FrameSummary | None,
+) -> tuple[str, str | None] | None:
+    """A message and a hint for a ``TypeError`` of a call in the student's file (an action
+    given a parameter it has not, too many values, ``state()`` given two actions, a module
+    extended as a class), or ``None`` to say Python's own words."""
+    abstract = _ABSTRACT.match(text)
     if abstract is not None:  # an Action without update(): Python will not make one
         return (
             (
@@ -783,74 +812,97 @@ def _explain(
                 " runs and Result.done() when it has finished"
             ),
         )
-    if isinstance(exc, TypeError):
-        match = _UNEXPECTED_KEYWORD.match(text)
-        if match:
-            owner, func, keyword = match.groups()
-            callee = _called_name(call) or (owner if func == "__init__" and owner else func)
-            meant = meant_in_state_call(keyword) if callee == "state" else None
-            return f"{callee}() has no parameter '{keyword}'", meant or _meant_parameter(
-                callee, keyword, module, call
-            )
-        if _MORE_THAN_ONE_ACTION.match(text) and getattr(module, "state", None) is roboscript.state:
-            fixed = _state_call_fixed(call)
-            if fixed is not None:
-                return fixed
-            return "a state runs one action, and this state(...) was given more", (
-                "to do one thing after another, give each its own state and go on with"
-                ' on_done="NEXT"; to do them at the same time, write state(Parallel([...]), ...)'
-            )
-        match = _TOO_MANY_VALUES.match(text)
-        if match:
-            too_many = _values_without_names(match.group(1), int(match.group(3)) - 1, module)
-            if too_many is not None:
-                return too_many
-        match = _MISSING_ARGUMENT.match(text)
-        if match:
-            owner, func = match.groups()
-            callee = owner if func == "__init__" and owner else func
-            return text.replace(f"{owner}.{func}()" if owner else f"{func}()", f"{callee}()"), None
-    if isinstance(exc, NameError) and not isinstance(exc, UnboundLocalError):
-        name = getattr(exc, "name", None) or ""
-        if name in _roboscript_names():
-            return f"NameError: {text}", f"add 'from roboscript import {name}'"
-        if name == "self" and frame is not None:
-            line = linecache.getline(frame.filename, frame.lineno or 0)
-            meant = _self_in_class_body(line[colno or 0 :], module)
-            if meant is not None:
-                return f"NameError: {text}", meant
-        what = _class_members(module).get(name)
-        if what in ("action", "value"):  # turn = Rotate(...), size = 500: set below its use
-            return f"NameError: {text}", (
-                f"'{name}' is set further down in the class, but Python runs a class from the"
-                " top: set it above the line that uses it"
-            )
-        if what is not None:
-            return f"NameError: {text}", f"a {what} is named in quotes: write '{name}'"
-        below = _defined_at(module).get(name)
-        if below is not None:
-            return f"NameError: {text}", (
-                f"'{name}' is defined further down, on line {below}, but Python runs a file"
-                " from the top: define it above, or make it a method and name it in quotes:"
-                f" '{name}'"
-            )
-        if name in sys.stdlib_module_names:
-            return f"NameError: {text}", f"add 'import {name}' at the top of the file"
-        times = re.search(rf"\b(\d+(?:\.\d+)?)\s*\*\s*{re.escape(name)}\b", line)
-        if times is not None:  # distance_mm=50 * cm: a unit as a name, as some libraries have
-            written = f"{line[: times.start()]}{times.group(1)} {name}"
-            unit = _NUMBER_WITH_UNIT.search(written, times.start())
-            if unit is not None:
-                return f"NameError: {text}", _without_unit(written, unit)
-        known = [*vars(module), *dir(builtins)]
-        # only a close look-alike: "near" is not a misspelt "setattr"
-        return f"NameError: {text}", did_you_mean(name, [*known, *_roboscript_names()], cutoff=0.7)
-    mission = _mission_class(getattr(exc, "obj", None))
-    if isinstance(exc, AttributeError) and mission is not None:
-        return f"a mission has no {exc.name}(): take this line away", (
-            "roboscript run and python both run the mission a file defines; to say so in the"
-            f' file, write {mission.__name__}.main() under if __name__ == "__main__":'
+    match = _UNEXPECTED_KEYWORD.match(text)
+    if match:
+        owner, func, keyword = match.groups()
+        callee = _called_name(call) or (owner if func == "__init__" and owner else func)
+        meant = meant_in_state_call(keyword) if callee == "state" else None
+        return f"{callee}() has no parameter '{keyword}'", meant or _meant_parameter(
+            callee, keyword, module, call
         )
+    if _MORE_THAN_ONE_ACTION.match(text) and getattr(module, "state", None) is roboscript.state:
+        fixed = _state_call_fixed(call)
+        if fixed is not None:
+            return fixed
+        return "a state runs one action, and this state(...) was given more", (
+            "to do one thing after another, give each its own state and go on with"
+            ' on_done="NEXT"; to do them at the same time, write state(Parallel([...]), ...)'
+        )
+    match = _TOO_MANY_VALUES.match(text)
+    if match:
+        too_many = _values_without_names(match.group(1), int(match.group(3)) - 1, module)
+        if too_many is not None:
+            return too_many
+    match = _MISSING_ARGUMENT.match(text)
+    if match:
+        owner, func = match.groups()
+        callee = owner if func == "__init__" and owner else func
+        return text.replace(f"{owner}.{func}()" if owner else f"{func}()", f"{callee}()"), None
+    if _MODULE_AS_BASE.match(text) and frame is not None:
+        base = _MODULE_BASE.search(linecache.getline(frame.filename, frame.lineno or 0))
+        if base is not None and base.group(2).lower() in ("mission", "action"):
+            cls, meant = base.group(1), base.group(2).capitalize()
+            return f"'{base.group(2)}' is a module of roboscript, not a class to extend", (
+                f"extend {meant}, with a capital {meant[0]}: from roboscript import {meant},"
+                f" then class {cls}({meant}):"
+            )
+        if base is not None:
+            return f"'{base.group(2)}' is a module, not a class to extend", None
+    return None
+
+
+def _explain_name_error(
+    exc: NameError,
+    text: str,
+    module: ModuleType,
+    frame: traceback.FrameSummary | None,
+    colno: int | None,
+) -> tuple[str, str | None]:
+    """A message and a hint for a name the student's file uses and nothing defines: a
+    roboscript name not imported, ``self`` in a class body, a state named without quotes, a
+    name set further down, a module not imported, a unit written as a name."""
+    line = linecache.getline(frame.filename, frame.lineno or 0) if frame is not None else ""
+    name = getattr(exc, "name", None) or ""
+    if name in _roboscript_names():
+        return f"NameError: {text}", f"add 'from roboscript import {name}'"
+    if name == "self" and frame is not None:
+        meant = _self_in_class_body(line[colno or 0 :], module)
+        if meant is not None:
+            return f"NameError: {text}", meant
+    what = _class_members(module).get(name)
+    if what in ("action", "value"):  # turn = Rotate(...), size = 500: set below its use
+        return f"NameError: {text}", (
+            f"'{name}' is set further down in the class, but Python runs a class from the"
+            " top: set it above the line that uses it"
+        )
+    if what is not None:
+        return f"NameError: {text}", f"a {what} is named in quotes: write '{name}'"
+    below = _defined_at(module).get(name)
+    if below is not None:
+        return f"NameError: {text}", (
+            f"'{name}' is defined further down, on line {below}, but Python runs a file"
+            " from the top: define it above, or make it a method and name it in quotes:"
+            f" '{name}'"
+        )
+    if name in sys.stdlib_module_names:
+        return f"NameError: {text}", f"add 'import {name}' at the top of the file"
+    times = re.search(rf"\b(\d+(?:\.\d+)?)\s*\*\s*{re.escape(name)}\b", line)
+    if times is not None:  # distance_mm=50 * cm: a unit as a name, as some libraries have
+        written = f"{line[: times.start()]}{times.group(1)} {name}"
+        unit = _NUMBER_WITH_UNIT.search(written, times.start())
+        if unit is not None:
+            return f"NameError: {text}", _without_unit(written, unit)
+    known = [*vars(module), *dir(builtins)]
+    # only a close look-alike: "near" is not a misspelt "setattr"
+    return f"NameError: {text}", did_you_mean(name, [*known, *_roboscript_names()], cutoff=0.7)
+
+
+def _explain_import_error(
+    exc: ImportError, text: str, module: ModuleType, kind: str
+) -> tuple[str, str | None] | None:
+    """A message and a hint for a module or name the student's file imports and cannot (another
+    robot's library, roboscript misspelt, a file of theirs not beside it, a name roboscript
+    has not), or ``None`` to say Python's own words."""
     top = (getattr(exc, "name", None) or "").split(".")[0]
     if isinstance(exc, ModuleNotFoundError) and top in _OTHER_ROBOTS_LIBRARIES:
         return _other_robots_library(top)
@@ -862,36 +914,21 @@ def _explain(
             f"if '{exc.name}' is a file of yours, it must sit in the same folder as "
             f"{file.name}: {exc.name}.py, or a folder {exc.name}/ holding __init__.py"
         )
-    if isinstance(exc, ImportError):
-        match = _CANNOT_IMPORT.match(text)
-        if (
-            match
-            and match.group(2).startswith("roboscript.")
-            and match.group(1) in _roboscript_names()
-        ):
-            return f"{match.group(2)} has no '{match.group(1)}' to import", (
-                f"a mission imports from roboscript itself: write from roboscript import"
-                f" {match.group(1)}"
-            )
-        if match and match.group(2) == "roboscript":
-            name = match.group(1)
-            other = _OTHER_WORDS.get(name)
-            return f"roboscript has no '{name}' to import", (
-                f"{other[1]}: write from roboscript import {other[0]}"
-                if other is not None
-                else did_you_mean(name, _roboscript_names())
-            )
-    if isinstance(exc, TypeError) and _MODULE_AS_BASE.match(text) and frame is not None:
-        base = _MODULE_BASE.search(linecache.getline(frame.filename, frame.lineno or 0))
-        if base is not None and base.group(2).lower() in ("mission", "action"):
-            cls, meant = base.group(1), base.group(2).capitalize()
-            return f"'{base.group(2)}' is a module of roboscript, not a class to extend", (
-                f"extend {meant}, with a capital {meant[0]}: from roboscript import {meant},"
-                f" then class {cls}({meant}):"
-            )
-        if base is not None:
-            return f"'{base.group(2)}' is a module, not a class to extend", None
-    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__, None
+    match = _CANNOT_IMPORT.match(text)
+    if match and match.group(2).startswith("roboscript.") and match.group(1) in _roboscript_names():
+        return f"{match.group(2)} has no '{match.group(1)}' to import", (
+            f"a mission imports from roboscript itself: write from roboscript import"
+            f" {match.group(1)}"
+        )
+    if match and match.group(2) == "roboscript":
+        name = match.group(1)
+        other = _OTHER_WORDS.get(name)
+        return f"roboscript has no '{name}' to import", (
+            f"{other[1]}: write from roboscript import {other[0]}"
+            if other is not None
+            else did_you_mean(name, _roboscript_names())
+        )
+    return None
 
 
 _OTHER_ROBOTS_LIBRARIES = {
