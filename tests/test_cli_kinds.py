@@ -111,3 +111,27 @@ def test_a_profile_or_world_whose_keys_tell_nothing_is_judged_by_its_own_reader(
     done = run_cli("run", str(ROOT / "missions" / "square.yaml"), "--robot", str(nameless))
     assert done.returncode == 2
     assert f"{nameless}:1:1: error: 'extends' must name a built-in robot" in done.stderr
+
+
+def test_grade_says_a_mission_given_as_the_test_spec_is_a_mission() -> None:
+    mission = ROOT / "missions" / "square.yaml"
+    done = run_cli("grade", str(mission), "--mission", str(mission))
+    assert (done.returncode, done.stderr) == (
+        2,
+        (
+            f"{mission}:1:1: error: this is a mission file, not a test spec (it is a mission:"
+            f" run it with 'roboscript run {mission}')\n"
+        ),
+    )
+
+
+def test_gradebook_says_a_spec_or_a_mission_is_no_results_file() -> None:
+    for given in (SPEC, ROOT / "missions" / "square.py"):
+        done = run_cli("gradebook", str(given))
+        assert (done.returncode, done.stderr) == (
+            2,
+            (
+                f"error: {given} is not a results file of this roboscript (written by"
+                " `roboscript grade --results FILE`)\n"
+            ),
+        ), given

@@ -186,7 +186,10 @@ def _read_part(path: str) -> _Part:
     one."""
     first = next(_lines(path), None)
     try:
-        header = _json_object(first[2]) if first is not None else None
+        try:
+            header = _json_object(first[2]) if first is not None else None
+        except (ValueError, RecursionError):
+            header = None  # a first line that is no JSON object: another kind of file
         if (
             not isinstance(header, dict)
             or header.get("roboscript_results") not in READABLE_RESULTS_FORMATS

@@ -44,6 +44,7 @@ from roboscript.grading.expectations.contradictions import RunSetup, find_contra
 from roboscript.grading.record import RunResult, RunStatus
 from roboscript.grading.text import clean_name
 from roboscript.inputs.fields import FieldReader
+from roboscript.inputs.kinds import refuse_another_kind
 from roboscript.inputs.limits import name_too_long
 from roboscript.inputs.source import (
     Location,
@@ -279,6 +280,7 @@ def load_test_spec(path: str | Path) -> TestSpec:
     shown = str(path)
     reader = FieldReader(shown, SpecError)
     top = reader.mapping(load_yaml(path, error=SpecError), "a test spec", (1, 1))
+    refuse_another_kind(top, path, "test spec", SpecError)  # grade square.yaml --mission ...
     for problem in reader.unknown_keys(top, _TOP_KEYS, "a test spec", _misplaced):
         raise problem
     reader.allowed(top, _TOP_KEYS, "a test spec", required=("test", "expect"))
