@@ -284,9 +284,10 @@ def _cmd_check(args: argparse.Namespace) -> int:
             _print_problems(missed)
             missing += 1
         elif path.is_dir():
-            files.extend(sorted(p for p in path.rglob("*.yaml") if p.is_file()))
+            found = _files_in(path)
+            files.extend(sorted(p for p in found if p.suffix == ".yaml"))
             # A folder also holds behaviours and helpers: only .py files with a Mission class.
-            files.extend(sorted(p for p in path.rglob("*.py") if is_python_mission(p)))
+            files.extend(sorted(p for p in found if p.suffix == ".py" and is_python_mission(p)))
         else:
             files.append(path)
     if not files and not missing:
@@ -319,6 +320,22 @@ def _cmd_check(args: argparse.Namespace) -> int:
     bad += missing
     _err(f"checked {checked} file{'s' if checked != 1 else ''}: {bad} with errors")
     return EXIT_INPUT if bad else EXIT_OK
+
+
+def _files_in(folder: Path) -> list[Path]:
+    """The files under ``folder`` that ``check`` reads, found without going into hidden
+    folders (``.git``, ``.venv``) or a Python environment (a folder holding ``pyvenv.cfg``):
+    ``roboscript check .`` in a project folder checks the student's files, not the copies of
+    roboscript's own examples and worlds installed there."""
+    found: list[Path] = []
+    for root, folders, names in os.walk(folder):
+        folders[:] = [
+            name
+            for name in folders
+            if not name.startswith(".") and not (Path(root) / name / "pyvenv.cfg").is_file()
+        ]
+        found.extend(Path(root) / name for name in names if (Path(root) / name).is_file())
+    return found
 
 
 # ----------------------------------------------------------------------------------- grade

@@ -348,3 +348,21 @@ def test_graph_refuses_a_folder_given_as_its_output_as_invalid_input(
         2,
         f"error: cannot write {under_a_file / 'g.svg'}: {under_a_file} is a file, not a folder\n",
     )
+
+
+def test_check_of_a_folder_skips_hidden_folders_and_python_environments(tmp_path: Path) -> None:
+    broken = "mission: x\ninitial: nowhere\nstates:\n  a: {final: success}\n"
+    (tmp_path / "missions").mkdir()
+    (tmp_path / "missions" / "mine.yaml").write_text(
+        "mission: mine\ninitial: a\nstates:\n  a: {final: success}\n", encoding="utf-8"
+    )
+    for inside in (".venv/lib/site-packages/pkg", ".git/info", "env/share"):
+        (tmp_path / inside).mkdir(parents=True)
+        (tmp_path / inside / "examples.yaml").write_text(broken, encoding="utf-8")
+    (tmp_path / "env" / "pyvenv.cfg").write_text("home = /usr/bin\n", encoding="utf-8")
+    done = run_cli("check", ".", cwd=tmp_path)
+    assert (done.returncode, done.stderr) == (0, "checked 1 file: 0 with errors\n")
+    # named itself, a hidden folder is checked as any other
+    done = run_cli("check", ".git", cwd=tmp_path)
+    assert done.returncode == 2
+    assert "checked 1 file: 1 with errors" in done.stderr
