@@ -1132,6 +1132,8 @@ def _seconds(option: str, example: str, most_s: float = math.inf) -> Callable[[s
                 break
         try:
             value = float(number)
+            if math.isinf(value):  # a limit that never comes: a run or a wait without end
+                raise ValueError(text)
         except ValueError:
             raise argparse.ArgumentTypeError(
                 f"'{text}' is not a number of seconds"

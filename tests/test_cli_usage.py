@@ -278,3 +278,15 @@ def test_sim_refuses_a_serving_time_that_is_no_time_rather_than_serving_for_ever
         ),
     )
     assert done.stdout == ""  # it never listened
+
+
+@pytest.mark.parametrize("limit", ["inf", "infinity", "1e999"])
+def test_a_time_limit_that_never_comes_is_refused_rather_than_run_without_end(limit: str) -> None:
+    done = run_cli("run", "missions/square.yaml", "--max-time", limit)
+    assert (done.returncode, _last_line(done)) == (
+        2,
+        (
+            f"roboscript run: error: argument --max-time: '{limit}' is not a number of seconds"
+            " (write it in seconds, e.g. --max-time 60)"
+        ),
+    )
