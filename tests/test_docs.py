@@ -1,10 +1,13 @@
-"""The reference documents every action, parameter and condition name that exists."""
+"""The reference documents every action, parameter, condition name and command-line option that
+exists."""
 
 from __future__ import annotations
 
+import argparse
 import re
 from pathlib import Path
 
+import pytest
 from helpers import ROOT
 
 from roboscript.actions import ACTIONS
@@ -55,3 +58,52 @@ def test_every_link_between_the_pages_leads_to_a_page_and_heading_that_exist() -
             assert linked.exists(), f"{page.relative_to(ROOT)} links to missing {target}"
             if anchor and linked.suffix == ".md":
                 assert anchor in _anchors(linked), f"{page.relative_to(ROOT)}: no heading {target}"
+
+
+def _synopsis(page: Path) -> dict[str, set[str]]:
+    """The options each command's lines of ``page``'s usage block name, by command."""
+    block = page.read_text(encoding="utf-8").split("```\nroboscript ", 1)[1].split("```", 1)[0]
+    commands: dict[str, set[str]] = {}
+    command = ""
+    for line in f"roboscript {block}".splitlines():
+        words = line.split()
+        if words[:1] == ["roboscript"]:  # a command's first line; the next ones go on with it
+            command = "web build" if words[1:3] == ["web", "build"] else words[1]
+        named = re.findall(r"(?<![\w-])(--?[a-z][\w-]*)", line)
+        commands.setdefault(command, set()).update(named)
+    return commands
+
+
+def _options(parser: argparse.ArgumentParser) -> list[set[str]]:
+    """The options ``parser`` takes, as its ``--help`` lists them: each with its spellings
+    (``-o`` and ``--output``)."""
+    return [
+        set(action.option_strings)
+        for action in parser._actions
+        if action.help != argparse.SUPPRESS
+        and action.option_strings
+        and "--help" not in action.option_strings
+    ]
+
+
+def _commands(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    """``parser``'s commands by name."""
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return dict(sub.choices)
+
+
+@pytest.mark.parametrize("page", ["README.md", "docs/reference/cli.md"])
+def test_the_usage_block_names_every_command_and_option_the_command_line_takes(
+    page: str,
+) -> None:
+    from roboscript.cli import _parser
+
+    commands = _commands(_parser())
+    taken = {name: _options(command) for name, command in commands.items() if name != "web"}
+    taken["web build"] = _options(_commands(commands["web"])["build"])
+    written = _synopsis(ROOT / page)
+    assert sorted(written) == sorted(taken)
+    for command, options in taken.items():
+        # each option under one of its spellings, and nothing the command does not take
+        assert [sorted(o) for o in options if not o & written[command]] == [], command
+        assert written[command] <= set().union(*options), command
