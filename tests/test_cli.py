@@ -366,3 +366,28 @@ def test_check_of_a_folder_skips_hidden_folders_and_python_environments(tmp_path
     done = run_cli("check", ".git", cwd=tmp_path)
     assert done.returncode == 2
     assert "checked 1 file: 1 with errors" in done.stderr
+
+
+def test_view_writes_into_a_pipe_named_as_its_page_and_never_replaces_it(tmp_path: Path) -> None:
+    recorded = run_cli("run", str(ROOT / "missions" / "square.yaml"), "--record", "run.jsonl",
+                       cwd=tmp_path)  # fmt: skip
+    assert recorded.returncode == 0, recorded.stderr
+    pipe = tmp_path / "page.html"
+    os.mkfifo(pipe)
+    kept = tmp_path / "kept-pipe"
+    os.link(pipe, kept)  # the same pipe by a second name, should the first be taken from it
+    read: list[bytes] = []
+
+    def reader() -> None:
+        with pipe.open("rb") as stream:  # waits for a writer to open the pipe
+            read.append(stream.read())
+
+    thread = threading.Thread(target=reader, daemon=True)
+    thread.start()
+    done = run_cli("view", "run.jsonl", "-o", "page.html", cwd=tmp_path)
+    if thread.is_alive():  # nothing opened the pipe: let the reader go
+        os.close(os.open(kept, os.O_WRONLY | os.O_NONBLOCK))
+    thread.join()
+    assert done.returncode == 0, done.stderr
+    assert pipe.is_fifo()  # still the pipe, not a file put in its place
+    assert read[0].startswith(b"<!DOCTYPE html>")

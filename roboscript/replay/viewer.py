@@ -207,13 +207,18 @@ def write_viewer_page(recording_path: str | Path, out_path: str | Path) -> Path:
 
     The recording is read and the page written line by line, so memory stays bounded
     whatever the file's size; the page appears whole or not at all (it is written beside
-    ``out_path`` and renamed when done).
+    ``out_path`` and renamed when done). A device or a pipe named as ``out_path``
+    (``/dev/stdout``) is written into, never replaced by a file.
 
     Raises:
         RecordingError: The recording cannot be read (nothing is written).
         OSError: The page cannot be written.
     """
     out = Path(out_path)
+    if out.exists() and not out.is_file():  # renamed over, a device would be lost
+        with out.open("w", encoding="utf-8") as page:
+            _stream_page(read_recording(recording_path), page.write)
+        return out
     part = out.with_name(out.name + ".part")
     try:
         with part.open("w", encoding="utf-8") as page:
