@@ -1307,6 +1307,8 @@ def _spaced_path_from(first: str, following: Sequence[str]) -> tuple[str, int]:
 
 
 def _parser() -> argparse.ArgumentParser:
+    """The command line: every command with its options, each command also taking the global
+    ``--debug`` after its name."""
     parser = _Parser(
         prog="roboscript",
         description="Run state-machine missions on educational robots and their simulator.",
@@ -1315,6 +1317,30 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logs")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
+    _add_run(sub)
+    _add_view(sub)
+    _add_check(sub)
+    _add_grade(sub)
+    _add_gradebook(sub)
+    _add_autograder(sub)
+    _add_graph(sub)
+    _add_sim(sub)
+    _add_listings(sub)
+    web_sub = _add_web(sub)
+    _add_examples(sub)
+    for command in [*sub.choices.values(), *web_sub.choices.values()]:
+        # which parser says what was not understood: the innermost command's
+        command.set_defaults(command_parser=command)
+        # Global options are accepted after the command too (`roboscript run m.yaml --debug`);
+        # SUPPRESS keeps a command not given --debug from resetting the global one.
+        command.add_argument(
+            "--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS
+        )
+    return parser
+
+
+def _add_run(sub: argparse._SubParsersAction[_Parser]) -> None:
+    """``run MISSION``: its robot, port, world and seed, its limits and what it writes."""
     run = sub.add_parser("run", help="run a mission (on the built-in simulator by default)")
     run.add_argument("mission", metavar="MISSION", help="mission file (.yaml or .py)")
     run.add_argument(
@@ -1362,6 +1388,9 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--quiet", action="store_true", help="print only the result")
     run.set_defaults(func=_cmd_run)
 
+
+def _add_view(sub: argparse._SubParsersAction[_Parser]) -> None:
+    """``view RUN.jsonl``: the replay page of a recorded run."""
     view = sub.add_parser("view", help="write a recorded run's replay as one HTML page")
     view.add_argument("recording", metavar="RUN.jsonl", help="a file written by `run --record`")
     view.add_argument(
@@ -1373,6 +1402,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     view.set_defaults(func=_cmd_view)
 
+
+def _add_check(sub: argparse._SubParsersAction[_Parser]) -> None:
+    """``check PATH...``: missions, worlds, profiles and specs checked without a robot."""
     check = sub.add_parser("check", help="check mission files without a robot")
     check.add_argument("paths", nargs="+", metavar="PATH", help="files or folders")
     check.add_argument("--robot", help="also check against this robot's capabilities")
@@ -1381,6 +1413,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     check.set_defaults(func=_cmd_check)
 
+
+def _add_grade(sub: argparse._SubParsersAction[_Parser]) -> None:
+    """``grade TEST_SPEC... --mission MISSION...``: a class graded, and its reports."""
     grade = sub.add_parser(
         "grade", help="grade students' missions against teacher test specs on the simulator"
     )
@@ -1435,6 +1470,9 @@ def _parser() -> argparse.ArgumentParser:
     grade.add_argument("--quiet", action="store_true", help="print only the table")
     grade.set_defaults(func=_cmd_grade)
 
+
+def _add_gradebook(sub: argparse._SubParsersAction[_Parser]) -> None:
+    """``gradebook RESULTS.jsonl...``: the shards' results merged into one class's reports."""
     gradebook = sub.add_parser(
         "gradebook",
         help="merge results files (grade --shard I/N --results FILE) into one class's reports",
@@ -1449,6 +1487,9 @@ def _parser() -> argparse.ArgumentParser:
     gradebook.add_argument("--quiet", action="store_true", help="print only the table")
     gradebook.set_defaults(func=_cmd_gradebook)
 
+
+def _add_autograder(sub: argparse._SubParsersAction[_Parser]) -> None:
+    """``autograder PLATFORM TEST_SPEC... -o OUT``: a ready LMS package."""
     autograder = sub.add_parser(
         "autograder",
         help="build a ready-to-upload autograder for Gradescope, GitHub Classroom or PrairieLearn",
@@ -1478,6 +1519,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     autograder.set_defaults(func=_cmd_autograder)
 
+
+def _add_graph(sub: argparse._SubParsersAction[_Parser]) -> None:
+    """``graph MISSION``: a mission's state diagram."""
     graph = sub.add_parser(
         "graph", help="draw a mission's state diagram (mermaid, dot, or an SVG or PNG picture)"
     )
@@ -1493,6 +1537,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     graph.set_defaults(func=_cmd_graph)
 
+
+def _add_sim(sub: argparse._SubParsersAction[_Parser]) -> None:
+    """``sim``: a simulated robot's bytes served on TCP or a pty."""
     sim = sub.add_parser(
         "sim", help="serve a simulated robot's protocol bytes on a TCP port or a pty"
     )
@@ -1534,12 +1581,21 @@ def _parser() -> argparse.ArgumentParser:
     )
     sim.set_defaults(func=_cmd_sim)
 
+
+def _add_listings(sub: argparse._SubParsersAction[_Parser]) -> None:
+    """``ports`` and ``robots``: what this computer and roboscript have."""
     ports = sub.add_parser("ports", help="list serial ports with a hint of which robot each is")
     ports.set_defaults(func=_cmd_ports)
 
     robots = sub.add_parser("robots", help="list the built-in robot profiles")
     robots.set_defaults(func=_cmd_robots)
 
+
+def _add_web(
+    sub: argparse._SubParsersAction[_Parser],
+) -> argparse._SubParsersAction[_Parser]:
+    """``web build DIR``: the browser app. Returns ``web``'s own commands, which take the
+    global options too."""
     web = sub.add_parser("web", help="the browser app (zero install)")
     web_sub = web.add_subparsers(dest="web_command", required=True, metavar="COMMAND")
     web_build = web_sub.add_parser(
@@ -1560,7 +1616,11 @@ def _parser() -> argparse.ArgumentParser:
         help="test specs (or folders of them) to practise against in the page",
     )
     web_build.set_defaults(func=_cmd_web)
+    return web_sub
 
+
+def _add_examples(sub: argparse._SubParsersAction[_Parser]) -> None:
+    """``examples [DIR]``: the guides' missions written into a folder."""
     examples = sub.add_parser(
         "examples", help="write the example missions the guides run into a folder"
     )
@@ -1572,15 +1632,6 @@ def _parser() -> argparse.ArgumentParser:
         help=f"the folder (default: {EXAMPLES_FOLDER}); files already there are kept",
     )
     examples.set_defaults(func=_cmd_examples)
-    for command in [*sub.choices.values(), *web_sub.choices.values()]:
-        # which parser says what was not understood: the innermost command's
-        command.set_defaults(command_parser=command)
-        # Global options are accepted after the command too (`roboscript run m.yaml --debug`);
-        # SUPPRESS keeps a command not given --debug from resetting the global one.
-        command.add_argument(
-            "--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS
-        )
-    return parser
 
 
 def main(argv: Sequence[str] | None = None) -> NoReturn:
