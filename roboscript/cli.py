@@ -208,21 +208,35 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
     )
     status.close()
     result = session.result
-    sim = session.simulation
     interrupted = session.interrupted
     summary = session_record(session).to_dict()
     if not args.json:
-        if result.outcome == "success":
-            _err(
-                f"success: {spec.name} ended in '{result.final_state}'"
-                f" after {result.duration_s:.2f} s"
-            )
-        else:
-            _err(f"{result.outcome}: {result.reason}")
-        ended_by = session.interruption
-        if ended_by is not None and result.reason != ended_by.reason:  # the mission had ended
-            _err(f"error: {ended_by.reason}")
-    outputs_ok = _write_plot(args.plot, result, sim) if args.plot else True
+        _say_how_it_ended(spec.name, session)
+    outputs_ok = _write_run_outputs(args, session, recording)
+    if live is not None:
+        live.serve_the_end(_err, interrupted=bool(interrupted))
+    if interrupted:
+        return interrupted, summary
+    ok = result.outcome == "success" and outputs_ok
+    return (EXIT_OK if ok else EXIT_FAILED), summary
+
+
+def _say_how_it_ended(mission: str, session: Any) -> None:
+    """The result line of a run (and the signal that came after it ended, if one did)."""
+    result = session.result
+    if result.outcome == "success":
+        _err(f"success: {mission} ended in '{result.final_state}' after {result.duration_s:.2f} s")
+    else:
+        _err(f"{result.outcome}: {result.reason}")
+    ended_by = session.interruption
+    if ended_by is not None and result.reason != ended_by.reason:  # the mission had ended
+        _err(f"error: {ended_by.reason}")
+
+
+def _write_run_outputs(args: argparse.Namespace, session: Any, recording: Any) -> bool:
+    """Finish the files ``run`` was asked for once the robot has stopped (the plot, the wire
+    log's last word, the recording); False (each problem said) if one of them failed."""
+    outputs_ok = _write_plot(args.plot, session.result, session.simulation) if args.plot else True
     if session.wire_log_error is not None:  # said now: the robot is stopped
         _err(f"error: {session.wire_log_error}")
         outputs_ok = False
@@ -234,12 +248,7 @@ def _run_collect(args: argparse.Namespace) -> tuple[int, dict[str, Any]]:
         if problem:
             _err(problem)
         outputs_ok = outputs_ok and not problem
-    if live is not None:
-        live.serve_the_end(_err, interrupted=bool(interrupted))
-    if interrupted:
-        return interrupted, summary
-    ok = result.outcome == "success" and outputs_ok
-    return (EXIT_OK if ok else EXIT_FAILED), summary
+    return outputs_ok
 
 
 def _write_plot(path: str, result: Any, sim: Any) -> bool:
