@@ -87,3 +87,23 @@ def test_tones_wanting_other_frequencies_of_a_huge_count_are_told_at_the_first_t
     with _calls_bounded(CALLS_A_SPEC_MAY_TAKE), pytest.raises(SpecError) as caught:
         load_test_spec(path)
     assert clash in caught.value.format()
+
+
+def test_a_clash_is_said_to_be_a_runs_own_targets_only_when_they_are(tmp_path: Path) -> None:
+    path = tmp_path / "spec.yaml"
+    runs = (
+        "runs:\n"
+        "  - {seed: 1}\n"
+        "  - {seed: 2, expect: {final_pose_within: {x: 0 mm, y: 50 cm, radius: 5 cm}}}\n"
+    )
+    expect = "  - final_pose_within: {x: 0 mm, y: 0 mm, radius: 5 cm}\n"
+    path.write_text(
+        f"test: t\n{runs}expect:\n{expect}  - outcome: success\n  - outcome: failure\n",
+        encoding="utf-8",
+    )
+    with pytest.raises(SpecError) as caught:
+        load_test_spec(path)
+    assert caught.value.format().endswith(
+        "this outcome contradicts the outcome on line 7: a mission ends in success or in"
+        " failure, not both"
+    ), caught.value.format()

@@ -56,7 +56,6 @@ def find_contradiction(
     sentence saying why, naming the other line; ``None`` when every run could pass."""
     for index, run in enumerate(runs):
         rules = [_rule_for(e, index) for e in expectations]
-        own = f" (run {run.number}'s targets)" if _any_own(expectations) else ""
         for b, later in enumerate(expectations):
             why = _impossible(rules[b], run, max_time_s)
             if why:
@@ -64,23 +63,32 @@ def find_contradiction(
             for a, earlier in enumerate(expectations[:b]):
                 why = _clash(rules[a], rules[b], run) or _clash(rules[b], rules[a], run)
                 if why:
-                    line = earlier.location.line if earlier.location else "?"
+                    own = _is_own(earlier, rules[a]) or _is_own(later, rules[b])
+                    whose = f" (run {run.number}'s targets)" if own else ""
                     return later, (
-                        f"this {later.kind} contradicts the {earlier.kind} on line {line}{own}:"
-                        f" {why}"
+                        f"this {later.kind} contradicts the {earlier.kind} on line"
+                        f" {_line(earlier)}{whose}: {why}"
                     )
     return None
 
 
 def _rule_for(expectation: Expectation, run_index: int) -> Rule:
+    """What ``expectation`` demands of the run at ``run_index``: its own targets, if it gives
+    any, else what the spec's ``expect`` says."""
     targets = expectation.targets
     if targets is None or run_index >= len(targets.runs):
         return expectation.rule
     return targets.runs[run_index][1]
 
 
-def _any_own(expectations: Sequence[Expectation]) -> bool:
-    return any(e.targets is not None for e in expectations)
+def _is_own(expectation: Expectation, rule: Rule) -> bool:
+    """Whether ``rule`` is a run's own targets for ``expectation``, not the spec's."""
+    return expectation.targets is not None and rule != expectation.targets.default
+
+
+def _line(expectation: Expectation) -> str:
+    """The spec's line ``expectation`` is written on, for a sentence."""
+    return str(expectation.location.line) if expectation.location else "?"
 
 
 def _impossible(rule: Rule, run: RunSetup, max_time_s: float) -> str | None:
