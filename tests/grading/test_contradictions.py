@@ -107,3 +107,21 @@ def test_a_clash_is_said_to_be_a_runs_own_targets_only_when_they_are(tmp_path: P
         "this outcome contradicts the outcome on line 7: a mission ends in success or in"
         " failure, not both"
     ), caught.value.format()
+
+
+def test_a_clash_with_a_runs_own_targets_names_that_run(tmp_path: Path) -> None:
+    path = tmp_path / "spec.yaml"
+    path.write_text(
+        "test: t\nworld: corridor\nruns:\n"
+        "  - {seed: 1}\n"
+        "  - {seed: 2, expect: {final_pose_within: {x: 0 mm, y: 2700 mm, radius: 5 cm}}}\n"
+        "expect:\n"
+        "  - final_pose_within: {x: 0 mm, y: 1000 mm, radius: 5 cm}\n"
+        "  - never_enter: far-end\n",
+        encoding="utf-8",
+    )
+    with pytest.raises(SpecError) as caught:
+        load_test_spec(path)
+    assert "this never_enter contradicts the final_pose_within on line 7 (run 2's targets):" in (
+        caught.value.format()
+    ), caught.value.format()
