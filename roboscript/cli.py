@@ -308,6 +308,9 @@ def _cmd_check(args: argparse.Namespace) -> int:
     from roboscript.profiles import get_profile
     from roboscript.sim.world import load_world
 
+    if args.robot:  # a --robot that names no robot is one mistake, not one in every file
+        get_profile(args.robot)
+
     bad = 0
     for path in files:
         try:

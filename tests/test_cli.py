@@ -391,3 +391,10 @@ def test_view_writes_into_a_pipe_named_as_its_page_and_never_replaces_it(tmp_pat
     assert done.returncode == 0, done.stderr
     assert pipe.is_fifo()  # still the pipe, not a file put in its place
     assert read[0].startswith(b"<!DOCTYPE html>")
+
+
+def test_check_with_a_robot_that_does_not_exist_says_so_once_and_checks_nothing() -> None:
+    done = run_cli("check", str(ROOT / "missions"), "--robot", "mirot")
+    assert done.returncode == 2
+    assert done.stderr.count("no robot called 'mirot'") == 1, done.stderr
+    assert "checked" not in done.stderr  # no file is blamed for the option's mistake
