@@ -434,11 +434,13 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
     except MissionError:
         del sys.modules[name]
         raise
-    except PASSES_THROUGH_STUDENT_CODE:  # stopped while it ran (a loop at its top, Ctrl-C)
+    except PASSES_THROUGH_STUDENT_CODE as exc:  # stopped while it ran (a loop at its top, Ctrl-C)
         del sys.modules[name]
         kept.changed()
         own.changed()
-        raise
+        if not _raised_at_the_students_line(exc, GeneratorExit):
+            raise
+        raise _import_problem(exc, path, module, kind) from None
     except BaseException as exc:  # noqa: BLE001 - reported in the student's terms
         del sys.modules[name]
         kept.changed()  # a change made before the exception is undone too
@@ -449,6 +451,15 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
             sys.path.remove(folder)
     _IMPORTED[key] = module
     return module
+
+
+def _raised_at_the_students_line(exc: BaseException, kind: type[BaseException]) -> bool:
+    """Whether ``exc`` is a ``kind`` the student's own code raised (``raise GeneratorExit`` at
+    a file's top): the innermost frame it came out of is the student's. One thrown into
+    the code where it waited (a generator being closed) comes out of roboscript's or Python's
+    code, and passes through."""
+    frames = traceback.extract_tb(exc.__traceback__)
+    return isinstance(exc, kind) and bool(frames) and is_student_file(frames[-1].filename)
 
 
 def _refuse_is_with_a_value(path: str | Path, module: ModuleType) -> None:

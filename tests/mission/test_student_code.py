@@ -1253,3 +1253,14 @@ def test_a_base_exception_of_the_students_whose_str_raises_is_told_without_a_tra
         " its __str__ raised Gone) (r.py:14)" in ran.stderr
     )
     assert ran.returncode == 1
+
+
+def test_a_file_that_raises_generator_exit_itself_is_its_error_at_its_line(
+    tmp_path: Path,
+) -> None:
+    _write(tmp_path, "m.py", "x = 1\nraise GeneratorExit\n")
+    done = run_cli("check", "m.py", cwd=tmp_path)
+    assert (done.returncode, done.stderr) == (
+        2,
+        "m.py:2:1: error: GeneratorExit\nchecked 1 file: 1 with errors\n",
+    )
