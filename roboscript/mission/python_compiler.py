@@ -54,9 +54,9 @@ from roboscript.mission.python_api import Mission, StateDef
 from roboscript.mission.python_source import PythonSource, item, keyword
 from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec, TransitionSpec
 from roboscript.mission.student_code import (
-    PASSES_THROUGH_STUDENT_CODE,
     StudentCodeError,
     is_student_class,
+    passes_through,
     shown_path,
 )
 
@@ -299,9 +299,9 @@ class _Instances:
                 mission = self._cls()
             except (LinkError, StudentCodeError):
                 raise
-            except PASSES_THROUGH_STUDENT_CODE:
-                raise
             except BaseException as exc:  # exit() ends the run, not the program
+                if passes_through(exc):
+                    raise
                 raise StudentCodeError(f"mission class {self._cls.__name__}", exc) from exc
             mission._bind(env, self._state_names)
             with contextlib.suppress(TypeError):  # unhashable runners use the last slot
@@ -339,9 +339,9 @@ class MethodGuard:
             value = self._read(mission)
         except (LinkError, StudentCodeError):
             raise
-        except PASSES_THROUGH_STUDENT_CODE:
-            raise
         except BaseException as exc:  # exit() ends the run, not the program
+            if passes_through(exc):
+                raise
             raise StudentCodeError(f"condition '{self.source}'", exc) from exc
         if value is None:
             raise StudentCodeError(

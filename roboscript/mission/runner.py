@@ -39,7 +39,7 @@ from roboscript.mission.checks import check_regions
 from roboscript.mission.guards import GuardEnv
 from roboscript.mission.sensor_readings import color_or_buttons
 from roboscript.mission.spec import MissionSpec, TransitionSpec
-from roboscript.mission.student_code import PASSES_THROUGH_STUDENT_CODE, student_fault
+from roboscript.mission.student_code import passes_through, student_fault
 
 __all__ = [
     "MISSION_OUTCOMES",
@@ -416,9 +416,9 @@ class MissionRunner(GuardEnv):
             with logging_to(self.channels):
                 self._tick(now_s, dt_s)
                 self._plot()
-        except PASSES_THROUGH_STUDENT_CODE:
-            raise
         except BaseException as exc:  # a student's exit() ends the run, not the program
+            if passes_through(exc):
+                raise
             reason = student_fault(exc, self.state)
             if reason is None:
                 raise

@@ -76,6 +76,7 @@ __all__ = [
     "is_student_class",
     "is_student_file",
     "message_of",
+    "passes_through",
     "shown_path",
     "stuck_at",
     "student_fault",
@@ -438,7 +439,7 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
         del sys.modules[name]
         kept.changed()
         own.changed()
-        if not _raised_at_the_students_line(exc, GeneratorExit):
+        if passes_through(exc):
             raise
         raise _import_problem(exc, path, module, kind) from None
     except BaseException as exc:  # noqa: BLE001 - reported in the student's terms
@@ -453,13 +454,16 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
     return module
 
 
-def _raised_at_the_students_line(exc: BaseException, kind: type[BaseException]) -> bool:
-    """Whether ``exc`` is a ``kind`` the student's own code raised (``raise GeneratorExit`` at
-    a file's top): the innermost frame it came out of is the student's. One thrown into
-    the code where it waited (a generator being closed) comes out of roboscript's or Python's
-    code, and passes through."""
+def passes_through(exc: BaseException) -> bool:
+    """Whether ``exc``, come out of a student's code, is not the student's mistake (one of
+    :data:`PASSES_THROUGH_STUDENT_CODE`). A ``GeneratorExit`` the student's own line raised
+    (its innermost frame is the student's) is theirs; one thrown in where the code waited (a
+    generator being closed) comes out of roboscript's or Python's code, and passes."""
+    if not isinstance(exc, PASSES_THROUGH_STUDENT_CODE):
+        return False
     frames = traceback.extract_tb(exc.__traceback__)
-    return isinstance(exc, kind) and bool(frames) and is_student_file(frames[-1].filename)
+    raised_by_student = bool(frames) and is_student_file(frames[-1].filename)
+    return not (isinstance(exc, GeneratorExit) and raised_by_student)
 
 
 def _refuse_is_with_a_value(path: str | Path, module: ModuleType) -> None:

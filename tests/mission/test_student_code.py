@@ -1264,3 +1264,29 @@ def test_a_file_that_raises_generator_exit_itself_is_its_error_at_its_line(
         2,
         "m.py:2:1: error: GeneratorExit\nchecked 1 file: 1 with errors\n",
     )
+
+
+def test_a_condition_that_raises_generator_exit_itself_ends_the_run_with_one_sentence(
+    tmp_path: Path,
+) -> None:
+    _write(
+        tmp_path,
+        "m.py",
+        """\
+        from roboscript import Drive, Mission, state
+
+
+        class M(Mission):
+            go = state(Drive(distance_mm=500), initial=True, on_done="end", when=[("near", "end")])
+            end = state(final="success")
+
+            def near(self):
+                raise GeneratorExit
+        """,
+    )
+    done = run_cli("run", "m.py", cwd=tmp_path)
+    assert "Traceback" not in done.stderr
+    assert "failure: your condition 'near' raised GeneratorExit in state 'go' (m.py:9)" in (
+        done.stderr
+    )
+    assert done.returncode == 1
