@@ -100,7 +100,12 @@ def run(tmp_path_factory: pytest.TempPathFactory) -> Run:
         samples = []
         for _ in range(40):
             board.board.advance(0.001)
-            samples.append(_timer_sample(board))
+            sample = _timer_sample(board)
+            board.board.advance(0.00005)
+            # a sample taken while the overflow interrupt loads the compare registers (some
+            # loaded, some not) differs from one 50 us later: it is not kept
+            if _timer_sample(board) == sample:
+                samples.append(sample)
         return Run(session, board, memory, board.servo_pwms(), samples)
 
 

@@ -9,6 +9,7 @@ from firmware.asip_probes import Probe
 from firmware.avr import Board, build
 from firmware.recipes import MIRTLE_BAUD, MIRTLE_F_CPU_HZ, MIRTLE_MCU, mirtle_328p
 
+from roboscript.drivers.asip.device import RESET_GREETING_S
 from roboscript.profiles import get_profile
 from roboscript.sim.simulation import Simulation
 from roboscript.sim.world import load_world
@@ -26,11 +27,11 @@ def firmware_transcript(probes: Sequence[Probe]) -> tuple[bytes, list[bytes]]:
 
 
 def sim_transcript(
-    probes: Sequence[Probe], *, after_greeting_s: float = 0.0
+    probes: Sequence[Probe], *, after_greeting_s: float = BOOT_S - RESET_GREETING_S
 ) -> tuple[bytes, list[bytes]]:
     """``roboscript sim``'s MIRTO board, on a UART like the emulated 328P build: its start-up
     bytes and its answer to each probe in turn, the first sent ``after_greeting_s`` after
-    the board greeted."""
+    the board started greeting (by default when the emulated board gets its first)."""
     mirto = get_profile("mirto")
     profile = dataclasses.replace(mirto, options={**mirto.options, "transport": "uart"})
     simulation = Simulation(load_world("empty"), profile, seed=1)

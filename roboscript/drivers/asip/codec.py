@@ -116,6 +116,20 @@ class AsipCodec:
         nothing else meanwhile). Always False for a host-role codec."""
         return False
 
+    @property
+    def skip_pending(self) -> bool:
+        """Device role: True while the rest of the last request's line is still to be
+        skipped. Always False for a host-role codec."""
+        return False
+
+    def skip_received(self) -> int:
+        """Device role: skip what has been received of the last request's line; returns the
+        bytes dropped (see :class:`~roboscript.drivers.asip.device_side.RequestReader`)."""
+        return 0
+
+    def end_skip(self) -> None:
+        """Device role: nothing more has arrived, so the skip ends."""
+
     def _start_reader(self, max_line_bytes: int, max_buffer_bytes: int) -> None:
         raise NotImplementedError  # each role's class starts its own reader
 
@@ -155,6 +169,9 @@ class _DeviceAsipCodec(AsipCodec, RequestReader):
     """The device role: reply encoders, requests read with the firmware's semantics."""
 
     waiting = RequestReader.waiting  # AsipCodec's comes first in the lookup order
+    skip_pending = RequestReader.skip_pending
+    skip_received = RequestReader.skip_received
+    end_skip = RequestReader.end_skip
 
     def _start_reader(self, max_line_bytes: int, max_buffer_bytes: int) -> None:
         RequestReader.__init__(

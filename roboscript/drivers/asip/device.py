@@ -44,7 +44,12 @@ from roboscript.codec import Role, readable
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
 from roboscript.drivers.asip.options import AsipOptions
-from roboscript.drivers.asip.uart import RECEIVE_RING_BYTES, ReceiveLine, Transmitter
+from roboscript.drivers.asip.uart import (
+    RECEIVE_RING_BYTES,
+    ReceiveLine,
+    Transmitter,
+    avr_byte_s,
+)
 from roboscript.errors import RemoteProtocolError
 
 if TYPE_CHECKING:
@@ -62,6 +67,19 @@ Measured on the emulated ATmega328P build (the UART's RXEN0 bit is set at 3.0013
 RESET_GREETING_S = 3.2014
 """After a reset, when the sketch writes its first start-up byte (``delay(200)`` after
 ``Serial.begin``), seconds. Measured on the emulated build (the first byte at 3.20138 s)."""
+REQUEST_S = 50e-6
+"""On a UART board, the firmware's time from the byte that completes what a request needs to
+be read (its fourth byte, ``MIN_MSG_LEN``) to writing its answer, when the byte finds it idle
+in ``loop()``: the rest of a loop turn and the parse, seconds. Measured on the emulated
+firmware: the first byte of the answer comes 54 to 72 us after that byte (``#,?``, ``I,M``,
+``X,?``), of which the first byte's own write is :data:`~roboscript.drivers.asip.uart.
+WRITE_BYTE_S`. A byte that arrives while the firmware waits inside a request (a timed read)
+is read at once."""
+SKIP_BYTE_S = 5e-6
+"""On a UART board, the firmware's time per byte skipping the rest of a line after an error
+(``asip.cpp``'s ``while (serial->available() && serial->read() != '\\n')``: two virtual
+calls into ``HardwareSerial`` and the ring's index arithmetic, about 80 cycles at 16 MHz),
+seconds: a byte that arrives meanwhile is skipped too."""
 _AUTO_STOP_S = 2.0
 _MOST_EVENTS_A_STEP = 64
 """A bound on one service's events in one physics step (a wrapped interval reports on every
@@ -127,6 +145,8 @@ class BoardConfig:
             AsipOptions`).
         baud: A UART board's line speed, bits per second: bytes arrive one byte time
             apart, and a reply takes the firmware time (:mod:`~roboscript.drivers.asip.uart`).
+        f_cpu_hz: A UART board's clock, hertz: its USART sends at the rate its divisor makes
+            of :attr:`baud` (:func:`~roboscript.drivers.asip.uart.avr_byte_s`).
         int_bits: The width of the firmware's ``int`` and ``unsigned int``, bits: 16 on a
             UART board (an ATmega328P: ``M,A,65536`` turns encoder events off, an auto-event
             interval's due tick wraps at 65536 ms), 32 on the USB board (the MIRTO's Teensy
@@ -151,6 +171,7 @@ class BoardConfig:
     pixel_count: int = 9
     whole_lines: bool = True
     baud: int = 57600
+    f_cpu_hz: int = 16_000_000
     int_bits: int = 32
     resets_on_connect: bool = False
 
@@ -238,11 +259,12 @@ class MirtoBoard:
         self.config = config or BoardConfig()
         self.codec = self._new_codec()
         self._out = bytearray()
+        self._now_s = 0.0  # the simulation's time, as last told
         self._wait_since_s = 0.0
         # A UART board's line and its firmware's own clock (at or past the simulation's
         # while it writes): what a request reads depends on when it reads.
         self._line = ReceiveLine(self.config.baud)
-        self._transmitter = Transmitter(self.config.baud)
+        self._transmitter = Transmitter(avr_byte_s(self.config.baud, self.config.f_cpu_hz))
         self._clock_s = 0.0
         self._powered_s = 0.0  # when the board last started: millis() counts from it
         self.state = self._power_on_state()
@@ -287,12 +309,14 @@ class MirtoBoard:
     def connect(self, now_s: float) -> None:
         """A host opened the port: greet it the way the sketch's ``setup()`` does, or, on a
         board that resets when its port opens, start afresh and greet once booted."""
+        self._now_s = max(self._now_s, now_s)
         self.codec = self._new_codec()
         self._line.clear()
         if not self.config.resets_on_connect:
             self._greet(now_s)
             return
         self.stop_all()
+        self._transmitter.clear()
         ticks = self.body.ticks
         self.state = self._power_on_state()  # the encoders count from 0 again
         for index, wheel in enumerate(self.state.wheels):
@@ -332,6 +356,7 @@ class MirtoBoard:
 
     def receive(self, data: bytes, now_s: float) -> None:
         """Parse and act on request bytes."""
+        self._now_s = max(self._now_s, now_s)
         if not data:
             return
         if not self.config.whole_lines:
@@ -349,6 +374,7 @@ class MirtoBoard:
     def step(self, now_s: float) -> None:
         """Run timers: parse timeout, PID frames, auto-events, digital port changes (and, on a
         UART board, the requests whose bytes have arrived)."""
+        self._now_s = max(self._now_s, now_s)
         if self._boot(now_s):
             return  # the sketch's start-up: nothing else runs
         codec = self.codec
@@ -413,7 +439,10 @@ class MirtoBoard:
         return self.codec.pending_bytes() + self._line.pending_bytes()
 
     def read_output(self) -> bytes:
-        """Take the bytes written since the last call."""
+        """Take the bytes written since the last call (on a UART board, those its USART has
+        taken by the simulation's time: the rest wait in its transmit buffer)."""
+        if not self.config.whole_lines:
+            self._out += self._transmitter.take_handed(self._now_s)
         data = bytes(self._out)
         self._out.clear()
         return data
@@ -429,9 +458,10 @@ class MirtoBoard:
         self._write(self.codec.send(message))
 
     def _write(self, data: bytes) -> None:
-        self._out += data
-        if not self.config.whole_lines:  # the firmware's time writing it
-            self._clock_s = self._transmitter.write(len(data), self._clock_s)
+        if self.config.whole_lines:
+            self._out += data
+        else:  # the firmware's time writing it, and the line's sending it
+            self._clock_s = self._transmitter.write(data, self._clock_s)
 
     def _serve_line(self, until_s: float) -> None:
         """A UART board's firmware up to ``until_s``: each request read with the bytes that
@@ -463,6 +493,7 @@ class MirtoBoard:
                 if self._clock_s > until_s:
                     return  # it reads on, with what has come meanwhile, at a later step
                 self._take_arrived()  # what came while it answered
+                self._skip_rest_of_line()
             if progressed:
                 self._wait_since_s = self._clock_s  # a timed read waits from now on
             arrival_s = line.next_arrival_s()
@@ -472,8 +503,21 @@ class MirtoBoard:
             if timeout_s < arrival_s:
                 self._clock_s = self._wait_since_s = max(self._clock_s, timeout_s)
                 codec.parse_timeout()
+            elif codec.waiting or self._clock_s >= arrival_s:
+                self._clock_s = max(self._clock_s, arrival_s)  # read at once
             else:
-                self._clock_s = max(self._clock_s, arrival_s)
+                self._clock_s = arrival_s + REQUEST_S  # found at its next loop turn
+
+    def _skip_rest_of_line(self) -> None:
+        """The firmware skips the rest of a request's line after answering it
+        (``asip.cpp``: ``while (serial->available() && serial->read() != '\\n')``), a byte
+        per :data:`SKIP_BYTE_S` of its time: a byte that arrives meanwhile is skipped too."""
+        codec = self.codec
+        while codec.skip_pending:
+            dropped = codec.skip_received()
+            self._clock_s += dropped * SKIP_BYTE_S
+            if codec.skip_pending and not self._take_arrived():
+                codec.end_skip()
 
     def _take_arrived(self) -> bool:
         """Hand the codec the bytes that have arrived by the firmware's clock, less those

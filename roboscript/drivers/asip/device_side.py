@@ -300,6 +300,35 @@ class RequestReader:
             self._timed_out.clear()
             self._waiting_op = None
 
+    @property
+    def skip_pending(self) -> bool:
+        """True while the rest of the last request's line is still to be skipped."""
+        return self._skip_line
+
+    def skip_received(self) -> int:
+        """Skip what has been received of the last request's line (``while (available() &&
+        read() != '\\n')``, never waiting for more), through its newline.
+
+        Returns:
+            The bytes read and dropped, the newline among them; the skip is over once the
+            newline is dropped, or when the caller finds nothing more has arrived (see
+            :meth:`end_skip`).
+        """
+        if not self._skip_line:
+            return 0
+        buf = self._buf
+        newline = buf.find(_NEWLINE)
+        dropped = len(buf) if newline < 0 else newline + 1
+        del buf[:dropped]
+        if newline >= 0:
+            self._skip_line = False
+        return dropped
+
+    def end_skip(self) -> None:
+        """Nothing more has arrived: the skip ends (the firmware does not wait for the
+        newline)."""
+        self._skip_line = False
+
     def parse_timeout(self) -> None:
         """The timed read the board waits in ran out of time (1 s with no byte): it gives -1."""
         if self._waiting_op is not None:

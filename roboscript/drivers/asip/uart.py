@@ -15,6 +15,12 @@ firmware's own clock with these two parts:
   per byte, and, once the transmit buffer (the core's 63-byte ring and the UART's data
   register) is full, a wait for the line to send a byte.
 
+The two directions run at different speeds. The host's bytes come at the rate the host's
+serial adapter makes of the baud rate asked for (:class:`ReceiveLine` takes the nominal rate:
+10 bits at 57600 baud, 173.6 us). The board sends at the rate its USART makes of it, a whole
+number of clock cycles a bit (:func:`avr_byte_s`): a 16 MHz ATmega328P asked for 57600 baud
+runs at 58824 (UBRR 16, no U2X) and sends a byte every 170.0 us.
+
 Everything is counted on the simulation's clock, so a run is the same for a seed however busy
 the machine is.
 """
@@ -31,6 +37,7 @@ __all__ = [
     "WRITE_BYTE_S",
     "ReceiveLine",
     "Transmitter",
+    "avr_byte_s",
 ]
 
 BYTE_BITS = 10
@@ -42,17 +49,41 @@ WRITE_BYTE_S = 10.8e-6
 Measured on the emulated firmware: ``~X,?,1{INVALID_SERVICE}`` (24 bytes) takes 260 us from
 reading the ``X`` to skipping the rest of the line."""
 
-TRANSMIT_QUEUE_BYTES = 63
+TRANSMIT_QUEUE_BYTES = 64
 """Bytes that wait to be sent, besides the one on the line, before a write waits: the Arduino
-core's 64-byte ring holds 63. (An ATmega328P's USART holds one more in its data register
-while its shift register sends; the emulated UART the firmware tier checks against has no
-such register, and the simulated board follows the emulated firmware, which it is checked
-against byte for byte: on a real board a reply that fills the buffer ends a byte time
-sooner.)"""
+core's 64-byte ring holds 63, and the USART's data register (UDRn) one more while its shift
+register sends the byte before."""
 
 RECEIVE_RING_BYTES = 63
 """Bytes the Arduino core's 64-byte receive ring holds for the firmware: a byte that arrives
 while it is full (the firmware busy writing, not reading) is lost."""
+
+
+def avr_byte_s(baud: int, f_cpu_hz: int) -> float:
+    """The time an AVR's USART takes to send one 8N1 byte when its sketch asks for ``baud``,
+    seconds: the divisor the Arduino AVR core's ``HardwareSerial::begin`` picks, in whole
+    clock cycles a bit, so the real rate differs from the one asked for.
+
+    The core tries double speed (U2X: 8 cycles a divisor step) with ``UBRR = (F_CPU / 4 /
+    baud - 1) / 2``, in integer arithmetic; at 57600 baud on a 16 MHz part (for the old
+    bootloaders' sake) and where that divisor would not fit in 12 bits it uses normal speed
+    (16 cycles a step) with ``UBRR = (F_CPU / 8 / baud - 1) / 2``. A bit then takes
+    ``steps * (UBRR + 1)`` cycles (the ATmega328P datasheet's baud-rate formula).
+
+    Args:
+        baud: The rate the sketch asks for (``Serial.begin``), bits per second.
+        f_cpu_hz: The board's clock, hertz.
+
+    Returns:
+        Ten bit times (start, 8 data bits, stop), seconds: 170.0 us for 57600 baud at 16 MHz
+        (58824 baud), 1040 us for 9600 (9615 baud), 5 us for 2000000 (exact).
+    """
+    divisor = (f_cpu_hz // 4 // baud - 1) // 2
+    cycles_per_step = 8  # U2X
+    if (f_cpu_hz == 16_000_000 and baud == 57600) or divisor > 4095:
+        divisor = (f_cpu_hz // 8 // baud - 1) // 2
+        cycles_per_step = 16
+    return BYTE_BITS * cycles_per_step * (divisor + 1) / f_cpu_hz
 
 
 class ReceiveLine:
@@ -109,33 +140,49 @@ class ReceiveLine:
 
 
 class Transmitter:
-    """The board's transmit side: how long the firmware takes to write bytes.
+    """The board's transmit side: how long the firmware takes to write bytes, and when each
+    byte goes to the USART.
 
     Args:
-        baud: The line's speed, bits per second.
+        byte_s: One byte's time on the line as the board's USART sends it, seconds
+            (:func:`avr_byte_s`).
     """
 
-    def __init__(self, baud: int) -> None:
-        self.byte_s = BYTE_BITS / baud
+    def __init__(self, byte_s: float) -> None:
+        self.byte_s = byte_s
         self._done_s = -math.inf  # when the last byte written has left the line
+        self._handed: deque[tuple[float, int]] = deque()  # (to the USART at s, byte)
 
-    def write(self, count: int, now_s: float) -> float:
-        """The firmware writes ``count`` bytes from ``now_s``; returns when it is done, seconds."""
+    def write(self, data: bytes, now_s: float) -> float:
+        """The firmware writes ``data`` from ``now_s``; returns when it is done, seconds.
+
+        Each byte costs the firmware :data:`WRITE_BYTE_S`; once :data:`TRANSMIT_QUEUE_BYTES`
+        wait besides the one on the line, the next waits for the line to send a byte. Each
+        byte is handed to the USART (:meth:`take_handed`) when it is written and the byte
+        before it has started on the line (its data register is then free)."""
         byte_s = self.byte_s
-        # The line sends a byte in far longer than the firmware takes to write one, so once
-        # it is busy it stays busy: without a wait, the last byte leaves at this time.
-        done_s = max(self._done_s, now_s + WRITE_BYTE_S) + count * byte_s
-        clock_s = now_s + count * WRITE_BYTE_S
-        if done_s - byte_s - clock_s <= TRANSMIT_QUEUE_BYTES * byte_s:
-            self._done_s = done_s  # the buffer never filled: no byte waited
-            return clock_s
         done_s = self._done_s
         clock_s = now_s
-        for _ in range(count):
+        handed = self._handed
+        for byte in data:
             clock_s += WRITE_BYTE_S
             # Bytes not yet sent: one on the line, the rest waiting in the buffer.
             if done_s - clock_s > TRANSMIT_QUEUE_BYTES * byte_s:
                 clock_s = done_s - TRANSMIT_QUEUE_BYTES * byte_s  # wait for a free place
+            handed.append((max(clock_s, done_s - byte_s), byte))
             done_s = max(done_s, clock_s) + byte_s
         self._done_s = done_s
         return clock_s
+
+    def take_handed(self, now_s: float) -> bytes:
+        """The bytes handed to the USART by ``now_s`` (taken)."""
+        handed = self._handed
+        taken = bytearray()
+        while handed and handed[0][0] <= now_s + 1e-9:
+            taken.append(handed.popleft()[1])
+        return bytes(taken)
+
+    def clear(self) -> None:
+        """The board resets: what it had not yet handed to its USART is gone."""
+        self._handed.clear()
+        self._done_s = -math.inf

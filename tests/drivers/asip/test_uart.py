@@ -11,9 +11,31 @@ from roboscript.drivers.asip.uart import (
     WRITE_BYTE_S,
     ReceiveLine,
     Transmitter,
+    avr_byte_s,
 )
 
 BYTE_S = 10 / 57600  # 8N1 at 57600 baud: 173.6 us a byte
+BOARD_BYTE_S = 10 * 16 * 17 / 16e6  # a 16 MHz 328P's USART at 57600: UBRR 16, 170.0 us
+
+
+def test_a_16_mhz_avr_asked_for_57600_baud_sends_at_58824() -> None:
+    # HardwareSerial::begin's exception for 57600 at 16 MHz: normal speed, UBRR 16
+    assert avr_byte_s(57600, 16_000_000) == pytest.approx(170.0e-6)
+    assert avr_byte_s(57600, 16_000_000) == pytest.approx(BOARD_BYTE_S)
+
+
+def test_an_avrs_byte_time_comes_from_its_double_speed_divisor() -> None:
+    # U2X: UBRR 207 at 9600 (9615 baud), 16 at 115200 (117647 baud), 0 at 2 Mbaud (exact)
+    assert avr_byte_s(9600, 16_000_000) == pytest.approx(10 * 8 * 208 / 16e6)
+    assert avr_byte_s(115200, 16_000_000) == pytest.approx(85.0e-6)
+    assert avr_byte_s(2_000_000, 16_000_000) == pytest.approx(5.0e-6)
+    # at 8 MHz 57600 takes double speed too: UBRR 16, 8 cycles a step (58824 baud)
+    assert avr_byte_s(57600, 8_000_000) == pytest.approx(170.0e-6)
+
+
+def test_a_divisor_too_wide_for_double_speed_takes_normal_speed() -> None:
+    # 300 baud at 16 MHz: U2X would need UBRR 6666 (> 4095); normal speed gives 3332
+    assert avr_byte_s(300, 16_000_000) == pytest.approx(10 * 16 * 3333 / 16e6)
 
 
 def test_bytes_arrive_one_byte_time_apart_after_the_write() -> None:
@@ -45,16 +67,32 @@ def test_a_write_after_a_quiet_line_starts_when_it_is_written() -> None:
 
 
 def test_a_reply_costs_the_firmware_its_own_time_while_the_buffer_has_room() -> None:
-    transmitter = Transmitter(57600)
-    assert transmitter.write(24, 2.0) == pytest.approx(2.0 + 24 * WRITE_BYTE_S)
+    transmitter = Transmitter(BOARD_BYTE_S)
+    assert transmitter.write(bytes(24), 2.0) == pytest.approx(2.0 + 24 * WRITE_BYTE_S)
 
 
 def test_a_reply_that_fills_the_transmit_buffer_waits_for_the_line() -> None:
-    transmitter = Transmitter(57600)
-    done_s = transmitter.write(200, 0.0)
+    transmitter = Transmitter(BOARD_BYTE_S)
+    done_s = transmitter.write(bytes(200), 0.0)
     # The line sends a byte a byte time; the firmware is done once the last byte has a place
-    # in the buffer: the buffer full behind the byte on the line, 136 bytes sent by then.
+    # in the buffer: the ring and the data register full behind the byte on the line, 135
+    # bytes sent by then.
     sent = 200 - TRANSMIT_QUEUE_BYTES - 1
-    assert done_s == pytest.approx(sent * BYTE_S, abs=2 * WRITE_BYTE_S)
+    assert done_s == pytest.approx(sent * BOARD_BYTE_S, abs=2 * WRITE_BYTE_S)
     # and a later reply waits behind it
-    assert transmitter.write(1, done_s) == pytest.approx(done_s + BYTE_S, abs=2 * WRITE_BYTE_S)
+    assert transmitter.write(b"\n", done_s) == pytest.approx(
+        done_s + BOARD_BYTE_S, abs=2 * WRITE_BYTE_S
+    )
+
+
+def test_each_byte_goes_to_the_usart_once_the_byte_before_it_is_on_the_line() -> None:
+    transmitter = Transmitter(BOARD_BYTE_S)
+    transmitter.write(b"abcd", 1.0)
+    # "a" goes on the line and "b" into the data register as they are written; "c" once "b"
+    # has started on the line, a byte time after "a"
+    assert transmitter.take_handed(1.0 + 2 * WRITE_BYTE_S) == b"ab"
+    assert transmitter.take_handed(1.0 + WRITE_BYTE_S + BOARD_BYTE_S) == b"c"
+    assert transmitter.take_handed(1.0 + WRITE_BYTE_S + 2 * BOARD_BYTE_S) == b"d"
+    transmitter.clear()  # a reset loses what waits
+    transmitter.write(b"ef", 2.0)
+    assert transmitter.take_handed(2.0 + 2 * WRITE_BYTE_S) == b"ef"

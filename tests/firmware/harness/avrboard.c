@@ -72,6 +72,8 @@
 #include <simavr/avr_ioport.h>
 #include <simavr/avr_adc.h>
 #include <simavr/avr_twi.h>
+#include <simavr/sim_cycle_timers.h>
+#include <simavr/sim_interrupts.h>
 
 #define QUEUE_BYTES (1 << 16)
 
@@ -269,6 +271,77 @@ static void watch(void) {
     watch_last = level;
 }
 
+/* simavr 1.6 counts every UART frame as start + data + parity + stop bits, a parity bit
+ * even when the frame has none (avr_uart_baud_write counts "1 parity" in every word), so an 8N1 byte takes
+ * 11 bit times there where the USART sends 10: at 57600 baud on a 16 MHz part (UBRR 16, no
+ * U2X: 272 cycles a bit) 2992 cycles, 187 us, instead of 2720, 170 us. It paces both the
+ * bytes the firmware sends and the bytes it receives by that time. Once simavr has set the
+ * frame time (at the write of UBRRnL), the harness sets it again to the USART's: its bit
+ * time (from UBRR and U2X, as simavr reckons it) times the bits of the frame, with a parity
+ * bit only when UCSRnC's UPMn1 bit enables parity. */
+static avr_uart_t *host_uart;
+
+static void uart_frame_fix(struct avr_t *board, avr_io_addr_t addr, uint8_t v, void *param) {
+    (void)addr; (void)v; (void)param;
+    avr_uart_t *p = host_uart;
+    static const int databits[] = {5, 6, 7, 8, 8, 8, 8, 9};
+    int db = databits[avr_regbit_get(board, p->ucsz) | (avr_regbit_get(board, p->ucsz2) << 2)];
+    int sb = 1 + avr_regbit_get(board, p->usbs);
+    int parity = p->r_ucsrc ? (board->data[p->r_ucsrc] >> 5) & 1 : 0;
+    avr_cycle_count_t bit = p->cycles_per_byte / (avr_cycle_count_t)(1 + db + 1 + sb);
+    p->cycles_per_byte = bit * (avr_cycle_count_t)(1 + db + parity + sb);
+}
+
+/* simavr 1.6 raises UDRE (the data register empty) only once the byte on the line has been
+ * sent, so the firmware has one place for a byte, the shift register. The USART has two: a
+ * byte written to UDRn while the line is idle moves on into the shift register at once, and
+ * UDRn takes the next byte while it is sent; UDRE rises again when that byte moves on, at the
+ * end of the one before. The harness raises UDRE at those two moments (simavr's transmit
+ * pump, which ends each byte, is found once among the cycle timers: the one the first byte
+ * written started, with nothing on the receive side). */
+static avr_cycle_timer_t tx_pump;
+
+static avr_cycle_timer_t find_tx_pump(avr_uart_t *p) {
+    avr_cycle_timer_t found = NULL;
+    int count = 0;
+    for (avr_cycle_timer_slot_p slot = avr->cycle_timers.timer; slot; slot = slot->next)
+        if (slot->param == p) { found = slot->timer; count++; }
+    return count == 1 && p->input.read == p->input.write ? found : NULL;  /* receive fifo empty */
+}
+
+static avr_cycle_count_t udr_moved_on(struct avr_t *board, avr_cycle_count_t when, void *param) {
+    (void)when; (void)param;
+    if (host_uart->tx_cnt == 1) avr_raise_interrupt(board, &host_uart->udrc);
+    return 0;
+}
+
+static void udr_written(struct avr_t *board, avr_io_addr_t addr, uint8_t v, void *param) {
+    (void)addr; (void)v; (void)param;
+    avr_uart_t *p = host_uart;
+    if (!avr_regbit_get(board, p->txen) || !p->udrc.vector) return;
+    if (!tx_pump) tx_pump = find_tx_pump(p);
+    if (!tx_pump) return;
+    if (p->tx_cnt == 1) {
+        avr_raise_interrupt(board, &p->udrc);  /* into the shift register: UDRn is free */
+    } else if (p->tx_cnt == 2) {
+        /* waits in UDRn until the byte on the line ends (the pump's next call), then moves on;
+         * a cycle after the pump, which clears UDRE while a byte is still on the line */
+        avr_cycle_count_t left = avr_cycle_timer_status(board, tx_pump, p);
+        if (left) avr_cycle_timer_register(board, left + 1, udr_moved_on, NULL);
+    }
+}
+
+static void uart_frame_fix_attach(char name) {
+    for (avr_io_t *io = avr->io_port; io; io = io->next) {
+        if (strcmp(io->kind, "uart") != 0 || ((avr_uart_t *)io)->name != name) continue;
+        host_uart = (avr_uart_t *)io;
+        /* registered after simavr's own handlers: simavr's io muxer calls them in order */
+        avr_register_io_write(avr, host_uart->ubrrl.reg, uart_frame_fix, NULL);
+        avr_register_io_write(avr, host_uart->r_udr, udr_written, NULL);
+        return;
+    }
+}
+
 static int outside_ram_written(void) {
     for (unsigned long address = part_ramend + 1UL; address <= avr->ramend; address++)
         if (avr->data[address]) return 1;
@@ -338,6 +411,7 @@ int main(int argc, char **argv) {
     flags &= ~AVR_UART_FLAG_STDIO;  /* bytes go to the host, never to simavr's console */
     avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS(uart), &flags);
     uart_input = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(uart), UART_IRQ_INPUT);
+    uart_frame_fix_attach(uart);
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(uart), UART_IRQ_OUTPUT),
                             on_uart_output, NULL);
 
