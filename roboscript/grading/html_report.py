@@ -171,20 +171,43 @@ def _safe_name(raw: str, fallback: str = "student") -> str:
     return f"{fallback}-{hashlib.sha256(raw.encode('utf-8', 'replace')).hexdigest()[:10]}"
 
 
-def _unique(base: str, taken: set[str]) -> str:
-    """``base.html``, or ``base-2.html``...: the first name not in ``taken`` (case aside)."""
-    name, n = f"{base}.html", 1
-    while name.lower() in taken:  # two names that read the same once made safe
-        n += 1
-        name = f"{base}-{n}.html"
-    taken.add(name.lower())
-    return name
+class _UniqueNames:
+    """Page names, each different from every other (case aside): ``base.html``, or
+    ``base-2.html``, ``base-3.html``... for a base given again.
+
+    Linear in the names made: each base remembers the number it reached, so a class of
+    thousands whose names share their first 80 characters (all one base once cut) does not
+    try every number again for each of them. A name another base already made (``ana-2``
+    beside a second ``ana``) costs one more try, once.
+
+    Attributes:
+        tries: How many names were tried so far (the work done).
+    """
+
+    def __init__(self) -> None:
+        self._taken: set[str] = set()
+        self._next: dict[str, int] = {}
+        self.tries = 0
+
+    def __call__(self, base: str) -> str:
+        """The page name for ``base``, never given before."""
+        key = base.lower()  # two names that read the same once made safe
+        n = self._next.get(key, 1)
+        while True:
+            self.tries += 1
+            name = f"{base}.html" if n == 1 else f"{base}-{n}.html"
+            if name.lower() not in self._taken:
+                break
+            n += 1
+        self._next[key] = n + 1
+        self._taken.add(name.lower())
+        return name
 
 
 def student_page_names(report: ClassReport) -> dict[str, str]:
     """Each student's feedback page's file name inside ``students/`` (``alice.html``)."""
-    taken: set[str] = set()
-    return {s.student: _unique(_safe_name(s.student), taken) for s in report.submissions}
+    unique = _UniqueNames()
+    return {s.student: unique(_safe_name(s.student)) for s in report.submissions}
 
 
 def run_page_names(report: ClassReport) -> dict[tuple[str, str, int], str]:
@@ -194,12 +217,12 @@ def run_page_names(report: ClassReport) -> dict[tuple[str, str, int], str]:
     whose names read the same once made safe never share a run page.
     """
     students = {name: page[: -len(".html")] for name, page in student_page_names(report).items()}
-    taken: set[str] = set()
+    unique = _UniqueNames()
     names = {}
     for result in report.results:
         student = students.get(result.student) or _safe_name(result.student)
         base = f"{student}--{_safe_name(result.test, 'test')}--{result.variant + 1}"
-        names[result.student, result.test, result.variant] = _unique(base, taken)
+        names[result.student, result.test, result.variant] = unique(base)
     return names
 
 

@@ -186,3 +186,25 @@ def test_a_real_browser_shows_the_class_page_and_a_run_page(report: Path, tmp_pa
         assert png.is_file(), f"Chromium made no screenshot of {page.name}"
         assert png.stat().st_size > 20_000, f"the {name} page looks empty"
         assert _distinct_pixel_bytes(png) > 50, f"the {name} page is blank"
+
+
+def test_page_names_sharing_their_first_80_characters_cost_one_try_each() -> None:
+    # A class of thousands whose names are cut to one 80-character base: each name is found
+    # in a bounded number of tries (work counted, not timed), and all of them differ.
+    from roboscript.grading.html_report import _UniqueNames
+
+    unique = _UniqueNames()
+    names = [unique("x" * 80) for _ in range(3000)]
+    assert len({name.lower() for name in names}) == 3000
+    assert names[:3] == ["x" * 80 + ".html", "x" * 80 + "-2.html", "x" * 80 + "-3.html"]
+    assert unique.tries <= 3000
+
+
+def test_a_page_name_another_base_made_is_stepped_over_once() -> None:
+    from roboscript.grading.html_report import _UniqueNames
+
+    unique = _UniqueNames()
+    made = [unique(base) for base in ("ana-2", "Ana", "ana", "ana", "ana-2", "ana-3")]
+    assert made == ["ana-2.html", "Ana.html", "ana-3.html", "ana-4.html", "ana-2-2.html",
+                    "ana-3-2.html"]  # fmt: skip
+    assert unique.tries == len(made) + 2  # 'ana' steps over ana-2, the last 'ana-3' over ana-3
