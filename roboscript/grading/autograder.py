@@ -284,12 +284,24 @@ def write_folder(files: Mapping[str, tuple[bytes, bool]], folder: str | Path) ->
     """Write the files under ``folder``, which must be new or empty.
 
     Raises:
-        InputError: ``folder`` holds something already (nothing is overwritten).
+        InputError: ``folder`` holds something already, is a file, or is under a file
+            (nothing is overwritten).
         OSError: A file cannot be written.
     """
     out = Path(folder)
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
-        raise InputError(f"{folder} is not an empty folder: give a new one")
+    if out.exists() and not out.is_dir():
+        raise InputError(
+            f"{folder} is a file, and this autograder is a folder of files: give -o the name"
+            " of a new folder (the file is left as it is)"
+        )
+    if out.exists() and any(out.iterdir()):
+        raise InputError(
+            f"{folder} already holds files: give -o a new or empty folder (nothing in it is"
+            " replaced)"
+        )
+    for parent in out.parents:
+        if parent.exists() and not parent.is_dir():
+            raise InputError(f"{folder} cannot be made: {parent} is a file, not a folder")
     for name in files:
         parts = name.split("/")
         if name.startswith("/") or any(part in {"", ".", ".."} for part in parts):

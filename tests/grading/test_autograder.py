@@ -254,7 +254,7 @@ def test_a_classroom_folder_is_never_written_over(specs_folder: Path, tmp_path: 
     out.mkdir()
     (out / "mine.txt").write_text("keep\n", encoding="utf-8")
     made = run_cli("autograder", "classroom", str(specs_folder), "-o", str(out))
-    assert made.returncode == 2 and "is not an empty folder" in made.stderr
+    assert made.returncode == 2 and "already holds files: give -o a new or empty" in made.stderr
     assert os.listdir(out) == ["mine.txt"]
     files = classroom_files(find_specs([str(specs_folder)]), [], "me/tests")
     assert "private-tests/specs/test.yaml" in files and "student-template/robot/README.md" in files
@@ -271,6 +271,9 @@ def test_a_classroom_folder_is_never_written_over(specs_folder: Path, tmp_path: 
         ("classroom", ["-o", "out", "--tests-repo", "my tests"], "OWNER/NAME"),
         ("prairielearn", ["-o", "out", "--question", "../../escape"], "a folder name"),
         ("prairielearn", ["-o", "out", "--question", "/abs"], "a folder name"),
+        ("classroom", ["-o", "notes.zip"], "notes.zip is a file, and this autograder is a folder"),
+        ("prairielearn", ["-o", "test.yaml"], "test.yaml is a file, and this autograder is a"),
+        ("classroom", ["-o", "notes.zip/out"], "notes.zip is a file, not a folder"),
     ],
 )
 def test_autograder_options_that_would_overwrite_or_escape_are_refused_first(
