@@ -77,8 +77,17 @@ def get_profile(name_or_path: str) -> RobotProfile:
         return BUILTIN_PROFILES[name_or_path]
     if name_or_path in _REGISTERED:
         return _REGISTERED[name_or_path]
-    if name_or_path.endswith((".yaml", ".yml")) or Path(name_or_path).exists():
-        return _load_profile_file(Path(name_or_path))
+    path = Path(name_or_path)
+    if path.exists():
+        return _load_profile_file(path)
+    if name_or_path.endswith((".yaml", ".yml")):
+        # "mirto.yaml" for the built-in mirto: a name written as a file's
+        raise ProfileError(
+            f"there is no robot profile file {name_or_path}",
+            hint=f"did you mean the built-in robot '{path.stem}', named without '{path.suffix}'?"
+            if path.stem in BUILTIN_PROFILES
+            else did_you_mean(path.stem, BUILTIN_PROFILES),
+        )
     raise ProfileError(
         f"no robot called '{name_or_path}' (built-in: {', '.join(BUILTIN_PROFILES)})",
         hint=did_you_mean(name_or_path, BUILTIN_PROFILES),
