@@ -573,7 +573,13 @@ class Watchdog:
             watching_tick = False
         if own_s >= self.limit_s:
             self._arm(REPEAT_S, REPEAT_S)  # again and again, until it gets out
-            self._stopped = RunawayCode(self.limit_s, self._locate(frame))
+            where = self._locate(frame)
+            if where is None and self._stopped is not None:
+                # raised again on its way out of the student's code: freeing what a loop
+                # built ([[] for _ in iter(int, 1)]) takes seconds in no file of theirs, and
+                # the stop still names where their loop was
+                where = self._stopped.where
+            self._stopped = RunawayCode(self.limit_s, where)
             raise self._stopped
         # Not yet: the machine was busy, or the code waited on the wire. Wait for what is left
         # (and, while the first slow tick's place is looked for, until this tick is slow).

@@ -23,6 +23,7 @@ from roboscript import watchdog as watchdog_module
 from roboscript.sim.simulation import make_simulation
 from roboscript.transport.wirelog import read_wire_log
 from roboscript.watchdog import (
+    REPEAT_S,
     CodeClock,
     CodePlace,
     RunawayCode,
@@ -68,6 +69,33 @@ def _in_loop_of(where: CodePlace | None, function: Callable[..., object]) -> boo
         and where.function == function.__name__
         and first < where.line <= first + 3
     )
+
+
+def _students_loop() -> None:
+    for _ in itertools.count():
+        pass
+
+
+def _in_students_code(frame: FrameType | None) -> CodePlace | None:
+    """Where ``_students_loop`` runs, the one function here that stands for a student's."""
+    while frame is not None:
+        if frame.f_code is _students_loop.__code__:
+            return CodePlace(__file__, frame.f_lineno, frame.f_code.co_name)
+        frame = frame.f_back
+    return None
+
+
+def test_a_stop_raised_again_outside_the_students_code_still_names_their_loop() -> None:
+    # Their loop is stopped; on its way out, code of no file of theirs runs on (freeing the
+    # list a comprehension built can take seconds): the stop, raised again there, still
+    # says where their loop was.
+    with pytest.raises(RunawayCode) as raised, Watchdog(0.2, _in_students_code):
+        try:
+            _students_loop()
+        finally:
+            time.sleep(5 * REPEAT_S)  # the stop is raised again in here
+    assert raised.value.where is not None
+    assert raised.value.where.function == "_students_loop"
 
 
 def test_code_that_never_returns_is_stopped_where_it_is() -> None:
