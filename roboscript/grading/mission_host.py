@@ -23,7 +23,10 @@ No diagnostic runs on another thread: reading a running thread's frames from els
 safe, and a stack-dumping timer once crashed healthy runs on a busy machine.
 
 What only the mission's own code can have done is said so: a ``KeyboardInterrupt`` (no one
-presses Ctrl-C in a graded run) is its crash at its line, a wire that fails under it is a
+presses Ctrl-C in a graded run), or any signal it sends its own process (``os.kill``,
+``os.killpg``, ``signal.raise_signal``, ``signal.pthread_kill``: SIGTERM and SIGHUP as much as
+SIGINT or SIGUSR1), is its crash at its line; a SIGTERM or SIGHUP from anywhere else (a
+teacher's ``kill``, a process manager) keeps its own sentence. A wire that fails under it is a
 connection it broke itself, and ``os.fork()`` is refused, as a copy of the process would drive
 the same robot.
 """
@@ -41,10 +44,10 @@ import sys
 import traceback
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 from roboscript.code_owner import is_student_file
-from roboscript.interrupts import Interrupted, exit_status_for, reason_for
+from roboscript.interrupts import HANDLED_SIGNALS, Interrupted, exit_status_for, reason_for
 from roboscript.interrupts import install as install_interrupts
 from roboscript.mission.channels import MAX_PRINTED_LINES, PRINTED_LINE_CHARS
 from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError
@@ -124,6 +127,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     # interrupted, saying which (by default they would end the process mid-tick, the robot
     # still driving, read by the world as a crash of the student's).
     install_interrupts()
+    _own_signals()
     _one_process()
     channel = WorldChannel.for_fd(fd)
     try:
@@ -137,9 +141,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         # roboscript's loader.
         own = _own_interrupt(exc)
         if own is not None:  # the mission's own code, between loading and its first tick
-            did, where = own
-            place = f" ({where})" if where else ""
-            sys.stderr.write(f"KeyboardInterrupt: the mission's code {did}{place}: {_NO_CTRL_C}\n")
+            place = f" ({own.where})" if own.where else ""
+            sys.stderr.write(f"KeyboardInterrupt: the mission's code {own.did}{place}: {own.why}\n")
             return 1
         sys.stderr.write(reason_for(exc) + "\n")
         return exit_status_for(exc)
@@ -213,10 +216,9 @@ def _run(
         return 2
     except KeyboardInterrupt as exc:
         own = _own_interrupt(exc, shown_path)
-        if own is None:  # SIGTERM, SIGHUP: main() ends the run on the signal's sentence
+        if own is None:  # SIGTERM, SIGHUP from outside: main() ends the run on its sentence
             raise
-        did, where = own
-        message = f"{where + ': ' if where else ''}error: {did}: {_NO_CTRL_C}"
+        message = f"{own.where + ': ' if own.where else ''}error: {own.did}: {own.why}"
         channel.send_json(Kind.LOAD_ERROR, {"message": message[:_REASON_CHARS]})
         return 2
     channel.send_json(Kind.LOADED, {"mission": mission.name[:_NAME_BYTES]})
@@ -251,9 +253,8 @@ def _run(
     ended_by = session.interrupted_by if result.outcome == "error" else None
     own = None if ended_by is None else _own_interrupt(ended_by, shown_path)
     if not code_error and own is not None:  # it ended the run (a finished one keeps its end)
-        did, where = own
-        said = f"your code {did} in state '{result.final_state}': {_NO_CTRL_C}"
-        said += f" ({where})" if where else ""
+        said = f"your code {own.did} in state '{result.final_state}': {own.why}"
+        said += f" ({own.where})" if own.where else ""
         code_error = True
     elif not code_error and result.outcome == "error" and channel.broken:
         said, code_error = WIRE_BROKEN, True
@@ -272,30 +273,122 @@ def _run(
 
 
 _NO_CTRL_C = "no one presses Ctrl-C in a graded run; a mission ends by going to a final state"
+_NO_SIGNAL = "a mission ends by going to a final state, not by sending itself a signal"
+
+_OUTSIDE_SIGNALS = frozenset(int(s) for s in HANDLED_SIGNALS if s != signal.SIGINT)
+"""The signals something outside may send a graded run to end it (SIGTERM, SIGHUP): a
+teacher's ``kill``, a process manager stopping the grader. Any other signal can only be the
+mission's own, and so can these when its own code sent them (:func:`_own_signals`)."""
+
+_CAUGHT_SIGNALS = tuple(
+    getattr(signal, name)
+    for name in ("SIGQUIT", "SIGUSR1", "SIGUSR2", "SIGVTALRM", "SIGPROF", "SIGPOLL", "SIGPWR")
+    if hasattr(signal, name)
+)
+"""Signals that would end the process where it stands, that only the mission's own code can
+have sent: they end the run as Ctrl-C does, at its line. (Not SIGALRM, the watchdog's; not
+the signals of a fault, SIGSEGV and its kin, which a handler would only make repeat.)"""
+
+_sent_itself: set[int] = set()
+"""The signals the mission's own code sent its own process (:func:`_own_signals`)."""
+
+
+class _OwnStop(NamedTuple):
+    """A stop the mission's own code caused: what it did, where (``file:line`` or ``""``),
+    and why that is no way to end a graded run."""
+
+    did: str
+    where: str
+    why: str
 
 
 def _own_interrupt(
     exc: KeyboardInterrupt, shown: Callable[[str], str] = os.path.basename
-) -> tuple[str, str] | None:
-    """What the mission's own code did, and where (``file:line``, or ``""``), when ``exc`` is
-    a ``KeyboardInterrupt`` it caused; ``None`` for SIGTERM or SIGHUP.
+) -> _OwnStop | None:
+    """What the mission's own code did, and where, when ``exc`` is a ``KeyboardInterrupt`` it
+    caused; ``None`` for a SIGTERM or SIGHUP from outside.
 
     A graded run's process has no terminal and a session of its own, and the grader ends it
-    with SIGKILL: a bare ``raise KeyboardInterrupt``, or SIGINT (``signal.raise_signal``,
-    ``os.kill(os.getpid(), ...)``), can only come from the mission's own code. SIGTERM and
-    SIGHUP keep their own sentence (see the teachers' guide). ``shown`` names the student's
-    file as the student would (their path inside the submission).
+    with SIGKILL: a bare ``raise KeyboardInterrupt``, SIGINT (``signal.raise_signal``,
+    ``_thread.interrupt_main()``) or a signal of :data:`_CAUGHT_SIGNALS` can only come from
+    the mission's own code; SIGTERM and SIGHUP are its own when its code sent them
+    (:func:`_own_signals`), and keep their own sentence otherwise (see the teachers' guide).
+    ``shown`` names the student's file as the student would (their path inside the
+    submission).
     """
-    if isinstance(exc, Interrupted) and exc.signum != signal.SIGINT:
+    signum = exc.signum if isinstance(exc, Interrupted) else None
+    if signum in _OUTSIDE_SIGNALS and signum not in _sent_itself:
         return None
-    did = (
-        "sent its own process SIGINT (Ctrl-C's signal)"
-        if isinstance(exc, Interrupted)
-        else f"raised {type(exc).__name__}"
-    )
+    if signum is None:
+        did, why = f"raised {type(exc).__name__}", _NO_CTRL_C
+    elif signum == signal.SIGINT:
+        did, why = "sent its own process SIGINT (Ctrl-C's signal)", _NO_CTRL_C
+    else:
+        did, why = f"sent its own process {_signal_name(signum)}", _NO_SIGNAL
     student = [f for f in traceback.extract_tb(exc.__traceback__) if is_student_file(f.filename)]
     where = f"{shown(student[-1].filename)}:{student[-1].lineno}" if student else ""
-    return did, where
+    return _OwnStop(did, where, why)
+
+
+def _signal_name(signum: int) -> str:
+    try:
+        return signal.Signals(signum).name
+    except ValueError:
+        return f"signal {signum}"
+
+
+def _own_signals() -> None:
+    """Note every signal the mission's own code sends its own process, and end the run at its
+    line on each one that would end the process where it stands.
+
+    ``os.kill`` and ``os.killpg`` aimed at this process or its group (``0`` included),
+    ``signal.raise_signal`` and ``signal.pthread_kill`` (any of its threads) note the signal
+    in :data:`_sent_itself` before sending it. A signal sent around them (``ctypes``, a
+    program it started) is not noted: a SIGTERM or SIGHUP so sent reads as one from outside.
+    """
+    handler = signal.getsignal(signal.SIGINT)  # install_interrupts(): raises Interrupted
+    for signum in _CAUGHT_SIGNALS:
+        signal.signal(signum, handler)
+    kill, killpg, raise_signal, pthread_kill = (
+        os.kill,
+        os.killpg,
+        signal.raise_signal,
+        signal.pthread_kill,
+    )
+    getpid, getpgrp = os.getpid, os.getpgrp
+
+    def note(signum: object) -> None:
+        with contextlib.suppress(TypeError, ValueError, OverflowError):
+            _sent_itself.add(int(signum))  # type: ignore[call-overload]
+
+    def own_kill(pid: int, signum: int, /) -> None:
+        if pid in (0, getpid(), -getpgrp()):
+            note(signum)
+        kill(pid, signum)
+
+    def own_killpg(pgid: int, signum: int, /) -> None:
+        if pgid in (0, getpgrp()):
+            note(signum)
+        killpg(pgid, signum)
+
+    def own_raise_signal(signum: int, /) -> None:
+        note(signum)
+        raise_signal(signum)
+
+    def own_pthread_kill(thread_id: int, signum: int, /) -> None:
+        note(signum)
+        pthread_kill(thread_id, signum)
+
+    wrapped = {
+        "kill": own_kill,
+        "killpg": own_killpg,
+        "raise_signal": own_raise_signal,
+        "pthread_kill": own_pthread_kill,
+    }
+    for module in (os, sys.modules.get("posix"), signal, sys.modules.get("_signal")):
+        for name, wrapper in wrapped.items():
+            if module is not None and hasattr(module, name):
+                setattr(module, name, wrapper)
 
 
 def _one_process() -> None:

@@ -36,6 +36,7 @@ report, even to a student named ``grades`` beside ``grades.csv``.
 
 from __future__ import annotations
 
+import contextlib
 import glob
 import os
 import re
@@ -43,7 +44,7 @@ import stat
 import unicodedata
 from collections import Counter
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from roboscript.errors import InputError
@@ -228,7 +229,10 @@ def _hidden(relative: str) -> bool:
 
 
 def _walk(
-    folder: Path, skip: frozenset[Path] = frozenset(), shared: bool = False
+    folder: Path,
+    skip: frozenset[Path] = frozenset(),
+    shared: bool = False,
+    linked: dict[str, _Inode] | None = None,
 ) -> tuple[list[tuple[str, Path]], list[str]]:
     """Every ordinary file under ``folder`` (path relative to it, path), and what is refused.
 
@@ -236,7 +240,8 @@ def _walk(
     its path relative to ``folder``. Folders in ``skip`` are not entered, nor hidden ones
     (``.git``) in a folder ``shared`` by students. At most :data:`MAX_ENTRIES` entries are
     looked at; a student's folder nesting deeper than :data:`MAX_DEPTH` is refused (a shared
-    one is not looked into below that).
+    one is not looked into below that). Each file with more than one name (a hard link) is
+    put in ``linked``, by its relative path, with its identity on the disk.
     """
     files: list[tuple[str, Path]] = []
     problems: list[str] = []
@@ -281,9 +286,21 @@ def _walk(
                     stack.append((Path(entry.path), name, depth + 1))
                 elif stat.S_ISREG(mode):
                     files.append((name, Path(entry.path)))
+                    if linked is not None:
+                        _note_links(entry.stat(follow_symlinks=False), name, linked)
                 else:
                     problems.append(_entry_problem(mode, _shown_path(name)))
     return sorted(files), sorted(problems)
+
+
+_Inode = tuple[int, int]
+"""A file's identity on the disk, ``(device, inode)``: every hard link to it shares it."""
+
+
+def _note_links(info: os.stat_result, shown: str, linked: dict[str, _Inode]) -> None:
+    """Put a file in ``linked`` when it has more than one name (a hard link)."""
+    if info.st_nlink > 1:
+        linked[shown] = (info.st_dev, info.st_ino)
 
 
 @dataclass
@@ -296,12 +313,14 @@ class _Found:
     problem: str = ""
     by_parent: bool = False  # named after its folder (a glob of same-named files)
     name: str = ""
+    linked: dict[str, _Inode] = field(default_factory=dict)  # its files with several names
 
 
 def _folder_student(folder: Path) -> _Found | None:
     """A student who is a folder, or ``None`` when it holds no mission and nothing refused
     (a class's shared ``behaviours/`` folder is no student)."""
-    files, problems = _walk(folder)
+    linked: dict[str, _Inode] = {}
+    files, problems = _walk(folder, linked=linked)
     sources = [
         (relative, path)
         for relative, path in files
@@ -322,7 +341,7 @@ def _folder_student(folder: Path) -> _Found | None:
             missions.append(path)
     if not missions and not problems:
         return None
-    return _Found(folder, missions, folder, problems[0] if problems else "")
+    return _Found(folder, missions, folder, problems[0] if problems else "", linked=linked)
 
 
 def _total_bytes(paths: Iterable[Path]) -> int:
@@ -584,8 +603,47 @@ def _submissions(found: list[_Found]) -> list[Submission]:
             continue
         root = first.source.parent
         own = owners.files_of(root, {Path(m).stem for m in missions})
+        for path in (*missions, *own):
+            with contextlib.suppress(OSError):  # gone meanwhile: reading it will say so
+                _note_links(os.stat(path, follow_symlinks=False), Path(path).name, first.linked)
         result.append(Submission(name, missions, None, problem, str(root), own))
-    return result
+    return _refuse_shared_files(result, {name: parts[0].linked for name, parts in by_name.items()})
+
+
+def _refuse_shared_files(
+    submissions: list[Submission], linked: dict[str, dict[str, _Inode]]
+) -> list[Submission]:
+    """Refuse every student who shares a file (one file on the disk, two names: a hard link)
+    with another student, naming the other.
+
+    A hard link is not a copy: the two names are one file, so the student who made it reads,
+    in their graded run, whatever the other student hands in, and the file is no more one's
+    than the other's. Nothing on the disk says which name came first, so both students are
+    refused with the same sentence, and the teacher, who can ask, decides. Two files that only
+    hold the same text are two files, and stay allowed: two students may write the same
+    thing. A student's own file under two names of their own is theirs.
+    """
+    holders: dict[_Inode, dict[str, str]] = {}
+    for name, files in linked.items():
+        for shown, inode in sorted(files.items()):
+            holders.setdefault(inode, {}).setdefault(name, shown)
+    shared: dict[str, str] = {}
+    for names in holders.values():
+        if len(names) < 2:
+            continue
+        for name, shown in names.items():
+            other, other_shown = next((n, f) for n, f in names.items() if n != name)
+            shared.setdefault(
+                name,
+                f"{_shown_path(shown)} is the same file as {other}'s {_shown_path(other_shown)}"
+                " (a hard link, not a copy: each sees what the other hands in): one file"
+                " cannot be the work of two students, so neither is graded; hand in a copy of"
+                " your own",
+            )
+    return [
+        replace(s, problem=shared[s.student]) if s.student in shared and not s.problem else s
+        for s in submissions
+    ]
 
 
 # ------------------------------------------------------------------- what a run may read

@@ -150,7 +150,7 @@ GONE = ONCE.replace("DO", "raise Gone('bye')").replace(
 )
 # the same, while its file is loaded
 GONE_AT_LOAD = "class Gone(BaseException):\n    pass\n\n\nraise Gone('at load')\n"
-# sends itself SIGTERM while its file is loaded
+# sends itself SIGTERM while its file is loaded (line 3)
 SIGTERM_AT_LOAD = "import os, signal\n\nos.kill(os.getpid(), signal.SIGTERM)\n"
 
 IDLE = """\
@@ -393,16 +393,20 @@ def test_a_students_own_base_exception_is_their_error_not_an_unexplained_exit(
     assert "forward.py:5:1: error: Gone: at load" in _messages(graded, "gone_at_load")[1]
 
 
-def test_a_signal_while_the_mission_loads_is_one_plain_sentence_not_a_traceback(
+def test_a_signal_the_mission_sends_itself_while_it_loads_is_its_error_at_its_line(
     graded: dict[str, Any],
 ) -> None:
+    # Its own SIGTERM, not "something asked roboscript to end": no one else sends a graded run
+    # one, so it is the student's mistake, at the line that sent it.
     statuses = _statuses(graded)
-    assert statuses["sigterm"] == ["crashed", "crashed"]
-    sentence = "stopped by SIGTERM (something asked roboscript to end)"
+    assert statuses["sigterm"] == ["invalid", "invalid"]
+    sentence = (
+        "forward.py:3: error: sent its own process SIGTERM: a mission ends by going to a final"
+        " state, not by sending itself a signal"
+    )
     for run in (r for r in graded["runs"] if r["student"] == "sigterm"):
-        assert run["message"] == f"the run crashed while loading: {sentence}"
+        assert run["message"] == f"the mission has an error: {sentence}"
         assert "Traceback" not in run["debug"]  # the teacher's field: the sentence alone
-        assert sentence in run["debug"]
 
 
 def test_the_class_grades_the_same_on_a_saturated_machine(
@@ -750,6 +754,7 @@ def _attack(do: str = "pass", pre: str = "", mm: int = 500) -> str:
 
 
 _NO_CTRL_C = "no one presses Ctrl-C in a graded run; a mission ends by going to a final state"
+_NO_SIGNAL = "a mission ends by going to a final state, not by sending itself a signal"
 _BROKE = (
     "the run crashed: the mission's process broke its own connection to the simulated robot:"
     " its code closed or changed a connection it did not open"
@@ -772,6 +777,22 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
      "your code sent its own process SIGINT (Ctrl-C's signal) in state 'go'"),
     ("sentence", "ctrl_c_at_load", _attack(pre="raise KeyboardInterrupt"), _INVALID,
      f"forward.py:{_PRE_LINE}: error: raised KeyboardInterrupt: {_NO_CTRL_C}"),
+    # its own SIGTERM, SIGHUP or any signal it sends itself: its crash at its line
+    ("sentence", "sigterm_self", _attack("os.kill(os.getpid(), signal.SIGTERM)"), _CRASHED,
+     f"the run crashed: your code sent its own process SIGTERM in state 'go': {_NO_SIGNAL} {_AT}"),
+    ("sentence", "sighup_group", _attack("os.killpg(0, signal.SIGHUP)"), _CRASHED,
+     f"your code sent its own process SIGHUP in state 'go': {_NO_SIGNAL} {_AT}"),
+    ("sentence", "sigterm_group", _attack("os.kill(0, signal.SIGTERM)"), _CRASHED,
+     f"your code sent its own process SIGTERM in state 'go': {_NO_SIGNAL} {_AT}"),
+    ("sentence", "sigusr1", _attack("signal.raise_signal(signal.SIGUSR1)"), _CRASHED,
+     f"your code sent its own process SIGUSR1 in state 'go': {_NO_SIGNAL} {_AT}"),
+    ("sentence", "sigquit_thread", _attack(
+        "signal.pthread_kill(threading.main_thread().ident, signal.SIGQUIT)"), _CRASHED,
+     f"your code sent its own process SIGQUIT in state 'go': {_NO_SIGNAL} {_AT}"),
+    ("sentence", "sigterm_posix", _attack("import posix; posix.kill(os.getpid(), 15)"), _CRASHED,
+     f"your code sent its own process SIGTERM in state 'go': {_NO_SIGNAL} {_AT}"),
+    ("sentence", "sighup_at_load", _attack(pre="signal.raise_signal(signal.SIGHUP)"), _INVALID,
+     f"forward.py:{_PRE_LINE}: error: sent its own process SIGHUP: {_NO_SIGNAL}"),
     ("sentence", "nonblocking", _attack(
         "[os.set_blocking(fd, False) for fd in wires()]", _WIRES), _CRASHED, _BROKE),
     ("sentence", "shutdown", _attack(
@@ -898,6 +919,11 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
      "the mission stopped while loading: the mission's code did not return for 10 s"),
     ("timing", "busy_condition", _attack("spin()", "def spin():\n    while True:\n        pass"),
      _HUNG, "the mission's code did not return for 2 s and was stopped at forward.py:"),
+    # a loop written as a comprehension that builds as it spins: stopped at its line
+    ("timing", "busy_listcomp", _attack("[[] for _ in iter(int, 1)]"), _HUNG,
+     f"the mission's code did not return for 2 s and was stopped at forward.py:{_ATTACK_LINE}"),
+    ("timing", "busy_genexpr", _attack("any(False for _ in iter(int, 1))"), _HUNG,
+     f"the mission's code did not return for 2 s and was stopped at forward.py:{_ATTACK_LINE}"),
     ("timing", "thread_after", _attack(
         "threading.Thread(target=lambda: [print('x') for _ in iter(int, 1)]).start()"),
      _PASSED, None),
@@ -913,6 +939,13 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
     ("names", "socket_file", {"forward.yaml": HONEST, "s.py": "SOCKET"}, _INVALID,
      "s.py is a socket, not an ordinary file"),
     ("names", "odd_helper", {"forward.yaml": HONEST, "he\x1b[2Jlp\u202eer.py": "X = 1\n"},
+     _PASSED, None),
+    # -- files shared with a classmate: a hard link is one file, so both are refused
+    ("files", "link_victim", _HONEST_FILES, _INVALID,
+     "forward.yaml is the same file as link_thief's forward.yaml (a hard link, not a copy"),
+    ("files", "link_thief", {"forward.yaml": "HARDLINK link_victim/forward.yaml"}, _INVALID,
+     "forward.yaml is the same file as link_victim's forward.yaml (a hard link, not a copy"),
+    ("files", "own_link", {"forward.yaml": HONEST, "backup.yaml": "HARDLINK own_link/forward.yaml"},
      _PASSED, None),
 ]  # fmt: skip
 _SHOWN = {"\ufb01ona": "\ufb01ona-2"}  # numbered: it looks like "fiona"
@@ -935,6 +968,9 @@ def _round_two_class(subs: Path) -> None:
             if text == "SOCKET":
                 with socket.socket(socket.AF_UNIX) as bound:
                     bound.bind(str(subs / student / name))
+            elif text.startswith("HARDLINK "):
+                (subs / student).mkdir(parents=True, exist_ok=True)
+                os.link(subs / text.removeprefix("HARDLINK "), subs / student / name)
             else:
                 _write(subs / student / name, text)
 

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
+import os
 import re
 import signal
 import subprocess
@@ -141,3 +143,72 @@ def test_the_warm_up_imports_what_loading_either_kind_of_mission_imports(tmp_pat
         check=True,
     )
     assert done.stdout.strip() == "[]", done.stdout + done.stderr
+
+
+# Drives, and says so once it has driven 30 cm: the test then sends its process SIGTERM.
+DRIVES_AND_SAYS_SO = """\
+from roboscript import Drive, Mission, state
+
+
+class Drives(Mission):
+    go = state(Drive(distance_mm=2000), initial=True, on_done="end", when=[("far", "end")])
+    end = state(final="success")
+
+    def far(self) -> bool:
+        if self.driven.total_mm > 300 and not getattr(self, "said", False):
+            self.said = True
+            print("DRIVEN 30 CM", flush=True)
+        return False
+"""
+
+
+def test_a_sigterm_from_outside_the_mission_keeps_its_own_sentence(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # A teacher's `kill`, a process manager: not the student's code. The run ends with its
+    # robot stopped and the signal's sentence, as before; the mission's own SIGTERM is its
+    # crash at its line (tests/grading/test_interrupted_grading.py).
+    frame = world_host._WorldSession._frame
+    sent: list[int] = []
+
+    def signalled_once_driving(session: world_host._WorldSession, kind: bytes, data: bytes) -> None:
+        frame(session, kind, data)
+        if kind == b"P" and b"DRIVEN 30 CM" in data and not sent and session.jail.pid:
+            sent.append(_mission_process(session.jail.pid))
+            os.kill(sent[0], signal.SIGTERM)
+
+    monkeypatch.setattr(world_host._WorldSession, "_frame", signalled_once_driving)
+    spec = one_run_spec(tmp_path)
+    mission = tmp_path / "drives.py"
+    mission.write_text(DRIVES_AND_SAYS_SO, encoding="utf-8")
+    result = grade_run(spec, str(mission), spec.variants[0])
+    assert sent, result.debug
+    assert (result.status, result.message) == (
+        "failed",
+        (
+            "outcome failed: the mission ended in error: stopped by SIGTERM (something asked"
+            " roboscript to end)"
+        ),
+    )
+    assert result.record is not None and result.record.duration_s > 1.0  # it drove 30 cm
+
+
+def _mission_process(jail_pid: int) -> int:
+    """The mission process among the jail's process and its descendants (Linux's /proc)."""
+    parents = {}
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            with contextlib.suppress(OSError):
+                stat = (entry / "stat").read_text()
+                parents[int(entry.name)] = int(stat.rsplit(")", 1)[1].split()[1])
+    tree, grew = {jail_pid}, True
+    while grew:
+        below = {pid for pid, parent in parents.items() if parent in tree} - tree
+        tree |= below
+        grew = bool(below)
+    for pid in sorted(tree):
+        with contextlib.suppress(OSError):
+            argv = Path(f"/proc/{pid}/cmdline").read_bytes().split(b"\0")
+            if b"roboscript.grading.mission_host" in argv and b"bwrap" not in argv[0]:
+                return pid
+    return jail_pid  # the jail is the mission process itself (no bubblewrap)

@@ -133,6 +133,47 @@ def test_a_link_is_never_followed(tmp_path: Path) -> None:
     assert found["cy"][1].startswith("cy is a symbolic link")
 
 
+_SHARED = (
+    " (a hard link, not a copy: each sees what the other hands in): one file cannot be the"
+    " work of two students, so neither is graded; hand in a copy of your own"
+)
+
+
+def test_a_hard_link_to_a_classmates_file_refuses_both_naming_the_other(tmp_path: Path) -> None:
+    # One file under two names: ben reads whatever ada hands in. Nothing says which name came
+    # first, so both are refused with the other named; the teacher, who can ask, decides.
+    for name in ("ada", "ben", "cy", "dee"):
+        (tmp_path / name).mkdir()
+    (tmp_path / "ada" / "forward.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    (tmp_path / "ada" / "turns.py").write_text("X = 1\n", encoding="utf-8")
+    (tmp_path / "ben" / "forward.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    os.link(tmp_path / "ada" / "turns.py", tmp_path / "ben" / "mine.py")
+    # the same text in two files is allowed: two students may write the same thing
+    (tmp_path / "cy" / "forward.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    # one's own file under two names of one's own is one's own
+    (tmp_path / "dee" / "forward.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    os.link(tmp_path / "dee" / "forward.yaml", tmp_path / "dee" / "backup.txt")
+    found = _found(tmp_path)
+    assert found["ada"][1] == "turns.py is the same file as ben's mine.py" + _SHARED
+    assert found["ben"][1] == "mine.py is the same file as ada's turns.py" + _SHARED
+    assert found["cy"][1] == found["dee"][1] == ""
+
+
+def test_a_student_who_is_a_file_sharing_a_file_with_a_classmate_is_refused(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "ada").mkdir()
+    (tmp_path / "ada" / "forward.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    os.link(tmp_path / "ada" / "forward.yaml", tmp_path / "eve.yaml")
+    (tmp_path / "fay.yaml").write_text(FORWARD_50CM, encoding="utf-8")
+    os.link(tmp_path / "fay.yaml", tmp_path / "gus.yaml")
+    found = _found(tmp_path)
+    assert found["eve"][1] == "eve.yaml is the same file as ada's forward.yaml" + _SHARED
+    assert found["ada"][1] == "forward.yaml is the same file as eve's eve.yaml" + _SHARED
+    assert found["fay"][1] == "fay.yaml is the same file as gus's gus.yaml" + _SHARED
+    assert found["gus"][1] == "gus.yaml is the same file as fay's fay.yaml" + _SHARED
+
+
 def test_a_student_in_a_shared_folder_sees_only_files_named_after_them(tmp_path: Path) -> None:
     names = ["alice.yaml", "alice_b.yaml", "alice_util.py", "alice_b_util.py", "alicex.py"]
     names += ["helpers.py", "grades.csv"]
