@@ -73,6 +73,11 @@ __all__ = [
 
 logger = logging.getLogger(__name__)
 
+_perf_counter = time.perf_counter
+"""The clock the code's own time is read from, bound when this module is imported: code that
+replaces ``time.perf_counter`` (a mission that stops time for itself) cannot stop its own
+watchdog."""
+
 DEFAULT_LIMIT_S = 5.0
 """How long one tick's code may run before it counts as stuck, seconds of its own time."""
 
@@ -166,16 +171,16 @@ class _WireWait:
     def so_far_s(self) -> float:
         """Every wait so far, the one under way included."""
         since = self.since
-        return self.total_s + (time.perf_counter() - since if since is not None else 0.0)
+        return self.total_s + (_perf_counter() - since if since is not None else 0.0)
 
     def __enter__(self) -> None:
-        self.since = time.perf_counter()
+        self.since = _perf_counter()
 
     def __exit__(self, *exc_info: object) -> None:
         since = self.since
         self.since = None
         if since is not None:
-            self.total_s += time.perf_counter() - since
+            self.total_s += _perf_counter() - since
 
 
 _WIRE = _WireWait()
@@ -293,7 +298,7 @@ class CodeClock:
         CPU wait; two or more when the thread lost the CPU while reading it)."""
         read = self._queued
         if read is None:
-            return time.perf_counter() - _WIRE.so_far_s()
+            return _perf_counter() - _WIRE.so_far_s()
         # The wall clock and the CPU wait must be read as one pair: a thread that loses the
         # CPU between the two reads counts that wait in one and not the other, which made a
         # span longer (an honest tick slow) or shorter (a sleeping tick quick) by as long as
@@ -301,10 +306,10 @@ class CodeClock:
         # CPU back, so the wait read between two close readings of the wall clock pairs with
         # them (off by no more than they are apart); failing that, the same wait read on both
         # sides of one reading of the wall clock is a true pair.
-        wall_s = time.perf_counter()
+        wall_s = _perf_counter()
         queued = read()
         for _ in range(_PAIR_TRIES):
-            after_s = time.perf_counter()
+            after_s = _perf_counter()
             if after_s - wall_s <= _PAIR_SLACK_S:
                 break
             again = read()
@@ -318,7 +323,7 @@ class CodeClock:
     def ceiling(self) -> float:
         """Own seconds plus every wait for a CPU so far, with no system call: of a span, never
         less than its own time (and equal to it while nothing else had the CPU)."""
-        return time.perf_counter() - _WIRE.so_far_s()
+        return _perf_counter() - _WIRE.so_far_s()
 
 
 def _every_file(_filename: str) -> bool:

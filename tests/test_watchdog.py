@@ -98,6 +98,14 @@ def test_a_stop_raised_again_outside_the_students_code_still_names_their_loop() 
     assert raised.value.where.function == "_students_loop"
 
 
+def test_code_that_stops_time_for_itself_is_still_stopped(monkeypatch: pytest.MonkeyPatch) -> None:
+    # A mission that replaces time.perf_counter cannot stop its own watchdog's clock.
+    monkeypatch.setattr(time, "perf_counter", lambda: 0.0)
+    with pytest.raises(RunawayCode) as raised, Watchdog(0.2, _where):
+        _spin_forever()
+    assert _in_loop_of(raised.value.where, _spin_forever)
+
+
 def test_code_that_never_returns_is_stopped_where_it_is() -> None:
     with pytest.raises(RunawayCode) as raised, Watchdog(0.2, _where):
         _spin_forever()
@@ -543,7 +551,7 @@ def test_losing_the_cpu_while_the_clock_is_read_never_changes_the_codes_time(
             queued_s[0] += 0.03
         return value
 
-    monkeypatch.setattr(watchdog_module.time, "perf_counter", lambda: wall_s[0])
+    monkeypatch.setattr(watchdog_module, "_perf_counter", lambda: wall_s[0])
     clock = CodeClock()
     clock._queued = read_queued
     before = clock.now()

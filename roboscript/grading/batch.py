@@ -28,6 +28,8 @@ from roboscript.grading.spec import TestSpec, Variant, is_test_spec, load_test_s
 from roboscript.grading.submissions import (
     FoundSubmissions,
     Submission,
+    changed_file,
+    files_now,
     find_submissions,
     visible_files,
 )
@@ -256,6 +258,15 @@ class _Index:
         )
 
 
+def _changed_while_graded(shown: str) -> str:
+    """Why a run is ``invalid`` whose student's files changed while the class was graded."""
+    return (
+        f"{shown} changed while the class was being graded (added, removed or rewritten after"
+        " grading began): this run may have read another version of the mission than the"
+        " others, so it is not counted; grade the student again"
+    )
+
+
 def run_summary(result: RunResult) -> RunResult:
     """What a class's report holds of a run while something else holds it in full: all that
     its summaries read (status, score, verdicts, message), without the record, replay and
@@ -345,10 +356,24 @@ def grade_class(
                     RunTask(spec, mission, variant, submission.student, visible, hang_after_s)
                 )
     roots = {s.student: s.root for s in submissions}
+    # A run reads the student's files as they are when it starts: one changed meanwhile (a
+    # late push, a sync) makes runs of one student grade two versions, so it is said
+    started = {s.student: files_now(s) for s in submissions if not s.problem}
+    by_student = {s.student: s for s in submissions}
 
     def arrived(result: RunResult) -> RunResult:
         # Capped as they arrive, so a 20 MB exception message is not kept (or copied) any
         # further; and no report, the results file included, holds a folder of the teacher's.
+        if result.student in started and result.status not in ("invalid", "missing"):
+            changed = changed_file(by_student[result.student], started[result.student])
+            if changed:
+                result = replace(
+                    result,
+                    status="invalid",
+                    message=_changed_while_graded(changed),
+                    score=0.0,
+                    verdicts=(),
+                )
         return _for_students(cap_result(result), roots)
 
     def delivered(result: RunResult) -> RunResult:

@@ -35,18 +35,21 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import io
 import itertools
 import json
 import logging
+import operator
 import os
 import signal
 import sys
 import traceback
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, NamedTuple
+from types import ModuleType
+from typing import TYPE_CHECKING, Any, NamedTuple, TextIO
 
-from roboscript.code_owner import is_student_file
+from roboscript.code_owner import ROBOSCRIPT, is_student_file, owner_of_file
 from roboscript.interrupts import HANDLED_SIGNALS, Interrupted, exit_status_for, reason_for
 from roboscript.interrupts import install as install_interrupts
 from roboscript.mission.channels import MAX_PRINTED_LINES, PRINTED_LINE_CHARS
@@ -129,6 +132,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     install_interrupts()
     _own_signals()
     _one_process()
+    _bounded_recursion()
+    _watchdog_alarm_kept()
+    sys.stdout, sys.stderr = _KeptStream(sys.stdout), _KeptStream(sys.stderr)
     channel = WorldChannel.for_fd(fd)
     try:
         return _run(channel, mission_path, robot, max_time_s, world_map, hang_after_s)
@@ -358,8 +364,9 @@ def _own_signals() -> None:
     getpid, getpgrp = os.getpid, os.getpgrp
 
     def note(signum: object) -> None:
-        with contextlib.suppress(TypeError, ValueError, OverflowError):
-            _sent_itself.add(int(signum))  # type: ignore[call-overload]
+        number = _as_int(signum)
+        if number is not None:
+            _sent_itself.add(number)
 
     def own_kill(pid: int, signum: int, /) -> None:
         if pid in (0, getpid(), -getpgrp()):
@@ -403,6 +410,132 @@ def _one_process() -> None:
         for name in ("fork", "forkpty"):
             if module is not None and hasattr(module, name):
                 setattr(module, name, refused)
+
+
+WATCHDOG_ALARM = (
+    "the watchdog that stops code that never returns uses SIGALRM and the real-time timer"
+    " (signal.alarm, signal.setitimer(signal.ITIMER_REAL)): a graded mission may not change,"
+    " ignore or block them"
+)
+"""What a graded mission's ``signal.signal(signal.SIGALRM, ...)``, ``signal.alarm``,
+``signal.setitimer(signal.ITIMER_REAL, ...)`` or ``signal.pthread_sigmask`` blocking SIGALRM
+raises (a :class:`PermissionError`): with the watchdog's alarm gone, a loop that never ends
+could only be stopped by the world's CPU bound, which cannot say at which line."""
+
+
+def _watchdog_alarm_kept() -> None:
+    """Refuse every change to the watchdog's SIGALRM and timer made by code that is not
+    roboscript's own (see :data:`WATCHDOG_ALARM`), through :mod:`signal` or ``_signal``."""
+    alarm_signal, real_timer = int(signal.SIGALRM), int(signal.ITIMER_REAL)
+    blocking = {int(signal.SIG_BLOCK), int(signal.SIG_SETMASK)}
+    python_wrapper = signal.__file__  # signal.signal() calls _signal.signal(): look past it
+
+    def refuse_unless_roboscript() -> None:
+        frame = sys._getframe(2)
+        while frame.f_back is not None and frame.f_code.co_filename == python_wrapper:
+            frame = frame.f_back
+        if owner_of_file(frame.f_code.co_filename) != ROBOSCRIPT:
+            raise PermissionError(errno.EPERM, WATCHDOG_ALARM)
+
+    def kept(module: ModuleType) -> dict[str, Callable[..., Any]]:
+        set_handler, set_timer = module.signal, module.setitimer
+        set_mask, alarm = module.pthread_sigmask, module.alarm
+
+        def kept_handler(signum: int, handler: Any, /) -> Any:
+            if _as_int(signum) == alarm_signal:
+                refuse_unless_roboscript()
+            return set_handler(signum, handler)
+
+        def kept_timer(which: int, seconds: float, interval: float = 0.0, /) -> Any:
+            if _as_int(which) == real_timer:
+                refuse_unless_roboscript()
+            return set_timer(which, seconds, interval)
+
+        def kept_alarm(seconds: int, /) -> Any:
+            refuse_unless_roboscript()
+            return alarm(seconds)
+
+        def kept_mask(how: int, mask: Iterable[int], /) -> Any:
+            chosen = list(mask)
+            if _as_int(how) in blocking and alarm_signal in {_as_int(s) for s in chosen}:
+                refuse_unless_roboscript()
+            return set_mask(how, chosen)
+
+        return {
+            "signal": kept_handler,
+            "setitimer": kept_timer,
+            "alarm": kept_alarm,
+            "pthread_sigmask": kept_mask,
+        }
+
+    for module in (signal, sys.modules.get("_signal")):
+        if module is not None:
+            for name, wrapper in kept(module).items():
+                setattr(module, name, wrapper)
+
+
+def _as_int(value: object) -> int | None:
+    """``value`` as a signal's or a timer's number, or ``None`` (the call itself then says
+    what is wrong with it)."""
+    try:
+        return operator.index(value)  # type: ignore[arg-type]
+    except TypeError:
+        return None
+
+
+RECURSION_LIMITS = (250, 10_000)
+"""The lowest and highest recursion limit a graded mission may set (``sys.setrecursionlimit``):
+lower, roboscript's own calls that run the mission (at most a hundred deep) would fail in the
+middle of its robot's commands; higher, the traceback of a runaway recursion would take
+longer to read than the run may take, and Python itself may crash."""
+
+
+def _bounded_recursion() -> None:
+    """Keep ``sys.setrecursionlimit`` within :data:`RECURSION_LIMITS`: outside, it raises
+    ``ValueError`` at the student's line, saying why."""
+    set_limit = sys.setrecursionlimit
+    low, high = RECURSION_LIMITS
+
+    def bounded(limit: int, /) -> None:
+        if isinstance(limit, int) and not low <= limit <= high:
+            raise ValueError(
+                f"a graded mission's recursion limit is between {low} and {high} (it was asked"
+                f" for {limit}): roboscript's own calls need {low}, and deeper calls than"
+                f" {high} are a runaway recursion"
+            )
+        set_limit(limit)
+
+    sys.setrecursionlimit = bounded
+
+
+class _KeptStream(io.TextIOBase):
+    """The mission process's standard output or error, kept writable for roboscript: a
+    mission that closes its own descriptor 1 or 2 loses what is written there, but its run
+    goes on and ends with its report (before, roboscript's own echo of a printed line raised
+    there, outside the student's code, and the run read as an unexplained exit)."""
+
+    def __init__(self, stream: TextIO) -> None:
+        super().__init__()
+        self._stream = stream
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, text: str) -> int:
+        with contextlib.suppress(OSError, ValueError):
+            self._stream.write(text)
+        return len(text)
+
+    def flush(self) -> None:
+        with contextlib.suppress(OSError, ValueError):
+            self._stream.flush()
+
+    def fileno(self) -> int:
+        return self._stream.fileno()
+
+    @property
+    def encoding(self) -> str:  # type: ignore[override]  # read from the stream it keeps
+        return self._stream.encoding
 
 
 def state_payload(name: str, action: str | None, cause: TransitionCause) -> bytes:

@@ -60,6 +60,8 @@ __all__ = [
     "MISSION_SUFFIXES",
     "FoundSubmissions",
     "Submission",
+    "changed_file",
+    "files_now",
     "find_submissions",
     "named_files",
     "visible_files",
@@ -754,3 +756,38 @@ def visible_files(
         except ValueError:
             continue
     return named_files(Path(mission), candidates)
+
+
+# ------------------------------------------------------------- files changed while graded
+
+FilesNow = dict[str, tuple[int, int, int]]
+"""A student's files as they are on the disk: by path inside the submission, each file's size,
+modification time (ns) and identity (inode)."""
+
+
+def files_now(submission: Submission) -> FilesNow:
+    """What :func:`changed_file` compares: every file a run of the student may read, as it is
+    on the disk now (their folder's files, or their mission and own files beside it).
+    Only stats are read, never a file's bytes; a file that cannot be read is left out."""
+    if submission.folder is not None:
+        paths = [path for _, path in _walk(Path(submission.folder))[0]]
+    else:
+        paths = [Path(p) for p in (*submission.missions, *submission.own)]
+    now: FilesNow = {}
+    for path in paths:
+        try:
+            info = path.stat(follow_symlinks=False)
+        except OSError:
+            continue
+        now[submission.shown(path)] = (info.st_size, info.st_mtime_ns, info.st_ino)
+    return now
+
+
+def changed_file(submission: Submission, before: FilesNow) -> str:
+    """The first of the student's files (by its path inside the submission) that was added,
+    removed, rewritten or replaced since ``before`` (:func:`files_now`), or ``""``."""
+    now = files_now(submission)
+    changed = sorted(
+        name for name in before.keys() | now.keys() if before.get(name) != now.get(name)
+    )
+    return _shown_path(changed[0]) if changed else ""

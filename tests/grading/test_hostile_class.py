@@ -622,6 +622,44 @@ def test_a_glob_through_a_link_to_a_classmates_folder_is_refused(tmp_path: Path)
     assert runs["dave"]["message"].startswith("dave is a symbolic link")
 
 
+def test_a_submission_changed_while_its_class_is_graded_is_not_counted_from_then_on(
+    tmp_path: Path,
+) -> None:
+    # A late push or a sync rewrites a student's file between two of their runs: the runs
+    # after it might have read another version, so each says so instead of counting.
+    from roboscript.grading.batch import find_specs, grade_class
+    from roboscript.grading.record import RunResult
+    from roboscript.grading.submissions import find_submissions
+
+    spec = tmp_path / "forward.yaml"
+    _write(spec, SPEC)
+    subs = tmp_path / "class"
+    _write(subs / "ada" / "forward.yaml", HONEST)
+    _write(subs / "bea" / "forward.yaml", HONEST)
+    seen: list[RunResult] = []
+
+    def rewrite_once(result: RunResult) -> None:
+        seen.append(result)
+        if result.student == "ada" and len([r for r in seen if r.student == "ada"]) == 1:
+            _write(subs / "ada" / "forward.yaml", HONEST + "# pushed late\n")
+
+    report = grade_class(
+        find_specs([str(spec)]),
+        find_submissions([str(subs)]).submissions,
+        jobs=1,
+        on_result=rewrite_once,
+    )
+    ada = [r for r in report.results if r.student == "ada"]
+    assert sorted(r.status for r in ada) == ["invalid", "passed"]
+    (late,) = [r for r in ada if r.status == "invalid"]
+    assert late.message == (
+        "forward.yaml changed while the class was being graded (added, removed or rewritten"
+        " after grading began): this run may have read another version of the mission than"
+        " the others, so it is not counted; grade the student again"
+    )
+    assert [r.status for r in report.results if r.student == "bea"] == ["passed", "passed"]
+
+
 # --------------------------------------------------------------------------- a second class
 #
 # Round two: a class of students who each try one attack, in families (the sentences the grader
@@ -760,6 +798,13 @@ _BROKE = (
     " its code closed or changed a connection it did not open"
 )
 _HONEST_FILES = {"forward.yaml": HONEST}
+_LIMITS = "a graded mission's recursion limit is between 250 and 10000"
+_ALARM = (
+    "the watchdog that stops code that never returns uses SIGALRM and the real-time timer"
+    " (signal.alarm, signal.setitimer(signal.ITIMER_REAL)): a graded mission may not change,"
+    " ignore or block them"
+)
+_SPIN = "def spin():\n    while True:\n        pass"
 _STR_RAISED = "its __str__ raised ZeroDivisionError"
 _ONE_PROCESS = "a graded mission runs in one process: os.fork() would copy it"
 _AT = f"(forward.py:{_ATTACK_LINE})"
@@ -927,6 +972,112 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
     ("timing", "thread_after", _attack(
         "threading.Thread(target=lambda: [print('x') for _ in iter(int, 1)]).start()"),
      _PASSED, None),
+    # -- round three: its own streams, recursion, threads, signals, odd exits and endings
+    ("streams", "close_std", _attack("os.close(0); os.close(1); os.close(2)"), _PASSED, None),
+    ("streams", "close_std_print", _attack(
+        "os.close(1); os.close(2); print('x' * 100, flush=True)"), _PASSED, None),
+    ("streams", "close_std_raise", _attack(
+        "os.close(1); os.close(2); raise ValueError('after closing')"), _CRASHED,
+     f"your condition 'first' raised ValueError in state 'go': after closing {_AT}"),
+    ("streams", "std_none", _attack(
+        "sys.stdout = sys.stderr = None; print('x'); raise ValueError('nowhere')"), _CRASHED,
+     f"your condition 'first' raised ValueError in state 'go': nowhere {_AT}"),
+    ("streams", "stdin_read", _attack("sys.stdin.read()"), _PASSED, None),
+    ("streams", "dev_tty", _attack("open('/dev/tty', 'w').write('hello')"), _CRASHED,
+     "your condition 'first' raised"),
+    ("recursion", "recursion_huge_limit", _attack(
+        "sys.setrecursionlimit(10**6); again()", "def again():\n    return again()"), _CRASHED,
+     f"raised ValueError in state 'go': {_LIMITS} (it was asked for 1000000)"),
+    ("recursion", "recursion_tiny_limit", _attack(pre="sys.setrecursionlimit(30)"), _INVALID,
+     f"forward.py:{_PRE_LINE}:1: error: {_LIMITS} (it was asked for 30)"),
+    ("recursion", "recursion_10k", _attack(
+        "sys.setrecursionlimit(10_000); again()", "def again():\n    return again()"), _CRASHED,
+     "'again' calls itself again and again"),
+    ("threads", "thread_raises", _attack("threading.Thread(target=lambda: 1 / 0).start()"),
+     _PASSED, None),
+    ("threads", "thread_join_forever", _attack(
+        "KEEP.append(threading.Thread(target=time.sleep, args=(600,), daemon=True));"
+        " KEEP[-1].start(); KEEP[-1].join()", "KEEP = []"), _HUNG,
+     f"did not return for 2 s and was stopped at forward.py:{_ATTACK_LINE}"),
+    ("signals", "alarm_ignored", _attack(
+        "signal.signal(signal.SIGALRM, signal.SIG_IGN); spin()", _SPIN), _CRASHED,
+     f"raised PermissionError in state 'go': [Errno 1] {_ALARM} {_AT}"),
+    ("signals", "alarm_blocked", _attack(
+        "signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGALRM}); spin()", _SPIN), _CRASHED,
+     f"raised PermissionError in state 'go': [Errno 1] {_ALARM} {_AT}"),
+    ("signals", "timer_cancelled", _attack(
+        "signal.setitimer(signal.ITIMER_REAL, 0); spin()", _SPIN), _CRASHED,
+     f"raised PermissionError in state 'go': [Errno 1] {_ALARM} {_AT}"),
+    ("signals", "alarm_self", _attack("signal.alarm(1)"), _CRASHED,
+     f"raised PermissionError in state 'go': [Errno 1] {_ALARM} {_AT}"),
+    ("signals", "alarm_raw", _attack(
+        "import _signal; _signal.signal(signal.SIGALRM, signal.SIG_IGN); spin()", _SPIN),
+     _CRASHED, f"[Errno 1] {_ALARM} {_AT}"),
+    ("signals", "clock_frozen", _attack(
+        "time.perf_counter = time.monotonic = lambda: 0.0; spin()", _SPIN), _HUNG,
+     "did not return for 2 s and was stopped at forward.py:"),
+    ("signals", "handler_raises", _attack(
+        "signal.signal(signal.SIGUSR1, lambda *a: 1 / 0); os.kill(os.getpid(), signal.SIGUSR1)"),
+     _CRASHED, "your condition 'first' raised ZeroDivisionError in state 'go'"),
+    ("signals", "sigterm_ignored", _attack(
+        "signal.signal(signal.SIGTERM, signal.SIG_IGN); os.kill(os.getpid(), signal.SIGTERM)"),
+     _PASSED, None),
+    ("signals", "sigterm_in_del", _attack(
+        "globals()['K'] = type('K', (), {'__del__': lambda s: signal.raise_signal(15)})();"
+        " globals()['K'] = None"), _CRASHED, "your code sent its own process SIGTERM in state"),
+    ("signals", "faulthandler", _attack(
+        "import ctypes, faulthandler; faulthandler.enable(); ctypes.string_at(0)"), _CRASHED,
+     "its process was killed by SIGSEGV (Python itself crashed"),
+    ("exceptions", "msg_lines", _attack("raise ValueError(chr(10).join(['line'] * 1_000_000))"),
+     _CRASHED, "raised ValueError in state 'go': line line"),
+    ("exceptions", "msg_100mb", _attack("raise ValueError('z' * 100_000_000)"), _CRASHED,
+     "raised ValueError in state 'go': zzz"),
+    ("exceptions", "cause_cycle", _attack(
+        "a = ValueError('a'); b = KeyError('b'); a.__cause__ = b; b.__cause__ = a; raise a"),
+     _CRASHED, f"your condition 'first' raised ValueError in state 'go': a {_AT}"),
+    ("exceptions", "context_cycle", _attack(
+        "a = ValueError('a'); b = KeyError('b'); a.__context__ = b; b.__context__ = a; raise a"),
+     _CRASHED, f"your condition 'first' raised ValueError in state 'go': a {_AT}"),
+    ("exceptions", "args_cycle", _attack("e = ValueError(); e.args = (e,); raise e"), _CRASHED,
+     "your condition 'first' raised ValueError in state 'go'"),
+    ("exceptions", "group", _attack("raise ExceptionGroup('many', [ValueError(1), KeyError(2)])"),
+     _CRASHED, f"raised ExceptionGroup in state 'go': many (2 sub-exceptions) {_AT}"),
+    ("exceptions", "base_exception", _attack("raise BaseException('base')"), _CRASHED,
+     f"your condition 'first' raised BaseException in state 'go': base {_AT}"),
+    ("exceptions", "generator_exit", _attack("raise GeneratorExit"), _CRASHED,
+     f"GeneratorExit {_AT}"),
+    ("exit", "exit_any_object", _attack("getattr(sys, 'ex' + 'it')(object())"), _CRASHED,
+     "your condition 'first' called exit() in state 'go'"),
+    ("exit", "exit_bignum", _attack("getattr(sys, 'ex' + 'it')(2 ** 100)"), _CRASHED,
+     "your condition 'first' called exit() in state 'go'"),
+    ("exit", "exit_negative", _attack("getattr(sys, 'ex' + 'it')(-1)"), _CRASHED,
+     "your condition 'first' called exit() in state 'go'"),
+    ("exit", "exit_true", _attack("getattr(sys, 'ex' + 'it')(True)"), _CRASHED,
+     "your condition 'first' called exit() in state 'go'"),
+    ("exit", "exit_written", _attack("sys.exit(None)"), _INVALID,
+     "sys.exit() would end the whole program, not the mission"),
+    ("exit", "exit_at_load", _attack(pre="sys.exit('bye')"), _INVALID,
+     "the mission file called exit() while it was loaded"),
+    ("endings", "del_exits", _attack(
+        "globals()['K'] = type('K', (), {'__del__': lambda s: os._exit(0)})()"), _PASSED, None),
+    ("endings", "del_raises_exit", _attack(
+        "globals()['K'] = type('K', (), {'__del__': lambda s: sys.exit(3)})();"
+        " globals()['K'] = None"), _PASSED, None),
+    ("endings", "atexit_sleeps", _attack(pre="import atexit\natexit.register(time.sleep, 600)"),
+     _PASSED, None),
+    ("endings", "atexit_spins", _attack(
+        pre="import atexit\natexit.register(lambda: [0 for _ in iter(int, 1)])"), _PASSED, None),
+    ("endings", "atexit_exits", _attack(
+        pre="import atexit\natexit.register(lambda: getattr(os, '_exit')(7))"), _PASSED, None),
+    ("process", "setsid", _attack("os.setsid()"), _CRASHED,
+     "your condition 'first' raised PermissionError in state 'go'"),
+    ("process", "chdir_umask_environ", _attack(
+        "os.chdir('/'); os.umask(0o777); os.environ.clear()"), _PASSED, None),
+    ("process", "tracers", _attack(
+        "sys.settrace(lambda *a: None); sys.setprofile(lambda *a: None); import gc;"
+        " gc.disable()"), _PASSED, None),
+    ("process", "writes_own_file", _attack("open(__file__, 'a').write('# changed')"), _CRASHED,
+     "your condition 'first' raised"),
     # -- names and files that try to break a report
     ("names", "<img src=x onerror=alert(4)>", _HONEST_FILES, _PASSED, None),
     ("names", "-1+2", _HONEST_FILES, _PASSED, None),
@@ -962,6 +1113,7 @@ def _round_two_class(subs: Path) -> None:
     _write(subs / "ada" / "forward.yaml", HONEST)
     _write(subs / "bea.yaml", HONEST)
     _write(subs / "bea_helpers.py", "CLASSMATE = 'BEA" + "-SECRET'\n")
+    os.mkfifo(subs / "a_fifo")  # a "student" that is a named pipe: never opened, never waited on
     for _family, student, mission, *_ in ATTACKS:
         files = mission if isinstance(mission, dict) else {"forward.py": mission}
         for name, text in files.items():
@@ -1030,6 +1182,8 @@ def test_round_two_grades_everyone_and_writes_every_report(attacked: dict[str, A
     assert attacked["exit"] == 1, attacked["stderr"][-3000:]
     assert "Traceback" not in attacked["stderr"]
     assert "the students 'fiona' and 'ﬁona-2' have names that look the same" in attacked["stderr"]
+    (note,) = [line for line in attacked["stderr"].splitlines() if "no student's work" in line]
+    assert "a_fifo" in note
     statuses = _statuses(attacked)
     assert statuses["ada"] == ["passed", "passed"] and statuses["bea"] == ["passed", "passed"]
     assert sorted(statuses) == sorted(["ada", "bea", *(_shown_name(a[1]) for a in ATTACKS)])
