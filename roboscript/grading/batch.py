@@ -12,6 +12,8 @@ run, none of which is started.
 
 from __future__ import annotations
 
+import contextlib
+import os
 import re
 import unicodedata
 from collections.abc import Callable, Sequence
@@ -31,6 +33,7 @@ from roboscript.grading.submissions import (
     changed_file,
     files_now,
     find_submissions,
+    teachers_file_held,
     visible_files,
 )
 from roboscript.grading.text import cap_result, student_text
@@ -337,6 +340,20 @@ def grade_class(
         + [Path(s.folder).resolve() for s in submissions if s.folder is not None]
         + [Path(spec.path).resolve() for spec in specs]
     )
+    # A run reads the student's files as they are when it starts: one changed meanwhile (a
+    # late push, a sync) makes runs of one student grade two versions, so it is said
+    started = {s.student: files_now(s) for s in submissions if not s.problem}
+    teachers: dict[tuple[int, int], str] = {}
+    for spec in specs:
+        with contextlib.suppress(OSError):
+            info = os.stat(spec.path)
+            teachers[info.st_dev, info.st_ino] = Path(spec.path).name
+    submissions = [
+        replace(s, problem=teachers_file_held(started[s.student], teachers))
+        if s.student in started and teachers_file_held(started[s.student], teachers)
+        else s
+        for s in submissions
+    ]
     tasks: list[RunTask] = []
     slots: list[RunResult | int] = []  # a missing submission's result, or its task's index
     for spec in specs:
@@ -356,9 +373,6 @@ def grade_class(
                     RunTask(spec, mission, variant, submission.student, visible, hang_after_s)
                 )
     roots = {s.student: s.root for s in submissions}
-    # A run reads the student's files as they are when it starts: one changed meanwhile (a
-    # late push, a sync) makes runs of one student grade two versions, so it is said
-    started = {s.student: files_now(s) for s in submissions if not s.problem}
     by_student = {s.student: s for s in submissions}
 
     def arrived(result: RunResult) -> RunResult:

@@ -64,6 +64,7 @@ __all__ = [
     "files_now",
     "find_submissions",
     "named_files",
+    "teachers_file_held",
     "visible_files",
 ]
 
@@ -760,9 +761,9 @@ def visible_files(
 
 # ------------------------------------------------------------- files changed while graded
 
-FilesNow = dict[str, tuple[int, int, int]]
+FilesNow = dict[str, tuple[int, int, _Inode]]
 """A student's files as they are on the disk: by path inside the submission, each file's size,
-modification time (ns) and identity (inode)."""
+modification time (ns) and identity on the disk (device, inode)."""
 
 
 def files_now(submission: Submission) -> FilesNow:
@@ -779,7 +780,7 @@ def files_now(submission: Submission) -> FilesNow:
             info = path.stat(follow_symlinks=False)
         except OSError:
             continue
-        now[submission.shown(path)] = (info.st_size, info.st_mtime_ns, info.st_ino)
+        now[submission.shown(path)] = (info.st_size, info.st_mtime_ns, (info.st_dev, info.st_ino))
     return now
 
 
@@ -791,3 +792,19 @@ def changed_file(submission: Submission, before: FilesNow) -> str:
         name for name in before.keys() | now.keys() if before.get(name) != now.get(name)
     )
     return _shown_path(changed[0]) if changed else ""
+
+
+def teachers_file_held(before: FilesNow, teachers: dict[_Inode, str]) -> str:
+    """Why a submission that holds one of the teacher's files (``teachers``: by identity on
+    the disk, the name to show) under another name, a hard link, is refused; or ``""``.
+
+    A test spec linked into a student's folder would let their run read the hidden runs'
+    seeds and starts; a copy would have to be made by someone who can read the spec already.
+    """
+    for name, (_size, _time, inode) in sorted(before.items()):
+        if inode in teachers:
+            return (
+                f"{_shown_path(name)} is the same file as the test {teachers[inode]} (a hard link,"
+                " not a copy): a submission holds its own files, never the teacher's"
+            )
+    return ""

@@ -660,6 +660,30 @@ def test_a_submission_changed_while_its_class_is_graded_is_not_counted_from_then
     assert [r.status for r in report.results if r.student == "bea"] == ["passed", "passed"]
 
 
+def test_a_hard_link_to_the_test_spec_in_a_submission_is_refused(tmp_path: Path) -> None:
+    # The spec under another name in a student's folder: their run could read the hidden
+    # runs' seeds and starts. Refused, naming both; the class is graded all the same.
+    spec = tmp_path / "teacher" / "forward.yaml"
+    _write(spec, SPEC)
+    subs = tmp_path / "class"
+    _write(subs / "ada" / "forward.yaml", HONEST)
+    _write(subs / "eve" / "forward.yaml", HONEST)
+    os.link(spec, subs / "eve" / "notes.yaml")
+    command = [
+        sys.executable, "-m", "roboscript", "grade", str(spec), "--mission", str(subs), "--json",
+    ]  # fmt: skip
+    done = subprocess.run(
+        command, capture_output=True, text=True, timeout=HANG_BOUND_S, check=False
+    )
+    runs = json.loads(done.stdout)["runs"]
+    assert {(r["student"], r["status"]) for r in runs} == {("ada", "passed"), ("eve", "invalid")}
+    for run in (r for r in runs if r["student"] == "eve"):
+        assert run["message"].endswith(
+            "notes.yaml is the same file as the test forward.yaml (a hard link, not a copy): a"
+            " submission holds its own files, never the teacher's"
+        ), run["message"]
+
+
 # --------------------------------------------------------------------------- a second class
 #
 # Round two: a class of students who each try one attack, in families (the sentences the grader
