@@ -1102,7 +1102,19 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
         " gc.disable()"), _PASSED, None),
     ("process", "writes_own_file", _attack("open(__file__, 'a').write('# changed')"), _CRASHED,
      "your condition 'first' raised"),
+    ("load", "load_cause_cycle", _attack(
+        pre="a = ValueError('a'); b = KeyError('b'); a.__cause__ = b; b.__cause__ = a\nraise a"),
+     _INVALID, f"forward.py:{_PRE_LINE + 1}:1: error: ValueError: a"),
+    ("load", "load_args_cycle", _attack(pre="e = ValueError(); e.args = (e,)\nraise e"), _INVALID,
+     "ValueError: (its message cannot be shown: its __str__ raised RecursionError)"),
+    ("load", "load_closes_std", _attack(pre="os.close(1); os.close(2)\nraise ValueError('shut')"),
+     _INVALID, f"forward.py:{_PRE_LINE + 1}:1: error: ValueError: shut"),
+    ("load", "load_sigusr2", _attack(pre="os.kill(os.getpid(), signal.SIGUSR2)"), _INVALID,
+     f"forward.py:{_PRE_LINE}: error: sent its own process SIGUSR2: {_NO_SIGNAL}"),
+    ("load", "load_generator_exit", _attack(pre="raise GeneratorExit"), _CRASHED,
+     f"the run crashed while loading: GeneratorExit (forward.py:{_PRE_LINE})"),
     # -- names and files that try to break a report
+    ("names", "ADA", _HONEST_FILES, _PASSED, None),  # ada's page, but for case: a page apart
     ("names", "<img src=x onerror=alert(4)>", _HONEST_FILES, _PASSED, None),
     ("names", "-1+2", _HONEST_FILES, _PASSED, None),
     ("names", "@SUM(A1)", _HONEST_FILES, _PASSED, None),
