@@ -533,6 +533,9 @@ class _KeptStream(io.TextIOBase):
     def fileno(self) -> int:
         return self._stream.fileno()
 
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._stream, name)  # buffer, errors, reconfigure...: the stream's own
+
     @property
     def encoding(self) -> str:  # type: ignore[override]  # read from the stream it keeps
         return self._stream.encoding
