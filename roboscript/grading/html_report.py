@@ -157,17 +157,26 @@ def _status_words(result: RunResult) -> str:
     }.get(result.status, result.status)
 
 
+_WINDOWS_DEVICES = frozenset(
+    ["CON", "PRN", "AUX", "NUL", *(f"{port}{n}" for port in ("COM", "LPT") for n in range(1, 10))]
+)
+"""Names Windows keeps for devices, whatever follows the first dot: no file may have them."""
+
+
 def _safe_name(raw: str, fallback: str = "student") -> str:
     """``raw`` as a file name or id any system takes: ASCII letters, digits, ``.``, ``_``, ``-``.
 
     It never starts with ``-`` (``--help`` is ``help.html``), so no command a teacher runs on
     the pages (``zip pages.zip *``) reads one as an option. A name with none of them
     (``Анна``, ``王芳``) becomes ``fallback`` and a short digest of the name, so two such
-    names still make two files.
+    names still make two files. A name Windows keeps for a device (``con``, ``nul.x``,
+    ``COM1``) gets a ``_``, so the pages unzip there too.
     """
-    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", raw).lstrip("._-").rstrip("._")
+    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", raw).lstrip("._-").rstrip("._")[:80]
+    if safe.split(".")[0].upper() in _WINDOWS_DEVICES:
+        return f"{safe}_"  # nul.html cannot be unzipped on Windows: nul_.html can
     if safe:
-        return safe[:80]
+        return safe
     return f"{fallback}-{hashlib.sha256(raw.encode('utf-8', 'replace')).hexdigest()[:10]}"
 
 

@@ -1115,6 +1115,7 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
      f"the run crashed while loading: GeneratorExit (forward.py:{_PRE_LINE})"),
     # -- names and files that try to break a report
     ("names", "ADA", _HONEST_FILES, _PASSED, None),  # ada's page, but for case: a page apart
+    ("names", "nul", _HONEST_FILES, _PASSED, None),  # a Windows device: its page is nul_.html
     ("names", "<img src=x onerror=alert(4)>", _HONEST_FILES, _PASSED, None),
     ("names", "-1+2", _HONEST_FILES, _PASSED, None),
     ("names", "@SUM(A1)", _HONEST_FILES, _PASSED, None),

@@ -208,3 +208,21 @@ def test_a_page_name_another_base_made_is_stepped_over_once() -> None:
     assert made == ["ana-2.html", "Ana.html", "ana-3.html", "ana-4.html", "ana-2-2.html",
                     "ana-3-2.html"]  # fmt: skip
     assert unique.tries == len(made) + 2  # 'ana' steps over ana-2, the last 'ana-3' over ana-3
+
+
+@pytest.mark.parametrize(
+    ("student", "page"),
+    [
+        ("con", "con_"),
+        ("NUL.x", "NUL.x_"),
+        ("Com1", "Com1_"),
+        ("console", "console"),
+        ("lpt", "lpt"),
+    ],
+)
+def test_a_student_named_like_a_windows_device_gets_a_page_windows_can_unzip(
+    student: str, page: str
+) -> None:
+    from roboscript.grading.html_report import _safe_name
+
+    assert _safe_name(student) == page
