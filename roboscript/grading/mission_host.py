@@ -43,6 +43,7 @@ import operator
 import os
 import signal
 import sys
+import threading
 import traceback
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
@@ -349,10 +350,14 @@ def _own_signals() -> None:
 
     ``os.kill`` and ``os.killpg`` aimed at this process or its group (``0`` included),
     ``signal.raise_signal`` and ``signal.pthread_kill`` (any of its threads) note the signal
-    in :data:`_sent_itself` before sending it. A signal sent around them (``ctypes``, a
-    program it started) is not noted: a SIGTERM or SIGHUP so sent reads as one from outside.
+    in :data:`_sent_itself` before sending it. SIGKILL and SIGSTOP, which no handler can
+    catch, are not sent from the main thread: the run ends there as on any other signal it
+    sends itself, at its line, its robot stopped (not an unexplained kill, nor a pause the
+    world waits out). A signal sent around them (``ctypes``, a program it started) is not
+    noted: a SIGTERM or SIGHUP so sent reads as one from outside.
     """
     handler = signal.getsignal(signal.SIGINT)  # install_interrupts(): raises Interrupted
+    assert callable(handler)  # install_interrupts() has just set it
     for signum in _CAUGHT_SIGNALS:
         signal.signal(signum, handler)
     kill, killpg, raise_signal, pthread_kill = (
@@ -362,11 +367,15 @@ def _own_signals() -> None:
         signal.pthread_kill,
     )
     getpid, getpgrp = os.getpid, os.getpgrp
+    uncatchable = {int(signal.SIGKILL), int(signal.SIGSTOP)}
 
     def note(signum: object) -> None:
         number = _as_int(signum)
-        if number is not None:
-            _sent_itself.add(number)
+        if number is None:
+            return
+        _sent_itself.add(number)
+        if number in uncatchable and threading.current_thread() is threading.main_thread():
+            handler(number, None)  # raises Interrupted here, as the signal's handler would
 
     def own_kill(pid: int, signum: int, /) -> None:
         if pid in (0, getpid(), -getpgrp()):
