@@ -447,7 +447,8 @@ def test_a_daemon_dies_with_its_run(graded: dict[str, Any]) -> None:
 def test_signals_from_a_student_reach_no_one(graded: dict[str, Any]) -> None:
     assert graded["report"] is not None
     runs = _runs(graded, "killer")
-    assert {r["status"] for r in runs} <= {"passed", "failed", "crashed"}, _shown(runs)
+    # its own group's SIGKILL, while its file loads, is its error at that line (invalid)
+    assert {r["status"] for r in runs} <= {"passed", "failed", "crashed", "invalid"}, _shown(runs)
 
 
 def test_no_fake_line_reaches_the_graders_output(graded: dict[str, Any]) -> None:
