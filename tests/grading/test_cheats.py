@@ -192,7 +192,7 @@ for target in (os.getppid(), -1, 0, 1):
     for sig in (signal.SIGKILL, signal.SIGTERM, signal.SIGSTOP):
         try:
             os.kill(target, sig)
-        except (OSError, ValueError):
+        except BaseException:  # its own signals end its run where they land: go on all the same
             pass
 for pid in os.listdir("/proc"):
     if pid.isdigit() and int(pid) != os.getpid():
@@ -447,8 +447,7 @@ def test_a_daemon_dies_with_its_run(graded: dict[str, Any]) -> None:
 def test_signals_from_a_student_reach_no_one(graded: dict[str, Any]) -> None:
     assert graded["report"] is not None
     runs = _runs(graded, "killer")
-    # its own group's SIGKILL, while its file loads, is its error at that line (invalid)
-    assert {r["status"] for r in runs} <= {"passed", "failed", "crashed", "invalid"}, _shown(runs)
+    assert {r["status"] for r in runs} <= {"passed", "failed", "crashed"}, _shown(runs)
 
 
 def test_no_fake_line_reaches_the_graders_output(graded: dict[str, Any]) -> None:
