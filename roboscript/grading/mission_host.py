@@ -29,6 +29,11 @@ SIGINT or SIGUSR1), is its crash at its line; a SIGTERM or SIGHUP from anywhere 
 teacher's ``kill``, a process manager) keeps its own sentence. A wire that fails under it is a
 connection it broke itself, and ``os.fork()`` is refused, as a copy of the process would drive
 the same robot.
+
+What would keep roboscript from saying where the mission's code went wrong is kept from it:
+the watchdog's SIGALRM and timer cannot be changed, ignored or blocked by the mission
+(:data:`WATCHDOG_ALARM`), its recursion limit stays within :data:`RECURSION_LIMITS`, and a
+mission that closes its own standard output or error loses what it prints there, not its run.
 """
 
 from __future__ import annotations
