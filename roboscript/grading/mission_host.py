@@ -68,7 +68,9 @@ if TYPE_CHECKING:
 __all__ = [
     "LOAD_LIMIT_S",
     "ONE_PROCESS",
+    "RECURSION_LIMITS",
     "STATE_CLAIM_BYTES",
+    "WATCHDOG_ALARM",
     "WIRE_BROKEN",
     "WIRE_LOST",
     "WIRE_LOST_EXIT",
