@@ -1075,7 +1075,7 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
     ("exceptions", "base_exception", _attack("raise BaseException('base')"), _CRASHED,
      f"your condition 'first' raised BaseException in state 'go': base {_AT}"),
     ("exceptions", "generator_exit", _attack("raise GeneratorExit"), _CRASHED,
-     f"GeneratorExit {_AT}"),
+     f"your condition 'first' raised GeneratorExit in state 'go' {_AT}"),
     ("exit", "exit_any_object", _attack("getattr(sys, 'ex' + 'it')(object())"), _CRASHED,
      "your condition 'first' called exit() in state 'go'"),
     ("exit", "exit_bignum", _attack("getattr(sys, 'ex' + 'it')(2 ** 100)"), _CRASHED,
@@ -1117,8 +1117,8 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
      _INVALID, f"forward.py:{_PRE_LINE + 1}:1: error: ValueError: shut"),
     ("load", "load_sigusr2", _attack(pre="os.kill(os.getpid(), signal.SIGUSR2)"), _INVALID,
      f"forward.py:{_PRE_LINE}: error: sent its own process SIGUSR2: {_NO_SIGNAL}"),
-    ("load", "load_generator_exit", _attack(pre="raise GeneratorExit"), _CRASHED,
-     f"the run crashed while loading: GeneratorExit (forward.py:{_PRE_LINE})"),
+    ("load", "load_generator_exit", _attack(pre="raise GeneratorExit"), _INVALID,
+     f"forward.py:{_PRE_LINE}:1: error: GeneratorExit"),
     # -- names and files that try to break a report
     ("names", "ADA", _HONEST_FILES, _PASSED, None),  # ada's page, but for case: a page apart
     ("names", "nul", _HONEST_FILES, _PASSED, None),  # a Windows device: its page is nul_.html
