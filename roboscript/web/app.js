@@ -52,11 +52,17 @@
         } else if (message.type === "failed") {
           reject(new Error(message.error));
         } else if (message.type === "answer") {
+          document.body.setAttribute("data-heap-bytes", String(message.heapBytes));
           var waiting = calls[message.id];
           delete calls[message.id];
+          if (message.outOfMemory && message.error === undefined) {
+            // once the caller has shown its answer (MemoryError at the student's line)
+            window.setTimeout(function () { outOfMemory(); }, 0);
+          }
           if (!waiting) return;
           if (message.error === undefined) waiting.resolve(message.value);
-          else waiting.reject({ crashed: message.error, fatal: message.fatal });
+          else waiting.reject({ crashed: message.error, fatal: message.fatal,
+                                outOfMemory: message.outOfMemory });
         }
       };
       worker.onerror = function (event) {
@@ -109,20 +115,39 @@
     document.body.setAttribute("data-ready", "error");
   }
 
+  var OUT_OF_MEMORY = "Python in this page ran out of memory: your code asked for more " +
+    "than the 1 GB the page gives it (does it keep making lists or strings that grow " +
+    "without end?). The page started Python again: fix the code, then run again.";
+
+  /* A note under the run's result, till the next run or grade: one sentence. */
+  function note(text) {
+    var shown = $("run-note");
+    shown.textContent = text;
+    if (text) shown.setAttribute("data-note", text);
+    else shown.removeAttribute("data-note");
+  }
+
+  /* Python was refused memory and went on (the student's code got MemoryError): the answer
+   * is shown, and a fresh Python, with a small heap again, takes the next run. */
+  function outOfMemory() {
+    note(OUT_OF_MEMORY);
+    endPython({ stopped: OUT_OF_MEMORY });
+  }
+
   /* What the page says of a call that did not answer: ended by Stop, or Python itself gave
    * way (out of memory): the worker is started again in both cases. */
   function notAnswered(failure) {
     if (failure && failure.stopped) return failure.stopped;
     var text = String(failure && failure.crashed || failure);
-    var memory = /memory|allocat/i.test(text);
+    var memory = failure && failure.outOfMemory || /memory|allocat/i.test(text);
     endPython({ stopped: text });
-    return memory ?
-      "Python in this page ran out of memory (does your code keep making lists or strings " +
-      "that grow without end?); the page started it again: fix the code, then run again." :
+    if (memory) note(OUT_OF_MEMORY);
+    return memory ? OUT_OF_MEMORY :
       "Python in this page stopped unexpectedly (" + text + "); the page started it again.";
   }
 
   function busyWith(delta) {
+    if (delta > 0) note("");
     busy += delta;
     button("stop-run").disabled = busy === 0;
     refreshButtons();
@@ -132,6 +157,7 @@
 
   function makeEditor() {
     var first = window.rsExamples["hello.yaml"] || "";
+    kept = first;
     editor = window.CodeMirror($("editor"), {
       value: first, mode: "yaml", lineNumbers: true, indentUnit: 2, tabSize: 2,
       extraKeys: { Tab: function (cm) { cm.replaceSelection("  "); } },
@@ -149,9 +175,12 @@
       examples.appendChild(option);
     });
     examples.addEventListener("change", function () {
-      if (!examples.value) return;
-      load(examples.value, window.rsExamples[examples.value]);
+      var chosen = examples.value;
       examples.value = "";
+      if (!chosen) return;
+      unlessUnsaved("picking an example", function () {
+        load(chosen, window.rsExamples[chosen]);
+      });
     });
     $("name").addEventListener("change", function () {
       editor.setOption("mode", mode($("name").value));
@@ -163,6 +192,36 @@
     $("name").value = name;
     editor.setOption("mode", mode(name));
     editor.setValue(text);
+    kept = text;
+  }
+
+  /* The editor's text as last opened, picked or saved: anything else is edits the student
+   * would lose if a file replaced them (the page keeps nothing once closed). */
+  var kept = null;
+
+  function unsaved() { return kept !== null && editor.getValue() !== kept; }
+
+  /* ``replace`` (Open…, an example) at once, or, when the editor holds edits not saved since
+   * the last open or save, once the student said so in the page's dialog; kept otherwise. */
+  var replacing = null;  // what the dialog's "Lose them" does
+
+  function unlessUnsaved(doing, replace) {
+    if (!unsaved()) { replace(); return; }
+    replacing = replace;
+    $("unsaved-text").textContent = "Your edits to " + ($("name").value || "this mission") +
+      " are not saved, and " + doing + " replaces them. Keep them (then Save, which " +
+      "downloads the file), or lose them?";
+    if (!$("unsaved").open) $("unsaved").showModal();
+  }
+
+  /* The student's answer, acted on within their click (the file chooser opens for a click
+   * only); Escape keeps the edits too. */
+  function answerUnsaved(lose) {
+    var replace = replacing;
+    replacing = null;
+    if ($("unsaved").open) $("unsaved").close();
+    if (lose && replace) replace();
+    else editor.focus();
   }
 
   function showProblems(problems) {
@@ -232,7 +291,8 @@
     call("bridge", "run_text", $("name").value, editor.getValue(), $("robot").value,
          $("world").value, seed).then(function (text) {
       var wallS = (performance.now() - started) / 1000;
-      var s = showRun(JSON.parse(text));
+      var answer = JSON.parse(text), s = showRun(answer);
+      if (answer.note) note(answer.note);  // what the record left out, counted
       if (!s) return;
       var factor = wallS > 0 ? s.duration_s / wallS : Infinity;
       document.body.setAttribute("data-real-time-factor", String(factor));
@@ -331,6 +391,7 @@
   function runOnRobot() {
     if (!robotPort) return;
     robotRunning = true;
+    note("");
     button("run-robot").disabled = true;
     button("run").disabled = true;
     button("stop").disabled = false;
@@ -348,6 +409,7 @@
       .then(function (text) {
         var answer = JSON.parse(text);
         var s = showRun(answer);
+        if (answer.note) note(answer.note);
         var log = $("wire-log");
         if (answer.wire_log) {
           log.href = URL.createObjectURL(new Blob([answer.wire_log], { type: "text/plain" }));
@@ -416,9 +478,11 @@
     document.body.appendChild(link);
     link.click();
     link.remove();
+    kept = editor.getValue();
   }
 
-  function open() { $("file").click(); }
+  // the chooser is asked within the click that said so: a browser opens it for a click only
+  function open() { unlessUnsaved("opening a file", function () { $("file").click(); }); }
 
   var MAX_OPENED_BYTES = 1000000;  // a mission, a world or a profile is a few kB of text
 
@@ -478,6 +542,9 @@
     button("stop-run").addEventListener("click", stopRun);
     button("save").addEventListener("click", save);
     button("open").addEventListener("click", open);
+    button("keep-edits").addEventListener("click", function () { answerUnsaved(false); });
+    button("lose-edits").addEventListener("click", function () { answerUnsaved(true); });
+    $("unsaved").addEventListener("cancel", function () { replacing = null; });
     $("file").addEventListener("change", opened);
     startPython().then(function (started) {
       // how much of the start is the runtime itself (tests/bench/bench_web.py reports it)

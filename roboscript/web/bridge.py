@@ -35,6 +35,7 @@ from roboscript.grading.text import advice, format_points, public_reason, studen
 from roboscript.inputs.kinds import FileKind, NotAMissionError
 from roboscript.interrupts import Interrupted
 from roboscript.mission import mission_for_robot
+from roboscript.mission.channels import MAX_PRINTED_LINES
 from roboscript.mission.graph_picture import to_svg
 from roboscript.mission.student_code import is_student_file, shown_path, stuck_at
 from roboscript.replay.session_tap import RunRecording
@@ -187,8 +188,9 @@ def run_text(
 
     Returns:
         JSON ``{"problems": [...], "summary": run --json's object or null, "viewer": the
-        replay viewer's HTML block or null}``, and ``"wire_log"`` (its text) on a robot. A
-        mission with errors is not run.
+        replay viewer's HTML block or null, "note": a sentence on what the record left out
+        (a flood of ``print``) or ""}``, and ``"wire_log"`` (its text) on a robot. A mission
+        with errors is not run.
     """
     recording = RunRecording()
     path, spec, profile, problems = _load(name, text, robot, recording)
@@ -218,9 +220,25 @@ def run_text(
     if isinstance(reason, str):  # the page's scratch folder means nothing to the student
         summary["reason"] = _named(reason)
     viewer = None
+    note = ""
     if recording.recorder is not None:
         viewer = viewer_block(recording.recorder.recording(), label=f"replay of {path.name}")
-    return json.dumps({"problems": problems, "summary": summary, "viewer": viewer} | on.answer())
+        note = _prints_note(recording.recorder.result or {})
+    answer = {"problems": problems, "summary": summary, "viewer": viewer, "note": note}
+    return json.dumps(answer | on.answer())
+
+
+def _prints_note(result: dict[str, Any]) -> str:
+    """One sentence on a flood of ``print``: how many lines the mission printed and how many
+    the record kept (``""`` when it kept them all)."""
+    dropped = result.get("prints_not_recorded")
+    if not isinstance(dropped, int) or dropped <= 0:
+        return ""
+    return (
+        f"Your mission printed {MAX_PRINTED_LINES + dropped} lines: the replay keeps the first"
+        f" {MAX_PRINTED_LINES} and counted the other {dropped} (print less often, or log() a"
+        " value to plot it)."
+    )
 
 
 def diagram_text(name: str, text: str) -> str:

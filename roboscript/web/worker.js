@@ -8,7 +8,9 @@
  *   page -> worker: {type: "boot", assets: {name: base64}, lock, indexURL}
  *                   {type: "call", id, module, fn, args}
  *   worker -> page: {type: "ready", runtimeMs, readyMs} | {type: "failed", error}
- *                   {type: "answer", id, value} | {type: "answer", id, error}
+ *                   {type: "answer", id, value} | {type: "answer", id, error}, each with
+ *                   heapBytes (the Python heap's size now) and outOfMemory: true when
+ *                   Python was refused memory during the call
  */
 (function () {
   "use strict";
@@ -17,8 +19,26 @@
   // app never does), and a file:// page can start no module worker: hide importScripts.
   self.importScripts = undefined;
 
-  var assets = {}, py = null, modules = {}, printed = 0;
+  var assets = {}, py = null, modules = {}, printed = 0, refused = 0;
   var PRINTED_TO_CONSOLE = 200;  // a flood of print() reaches the run's record, not the console
+  var CONSOLE_LINE_CHARS = 500;  // nor does one huge line (the record cuts it there too)
+
+  /* The most memory this worker's Python may have, bytes. Python's heap grows by asking the
+   * WebAssembly memory for more pages; a request past this bound is refused at once, so
+   * Python raises MemoryError where the student's code asked (a list that grows without end,
+   * [0] * 2_000_000_000) after a count of bytes, never after the browser has spent seconds,
+   * or the computer's memory, finding out that it cannot have them. Python uses a tenth of it
+   * for the biggest practice grade; a Chromebook has 4 GB for everything it runs. */
+  var MEMORY_LIMIT_BYTES = 1024 * 1024 * 1024;
+  var grow = WebAssembly.Memory.prototype.grow;
+  WebAssembly.Memory.prototype.grow = function (pages) {
+    if (this.buffer.byteLength + pages * 65536 > MEMORY_LIMIT_BYTES) {
+      refused += 1;
+      throw new RangeError("the page's Python may have at most " + MEMORY_LIMIT_BYTES +
+                           " bytes of memory");
+    }
+    return grow.call(this, pages);
+  };
 
   /* Pyodide asks for its binaries with fetch(); they are answered from the base64 the page
    * handed over (a worker made from text may fetch no file of the page's folder). */
@@ -37,7 +57,10 @@
 
   function out(line) {
     printed += 1;
-    if (printed <= PRINTED_TO_CONSOLE) console.log(line);
+    if (printed <= PRINTED_TO_CONSOLE) {
+      console.log(line.length > CONSOLE_LINE_CHARS ?
+                  line.slice(0, CONSOLE_LINE_CHARS) + "…" : line);
+    }
   }
 
   function boot(message) {
@@ -73,12 +96,17 @@
     var answer = { type: "answer", id: message.id };
     try {
       printed = 0;
+      refused = 0;
       answer.value = modules[message.module][message.fn].apply(null, message.args);
     } catch (error) {
       // a Python error here is a roboscript bug or Python itself out of memory: say which
       answer.error = String(error && error.message || error);
       answer.fatal = !!(py && py._api && py._api.fatal_error_occurred);
     }
+    // Python was refused memory in this call: caught as MemoryError (in the student's code,
+    // said at its line) or not, the page starts a fresh Python, whose heap is small again
+    if (refused) answer.outOfMemory = true;
+    answer.heapBytes = py && py._module ? py._module.HEAP8.length : 0;
     self.postMessage(answer);
   }
 

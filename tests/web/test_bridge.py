@@ -237,3 +237,29 @@ def test_two_programs_using_the_page_functions_at_once_never_share_a_file() -> N
     ).stdout.strip()  # fmt: skip
     assert other and Path(other) != scratch_folder()
     assert Path(other).parent != scratch_folder().parent  # the specs' folder is beside it
+
+
+FLOOD = """from roboscript import Mission, Wait, state
+
+for n in range(2500):
+    print("again", n)
+
+
+class Flood(Mission):
+    wait = state(Wait(0.2), initial=True, on_done="done")
+    done = state(final="success")
+"""
+
+
+def test_a_flood_of_print_is_counted_in_one_sentence_and_the_record_keeps_its_bound() -> None:
+    answer = json.loads(run_text("flood.py", FLOOD))
+    assert answer["summary"]["outcome"] == "success"
+    assert answer["note"] == (
+        "Your mission printed 2500 lines: the replay keeps the first 2000 and counted the other"
+        " 500 (print less often, or log() a value to plot it)."
+    )
+
+
+def test_a_run_that_printed_what_the_record_keeps_has_no_note() -> None:
+    answer = json.loads(run_text("flood.py", FLOOD.replace("2500", "2000")))
+    assert answer["note"] == ""

@@ -1,11 +1,12 @@
 """A student's code that runs away in the page: the page stays the student's.
 
-The student's Python runs in a worker of its own, so a mission that loops
-without end never holds the page: it answers while the run goes on (a script run in
-the page gets its answer before the run ends), the Stop beside Run ends the run at once, and
+The student's Python runs in a worker of its own, so a mission that loops, floods ``print``
+or allocates without end never holds the page: it answers while the run goes on (a script run
+in the page gets its answer before the run ends), the Stop beside Run ends the run at once, and
 a fresh Python takes the next run. Headless Chromium from file:// with the network off;
 nothing here is timed: "while the run goes on" is checked by what the page shows, not by a
-clock.
+clock, and the bounds on printing and memory are counts (lines, bytes), which a busy machine
+reaches in the same place, only later.
 """
 
 from __future__ import annotations
@@ -16,6 +17,8 @@ import pytest
 from browser import Browser
 from test_watchdog import SPIN
 from web_app import LONG_S
+
+from roboscript.mission.channels import MAX_PRINTED_LINES
 
 pytestmark = pytest.mark.timeout(1200)
 
@@ -35,6 +38,25 @@ class {name}(Mission):
         return False
 '''
 LONG = BUSY.format(name="Long", body="        sum(range(300))")
+# 1.5 GB, more than the page's Python may have (1 GB), fewer than a 32-bit Python refuses
+# by itself: only the page's bound refuses it, at once, without touching a byte
+HOG = BUSY.format(name="Hog", body="        self.kept.append(bytearray(1_500_000_000))")
+FLOOD = """from roboscript import Mission, Wait, state
+
+for n in range(2500):
+    print("again", n)
+
+
+class Flood(Mission):
+    wait = state(Wait(0.2), initial=True, on_done="done")
+    done = state(final="success")
+"""
+OUT_OF_MEMORY = (
+    "Python in this page ran out of memory: your code asked for more than the 1 GB the page"
+    " gives it (does it keep making lists or strings that grow without end?). The page started"
+    " Python again: fix the code, then run again."
+)
+NOTE = "document.querySelector('[data-role=run-note]')"
 
 RESULT = "document.querySelector('[data-role=result]')"
 
@@ -53,7 +75,9 @@ def _start(page: Browser, name: str, text: str) -> dict[str, object]:
         " !document.querySelector('[data-action=run]').disabled",
         LONG_S,
     )
-    page.click("[data-action=run]")
+    # the button's own click (a mouse click at where it was a moment ago can miss it on a
+    # busy machine, while an answer that came in moves the page)
+    page.evaluate("document.querySelector('[data-action=run]').click()")
     shown: dict[str, object] = page.evaluate(
         "({status: document.querySelector('[data-role=status]').textContent,"
         f" result: {RESULT}.textContent,"
@@ -93,4 +117,49 @@ def test_stop_ends_a_run_at_once_and_the_next_run_gets_a_fresh_python(page: Brow
     hello = page.evaluate("window.rsExamples['hello.yaml']")
     _start(page, "hello.yaml", hello)
     assert _summary(page)["final_state"] == "beep"
+    assert page.errors == []
+
+
+def test_code_that_asks_for_more_memory_than_the_page_gives_is_told_and_python_starts_afresh(
+    page: Browser,
+) -> None:
+    _start(page, "hog.py", HOG)
+    summary = _summary(page)
+    assert summary["outcome"] == "failure"
+    assert summary["reason"] == (
+        "your condition 'check' raised MemoryError in state 'go' (hog.py:13)"
+    )
+    assert page.wait_for(f"{NOTE}.dataset.note", LONG_S) == OUT_OF_MEMORY
+    # a fresh Python, its heap well under the bound: Stop and the next run work as ever
+    page.wait_for("document.body.dataset.ready === '1'", LONG_S)
+    assert int(page.evaluate("document.body.dataset.heapBytes")) < 1024**3 // 2
+    assert _start(page, "long.py", LONG)["stop"] is True
+    assert page.evaluate(f"{NOTE}.textContent") == ""  # said till the next run
+    page.click("[data-action=stop-run]")
+    page.wait_for(f"{RESULT}.dataset.stopped", LONG_S)
+    hello = page.evaluate("window.rsExamples['hello.yaml']")
+    _start(page, "hello.yaml", hello)
+    assert _summary(page)["final_state"] == "beep"
+    assert page.errors == []
+
+
+def test_a_flood_of_print_is_cut_at_the_records_bound_and_counted_in_one_sentence(
+    page: Browser,
+) -> None:
+    _start(page, "flood.py", FLOOD)
+    assert _summary(page)["outcome"] == "success"
+    assert page.wait_for(f"{NOTE}.dataset.note", LONG_S) == (
+        "Your mission printed 2500 lines: the replay keeps the first 2000 and counted the other"
+        " 500 (print less often, or log() a value to plot it)."
+    )
+    kept = page.evaluate(
+        "(() => { const run = JSON.parse(document.querySelector("
+        "'.rs-viewer script.rs-data').textContent);"
+        " return JSON.stringify(run); })()"
+    )
+    record = json.loads(kept)
+    printed = len(record["header"].get("printed_before_start", [])) + sum(
+        len(frame.get("print", [])) for frame in record["frames"]
+    )
+    assert printed == MAX_PRINTED_LINES
     assert page.errors == []

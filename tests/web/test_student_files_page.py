@@ -137,3 +137,84 @@ def test_a_file_whose_name_is_not_utf8_opens_and_is_checked(page: Browser) -> No
     shown = page.evaluate(f"{PROBLEMS}.querySelector('li').textContent")
     assert shown.endswith(":9:10: error: unknown action 'rotat' (did you mean 'rotate'?)")
     assert page.errors == []
+
+
+DIALOG = "document.querySelector('[data-role=unsaved]')"
+CHOOSER = "window.rsChooserAsked"
+
+
+def _count_choosers(page: Browser) -> None:
+    """Count the times the page asks for the browser's file chooser (and open none)."""
+    page.evaluate(
+        f"{CHOOSER} = 0; document.querySelector('[data-role=file]').addEventListener('click',"
+        f" function (event) {{ {CHOOSER} += 1; event.preventDefault(); }})"
+    )
+
+
+def _open_square(page: Browser, tmp_path: Path) -> None:
+    square = tmp_path / "square.yaml"
+    square.write_text(SQUARE, encoding="utf-8")
+    _open(page, square)
+    page.wait_for(f"{EDITOR}.getValue() === {json.dumps(SQUARE)}", LONG_S)
+
+
+def _edit(page: Browser) -> str:
+    """Type a line at the top of the editor, as a student does; the text after it."""
+    edited: str = page.evaluate(
+        f"{EDITOR}.replaceRange('# my own note\\n', {{line: 0, ch: 0}}); {EDITOR}.getValue()"
+    )
+    return edited
+
+
+def test_open_asks_before_replacing_edits_not_saved_and_keeping_them_keeps_them(
+    page: Browser, tmp_path: Path
+) -> None:
+    page._call("Browser.setDownloadBehavior", {"behavior": "deny"}, session=False)
+    _open_square(page, tmp_path)
+    _count_choosers(page)
+    edited = _edit(page)
+    page.click("[data-action=open]")
+    assert page.wait_for(f"{DIALOG}.open", LONG_S) is True
+    assert page.evaluate("document.querySelector('[data-role=unsaved-text]').textContent") == (
+        "Your edits to square.yaml are not saved, and opening a file replaces them. Keep them"
+        " (then Save, which downloads the file), or lose them?"
+    )
+    assert page.evaluate(CHOOSER) == 0  # nothing is replaced while the page asks
+    page.click("[data-action=keep-edits]")
+    page.wait_for(f"!{DIALOG}.open", LONG_S)
+    assert page.evaluate(f"{EDITOR}.getValue()") == edited
+    assert page.evaluate(CHOOSER) == 0
+    # said so: the chooser opens, and the file opened replaces the edits
+    page.click("[data-action=open]")
+    page.wait_for(f"{DIALOG}.open", LONG_S)
+    page.click("[data-action=lose-edits]")
+    assert page.wait_for(f"{CHOOSER} === 1 && !{DIALOG}.open", LONG_S) is True
+    _open_square(page, tmp_path)
+    # nothing to lose: just opened, or saved since the last edit
+    page.click("[data-action=open]")
+    assert page.wait_for(f"{CHOOSER} === 2", LONG_S) is True
+    _edit(page)
+    page.click("[data-action=save]")
+    page.click("[data-action=open]")
+    assert page.wait_for(f"{CHOOSER} === 3", LONG_S) is True
+    assert page.evaluate(f"{DIALOG}.open") is False
+    assert page.errors == []
+
+
+def test_an_example_picked_over_edits_not_saved_asks_first(page: Browser, tmp_path: Path) -> None:
+    _open_square(page, tmp_path)
+    edited = _edit(page)
+    pick = (
+        "(function () { var list = document.querySelector('[data-role=example]');"
+        " list.value = 'hello.yaml'; list.dispatchEvent(new Event('change')); })()"
+    )
+    page.evaluate(pick)
+    assert page.wait_for(f"{DIALOG}.open", LONG_S) is True
+    page.click("[data-action=keep-edits]")
+    page.wait_for(f"!{DIALOG}.open", LONG_S)
+    assert page.evaluate(f"{EDITOR}.getValue()") == edited
+    page.evaluate(pick)
+    page.wait_for(f"{DIALOG}.open", LONG_S)
+    page.click("[data-action=lose-edits]")
+    page.wait_for(f"{EDITOR}.getValue() === {json.dumps(HELLO)}", LONG_S)
+    assert page.evaluate("document.querySelector('[data-role=name]').value") == "hello.yaml"
