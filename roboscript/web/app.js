@@ -15,20 +15,8 @@
   function button(action) { return document.querySelector("[data-action='" + action + "']"); }
   function say(text) { $("status").textContent = text; }
 
-  /* Pyodide asks for its binaries with fetch(); a file:// page may not fetch files, so they
-   * are answered from the base64 the asset scripts stored (decoded by the browser itself). */
-  var realFetch = window.fetch;
-  window.fetch = function (url, options) {
-    var name = String(url).split("/").pop().split("?")[0];
-    var data = (window.rsAssets || {})[name];
-    if (data === undefined) return realFetch.apply(this, arguments);
-    var type = /\.wasm$/.test(name) ? "application/wasm" : "application/octet-stream";
-    return realFetch("data:" + type + ";base64," + data).then(function (response) {
-      return response.arrayBuffer();
-    }).then(function (bytes) {
-      return new Response(bytes, { headers: { "Content-Type": type } });
-    });
-  };
+  // Pyodide's binaries come from the page's own scripts (answered-fetch.js)
+  window.rsAnswerFetch(function () { return window.rsAssets || {}; });
 
   var editor = null, checkTimer = null, marked = [];
   var written = {};  // every file checked, by name: the page keeps them till it closes

@@ -237,12 +237,14 @@ def _classic_runtime(module_text: str, base: str = "document.baseURI") -> str:
     return text.replace("import.meta.url", base)
 
 
-def _worker_script(loader: str, runtime_module: str, worker: str) -> str:
+def _worker_script(loader: str, runtime_module: str, worker: str, fetch_shim: str) -> str:
     """The page's Python worker as text in a classic script (``window.rsWorkerSource``): a
     ``file://`` page may start no worker from a file, only from text it holds (a Blob).
-    roboscript's worker (``worker.js``) comes first, to prepare the ground Pyodide's loader
-    looks at as it loads; then the loader and the runtime it calls when the page says boot."""
-    source = "\n".join((worker, loader, _classic_runtime(runtime_module, "self.rsBaseURI")))
+    The fetch shim the page loads too (``answered-fetch.js``) and roboscript's worker
+    (``worker.js``) come first, to prepare the ground Pyodide's loader looks at as it loads;
+    then the loader and the runtime it calls when the page says boot."""
+    runtime = _classic_runtime(runtime_module, "self.rsBaseURI")
+    source = f"{fetch_shim}\n{worker}\n{loader}\n{runtime}"
     return f"window.rsWorkerSource = {json.dumps(source)};\n"
 
 
@@ -308,7 +310,9 @@ def build_web_app(
                 (runtime / "pyodide.js").read_text(encoding="utf-8"),
                 (runtime / "pyodide.asm.mjs").read_text(encoding="utf-8"),
                 (here / "worker.js").read_text(encoding="utf-8"),
+                (here / "answered-fetch.js").read_text(encoding="utf-8"),
             ),
+            "answered-fetch.js": (here / "answered-fetch.js").read_text(encoding="utf-8"),
             "pyodide-lock.js": "window.rsPyodideLock = "
             + json.dumps((runtime / "pyodide-lock.json").read_text(encoding="utf-8"))
             + ";\n",

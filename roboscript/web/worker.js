@@ -4,7 +4,7 @@
  * ends this worker whole and the page starts a fresh one.
  *
  * The page makes this worker from text (a file:// page may load no worker script by URL):
- * this part comes first in the text, then Pyodide's loader and runtime. Messages:
+ * answered-fetch.js and this part come first in the text, then Pyodide's loader and runtime. Messages:
  *   page -> worker: {type: "boot", assets: {name: base64}, lock, indexURL}
  *                   {type: "call", id, module, fn, args}
  *   worker -> page: {type: "ready", runtimeMs, readyMs} | {type: "failed", error}
@@ -40,20 +40,9 @@
     return grow.call(this, pages);
   };
 
-  /* Pyodide asks for its binaries with fetch(); they are answered from the base64 the page
-   * handed over (a worker made from text may fetch no file of the page's folder). */
-  var realFetch = self.fetch;
-  self.fetch = function (url) {
-    var name = String(url).split("/").pop().split("?")[0];
-    var data = assets[name];
-    if (data === undefined) return realFetch.apply(this, arguments);
-    var type = /\.wasm$/.test(name) ? "application/wasm" : "application/octet-stream";
-    return realFetch("data:" + type + ";base64," + data).then(function (response) {
-      return response.arrayBuffer();
-    }).then(function (bytes) {
-      return new Response(bytes, { headers: { "Content-Type": type } });
-    });
-  };
+  // Pyodide's binaries come from what the page handed over (answered-fetch.js, first in
+  // this worker's text)
+  self.rsAnswerFetch(function () { return assets; });
 
   function out(line) {
     printed += 1;

@@ -166,3 +166,20 @@ def test_a_spec_with_hidden_runs_is_shipped_with_a_warning(tmp_path: Path) -> No
         "warning: square-50cm has hidden runs: the page carries the spec, so a student who"
         " reads the page's files can see them; ship a practice spec without hidden runs\n"
     ) in result.stderr
+
+
+def test_the_page_and_its_worker_answer_fetch_with_one_shared_script(tmp_path: Path) -> None:
+    built = build_web_app(
+        tmp_path / "app",
+        pyodide=str(_fake_pyodide(tmp_path / "pyodide")),
+        codemirror=str(_fake_codemirror(tmp_path / "cm")),
+    )
+    assets = tmp_path / "app" / "roboscript-web"
+    shim = (assets / "answered-fetch.js").read_text(encoding="utf-8")
+    assert '<script src="roboscript-web/answered-fetch.js">' in built.page.read_text("utf-8")
+    worker = (assets / "worker-source.js").read_text(encoding="utf-8")
+    source = json.loads(worker.removeprefix("window.rsWorkerSource = ").removesuffix(";\n"))
+    assert source.startswith(shim)
+    for script in ("app.js", "worker.js"):  # neither keeps a copy of its own
+        text = (Path(build.__file__).parent / script).read_text(encoding="utf-8")
+        assert "self.fetch = " not in text and "window.fetch = " not in text
