@@ -483,9 +483,11 @@
     input.value = "";
     note.textContent = "";
     note.removeAttribute("data-refused");
+    note.removeAttribute("data-opened");
     function refuse(text) {
       note.textContent = text;
       note.setAttribute("data-refused", "1");
+      note.setAttribute("data-opened", file.name);  // handled (a test waits for it)
     }
     if (file.size > MAX_OPENED_BYTES) {
       refuse("Not opened: " + file.name + " is " + (file.size / 1e6).toFixed(1) + " MB, far " +
@@ -507,6 +509,7 @@
           "(Windows-1252) text: check its accented letters. Save writes it as UTF-8.";
       }
       load(file.name, text);
+      note.setAttribute("data-opened", file.name);
     });
   }
 

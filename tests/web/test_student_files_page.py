@@ -47,11 +47,12 @@ def _type(page: Browser, name: str, text: str) -> None:
 
 def _open(page: Browser, path: Path) -> None:
     """Choose ``path`` in the page's Open… file input, as the browser's chooser does."""
-    page.evaluate(f"{NOTE}.textContent = 'opening'")
+    page.evaluate(f"{NOTE}.removeAttribute('data-opened')")
     root = page._call("DOM.getDocument")["root"]["nodeId"]
     node = page._call("DOM.querySelector", {"nodeId": root, "selector": "[data-role=file]"})
     page._call("DOM.setFileInputFiles", {"files": [str(path)], "nodeId": node["nodeId"]})
-    page.wait_for(f"{NOTE}.textContent !== 'opening'", LONG_S)
+    # read and handled (the file is read after the chooser's answer, in its own time)
+    page.wait_for(f"{NOTE}.dataset.opened === {json.dumps(path.name)}", LONG_S)
 
 
 @pytest.mark.parametrize(
@@ -124,13 +125,13 @@ def test_a_file_whose_name_is_not_utf8_opens_and_is_checked(page: Browser) -> No
     # as the browser would give it).
     text = HELLO.replace("{rotate:", "{rotat:")
     page.evaluate(
-        f"{NOTE}.textContent = 'opening';"
+        f"{NOTE}.removeAttribute('data-opened');"
         "(function () { var input = document.querySelector('[data-role=file]');"
         " var files = new DataTransfer();"
         f" files.items.add(new File([{json.dumps(text)}], 'mission-\\ufffd.yaml'));"
         " input.files = files.files; input.dispatchEvent(new Event('change')); })()"
     )
-    page.wait_for(f"{NOTE}.textContent !== 'opening'", LONG_S)
+    page.wait_for(f"{NOTE}.dataset.opened", LONG_S)
     assert page.evaluate(f"{NOTE}.textContent") == ""
     assert page.evaluate(f"{EDITOR}.getValue()") == text
     page.wait_for(f"{PROBLEMS}.dataset.errors === '1'", LONG_S)
