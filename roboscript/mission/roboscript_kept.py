@@ -1,4 +1,5 @@
-"""roboscript's own classes and names, kept as roboscript makes them while a student's file loads.
+"""roboscript's own classes and names, and Python's built-in names, kept as they are made while a
+student's file loads.
 
 A mission file that writes ``Drive.update = fast`` or ``roboscript.Drive = MyDrive`` would
 change what every mission loaded after it in the same program builds (``roboscript check`` of a
@@ -6,12 +7,15 @@ class's folder), and a run at home would differ from the teacher's, where each r
 program of its own. So a change a file makes to them while it loads is put back and refused,
 located at the line that makes it; the same line inside a method (a condition that changes
 ``Drive`` as the robot runs) is refused before the robot moves. A built-in robot profile is
-kept by :class:`roboscript.profiles.BuiltinsKept`.
+kept by :class:`roboscript.profiles.BuiltinsKept`. Python's built-in names (``print``,
+``open``, ``__import__``) are kept the same way: roboscript's own code calls them too, so a file
+that wrote ``builtins.print = None`` would break the very sentence that tells its mistake.
 """
 
 from __future__ import annotations
 
 import ast
+import builtins
 import sys
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -47,8 +51,8 @@ class Change:
     owner: str
     name: str
     kind: str
-    """``module`` (one of roboscript's modules: a name replaced), ``class`` or ``robot`` (a
-    built-in robot profile)."""
+    """``module`` (one of roboscript's modules: a name replaced), ``class``, ``robot`` (a
+    built-in robot profile) or ``python`` (one of Python's built-in names)."""
 
     def sentence(self) -> tuple[str, str]:
         """``(message, hint)`` for a student who made this change."""
@@ -64,6 +68,14 @@ class Change:
                     f" my_{self.owner}.yaml holding 'extends: {self.owner}' and '{self.name}: ...';"
                     f' then write robot = "my_{self.owner}.yaml"'
                 ),
+            )
+        if self.kind == "python":
+            return (
+                (
+                    f"this changes Python's own '{self.name}', which roboscript's code uses too,"
+                    " so Python's stays as it is"
+                ),
+                f"give yours a name of its own and use that name, e.g. my_{self.name.strip('_')}",
             )
         if self.kind == "module":
             return (
@@ -98,6 +110,8 @@ class RoboscriptKept:
             for name, module in list(sys.modules.items())
             if is_roboscript_module(name) and isinstance(module, ModuleType)
         ]
+        # Every built-in name but ``_`` (the interpreter's last value, gettext's translator).
+        self._python = {k: v for k, v in vars(builtins).items() if k != "_"}
 
     def changed(self) -> list[Change]:
         """Each attribute changed, added, or taken away since this was made; each is put back
@@ -131,6 +145,20 @@ class RoboscriptKept:
                 if names.get(name, _GONE) is not value:
                     found.append(Change(module.__name__, name, "module"))
                     names[name] = value
+        found.extend(self._python_changed())
+        return found
+
+    def _python_changed(self) -> list[Change]:
+        names = vars(builtins)
+        found: list[Change] = []
+        for name in sorted(set(names) | set(self._python)):
+            if name == "_" or names.get(name, _GONE) is self._python.get(name, _GONE):
+                continue
+            found.append(Change("builtins", name, "python"))
+            if name in self._python:
+                names[name] = self._python[name]
+            else:
+                del names[name]
         return found
 
 
@@ -172,6 +200,14 @@ def _targets(node: ast.AST) -> Iterator[tuple[ast.expr, str]]:
         yield node.args[0], node.args[1].value
     for target in targets:
         for part in ast.walk(target) if isinstance(target, ast.Tuple | ast.List) else [target]:
+            if (
+                isinstance(part, ast.Subscript)
+                and isinstance(part.value, ast.Name)
+                and isinstance(part.slice, ast.Constant)
+                and isinstance(part.slice.value, str)
+            ):
+                yield part.value, part.slice.value  # __builtins__["len"] = ...
+                continue
             if isinstance(part, ast.Subscript) and isinstance(part.value, ast.Attribute):
                 part = part.value  # Drive.params[0] = ...: changes what Drive holds
             if isinstance(part, ast.Attribute):
@@ -180,6 +216,8 @@ def _targets(node: ast.AST) -> Iterator[tuple[ast.expr, str]]:
 
 def _change(owner: ast.expr, name: str, names: dict[str, Any]) -> Change | None:
     value = _resolved(owner, names)
+    if (value is builtins or value is vars(builtins)) and name != "_":
+        return Change("builtins", name, "python")
     if isinstance(value, ModuleType) and is_roboscript_module(value.__name__):
         return Change(value.__name__, name, "module")
     if isinstance(value, type) and not is_student_class(value):

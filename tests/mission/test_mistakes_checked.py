@@ -272,6 +272,30 @@ MISTAKES: dict[str, tuple[str, list[str]]] = {
             )
         ],
     ),
+    # Python's own names: roboscript's code calls them too (the next files' errors are
+    # printed with the print this one replaced), so they are put back and refused.
+    "change_python_print.py": (
+        CHANGES.replace("CHANGE", '__builtins__["print"] = None').replace("IN_METHOD", "pass"),
+        [
+            (
+                "8:1: error: this changes Python's own 'print', which roboscript's code uses"
+                " too, so Python's stays as it is (give yours a name of its own and use that"
+                " name, e.g. my_print)"
+            )
+        ],
+    ),
+    "change_python_at_run_time.py": (
+        CHANGES.replace("CHANGE", "import builtins").replace(
+            "IN_METHOD", "builtins.len = lambda thing: 0"
+        ),
+        [
+            (
+                "16:9: error: this changes Python's own 'len', which roboscript's code uses"
+                " too, so Python's stays as it is (give yours a name of its own and use that"
+                " name, e.g. my_len)"
+            )
+        ],
+    ),
     # --- conditions written as another language writes them
     "condition_ampersand.yaml": (
         YAML_WHEN.replace("IF", "bumper.left & bumper.right"),
