@@ -73,6 +73,23 @@ def run_cli(
     )
 
 
+def checked_by_file(folder: Path, names: list[str]) -> tuple[dict[str, list[str]], str]:
+    """Run one ``roboscript check`` of ``names`` in ``folder`` (in that order).
+
+    Returns:
+        What it printed about each file (each line after the file's name, in order), and its
+        last line (the count of files checked).
+    """
+    result = run_cli("check", *names, cwd=folder)
+    assert "Traceback" not in result.stderr, result.stderr
+    printed: dict[str, list[str]] = {name: [] for name in names}
+    for line in result.stderr.splitlines():
+        name, _, rest = line.partition(":")
+        if name in printed:
+            printed[name].append(rest)
+    return printed, result.stderr.splitlines()[-1]
+
+
 @contextlib.contextmanager
 def served_simulator(robot: str, *options: str) -> Iterator[int]:
     """Serve a simulated ``robot`` on loopback TCP (``roboscript sim``, a real process).

@@ -14,8 +14,19 @@ from browser import Browser, chromium
 
 from roboscript.web.build import BuiltApp, WebBuildError, build_web_app
 
-__all__ = ["LONG_S", "build_or_skip", "open_offline"]
+__all__ = ["FLOOD", "LONG_S", "build_or_skip", "open_offline"]
 
+FLOOD = """from roboscript import Mission, Wait, state
+
+for n in range(2500):
+    print("again", n)
+
+
+class Flood(Mission):
+    wait = state(Wait(0.2), initial=True, on_done="done")
+    done = state(final="success")
+"""
+"""A mission that prints 2500 lines while it loads: more than a run's record keeps."""
 LONG_S = 900.0  # Python in WebAssembly on a saturated machine takes its time; never a limit
 
 

@@ -19,7 +19,7 @@ import zipfile
 from pathlib import Path
 
 import pytest
-from helpers import run_cli
+from helpers import checked_by_file, run_cli
 
 Y = """\
 mission: m
@@ -1695,18 +1695,12 @@ def checked(tmp_path_factory: pytest.TempPathFactory) -> dict[str, list[str]]:
     folder: Path = tmp_path_factory.mktemp("classroom")
     for name, (text, _) in MISTAKES.items():
         (folder / name).write_bytes(text if isinstance(text, bytes) else text.encode("utf-8"))
-    result = run_cli("check", *MISTAKES, cwd=folder)
-    assert "Traceback" not in result.stderr, result.stderr
-    printed: dict[str, list[str]] = {name: [] for name in MISTAKES}
-    for line in result.stderr.splitlines():
-        name, _, rest = line.partition(":")
-        if name in printed:
-            printed[name].append(rest)
+    printed, summary = checked_by_file(folder, list(MISTAKES))
     refused = sum(
         any(re.match(r"(\d+:\d+: | )error: ", line) for line in answer)
         for _, answer in MISTAKES.values()
     )
-    assert result.stderr.splitlines()[-1] == f"checked {len(MISTAKES)} files: {refused} with errors"
+    assert summary == f"checked {len(MISTAKES)} files: {refused} with errors"
     return printed
 
 

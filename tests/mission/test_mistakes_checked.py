@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from helpers import run_cli
+from helpers import checked_by_file, run_cli
 
 from roboscript.actions.composite import Repeat
 
@@ -725,15 +725,9 @@ def checked(tmp_path_factory: pytest.TempPathFactory) -> dict[str, list[str]]:
     names = sorted(MISTAKES, key=lambda name: name != "change_update.py")
     for name in names:
         (folder / name).write_text(MISTAKES[name][0], encoding="utf-8")
-    result = run_cli("check", *names, cwd=folder)
-    assert "Traceback" not in result.stderr, result.stderr
-    printed: dict[str, list[str]] = {name: [] for name in names}
-    for line in result.stderr.splitlines():
-        name, _, rest = line.partition(":")
-        if name in printed:
-            printed[name].append(rest)
+    printed, summary = checked_by_file(folder, names)
     refused = sum(any(": error:" in line for line in MISTAKES[name][1]) for name in names)
-    assert result.stderr.splitlines()[-1] == f"checked {len(names)} files: {refused} with errors"
+    assert summary == f"checked {len(names)} files: {refused} with errors"
     return printed
 
 

@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 from helpers import HANG_BOUND_S, MISSIONS, run_cli
 from test_watchdog import LOOPING_BEHAVIOUR_FILE, SPIN, no_timer_signal
+from web_app import FLOOD
 
 from roboscript.web.bridge import _folder as scratch_folder
 from roboscript.web.bridge import check_text, diagram_text, grade_text, load_specs, run_text
@@ -237,18 +238,6 @@ def test_two_programs_using_the_page_functions_at_once_never_share_a_file() -> N
     ).stdout.strip()  # fmt: skip
     assert other and Path(other) != scratch_folder()
     assert Path(other).parent != scratch_folder().parent  # the specs' folder is beside it
-
-
-FLOOD = """from roboscript import Mission, Wait, state
-
-for n in range(2500):
-    print("again", n)
-
-
-class Flood(Mission):
-    wait = state(Wait(0.2), initial=True, on_done="done")
-    done = state(final="success")
-"""
 
 
 def test_a_flood_of_print_is_counted_in_one_sentence_and_the_record_keeps_its_bound() -> None:

@@ -16,7 +16,7 @@ import json
 import pytest
 from browser import Browser
 from test_watchdog import SPIN
-from web_app import LONG_S
+from web_app import FLOOD, LONG_S
 
 from roboscript.mission.channels import MAX_PRINTED_LINES
 
@@ -41,16 +41,6 @@ LONG = BUSY.format(name="Long", body="        sum(range(300))")
 # 1.5 GB, more than the page's Python may have (1 GB), fewer than a 32-bit Python refuses
 # by itself: only the page's bound refuses it, at once, without touching a byte
 HOG = BUSY.format(name="Hog", body="        self.kept.append(bytearray(1_500_000_000))")
-FLOOD = """from roboscript import Mission, Wait, state
-
-for n in range(2500):
-    print("again", n)
-
-
-class Flood(Mission):
-    wait = state(Wait(0.2), initial=True, on_done="done")
-    done = state(final="success")
-"""
 OUT_OF_MEMORY = (
     "Python in this page ran out of memory: your code asked for more than the 1 GB the page"
     " gives it (does it keep making lists or strings that grow without end?). The page started"
