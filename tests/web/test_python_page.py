@@ -56,10 +56,13 @@ class Peek(Mission):
 
 
 def _run(page: Browser, name: str, text: str) -> dict[str, object]:
+    # The text before the name, and the last check's answer cleared: a name changed first is
+    # checked with the last text, and that answer could disable Run as it is pressed.
     page.evaluate(
+        f"document.querySelector('.CodeMirror').CodeMirror.setValue({json.dumps(text)});"
         f"document.querySelector('[data-role=name]').value = {json.dumps(name)};"
         "document.querySelector('[data-role=name]').dispatchEvent(new Event('change'));"
-        f"document.querySelector('.CodeMirror').CodeMirror.setValue({json.dumps(text)});"
+        "document.querySelector('[data-role=problems]').removeAttribute('data-errors');"
         "document.querySelector('[data-role=result]').removeAttribute('data-outcome');"
     )
     page.wait_for("document.querySelector('[data-role=problems]').dataset.errors === '0'", LONG_S)
