@@ -87,6 +87,17 @@ def _summary(page: Browser) -> dict[str, object]:
     return summary
 
 
+def _press_stop(page: Browser) -> None:
+    """The Stop button's own click (a mouse click can miss a button the page just moved)."""
+    page.evaluate("document.querySelector('[data-action=stop-run]').click()")
+
+
+def _run_hello(page: Browser) -> None:
+    """Run the hello example after a stopped or refused run: it reaches its last state."""
+    _start(page, "hello.yaml", page.evaluate("window.rsExamples['hello.yaml']"))
+    assert _summary(page)["final_state"] == "beep"
+
+
 def test_the_page_answers_while_the_students_code_loops_forever(page: Browser) -> None:
     shown = _start(page, "spin.py", SPIN)
     # the page ran this script while the loop went on: the run is not over, Stop is offered
@@ -102,16 +113,14 @@ def test_the_page_answers_while_the_students_code_loops_forever(page: Browser) -
 
 def test_stop_ends_a_run_at_once_and_the_next_run_gets_a_fresh_python(page: Browser) -> None:
     assert _start(page, "long.py", LONG)["stop"] is True
-    page.click("[data-action=stop-run]")
+    _press_stop(page)
     stopped = page.wait_for(f"{RESULT}.dataset.stopped", LONG_S)
     assert stopped == (
         "Stopped with the Stop button: the run was ended and nothing of it was kept."
     )
     assert page.evaluate(f"{RESULT}.dataset.outcome") is None
     assert page.evaluate("document.querySelector('[data-action=stop-run]').disabled") is True
-    hello = page.evaluate("window.rsExamples['hello.yaml']")
-    _start(page, "hello.yaml", hello)
-    assert _summary(page)["final_state"] == "beep"
+    _run_hello(page)
     assert page.errors == []
 
 
@@ -130,11 +139,9 @@ def test_code_that_asks_for_more_memory_than_the_page_gives_is_told_and_python_s
     assert int(page.evaluate("document.body.dataset.heapBytes")) < 1024**3 // 2
     assert _start(page, "long.py", LONG)["stop"] is True
     assert page.evaluate(f"{NOTE}.textContent") == ""  # said till the next run
-    page.click("[data-action=stop-run]")
+    _press_stop(page)
     page.wait_for(f"{RESULT}.dataset.stopped", LONG_S)
-    hello = page.evaluate("window.rsExamples['hello.yaml']")
-    _start(page, "hello.yaml", hello)
-    assert _summary(page)["final_state"] == "beep"
+    _run_hello(page)
     assert page.errors == []
 
 
