@@ -337,7 +337,7 @@ class MissionBuilder:
         if misdefined is not None:  # def update(ctx): would raise at every tick
             self.problem(misdefined[0], where, misdefined[1])
             return None
-        if not _is_built_in(cls) and cls not in self._sleeps_told:
+        if cls not in self._sleeps_told:  # a subclass of a built-in (Cruise(Drive)) too
             self._sleeps_told.add(cls)
             self.tell_sleeps(cls)
         kwargs, problems = action_params(cls, values, state_names, written=instance is None)

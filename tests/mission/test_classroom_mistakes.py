@@ -494,6 +494,27 @@ MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
             ),
         ],
     ),
+    "sleep_in_a_drive_of_its_own.py": (
+        "import time\n\nfrom roboscript import Drive, Mission, state\n\n\n"
+        "class Cruise(Drive):\n    def update(self, ctx):\n        time.sleep(0.5)\n"
+        "        return super().update(ctx)\n\n\nclass M(Mission):\n"
+        '    go = state(Cruise(distance_mm=300), initial=True, on_done="end")\n'
+        '    end = state(final="success")\n',
+        [
+            (
+                "8:9: warning: time.sleep(0.5) in Cruise.update() holds up the whole robot for"
+                " 0.5 s: Cruise.update() is run once every tick (0.02 s), and while it sleeps no"
+                " condition is checked, no timeout counted and no other action run (a condition or"
+                " update() must return at once; wait with a state's action or timeout, never"
+                " time.sleep: e.g. a state of its own, pause = state(Wait(duration_s=2),"
+                ' on_done="next"))'
+            ),
+            (
+                "13:16: warning: if 'drive' fails (stalled) in state 'go', the mission ends in"
+                ' failure (add on_failed="STATE" to handle it)'
+            ),
+        ],
+    ),
     "sleep_imported_alone.py": (
         pa("sleep(1)\n        return Result.done()").replace(
             "import time\n", "from time import sleep\n"
