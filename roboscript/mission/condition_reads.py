@@ -52,6 +52,8 @@ YAML_WAIT = "pause: {do: {wait: {duration: 2 s}}, on: {done: next}}"
 """A wait, as a YAML mission writes it (in a sleep's fix)."""
 
 _ENDS_PROGRAM = frozenset({"exit", "quit", "sys.exit", "os._exit"})
+_STAYS_IN_LOOP = frozenset({*dir(builtins), "time.sleep"})
+"""Calls that cannot leave a loop by themselves (Python's built-in functions, a sleep)."""
 _NO_KEYBOARD = "input() waits for someone to type, and a running mission has no one at the keyboard"
 _READ_AT_ONCE = "a condition reads the robot and returns at once, e.g. return self.bumper.any"
 _NOT_THE_ROBOT = frozenset({"robot", "world", "name"})
@@ -610,7 +612,7 @@ def _ends(body: list[ast.stmt]) -> bool:
                 return True
             if isinstance(child, ast.Call):
                 called = _called(child)
-                if called in _ENDS_PROGRAM or called not in (*dir(builtins), "time.sleep"):
+                if called in _ENDS_PROGRAM or called not in _STAYS_IN_LOOP:
                     return True
     return False
 

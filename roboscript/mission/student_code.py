@@ -435,17 +435,12 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
     except MissionError:
         del sys.modules[name]
         raise
-    except PASSES_THROUGH_STUDENT_CODE as exc:  # stopped while it ran (a loop at its top, Ctrl-C)
-        del sys.modules[name]
-        kept.changed()
-        own.changed()
-        if passes_through(exc):
-            raise
-        raise _import_problem(exc, path, module, kind) from None
-    except BaseException as exc:  # noqa: BLE001 - reported in the student's terms
+    except BaseException as exc:  # reported in the student's terms, or passed through
         del sys.modules[name]
         kept.changed()  # a change made before the exception is undone too
         own.changed()
+        if passes_through(exc):  # stopped while it ran (a loop at its top, Ctrl-C)
+            raise
         raise _import_problem(exc, path, module, kind) from None
     finally:
         if folder in sys.path:
