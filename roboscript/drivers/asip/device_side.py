@@ -351,12 +351,10 @@ class RequestReader:
             self.stats.fault("overlong", dropped)
             raise RemoteProtocolError(f"{dropped} request bytes over the buffer", kind="overlong")
         buf = self._buf
-        if self._skip_line:
-            # The firmware skips the rest of the line after its answer: what has arrived by
-            # now (a UART board has received more while it wrote), never waiting for more.
-            self._skip_line = False
-            newline = buf.find(_NEWLINE)
-            del buf[: len(buf) if newline < 0 else newline + 1]
+        # The firmware skips the rest of the line after its answer: what has arrived by now (a
+        # UART board has received more while it wrote), never waiting for more.
+        self.skip_received()
+        self.end_skip()
         # Bytes up to ' ' between requests are harmless.
         skip = 0
         while skip < len(buf) and buf[skip] <= 0x20:
