@@ -33,6 +33,7 @@ from types import FrameType
 
 __all__ = [
     "HANDLED_SIGNALS",
+    "OUTSIDE_SIGNALS",
     "Interrupted",
     "deferred",
     "exit_status_for",
@@ -41,12 +42,26 @@ __all__ = [
     "kept",
     "raise_dropped",
     "reason_for",
+    "signal_name",
 ]
 
 HANDLED_SIGNALS: tuple[signal.Signals, ...] = tuple(
     getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name)
 )
 """The signals that end a run with the robot stopped (SIGHUP does not exist on Windows)."""
+
+OUTSIDE_SIGNALS: frozenset[int] = frozenset(int(s) for s in HANDLED_SIGNALS if s != signal.SIGINT)
+"""The signals something outside may send a graded run to end it (SIGTERM, SIGHUP): a
+teacher's ``kill``, a process manager stopping the grader; never a keyboard in a graded run."""
+
+
+def signal_name(signum: int) -> str:
+    """``SIGTERM`` for 15; ``signal 99`` for a number this system has no name for."""
+    try:
+        return signal.Signals(signum).name
+    except ValueError:
+        return f"signal {signum}"
+
 
 _WHY = {
     "SIGINT": "interrupted by Ctrl-C",

@@ -56,7 +56,13 @@ from types import ModuleType
 from typing import TYPE_CHECKING, Any, NamedTuple, TextIO
 
 from roboscript.code_owner import ROBOSCRIPT, is_student_file, owner_of_file
-from roboscript.interrupts import HANDLED_SIGNALS, Interrupted, exit_status_for, reason_for
+from roboscript.interrupts import (
+    OUTSIDE_SIGNALS,
+    Interrupted,
+    exit_status_for,
+    reason_for,
+    signal_name,
+)
 from roboscript.interrupts import install as install_interrupts
 from roboscript.mission.channels import MAX_PRINTED_LINES, PRINTED_LINE_CHARS
 from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError
@@ -289,10 +295,6 @@ def _run(
 _NO_CTRL_C = "no one presses Ctrl-C in a graded run; a mission ends by going to a final state"
 _NO_SIGNAL = "a mission ends by going to a final state, not by sending itself a signal"
 
-_OUTSIDE_SIGNALS = frozenset(int(s) for s in HANDLED_SIGNALS if s != signal.SIGINT)
-"""The signals something outside may send a graded run to end it (SIGTERM, SIGHUP): a
-teacher's ``kill``, a process manager stopping the grader. Any other signal can only be the
-mission's own, and so can these when its own code sent them (:func:`_own_signals`)."""
 
 _CAUGHT_SIGNALS = tuple(
     getattr(signal, name)
@@ -331,24 +333,17 @@ def _own_interrupt(
     submission).
     """
     signum = exc.signum if isinstance(exc, Interrupted) else None
-    if signum in _OUTSIDE_SIGNALS and signum not in _sent_itself:
+    if signum in OUTSIDE_SIGNALS and signum not in _sent_itself:
         return None
     if signum is None:
         did, why = f"raised {type(exc).__name__}", _NO_CTRL_C
     elif signum == signal.SIGINT:
         did, why = "sent its own process SIGINT (Ctrl-C's signal)", _NO_CTRL_C
     else:
-        did, why = f"sent its own process {_signal_name(signum)}", _NO_SIGNAL
+        did, why = f"sent its own process {signal_name(signum)}", _NO_SIGNAL
     student = [f for f in traceback.extract_tb(exc.__traceback__) if is_student_file(f.filename)]
     where = f"{shown(student[-1].filename)}:{student[-1].lineno}" if student else ""
     return _OwnStop(did, where, why)
-
-
-def _signal_name(signum: int) -> str:
-    try:
-        return signal.Signals(signum).name
-    except ValueError:
-        return f"signal {signum}"
 
 
 def _own_signals() -> None:

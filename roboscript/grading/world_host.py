@@ -49,7 +49,6 @@ from __future__ import annotations
 import math
 import re
 import select
-import signal
 import socket
 import sys
 import tempfile
@@ -78,7 +77,7 @@ from roboscript.grading.record import MAX_GRADED_STATES, RunRecord, RunStatus
 from roboscript.grading.sandbox import Jail, JailedRun, Limits, WarmJail
 from roboscript.grading.spec import TestSpec, Variant
 from roboscript.grading.submissions import named_files
-from roboscript.interrupts import HANDLED_SIGNALS, Interrupted
+from roboscript.interrupts import OUTSIDE_SIGNALS, Interrupted, signal_name
 from roboscript.mission.cause import TransitionCause
 from roboscript.mission.channels import PRINTED_LINE_CHARS, printed_line
 from roboscript.mission.runner import MISSION_OUTCOMES
@@ -654,17 +653,18 @@ class _WorldSession:
             states=tuple(self.claims.states),
         )
 
-    def _wait_exit(self) -> None:
+    def _wait_exit(self) -> int | None:
+        """The mission process's exit status, once it has ended (``None`` when it went on and
+        this side ended it)."""
         # Asleep until the process ends or writes (a jail's wait drains its output), never
         # waking on a timer meanwhile.
-        self.jail.wait(_EXIT_GRACE_S)
+        status = self.jail.wait(_EXIT_GRACE_S)
         self.jail.kill()
+        return status
 
     def _ended(self) -> WorldRun:
         """The wire closed before the mission finished."""
-        # None when the process went on without its wire, and this side ended it
-        status = self.jail.wait(_EXIT_GRACE_S)
-        self.jail.kill()
+        status = self._wait_exit()
         output = self._output()
         return WorldRun(
             status="crashed",
@@ -903,8 +903,6 @@ _EXCEPTION_LINE = re.compile(
 )
 
 
-_OUTSIDE_SIGNALS = tuple(s for s in HANDLED_SIGNALS if s != signal.SIGINT)
-
 _CRASHED_INSIDE = (
     "Python itself crashed: code that reaches past Python (ctypes) or a recursion limit set"
     " too high (sys.setrecursionlimit) can do that"
@@ -922,10 +920,7 @@ def _killed_by(signum: int) -> str:
     """Why a mission process a signal killed ended, in one clause: the grader never sends
     one to a run it has not already ended itself, so it came from the kernel or the
     mission's own processes."""
-    try:
-        name = signal.Signals(signum).name
-    except ValueError:
-        name = f"signal {signum}"
+    name = signal_name(signum)
     why = _KILLED_WHY.get(name, "its own code sent it (the grader sends a run no signal)")
     return f"its process was killed by {name} ({why})"
 
@@ -948,7 +943,7 @@ def crash_message(stderr: str, exit_status: int | None, loaded: bool) -> str:
     ):  # its wire closed under it, or it closed its wire and went on without it
         return f"the run crashed{phase}: {WIRE_BROKEN}"
     # SIGINT is never the grader's (a jail has no terminal): mission_host says whose it was
-    if exit_status - 128 in _OUTSIDE_SIGNALS:
+    if exit_status - 128 in OUTSIDE_SIGNALS:
         reason = Interrupted(exit_status - 128).reason
         if lines and lines[-1] == reason:  # ended on a signal's sentence (mission_host)
             return f"the run crashed{phase}: {reason}"
