@@ -348,12 +348,10 @@ def grade_class(
         with contextlib.suppress(OSError):
             info = os.stat(spec.path)
             teachers[info.st_dev, info.st_ino] = Path(spec.path).name
-    submissions = [
-        replace(s, problem=teachers_file_held(started[s.student], teachers))
-        if s.student in started and teachers_file_held(started[s.student], teachers)
-        else s
-        for s in submissions
-    ]
+    submissions = list(submissions)  # the caller's list stays as it was
+    for i, s in enumerate(submissions):
+        if s.student in started and (held := teachers_file_held(started[s.student], teachers)):
+            submissions[i] = replace(s, problem=held)
     tasks: list[RunTask] = []
     slots: list[RunResult | int] = []  # a missing submission's result, or its task's index
     for spec in specs:
