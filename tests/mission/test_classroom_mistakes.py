@@ -495,11 +495,13 @@ MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
         ],
     ),
     "sleep_in_a_drive_of_its_own.py": (
-        "import time\n\nfrom roboscript import Drive, Mission, state\n\n\n"
-        "class Cruise(Drive):\n    def update(self, ctx):\n        time.sleep(0.5)\n"
-        "        return super().update(ctx)\n\n\nclass M(Mission):\n"
-        '    go = state(Cruise(distance_mm=300), initial=True, on_done="end")\n'
-        '    end = state(final="success")\n',
+        (
+            "import time\n\nfrom roboscript import Drive, Mission, state\n\n\n"
+            "class Cruise(Drive):\n    def update(self, ctx):\n        time.sleep(0.5)\n"
+            "        return super().update(ctx)\n\n\nclass M(Mission):\n"
+            '    go = state(Cruise(distance_mm=300), initial=True, on_done="end")\n'
+            '    end = state(final="success")\n'
+        ),
         [
             (
                 "8:9: warning: time.sleep(0.5) in Cruise.update() holds up the whole robot for"
