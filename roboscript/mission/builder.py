@@ -273,12 +273,16 @@ class MissionBuilder:
 
     Args:
         path: The mission file, as messages name it.
+        sources: Python files parsed already, by the name Python knows them (a code
+            object's ``co_filename``), shared with whoever else reads them (the Python
+            mission compiler): each file is parsed once, however many classes it holds.
     """
 
-    def __init__(self, path: str) -> None:
+    def __init__(self, path: str, sources: dict[str, PythonSource] | None = None) -> None:
         self.path = path
         self.problems: list[InputError] = []
         self._sleeps_told: set[type[Action]] = set()  # a class used in many states: once
+        self._sources: dict[str, PythonSource] = {} if sources is None else sources
 
     def problem(
         self, message: str, where: Location | None, hint: str | None = None, severity: str = "error"
@@ -406,25 +410,29 @@ class MissionBuilder:
             action_class=cls,
         )
 
+    def source_of(self, filename: str) -> PythonSource:
+        """The Python file ``filename`` (a code object's ``co_filename``), parsed the first
+        time it is asked for; named as the mission when it is the mission file."""
+        if filename not in self._sources:
+            same = Path(filename).resolve() == Path(self.path).resolve()
+            shown = self.path if same else shown_path(filename)
+            self._sources[filename] = PythonSource(filename, shown)
+        return self._sources[filename]
+
     def tell_sleeps(self, cls: type[Action]) -> None:
         """Warn about each ``time.sleep`` in a student's action class (its ``update`` is run
         every tick, and holds up the robot while it sleeps), and about each ``return`` of its
         ``update`` that gives no Result (``return True``), at its line."""
         example = PY_WAIT if self.path.endswith(".py") else YAML_WAIT
-        mission_file = Path(self.path).resolve()
-        for function, call in action_sleeps(cls):
-            filename = function.__code__.co_filename
-            shown = self.path if Path(filename).resolve() == mission_file else shown_path(filename)
+        for function, call in action_sleeps(cls, self.source_of):
             message, hint = sleep_warning(call, f"{cls.__name__}.{function.__name__}()", example)
-            where = PythonSource(filename, shown).loc(call)
+            where = self.source_of(function.__code__.co_filename).loc(call)
             self.problem(message, where, hint, "warning")
-        for function, returned, what, fix in update_returns(cls):
-            filename = function.__code__.co_filename
-            shown = self.path if Path(filename).resolve() == mission_file else shown_path(filename)
+        for function, returned, what, fix in update_returns(cls, self.source_of):
             self.problem(
                 f"{cls.__name__}.update() returns {what}, and roboscript reads what update()"
                 " returns as how the action is going: a Result, or None while it runs",
-                PythonSource(filename, shown).loc(returned),
+                self.source_of(function.__code__.co_filename).loc(returned),
                 fix,
                 "warning",  # the run ends in failure, with its sentence, if it is reached
             )

@@ -33,9 +33,11 @@ __all__ = [
     "PY_WAIT",
     "YAML_WAIT",
     "Slip",
+    "SourceOf",
     "action_sleeps",
     "condition_slips",
     "endless_waits",
+    "parsed_once",
     "sleep_warning",
     "sleeps_in",
     "update_returns",
@@ -444,10 +446,18 @@ def sleeps_in(
     return sorted(found, key=lambda call: (call.lineno, call.col_offset))
 
 
-def action_sleeps(cls: type) -> list[tuple[FunctionType, ast.Call]]:
+SourceOf = Callable[[str], PythonSource]
+"""The parsed file of a name as Python knows it (a code object's ``co_filename``)."""
+
+
+def action_sleeps(
+    cls: type, source_of: SourceOf | None = None
+) -> list[tuple[FunctionType, ast.Call]]:
     """Each ``time.sleep`` in the ``start``, ``update`` and ``stop`` of a student's action
     class, and in the methods of the class they call on ``self``, with the function it is in
-    (whose code names its file and line)."""
+    (whose code names its file and line). ``source_of`` gives each file parsed once (default:
+    parsed once for this call)."""
+    source_of = source_of or parsed_once()
     found: list[tuple[FunctionType, ast.Call]] = []
     todo = ["start", "update", "stop"]
     seen: set[str] = set()
@@ -462,7 +472,7 @@ def action_sleeps(cls: type) -> list[tuple[FunctionType, ast.Call]]:
             function.__code__.co_filename
         ):
             continue
-        node = _def_of(function)
+        node = _def_of(function, source_of)
         if node is None:
             continue
         found.extend((function, call) for call in sleeps_in(node, function.__globals__))
@@ -482,16 +492,19 @@ _ACTION_RETURNED = (
 )
 
 
-def update_returns(cls: type) -> list[tuple[FunctionType, ast.Return, str, str]]:
+def update_returns(
+    cls: type, source_of: SourceOf | None = None
+) -> list[tuple[FunctionType, ast.Return, str, str]]:
     """Each ``return`` in the ``update`` of a student's action class that gives what is no
     :class:`~roboscript.actions.base.Result` (``return True``, ``return Drive(...)``,
     ``return Result.done`` without its call), with the function, what it returns and the
-    fix; run, it would end the mission in failure."""
+    fix; run, it would end the mission in failure. ``source_of`` as in
+    :func:`action_sleeps`."""
     function = inspect.getattr_static(cls, "update", None)
     function = getattr(function, "__wrapped__", function)
     if not isinstance(function, FunctionType) or not is_student_file(function.__code__.co_filename):
         return []
-    node = _def_of(function)
+    node = _def_of(function, source_of or parsed_once())
     if node is None:
         return []
     found = []
@@ -530,12 +543,25 @@ def update_returns(cls: type) -> list[tuple[FunctionType, ast.Return, str, str]]
     return sorted(found, key=lambda item: item[1].lineno)
 
 
-def _def_of(function: FunctionType) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+def parsed_once(shown: Callable[[str], str] = str) -> SourceOf:
+    """A :data:`SourceOf` that parses each file the first time it is asked for and keeps it,
+    named in messages as ``shown`` names it."""
+    sources: dict[str, PythonSource] = {}
+
+    def source_of(filename: str) -> PythonSource:
+        if filename not in sources:
+            sources[filename] = PythonSource(filename, shown(filename))
+        return sources[filename]
+
+    return source_of
+
+
+def _def_of(
+    function: FunctionType, source_of: SourceOf
+) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
     """The ``def`` of ``function`` in its file's syntax tree, or ``None``."""
     code = function.__code__
-    return PythonSource(code.co_filename, code.co_filename).function_def(
-        code.co_name, code.co_firstlineno
-    )
+    return source_of(code.co_filename).function_def(code.co_name, code.co_firstlineno)
 
 
 def sleep_warning(call: ast.Call, runs: str, example: str) -> tuple[str, str]:

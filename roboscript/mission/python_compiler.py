@@ -428,10 +428,11 @@ class _Compiler:
         self.cls = cls
         self.file = _file_of(cls)
         self.shown = path or shown_path(self.file)
-        self.build = MissionBuilder(self.shown)
-        # Shared with nested compilers: each file is parsed once, and a Mission class nested
-        # in several states is compiled, checked and warned about once (None: it had errors).
+        # Shared with nested compilers and the builder: each file is parsed once, and a Mission
+        # class nested in several states is compiled, checked and warned about once (None: it
+        # had errors).
         self._sources: dict[str, PythonSource] = {} if sources is None else sources
+        self.build = MissionBuilder(self.shown, self._sources)
         self._nested: dict[type[Mission], MissionSpec | None] = {} if nested is None else nested
         self.source = self.source_of(self.file)
         self.states = mission_states(cls)

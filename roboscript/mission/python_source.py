@@ -37,6 +37,9 @@ class PythonSource:
             self.tree = ast.parse("".join(self.lines)) if self.lines else None
         except SyntaxError:
             self.tree = None
+        self._defs: dict[tuple[str, int], ast.FunctionDef | ast.AsyncFunctionDef] | None = None
+        """Each ``def`` by its name and first line, indexed at the first look-up: a check asks
+        for many methods of one file, and each look-up must not walk the whole file again."""
 
     def loc(self, node: ast.AST | None, line: int | None = None) -> Location:
         """Where ``node`` starts (or just ``line``, when there is no node)."""
@@ -83,14 +86,13 @@ class PythonSource:
         self, name: str, first_line: int
     ) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
         """The ``def NAME`` whose first line (decorators included) is ``first_line``."""
-        if self.tree is None:
-            return None
-        for node in ast.walk(self.tree):
-            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef) and node.name == name:
-                start = min([node.lineno, *(d.lineno for d in node.decorator_list)])
-                if start == first_line:
-                    return node
-        return None
+        if self._defs is None:
+            self._defs = {}
+            for node in ast.walk(self.tree) if self.tree is not None else ():
+                if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+                    start = min([node.lineno, *(d.lineno for d in node.decorator_list)])
+                    self._defs.setdefault((node.name, start), node)
+        return self._defs.get((name, first_line))
 
 
 def keyword(call: ast.expr | None, name: str) -> ast.expr | None:

@@ -425,10 +425,11 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
             spec.loader.exec_module(module)
         changed = kept.changed()
         changes = own.changed()
+        tree = _tree(module)  # once for each rule read from the file's text
         if changed:
-            raise _builtin_changed(changed, path, module)
-        _refuse_changes(changes, path, module)
-        _refuse_is_with_a_value(path, module)
+            raise _builtin_changed(changed, path, tree)
+        _refuse_changes(changes, path, module, tree)
+        _refuse_is_with_a_value(path, tree)
     except SyntaxError as exc:
         del sys.modules[name]
         raise _syntax_problem(exc, path) from None
@@ -461,10 +462,11 @@ def passes_through(exc: BaseException) -> bool:
     return not (isinstance(exc, GeneratorExit) and raised_by_student)
 
 
-def _refuse_is_with_a_value(path: str | Path, module: ModuleType) -> None:
-    """Refuse ``x is 20`` (or ``is "go"``): ``is`` asks whether two things are one object,
-    which a number read from a sensor never is, so the comparison is always false."""
-    for node in ast.walk(_tree(module) or ast.Module(body=[], type_ignores=[])):
+def _refuse_is_with_a_value(path: str | Path, tree: ast.Module | None) -> None:
+    """Refuse ``x is 20`` (or ``is "go"``) in the file's ``tree``: ``is`` asks whether two
+    things are one object, which a number read from a sensor never is, so the comparison is
+    always false."""
+    for node in ast.walk(tree or ast.Module(body=[], type_ignores=[])):
         if not isinstance(node, ast.Compare):
             continue
         sides = [node.left, *node.comparators]
@@ -497,16 +499,19 @@ def _refuse_is_with_a_value(path: str | Path, module: ModuleType) -> None:
 _NOTHING = object()
 
 
-def _refuse_changes(made: list[Change], path: str | Path, module: ModuleType) -> None:
+def _refuse_changes(
+    made: list[Change], path: str | Path, module: ModuleType, tree: ast.Module | None
+) -> None:
     """Refuse a file that changes roboscript's classes or names (``made`` while it loaded,
-    already put back), or has a line that would as it runs: at the first such line."""
-    written = changes_written(module, _tree(module))
+    already put back), or has a line of its ``tree`` that would as it runs: at the first
+    such line."""
+    written = changes_written(module, tree)
     if written:
         node, change = written[0]
         line, col = getattr(node, "lineno", None), getattr(node, "col_offset", None)
     elif made:
         change, col = made[0], None
-        line = _line_naming(module, {made[0].name})
+        line = _line_naming(tree, {made[0].name})
     else:
         return
     message, hint = change.sentence()
@@ -516,12 +521,12 @@ def _refuse_changes(made: list[Change], path: str | Path, module: ModuleType) ->
 
 
 def _builtin_changed(
-    changed: list[tuple[str, str]], path: str | Path, module: ModuleType
+    changed: list[tuple[str, str]], path: str | Path, tree: ast.Module | None
 ) -> MissionError:
     """The error for a file that changed a built-in robot profile while it was loaded, at
     the first line that names the changed field."""
     robot, field = changed[0]
-    line = _line_naming(module, {f for _, f in changed})
+    line = _line_naming(tree, {f for _, f in changed})
     named = ", ".join(f for r, f in changed if r == robot)
     return MissionError(
         f"this file changes the built-in robot '{robot}' ({named}), and a built-in robot"
@@ -551,10 +556,9 @@ def _robot_of_your_own(robot: str, field: str) -> str:
     )
 
 
-def _line_naming(module: ModuleType, names: set[str]) -> int | None:
-    """The first line of the student's file that names one of ``names`` as an attribute
-    (``mirto.gains[...] = ...``) or as text (``setattr(mirto, "gains", ...)``)."""
-    tree = _tree(module)
+def _line_naming(tree: ast.Module | None, names: set[str]) -> int | None:
+    """The first line of the student's file (its ``tree``) that names one of ``names`` as an
+    attribute (``mirto.gains[...] = ...``) or as text (``setattr(mirto, "gains", ...)``)."""
     lines = [
         node.lineno
         for node in (ast.walk(tree) if tree is not None else ())

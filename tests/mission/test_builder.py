@@ -928,3 +928,88 @@ def test_a_state_timeout_that_is_not_positive_shows_one_in_the_missions_language
         ),
         "checked 2 files: 2 with errors",
     ]
+
+
+# ------------------------------------------------------------- a student's file, read once
+
+
+def _chained_methods(count: int) -> str:
+    """A Python mission with two action classes, one of whose update() calls ``count``
+    methods in a chain, the last of which sleeps."""
+    steps = "".join(
+        f"\n    def step{n}(self):\n        return self.step{n + 1}()\n" for n in range(count)
+    )
+    return (
+        textwrap.dedent(
+            """\
+        import time
+
+        from roboscript import Action, Mission, Result, state
+
+
+        class Pause(Action):
+            name = "pause"
+
+            def update(self, ctx):
+                return self.step0()
+        """
+        )
+        + steps.replace(f"self.step{count}()", "time.sleep(1)")
+        + textwrap.dedent(
+            """
+
+        class Rest(Action):
+            name = "rest"
+
+            def update(self, ctx):
+                time.sleep(2)
+                return Result.done()
+
+
+        class M(Mission):
+            go = state(Pause(), initial=True, timeout_s=5, on_done="rest", on_timeout="end")
+            rest = state(Rest(), timeout_s=5, on_done="end", on_timeout="end")
+            end = state(final="success")
+        """
+        )
+    )
+
+
+def test_a_student_file_of_many_methods_is_parsed_once_and_walked_in_linear_work(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # check follows update() through 200 methods to the sleep, in two classes of one file:
+    # each method looked up by a fresh parse and a walk of the whole file was 200 parses
+    # and 200 x the file's nodes; a file changed at load or placed by a compiler of its own
+    # each parsed it again
+    import ast
+
+    text = _chained_methods(200)
+    path = tmp_path / "chain.py"
+    path.write_text(text, encoding="utf-8")
+    file_nodes = sum(1 for _ in ast.walk(ast.parse(text)))
+    parses: list[str] = []
+    walked = [0]
+    parse, walk = ast.parse, ast.walk
+
+    def counted_parse(source: Any, *args: Any, **kwargs: Any) -> Any:
+        parses.append(source)
+        return parse(source, *args, **kwargs)
+
+    def counted_walk(node: ast.AST) -> Any:
+        for child in walk(node):
+            walked[0] += 1
+            yield child
+
+    monkeypatch.setattr(ast, "parse", counted_parse)
+    monkeypatch.setattr(ast, "walk", counted_walk)
+    _, warnings = load_mission(path)
+    monkeypatch.undo()
+    lines = text.splitlines()
+    assert [(w.line, w.col) for w in warnings if "time.sleep" in w.message] == [
+        next((n, line.index(sleep) + 1) for n, line in enumerate(lines, 1) if sleep in line)
+        for sleep in ("time.sleep(1)", "time.sleep(2)")
+    ]
+    # once as it is loaded (the rules read from its text), once for where things are in it
+    assert sum(source in (text, text.encode()) for source in parses) == 2
+    assert walked[0] < 8 * file_nodes, (walked[0], file_nodes)
