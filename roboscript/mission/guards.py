@@ -381,13 +381,10 @@ class _Compiler:
         found = never_true(bounds_of(parts, self._reading, self._in_its_unit))
         if found is None:
             return
-        fix = self.source.replace(" and ", " or ") if len(parts) == 2 else None
         raise self.fail(
             f"the condition '{self.source.strip()}' can never be true: {found.why}",
             found.node,
-            (f"to go when either holds, write or: {fix.strip()}" if fix else None)
-            if found.apart
-            else f"compare with a distance it can read, e.g. {found.reading} < 20",
+            found.hint(self.source, len(parts)),
         )
 
     def _reading(self, node: ast.expr) -> str | None:

@@ -73,6 +73,16 @@ class NeverTrue:
     node: ast.expr
     apart: bool
 
+    def hint(self, written: str, parts: int) -> str | None:
+        """What to write instead of the condition ``written`` (``parts`` comparisons joined
+        by 'and'): two bounds that exclude each other joined by 'or' (told only for two, where
+        'or' is surely what was meant); a distance the sensor can read."""
+        if not self.apart:
+            return f"compare with a distance it can read, e.g. {self.reading} < 20"
+        if parts != 2:
+            return None
+        return f"to go when either holds, write or: {written.replace(' and ', ' or ').strip()}"
+
 
 def _plain_number(node: ast.expr) -> float | None:
     """The number ``node`` is written as (``20``, ``-5``), or ``None`` for anything else."""

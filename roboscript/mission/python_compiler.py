@@ -1295,14 +1295,11 @@ class _Compiler:
             written = ast.unparse(child)
             never = never_true(bounds_of(parts, _reading_value))
             if never is not None:
-                either = written.replace(" and ", " or ") if len(parts) == 2 else None
                 found.append(
                     (
                         never.node,
                         f"'{written}' can never be true: {never.why}",
-                        (f"to go when either holds, write or: {either}" if either else None)
-                        if never.apart
-                        else f"compare with a distance it can read, e.g. {never.reading} < 20",
+                        never.hint(written, len(parts)),
                         severity,
                     )
                 )

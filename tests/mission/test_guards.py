@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 
+from roboscript.errors import MissionError
 from roboscript.mission import guards
 from roboscript.mission.guards import (
     COLOR_NAMES,
@@ -15,6 +17,9 @@ from roboscript.mission.guards import (
     compile_guard,
     guard_names,
 )
+from roboscript.mission.python_compiler import compile_mission
+from roboscript.mission.python_loader import find_mission_class
+from roboscript.mission.student_code import import_student_file
 
 
 @pytest.mark.parametrize(
@@ -400,3 +405,55 @@ def test_a_sensor_named_without_its_value_gets_conditions_that_compile(root: str
     for example in hint.removeprefix("write ").replace(" or ", ", ").split(", "):
         compile_guard(example)  # every suggestion is itself a valid condition
         assert example.startswith(f"{root}.")
+
+
+# --------------------------------------------------- a condition no reading can make true
+
+NEVER_TRUE_MISSION = """\
+from roboscript import Mission, Wait, state
+
+
+class Lesson(Mission):
+    go = state(Wait(duration_s=1), initial=True, on_done="end", when=[("near", "end")])
+    end = state(final="success")
+
+    def near(self):
+        return CONDITION
+"""
+
+
+@pytest.mark.parametrize(
+    ("condition", "hint"),
+    [
+        pytest.param(
+            "range.distance_cm < 0",
+            "compare with a distance it can read, e.g. range.distance_cm < 20",
+            id="a-distance-below-zero",
+        ),
+        pytest.param(
+            "range.distance_cm < 20 and range.distance_cm > 30",
+            "to go when either holds, write or: range.distance_cm < 20 or range.distance_cm > 30",
+            id="two-bounds-apart",
+        ),
+        pytest.param("20 < range.distance_cm < 10", None, id="a-chain-apart"),
+        pytest.param(
+            "range.distance_cm > 5 and range.distance_cm < 20 and range.distance_cm > 30",
+            None,
+            id="three-bounds-apart",
+        ),
+    ],
+)
+def test_a_condition_never_true_has_one_hint_in_yaml_and_python(
+    tmp_path: Path, condition: str, hint: str | None
+) -> None:
+    with pytest.raises(GuardError) as info:
+        compile_guard(condition, truth=True)
+    path = tmp_path / "lesson.py"
+    method = condition.replace("range.", "self.range.")
+    path.write_text(NEVER_TRUE_MISSION.replace("CONDITION", method), encoding="utf-8")
+    cls = find_mission_class(import_student_file(path, kind="mission"), str(path))
+    with pytest.raises(MissionError) as error:
+        compile_mission(cls, path="lesson.py")
+    told = [p.hint for p in error.value.problems if "can never be true" in p.message]
+    in_python = hint.replace("range.", "self.range.") if hint else None
+    assert (info.value.hint, told) == (hint, [in_python])
