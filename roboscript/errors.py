@@ -58,7 +58,6 @@ __all__ = [
     "grouped",
     "nearby_file",
     "pasted_with_it",
-    "typed_number_hint",
     "wrong_ending",
 ]
 
@@ -420,32 +419,5 @@ def wrong_ending(path: str | Path) -> str | None:
         return (
             f"save it as {Path(path).stem}.yaml, or {Path(path).stem}.py for a Python"
             " mission: the ending tells roboscript how to read it"
-        )
-    return None
-
-
-_LEADING_ZEROS = re.compile(r"(?<![\w.])0+(\d+)")
-_LETTER_O = re.compile(r"(?<![\w.])\d*[Oo]+\d[\dOo]*|(?<![\w.])\d+[Oo]+(?![A-Za-z_])")
-_CLOCK_IN_CODE = re.compile(r"(\w+)\s*=\s*(\d+):(\d{2})\b")
-
-
-def typed_number_hint(message: str, line: str) -> str | None:
-    """The fix for a number Python refuses as typed on line ``line`` (``010``, ``5O0``,
-    ``90°``, ``1:30``), from Python's ``message`` about it; ``None`` for any other mistake."""
-    if message.startswith("leading zeros") and (found := _LEADING_ZEROS.search(line)):
-        return f"write {found.group(1)}, without the leading 0"
-    if "invalid decimal literal" in message and (found := _LETTER_O.search(line)):
-        written = found.group()
-        return (
-            f"'{written}' has the letter O where a zero was meant: write"
-            f" {written.replace('O', '0').replace('o', '0')}"
-        )
-    if "'°' (U+00B0)" in message:
-        return "a number in code has no unit sign: its keyword says the unit, e.g. angle_deg=90"
-    if message == "invalid syntax" and (found := _CLOCK_IN_CODE.search(line)):
-        keyword, minutes, seconds = found.groups()
-        return (
-            f"a time is one number in its keyword's unit: for {minutes} min {seconds} s, write"
-            f" {keyword}={int(minutes) * 60 + int(seconds)}"
         )
     return None

@@ -21,14 +21,17 @@ from dataclasses import dataclass
 from roboscript.inputs.limits import MAX_QUANTITY_CHARS
 
 __all__ = [
+    "CLOCK",
     "DIMENSIONS",
     "UNIT_MATTERS",
     "Dimension",
     "QuantityError",
     "bare_number_warning",
+    "clock_reading",
     "clock_time",
     "parse_quantity",
     "radians_warning",
+    "without_leading_zeros",
 ]
 
 
@@ -95,7 +98,35 @@ _DASHES = "–—−"
 """An en dash, an em dash and the minus sign, which a word processor or a web page writes
 for a typed minus."""
 
-_CLOCK = re.compile(r"([-+]?)(\d[\d_]*(?::\d[\d_]*)+(?:\.[\d_]*)?)")
+CLOCK = re.compile(r"([-+]?)(\d[\d_]*(?::\d[\d_]*)+(?:\.[\d_]*)?)")
+"""A time written as a clock writes it, ``1:30`` or ``-1:00:00`` (its sign, its digits)."""
+
+
+def clock_reading(text: str) -> tuple[float, str | None] | None:
+    """The seconds a time written as a clock writes it reads (``1:30``: 90, counted in
+    sixties) and how it reads in units (``1 min 30 s``; ``None`` for no time or more parts
+    than hours, minutes and seconds); ``None`` for any other text.
+
+    Example:
+        >>> clock_reading("1:00:30")
+        (3630.0, '1 h 30 s')
+    """
+    found = CLOCK.fullmatch(text.strip())
+    if found is None:
+        return None
+    parts = found.group(2).replace("_", "").split(":")
+    seconds = 0.0
+    for part in parts:
+        seconds = seconds * 60 + float(part)
+    sign = found.group(1).replace("+", "")
+    if seconds == 0 or len(parts) > 3:
+        return (float(f"{sign}{seconds}") if seconds else 0.0), None
+    read = " ".join(
+        f"{float(part):g} {unit}"
+        for part, unit in zip(parts, ("h", "min", "s")[-len(parts) :], strict=True)
+        if float(part)
+    )
+    return float(f"{sign}{seconds}"), f"{sign}{read}"
 
 
 def clock_time(text: str) -> tuple[float, str] | None:
@@ -106,27 +137,29 @@ def clock_time(text: str) -> tuple[float, str] | None:
         >>> clock_time("1:30")
         (90.0, 'for 1 min 30 s, write `90 s` or `1.5 min`')
     """
-    found = _CLOCK.fullmatch(text.strip())
+    found = clock_reading(text)
     if found is None:
         return None
-    parts = found.group(2).replace("_", "").split(":")
-    seconds = 0.0
-    for part in parts:
-        seconds = seconds * 60 + float(part)
-    sign = found.group(1).replace("+", "")
+    seconds, read = found
     if seconds == 0:
         return 0.0, "write `0 s`"
     minutes = seconds / 60
-    in_minutes = f" or `{sign}{minutes:g} min`" if (minutes * 10).is_integer() else ""
-    if len(parts) > 3:
-        return float(f"{sign}{seconds}"), f"write `{sign}{seconds:g} s`{in_minutes}"
-    read = " ".join(
-        f"{float(part):g} {unit}"
-        for part, unit in zip(parts, ("h", "min", "s")[-len(parts) :], strict=True)
-        if float(part)
-    )
-    written = f"for {sign}{read}, write `{sign}{seconds:g} s`{in_minutes}"
-    return float(f"{sign}{seconds}"), written
+    in_minutes = f" or `{minutes:g} min`" if (minutes * 10).is_integer() else ""
+    written = f"write `{seconds:g} s`{in_minutes}"
+    return seconds, f"for {read}, {written}" if read else written
+
+
+def without_leading_zeros(written: str) -> str:
+    """A whole number written with leading zeros (``010``, ``-007``, ``0_10``), as written
+    without them (``10``, ``-7``): YAML 1.1 reads ``010`` as an octal number, 8, and Python
+    refuses it.
+
+    Example:
+        >>> without_leading_zeros("-0_10")
+        '-10'
+    """
+    sign = "-" if written.startswith("-") else ""
+    return sign + (written.lstrip("+-").replace("_", "").lstrip("0") or "0")
 
 
 def _unit_for(dimension: Dimension, unit: str) -> float | None:

@@ -33,7 +33,7 @@ from roboscript.inputs.limits import (
     MAX_VALUES,
     name_too_long,
 )
-from roboscript.inputs.quantities import clock_time
+from roboscript.inputs.quantities import clock_time, without_leading_zeros
 
 __all__ = [
     "Location",
@@ -152,13 +152,11 @@ def _refuse_yaml_1_1_number(node: yaml.ScalarNode) -> None:
             clock[1],
         )
     if _OCTAL.fullmatch(text):
-        plain = text.lstrip("+-").replace("_", "").lstrip("0") or "0"
-        sign = "-" if text.startswith("-") else ""
         raise _RefusedError(
             f"{text} starts with a 0, so YAML reads it as an octal number:"
             f" {int(text.replace('_', ''), 8)}",
             _mark(node),
-            f"write {sign}{plain}, without the leading 0",
+            f"write {without_leading_zeros(text)}, without the leading 0",
         )
 
 

@@ -55,9 +55,8 @@ from roboscript.errors import (
     did_you_mean,
     nearby_file,
     pasted_with_it,
-    typed_number_hint,
 )
-from roboscript.inputs.quantities import DIMENSIONS
+from roboscript.inputs.quantities import CLOCK, DIMENSIONS, clock_reading, without_leading_zeros
 from roboscript.mission.error_column import error_column
 from roboscript.mission.guards import guard_names
 from roboscript.mission.key_mistakes import meant_in_state_call
@@ -583,7 +582,7 @@ def _syntax_problem(exc: SyntaxError, path: str | Path) -> MissionError:
         hint = "a curly quote, as a word processor writes it: type straight quotes, \" or '"
     elif "'–' (U+2013)" in message or "'—' (U+2014)" in message:
         hint = "a dash, as a word processor writes a minus: type the minus key, -"
-    elif (typed := typed_number_hint(exc.msg or "", exc.text or "")) is not None:
+    elif (typed := _typed_number_hint(exc.msg or "", exc.text or "")) is not None:
         hint = typed  # 010, 5O0, 90°, 1:30
     elif isinstance(exc, TabError):
         hint = "indent with spaces only: a tab looks like spaces but Python counts it apart"
@@ -691,6 +690,34 @@ def _without_unit(line: str, found: re.Match[str]) -> str:
                     f" {value:g}, as {name} is in {name_unit}"
                 )
     return "a number in Python has no unit: write it in the unit its name ends in (_cm, _mm, _s)"
+
+
+_LEADING_ZEROS = re.compile(r"(?<![\w.])0[\d_]*\d")  # the digits Python points at
+_LETTER_O = re.compile(r"(?<![\w.])\d*[Oo]+\d[\dOo]*|(?<![\w.])\d+[Oo]+(?![A-Za-z_])")
+_CLOCK_IN_CODE = re.compile(rf"(\w+)\s*=\s*({CLOCK.pattern})")
+
+
+def _typed_number_hint(message: str, line: str) -> str | None:
+    """The fix for a number Python refuses as typed on line ``line`` (``010``, ``5O0``,
+    ``90°``, ``1:30``), from Python's ``message`` about it; ``None`` for any other mistake.
+    A clock's time and leading zeros are read by the rules YAML values are read by."""
+    if message.startswith("leading zeros") and (found := _LEADING_ZEROS.search(line)):
+        return f"write {without_leading_zeros(found.group())}, without the leading 0"
+    if "invalid decimal literal" in message and (found := _LETTER_O.search(line)):
+        written = found.group()
+        return (
+            f"'{written}' has the letter O where a zero was meant: write"
+            f" {written.replace('O', '0').replace('o', '0')}"
+        )
+    if "'°' (U+00B0)" in message:
+        return "a number in code has no unit sign: its keyword says the unit, e.g. angle_deg=90"
+    if message == "invalid syntax" and (found := _CLOCK_IN_CODE.search(line)):
+        seconds, read = clock_reading(found.group(2)) or (0.0, None)
+        return (
+            f"a time is one number in its keyword's unit: {f'for {read}, ' if read else ''}"
+            f"write {found.group(1)}={seconds:g}"
+        )
+    return None
 
 
 _YAML_MISSION = re.compile(r"\s*(?:mission|states|initial|robot|world)\s*:")

@@ -6,7 +6,12 @@ import math
 
 import pytest
 
-from roboscript.inputs.quantities import QuantityError, parse_quantity
+from roboscript.inputs.quantities import (
+    QuantityError,
+    clock_reading,
+    parse_quantity,
+    without_leading_zeros,
+)
 
 
 @pytest.mark.parametrize(
@@ -116,3 +121,29 @@ def test_a_quantity_written_as_a_fraction_is_told_as_one_number(
         parse_quantity(text, dimension)
     assert info.value.message == f"'{text}' is a fraction"
     assert info.value.hint == meant
+
+
+@pytest.mark.parametrize(
+    ("written", "plain"),
+    [("010", "10"), ("-007", "-7"), ("+0_10", "10"), ("00", "0"), ("0_0", "0")],
+)
+def test_a_number_without_its_leading_zeros_keeps_its_sign_and_drops_its_underscores(
+    written: str, plain: str
+) -> None:
+    assert without_leading_zeros(written) == plain
+
+
+@pytest.mark.parametrize(
+    ("written", "read"),
+    [
+        ("1:30", (90.0, "1 min 30 s")),
+        ("-1:00:30", (-3630.0, "-1 h 30 s")),
+        ("0:00", (0.0, None)),
+        ("1:2:3:4", (223384.0, None)),
+        ("1.30", None),
+    ],
+)
+def test_a_clock_reads_its_seconds_and_its_units(
+    written: str, read: tuple[float, str | None] | None
+) -> None:
+    assert clock_reading(written) == read

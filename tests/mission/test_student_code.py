@@ -357,6 +357,40 @@ LOAD_TIME = [
 ]
 
 
+@pytest.mark.parametrize(
+    ("value", "hint"),
+    [
+        pytest.param(
+            "duration_s=1:30",
+            "a time is one number in its keyword's unit: for 1 min 30 s, write duration_s=90",
+            id="minutes-and-seconds",
+        ),
+        pytest.param(
+            "duration_s=1:00:00",
+            "a time is one number in its keyword's unit: for 1 h, write duration_s=3600",
+            id="hours-minutes-and-seconds",
+        ),
+        pytest.param(
+            "duration_s=0:00",
+            "a time is one number in its keyword's unit: write duration_s=0",
+            id="no-time",
+        ),
+        pytest.param("distance_mm=010", "write 10, without the leading 0", id="leading-zero"),
+        pytest.param("distance_mm=0_10", "write 10, without the leading 0", id="an-underscore"),
+        pytest.param("distance_mm=-007", "write 7, without the leading 0", id="after-a-minus"),
+    ],
+)
+def test_a_number_python_refuses_as_typed_is_read_by_the_rules_of_a_yaml_value(
+    here: Path, value: str, hint: str
+) -> None:
+    # a clock's time and leading zeros are read as a YAML value's are (1:00:00 was read as
+    # its first minutes and seconds, 60; a 0 before an _ was not seen)
+    path = _write(here, "m.py", f"from roboscript import Drive, Wait\n\nGO = Wait({value})\n")
+    with pytest.raises(MissionError) as info:
+        import_student_file(path)
+    assert info.value.hint == hint
+
+
 @pytest.mark.parametrize(("text", "expected"), LOAD_TIME)
 def test_a_mistake_at_load_time_is_told_at_the_students_line(
     here: Path, text: str, expected: str
