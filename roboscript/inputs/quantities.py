@@ -22,6 +22,8 @@ from roboscript.inputs.limits import MAX_QUANTITY_CHARS
 
 __all__ = [
     "CLOCK",
+    "CURLY_QUOTES",
+    "DASHES",
     "DIMENSIONS",
     "UNIT_MATTERS",
     "Dimension",
@@ -92,11 +94,12 @@ class QuantityError(ValueError):
         super().__init__(f"{message} ({hint})" if hint else message)
 
 
-_CURLY = "‘’“”„‚«»"
-"""Quotes a word processor puts in place of typed ones."""
-_DASHES = "–—−"
-"""An en dash, an em dash and the minus sign, which a word processor or a web page writes
-for a typed minus."""
+CURLY_QUOTES = "\u2018\u2019\u201c\u201d\u201e\u201a\u00ab\u00bb"
+"""‘ ’ “ ” „ ‚ « »: the quotes a word processor or a web page puts in place of typed ones,
+told as such in a YAML value, a condition and Python code alike."""
+DASHES = "\u2013\u2014\u2212"
+"""– — −: an en dash, an em dash and the minus sign, which a word processor or a web page
+writes for a typed minus, told as such in a YAML value, a condition and Python code alike."""
 
 CLOCK = re.compile(r"([-+]?)(\d[\d_]*(?::\d[\d_]*)+(?:\.[\d_]*)?)")
 """A time written as a clock writes it, ``1:30`` or ``-1:00:00`` (its sign, its digits)."""
@@ -210,13 +213,13 @@ def parse_quantity(value: object, dimension: str, default_unit: str | None = Non
             f"'{text}' has a decimal comma",
             f"use a decimal point: {comma.group().replace(',', '.')}{text[comma.end() :]}",
         )
-    if text[:1] in _CURLY or text[-1:] in _CURLY:  # ‘50 cm’, from a word processor
-        bare = text.strip("".join(_CURLY))
+    if text[:1] in CURLY_QUOTES or text[-1:] in CURLY_QUOTES:  # ‘50 cm’, from a word processor
+        bare = text.strip(CURLY_QUOTES)
         raise QuantityError(
             f"'{text}' is in curly quotes, as a word processor writes them",
             f"type straight quotes, or none: {bare}",
         )
-    if text[:1] in _DASHES:  # –90 deg, from a word processor
+    if text[:1] in DASHES:  # –90 deg, from a word processor
         raise QuantityError(
             f"'{text}' starts with a dash, as a word processor writes a minus",
             f"type the minus key: -{text[1:].strip()}",

@@ -52,7 +52,13 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from roboscript import capabilities as cap
-from roboscript.inputs.quantities import DIMENSIONS, QuantityError, parse_quantity
+from roboscript.inputs.quantities import (
+    CURLY_QUOTES,
+    DASHES,
+    DIMENSIONS,
+    QuantityError,
+    parse_quantity,
+)
 from roboscript.mission.limits import GUARD_NUMBER_LIMIT, shown
 from roboscript.mission.never_true import bounds_of, never_true
 
@@ -801,9 +807,14 @@ def _with_unit_suffix(node: ast.expr) -> ast.expr:
 
 _MISTAKES: tuple[tuple[re.Pattern[str], str, str], ...] = (
     (
-        re.compile("[\u201c\u201d\u2018\u2019]"),
+        re.compile(f"[{CURLY_QUOTES}]"),
         "'{found}' is a curly quote, as a word processor writes it",
         'type straight quotes around the condition, or none: "{fixed}"',
+    ),
+    (
+        re.compile(f"[{DASHES}]"),
+        "'{found}' is a dash, as a word processor writes a minus",
+        "type the minus key: {fixed}",
     ),
     (re.compile(r"&&"), "'&&' is not a condition word", "write 'and': {fixed}"),
     (re.compile(r"\|\|"), "'||' is not a condition word", "write 'or': {fixed}"),
@@ -880,7 +891,8 @@ _FIXES = {
 _COMPARISON_WORDS = {"less": "<", "smaller": "<", "lower": "<", "fewer": "<", "greater": ">"}
 _COMPARISON_WORDS.update(dict.fromkeys(("more", "bigger", "higher", "larger"), ">"))
 _COMPARISON_WORDS.update(dict.fromkeys(("equal", "equals"), "=="))
-_FIXES.update(dict.fromkeys("\u201c\u201d\u2018\u2019", ""))
+_FIXES.update(dict.fromkeys(CURLY_QUOTES, ""))
+_FIXES.update(dict.fromkeys(DASHES, "-"))
 
 
 _HALF_COMPARISON = re.compile(

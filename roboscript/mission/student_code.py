@@ -56,7 +56,14 @@ from roboscript.errors import (
     nearby_file,
     pasted_with_it,
 )
-from roboscript.inputs.quantities import CLOCK, DIMENSIONS, clock_reading, without_leading_zeros
+from roboscript.inputs.quantities import (
+    CLOCK,
+    CURLY_QUOTES,
+    DASHES,
+    DIMENSIONS,
+    clock_reading,
+    without_leading_zeros,
+)
 from roboscript.mission.error_column import error_column
 from roboscript.mission.guards import guard_names
 from roboscript.mission.key_mistakes import meant_in_state_call
@@ -578,9 +585,9 @@ def _syntax_problem(exc: SyntaxError, path: str | Path) -> MissionError:
     if not message.startswith(("invalid syntax", "expected", "unexpected")):
         message = f"syntax error: {message}"
     hint = None
-    if any(quote in message for quote in _CURLY_QUOTES):
+    if any(f"'{quote}'" in message for quote in CURLY_QUOTES):  # invalid character '“'
         hint = "a curly quote, as a word processor writes it: type straight quotes, \" or '"
-    elif "'–' (U+2013)" in message or "'—' (U+2014)" in message:
+    elif any(f"'{dash}'" in message for dash in DASHES):
         hint = "a dash, as a word processor writes a minus: type the minus key, -"
     elif (typed := _typed_number_hint(exc.msg or "", exc.text or "")) is not None:
         hint = typed  # 010, 5O0, 90°, 1:30
@@ -722,9 +729,6 @@ def _typed_number_hint(message: str, line: str) -> str | None:
 
 _YAML_MISSION = re.compile(r"\s*(?:mission|states|initial|robot|world)\s*:")
 """The first lines of a YAML mission (saved by mistake with a .py ending)."""
-
-_CURLY_QUOTES = "\u201c\u201d\u2018\u2019"
-"""“ ” ‘ ’: what a word processor or a web page turns typed quotes into."""
 
 
 _UNEXPECTED_KEYWORD = re.compile(

@@ -21,6 +21,7 @@ from helpers import run_cli
 
 from roboscript.actions.base import Action, Result
 from roboscript.errors import MissionError
+from roboscript.inputs.quantities import CURLY_QUOTES, DASHES
 from roboscript.mission import error_column
 from roboscript.mission.python_api import Mission, state
 from roboscript.mission.student_code import (
@@ -30,6 +31,7 @@ from roboscript.mission.student_code import (
     stuck_at,
     student_fault,
 )
+from roboscript.mission.yaml_loader import parse_yaml_mission
 from roboscript.profiles import BUILTIN_PROFILES
 from roboscript.watchdog import CodePlace
 
@@ -1324,3 +1326,49 @@ def test_a_condition_that_raises_generator_exit_itself_ends_the_run_with_one_sen
         done.stderr
     )
     assert done.returncode == 1
+
+
+# ------------------------------------------ what a word processor writes for quotes and minus
+
+WORD_PROCESSOR_YAML = """\
+mission: m
+initial: go
+states:
+  go:
+    do: {drive: {distance: VALUE}}
+    on: {done: end}
+    when:
+      - {if: CONDITION, goto: end}
+  end: {final: success}
+"""
+
+
+@pytest.mark.parametrize(
+    ("char", "told"),
+    [pytest.param(quote, "curly quote", id=f"U+{ord(quote):04X}") for quote in CURLY_QUOTES]
+    + [pytest.param(dash, "minus", id=f"U+{ord(dash):04X}") for dash in DASHES],
+)
+def test_each_quote_and_dash_of_a_word_processor_is_told_in_yaml_and_in_python(
+    here: Path, char: str, told: str
+) -> None:
+    # one set of characters for every reader: the minus sign (U+2212) was told in a YAML
+    # value and not in Python, „ ‚ « » in a YAML value and not in a condition or Python
+    value = f"{char}50 cm{char}" if told == "curly quote" else f"{char}50 cm"
+    number = f"{char}20{char}" if told == "curly quote" else f"{char}20"
+    condition = f"range.distance_cm > {number}"
+    yaml_text = WORD_PROCESSOR_YAML.replace("VALUE", f'"{value}"')
+    with pytest.raises(MissionError) as in_value:
+        parse_yaml_mission(yaml_text.replace("CONDITION", "bumper.any"), "m.yaml")
+    with pytest.raises(MissionError) as in_condition:
+        parse_yaml_mission(
+            WORD_PROCESSOR_YAML.replace("VALUE", "50 cm").replace("CONDITION", f'"{condition}"'),
+            "m.yaml",
+        )
+    path = _write(
+        here, "m.py", f"from roboscript import Drive\n\nGO = Drive(distance_mm={number})\n"
+    )
+    with pytest.raises(MissionError) as in_python:
+        import_student_file(path)
+    for error in (in_value.value, in_condition.value, in_python.value):
+        problem = getattr(error, "problems", [error])[0]
+        assert told in f"{problem.message} ({problem.hint})", problem.format()
