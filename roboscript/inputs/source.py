@@ -36,6 +36,7 @@ from roboscript.inputs.limits import (
 from roboscript.inputs.quantities import clock_time, without_leading_zeros
 
 __all__ = [
+    "YAML_1_1_WORDS",
     "Location",
     "Mark",
     "YamlList",
@@ -338,6 +339,18 @@ class _Loader(yaml.SafeLoader):
         yield result
         result.extend(self.construct_object(item, deep=True) for item in node.value)
 
+
+YAML_1_1_WORDS: dict[str, bool] = {
+    "yes": True,
+    "y": True,
+    "on": True,
+    "no": False,
+    "n": False,
+    "off": False,
+}
+"""YAML 1.1's words for true and false (in lower case), which roboscript's YAML reads as the
+words they are: a field that is no word says what each was likely meant as (``final: yes``,
+``timeout: off``)."""
 
 # YAML 1.1 reads on/off/yes/no as booleans, which would turn a state's "on:" into True.
 # Booleans are only true/false, as in YAML 1.2. Dates and times (2024-13-45 would fail to

@@ -35,7 +35,7 @@ from roboscript.inputs.quantities import (
     parse_quantity,
     radians_warning,
 )
-from roboscript.inputs.source import Location
+from roboscript.inputs.source import YAML_1_1_WORDS, Location
 from roboscript.mission.checks import check_mission
 from roboscript.mission.condition_reads import (
     PY_WAIT,
@@ -141,17 +141,6 @@ def action_params(
 
 _NOT_FINITE = re.compile(r"^\s*[-+]?(inf|infinity|nan)\b", re.IGNORECASE)
 
-
-_YES_NO = {
-    "yes": "success",
-    "y": "success",
-    "on": "success",
-    "no": "failure",
-    "n": "failure",
-    "off": "failure",
-}
-"""YAML 1.1's words for true and false, which roboscript's YAML reads as words: a final
-state's outcome meant by each."""
 
 _HTML_ENTITY = re.compile(r"&(?:lt|gt|amp);")
 
@@ -595,15 +584,15 @@ class MissionBuilder:
         if value == "failure":
             return "failure"
         if value not in (None, False):
-            word = _YES_NO.get(value.lower()) if isinstance(value, str) else None
+            meant = YAML_1_1_WORDS.get(value.lower()) if isinstance(value, str) else None
             self.problem(
                 f"state '{state}': final is 'success' or 'failure', got {value!r}",
                 where,
                 f"'{value}' is a word here, not true: write final: success"
-                if word == "success"
+                if meant is True
                 else f"'{value}' is a word here, not false: a state that does not end the"
                 " mission has no 'final', so take it away; final: failure ends it in failure"
-                if word == "failure"
+                if meant is False
                 else did_you_mean(value, ("success", "failure"))
                 if isinstance(value, str)
                 else None,

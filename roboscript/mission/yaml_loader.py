@@ -7,6 +7,7 @@ you mean" where one fits. All problems in a file are collected, so one run of
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -21,7 +22,15 @@ from roboscript.inputs.quantities import (
     bare_number_warning,
     parse_quantity,
 )
-from roboscript.inputs.source import Location, Mark, YamlList, YamlMap, load_yaml, load_yaml_text
+from roboscript.inputs.source import (
+    YAML_1_1_WORDS,
+    Location,
+    Mark,
+    YamlList,
+    YamlMap,
+    load_yaml,
+    load_yaml_text,
+)
 from roboscript.mission.behaviours import behaviours_from_yaml
 from roboscript.mission.builder import MissionBuilder
 from roboscript.mission.channels import MAX_CHANNELS
@@ -59,8 +68,12 @@ _STATE_EXAMPLES = {
 }
 """What each of a state's keys written with no value is given, as the fix says."""
 
-_NO_LIMIT = frozenset({"off", "no", "none", "never", "false", "n", "unlimited", "infinite"})
-"""What a timeout is written as when no time limit is meant."""
+_NO_LIMIT = frozenset(
+    {"none", "never", "false", "unlimited", "infinite"}
+    | {word for word, true in YAML_1_1_WORDS.items() if not true}
+)
+"""What a timeout is written as when no time limit is meant: YAML 1.1's words for false
+(``off``, ``no``) among them."""
 
 _REPEAT = {"times": "how many times", "do": "the action to repeat"}
 """What a ``repeat:`` holds, and what each is."""
@@ -121,10 +134,9 @@ class _Reader:
     ) -> None:
         self.problems.extend(self.fields.unknown_keys(data, keys, what, meant))
 
-    def valued(self, data: YamlMap, what: str, examples: Mapping[str, str]) -> YamlMap:
-        """``data`` without the keys of ``examples`` written with no value (``speed: ~``,
-        ``done:`` with nothing after it), each told once with its example, so no second
-        message says the key is missing or holds 'None'."""
+    def without_value(self, data: YamlMap, what: str, examples: Mapping[str, str]) -> list[str]:
+        """The keys of ``examples`` written in ``data`` with no value (``speed: ~``, ``done:``
+        with nothing after it), each told once with its example."""
         empty = [key for key in examples if key in data and data[key] is None]
         for key in empty:
             self.problem(
@@ -133,6 +145,13 @@ class _Reader:
                 data.value_mark(key),
                 examples[key],
             )
+        return empty
+
+    def valued(self, data: YamlMap, what: str, examples: Mapping[str, str]) -> YamlMap:
+        """``data`` without the keys of ``examples`` written with no value, each told once
+        (:meth:`without_value`), so no second message says the key is missing or holds
+        'None'."""
+        empty = self.without_value(data, what, examples)
         if not empty:
             return data
         kept = YamlMap.at(data.mark, {k: v for k, v in data.items() if k not in empty})
@@ -445,16 +464,15 @@ class _Reader:
                 f"write them: {_as_mapping(name, cls, None)}",
             )
             return None
-        if cls is not None and any(params.get(p.name, "") is None for p in params_of(cls)):
-            self.valued(
-                params,
-                f"of '{name}' ",
-                {
-                    p.name: f"write {p.name}: {p.example_value}"
-                    + (f", or leave {p.name} out for its default" if p.default is not None else "")
-                    for p in params_of(cls)
-                },
-            )
+        if cls is not None and self.without_value(
+            params,
+            f"of '{name}' ",
+            {
+                p.name: f"write {p.name}: {p.example_value}"
+                + (f", or leave {p.name} out for its default" if p.default is not None else "")
+                for p in params_of(cls)
+            },
+        ):
             return None
         if cls is None:
             if name not in self.broken:  # else its behaviour file's errors say why
@@ -592,15 +610,14 @@ class _Reader:
             )
             return None
         self.unknown_keys(item, _CHOICE_KEYS, "a choice")
-        if any(item.get(key, "") is None for key in _CHOICE_KEYS):
-            self.valued(
-                item,
-                "in this choice ",
-                {
-                    "if": f"write the condition, e.g. if: {PARAM_EXAMPLES['guard']}",
-                    "goto": f"write the state it goes to, e.g. goto: {_a_state(names)}",
-                },
-            )
+        if self.without_value(
+            item,
+            "in this choice ",
+            {
+                "if": f"write the condition, e.g. if: {PARAM_EXAMPLES['guard']}",
+                "goto": f"write the state it goes to, e.g. goto: {_a_state(names)}",
+            },
+        ):
             return None
         if "goto" not in item:
             # `then: stuck`, `next: stuck`: the state written under another key
@@ -737,8 +754,10 @@ def _not_a_mapping(data: Any) -> str:
     )
 
 
+@functools.lru_cache(maxsize=8)
 def _a_state(names: frozenset[str]) -> str:
-    """A state of the mission to show in an example (``end`` if it has one)."""
+    """A state of the mission to show in an example (``end`` if it has one); found once for
+    a mission's states, not once for each state's examples (a search of them all)."""
     return "end" if "end" in names or not names else min(names)
 
 

@@ -11,7 +11,8 @@ from helpers import refusal as problems
 from helpers import run_cli
 
 from roboscript.errors import MissionError
-from roboscript.mission import load_mission
+from roboscript.inputs.source import YAML_1_1_WORDS
+from roboscript.mission import load_mission, yaml_loader
 from roboscript.mission.runner import MissionRunner
 from roboscript.mission.spec import ActionSpec, MissionSpec, TransitionSpec
 from roboscript.mission.yaml_loader import load_yaml_mission, parse_yaml_mission
@@ -1706,3 +1707,47 @@ def test_an_actions_bare_number_is_shown_as_a_mapping_with_the_unit_most_likely_
     )
     (problem,) = problems(path)
     assert problem.endswith(f"must be a mapping, each with its name (write `{written}`)")
+
+
+def _refused(text: str) -> str:
+    """The first problem ``roboscript check`` tells of the YAML mission ``text``."""
+    with pytest.raises(MissionError) as info:
+        parse_yaml_mission(text, "m.yaml")
+    return str(getattr(info.value, "problems", [info.value])[0].format())
+
+
+@pytest.mark.parametrize(("word", "true"), sorted(YAML_1_1_WORDS.items()))
+def test_each_yaml_1_1_word_for_true_or_false_is_told_as_meant_in_final_and_timeout(
+    word: str, true: bool
+) -> None:
+    # one list of the words YAML 1.1 read as true or false, for every field told of them
+    final = _refused(GOOD.replace("final: success", f"final: {word}"))
+    assert f"'{word}' is a word here, not {'true' if true else 'false'}" in final
+    timeout = _refused(GOOD.replace("on: {done", f"timeout: {word}\n    on: {{done"))
+    assert ("is a word here: a state with no time limit" in timeout) is not true, timeout
+
+
+def test_a_mission_of_many_states_is_read_in_work_linear_in_its_states(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # each state's examples (on:, a choice's goto:) looked through all the mission's states
+    # for one to show: a search of every state for each state
+    count = 2000
+    lines = ["mission: m", "initial: s0", "states:"]
+    lines += [
+        f"  s{n}: {{do: {{wait: {{duration: 1 s}}}}, on: {{done: s{n + 1}}},"
+        f" when: [{{if: bumper.any, goto: s{n + 1}}}]}}"
+        for n in range(count)
+    ]
+    lines.append(f"  s{count}: {{final: success}}")
+    looked_at = [0]
+
+    def counted_min(items: Any) -> Any:
+        items = list(items)
+        looked_at[0] += len(items)
+        return min(items)
+
+    monkeypatch.setattr(yaml_loader, "min", counted_min, raising=False)
+    spec, _ = parse_yaml_mission("\n".join(lines) + "\n", "m.yaml")
+    assert len(spec.states) == count + 1
+    assert looked_at[0] <= 2 * (count + 1)
