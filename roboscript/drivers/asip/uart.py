@@ -151,7 +151,10 @@ class Transmitter:
     def __init__(self, byte_s: float) -> None:
         self.byte_s = byte_s
         self._done_s = -math.inf  # when the last byte written has left the line
-        self._handed: deque[tuple[float, int]] = deque()  # (to the USART at s, byte)
+        # Runs of bytes handed to the USART at even steps: (first at s, step s, bytes, how
+        # many of them are taken). A reply is a few runs, however long: writing and taking
+        # cost a run, not a byte.
+        self._handed: deque[tuple[float, float, bytes, int]] = deque()
 
     def write(self, data: bytes, now_s: float) -> float:
         """The firmware writes ``data`` from ``now_s``; returns when it is done, seconds.
@@ -159,28 +162,69 @@ class Transmitter:
         Each byte costs the firmware :data:`WRITE_BYTE_S`; once :data:`TRANSMIT_QUEUE_BYTES`
         wait besides the one on the line, the next waits for the line to send a byte. Each
         byte is handed to the USART (:meth:`take_handed`) when it is written and the byte
-        before it has started on the line (its data register is then free)."""
-        byte_s = self.byte_s
+        before it has started on the line (its data register is then free).
+
+        Byte after byte, the gap between the line's end and the firmware's clock changes by
+        a byte time less a write time, so the bytes fall into at most four runs (line free;
+        busy; a byte waiting; the buffer full), each counted at once."""
+        byte_s, write_s = self.byte_s, WRITE_BYTE_S
+        full_s = TRANSMIT_QUEUE_BYTES * byte_s
+        drift_s = byte_s - write_s  # how the gap grows with each byte
         done_s = self._done_s
         clock_s = now_s
-        handed = self._handed
-        for byte in data:
-            clock_s += WRITE_BYTE_S
-            # Bytes not yet sent: one on the line, the rest waiting in the buffer.
-            if done_s - clock_s > TRANSMIT_QUEUE_BYTES * byte_s:
-                clock_s = done_s - TRANSMIT_QUEUE_BYTES * byte_s  # wait for a free place
-            handed.append((max(clock_s, done_s - byte_s), byte))
-            done_s = max(done_s, clock_s) + byte_s
+        at, total = 0, len(data)
+        while at < total:
+            left = total - at
+            gap_s = done_s - (clock_s + write_s)  # the line's end ahead of this byte's write
+            if gap_s > full_s:  # the buffer is full: each byte waits for the line
+                count = left if drift_s > 0 else 1
+                first_s, step_s = done_s - byte_s, byte_s
+                clock_s = done_s + (count - 1) * byte_s - full_s
+                done_s += count * byte_s
+            elif gap_s <= 0:  # the line is free: the byte goes on it as it is written
+                count = left if drift_s <= 0 else 1
+                first_s, step_s = clock_s + write_s, write_s
+                clock_s += count * write_s
+                done_s = clock_s + byte_s
+            else:  # the line is busy: the byte follows the one on it
+                waits = gap_s > byte_s  # behind one not yet on the line
+                edge_s = byte_s if waits else 0.0  # where the gap leaves this run
+                if drift_s > 0:
+                    room = math.floor(((full_s if waits else byte_s) - gap_s) / drift_s) + 1
+                elif drift_s < 0:
+                    room = math.ceil((gap_s - edge_s) / -drift_s)
+                else:
+                    room = left
+                count = max(1, min(left, room))
+                if waits:
+                    first_s, step_s = done_s - byte_s, byte_s
+                else:
+                    first_s, step_s = clock_s + write_s, write_s
+                clock_s += count * write_s
+                done_s += count * byte_s
+            self._handed.append((first_s, step_s, data[at : at + count], 0))
+            at += count
         self._done_s = done_s
         return clock_s
 
     def take_handed(self, now_s: float) -> bytes:
         """The bytes handed to the USART by ``now_s`` (taken)."""
         handed = self._handed
-        taken = bytearray()
-        while handed and handed[0][0] <= now_s + 1e-9:
-            taken.append(handed.popleft()[1])
-        return bytes(taken)
+        taken = b""
+        until_s = now_s + 1e-9
+        while handed:
+            first_s, step_s, data, start = handed[0]
+            due_s = first_s + start * step_s
+            if due_s > until_s:
+                break
+            steps = (until_s - due_s) / step_s  # whole steps after the first due (inf: all)
+            end = len(data) if steps >= len(data) - start else start + math.floor(steps) + 1
+            taken += data[start:end]
+            if end < len(data):
+                handed[0] = (first_s, step_s, data, end)
+                break
+            handed.popleft()
+        return taken
 
     def clear(self) -> None:
         """The board resets: what it had not yet handed to its USART is gone."""

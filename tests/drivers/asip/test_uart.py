@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import random
 
 import pytest
 
@@ -96,3 +97,43 @@ def test_each_byte_goes_to_the_usart_once_the_byte_before_it_is_on_the_line() ->
     transmitter.clear()  # a reset loses what waits
     transmitter.write(b"ef", 2.0)
     assert transmitter.take_handed(2.0 + 2 * WRITE_BYTE_S) == b"ef"
+
+
+def _per_byte(byte_s: float, writes: list[tuple[float, int]], takes: list[float]) -> list[object]:
+    """The transmitter's rule followed a byte at a time: when each write is done, and the
+    bytes handed to the USART by each time of ``takes``."""
+    done_s, handed, found = -math.inf, [], []
+    for now_s, count in writes:
+        clock_s = max(now_s, found[-1] if found else -math.inf)
+        for index in range(count):
+            clock_s += WRITE_BYTE_S
+            if done_s - clock_s > TRANSMIT_QUEUE_BYTES * byte_s:
+                clock_s = done_s - TRANSMIT_QUEUE_BYTES * byte_s
+            handed.append((max(clock_s, done_s - byte_s), index % 256))
+            done_s = max(done_s, clock_s) + byte_s
+        found.append(clock_s)
+    found += [bytes(b for at_s, b in handed if at_s <= take_s + 1e-9) for take_s in takes]
+    return found
+
+
+@pytest.mark.parametrize("byte_s", [BOARD_BYTE_S, 5e-6, WRITE_BYTE_S, 1040e-6])
+@pytest.mark.parametrize("seed", range(20))
+def test_a_reply_is_timed_in_runs_as_its_bytes_are_one_by_one(byte_s: float, seed: int) -> None:
+    # each write is timed, and handed on, a run at a time, not a byte at a time: the same
+    # times, at any baud rate (a line faster or slower than the firmware writes)
+    rng = random.Random(seed)
+    writes = [(rng.uniform(0, 0.03), rng.choice([1, 3, 24, 64, 65, 200, 700])) for _ in range(6)]
+    writes.sort()
+    takes = [*sorted(rng.uniform(0, 0.3) for _ in range(40)), math.inf]
+    expected = _per_byte(byte_s, writes, takes)
+    transmitter = Transmitter(byte_s)
+    found: list[object] = []
+    for now_s, count in writes:
+        start_s = max(now_s, found[-1]) if found else now_s
+        found.append(transmitter.write(bytes(i % 256 for i in range(count)), start_s))
+    taken = b""
+    for take_s in takes:
+        taken += transmitter.take_handed(take_s)
+        found.append(taken)
+    assert found[: len(writes)] == pytest.approx(expected[: len(writes)], abs=1e-9)
+    assert found[len(writes) :] == expected[len(writes) :]
