@@ -373,16 +373,24 @@ def grade_class(
     roots = {s.student: s.root for s in submissions}
     by_student = {s.student: s for s in submissions}
 
+    changed: dict[str, str] = {}  # a student whose file changed: the first file found
+
     def arrived(result: RunResult) -> RunResult:
         # Capped as they arrive, so a 20 MB exception message is not kept (or copied) any
         # further; and no report, the results file included, holds a folder of the teacher's.
-        if result.student in started and result.status not in ("invalid", "missing"):
-            changed = changed_file(by_student[result.student], started[result.student])
-            if changed:
+        student = result.student
+        if student in started and result.status not in ("invalid", "missing"):
+            # once changed, every run after it may have read another version, even if the
+            # file is put back: the student's files are not looked at again
+            if student not in changed and (
+                found := changed_file(by_student[student], started[student])
+            ):
+                changed[student] = found
+            if student in changed:
                 result = replace(
                     result,
                     status="invalid",
-                    message=_changed_while_graded(changed),
+                    message=_changed_while_graded(changed[student]),
                     score=0.0,
                     verdicts=(),
                 )

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import HANG_BOUND_S, MISSIONS
+from helpers import FORWARD_50CM, FORWARD_50CM_EXPECT, HANG_BOUND_S, MISSIONS
 
 from roboscript.errors import InputError
 from roboscript.grading.batch import (
@@ -261,3 +261,45 @@ def test_grade_draws_runs_read_back_from_a_temporary_results_file_it_then_remove
         assert not list(spool.glob("roboscript-grade-*"))
     finally:
         shutil.rmtree(spool, ignore_errors=True)
+
+
+def test_a_file_changed_and_put_back_while_graded_leaves_the_runs_after_it_uncounted(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # a run that read the changed file may end after it is put back: every run of the
+    # student's after the change is uncounted, and their files are not looked at again
+    from roboscript.grading import batch
+
+    spec = tmp_path / "forward.yaml"
+    spec.write_text(
+        "test: forward\nworld: empty\nruns:\n  - {seed: 1}\n  - {seed: 2}\n  - {seed: 3}\n"
+        + FORWARD_50CM_EXPECT,
+        encoding="utf-8",
+    )
+    mission = tmp_path / "class" / "ada" / "forward.yaml"
+    mission.parent.mkdir(parents=True)
+    mission.write_text(FORWARD_50CM, encoding="utf-8")
+    written_ns = mission.stat().st_mtime_ns
+    looks = [0]
+    changed_file = batch.changed_file
+
+    def counted(*args: Any) -> str:
+        looks[0] += 1
+        return changed_file(*args)
+
+    def change_then_put_back(result: RunResult) -> None:
+        if looks[0] == 1:
+            mission.write_text(FORWARD_50CM + "# pushed late\n", encoding="utf-8")
+        elif looks[0] == 2:
+            mission.write_text(FORWARD_50CM, encoding="utf-8")
+            os.utime(mission, ns=(written_ns, written_ns))
+
+    monkeypatch.setattr(batch, "changed_file", counted)
+    report = grade_class(
+        find_specs([str(spec)]),
+        find_submissions([str(tmp_path / "class")]).submissions,
+        jobs=1,
+        on_result=change_then_put_back,
+    )
+    assert [r.status for r in report.results] == ["passed", "invalid", "invalid"]
+    assert looks[0] == 2
