@@ -85,23 +85,27 @@ class Session:
         robot: The robot it ran on (closed by now; its simulation, if any, keeps the log).
         profile: The robot's profile.
         start_time_s: Scheduler time at which the mission started; the mission clock's zero.
-        interrupted: The exit status a signal asks for (130 Ctrl-C, 143 SIGTERM, 129 SIGHUP)
-            when one ended the run, else 0.
         code_stopped: ``"hung"`` when the mission's code did not return and was stopped,
             ``"too slow"`` when it took too long per tick too often (:mod:`roboscript.watchdog`),
             else ``""``.
-        interrupted_by: The exception that ended the run when ``interrupted`` is set (its
-            traceback says where it came from: a graded run has no Ctrl-C, so one raised
-            there is the student's own code's), else ``None``.
+        interrupted_by: The signal's exception (``KeyboardInterrupt``) that ended the run
+            (its traceback says where it came from: a graded run has no Ctrl-C, so one raised
+            there is the student's own code's), else ``None``; what :attr:`interrupted` and
+            :attr:`interruption` are read from.
     """
 
     result: MissionResult
     robot: Robot
     profile: RobotProfile
     start_time_s: float
-    interrupted: int = 0
     code_stopped: Literal["", "hung", "too slow"] = ""
     interrupted_by: KeyboardInterrupt | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def interrupted(self) -> int:
+        """The exit status the signal that ended the run asks for (130 Ctrl-C, 143 SIGTERM,
+        129 SIGHUP), else 0."""
+        return 0 if self.interrupted_by is None else exit_status_for(self.interrupted_by)
 
     @property
     def interruption(self) -> Interrupted | None:
@@ -267,7 +271,6 @@ def run_session(
     except BaseException:
         robot.close()
         raise
-    interrupted = 0
     interrupted_by: KeyboardInterrupt | None = None
     code_stopped: Literal["", "hung", "too slow"] = ""
     try:
@@ -289,7 +292,7 @@ def run_session(
                 runner.finish("error", exc.reason)
             except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM, SIGHUP (roboscript.interrupts)
                 robot.stop()
-                interrupted, interrupted_by = exit_status_for(exc), exc
+                interrupted_by = exc
                 runner.finish("error", reason_for(exc))
             except LinkError as exc:
                 robot.stop()
@@ -299,15 +302,14 @@ def run_session(
     except LinkError as exc:
         runner.finish("error", str(exc))
     except KeyboardInterrupt as exc:  # while the robot was told to stop and its port closed
-        if not interrupted:  # the first signal is the reason
-            interrupted, interrupted_by = exit_status_for(exc), exc
+        if interrupted_by is None:  # the first signal is the reason
+            interrupted_by = exc
         runner.finish("error", reason_for(exc))  # a mission that had ended keeps its outcome
     session = Session(
         runner.result,
         robot,
         profile,
         runner.start_time_s,
-        interrupted,
         code_stopped,
         interrupted_by,
     )

@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
+import signal
 from pathlib import Path
 
 import pytest
 from helpers import LOGGING_MISSION, MISSIONS
 
 from roboscript.clock import SimClock
+from roboscript.interrupts import Interrupted
 from roboscript.mission import mission_for_robot
 from roboscript.replay.session_tap import RunRecording
 from roboscript.session import run_session
@@ -65,3 +68,21 @@ def test_a_run_out_of_time_round_a_loop_names_the_states_it_kept_entering(
     assert (result.reason or "").endswith(
         "(a loop needs a way out to a final state, e.g. a when condition on visits.go)"
     )
+
+
+def test_a_runs_interruption_and_its_exit_status_are_read_from_the_one_signal_that_ended_it(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # the status is no second fact kept beside the signal's exception: it cannot disagree
+    def terminated(clock: SimClock, deadline_s: float) -> None:
+        if deadline_s > 0.5:
+            raise Interrupted(signal.SIGTERM)
+        clock._now = max(clock._now, deadline_s)
+
+    monkeypatch.setattr(SimClock, "sleep_until", terminated)
+    spec, profile, _ = mission_for_robot(MISSIONS / "square.yaml")
+    session = run_session(spec, profile, max_time_s=2.0)
+    assert isinstance(session.interrupted_by, Interrupted)
+    assert session.interruption is not None
+    assert (session.interrupted, session.interruption.signum) == (143, signal.SIGTERM)
+    assert dataclasses.replace(session, interrupted_by=None).interrupted == 0
