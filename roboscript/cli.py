@@ -934,11 +934,11 @@ def _refuse_a_non_recording(path: str) -> None:
     if Path(path).suffix.lower() in _MISSION_SUFFIXES and Path(path).is_file():
         # `view square.yaml`: the mission named where its run belongs
         # files are told apart only for the commands that read one
-        from roboscript.inputs.kinds import file_kind
+        from roboscript.inputs.kinds import file_kind, not_the_kind_expected
 
         kind = file_kind(path)
         raise InputError(
-            f"this is a {kind} file, not a recorded run",
+            not_the_kind_expected(kind, "a recorded run"),
             path=path,
             hint=record.replace("MISSION", _as_typed(path)) if kind == "mission" else record,
         )

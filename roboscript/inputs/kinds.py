@@ -28,6 +28,7 @@ __all__ = [
     "file_kind",
     "kind_of_keys",
     "not_a_mission",
+    "not_the_kind_expected",
     "refuse_another_kind",
 ]
 
@@ -63,6 +64,13 @@ ON_THE_COMMAND_LINE: Mapping[FileKind, str] = {
     ),
 }
 """What each kind of file is and how it is used, on the command line (``{path}``: the file)."""
+
+
+def not_the_kind_expected(kind: FileKind, expected: str) -> str:
+    """The sentence for a file of ``kind`` given where ``expected`` belongs (``this is a world
+    file, not a mission``), for every reader that tells one kind of file from another."""
+    article = "an" if kind[0] in "aeiou" else "a"
+    return f"this is {article} {kind} file, not {expected}"
 
 
 def kind_of_keys(keys: set[str] | frozenset[str]) -> FileKind:
@@ -115,9 +123,8 @@ class NotAMissionError(InputError):
     ) -> None:
         self.kind = kind
         self.uses = uses
-        article = "an" if kind[0] in "aeiou" else "a"
         super().__init__(
-            f"this is {article} {kind} file, not a mission",
+            not_the_kind_expected(kind, "a mission"),
             path=str(path),
             line=1,
             col=1,
@@ -162,10 +169,9 @@ def refuse_another_kind(
     kind = kind_of_keys(keys)
     if kind == expected or not keys & OWN_KEYS[kind]:
         return
-    article = "an" if kind[0] in "aeiou" else "a"
     use = _RUN_IT if kind == "mission" else ON_THE_COMMAND_LINE[kind]
     raise error(
-        f"this is {article} {kind} file, not {_NAMED[expected]}",
+        not_the_kind_expected(kind, _NAMED[expected]),
         path=str(path),
         line=1,
         col=1,

@@ -6,9 +6,20 @@ import pickle
 from pathlib import Path
 
 import pytest
+from helpers import run_cli
 
+from roboscript.errors import InputError
 from roboscript.grading import spec as test_spec
-from roboscript.inputs.kinds import OWN_KEYS, file_kind, kind_of_keys, not_a_mission
+from roboscript.inputs.kinds import (
+    OWN_KEYS,
+    FileKind,
+    file_kind,
+    kind_of_keys,
+    not_a_mission,
+    not_the_kind_expected,
+    refuse_another_kind,
+)
+from roboscript.inputs.source import load_yaml
 from roboscript.mission import yaml_loader
 from roboscript.sim import world
 
@@ -84,3 +95,24 @@ def test_a_front_end_says_how_the_file_is_used_in_its_own_words() -> None:
     assert advised.format() == (
         "w.yaml:1:1: error: this is a world file, not a mission (it is a world: pick w.yaml)"
     )
+
+
+@pytest.mark.parametrize(
+    ("path", "kind"),
+    [
+        ("roboscript/sim/worlds/empty.yaml", "world"),
+        ("missions/teacher/square/test.yaml", "test spec"),
+        ("missions/square.yaml", "mission"),
+    ],
+)
+def test_a_file_of_another_kind_is_named_in_one_sentence_where_a_mission_or_a_run_belongs(
+    path: str, kind: FileKind
+) -> None:
+    # one sentence for every reader that tells kinds apart: the mission readers, the
+    # readers of a world, a robot or a spec, and the commands that read a recorded run
+    done = run_cli("view", str(ROOT / path))
+    assert f"error: {not_the_kind_expected(kind, 'a recorded run')} (" in done.stderr
+    assert not_a_mission(path, kind).message == not_the_kind_expected(kind, "a mission")
+    with pytest.raises(InputError) as info:
+        refuse_another_kind(load_yaml(ROOT / path), path, "profile", InputError)
+    assert info.value.message == not_the_kind_expected(kind, "a robot profile")
