@@ -30,7 +30,7 @@ from roboscript.drivers.asip.framing import LineFramer
 from roboscript.drivers.asip.host_side import HOST_ENCODERS, decode_line
 from roboscript.errors import LocalProtocolError
 
-__all__ = ["DEFAULT_SERVICES", "AsipCodec", "codec_for"]
+__all__ = ["DEFAULT_SERVICES", "AsipCodec", "DeviceAsipCodec", "codec_for"]
 
 _ENCODERS: dict[Role, dict[type, Callable[..., str]]] = {
     Role.HOST: HOST_ENCODERS,
@@ -89,7 +89,7 @@ class AsipCodec:
     def __new__(cls, role: Role, **options: object) -> AsipCodec:  # noqa: PYI034
         chosen = cls
         if cls is AsipCodec:
-            chosen = _HostAsipCodec if role is Role.HOST else _DeviceAsipCodec
+            chosen = _HostAsipCodec if role is Role.HOST else DeviceAsipCodec
         return super().__new__(chosen)
 
     def __init__(
@@ -115,20 +115,6 @@ class AsipCodec:
         """Device role: True while the board waits inside a request for a byte (it runs
         nothing else meanwhile). Always False for a host-role codec."""
         return False
-
-    @property
-    def skip_pending(self) -> bool:
-        """Device role: True while the rest of the last request's line is still to be
-        skipped. Always False for a host-role codec."""
-        return False
-
-    def skip_received(self) -> int:
-        """Device role: skip what has been received of the last request's line; returns the
-        bytes dropped (see :class:`~roboscript.drivers.asip.device_side.RequestReader`)."""
-        return 0
-
-    def end_skip(self) -> None:
-        """Device role: nothing more has arrived, so the skip ends."""
 
     def _start_reader(self, max_line_bytes: int, max_buffer_bytes: int) -> None:
         raise NotImplementedError  # each role's class starts its own reader
@@ -165,13 +151,12 @@ class _HostAsipCodec(AsipCodec, LineFramer):
         """Nothing to do: only the board's parser waits for digits."""
 
 
-class _DeviceAsipCodec(AsipCodec, RequestReader):
+class DeviceAsipCodec(AsipCodec, RequestReader):
     """The device role: reply encoders, requests read with the firmware's semantics."""
 
     waiting = RequestReader.waiting  # AsipCodec's comes first in the lookup order
-    skip_pending = RequestReader.skip_pending
-    skip_received = RequestReader.skip_received
-    end_skip = RequestReader.end_skip
+    # skipping the rest of a request's line is the device's alone (RequestReader's), never a
+    # host's: the simulated board makes this class by name, so no host stub stands for it
 
     def _start_reader(self, max_line_bytes: int, max_buffer_bytes: int) -> None:
         RequestReader.__init__(

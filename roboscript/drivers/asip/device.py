@@ -42,7 +42,7 @@ from typing import TYPE_CHECKING
 
 from roboscript.codec import Role, readable
 from roboscript.drivers.asip import messages as m
-from roboscript.drivers.asip.codec import AsipCodec
+from roboscript.drivers.asip.codec import DeviceAsipCodec
 from roboscript.drivers.asip.options import AsipOptions
 from roboscript.drivers.asip.uart import (
     RECEIVE_RING_BYTES,
@@ -271,9 +271,9 @@ class MirtoBoard:
         # After a reset: when the sketch opens its UART and when it greets (None: running).
         self._booting: tuple[float, float] | None = None
 
-    def _new_codec(self) -> AsipCodec:
+    def _new_codec(self) -> DeviceAsipCodec:
         services = "".join(_SERVICE_NAMES)
-        return AsipCodec(
+        return DeviceAsipCodec(
             Role.DEVICE,
             services=services,
             servo_count=self.config.servo_count,

@@ -14,7 +14,7 @@ import pytest
 
 from roboscript.codec import Role, drain
 from roboscript.drivers.asip import messages as m
-from roboscript.drivers.asip.codec import AsipCodec
+from roboscript.drivers.asip.codec import AsipCodec, DeviceAsipCodec
 from roboscript.errors import RemoteProtocolError
 
 Decoded = list[m.AsipMessage | RemoteProtocolError]
@@ -668,3 +668,12 @@ def test_an_avr_boards_find_walks_back_to_the_match_a_byte_continues() -> None:
     teensy = AsipCodec(Role.DEVICE, int_bits=32)
     assert feed(teensy, b"L,G,1,,{0:50}\n") == []
     assert teensy.waiting
+
+
+def test_skipping_the_rest_of_a_request_line_is_the_device_codecs_alone() -> None:
+    # the board skips what it has of a line after some answers; the host never does, so its
+    # codec has no stand-in for it that could be called by mistake and do nothing
+    assert type(AsipCodec(Role.DEVICE)) is DeviceAsipCodec
+    device, host = AsipCodec(Role.DEVICE), AsipCodec(Role.HOST)
+    for name in ("skip_pending", "skip_received", "end_skip"):
+        assert hasattr(device, name) and not hasattr(host, name)
