@@ -40,6 +40,8 @@ class PythonSource:
         self._defs: dict[tuple[str, int], ast.FunctionDef | ast.AsyncFunctionDef] | None = None
         """Each ``def`` by its name and first line, indexed at the first look-up: a check asks
         for many methods of one file, and each look-up must not walk the whole file again."""
+        self._assigned: dict[ast.ClassDef, dict[str, tuple[ast.expr, ast.expr]]] = {}
+        """Each class's assignments by name, indexed at its first look-up."""
 
     def loc(self, node: ast.AST | None, line: int | None = None) -> Location:
         """Where ``node`` starts (or just ``line``, when there is no node)."""
@@ -62,25 +64,15 @@ class PythonSource:
                     return node
         return found[0] if found else None
 
-    @staticmethod
-    def assignment(cls_node: ast.ClassDef | None, name: str) -> tuple[ast.expr, ast.expr] | None:
+    def assignment(
+        self, cls_node: ast.ClassDef | None, name: str
+    ) -> tuple[ast.expr, ast.expr] | None:
         """``(target, value)`` of the last ``NAME = ...`` directly in a class body."""
         if cls_node is None:
             return None
-        found = None
-        for stmt in cls_node.body:
-            if isinstance(stmt, ast.Assign) and stmt.value is not None:
-                for target in stmt.targets:
-                    if isinstance(target, ast.Name) and target.id == name:
-                        found = (target, stmt.value)
-            elif (
-                isinstance(stmt, ast.AnnAssign)
-                and stmt.value is not None
-                and isinstance(stmt.target, ast.Name)
-                and stmt.target.id == name
-            ):
-                found = (stmt.target, stmt.value)
-        return found
+        if cls_node not in self._assigned:  # a class of many states: one pass, not one a name
+            self._assigned[cls_node] = _assignments(cls_node)
+        return self._assigned[cls_node].get(name)
 
     def function_def(
         self, name: str, first_line: int
@@ -93,6 +85,24 @@ class PythonSource:
                     start = min([node.lineno, *(d.lineno for d in node.decorator_list)])
                     self._defs.setdefault((node.name, start), node)
         return self._defs.get((name, first_line))
+
+
+def _assignments(cls_node: ast.ClassDef) -> dict[str, tuple[ast.expr, ast.expr]]:
+    """``(target, value)`` of each ``NAME = ...`` directly in a class body, by name: the last
+    one where a name is assigned more than once."""
+    found: dict[str, tuple[ast.expr, ast.expr]] = {}
+    for stmt in cls_node.body:
+        if isinstance(stmt, ast.Assign) and stmt.value is not None:
+            for target in stmt.targets:
+                if isinstance(target, ast.Name):
+                    found[target.id] = (target, stmt.value)
+        elif (
+            isinstance(stmt, ast.AnnAssign)
+            and stmt.value is not None
+            and isinstance(stmt.target, ast.Name)
+        ):
+            found[stmt.target.id] = (stmt.target, stmt.value)
+    return found
 
 
 def keyword(call: ast.expr | None, name: str) -> ast.expr | None:

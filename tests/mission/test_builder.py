@@ -1013,3 +1013,28 @@ def test_a_student_file_of_many_methods_is_parsed_once_and_walked_in_linear_work
     # once as it is loaded (the rules read from its text), once for where things are in it
     assert sum(source in (text, text.encode()) for source in parses) == 2
     assert walked[0] < 8 * file_nodes, (walked[0], file_nodes)
+
+
+def test_a_class_of_many_states_is_read_in_one_pass_for_where_each_was_written(
+    tmp_path: Path,
+) -> None:
+    # where each of a mission's states was written was a pass over the whole class body
+    # for each state: checking a mission took time in the square of its states
+    from roboscript.mission.python_source import PythonSource
+
+    path = tmp_path / "m.py"
+    path.write_text("class M:\n" + "".join(f"    s{n} = {n}\n" for n in range(300)))
+    source = PythonSource(str(path), "m.py")
+    cls_node = source.class_def("M")
+    assert cls_node is not None
+    passes = [0]
+
+    class Counted(list[Any]):
+        def __iter__(self) -> Any:
+            passes[0] += 1
+            return super().__iter__()
+
+    cls_node.body = Counted(cls_node.body)
+    found = [source.assignment(cls_node, f"s{n}") for n in range(300)]
+    assert [source.loc(item[1]).line if item else None for item in found] == list(range(2, 302))
+    assert passes[0] == 1
