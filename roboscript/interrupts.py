@@ -34,6 +34,7 @@ from types import FrameType
 __all__ = [
     "HANDLED_SIGNALS",
     "OUTSIDE_SIGNALS",
+    "RUN_USER_ALONE",
     "Interrupted",
     "deferred",
     "exit_status_for",
@@ -53,6 +54,13 @@ HANDLED_SIGNALS: tuple[signal.Signals, ...] = tuple(
 OUTSIDE_SIGNALS: frozenset[int] = frozenset(int(s) for s in HANDLED_SIGNALS if s != signal.SIGINT)
 """The signals something outside may send a graded run to end it (SIGTERM, SIGHUP): a
 teacher's ``kill``, a process manager stopping the grader; never a keyboard in a graded run."""
+
+RUN_USER_ALONE = "ROBOSCRIPT_RUN_USER_ALONE"
+"""The variable the grader's jail sets to ``1`` when every process a graded run can see under
+its own user is the run's (bubblewrap's namespaces, or a user of its own per jail): a signal
+that user sends from another process than the run's is then from a program the run started,
+never from outside. Without it (resource limits only, where the run shares the teacher's
+user), only a sender in the run's own session counts as the run's."""
 
 
 def signal_name(signum: int) -> str:

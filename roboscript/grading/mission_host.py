@@ -25,8 +25,10 @@ safe, and a stack-dumping timer once crashed healthy runs on a busy machine.
 What only the mission's own code can have done is said so: a ``KeyboardInterrupt`` (no one
 presses Ctrl-C in a graded run), or any signal it sends its own process (``os.kill``,
 ``os.killpg``, ``signal.raise_signal``, ``signal.pthread_kill``: SIGTERM and SIGHUP as much as
-SIGINT or SIGUSR1), is its crash at its line; a SIGTERM or SIGHUP from anywhere else (a
-teacher's ``kill``, a process manager) keeps its own sentence. A wire that fails under it is a
+SIGINT or SIGUSR1), is its crash at its line, and so is a SIGTERM or SIGHUP that its process
+or a program it started sends around them (``ctypes``, ``kill -TERM $PPID``): the process
+learns who sent each one. A SIGTERM or SIGHUP from anywhere else (a teacher's ``kill``, a
+process manager) keeps its own sentence. A wire that fails under it is a
 connection it broke itself, and ``os.fork()`` is refused, as a copy of the process would drive
 the same robot.
 
@@ -38,6 +40,7 @@ mission that closes its own standard output or error loses what it prints there,
 
 from __future__ import annotations
 
+import _thread
 import contextlib
 import errno
 import io
@@ -52,12 +55,13 @@ import threading
 import traceback
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
-from types import ModuleType
+from types import FrameType, ModuleType
 from typing import TYPE_CHECKING, Any, NamedTuple, TextIO
 
 from roboscript.code_owner import ROBOSCRIPT, is_student_file, owner_of_file
 from roboscript.interrupts import (
     OUTSIDE_SIGNALS,
+    RUN_USER_ALONE,
     Interrupted,
     exit_status_for,
     reason_for,
@@ -305,8 +309,34 @@ _CAUGHT_SIGNALS = tuple(
 have sent: they end the run as Ctrl-C does, at its line. (Not SIGALRM, the watchdog's; not
 the signals of a fault, SIGSEGV and its kin, which a handler would only make repeat.)"""
 
-_sent_itself: set[int] = set()
-"""The signals the mission's own code sent its own process (:func:`_own_signals`)."""
+_sent_itself: dict[int, str] = {}
+"""The signals the mission's own code sent its own process (:func:`_own_signals`), each with
+how, said after its name: ``""`` from its own process, :data:`_THROUGH_A_PROGRAM` from another
+process of its run (:func:`_sender_of`)."""
+
+_THROUGH_A_PROGRAM = " (through a program it started)"
+
+_received_apart: frozenset[int] = frozenset()
+"""The signals received on a thread of their own (:func:`_senders_told_apart`): blocked in
+every other thread, whatever the mission's code asks."""
+
+_WAKE = signal.SIGURG
+"""What wakes the main thread out of a blocking call (a ``sleep``, a wait on a process) when
+the thread that receives SIGTERM and SIGHUP hands one on: a signal nothing else sends a graded
+run, ignored by default, given a handler that does nothing."""
+
+_raise_signal, _pthread_kill, _getsignal = (
+    signal.raise_signal,
+    signal.pthread_kill,
+    signal.getsignal,
+)
+_set_mask: Callable[[int, Iterable[int]], set[int]] | None = getattr(
+    sys.modules.get("_signal"), "pthread_sigmask", None
+)
+"""The functions as Python gives them, before :func:`_own_signals` and
+:func:`_watchdog_alarm_kept` wrap them for the mission's code (``_signal``'s ``pthread_sigmask``:
+``signal``'s calls that one, which the mission's code cannot be let to unblock SIGTERM; it is
+not on every system)."""
 
 
 class _OwnStop(NamedTuple):
@@ -328,7 +358,8 @@ def _own_interrupt(
     with SIGKILL: a bare ``raise KeyboardInterrupt``, SIGINT (``signal.raise_signal``,
     ``_thread.interrupt_main()``) or a signal of :data:`_CAUGHT_SIGNALS` can only come from
     the mission's own code; SIGTERM and SIGHUP are its own when its code sent them
-    (:func:`_own_signals`), and keep their own sentence otherwise (see the teachers' guide).
+    (:func:`_own_signals`) or a process of its run did (:func:`_senders_told_apart`), and keep
+    their own sentence otherwise (see the teachers' guide).
     ``shown`` names the student's file as the student would (their path inside the
     submission).
     """
@@ -341,6 +372,7 @@ def _own_interrupt(
         did, why = "sent its own process SIGINT (Ctrl-C's signal)", _NO_CTRL_C
     else:
         did, why = f"sent its own process {signal_name(signum)}", _NO_SIGNAL
+        did += _sent_itself.get(signum, "")
     student = [f for f in traceback.extract_tb(exc.__traceback__) if is_student_file(f.filename)]
     where = f"{shown(student[-1].filename)}:{student[-1].lineno}" if student else ""
     return _OwnStop(did, where, why)
@@ -355,47 +387,70 @@ def _own_signals() -> None:
     in :data:`_sent_itself` before sending it. SIGKILL and SIGSTOP, which no handler can
     catch, are not sent from the main thread: the run ends there as on any other signal it
     sends itself, at its line, its robot stopped (not an unexplained kill, nor a pause the
-    world waits out). A signal sent around them (``ctypes``, a program it started) is not
-    noted: a SIGTERM or SIGHUP so sent reads as one from outside.
+    world waits out). SIGTERM and SIGHUP sent around them (``ctypes``, a program it started)
+    are told from a signal from outside by who sent them (:func:`_senders_told_apart`).
     """
     handler = signal.getsignal(signal.SIGINT)  # install_interrupts(): raises Interrupted
     assert callable(handler)  # install_interrupts() has just set it
     for signum in _CAUGHT_SIGNALS:
         signal.signal(signum, handler)
+    waited = _senders_told_apart()
     kill, killpg, raise_signal, pthread_kill = (
         os.kill,
         os.killpg,
         signal.raise_signal,
         signal.pthread_kill,
     )
+    set_mask = _set_mask
     getpid, getpgrp = os.getpid, os.getpgrp
     uncatchable = {int(signal.SIGKILL), int(signal.SIGSTOP)}
 
-    def note(signum: object) -> None:
+    def note(signum: object) -> int | None:
         number = _as_int(signum)
         if number is None:
-            return
-        _sent_itself.add(number)
+            return None
+        _sent_itself.setdefault(number, "")
         if number in uncatchable and threading.current_thread() is threading.main_thread():
             handler(number, None)  # raises Interrupted here, as the signal's handler would
+        return number
+
+    def unblocked(number: int | None, send: Callable[[], None]) -> None:
+        """Send with the signal unblocked in this thread, so that it lands here, at once, as
+        it did before :func:`_senders_told_apart` blocked it."""
+        if number not in waited or set_mask is None:
+            send()
+            return
+        set_mask(signal.SIG_UNBLOCK, {number})
+        try:
+            send()
+        finally:
+            set_mask(signal.SIG_BLOCK, {number})
 
     def own_kill(pid: int, signum: int, /) -> None:
         if pid in (0, getpid(), -getpgrp()):
-            note(signum)
+            number = note(signum)
+            unblocked(number, lambda: kill(pid, signum))
+            return
         kill(pid, signum)
 
     def own_killpg(pgid: int, signum: int, /) -> None:
         if pgid in (0, getpgrp()):
-            note(signum)
+            number = note(signum)
+            unblocked(number, lambda: killpg(pgid, signum))
+            return
         killpg(pgid, signum)
 
     def own_raise_signal(signum: int, /) -> None:
-        note(signum)
-        raise_signal(signum)
+        number = note(signum)
+        unblocked(number, lambda: raise_signal(signum))
 
     def own_pthread_kill(thread_id: int, signum: int, /) -> None:
-        note(signum)
-        pthread_kill(thread_id, signum)
+        number = note(signum)
+        if number in waited and thread_id != threading.get_ident():
+            pthread_kill(thread_id, 0)  # a thread that does not exist is still an error
+            _hand_on(number)  # blocked in every thread: it would wait there forever
+            return
+        unblocked(number, lambda: pthread_kill(thread_id, signum))
 
     wrapped = {
         "kill": own_kill,
@@ -407,6 +462,91 @@ def _own_signals() -> None:
         for name, wrapper in wrapped.items():
             if module is not None and hasattr(module, name):
                 setattr(module, name, wrapper)
+
+
+def _senders_told_apart() -> frozenset[int]:
+    """Receive SIGTERM and SIGHUP on a thread of their own, which learns who sent each one.
+
+    Python's handlers are not told the sender, so both signals are blocked in every thread
+    (this one first, before any other exists: threads inherit it) and taken by a thread that
+    waits for them (``sigwaitinfo``). One sent by the run itself (its own process through
+    ``ctypes``, or a program it started: :func:`_sender_of`) is noted in :data:`_sent_itself`;
+    then each is handed on to the main thread as it would have landed there
+    (:func:`_hand_on`), so a signal from outside keeps its own sentence. Where the system
+    cannot wait for a signal (not Linux), nothing changes and ``set()`` is returned.
+
+    Returns:
+        The signals now received on that thread.
+    """
+    set_mask = _set_mask
+    user_alone = os.environ.pop(RUN_USER_ALONE, "") == "1"  # read before the mission can
+    if set_mask is None or not hasattr(signal, "sigwaitinfo") or not OUTSIDE_SIGNALS:
+        return frozenset()
+    global _received_apart
+    waited = _received_apart = frozenset(OUTSIDE_SIGNALS)
+    signal.signal(_WAKE, _woken)
+    set_mask(signal.SIG_BLOCK, waited)
+    pid = os.getpid()
+
+    def receive() -> None:
+        set_mask(signal.SIG_BLOCK, set(signal.valid_signals()))  # the others go elsewhere
+        while True:
+            info = signal.sigwaitinfo(waited)
+            how = _sender_of(info, pid, user_alone)
+            if how is not None:
+                _sent_itself.setdefault(info.si_signo, how)
+            _hand_on(info.si_signo)
+
+    threading.Thread(target=receive, name="roboscript-signals", daemon=True).start()
+    return waited
+
+
+def _sender_of(info: signal.struct_siginfo, pid: int, user_alone: bool) -> str | None:
+    """How the run sent itself the signal ``info`` describes, said after its name (see
+    :data:`_sent_itself`), or ``None`` when it came from outside the run.
+
+    Its own process is ``pid``. A sender of ``0`` is outside its PID namespace (the grader's
+    side of bubblewrap) or the kernel. Another sender is the run's when its user is the run's
+    alone (``user_alone``, see :data:`~roboscript.interrupts.RUN_USER_ALONE`), or, where the
+    run shares its user with the teacher, when it is still there to be seen in the run's own
+    session.
+    """
+    if info.si_pid == pid:
+        return ""
+    if info.si_pid == 0:
+        return None
+    if user_alone and info.si_uid == os.getuid():
+        return _THROUGH_A_PROGRAM
+    try:
+        with open(f"/proc/{info.si_pid}/stat", "rb") as stat:
+            session = int(stat.read().rsplit(b")", 1)[1].split()[3])
+    except (OSError, ValueError, IndexError):
+        return None
+    return _THROUGH_A_PROGRAM if session == os.getsid(0) else None
+
+
+def _hand_on(signum: int) -> None:
+    """Deliver ``signum`` to the main thread as the system would have, had it not been blocked:
+    its handler runs there (a blocking call woken by :data:`_WAKE`), nothing happens if it is
+    ignored, and its default action ends the process."""
+    handler = _getsignal(signum)
+    if handler is signal.SIG_IGN:
+        return
+    if callable(handler):
+        _thread.interrupt_main(signal.Signals(signum))
+        main = threading.main_thread().ident
+        if main is not None:
+            with contextlib.suppress(OSError, ValueError):
+                _pthread_kill(main, _WAKE)
+        return
+    set_mask = _set_mask
+    if set_mask is not None:  # the default action: the process ends by the signal
+        set_mask(signal.SIG_UNBLOCK, {signum})
+    _raise_signal(signum)
+
+
+def _woken(_signum: int, _frame: FrameType | None) -> None:
+    """:data:`_WAKE`'s handler: the signal it woke the main thread for runs after it."""
 
 
 def _one_process() -> None:
@@ -439,6 +579,7 @@ def _watchdog_alarm_kept() -> None:
     roboscript's own (see :data:`WATCHDOG_ALARM`), through :mod:`signal` or ``_signal``."""
     alarm_signal, real_timer = int(signal.SIGALRM), int(signal.ITIMER_REAL)
     blocking = {int(signal.SIG_BLOCK), int(signal.SIG_SETMASK)}
+    received = _received_apart
     python_wrapper = signal.__file__  # signal.signal() calls _signal.signal(): look past it
 
     def refuse_unless_roboscript() -> None:
@@ -468,8 +609,14 @@ def _watchdog_alarm_kept() -> None:
 
         def kept_mask(how: int, mask: Iterable[int], /) -> Any:
             chosen = list(mask)
-            if _as_int(how) in blocking and alarm_signal in {_as_int(s) for s in chosen}:
+            numbers = {_as_int(s) for s in chosen}
+            if _as_int(how) in blocking and alarm_signal in numbers:
                 refuse_unless_roboscript()
+            # SIGTERM and SIGHUP stay with the thread that learns who sent them
+            if _as_int(how) == int(signal.SIG_UNBLOCK):
+                chosen = [s for s in chosen if _as_int(s) not in received]
+            elif _as_int(how) == int(signal.SIG_SETMASK):
+                chosen += sorted(received - numbers)
             return set_mask(how, chosen)
 
         return {

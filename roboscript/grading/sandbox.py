@@ -47,6 +47,7 @@ from roboscript.grading.processes import (
     statuses,
     uid_of,
 )
+from roboscript.interrupts import RUN_USER_ALONE
 
 if TYPE_CHECKING:
     from typing_extensions import Self
@@ -926,6 +927,8 @@ class Jail(_Output):
                     "extra_groups": [],
                     "umask": 0o077,
                 }
+        if jailed or self.user is not None:  # no process of its user's but its own
+            full_env[RUN_USER_ALONE] = "1"
         out_r, out_w = os.pipe()
         err_r, err_w = os.pipe()
         info_r = info_w = -1

@@ -135,9 +135,29 @@ def stuck_at(frame: FrameType | None) -> CodePlace | None:
     while frame is not None:
         code = frame.f_code
         if is_student_file(code.co_filename):
-            return CodePlace(shown_path(code.co_filename), frame.f_lineno, code.co_name)
+            return CodePlace(shown_path(code.co_filename), frame.f_lineno, _written_in(frame))
         frame = frame.f_back
     return None
+
+
+_COMPREHENSIONS = frozenset({"<listcomp>", "<setcomp>", "<dictcomp>", "<genexpr>"})
+"""The names Python gives the code of a comprehension or a generator expression: no name a
+student wrote, so a place inside one is named after the function it is written in."""
+
+
+def _written_in(frame: FrameType) -> str:
+    """The function ``frame``'s code is written in: its own name, or for a comprehension or
+    a generator expression the name of the function around it (``<module>`` at the top)."""
+    if frame.f_code.co_name not in _COMPREHENSIONS:
+        return frame.f_code.co_name
+    qualname = getattr(frame.f_code, "co_qualname", None)  # Python 3.11 and later
+    if qualname is not None:
+        names = [n for n in qualname.split(".") if n not in _COMPREHENSIONS and n != "<locals>"]
+        return names[-1] if names else "<module>"
+    outer = frame.f_back  # before 3.11: the frame that runs it, where it is written
+    while outer is not None and outer.f_code.co_name in _COMPREHENSIONS:
+        outer = outer.f_back
+    return "<module>" if outer is None else outer.f_code.co_name
 
 
 def _where(frame: traceback.FrameSummary | None) -> str | None:

@@ -202,6 +202,14 @@ for pid in os.listdir("/proc"):
             pass
 """
 
+# Sends its own process SIGTERM through a program it starts, while its file loads: the
+# signal is the student's own doing, whatever the isolation, not "something asked roboscript
+# to end".
+SIGNALLER = """\
+import os, subprocess
+subprocess.run(["kill", "-TERM", str(os.getpid())], check=False)
+"""
+
 FAKE_LINES = """\
 import os
 for pid in os.listdir("/proc"):
@@ -286,6 +294,7 @@ def graded(
     marker = f"roboscript-cheats-daemon-{uuid.uuid4().hex}"
     idle("daemon", DAEMON.format(targets=targets, marker=marker))
     idle("killer", KILLER)
+    idle("signaller", SIGNALLER)
     idle("liar", FAKE_LINES)
     idle("forker", FORK_BOMB)
     idle("flooder", FLOOD)
@@ -382,7 +391,7 @@ def _shown(runs: list[dict[str, Any]]) -> list[tuple[str, str, str]]:
 def test_the_grader_survives_the_class_and_reports_everyone(graded: dict[str, Any]) -> None:
     assert graded["exit"] == 1, graded["stderr"][-3000:]  # some students failed: exit 1
     students = {r["student"] for r in graded["report"]["results"]}
-    assert len(students) == 13
+    assert len(students) == 14
 
 
 def test_the_honest_student_passes_whatever_the_class_did(graded: dict[str, Any]) -> None:
@@ -448,6 +457,21 @@ def test_signals_from_a_student_reach_no_one(graded: dict[str, Any]) -> None:
     assert graded["report"] is not None
     runs = _runs(graded, "killer")
     assert {r["status"] for r in runs} <= {"passed", "failed", "crashed"}, _shown(runs)
+
+
+def test_a_signal_a_program_of_the_run_sends_it_is_the_students_own(
+    graded: dict[str, Any],
+) -> None:
+    # Told from a teacher's kill by who sent it: a process of the run, under a user (or in a
+    # PID namespace) that is the run's alone.
+    runs = _runs(graded, "signaller")
+    assert [r["status"] for r in runs] == ["invalid", "invalid"], _shown(runs)
+    for run in runs:
+        assert run["message"] == (
+            "the mission has an error: mission.py:4: error: sent its own process SIGTERM"
+            " (through a program it started): a mission ends by going to a final state, not by"
+            " sending itself a signal"
+        ), _shown([run])
 
 
 def test_no_fake_line_reaches_the_graders_output(graded: dict[str, Any]) -> None:

@@ -17,7 +17,13 @@ from helpers import HANG_BOUND_S, MISSIONS, one_run_spec
 from roboscript.grading import world_host
 from roboscript.grading.batch import find_specs, find_submissions, grade_class
 from roboscript.grading.run import grade_run
-from roboscript.grading.sandbox import Jail, warm_jails_supported
+from roboscript.grading.sandbox import (
+    ISOLATION_VARIABLE,
+    LIMITS_ONLY,
+    Jail,
+    detect_isolation,
+    warm_jails_supported,
+)
 
 # Finishes at once; as its robot's link closes, the process is sent Ctrl-C's signal.
 SIGNALLED_WHILE_CLOSING = """\
@@ -162,12 +168,30 @@ class Drives(Mission):
 """
 
 
+@pytest.fixture(params=["best", "limits"])
+def isolation(request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch) -> str:
+    """The best isolation this computer gives, and resource limits only (where the run shares
+    the grader's user). (A user of its own per jail is held to the grader's warm jails: a run
+    started alone cannot read its world's map there.)"""
+    mode = str(request.param)
+    if mode != "best":
+        monkeypatch.setenv(ISOLATION_VARIABLE, mode)
+    detect_isolation.cache_clear()
+    request.addfinalizer(detect_isolation.cache_clear)
+    if mode == "limits" and detect_isolation().name != LIMITS_ONLY:
+        pytest.skip("this computer cannot give the 'limits' isolation")
+    return mode
+
+
+@pytest.mark.usefixtures("isolation")
 def test_a_sigterm_from_outside_the_mission_keeps_its_own_sentence(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     # A teacher's `kill`, a process manager: not the student's code. The run ends with its
-    # robot stopped and the signal's sentence, as before; the mission's own SIGTERM is its
-    # crash at its line (tests/grading/test_interrupted_grading.py).
+    # robot stopped and the signal's sentence, as before, whichever isolation holds the run
+    # (even one that shares the teacher's user); the mission's own SIGTERM, sent itself or
+    # through a program it started, is its crash (tests/grading/test_cheats.py,
+    # tests/grading/test_hostile_class.py).
     frame = world_host._WorldSession._frame
     sent: list[int] = []
 
