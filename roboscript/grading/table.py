@@ -11,7 +11,7 @@ here (its margin does). Text is capped, and kept to one line.
 from __future__ import annotations
 
 from roboscript.grading.batch import ClassReport
-from roboscript.grading.text import cap, format_points
+from roboscript.grading.text import cap, display_width, format_points, padded
 
 __all__ = ["format_table", "symbols_for"]
 
@@ -48,12 +48,11 @@ def format_table(report: ClassReport, encoding: str | None = "utf-8") -> str:
             )
     header = ("student", "test", "runs", "score", "points", "worst margin / why")
     numeric = (3, 4)
-    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(5)]
+    # in a terminal's columns: a Chinese name is two a character, an accent none
+    widths = [max(display_width(r[i]) for r in [header, *rows]) for i in range(5)]
     lines = []
     for row in [header, *rows]:
-        cells = [
-            row[i].rjust(widths[i]) if i in numeric else row[i].ljust(widths[i]) for i in range(5)
-        ]
+        cells = [padded(row[i], widths[i], right=i in numeric) for i in range(5)]
         lines.append("  ".join([*cells, row[5]]).rstrip())
     runs = len(report.results)
     passed_runs = sum(1 for r in report.results if r.passed)

@@ -29,13 +29,16 @@ from roboscript.grading.record import RunRecord, RunResult, Verdict
 
 __all__ = [
     "DEBUG_CHARS",
+    "MARKS_PER_CHARACTER",
     "MESSAGE_CHARS",
     "NAME_CHARS",
     "advice",
     "cap",
     "cap_result",
     "clean_name",
+    "display_width",
     "format_points",
+    "padded",
     "public_reason",
     "student_text",
     "xml_safe",
@@ -76,15 +79,42 @@ _NAME_UNSAFE = re.compile(
 )
 
 
-# Letters and marks that show as nothing: a name holding one would read, in a table, like a
-# classmate's (``bob`` beside ``bob`` + U+3164). Every format character (Unicode's "Cf": zero-
-# width spaces and joiners, the soft hyphen, the byte-order mark...) is invisible too.
-_BLANKS = frozenset("\u034f\u115f\u1160\u3164\uffa0")
+# Characters that show as nothing: a name holding one would read, in a table, like a
+# classmate's (``bob`` beside ``bob`` + U+3164). They are Unicode's default-ignorable code
+# points (fillers, variation selectors, tags, Khmer's and Mongolian's silent marks) and the
+# blank Braille cell, which shows as a space no ``strip()`` removes. Every format character
+# (Unicode's "Cf": zero-width spaces and joiners, the soft hyphen, the byte-order mark...) is
+# invisible too.
+_BLANKS = re.compile(
+    "[\u034f\u115f\u1160\u17b4\u17b5\u180b-\u180f\u2060-\u206f\u2800\u3164\ufe00-\ufe0f"
+    "\uffa0\ufff0-\ufff8\U000e0000-\U000e0fff]"
+)
+MARKS_PER_CHARACTER = 4
+"""Most combining marks (accents) a name shows on one character: enough for any script's
+names (a Hebrew letter with its points), while a pile of them, drawn on top of each other,
+reaches over the lines above and below it in a terminal or a page."""
+_MARK_CATEGORIES = frozenset({"Mn", "Me"})
 
 
-def _visible(char: str) -> str:
-    invisible = char in _BLANKS or unicodedata.category(char) == "Cf"
-    return "\ufffd" if invisible else char
+def _visible(text: str) -> str:
+    """``text`` with each character that shows as nothing, and the marks piled on one
+    character past :data:`MARKS_PER_CHARACTER`, shown as ``�`` (once for a pile)."""
+    shown: list[str] = []
+    marks = 0
+    for char in text:
+        category = unicodedata.category(char)
+        if category == "Cf" or _BLANKS.match(char):
+            char, marks = "\ufffd", 0
+        elif category not in _MARK_CATEGORIES:
+            marks = 0
+        else:
+            marks += 1
+            if marks > MARKS_PER_CHARACTER:
+                if marks == MARKS_PER_CHARACTER + 1:
+                    shown.append("\ufffd")
+                continue
+        shown.append(char)
+    return "".join(shown)
 
 
 def clean_name(raw: str) -> str:
@@ -92,7 +122,9 @@ def clean_name(raw: str) -> str:
 
     Control characters (newlines, tabs and escape sequences included), separators,
     bidirectional controls and characters that show as nothing (zero-width spaces, soft
-    hyphens, joiners) each become ``�``, so no two names that differ look alike; the name is
+    hyphens, joiners, variation selectors, fillers) each become ``�``, and so does a pile of
+    more than :data:`MARKS_PER_CHARACTER` accents on one character (once), so no two names
+    that differ look alike and none reaches over the lines around it; the name is
     stripped of spaces at either end, put in Unicode's composed form (NFC), and cut to
     :data:`NAME_CHARS`. An empty name becomes ``student``. Cleaning a clean name changes
     nothing.
@@ -100,11 +132,30 @@ def clean_name(raw: str) -> str:
     return cap(one_line(raw).strip(), NAME_CHARS) or "student"
 
 
+def display_width(text: str) -> int:
+    """How many columns of a terminal ``text`` takes: a wide character (Chinese, Japanese,
+    Korean, full-width letters) two, an accent drawn on the character before it none."""
+    return sum(
+        0
+        if unicodedata.category(char) in _MARK_CATEGORIES
+        else 2
+        if unicodedata.east_asian_width(char) in ("W", "F")
+        else 1
+        for char in text
+    )
+
+
+def padded(text: str, columns: int, *, right: bool = False) -> str:
+    """``text`` padded with spaces to take ``columns`` columns of a terminal
+    (:func:`display_width`), on its right, or on its left when ``right`` (numbers)."""
+    room = " " * max(0, columns - display_width(text))
+    return room + text if right else text + room
+
+
 def one_line(raw: str) -> str:
     """``raw`` as one line of visible text (a file's name in a sentence): what
     :func:`clean_name` does to a name, without stripping or cutting it."""
-    text = _NAME_UNSAFE.sub("\ufffd", unicodedata.normalize("NFC", raw))
-    return "".join(map(_visible, text))
+    return _visible(_NAME_UNSAFE.sub("\ufffd", unicodedata.normalize("NFC", raw)))
 
 
 # An absolute path's folders (POSIX or Windows): what is left of it is the file's name.

@@ -37,7 +37,7 @@ import pytest
 from helpers import FORWARD_50CM, FORWARD_50CM_EXPECT, HANG_BOUND_S, every_core_busy
 
 from roboscript.grading.sandbox import detect_isolation
-from roboscript.grading.text import clean_name
+from roboscript.grading.text import clean_name, display_width
 
 SPEC = """\
 test: forward
@@ -527,6 +527,20 @@ def test_no_name_moves_the_terminal_or_forges_a_table_row(graded: dict[str, Any]
         assert not any(line.startswith("forged") for line in stream.splitlines())
 
 
+def test_the_tables_columns_line_up_in_a_terminal_whatever_the_names(
+    graded: dict[str, Any],
+) -> None:
+    # A Chinese name takes two columns a character, an accent none: each row's test column
+    # starts at the same column of the terminal, the header's included.
+    lines = graded["stdout"].splitlines()
+    columns = {display_width(lines[0][: lines[0].index("  test  ")])}
+    for line in lines[1:]:
+        found = re.search("  forward  [✓✗] [0-9]+/[0-9]+", line)
+        if found is not None:
+            columns.add(display_width(line[: found.start()]))
+    assert len(columns) == 1, columns
+
+
 def test_junit_stays_well_formed_xml(graded: dict[str, Any]) -> None:
     cases = ET.fromstring(graded["junit"]).iter("testcase")
     names = {case.get("classname") for case in cases}
@@ -832,6 +846,10 @@ _SPIN = "def spin():\n    while True:\n        pass"
 _STR_RAISED = "its __str__ raised ZeroDivisionError"
 _ONE_PROCESS = "a graded mission runs in one process: os.fork() would copy it"
 _AT = f"(forward.py:{_ATTACK_LINE})"
+_STOPPED_IN_FIRST = (
+    f"the mission's code did not return for 2 s and was stopped at forward.py:{_ATTACK_LINE}"
+    " in first:"
+)
 _FAILED, _PASSED = ("failed", "failed"), ("passed", "passed")
 _CRASHED, _INVALID, _HUNG = ("crashed", "crashed"), ("invalid", "invalid"), ("hung", "hung")
 
@@ -862,6 +880,22 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
      f"your code sent its own process SIGTERM in state 'go': {_NO_SIGNAL} {_AT}"),
     ("sentence", "sighup_at_load", _attack(pre="signal.raise_signal(signal.SIGHUP)"), _INVALID,
      f"forward.py:{_PRE_LINE}: error: sent its own process SIGHUP: {_NO_SIGNAL}"),
+    # ... sent around os.kill (a program it started, ctypes): its own all the same, told from
+    # a teacher's kill by who sent it
+    ("sentence", "sigterm_program", _attack(
+        "import subprocess; subprocess.run(['kill', '-TERM', str(os.getpid())])"), _CRASHED,
+     ("the run crashed: your code sent its own process SIGTERM (through a program it"
+      f" started) in state 'go': {_NO_SIGNAL} {_AT}")),
+    ("sentence", "sighup_program", _attack(
+        "import subprocess; subprocess.run(['sh', '-c', 'kill -HUP $PPID'])"), _CRASHED,
+     "your code sent its own process SIGHUP (through a program it started) in state 'go'"),
+    ("sentence", "sigterm_ctypes", _attack(
+        "import ctypes; ctypes.CDLL(None).kill(os.getpid(), signal.SIGTERM)"), _CRASHED,
+     f"your code sent its own process SIGTERM in state 'go': {_NO_SIGNAL}"),
+    ("sentence", "sigterm_unblocked", _attack(
+        "signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGTERM}); import ctypes;"
+        " ctypes.CDLL(None).kill(os.getpid(), signal.SIGTERM)"), _CRASHED,
+     f"your code sent its own process SIGTERM in state 'go': {_NO_SIGNAL}"),
     ("sentence", "nonblocking", _attack(
         "[os.set_blocking(fd, False) for fd in wires()]", _WIRES), _CRASHED, _BROKE),
     ("sentence", "shutdown", _attack(
@@ -994,11 +1028,15 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
      "the mission stopped while loading: the mission's code did not return for 10 s"),
     ("timing", "busy_condition", _attack("spin()", "def spin():\n    while True:\n        pass"),
      _HUNG, "the mission's code did not return for 2 s and was stopped at forward.py:"),
-    # a loop written as a comprehension that builds as it spins: stopped at its line
+    # a loop written as a comprehension that builds as it spins: stopped at its line, in the
+    # function it is written in (never Python's own "<listcomp>" or "<genexpr>")
     ("timing", "busy_listcomp", _attack("[[] for _ in iter(int, 1)]"), _HUNG,
-     f"the mission's code did not return for 2 s and was stopped at forward.py:{_ATTACK_LINE}"),
+     _STOPPED_IN_FIRST),
     ("timing", "busy_genexpr", _attack("any(False for _ in iter(int, 1))"), _HUNG,
-     f"the mission's code did not return for 2 s and was stopped at forward.py:{_ATTACK_LINE}"),
+     _STOPPED_IN_FIRST),
+    ("timing", "busy_nested_comps", _attack(
+        "any(False for _ in {k: [] for k in iter(int, 1)})"), _HUNG,
+     _STOPPED_IN_FIRST),
     ("timing", "thread_after", _attack(
         "threading.Thread(target=lambda: [print('x') for _ in iter(int, 1)]).start()"),
      _PASSED, None),
@@ -1130,6 +1168,12 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
     ("names", "x" * 240, _HONEST_FILES, _PASSED, None),
     ("names", "fiona", _HONEST_FILES, _PASSED, None),
     ("names", "\ufb01ona", _HONEST_FILES, _PASSED, None),  # a ligature: drawn as "fiona"
+    # characters drawn as nothing (a variation selector, a blank Braille cell, a tag) or as
+    # a pile of accents that reaches over the lines around it
+    ("names", "ada\ufe0f", _HONEST_FILES, _PASSED, None),
+    ("names", "bea\u2800", _HONEST_FILES, _PASSED, None),
+    ("names", "cy\U000e0041", _HONEST_FILES, _PASSED, None),
+    ("names", "zalgo" + "\u0301" * 40, _HONEST_FILES, _PASSED, None),
     ("names", "socket_file", {"forward.yaml": HONEST, "s.py": "SOCKET"}, _INVALID,
      "s.py is a socket, not an ordinary file"),
     ("names", "odd_helper", {"forward.yaml": HONEST, "he\x1b[2Jlp\u202eer.py": "X = 1\n"},
@@ -1234,6 +1278,18 @@ def test_round_two_grades_everyone_and_writes_every_report(attacked: dict[str, A
     assert len(cases) == len(attacked["runs"])
     assert len(list((attacked["html"] / "students").glob("*.html"))) == len(statuses)
     assert len(list((attacked["html"] / "runs").glob("*.html"))) == len(attacked["runs"])
+
+
+def test_a_name_drawn_like_a_classmates_is_told_apart_in_every_report(
+    attacked: dict[str, Any],
+) -> None:
+    # "ada" + a variation selector, "bea" + a blank Braille cell: drawn as "ada" and "bea".
+    statuses = _statuses(attacked)
+    for shown in ("ada�", "bea�", "cy�", "zalgó\u0301\u0301\u0301\u0301�"):
+        assert statuses[shown] == ["passed", "passed"], sorted(statuses)
+    pages = "".join(p.read_text(encoding="utf-8") for p in attacked["html"].rglob("*.html"))
+    for text in (attacked["stdout"], attacked["stderr"], attacked["csv"], attacked["junit"], pages):
+        assert not re.search("[\ufe0f\u2800\U000e0041]|\u0301{5}", text)
 
 
 def test_no_attack_reads_the_teachers_secrets_or_a_classmates_file(
