@@ -54,29 +54,31 @@ NAME_CHARS = 200
 _MARKER_ROOM = 40  # room for the marker, so a capped text is never longer than its limit
 # Characters that are not allowed in XML 1.0, break UTF-8 output (lone surrogates), or move a
 # terminal's cursor: C0 controls but tab and newline, DEL, C1 controls, U+FFFE and U+FFFF.
-_UNSAFE = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff]")
+_XML_UNSAFE = "\x00-\x08\x0b-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff"
+_UNSAFE = re.compile(f"[{_XML_UNSAFE}]")
+# The bidirectional controls that reorder what a terminal or a page shows after them (a
+# student's "deliaf" read backwards as "failed"): embeddings, overrides, isolates, marks.
+_BIDI = "\u202a-\u202e\u2066-\u2069\u200e\u200f\u061c"
+_SHOWN_UNSAFE = re.compile(f"[{_XML_UNSAFE}{_BIDI}]")
 
 
 def cap(text: str, limit: int = MESSAGE_CHARS) -> str:
     """``text`` cleaned, and cut to at most ``limit`` characters with a visible marker.
 
-    Characters that would break a report (control characters, lone surrogates) become
-    ``�``. A cut text ends ``… (cut: N characters)``, N being how many were left out; the
-    result, marker included, is never longer than ``limit``, so capping twice changes nothing.
+    Characters that would break a report (control characters, lone surrogates) or reorder
+    what follows them (bidirectional controls) become ``�``. A cut text ends ``… (cut: N
+    characters)``, N being how many were left out; the result, marker included, is never
+    longer than ``limit``, so capping twice changes nothing.
     """
     if len(text) > limit:
         keep = max(0, limit - _MARKER_ROOM)
         text = f"{text[:keep]}… (cut: {len(text) - keep} characters)"
-    return _UNSAFE.sub("\ufffd", text)
+    return _SHOWN_UNSAFE.sub("\ufffd", text)
 
 
 # What may not be in a name: any control character (tab and newline too: a name is one line),
-# line and paragraph separators, and the bidirectional controls that reorder what a terminal
-# or a page shows (U+202A-U+202E, U+2066-U+2069, U+200E, U+200F, U+061C).
-_NAME_UNSAFE = re.compile(
-    "[\x00-\x1f\x7f-\x9f\u2028\u2029\u202a-\u202e\u2066-\u2069\u200e\u200f\u061c"
-    "\ud800-\udfff\ufffe\uffff]"
-)
+# line and paragraph separators, and the bidirectional controls.
+_NAME_UNSAFE = re.compile(f"[\x00-\x1f\x7f-\x9f\u2028\u2029{_BIDI}\ud800-\udfff\ufffe\uffff]")
 
 
 # Characters that show as nothing: a name holding one would read, in a table, like a

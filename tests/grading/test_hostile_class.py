@@ -1016,6 +1016,10 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
         "raise RuntimeError('<script>alert(1)</script>]]><![CDATA[' + chr(0) + chr(27) + '[31m'"
         " + chr(0xD800) + chr(0xFFFE) + '\"},{\"score\": 100')"), _CRASHED,
      "raised RuntimeError in state 'go': <script>alert(1)</script>]]>"),
+    # text that a terminal or a page would show backwards (Unicode's bidirectional controls)
+    ("forgery", "bidi_raiser", _attack(
+        "raise RuntimeError('deliaf ' + chr(0x202E) + 'passed' + chr(0x2067) + ' 100%')"),
+     _CRASHED, "raised RuntimeError in state 'go': deliaf "),
     ("forgery", "row_raiser", _attack(
         "raise RuntimeError(chr(10) + 'ada  forward  ✓ 2/2  100%' + chr(10) + chr(27) + '[1A')"),
      _CRASHED, "raised RuntimeError"),
@@ -1316,3 +1320,4 @@ def test_no_attack_forges_a_line_a_cell_or_markup_in_any_report(attacked: dict[s
             for part in [*re.split("[,;\t|]", cell)[1:], cell]:
                 assert not part.lstrip(" ").startswith(("=", "+", "-", "@")), cell
     assert not re.search("[\ud800-\udfff\ufffe]", attacked["junit"])
+    assert not re.search("[\u202a-\u202e\u2066-\u2069]", attacked["junit"] + attacked["csv"])

@@ -6,6 +6,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import re
 import subprocess
 import sys
 import tracemalloc
@@ -234,6 +235,31 @@ def test_a_part_whose_names_an_older_grader_cleaned_less_still_merges(
     assert [r["status"] for r in merged_runs if r["student"] == "ada\ufffd"] == [
         r["status"] for r in whole_runs if r["student"] == "ada"
     ]
+
+
+def test_a_message_written_into_a_part_by_hand_moves_no_terminal_and_reorders_nothing(
+    graded: dict[str, Any],
+) -> None:
+    # A part is a file anyone with the folder can edit: what it says is shown as text only,
+    # never as a terminal's escape or a control that shows what follows it backwards.
+    root = graded["root"]
+    header, *lines = (root / "all.jsonl").read_text(encoding="utf-8").splitlines()
+    forged = "deliaf \u202epassed\u2067 \x1b[2J 100%"
+    edited = [header]
+    for line in lines:
+        run = json.loads(line)
+        run["message"] = forged
+        edited.append(json.dumps(run))
+    (root / "edited.jsonl").write_text("\n".join(edited) + "\n", encoding="utf-8")
+    merged = run_cli(
+        "gradebook", "edited.jsonl", "--html", "edited-html", "--junit", "edited.xml", cwd=root
+    )  # fmt: skip
+    assert merged.returncode in (0, 1), merged.stderr
+    assert "deliaf �passed� �[2J 100%" in merged.stdout  # hal's missing runs say it
+    pages = [page.read_text(encoding="utf-8") for page in (root / "edited-html").rglob("*.html")]
+    junit = (root / "edited.xml").read_text(encoding="utf-8")
+    for text in (merged.stdout, merged.stderr, junit, *pages):
+        assert not re.search("[\x1b\u202a-\u202e\u2066-\u2069]", text)
 
 
 def _set(run: dict[str, Any], where: str, value: Any) -> None:
