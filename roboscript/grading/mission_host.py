@@ -50,6 +50,7 @@ import logging
 import operator
 import os
 import signal
+import subprocess
 import sys
 import threading
 import traceback
@@ -330,6 +331,7 @@ _raise_signal, _pthread_kill, _getsignal = (
     signal.pthread_kill,
     signal.getsignal,
 )
+_interrupt_main = _thread.interrupt_main
 _set_mask: Callable[[int, Iterable[int]], set[int]] | None = getattr(
     sys.modules.get("_signal"), "pthread_sigmask", None
 )
@@ -463,6 +465,12 @@ def _own_signals() -> None:
             if module is not None and hasattr(module, name):
                 setattr(module, name, wrapper)
 
+    def own_interrupt_main(signum: int = signal.SIGINT, /) -> None:
+        note(signum)  # its handler runs as the signal's would: a SIGTERM so made is its own
+        _interrupt_main(signal.Signals(signum))  # what it raises for a wrong one, as Python's
+
+    _thread.interrupt_main = own_interrupt_main
+
 
 def _senders_told_apart() -> frozenset[int]:
     """Receive SIGTERM and SIGHUP on a thread of their own, which learns who sent each one.
@@ -497,8 +505,44 @@ def _senders_told_apart() -> frozenset[int]:
                 _sent_itself.setdefault(info.si_signo, how)
             _hand_on(info.si_signo)
 
-    threading.Thread(target=receive, name="roboscript-signals", daemon=True).start()
+    try:
+        threading.Thread(target=receive, name="roboscript-signals", daemon=True).start()
+    except RuntimeError:  # no thread to be had: the signals land as they always did
+        set_mask(signal.SIG_UNBLOCK, waited)
+        _received_apart = frozenset()
+        return _received_apart
+    _spawned_unblocked(waited)
     return waited
+
+
+def _spawned_unblocked(waited: frozenset[int]) -> None:
+    """Start the programs the mission starts with ``waited`` unblocked, as they would be
+    without :func:`_senders_told_apart`: a program inherits the signals its starter blocks,
+    and one that cannot be ended by SIGTERM (``Popen.terminate()``) would hang the run.
+
+    Every way a graded mission can start a program goes through one of these (``os.fork`` is
+    refused): ``subprocess``'s ``fork_exec`` and ``os.posix_spawn``, and ``os.system``.
+    """
+    set_mask = _set_mask
+    assert set_mask is not None  # _senders_told_apart() blocks them only where it exists
+
+    def unblocked(spawn: Callable[..., Any]) -> Callable[..., Any]:
+        def spawn_unblocked(*args: Any, **kwargs: Any) -> Any:
+            set_mask(signal.SIG_UNBLOCK, waited)  # in this thread, for the program it starts
+            try:
+                return spawn(*args, **kwargs)
+            finally:
+                set_mask(signal.SIG_BLOCK, waited)
+
+        return spawn_unblocked
+
+    spawners = [(subprocess, "_fork_exec"), (sys.modules.get("_posixsubprocess"), "fork_exec")]
+    for module in (os, sys.modules.get("posix")):
+        spawners += [(module, "posix_spawn"), (module, "posix_spawnp"), (module, "system")]
+    for module, name in spawners:
+        spawn = getattr(module, name, None)
+        if callable(spawn):
+            setattr(module, name, unblocked(spawn))
 
 
 def _sender_of(info: signal.struct_siginfo, pid: int, user_alone: bool) -> str | None:
@@ -533,7 +577,7 @@ def _hand_on(signum: int) -> None:
     if handler is signal.SIG_IGN:
         return
     if callable(handler):
-        _thread.interrupt_main(signal.Signals(signum))
+        _interrupt_main(signal.Signals(signum))
         main = threading.main_thread().ident
         if main is not None:
             with contextlib.suppress(OSError, ValueError):

@@ -892,6 +892,9 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
     ("sentence", "sigterm_ctypes", _attack(
         "import ctypes; ctypes.CDLL(None).kill(os.getpid(), signal.SIGTERM)"), _CRASHED,
      f"your code sent its own process SIGTERM in state 'go': {_NO_SIGNAL}"),
+    ("sentence", "sigterm_interrupt_main", _attack(
+        "import _thread; _thread.interrupt_main(signal.SIGTERM)"), _CRASHED,
+     f"your code sent its own process SIGTERM in state 'go': {_NO_SIGNAL} {_AT}"),
     ("sentence", "sigterm_unblocked", _attack(
         "signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGTERM}); import ctypes;"
         " ctypes.CDLL(None).kill(os.getpid(), signal.SIGTERM)"), _CRASHED,
@@ -1143,6 +1146,13 @@ ATTACKS: list[tuple[str, str, str | dict[str, str], tuple[str, str], str | None]
         pre="import atexit\natexit.register(lambda: getattr(os, '_exit')(7))"), _PASSED, None),
     ("process", "setsid", _attack("os.setsid()"), _CRASHED,
      "your condition 'first' raised PermissionError in state 'go'"),
+    # the programs it starts can be ended with SIGTERM, as anywhere (however it tells its own
+    # SIGTERM from a teacher's)
+    ("process", "ends_its_programs", _attack(
+        "import subprocess; p = subprocess.Popen(['sleep', '30']); p.terminate();"
+        " p.wait(timeout=5); pid = os.posix_spawn('/bin/sleep', ['sleep', '30'], {});"
+        " os.kill(pid, signal.SIGTERM); os.waitpid(pid, 0); os.system('kill -TERM $$')"),
+     _PASSED, None),
     ("process", "chdir_umask_environ", _attack(
         "os.chdir('/'); os.umask(0o777); os.environ.clear()"), _PASSED, None),
     ("process", "tracers", _attack(

@@ -31,6 +31,7 @@ import pytest
 from helpers import HANG_BOUND_S
 
 import roboscript
+from roboscript import interrupts
 from roboscript.grading import processes, sandbox
 from roboscript.grading.processes import live_processes
 from roboscript.grading.sandbox import (
@@ -652,6 +653,7 @@ def load(name, path):  # by its file: this interpreter has no roboscript install
 
 
 load("roboscript.grading.processes", {processes!r})
+load("roboscript.interrupts", {interrupts!r})
 sandbox = load("sandbox", {module!r})
 iso = sandbox.detect_isolation()
 code = '''
@@ -727,6 +729,7 @@ def test_a_grader_run_by_an_ordinary_user_gets_the_same_isolation() -> None:
             script = UNPRIVILEGED_GRADER.format(
                 module=sandbox.__file__,
                 processes=processes.__file__,
+                interrupts=interrupts.__file__,
                 marker=marker,
                 folder=folder,
                 port=listener.getsockname()[1],
