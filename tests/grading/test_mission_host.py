@@ -217,6 +217,42 @@ def test_a_sigterm_from_outside_the_mission_keeps_its_own_sentence(
     assert result.record is not None and result.record.duration_s > 1.0  # it drove 30 cm
 
 
+# Drives 30 cm, then has a program it starts send its own process SIGTERM.
+SIGNALS_ITSELF_THROUGH_A_PROGRAM = """\
+import os, subprocess
+
+from roboscript import Drive, Mission, state
+
+
+class Drives(Mission):
+    go = state(Drive(distance_mm=2000), initial=True, on_done="end", when=[("far", "end")])
+    end = state(final="success")
+
+    def far(self) -> bool:
+        if self.driven.total_mm > 300:
+            subprocess.run(["kill", "-TERM", str(os.getpid())], check=False)
+        return False
+"""
+
+
+@pytest.mark.usefixtures("isolation")
+def test_a_sigterm_a_program_of_the_run_sends_it_is_the_students_own(tmp_path: Path) -> None:
+    # Told from a teacher's kill (above) by its sender: a process in the run's own PID
+    # namespace or under its own user, or, where it shares the teacher's user, in its session.
+    spec = one_run_spec(tmp_path)
+    mission = tmp_path / "signals.py"
+    mission.write_text(SIGNALS_ITSELF_THROUGH_A_PROGRAM, encoding="utf-8")
+    result = grade_run(spec, str(mission), spec.variants[0])
+    assert (result.status, result.message) == (
+        "crashed",
+        (
+            "the run crashed: your code sent its own process SIGTERM (through a program it"
+            " started) in state 'go': a mission ends by going to a final state, not by sending"
+            " itself a signal (signals.py:12)"
+        ),
+    ), result.debug
+
+
 def _mission_process(jail_pid: int) -> int:
     """The mission process among the jail's process and its descendants (Linux's /proc)."""
     parents = {}
