@@ -317,6 +317,10 @@ process of its run (:func:`_sender_of`)."""
 
 _THROUGH_A_PROGRAM = " (through a program it started)"
 
+_started_programs: set[int] = set()
+"""The process ids of the programs the mission started (:func:`_spawned_unblocked`): a
+signal one of them sends is the run's, even once it has ended and cannot be seen any more."""
+
 _received_apart: frozenset[int] = frozenset()
 """The signals received on a thread of their own (:func:`_senders_told_apart`): blocked in
 every other thread, whatever the mission's code asks."""
@@ -525,14 +529,18 @@ def _spawned_unblocked(waited: frozenset[int]) -> None:
     """
     set_mask = _set_mask
     assert set_mask is not None  # _senders_told_apart() blocks them only where it exists
+    system = getattr(os, "system", None)
 
     def unblocked(spawn: Callable[..., Any]) -> Callable[..., Any]:
         def spawn_unblocked(*args: Any, **kwargs: Any) -> Any:
             set_mask(signal.SIG_UNBLOCK, waited)  # in this thread, for the program it starts
             try:
-                return spawn(*args, **kwargs)
+                started = spawn(*args, **kwargs)
             finally:
                 set_mask(signal.SIG_BLOCK, waited)
+            if spawn is not system and isinstance(started, int):
+                _started_programs.add(started)  # its pid: a signal it sends is the run's
+            return started
 
         return spawn_unblocked
 
@@ -551,15 +559,16 @@ def _sender_of(info: signal.struct_siginfo, pid: int, user_alone: bool) -> str |
 
     Its own process is ``pid``. A sender of ``0`` is outside its PID namespace (the grader's
     side of bubblewrap) or the kernel. Another sender is the run's when its user is the run's
-    alone (``user_alone``, see :data:`~roboscript.interrupts.RUN_USER_ALONE`), or, where the
-    run shares its user with the teacher, when it is still there to be seen in the run's own
-    session.
+    alone (``user_alone``, see :data:`~roboscript.interrupts.RUN_USER_ALONE`), when the
+    mission started it (:data:`_started_programs`), or, where the run shares its user with the
+    teacher, when it is still there to be seen in the run's own session (a program started by
+    one it started).
     """
     if info.si_pid == pid:
         return ""
     if info.si_pid == 0:
         return None
-    if user_alone and info.si_uid == os.getuid():
+    if info.si_pid in _started_programs or (user_alone and info.si_uid == os.getuid()):
         return _THROUGH_A_PROGRAM
     try:
         with open(f"/proc/{info.si_pid}/stat", "rb") as stat:
