@@ -380,6 +380,12 @@ class Board:
         evenly over the next ``span_cycles``, as a turning wheel's encoder would."""
         self._ask(f"E {encoder} {port} {bit_a} {bit_b} {steps} {span_cycles}")
 
+    def reset(self) -> None:
+        """Pull the reset line now (an Uno's DTR when a host opens its port, or the supply
+        dipping): the firmware starts again from its first instruction, the clock runs on,
+        and bytes already on the line keep arriving."""
+        self._ask("Z")
+
     def peek(self, address: int, count: int = 1) -> bytes:
         """Read the board's data memory (I/O registers start at 0x20)."""
         return bytes.fromhex(self._ask(f"M {address} {count}")[2:])

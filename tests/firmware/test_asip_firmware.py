@@ -27,12 +27,18 @@ KNOWN_DIFFERENCES: dict[str, str] = {
     ),
     "distance measure": "the same second distance sensor",
     **dict.fromkeys(
-        ("bump events every 2 ms", "bump events off after 2 ms", "bump events off after -5 ms"),
-        "events as fast as the line takes them: both boards send a byte every 170 us (UBRR 16), "
-        "but the firmware reads a request only between two events, each written as the line "
-        "frees the buffer, where the simulated board runs a physics step's events (5 ms) "
-        "before it reads what arrived meanwhile: after `B,A,0` the emulated board hands its "
-        "USART 88 bytes more, the simulated board 64 (its buffer)",
+        ("bump events every 2 ms", "bump events off after 2 ms"),
+        "events as fast as the line takes them: both boards read a request between two "
+        "events, each written as the line frees the buffer, and the 2 ms interval falls "
+        "against the line's pace so that the emulated board hands its USART one event (14 "
+        "bytes) more after `B,A,0` (91 bytes, the simulated board 77): which turn of the "
+        "loop finds the request's fourth byte turns on microseconds of the loop",
+    ),
+    "range: input on an encoder pin": (
+        "the pin's level follows the wheel (the Encoder library's pulled-up A and B lines): "
+        "the simulated wheels turned during the motor probes and stopped between two "
+        "quadrature states' edges, where the emulated board has no wheels and its lines "
+        "never move (`@I,d,4,80`)"
     ),
     "unknown service, digits tail": (
         "which byte each skip after an error ends on turns on microseconds of the firmware's "

@@ -101,3 +101,76 @@ def test_the_probe_spans_the_uart_opening_and_an_overflowing_ring(
     assert b"~O,?" in answered  # the first after it
     assert b"~z,?" not in answered  # the ring overflowed while the board greeted
     assert answered.count(b"@#,?") == 0  # every driver probe came too early
+
+
+RESET_STEP = 1000
+"""The physics step at whose start both boards are reset mid-session (5 s: encoder and bump
+events running, the driver's requests answered)."""
+MID_END_S = 9.0
+"""Past the second start-up and the answers to what waited in the receive ring."""
+
+
+def _mid_session_writes() -> list[tuple[int, bytes]]:
+    """(physics step, bytes): the driver's ``#,?`` every 250 ms until answered, its events
+    turned on, then ``#,?`` every 250 ms again, across the reset and the second start-up."""
+    writes = [(step, b"#,?\n") for step in range(0, 660, 50)]
+    writes += [(700, b"M,A,1\nB,A,50\n")]
+    writes += [(step, b"#,?\n") for step in range(900, round(MID_END_S / STEP_S), 50)]
+    return writes
+
+
+def _firmware_reset_mid_session() -> list[bytes]:
+    writes = dict(_mid_session_writes())
+    sent = []
+    with Board(build(mirtle_328p()), MIRTLE_MCU, MIRTLE_F_CPU_HZ, baud=MIRTLE_BAUD) as board:
+        for step in range(round(MID_END_S / STEP_S)):
+            if step == RESET_STEP:
+                board.reset()
+            if step in writes:
+                board.write(writes[step])
+            sent.append(board.advance_to((step + 1) * STEP_S))
+    return sent
+
+
+def _simulated_reset_mid_session() -> list[bytes]:
+    mirto = get_profile("mirto")
+    options = {**mirto.options, "transport": "uart", "reset_on_connect": True}
+    simulation = Simulation(load_world("empty"), dataclasses.replace(mirto, options=options))
+    simulation.connect()
+    writes = dict(_mid_session_writes())
+    sent = []
+    for step in range(round(MID_END_S / STEP_S)):
+        if step == RESET_STEP:
+            simulation.device.reset(simulation.time_s)  # type: ignore[attr-defined]
+        if step in writes:
+            simulation.write(writes[step])
+        simulation.tick((step + 1) * STEP_S, STEP_S)
+        sent.append(simulation.read(simulation.in_waiting))
+    return sent
+
+
+@pytest.fixture(scope="module")
+def mid_session_resets() -> tuple[list[bytes], list[bytes]]:
+    return _firmware_reset_mid_session(), _simulated_reset_mid_session()
+
+
+def test_a_board_reset_mid_session_is_silent_then_greets_again_as_the_firmware_does(
+    mid_session_resets: tuple[list[bytes], list[bytes]],
+) -> None:
+    firmware, simulated = mid_session_resets
+    after = slice(RESET_STEP, None)
+    # nothing more of what it was sending: the events stop with the reset, and the next byte
+    # is the start of its greeting, when the sketch has started again
+    assert _first_step(simulated[after]) == _first_step(firmware[after])
+    assert _first_step(firmware[after]) == int(RESET_GREETING_S / STEP_S)
+    assert firmware[RESET_STEP + _first_step(firmware[after])].startswith(b"!Mirtle2017 running")
+    assert b"".join(simulated[after]) == b"".join(firmware[after])
+
+
+def test_before_its_reset_the_board_answered_and_sent_events_as_the_firmware_did(
+    mid_session_resets: tuple[list[bytes], list[bytes]],
+) -> None:
+    firmware, simulated = mid_session_resets
+    before = b"".join(firmware[:RESET_STEP])
+    assert b"@#,?,1,1,ATmega328P" in before and b"@M,e,2" in before and b"@B,e,2" in before
+    assert b"".join(simulated[:RESET_STEP]) == before

@@ -80,6 +80,15 @@ SKIP_BYTE_S = 5e-6
 (``asip.cpp``'s ``while (serial->available() && serial->read() != '\\n')``: two virtual
 calls into ``HardwareSerial`` and the ring's index arithmetic, about 80 cycles at 16 MHz),
 seconds: a byte that arrives meanwhile is skipped too."""
+TIMER0_START_S = 0.784e-3
+"""After a reset, when an AVR board's Timer0 starts counting (the C runtime's start-up and the
+core's ``init()``), seconds: its first overflow, the first ``millis()`` tick, comes one
+overflow later. Measured on the emulated ATmega328P build (the first at 1.808 ms, then every
+1.024 ms)."""
+_AVR_MILLIS_FRACT = (3, 125)
+"""The Arduino AVR core's ``millis()``: one per Timer0 overflow (64 x 256 cycles, 1.024 ms at
+16 MHz) and one more each time the overflows' 24 us remainders (3 in units of 8 us) make up a
+millisecond (125 units): ``millis = n + 3 n / 125`` after ``n`` overflows."""
 _AUTO_STOP_S = 2.0
 _MOST_EVENTS_A_STEP = 64
 """A bound on one service's events in one physics step (a wrapped interval reports on every
@@ -228,6 +237,9 @@ class _State:
     encoder_events: bool = False
     motor_frames: bool = True
     next_motor_frame_s: float = 0.0
+    motor_event: _AutoEvent = field(default_factory=_AutoEvent)
+    """A UART board's motor frame, ``setAutoreport(1000 / PID_FRAME_HZ)`` in its ``begin``
+    (a USB board keeps :attr:`next_motor_frame_s` instead)."""
     auto: dict[str, _AutoEvent] = field(default_factory=dict)
     pin_modes: list[int] = field(default_factory=list)
     analog_channels: set[int] = field(default_factory=set)  # analogInputsToReport
@@ -267,6 +279,9 @@ class MirtoBoard:
         self._transmitter = Transmitter(avr_byte_s(self.config.baud, self.config.f_cpu_hz))
         self._clock_s = 0.0
         self._powered_s = 0.0  # when the board last started: millis() counts from it
+        self._due_s: float | None = None  # a UART board's next auto-event, once worked out
+        # an AVR's Timer0 overflow, seconds: a millis() tick, less the ones it makes up
+        self._overflow_s = 64 * 256 / self.config.f_cpu_hz
         self.state = self._power_on_state()
         # After a reset: when the sketch opens its UART and when it greets (None: running).
         self._booting: tuple[float, float] | None = None
@@ -286,6 +301,7 @@ class MirtoBoard:
         state.pixels = [(0, 0, 0)] * self.config.pixel_count
         for service in "IBRD":
             state.auto[service] = _AutoEvent((1 << self.config.int_bits) - 1)
+        state.motor_event = _AutoEvent((1 << self.config.int_bits) - 1)
         modes = []
         for pin, owner in enumerate(_PIN_SERVICES):
             if owner == "@":
@@ -315,25 +331,44 @@ class MirtoBoard:
         if not self.config.resets_on_connect:
             self._greet(now_s)
             return
+        self.reset(now_s)
+
+    def reset(self, now_s: float) -> None:
+        """The board resets at ``now_s`` (its reset line, or its power dipping under the
+        motors' load): the motors stop, what it had not yet sent and what it had not yet read
+        is gone, and it is deaf until its sketch opens the UART again
+        (:data:`RESET_UART_ON_S`), then greets (:data:`RESET_GREETING_S`) as at power-on."""
+        self._now_s = max(self._now_s, now_s)
+        self.codec = self._new_codec()
         self.stop_all()
         self._transmitter.clear()
+        self._out.clear()
         ticks = self.body.ticks
         self.state = self._power_on_state()  # the encoders count from 0 again
         for index, wheel in enumerate(self.state.wheels):
             wheel.last_ticks = wheel.total_offset = ticks[index]
         self._powered_s = now_s
+        self._clock_s = now_s
+        self._due_s = None
         self._booting = (now_s + RESET_UART_ON_S, now_s + RESET_GREETING_S)
 
     def _greet(self, now_s: float) -> None:
         self._clock_s = max(self._clock_s, now_s)
+        self._due_s = None
         services = tuple(_SERVICE_NAMES)
         self._send(m.StartupLine(self.config.sketch, self.config.chip, services))
+        # mirtle2017's setup(): asip.begin's line, then each service's begin (the motors'
+        # and the IO's set their auto-reports), then the pin modes, port map and names
+        begun_ms = self._millis(self._clock_s)
         self._send(m.PinModesReply(tuple(self.state.pin_modes)))
         self._send(m.PortMapReply(_PORT_MAP))
         for service, name in _SERVICE_NAMES.items():
             self._write(f"{name} is service {service}\r\n".encode("ascii"))
         for event in self.state.auto.values():
             event.start(event.interval_ms, self._millis(now_s))
+        if not self.config.whole_lines:
+            self.state.auto["I"].start(self.state.auto["I"].interval_ms, begun_ms)
+            self.state.motor_event.start(round(_MOTOR_FRAME_S * 1000), begun_ms)
         self.state.next_motor_frame_s = now_s + _MOTOR_FRAME_S
 
     def _boot(self, now_s: float) -> bool:
@@ -378,14 +413,10 @@ class MirtoBoard:
         if self._boot(now_s):
             return  # the sketch's start-up: nothing else runs
         codec = self.codec
-        idle_s = -math.inf  # from when the firmware's loop was free to report
         if not self.config.whole_lines:
-            self._serve_line(now_s)
-            if codec.waiting:
-                return  # the firmware is inside parseInt: nothing else runs
-            idle_s = self._clock_s  # from when the firmware's loop was free
-            self._clock_s = max(self._clock_s, now_s)
-        elif codec.waiting:
+            self._run_loop(now_s)
+            return
+        if codec.waiting:
             # Stream's timed reads give up after a second without a byte; each has its own.
             if now_s - self._wait_since_s >= _PARSE_TIMEOUT_S - 1e-9:
                 self._wait_since_s = now_s
@@ -403,31 +434,95 @@ class MirtoBoard:
                 state.next_motor_frame_s = now_s + _MOTOR_FRAME_S
         for service, event in state.auto.items():
             if event.interval_ms:
-                self._auto_report(service, event, now_s, idle_s)
+                self._auto_report(service, event, now_s)
+
+    def _run_loop(self, now_s: float) -> None:
+        """A UART board's ``loop()`` up to ``now_s``, on the firmware's own clock: each turn
+        reads what has arrived (``asip.service()``), then reports each service whose
+        auto-event is due at the turn's ``millis()``, in the sketch's ``services[]`` order,
+        each written as the line takes it; a request that arrives while it writes is read at
+        the next turn, before the next event (``B,A,0`` stops a stream at once)."""
+        state = self.state
+        for _ in range(_MOST_EVENTS_A_STEP):
+            self._serve_line(min(self._next_turn_s(), now_s))
+            if self.codec.waiting:  # inside parseInt: nothing else runs until it returns
+                self._serve_line(now_s)
+                if self.codec.waiting:
+                    return
+            turn_s = self._next_turn_s()  # what it read may have changed an interval
+            if turn_s > now_s + 1e-9:
+                break
+            self._clock_s = turn_s
+            self._due_s = None
+            tick = self._millis(turn_s)
+            events = [("M", state.motor_event)] if state.motor_frames else []
+            events[:0] = [("I", state.auto["I"])]
+            events += [(service, state.auto[service]) for service in "BRD"]
+            for service, event in events:
+                event.checked_ms = max(event.checked_ms, tick)
+                if event.interval_ms and event.due_ms() <= tick:  # tick >= nextTrigger
+                    if service == "M":
+                        self._motor_frame(turn_s)
+                    else:
+                        self._report(service)
+                    event.next_tick = (tick + event.interval_ms) & event.tick_mask
+        self._clock_s = max(self._clock_s, now_s)
+        self._send_port_changes(force=False)
+
+    def _next_turn_s(self) -> float:
+        """A UART board: when its loop next finds an auto-event due, seconds (infinity when
+        none is on); never before the firmware is free. Kept until a request is handled or
+        an event reported (:attr:`_due_s`): most physics steps only look at it."""
+        due_s = self._due_s
+        if due_s is None:
+            state = self.state
+            due_ms = math.inf
+            if state.motor_frames and state.motor_event.interval_ms:
+                due_ms = state.motor_event.due_ms()
+            for event in state.auto.values():
+                if event.interval_ms:
+                    due_ms = min(due_ms, event.due_ms())
+            due_s = math.inf if due_ms == math.inf else self._millis_s(int(due_ms))
+            self._due_s = due_s
+        return max(self._clock_s, due_s)
 
     def _millis(self, time_s: float) -> int:
-        """The firmware's ``millis()`` at simulated ``time_s``: whole ms since power-on."""
-        return math.floor((time_s - self._powered_s) * 1000.0 + 1e-6)
+        """The firmware's ``millis()`` at simulated ``time_s``, since power-on: on a UART
+        board (an AVR) counted in Timer0 overflows (``_AVR_MILLIS_FRACT``), else whole ms."""
+        if self.config.whole_lines:
+            return math.floor((time_s - self._powered_s) * 1000.0 + 1e-6)
+        overflows = math.floor(
+            (time_s - self._powered_s - TIMER0_START_S) / self._overflow_s + 1e-6
+        )
+        if overflows <= 0:
+            return 0
+        extra, unit = _AVR_MILLIS_FRACT
+        return overflows + overflows * extra // unit
 
-    def _auto_report(self, service: str, event: _AutoEvent, now_s: float, idle_s: float) -> None:
-        """The service's auto-events due up to ``now_s``: one each time the firmware's loop
-        finds ``tick >= nextTrigger``, then ``nextTrigger = tick + interval`` (16 bits). The
-        firmware is free to look from ``idle_s`` on, and again once it has written an event
-        (a USB board: at the next ms)."""
-        free_s = idle_s
+    def _millis_s(self, millis: int) -> float:
+        """When ``millis()`` first reads ``millis`` (or more), simulated seconds."""
+        if self.config.whole_lines:
+            return self._powered_s + millis / 1000.0
+        if millis <= 0:
+            return self._powered_s
+        extra, unit = _AVR_MILLIS_FRACT
+        overflows = max(1, millis * unit // (unit + extra) - 1)
+        while overflows + overflows * extra // unit < millis:
+            overflows += 1
+        return self._powered_s + TIMER0_START_S + overflows * self._overflow_s
+
+    def _auto_report(self, service: str, event: _AutoEvent, now_s: float) -> None:
+        """A USB board: the service's auto-events due up to ``now_s``: one each time the
+        firmware's loop finds ``tick >= nextTrigger``, then ``nextTrigger = tick + interval``
+        (32 bits); it looks again at the next ms."""
+        free_s = -math.inf
         for _ in range(_MOST_EVENTS_A_STEP):
             at_s = max(self._powered_s + event.due_ms() / 1000.0, free_s)
             if at_s > now_s + 1e-9:
                 return
             tick = self._millis(at_s)
-            if self.config.whole_lines:
-                self._report(service)
-                free_s = at_s + 0.001
-            else:  # written on the firmware's clock: it waits for the line once it is full
-                clock_s, self._clock_s = self._clock_s, at_s
-                self._report(service)
-                free_s = self._clock_s
-                self._clock_s = max(clock_s, free_s)
+            self._report(service)
+            free_s = at_s + 0.001
             event.next_tick = (tick + event.interval_ms) & event.tick_mask
             event.checked_ms = max(tick, self._millis(free_s))
 
@@ -490,10 +585,10 @@ class MirtoBoard:
                     break
                 progressed = True
                 self._handle(message, self._clock_s)
-                if self._clock_s > until_s:
-                    return  # it reads on, with what has come meanwhile, at a later step
                 self._take_arrived()  # what came while it answered
-                self._skip_rest_of_line()
+                self._skip_rest_of_line()  # at once, as asip.cpp does after its answer
+                if self._clock_s > until_s:
+                    return  # it reads on, with what has come meanwhile, later
             if progressed:
                 self._wait_since_s = self._clock_s  # a timed read waits from now on
             arrival_s = line.next_arrival_s()
@@ -632,6 +727,7 @@ class MirtoBoard:
 
     def _handle(self, msg: object, now_s: float) -> None:
         state = self.state
+        self._due_s = None  # it may change an auto-event
         if isinstance(msg, m.InvalidServiceRequest):
             self._error(msg.service, "?", m.ErrorCode.INVALID_SERVICE)
         elif isinstance(msg, m.RefusedRequest):

@@ -23,6 +23,15 @@ Without firmware PID (``asip-basic``, or a board that answers ``M,R`` with
 
 Stopping sends ``M,S,0`` and ``M,M,0,0`` (``M,S`` needs the dummy argument, see the codec).
 
+A board that restarts (an Uno-style board's reset line, pulled when some program opens its
+port, or its supply dipping under the motors' load) forgets every request: its events stop
+and its motors with them, and once its sketch has started again it sends its start-up lines.
+Start-up lines after the events were turned on mean that: during the handshake the events
+are asked for again; once ready the run stops with one sentence
+(:data:`BOARD_RESTARTED`), before any setpoint could start the motors of a board that knows
+nothing of the mission. (The ``mirtle2017`` sketch is silent for 3.2 s while it starts: the
+driver's one-second silence limit usually ends such a run first.)
+
 What ASIP cannot report comes from the profile's options
 (:class:`~roboscript.drivers.asip.options.AsipOptions`): the servo count and the LCD's width.
 A display row is cut to that width before it is sent, because the board reads the characters
@@ -42,11 +51,11 @@ from roboscript.control import WheelSpeedLoop
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.options import AsipOptions
 from roboscript.drivers.base import Driver, PendingRequest, WheelDriveBase
-from roboscript.errors import LinkTimeoutError
+from roboscript.errors import LinkClosedError, LinkTimeoutError
 from roboscript.robot_profile import RobotProfile
 from roboscript.transport.link import Link
 
-__all__ = ["AsipDriver"]
+__all__ = ["BOARD_RESTARTED", "AsipDriver"]
 
 logger = logging.getLogger(__name__)
 
@@ -72,6 +81,15 @@ _ERROR_MEANINGS: dict[int, str] = {
     m.ErrorCode.I2C_NOT_ENABLED: "I2C is not enabled",
 }
 """What ASIP error numbers mean, in words a student can act on."""
+
+BOARD_RESTARTED = (
+    "the board restarted {after} (it sent its start-up lines again: its reset line was "
+    "pulled or its power dipped), so it forgot the mission's requests and the run stopped"
+)
+"""The sentence for a board that restarts once ready; ``{after}`` is "12.3 s after
+connecting"."""
+_START_UP = (m.StartupLine, m.PinModesReply, m.PortMapReply)
+"""What only a sketch's ``setup()`` sends unasked (the driver never asks for the last two)."""
 
 _STEERING_GAP_S = 0.3  # two setpoint changes closer than this mean "steering"
 _STEADY_S = 0.5  # steady this long and the firmware PID takes the wheels back
@@ -130,6 +148,7 @@ class AsipDriver(Driver):
         self._mm_per_tick = math.pi * profile.wheel_diameter_mm / profile.ticks_per_rev
         self._tones: list[tuple[int, int]] = []
         self._padding_noticed = False
+        self._configured = False  # the events have been asked for
 
     # ----------------------------------------------------------------------------- handshake
 
@@ -144,6 +163,7 @@ class AsipDriver(Driver):
         self._probe_reply.sent(request, now_s)
 
     def _configure(self) -> None:
+        self._configured = True
         caps = self.profile.capabilities
         self.link.send(m.SetAutoEventInterval("I", 0))
         if "M" in self.services:
@@ -239,6 +259,8 @@ class AsipDriver(Driver):
     def tick(self, now_s: float, dt_s: float) -> None:
         """Read events, advance the handshake, watch for silence."""
         for message in self.link.poll():
+            if self._configured and isinstance(message, _START_UP):
+                self._restarted(now_s)
             if self._phase != "ready":
                 self._probe_reply.answered(message)
                 self._pixels_reply.answered(message)
@@ -262,6 +284,22 @@ class AsipDriver(Driver):
                 raise LinkTimeoutError(
                     f"the robot stopped responding (nothing for {now_s - last:.1f} s)"
                 )
+
+    def _restarted(self, now_s: float) -> None:
+        """The board greeted again after its events were asked for: it restarted.
+
+        Raises:
+            LinkClosedError: Once ready: the run ends (its stop still goes out, and reaches
+                the board that is running again).
+        """
+        if not self.ready:
+            self._configured = False
+            self._pixels_reply.cancel()
+            self._phase = "discover"  # the services are known: ask for the events again
+            return
+        after = f"{now_s - self.connected_s:.1f} s after connecting"
+        self.failure = LinkClosedError(BOARD_RESTARTED.format(after=after))
+        raise self.failure
 
     def flush(self, now_s: float, dt_s: float) -> None:
         """Send wheel setpoints and tones."""

@@ -17,8 +17,8 @@ from roboscript.clock import SimClock
 from roboscript.codec import Role, readable
 from roboscript.drivers.asip import messages as m
 from roboscript.drivers.asip.codec import AsipCodec
-from roboscript.drivers.asip.driver import AsipDriver
-from roboscript.errors import LinkError, LinkTimeoutError
+from roboscript.drivers.asip.driver import BOARD_RESTARTED, AsipDriver
+from roboscript.errors import LinkClosedError, LinkError, LinkTimeoutError
 from roboscript.profiles import RobotProfile, get_profile
 
 ALL_SERVICES = (
@@ -254,6 +254,50 @@ def test_silence_for_over_a_second_is_a_link_timeout() -> None:
     with pytest.raises(LinkTimeoutError, match="the robot stopped responding"):
         for _ in range(3):
             board.tick()
+
+
+def test_a_board_that_greets_again_mid_run_ends_the_run_before_any_setpoint_goes_out() -> None:
+    board = Board()
+    board.connect()
+    board.driver.set_wheel_speeds(100.0, 100.0)
+    board.keep_talking(2.5)  # an rpm refresh is due now
+    with pytest.raises(LinkClosedError) as raised:
+        board.tick(m.StartupLine("Mirtle2017", "ATmega328P", ("I", "M")))
+    assert str(raised.value) == BOARD_RESTARTED.format(after="2.6 s after connecting")
+    assert board.driver.failure is raised.value  # the user's sentence, as it stands
+    assert not any(isinstance(sent, m.SetMotorsRpm) for sent in board.link.take())
+    board.driver.stop_all()  # on the way out: reaches the board that runs again
+    assert board.link.take() == [m.StopMotors(), m.SetMotorsPower(0, 0)]
+
+
+@pytest.mark.parametrize("line", [m.PinModesReply((6, 6)), m.PortMapReply(((4, 1),))])
+def test_the_sketchs_other_start_up_lines_also_mean_it_restarted(line: object) -> None:
+    board = Board()
+    board.connect()
+    with pytest.raises(LinkClosedError, match="the board restarted"):
+        board.tick(line)
+
+
+def test_a_board_that_restarts_during_the_handshake_is_asked_for_its_events_again() -> None:
+    board = Board()
+    board.driver.start()
+    board.tick(VERSION)
+    configured = board.tick(m.ServiceNamesReply(ALL_SERVICES))
+    assert m.EnableEncoderEvents(True) in configured  # then it waits for the strip length
+    again = board.tick(m.StartupLine("Mirtle2017", "ATmega328P"))
+    assert m.EnableEncoderEvents(True) in again
+    board.tick(m.PixelsInfoReply(0, 8))
+    assert board.driver.ready
+
+
+def test_the_greeting_before_the_events_were_asked_for_is_no_restart() -> None:
+    board = Board()
+    board.driver.start()
+    board.tick(m.StartupLine("Mirtle2017", "ATmega328P"), m.PinModesReply((6,)))
+    board.tick(m.PortMapReply(((4, 1),)), VERSION)
+    board.tick(m.ServiceNamesReply(ALL_SERVICES))
+    board.tick(m.PixelsInfoReply(0, 8))
+    assert board.driver.ready
 
 
 def test_encoder_totals_are_wheel_travel_in_millimetres() -> None:

@@ -64,3 +64,48 @@ def test_a_board_that_never_finishes_booting_ends_the_connection_with_one_senten
     message = str(raised.value)
     assert message.startswith(f"mirto did not answer on {RESETTING_UART_BOARD} within 2 s:")
     assert "\n" not in message
+
+
+def _run_reset_mid_mission(profile: RobotProfile, reset_after_s: float) -> tuple[object, object]:
+    """Run ``missions/square.yaml``; the simulated board resets ``reset_after_s`` after the
+    handshake (its supply dipping, or another program opening its port)."""
+    from helpers import ROOT
+
+    from roboscript.mission import load_mission
+    from roboscript.session import run_session
+
+    spec, _ = load_mission(ROOT / "missions" / "square.yaml", profile)
+    reset: list[float] = []
+
+    def maybe_reset(runner: object, robot: Robot) -> None:
+        driver, simulation = robot.driver, robot.simulation
+        assert driver.ready_s is not None and simulation is not None
+        if not reset and simulation.time_s >= driver.ready_s + reset_after_s:
+            assert any(abs(power) > 0.1 for power in simulation.body.power)  # driving
+            simulation.device.reset(simulation.time_s)  # type: ignore[attr-defined]
+            reset.append(simulation.time_s)
+
+    session = run_session(spec, profile, max_time_s=60.0, on_tick=maybe_reset)
+    assert reset
+    return session, session.simulation
+
+
+@pytest.mark.parametrize("reset_on_connect", [True, False])
+def test_a_board_that_resets_mid_mission_ends_the_run_and_its_motors_stay_off(
+    reset_on_connect: bool,
+) -> None:
+    profile = _uno_style_mirto()
+    profile = dataclasses.replace(
+        profile, options={**profile.options, "reset_on_connect": reset_on_connect}
+    )
+    session, simulation = _run_reset_mid_mission(profile, 1.0)
+    result = session.result  # type: ignore[attr-defined]
+    assert result.outcome == "error", (result.outcome, result.reason)
+    # the sketch is silent for 3.2 s while it starts again: the silence limit ends the run
+    assert result.reason.startswith("the robot stopped responding "), result.reason
+    # the board comes back and reads what reached it once its UART was open: nothing of the
+    # mission may start its motors again
+    for _ in range(round(6.0 / 0.02)):
+        simulation.tick(simulation.time_s + 0.02, 0.02)  # type: ignore[attr-defined]
+        assert all(abs(power) < 1e-9 for power in simulation.body.power)  # type: ignore[attr-defined]
+    assert simulation.device._booting is None  # type: ignore[attr-defined]  # it did come back

@@ -31,6 +31,10 @@
  *   R <n> <offset> <count>
  *                      read I2C EEPROM n's memory (n counts the addresses given at start-up)
  *                                                                          -> "R <hex>"
+ *   Z                  reset the AVR as its reset line does (an Uno's DTR when a host opens
+ *                      its port): the CPU, its RAM and peripherals start afresh, the clock
+ *                      runs on; bytes on the line keep arriving (lost while the UART is off)
+ *                      and encoders keep turning                           -> "K"
  *   Q                  end
  *
  * If the AVR stops (crash, sleep with interrupts off) the answer is "X <state>"; if the
@@ -535,6 +539,21 @@ int main(int argc, char **argv) {
             sscanf(line + 2, "%d %lu %lu", &n, &offset, &count);
             if (n < 0 || n >= eeprom_count || offset + count > eeproms[n].size) count = 0;
             answer_hex('R', count ? eeproms[n].memory + offset : NULL, count);
+        } else if (kind == 'Z') {
+            /* avr_reset also drops every cycle timer: the line's and the encoders' own go on */
+            avr_reset(avr);
+            avr->state = cpu_Running;
+            if (in_head != in_tail) avr_cycle_timer_register(avr, cycles_per_byte, feed_next, NULL);
+            else feeding = 0;
+            for (int n = 0; n < 2; n++) {
+                encoders[n].running = 0;
+                if (encoders[n].wired && encoders[n].pending) {
+                    encoders[n].running = 1;
+                    avr_cycle_timer_register(avr, encoders[n].period, encoder_step, &encoders[n]);
+                }
+            }
+            fputs("K\n", answers);
+            fflush(answers);
         } else if (kind == 'M') {
             unsigned long address = 0, count = 0;
             sscanf(line + 2, "%lu %lu", &address, &count);
