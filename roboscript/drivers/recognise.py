@@ -101,6 +101,15 @@ def _messages_read(unit: ProtocolUnit, data: bytes) -> tuple[int, int]:
     return read, refused
 
 
+def _speaks(data: bytes, protocol: str) -> bool:
+    """True if ``protocol``'s own codec reads ``data`` cleanly (messages, none refused)."""
+    try:
+        read, refused = _messages_read(protocol_unit(protocol), data)
+    except NotImplementedError:
+        return False
+    return read > 0 and refused == 0
+
+
 def protocol_title(protocol: str) -> str:
     """How ``protocol`` is named to a user (``"SPIKE hub"``), or its name if unknown."""
     try:
@@ -144,10 +153,8 @@ def wrong_robot_hint(heard: bytes, expected_protocol: str) -> str | None:
     """
     # The robot asked for is the usual speaker: when its own codec reads the bytes cleanly,
     # no other codec is imported (a graded run's handshake then loads one protocol, not all).
-    with contextlib.suppress(NotImplementedError):
-        read, refused = _messages_read(protocol_unit(expected_protocol), heard)
-        if read > 0 and refused == 0:
-            return None
+    if _speaks(heard, expected_protocol):
+        return None
     found = recognise_protocol(heard)
     if found is None or found == expected_protocol:
         return None
@@ -177,6 +184,14 @@ def handshake_failure(
     if hint is not None:
         return f"{silent}: {hint}"
     within = f"{silent} {waited}" if waited else silent
+    if heard and _speaks(heard, protocol):
+        # its own protocol, but no end to the handshake: saying "not the protocol" would
+        # send the user after the baud rate of a board that answered
+        return (
+            f"{within}: it sent {len(heard)} bytes of the {title} protocol but did not finish "
+            "the handshake: is it still starting up (a board that restarts when its port "
+            "opens takes seconds), and does its firmware answer what roboscript asks?"
+        )
     if heard:
         return (
             f"{within}: the port sent {len(heard)} bytes "

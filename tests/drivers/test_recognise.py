@@ -23,6 +23,7 @@ from roboscript.drivers.recognise import (
     robots_picked_with,
     wrong_robot_hint,
 )
+from roboscript.profiles import get_profile
 from roboscript.robot import Robot
 
 
@@ -79,6 +80,36 @@ def test_silence_says_what_was_tried() -> None:
     assert text.startswith(
         "mirto did not answer on socket://h:1 within 3 s: nothing came back to 48 bytes of the "
         "ASIP handshake"
+    )
+
+
+def test_a_board_that_spoke_its_protocol_but_never_finished_is_told_so() -> None:
+    # a MIRTO still starting up when the wait ended: its start-up line came, no version reply
+    heard = b"!Mirtle2017 running on ATmega328P with Services: I M B R T S D L P \n"
+    text = handshake_failure("mirto", "asip", "/dev/ttyACM0", heard, 80, "within 5 s")
+    assert text == (
+        f"mirto did not answer on /dev/ttyACM0 within 5 s: it sent {len(heard)} bytes of the "
+        "ASIP protocol but did not finish the handshake: is it still starting up (a board that "
+        "restarts when its port opens takes seconds), and does its firmware answer what "
+        "roboscript asks?"
+    )
+
+
+@pytest.mark.parametrize(
+    ("robot", "answer"),
+    [
+        # what the MIRTO firmware answers each one's first bytes with, when the host missed
+        # its start-up lines (a board that does not reset greets only at power-on)
+        ("plen2", b"~<,?,1{INVALID_SERVICE}\n~I,?,1{INVALID_SERVICE}\n"),
+        ("stackmod-rover", b"~{,?,1{INVALID_SERVICE}\n~M,?,1{INVALID_SERVICE}\n"),
+        ("plen2", b"~<,?,1{INVALID_SERVICE}\n"),
+    ],
+)
+def test_a_mirto_whose_greeting_was_missed_is_named_by_its_error_lines(
+    robot: str, answer: bytes
+) -> None:
+    assert wrong_robot_hint(answer, get_profile(robot).protocol) == (
+        "this port speaks the ASIP protocol (a MIRTO or another ASIP board): use --robot mirto"
     )
 
 

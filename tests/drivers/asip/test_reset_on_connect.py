@@ -11,12 +11,16 @@ import dataclasses
 from pathlib import Path
 
 import pytest
+from helpers import ROOT
 
 from roboscript.drivers.asip.device import RESET_GREETING_S
 from roboscript.errors import LinkTimeoutError
+from roboscript.mission import load_mission
 from roboscript.profiles import get_profile
 from roboscript.robot import Robot
 from roboscript.robot_profile import RobotProfile
+from roboscript.session import Session, run_session
+from roboscript.sim.simulation import Simulation
 from roboscript.transport.wirelog import read_wire_log
 
 RESETTING_UART_BOARD = "sim://mirto?reset=1"
@@ -66,14 +70,11 @@ def test_a_board_that_never_finishes_booting_ends_the_connection_with_one_senten
     assert "\n" not in message
 
 
-def _run_reset_mid_mission(profile: RobotProfile, reset_after_s: float) -> tuple[object, object]:
+def _run_reset_mid_mission(
+    profile: RobotProfile, reset_after_s: float
+) -> tuple[Session, Simulation]:
     """Run ``missions/square.yaml``; the simulated board resets ``reset_after_s`` after the
     handshake (its supply dipping, or another program opening its port)."""
-    from helpers import ROOT
-
-    from roboscript.mission import load_mission
-    from roboscript.session import run_session
-
     spec, _ = load_mission(ROOT / "missions" / "square.yaml", profile)
     reset: list[float] = []
 
@@ -87,7 +88,9 @@ def _run_reset_mid_mission(profile: RobotProfile, reset_after_s: float) -> tuple
 
     session = run_session(spec, profile, max_time_s=60.0, on_tick=maybe_reset)
     assert reset
-    return session, session.simulation
+    simulation = session.simulation
+    assert isinstance(simulation, Simulation)
+    return session, simulation
 
 
 @pytest.mark.parametrize("reset_on_connect", [True, False])
@@ -99,13 +102,13 @@ def test_a_board_that_resets_mid_mission_ends_the_run_and_its_motors_stay_off(
         profile, options={**profile.options, "reset_on_connect": reset_on_connect}
     )
     session, simulation = _run_reset_mid_mission(profile, 1.0)
-    result = session.result  # type: ignore[attr-defined]
+    result = session.result
     assert result.outcome == "error", (result.outcome, result.reason)
     # the sketch is silent for 3.2 s while it starts again: the silence limit ends the run
-    assert result.reason.startswith("the robot stopped responding "), result.reason
+    assert (result.reason or "").startswith("the robot stopped responding "), result.reason
     # the board comes back and reads what reached it once its UART was open: nothing of the
     # mission may start its motors again
     for _ in range(round(6.0 / 0.02)):
-        simulation.tick(simulation.time_s + 0.02, 0.02)  # type: ignore[attr-defined]
-        assert all(abs(power) < 1e-9 for power in simulation.body.power)  # type: ignore[attr-defined]
+        simulation.tick(simulation.time_s + 0.02, 0.02)
+        assert all(abs(power) < 1e-9 for power in simulation.body.power)
     assert simulation.device._booting is None  # type: ignore[attr-defined]  # it did come back
