@@ -16,7 +16,7 @@ import pytest
 from firmware.avr import Board, build
 from firmware.recipes import MIRTLE_BAUD, MIRTLE_F_CPU_HZ, MIRTLE_MCU, mirtle_328p
 
-from roboscript.drivers.asip.device import RESET_GREETING_S, RESET_UART_ON_S
+from roboscript.drivers.asip.device import RESET_GREETING_S, RESET_UART_ON_S, MirtoBoard
 from roboscript.profiles import get_profile
 from roboscript.sim.simulation import Simulation
 from roboscript.sim.world import load_world
@@ -49,12 +49,21 @@ def _firmware() -> list[bytes]:
     return sent
 
 
+def _without_bootloader(simulation: Simulation) -> Simulation:
+    """The simulated board built as the emulated one is: no bootloader (an Uno's optiboot
+    would first take 0.39 to 1.37 s, see ``test_reset_on_connect.py``)."""
+    board = simulation.device
+    assert isinstance(board, MirtoBoard)
+    board.config = dataclasses.replace(board.config, bootloader=False)
+    return simulation
+
+
 def _simulated() -> list[bytes]:
     """What ``roboscript sim``'s board sent in each physics step, from the connection."""
     mirto = get_profile("mirto")
     options = {**mirto.options, "transport": "uart", "reset_on_connect": True}
     simulation = Simulation(load_world("empty"), dataclasses.replace(mirto, options=options))
-    simulation.connect()
+    _without_bootloader(simulation).connect()
     writes = dict(_writes())
     sent = [simulation.read(simulation.in_waiting)]  # the connection itself: nothing
     for step in range(round(END_S / STEP_S)):
@@ -136,12 +145,14 @@ def _simulated_reset_mid_session() -> list[bytes]:
     mirto = get_profile("mirto")
     options = {**mirto.options, "transport": "uart", "reset_on_connect": True}
     simulation = Simulation(load_world("empty"), dataclasses.replace(mirto, options=options))
-    simulation.connect()
+    _without_bootloader(simulation).connect()
     writes = dict(_mid_session_writes())
     sent = []
     for step in range(round(MID_END_S / STEP_S)):
         if step == RESET_STEP:
-            simulation.device.reset(simulation.time_s)  # type: ignore[attr-defined]
+            board = simulation.device
+            assert isinstance(board, MirtoBoard)
+            board.reset(simulation.time_s)  # the supply dipping: no bootloader
         if step in writes:
             simulation.write(writes[step])
         simulation.tick((step + 1) * STEP_S, STEP_S)

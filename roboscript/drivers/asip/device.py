@@ -80,6 +80,18 @@ SKIP_BYTE_S = 5e-6
 (``asip.cpp``'s ``while (serial->available() && serial->read() != '\\n')``: two virtual
 calls into ``HardwareSerial`` and the ring's index arithmetic, about 80 cycles at 16 MHz),
 seconds: a byte that arrives meanwhile is skipped too."""
+OPTIBOOT_FLASHES_S = 6 * 976 / (16_000_000 / 1024)
+"""After an external reset, how long an Arduino Uno's bootloader (optiboot, as the Arduino AVR
+core ships it: ``bootloaders/optiboot/optiboot.c``, built with ``LED_START_FLASHES=3``) flashes
+its LED before it listens: six Timer1 waits of 976 ticks at F_CPU / 1024, 374.8 ms. Bytes that
+arrive meanwhile are its own (the USART is on, at 115200 baud)."""
+OPTIBOOT_WAIT_S = 1.0
+"""How long optiboot then waits for an upload before its watchdog (``WATCHDOG_1S``) starts the
+sketch, seconds."""
+OPTIBOOT_EXIT_S = 0.016
+"""How soon optiboot starts the sketch once two bytes that are not an upload's have come: it
+reads a command byte, then ``verifySpace()`` reads the next, and any byte but ``CRC_EOP``
+sets its watchdog to ``WATCHDOG_16MS`` and waits for it, seconds."""
 TIMER0_START_S = 0.784e-3
 """After a reset, when an AVR board's Timer0 starts counting (the C runtime's start-up and the
 core's ``init()``), seconds: its first overflow, the first ``millis()`` tick, comes one
@@ -164,6 +176,12 @@ class BoardConfig:
             board whose DTR line drives its reset): it then starts afresh and is deaf until
             its sketch opens the UART (:data:`RESET_UART_ON_S`), and greets at
             :data:`RESET_GREETING_S`.
+        bootloader: Whether a reset by the port's opening first runs the Uno's bootloader
+            (optiboot), which takes the bytes that arrive meanwhile and starts the sketch
+            :data:`OPTIBOOT_EXIT_S` after the second, or :data:`OPTIBOOT_WAIT_S` after its
+            LED flashes (:data:`OPTIBOOT_FLASHES_S`) when fewer come. (A power-on or a dip
+            in the supply starts the sketch at once: optiboot runs only after an external
+            reset.)
     """
 
     firmware_pid: bool = True
@@ -183,6 +201,7 @@ class BoardConfig:
     f_cpu_hz: int = 16_000_000
     int_bits: int = 32
     resets_on_connect: bool = False
+    bootloader: bool = True
 
 
 @dataclass
@@ -285,6 +304,10 @@ class MirtoBoard:
         self.state = self._power_on_state()
         # After a reset: when the sketch opens its UART and when it greets (None: running).
         self._booting: tuple[float, float] | None = None
+        # After a reset by the port's opening: when the bootloader started (None: not in it),
+        # and when the host's bytes it took came.
+        self._bootloader_s: float | None = None
+        self._bootloader_bytes_s: list[float] = []
 
     def _new_codec(self) -> DeviceAsipCodec:
         services = "".join(_SERVICE_NAMES)
@@ -331,13 +354,15 @@ class MirtoBoard:
         if not self.config.resets_on_connect:
             self._greet(now_s)
             return
-        self.reset(now_s)
+        self.reset(now_s, external=self.config.bootloader)
 
-    def reset(self, now_s: float) -> None:
+    def reset(self, now_s: float, *, external: bool = False) -> None:
         """The board resets at ``now_s`` (its reset line, or its power dipping under the
         motors' load): the motors stop, what it had not yet sent and what it had not yet read
         is gone, and it is deaf until its sketch opens the UART again
-        (:data:`RESET_UART_ON_S`), then greets (:data:`RESET_GREETING_S`) as at power-on."""
+        (:data:`RESET_UART_ON_S`), then greets (:data:`RESET_GREETING_S`) as at power-on.
+        ``external``: the reset line was pulled (a port opening), so the bootloader runs
+        first (see :attr:`BoardConfig.bootloader`)."""
         self._now_s = max(self._now_s, now_s)
         self.codec = self._new_codec()
         self.stop_all()
@@ -350,7 +375,34 @@ class MirtoBoard:
         self._powered_s = now_s
         self._clock_s = now_s
         self._due_s = None
+        self._booting = None
+        self._bootloader_bytes_s = []
+        self._bootloader_s = now_s if external else None
+        if not external:
+            self._start_sketch(now_s)
+
+    def _start_sketch(self, now_s: float) -> None:
+        """The sketch starts at ``now_s``: ``millis()`` counts from it, and it greets once its
+        ``setup()`` is done."""
+        self._powered_s = now_s
         self._booting = (now_s + RESET_UART_ON_S, now_s + RESET_GREETING_S)
+
+    def _bootloader_exit_s(self, now_s: float) -> float | None:
+        """When the bootloader started the sketch, once that is known by ``now_s`` (None:
+        it is still waiting)."""
+        start_s = self._bootloader_s
+        assert start_s is not None
+        listening_s = start_s + OPTIBOOT_FLASHES_S
+        deadline_s = listening_s + OPTIBOOT_WAIT_S
+        taken = self._bootloader_bytes_s
+        if not self.config.whole_lines:  # the line's bytes, one at a time, as they come
+            while len(taken) < 2 and self._line.next_arrival_s() <= min(now_s, deadline_s):
+                arrival_s = self._line.next_arrival_s()
+                self._line.take_arrived(arrival_s)
+                taken.append(arrival_s)
+        if len(taken) >= 2 and taken[1] <= deadline_s:
+            return max(listening_s, taken[1]) + OPTIBOOT_EXIT_S
+        return deadline_s if now_s >= deadline_s - 1e-9 else None
 
     def _greet(self, now_s: float) -> None:
         self._clock_s = max(self._clock_s, now_s)
@@ -376,6 +428,12 @@ class MirtoBoard:
 
         Bytes that arrived before the sketch opened its UART are lost; later ones wait in the
         receive ring and are read once the greeting is written (see :meth:`receive`)."""
+        if self._bootloader_s is not None:
+            exit_s = self._bootloader_exit_s(now_s)
+            if exit_s is None:
+                return True
+            self._bootloader_s = None
+            self._start_sketch(exit_s)
         if self._booting is None:
             return False
         uart_on_s, greeting_s = self._booting
@@ -396,6 +454,10 @@ class MirtoBoard:
             return
         if not self.config.whole_lines:
             self._line.send(data, now_s)  # read as it arrives, by step()
+            return
+        if self._bootloader_s is not None:  # the bootloader's, as they come
+            taken = self._bootloader_bytes_s
+            taken += [now_s] * min(len(data), 2 - len(taken))
             return
         if self._booting is not None:
             if now_s >= self._booting[0]:  # the UART is on: the bytes wait to be read

@@ -69,4 +69,6 @@ def test_a_board_that_resets_on_connect_is_built_from_the_option() -> None:
     simulation.connect()
     assert simulation.in_waiting == 0  # starting again: no greeting yet
     simulation.tick(3.3, 3.3)
+    assert simulation.in_waiting == 0  # the Uno's bootloader waited 1.37 s first
+    simulation.tick(4.7, 1.4)
     assert simulation.read(simulation.in_waiting).startswith(b"!Mirtle2017 running on")

@@ -13,14 +13,19 @@ from pathlib import Path
 import pytest
 from helpers import ROOT
 
-from roboscript.drivers.asip.device import RESET_GREETING_S
+from roboscript.drivers.asip.device import (
+    OPTIBOOT_EXIT_S,
+    OPTIBOOT_FLASHES_S,
+    OPTIBOOT_WAIT_S,
+    RESET_GREETING_S,
+)
 from roboscript.errors import LinkTimeoutError
 from roboscript.mission import load_mission
 from roboscript.profiles import get_profile
 from roboscript.robot import Robot
 from roboscript.robot_profile import RobotProfile
 from roboscript.session import Session, run_session
-from roboscript.sim.simulation import Simulation
+from roboscript.sim.simulation import Simulation, make_simulation
 from roboscript.transport.wirelog import read_wire_log
 
 RESETTING_UART_BOARD = "sim://mirto?reset=1"
@@ -57,7 +62,9 @@ def test_a_sim_url_with_reset_is_waited_for_too() -> None:
     with Robot.connect("mirto", port=RESETTING_UART_BOARD) as robot:
         assert robot.driver.ready_s is not None
         assert robot.driver.ready_s >= RESET_GREETING_S
-        assert robot.describe() == "Mirtle2017 on ATmega328P (ASIP 1.1)"
+        # named by its start-up line, or by its version reply when a probe of the driver's
+        # reached its receive ring in the 0.2 s between its UART opening and its greeting
+        assert robot.describe().startswith("Mirtle2017 on ATmega328P (ASIP")
 
 
 def test_a_board_that_never_finishes_booting_ends_the_connection_with_one_sentence() -> None:
@@ -68,6 +75,42 @@ def test_a_board_that_never_finishes_booting_ends_the_connection_with_one_senten
     message = str(raised.value)
     assert message.startswith(f"mirto did not answer on {RESETTING_UART_BOARD} within 2 s:")
     assert "\n" not in message
+
+
+def _uno_board(*, written_at_open: bytes) -> tuple[Simulation, float]:
+    """A Uno-style MIRTO opened at 0 s (``written_at_open`` written at once, as a host
+    would): the simulation and when its start-up line came, seconds."""
+    simulation = make_simulation("mirto", "empty", 1, options=_uno_style_mirto().options)
+    simulation.connect()
+    simulation.write(written_at_open)
+    for step in range(1, 1200):
+        simulation.tick(step * 0.005, 0.005)
+        if simulation.read(simulation.in_waiting).startswith(b"!Mirtle2017"):
+            return simulation, step * 0.005
+    raise AssertionError("it never greeted")
+
+
+def test_a_board_opened_in_silence_waits_out_its_bootloader_before_the_sketch_starts() -> None:
+    # optiboot flashes its LED (374.8 ms), waits 1 s for an upload, then starts the sketch
+    _, greeted_s = _uno_board(written_at_open=b"")
+    expected_s = OPTIBOOT_FLASHES_S + OPTIBOOT_WAIT_S + RESET_GREETING_S
+    assert expected_s <= greeted_s < expected_s + 0.005
+
+
+def test_the_hosts_first_bytes_end_the_bootloader_and_are_lost() -> None:
+    # two bytes that are no upload's make optiboot start the sketch 16 ms later
+    simulation, greeted_s = _uno_board(written_at_open=b"#,?\n")
+    expected_s = OPTIBOOT_FLASHES_S + OPTIBOOT_EXIT_S + RESET_GREETING_S
+    assert expected_s <= greeted_s < expected_s + 0.005
+    simulation.tick(greeted_s + 0.2, 0.2)
+    assert b"@#,?" not in simulation.read(simulation.in_waiting)  # the bootloader took it
+
+
+def test_a_uno_style_board_is_ready_within_the_handshakes_bound_however_it_is_opened() -> None:
+    with Robot.connect(_uno_style_mirto()) as robot:
+        ready_s = robot.driver.ready_s
+    assert ready_s is not None
+    assert OPTIBOOT_FLASHES_S + RESET_GREETING_S < ready_s < _uno_style_mirto().handshake_timeout_s
 
 
 def _run_reset_mid_mission(
