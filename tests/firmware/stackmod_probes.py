@@ -24,11 +24,16 @@ class Probe:
 
     Attributes:
         drives: Wait for the sketch's 200 ms main loop and compare the motor outputs too.
+        idle_s: Time the module is left alone before the writes, seconds.
+        reset_after: The number of writes after which the module is reset (its reset line
+            pulled, or its supply dipping), then given time to start again; None: no reset.
     """
 
     name: str
     writes: tuple[bytes, ...]
     drives: bool = False
+    idle_s: float = 0.0
+    reset_after: int | None = None
 
 
 def checksum(text: bytes) -> int:
@@ -203,4 +208,25 @@ EDGE_PROBES: tuple[Probe, ...] = (
 """Line ends around and inside packets, bytes above 127, unknown command letters, motors past
 the module's, a packet in pieces and a write past the I2C buffer's 32 bytes."""
 
-PROBES = DRIVER_PROBES + PARSER_PROBES + EDGE_PROBES + DRIVE_PROBES
+LIFE_PROBES: tuple[Probe, ...] = (
+    Probe("motors set before a reset", (_mtr(b"1+090"), _mtr(b"2-090")), drives=True),
+    Probe("a reset stops the motors", (), drives=True, reset_after=0),
+    Probe("a packet after the reset", (_mtr(b"1+091"),), drives=True),
+    Probe("a packet cut by a reset", (b"2{Ep$MTR", b"2+092}" + _mtr(b"2+092")[-1:]), reset_after=1),
+    Probe(
+        "a checksum cut off by a reset", (_mtr(b"2+093")[:-1], _mtr(b"2+093")[-1:]), reset_after=1
+    ),
+    Probe(
+        "a burst after a long idle",
+        tuple(_mtr(b"%d+%03d" % (1 + i % 2, 110 + i)) for i in range(12)),
+        drives=True,
+        idle_s=5.0,
+    ),
+    Probe("one byte after a long idle", (b"{",), idle_s=2.0),
+    Probe("the packet after that byte", (_mtr(b"2+094"),), drives=True),
+    Probe("stopped at the end", (_mtr(b"1+000"), _mtr(b"2+000")), drives=True),
+)
+"""A reset with the motors running and in the middle of a packet, and a module left alone for
+seconds, then sent a burst of packets or a lone byte."""
+
+PROBES = DRIVER_PROBES + PARSER_PROBES + EDGE_PROBES + DRIVE_PROBES + LIFE_PROBES

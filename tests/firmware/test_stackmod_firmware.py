@@ -98,6 +98,16 @@ def _settle_s(probe: Probe) -> float:
     return sent * _BRIDGE_BYTE_S * 1.1 + 0.02 + (LOOP_WAIT_S if probe.drives else 0.0)
 
 
+def reset(board: Board, twin: ReferenceModule) -> None:
+    """Reset both once the bytes on the way have arrived: the firmware starts again from its
+    first instruction (its registers cleared, its parser idle) and is given its start-up;
+    the twin loses power."""
+    board.advance(_settle_s(Probe("", ())))
+    board.reset()
+    board.advance(BOOT_S)
+    twin.stop_all()
+
+
 @dataclass(frozen=True)
 class Run:
     """Both sides' answers, probe by probe, and every byte each wrote on its line."""
@@ -119,9 +129,19 @@ def run() -> Run:
         board.advance_to(BOOT_S)
         now_s = BOOT_S
         for probe in PROBES:
-            for data in probe.writes:
+            if probe.idle_s:
+                board.advance(probe.idle_s)
+                now_s += probe.idle_s
+                twin.step(now_s)
+            for index, data in enumerate(probe.writes):
                 board.write(bytes([len(data)]) + data)
                 twin.receive(data, now_s)
+                if probe.reset_after == index + 1:
+                    reset(board, twin)
+                    now_s = board.time_s
+            if probe.reset_after == 0:
+                reset(board, twin)
+                now_s = board.time_s
             settle_s = _settle_s(probe)
             board.advance(settle_s)
             now_s += settle_s
@@ -163,3 +183,19 @@ def test_every_packet_the_driver_writes_moves_the_firmwares_motors(run: Run) -> 
     driver = [firmware.power for firmware, _ in run.answers[: len(DRIVER_PROBES)]]
     assert driver[0] == pytest.approx((96 / 255, 0.0))
     assert driver[3] == pytest.approx((-139 / 255, 1.0))
+
+
+def test_a_reset_clears_the_firmwares_motors_and_a_half_packet(run: Run) -> None:
+    names = [probe.name for probe in PROBES]
+    before, after = (
+        run.answers[names.index(name)][0]
+        for name in ("motors set before a reset", "a reset stops the motors")
+    )
+    assert before.power == pytest.approx((90 / 255, -90 / 255))
+    assert after.registers == (0,) * 15 and after.power == (0.0, 0.0)
+    cut = run.answers[names.index("a packet cut by a reset")][0]
+    assert cut.registers[1] == 0  # the half before the reset was forgotten with it
+    burst = run.answers[names.index("a burst after a long idle")][0]
+    assert burst.registers[:2] == (120, 121) and burst.power == pytest.approx(
+        (120 / 255, 121 / 255)
+    )
