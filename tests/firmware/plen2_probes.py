@@ -32,6 +32,11 @@ class Probe:
     writes: tuple[bytes, ...]
     settle_s: float = SETTLE_S
     gap_s: float = 0.001
+    idle_s: float = 0.0
+    """Time the board is left alone before the first write, seconds."""
+    reset_after: int | None = None
+    """The number of writes after which the board is reset (its reset line pulled, or its
+    supply dipping under the servos' load); None: no reset."""
 
 
 def probe(name: str, *writes: bytes, settle_s: float = SETTLE_S) -> Probe:
@@ -328,6 +333,28 @@ TIMING_PROBES: tuple[Probe, ...] = (
 loop (about 29 us, while the line brings one every 5 us) and none while a command runs (a
 reply, an EEPROM write); what arrives while its 64-byte receive ring is full is lost."""
 
+LIFE_PROBES: tuple[Probe, ...] = (
+    probe("a home moved before a reset", b">HO04032$AN04100"),
+    Probe("a reset during a motion", (b"$PM03",), MOTION_S, reset_after=1),
+    probe("the settings after the reset", b"<JS", settle_s=GETTER_S),
+    probe("a motion after the reset", b"<MO03", settle_s=GETTER_S),
+    probe("a motion played after the reset", b"$PM03", settle_s=MOTION_S),
+    Probe("a reset inside a command", (b"$AN0", b"a064<VI"), GETTER_S, reset_after=1),
+    Probe("a reset while it answers", (b"<JS",), GETTER_S, gap_s=0.003, reset_after=1),
+    Probe("a getter after a long idle", (b"<VI",), GETTER_S, idle_s=3.0),
+    probe("factory settings after the resets", b">JS$HP"),
+    Probe(
+        "a burst of 6 angles after a long idle", (b"$AN0a064" * 6 + b"<VI" * 8,), 0.3, idle_s=2.0
+    ),
+    # last: what the ring lets through of its end may leave half a command in the parser
+    Probe(
+        "a burst of 8 angles after a long idle", (b"$AN0a064" * 8 + b"<VI" * 8,), 0.3, idle_s=2.0
+    ),
+)
+"""The board's life: resets with a motion playing, inside a command and inside a reply (what
+it keeps in EEPROM stays, nothing else does), and seconds left alone, then a getter or a
+burst past its receive ring."""
+
 PROBES = (
     DRIVER_PROBES
     + ERROR_PROBES
@@ -336,4 +363,5 @@ PROBES = (
     + EDGE_PROBES
     + SLOT_PROBES
     + TIMING_PROBES
+    + LIFE_PROBES
 )

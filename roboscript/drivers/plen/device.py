@@ -85,6 +85,10 @@ __all__ = [
     "simulated_device",
 ]
 
+RESET_UART_ON_S = 3.39e-3
+"""After a reset, when the firmware's ``setup()`` opens its UART (``System::begin``), seconds:
+a byte that arrives before is lost. Measured on the emulated ATmega32u4 build (UCSR1B's
+RXEN1 set 3.39 ms after the reset)."""
 UPDATE_INTERVAL_S = 8 * 1024 * 64 / 16_000_000
 """The motion controller's update period, seconds: 32.768 ms, eight Timer 1 overflows (10-bit
 fast PWM, prescaler 64, 16 MHz), one per multiplexed servo line; ``UPDATE_INTERVAL_MS`` (32)
@@ -119,6 +123,18 @@ EEPROM_SLOT_WRITE_S = 6.4e-3
 ``ExternalEEPROM::writeSlot``'s ``delay(5)`` (``>MH`` writes one, ``>MF`` two)."""
 MOTION_READ_S = 4.3e-3
 """Reading a motion's header and first frame from the motion EEPROM (``$PM``, ``#PO``)."""
+RX_ISR_S = 5e-6
+"""The core's receive interrupt (``HardwareSerial::_rx_complete_irq`` with its register saves,
+about 80 cycles), seconds: a byte that arrives while the firmware works takes this from it,
+so a burst at 2 Mbaud (a byte every 5 us) slows its reading and fills the ring sooner.
+Fitted to the emulated firmware: bursts of 5 to 8 ``$AN`` commands and 8 ``<VI`` lose the
+getters the firmware loses (it answers 8, 5, 2, 0 of them; 5 or 6 us fit, 4 us does not)."""
+SET_ANGLE_S = 80e-6
+"""``$AN``: ``JointController::setAngle``'s clamp and its ``map()`` of the angle to the
+servo's PWM count (32-bit arithmetic on an 8-bit core), seconds; measured on the emulated
+firmware (each ``$AN`` ahead of ``<VI`` delays its reply 80 us more than 8 stray bytes do)."""
+SET_ANGLE_DIFF_S = 86e-6
+"""``$AD``: the same after adding the joint's home, seconds (measured alike: 86 us)."""
 SETTINGS_S = 1.9e-3
 """``$HP`` and ``>JS``: 144 bytes of joint settings read or written, 24 servo outputs mapped."""
 
@@ -243,6 +259,7 @@ class Plen2Board:
         self._update_due = False
         self.update_count = 0
         """Motion-controller updates run since power-on (one each period while playing)."""
+        self._deaf_until_s = -math.inf  # after a reset: until its UART is open again
         self._feet = self._foot_positions()
 
     # ------------------------------------------------------------------------- SimDevice API
@@ -256,6 +273,8 @@ class Plen2Board:
     def receive(self, data: bytes, now_s: float) -> None:
         """The host writes command bytes: over USB they are acted on at once; over the UART
         they arrive one byte time apart and are read as the firmware reads them."""
+        if now_s < self._deaf_until_s - 1e-9 and self.transport == "usb":
+            return  # still starting after a reset: lost
         if self.transport == "usb":
             self.codec.receive_data(data)
             for message in readable(self.codec):  # the firmware resets its parser silently
@@ -264,8 +283,11 @@ class Plen2Board:
             return
         self._now_s = now_s
         start_s = max(now_s, self._line_free_s)  # a write follows what is still on the line
+        deaf_until_s = self._deaf_until_s - 1e-9  # a byte that comes before is lost
         self._arrivals.extend(
-            (start_s + (index + 1) * LINE_BYTE_S, byte) for index, byte in enumerate(data)
+            (arrival_s, byte)
+            for index, byte in enumerate(data)
+            if (arrival_s := start_s + (index + 1) * LINE_BYTE_S) >= deaf_until_s
         )
         self._line_free_s = start_s + len(data) * LINE_BYTE_S
         self._read_bytes(now_s)
@@ -280,7 +302,11 @@ class Plen2Board:
             # between two reads the ring only fills: a byte is kept if it has room on arrival
             arrived_by_s = min(read_s, now_s) + 1e-9  # a byte due exactly then is there
             while arrivals and arrivals[0][0] <= arrived_by_s:
-                byte = arrivals.popleft()[1]
+                arrival_s, byte = arrivals.popleft()
+                if arrival_s < read_s - 1e-9:
+                    # its receive interrupt takes the time from the firmware's work
+                    read_s = self._read_s = read_s + RX_ISR_S
+                    arrived_by_s = min(read_s, now_s) + 1e-9
                 if len(ring) < RECEIVE_RING_BYTES:
                     ring.append(byte)
                 else:
@@ -338,6 +364,27 @@ class Plen2Board:
         data = bytes(self._out)
         self._out.clear()
         return data
+
+    def reset(self, now_s: float) -> None:
+        """The board resets at ``now_s`` (its reset line, or its supply dipping under the
+        servos' load): ``setup()`` runs again. What the firmware keeps in EEPROM stays (the
+        joint settings in the chip's own, the motions in the external one); everything else
+        starts afresh: no motion plays, the queue is empty, a half-read command and the bytes
+        waiting are gone, a reply not yet written is cut, every joint goes to its home
+        (``JointController::loadSettings``) and the 32 ms update timer starts again."""
+        self.codec = PlenCodec(Role.DEVICE)
+        self._arrivals.clear()
+        self._ring.clear()
+        self._replies.clear()
+        self._line_free_s = self._read_s = self._now_s = now_s
+        self._deaf_until_s = now_s + RESET_UART_ON_S
+        self.queue.clear()
+        self.playing = False
+        self.header = None
+        self._update_due = False
+        self._next_update_s = now_s + UPDATE_INTERVAL_S
+        self.angles_ddeg = list(self.home_ddeg)
+        self._move_body()
 
     def stop_all(self) -> None:
         """Power loss: playback and the interpreter's queue end, the servos stop where they are."""
@@ -412,6 +459,10 @@ class Plen2Board:
             busy_s = EEPROM_SLOT_WRITE_S
         elif isinstance(msg, m.MotionFrame):
             busy_s = 2 * EEPROM_SLOT_WRITE_S
+        elif isinstance(msg, m.SetAngle):
+            busy_s = SET_ANGLE_S
+        elif isinstance(msg, m.SetAngleDiff):
+            busy_s = SET_ANGLE_DIFF_S
         else:
             busy_s = 0.0
         return busy_s + self._act(msg)

@@ -420,3 +420,31 @@ def test_over_the_uart_a_reply_takes_the_firmwares_time_to_write() -> None:
     assert 0 < len(early) < len(VERSION_WIRE)
     rig.board.step(rig.now_s + 0.002)
     assert early + rig.board.read_output() == VERSION_WIRE
+
+
+# -------------------------------------------------------------------------------- resets
+
+
+def test_a_reset_keeps_what_the_firmware_keeps_in_eeprom_and_nothing_else() -> None:
+    rig = Rig()
+    rig.store(knee_motion(loop=(0, 2, 255)), KNEE_FRAMES)  # loops for ever
+    rig.send(b">HO06064")  # the knee's home, in the chip's EEPROM: 100
+    rig.send(b"$AN00100")  # an angle: not kept
+    rig.send(b"$PM05")
+    rig.run(0.2)
+    assert rig.board.playing
+    rig.board.reset(rig.now_s)
+    assert not rig.board.playing and not rig.board.queue
+    assert rig.board.angles_ddeg[KNEE] == 100  # its home, as loadSettings sets it
+    assert rig.board.angles_ddeg[0] == FACTORY_HOME_DDEG[0]
+    rig.run(0.01)  # setup() has opened its UART again
+    assert b'"home": 100' in rig.send(b"<JS")
+    assert rig.board.headers[5].name.startswith("Knee")  # the motion EEPROM keeps it
+
+
+def test_a_reset_board_hears_nothing_until_its_uart_is_open() -> None:
+    rig = Rig()
+    rig.board.reset(rig.now_s)
+    assert rig.send(b"<VI") == b""  # 3.39 ms of setup(): lost
+    rig.now_s += 0.004
+    assert rig.send(b"<VI") == VERSION_WIRE
