@@ -366,8 +366,9 @@ class MirtoBoard:
         self._now_s = max(self._now_s, now_s)
         self.codec = self._new_codec()
         self.stop_all()
+        # what its USART had taken is on the wire; the rest of its transmit buffer is gone
+        self._out += self._transmitter.take_handed(now_s)
         self._transmitter.clear()
-        self._out.clear()
         ticks = self.body.ticks
         self.state = self._power_on_state()  # the encoders count from 0 again
         for index, wheel in enumerate(self.state.wheels):

@@ -372,10 +372,12 @@ class Plen2Board:
         starts afresh: no motion plays, the queue is empty, a half-read command and the bytes
         waiting are gone, a reply not yet written is cut, every joint goes to its home
         (``JointController::loadSettings``) and the 32 ms update timer starts again."""
+        self._now_s = max(self._now_s, now_s)
+        self._out += self.read_output()  # what is on the line by now was sent
         self.codec = PlenCodec(Role.DEVICE)
         self._arrivals.clear()
         self._ring.clear()
-        self._replies.clear()
+        self._replies.clear()  # the rest of a reply is cut
         self._line_free_s = self._read_s = self._now_s = now_s
         self._deaf_until_s = now_s + RESET_UART_ON_S
         self.queue.clear()
