@@ -101,6 +101,8 @@ _AVR_MILLIS_FRACT = (3, 125)
 """The Arduino AVR core's ``millis()``: one per Timer0 overflow (64 x 256 cycles, 1.024 ms at
 16 MHz) and one more each time the overflows' 24 us remainders (3 in units of 8 us) make up a
 millisecond (125 units): ``millis = n + 3 n / 125`` after ``n`` overflows."""
+_LOOP_SERVICES = "IMBRD"
+"""The services with auto-events, in the order of ``mirtle2017``'s ``services[]``."""
 _AUTO_STOP_S = 2.0
 _MOST_EVENTS_A_STEP = 64
 """A bound on one service's events in one physics step (a wrapped interval reports on every
@@ -507,21 +509,26 @@ class MirtoBoard:
         the next turn, before the next event (``B,A,0`` stops a stream at once)."""
         state = self.state
         for _ in range(_MOST_EVENTS_A_STEP):
-            self._serve_line(min(self._next_turn_s(), now_s))
+            turn_s = self._next_turn_s()
+            self._serve_line(min(now_s, turn_s))
             if self.codec.waiting:  # inside parseInt: nothing else runs until it returns
                 self._serve_line(now_s)
                 if self.codec.waiting:
                     return
-            turn_s = self._next_turn_s()  # what it read may have changed an interval
+            if self._due_s is None or self._clock_s > turn_s:
+                turn_s = self._next_turn_s()  # what it read may have changed an interval
             if turn_s > now_s + 1e-9:
                 break
             self._clock_s = turn_s
             self._due_s = None
             tick = self._millis(turn_s)
-            events = [("M", state.motor_event)] if state.motor_frames else []
-            events[:0] = [("I", state.auto["I"])]
-            events += [(service, state.auto[service]) for service in "BRD"]
-            for service, event in events:
+            for service in _LOOP_SERVICES:  # the sketch's services[] order
+                if service == "M":
+                    if not state.motor_frames:
+                        continue
+                    event = state.motor_event
+                else:
+                    event = state.auto[service]
                 event.checked_ms = max(event.checked_ms, tick)
                 if event.interval_ms and event.due_ms() <= tick:  # tick >= nextTrigger
                     if service == "M":
