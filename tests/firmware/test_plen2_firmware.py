@@ -43,14 +43,7 @@ PROBE_STEP_S = 0.001
 milliseconds, so the simulated board receives each write when the emulated one does (at the
 default 5 ms step a write 1 ms after another would reach it at the same instant)."""
 
-KNOWN_DIFFERENCES: dict[str, str] = {
-    "a reset while it answers": (
-        "how far a reply has got when the board resets: the firmware prints `<JS`'s strings "
-        "at 7.5 us a byte and each number in 55 to 150 us (measured), the simulated board "
-        "paces every byte at its average; reset 3 ms in, the firmware has sent 221 bytes, "
-        "the simulated board 168 (what each does after the reset is the same)"
-    ),
-}
+KNOWN_DIFFERENCES: dict[str, str] = {}
 """Probes on which the simulated PLEN2 answers otherwise, and the firmware line that decides
 each. None is left in the probe set; the one difference kept is
 :data:`ERASED_SLOT_DIFFERENCE`, checked on a board of its own below."""
