@@ -29,10 +29,11 @@ KNOWN_DIFFERENCES: dict[str, str] = {
     **dict.fromkeys(
         ("bump events every 2 ms", "bump events off after 2 ms"),
         "events as fast as the line takes them: both boards read a request between two "
-        "events, each written as the line frees the buffer, and the 2 ms interval falls "
-        "against the line's pace so that the emulated board hands its USART one event (14 "
-        "bytes) more after `B,A,0` (91 bytes, the simulated board 77): which turn of the "
-        "loop finds the request's fourth byte turns on microseconds of the loop",
+        "events, each written as the line frees the buffer, but asip.cpp's service() reads "
+        "the newline `B,A,2`'s parseInt left in front of `B,A,0` in a turn of its own (one "
+        "byte up to ' ', once 4 are there), so the firmware writes one event more (14 bytes) "
+        "before it reads the request (91 bytes after `B,A,0`, the simulated board 77), where "
+        "the simulated board's reader drops leading newlines with the request",
     ),
     "range: input on an encoder pin": (
         "the pin's level follows the wheel (the Encoder library's pulled-up A and B lines): "
