@@ -38,7 +38,7 @@ from roboscript.errors import (
 )
 from roboscript.interrupts import exit_status_for, raise_dropped, reason_for
 from roboscript.interrupts import install as install_interrupts
-from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
+from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog, keep_program
 
 if TYPE_CHECKING:
     from roboscript.mission.cause import TransitionCause
@@ -83,6 +83,9 @@ def _load_mission(path: str, robot: str | None, strict: bool = False) -> tuple[A
     from roboscript.mission import mission_for_robot
     from roboscript.mission.student_code import is_student_file, stuck_at
 
+    # A mission's file runs in this process: it may not take the watchdog's alarm, nor end
+    # the program with no word, as a graded run may not (each is said at its line).
+    keep_program()
     # a Python mission or behaviour file runs when imported: a loop there would hang `check`
     try:
         with Watchdog(DEFAULT_LIMIT_S, stuck_at, watched=is_student_file):

@@ -38,18 +38,22 @@ LineAlarm`): a loop is stopped at its line just the same, and a single call that
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import gc
 import logging
+import operator
 import os
 import signal
+import sys
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from types import FrameType, TracebackType
 from typing import TYPE_CHECKING, Any
 
+from roboscript.code_owner import is_student_file
 from roboscript.line_alarm import LineAlarm
 
 if TYPE_CHECKING:
@@ -57,6 +61,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DEFAULT_LIMIT_S",
+    "RECURSION_LIMITS",
     "REPEAT_S",
     "RETURN_AT_ONCE",
     "TICK_BUDGET",
@@ -66,8 +71,12 @@ __all__ = [
     "TickBudget",
     "TooSlow",
     "Watchdog",
+    "alarm_kept_sentence",
+    "bound_recursion",
     "collections_of_own_objects",
     "cpu_wait_s",
+    "keep_alarm",
+    "keep_program",
     "wire_wait",
 ]
 
@@ -632,3 +641,193 @@ class Watchdog:
         if exc is None:  # the block returned, though it was stopped: the stop was dropped
             self._raise_dropped()
         self._stopped = None
+
+
+# ------------------------------------------ the watchdog's means, kept from the code it stops
+
+
+def alarm_kept_sentence(whose: str) -> str:
+    """What code that changes the watchdog's alarm is told (``whose``: ``a graded mission``,
+    ``a mission``): with the alarm gone, a loop that never ends could only be stopped by
+    something that cannot say at which line (the grader's CPU bound; at home, Ctrl-C)."""
+    return (
+        "the watchdog that stops code that never returns uses SIGALRM and the real-time timer"
+        f" (signal.alarm, signal.setitimer(signal.ITIMER_REAL)): {whose} may not change,"
+        " ignore or block them"
+    )
+
+
+def keep_alarm(whose: str, refused: Callable[[str], bool]) -> None:
+    """Refuse, for the rest of the process, every change to the watchdog's SIGALRM and timer
+    (``signal.signal(signal.SIGALRM, ...)``, ``signal.alarm``, ``signal.setitimer(signal.
+    ITIMER_REAL, ...)``, ``signal.pthread_sigmask`` blocking SIGALRM, through :mod:`signal` or
+    ``_signal``) made by code from a file ``refused`` names: a :class:`PermissionError` at its
+    line, saying :func:`alarm_kept_sentence` of ``whose``.
+    """
+    alarm_signal, real_timer = int(signal.SIGALRM), int(signal.ITIMER_REAL)
+    blocking = {int(signal.SIG_BLOCK), int(signal.SIG_SETMASK)}
+    python_wrapper = signal.__file__  # signal.signal() calls _signal.signal(): look past it
+    sentence = alarm_kept_sentence(whose)
+
+    def refuse_if_theirs() -> None:
+        frame = sys._getframe(2)
+        while frame.f_back is not None and frame.f_code.co_filename == python_wrapper:
+            frame = frame.f_back
+        if refused(frame.f_code.co_filename):
+            raise PermissionError(sentence)
+
+    def kept(module: Any) -> dict[str, Callable[..., Any]]:
+        set_handler, set_timer = module.signal, module.setitimer
+        set_mask, alarm = module.pthread_sigmask, module.alarm
+
+        def kept_handler(signum: int, handler: Any, /) -> Any:
+            if _as_int(signum) == alarm_signal:
+                refuse_if_theirs()
+            return set_handler(signum, handler)
+
+        def kept_timer(which: int, seconds: float, interval: float = 0.0, /) -> Any:
+            if _as_int(which) == real_timer:
+                refuse_if_theirs()
+            return set_timer(which, seconds, interval)
+
+        def kept_alarm(seconds: int, /) -> Any:
+            refuse_if_theirs()
+            return alarm(seconds)
+
+        def kept_mask(how: int, mask: Iterable[int], /) -> Any:
+            chosen = list(mask)
+            if _as_int(how) in blocking and alarm_signal in {_as_int(s) for s in chosen}:
+                refuse_if_theirs()
+            return set_mask(how, chosen)
+
+        return {
+            "signal": kept_handler,
+            "setitimer": kept_timer,
+            "alarm": kept_alarm,
+            "pthread_sigmask": kept_mask,
+        }
+
+    for module in (signal, sys.modules.get("_signal")):
+        if module is not None and hasattr(module, "setitimer"):
+            for name, wrapper in kept(module).items():
+                setattr(module, name, wrapper)
+
+
+def _as_int(value: object) -> int | None:
+    """``value`` as a signal's or a timer's number, or ``None`` (the call itself then says
+    what is wrong with it)."""
+    try:
+        return operator.index(value)  # type: ignore[arg-type]
+    except TypeError:
+        return None
+
+
+RECURSION_LIMITS = (250, 10_000)
+"""The lowest and highest recursion limit a mission may set (``sys.setrecursionlimit``):
+lower, roboscript's own calls that run the mission (at most a hundred deep) would fail in the
+middle of its robot's commands; higher, a runaway recursion goes on past what the watchdog
+can stop at its line (the traceback of a runaway recursion would take longer to read than the
+run may take), and Python itself may crash."""
+
+
+def bound_recursion(whose: str) -> None:
+    """Keep ``sys.setrecursionlimit`` within :data:`RECURSION_LIMITS` for the rest of the
+    process: outside, it raises ``ValueError`` at the caller's line, saying why (``whose``:
+    ``a graded mission's``, ``a mission's``)."""
+    set_limit = sys.setrecursionlimit
+    low, high = RECURSION_LIMITS
+
+    def bounded(limit: int, /) -> None:
+        if isinstance(limit, int) and not low <= limit <= high:
+            raise ValueError(
+                f"{whose} recursion limit is between {low} and {high} (it was asked"
+                f" for {limit}): roboscript's own calls need {low}, and deeper calls than"
+                f" {high} are a runaway recursion"
+            )
+        set_limit(limit)
+
+    sys.setrecursionlimit = bounded
+
+
+def _shown_at(frame: FrameType) -> str:
+    """``file:line:col`` of the call ``frame`` is making, the file as the student names it (from
+    the folder they are in)."""
+    code = frame.f_code
+    positions = list(code.co_positions())
+    at = positions[frame.f_lasti // 2] if 0 <= frame.f_lasti // 2 < len(positions) else None
+    col = f":{at[2] + 1}" if at is not None and at[2] is not None else ""
+    file = code.co_filename
+    with contextlib.suppress(ValueError, OSError):
+        inside = os.path.relpath(file)
+        file = file if inside.startswith("..") else inside
+    return f"{file}:{frame.f_lineno}{col}"
+
+
+def _tell(line: str) -> None:
+    """Write ``line`` on standard error (which a student's code may have closed)."""
+    with contextlib.suppress(OSError, ValueError, AttributeError):
+        sys.stderr.write(line + "\n")
+        sys.stderr.flush()
+
+
+def _keep_exit() -> None:
+    """Turn ``os._exit(N)`` called by a student's code into ``SystemExit(N)`` at its line,
+    which the mission's loader and runner tell in the student's terms: a program that ended
+    at once, with nothing said, would leave the student with no line to look at. From a
+    thread of theirs, which a ``SystemExit`` only ends, the line is said as it ends; so is
+    the line of an exit in a function of theirs run as the program ends (``atexit``), which
+    Python would tell with a traceback."""
+    real_exit, register = os._exit, atexit.register
+
+    def kept_exit(status: int, /) -> None:
+        frame = sys._getframe(1)
+        if not is_student_file(frame.f_code.co_filename):
+            real_exit(status)
+        if threading.current_thread() is not threading.main_thread():
+            _tell(
+                f"{_shown_at(frame)}: warning: os._exit({status!r}) in a thread would end the"
+                " whole program, not the mission: the thread was ended instead (a mission"
+                " ends by going to a final state)"
+            )
+        raise SystemExit(status)
+
+    def kept_register(func: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Any:
+        caller = sys._getframe(1)
+        if not is_student_file(caller.f_code.co_filename):
+            return register(func, *args, **kwargs)
+        at = _shown_at(caller)
+
+        def at_the_end() -> None:
+            try:
+                func(*args, **kwargs)
+            except BaseException as exc:  # noqa: BLE001  # theirs, told at its line, not as a traceback
+                _tell(
+                    f"{at}: warning: the function given to atexit.register here raised"
+                    f" {type(exc).__name__} as the program ended (a mission's work ends with"
+                    " its final state: take atexit away)"
+                )
+
+        register(at_the_end)
+        return func
+
+    os._exit = kept_exit  # type: ignore[assignment]
+    atexit.register = kept_register
+
+
+_program_kept = False
+"""Whether :func:`keep_program` has kept this process."""
+
+
+def keep_program() -> None:
+    """At home (``roboscript check`` and ``run``), for the rest of the process: a student's
+    file may not take the watchdog's alarm (:func:`keep_alarm`), set a recursion limit it
+    cannot stop (:func:`bound_recursion`) nor end the program with no word (``os._exit``),
+    as a graded run may not; each is said at the student's line. Kept once however often
+    it is asked."""
+    global _program_kept
+    if _program_kept:
+        return
+    _program_kept = True
+    keep_alarm("a mission", is_student_file)
+    bound_recursion("a mission's")
+    _keep_exit()
