@@ -119,10 +119,15 @@ def action_params(
             )
             problems.append((name, f"'{cls.name}' has no parameter '{name}'", hint, None))
     kwargs: dict[str, Any] = {}
+    # A parameter written under another name (rotate: {degrees: 90}) is told once, as that
+    # name: "needs 'angle'" beside it would be a second sentence for one slip.
+    misnamed = any(name not in params for name in values)
     for param in cls.params:
         if param.name not in values:
             if not param.required:
                 kwargs[param.kwarg] = param.default
+            elif misnamed:
+                continue
             elif written:
                 missing = cls.under_specified([param.name])
                 if missing is not None:  # a behaviour may answer None
@@ -413,9 +418,10 @@ class MissionBuilder:
         every tick, and holds up the robot while it sleeps), and about each ``return`` of its
         ``update`` that gives no Result (``return True``), at its line."""
         example = PY_WAIT if self.path.endswith(".py") else YAML_WAIT
-        for function, call in action_sleeps(cls, self.source_of):
-            message, hint = sleep_warning(call, f"{cls.__name__}.{function.__name__}()", example)
-            where = self.source_of(function.__code__.co_filename).loc(call)
+        for function, call, helper in action_sleeps(cls, self.source_of):
+            runs = f"{cls.__name__}.{function.__name__}()"
+            message, hint = sleep_warning(call, runs, example, helper)
+            where = self.source_of((helper or function).__code__.co_filename).loc(call)
             self.problem(message, where, hint, "warning")
         for function, returned, what, fix in update_returns(cls, self.source_of):
             self.problem(

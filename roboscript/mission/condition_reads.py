@@ -37,6 +37,7 @@ __all__ = [
     "action_sleeps",
     "condition_slips",
     "endless_waits",
+    "helper_sleeps",
     "parsed_once",
     "sleep_warning",
     "sleeps_in",
@@ -450,15 +451,52 @@ SourceOf = Callable[[str], PythonSource]
 """The parsed file of a name as Python knows it (a code object's ``co_filename``)."""
 
 
-def action_sleeps(
-    cls: type, source_of: SourceOf | None = None
+def helper_sleeps(
+    node: ast.FunctionDef | ast.AsyncFunctionDef,
+    namespace: dict[str, object],
+    source_of: SourceOf | None = None,
 ) -> list[tuple[FunctionType, ast.Call]]:
-    """Each ``time.sleep`` in the ``start``, ``update`` and ``stop`` of a student's action
-    class, and in the methods of the class they call on ``self``, with the function it is in
-    (whose code names its file and line). ``source_of`` gives each file parsed once (default:
-    parsed once for this call)."""
+    """Each ``time.sleep`` in the student's own functions that ``node`` calls by their name
+    (``pause()``, defined in its module or imported from a file of theirs), and in those they
+    call, with the function it is in: a sleep there holds up the tick as one in ``node``
+    does. ``source_of`` as in :func:`action_sleeps`."""
     source_of = source_of or parsed_once()
     found: list[tuple[FunctionType, ast.Call]] = []
+    seen: set[FunctionType] = set()
+    todo: list[tuple[ast.FunctionDef | ast.AsyncFunctionDef, dict[str, object]]] = [
+        (node, namespace)
+    ]
+    while todo:
+        caller, names = todo.pop(0)
+        own = _own_names(caller)
+        for child in _walk_own(caller):
+            if not (isinstance(child, ast.Call) and isinstance(child.func, ast.Name)):
+                continue
+            helper = names.get(child.func.id) if child.func.id not in own else None
+            if (
+                not isinstance(helper, FunctionType)
+                or helper in seen
+                or not is_student_file(helper.__code__.co_filename)
+            ):
+                continue
+            seen.add(helper)
+            helper_def = _def_of(helper, source_of)
+            if helper_def is not None:
+                found.extend((helper, call) for call in sleeps_in(helper_def, helper.__globals__))
+                todo.append((helper_def, helper.__globals__))
+    return found
+
+
+def action_sleeps(
+    cls: type, source_of: SourceOf | None = None
+) -> list[tuple[FunctionType, ast.Call, FunctionType | None]]:
+    """Each ``time.sleep`` in the ``start``, ``update`` and ``stop`` of a student's action
+    class, in the methods of the class they call on ``self`` and in the functions of the
+    student's own they call (:func:`helper_sleeps`), with the method it is in or reached from
+    and the helper function it is in, if any (whose code names its file and line).
+    ``source_of`` gives each file parsed once (default: parsed once for this call)."""
+    source_of = source_of or parsed_once()
+    found: list[tuple[FunctionType, ast.Call, FunctionType | None]] = []
     todo = ["start", "update", "stop"]
     seen: set[str] = set()
     while todo:
@@ -475,7 +513,11 @@ def action_sleeps(
         node = _def_of(function, source_of)
         if node is None:
             continue
-        found.extend((function, call) for call in sleeps_in(node, function.__globals__))
+        found.extend((function, call, None) for call in sleeps_in(node, function.__globals__))
+        found.extend(
+            (function, call, helper)
+            for helper, call in helper_sleeps(node, function.__globals__, source_of)
+        )
         todo.extend(
             child.func.attr
             for child in _walk_own(node)
@@ -564,10 +606,13 @@ def _def_of(
     return source_of(code.co_filename).function_def(code.co_name, code.co_firstlineno)
 
 
-def sleep_warning(call: ast.Call, runs: str, example: str) -> tuple[str, str]:
+def sleep_warning(
+    call: ast.Call, runs: str, example: str, function: FunctionType | None = None
+) -> tuple[str, str]:
     """The warning for ``time.sleep`` in code that runs every tick (``runs``: ``update()``,
     ``near()``): ``(message, fix)``, the fix showing ``example``, a wait as the mission's
-    syntax writes it."""
+    syntax writes it; ``function``: the helper of the student's own the sleep is in, when
+    it is not in ``runs`` itself."""
     written = ast.unparse(call)
     if len(written) > 40:
         written = "time.sleep(...)"
@@ -579,8 +624,9 @@ def sleep_warning(call: ast.Call, runs: str, example: str) -> tuple[str, str]:
         and not isinstance(first.value, bool)
         else ""
     )
+    inside = runs if function is None else f"{function.__name__}(), called by {runs},"
     message = (
-        f"{written} in {runs} holds up the whole robot{seconds}: {runs} is run once every"
+        f"{written} in {inside} holds up the whole robot{seconds}: {runs} is run once every"
         f" tick ({TICK_BUDGET.slow_tick_s:g} s), and while it sleeps no condition is checked,"
         " no timeout counted and no other action run"
     )

@@ -1363,7 +1363,6 @@ MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
             "n: 1 s}}]}}"
         ),
         [
-            "4:56: error: 'play_tone' needs 'frequency', pitch (write `frequency: 880 Hz`)",
             "4:68: error: 'play_tone' has no parameter 'frequncy' (did you mean 'frequency'?)",
         ],
     ),

@@ -465,7 +465,7 @@ MISTAKES: dict[str, tuple[str, list[str]]] = {
     "method_twice.py": (
         CONDITION.replace(
             "DEFINITION",
-            "def near(self):\n        return True\n\n    def near(self):\n        return False",
+            "def near(self):\n        return self.bumper.any\n\n    def near(self):\n        return self.bumper.left",
         ),
         [
             (
@@ -514,10 +514,6 @@ MISTAKES: dict[str, tuple[str, list[str]]] = {
             "repeat: {times: TIMES, do: {rotate: {angle: 90 deg}}}", "turn: {angle: 90 deg}"
         ),
         [
-            (
-                "4:10: error: 'turn' needs 'steps', how many turning steps (positive = right)"
-                " (write `steps: 4`)"
-            ),
             (
                 "4:17: error: 'turn' has no parameter 'angle' (turn is a walking robot's turn, by"
                 " steps; a robot on wheels turns by an angle with rotate)"
@@ -663,7 +659,7 @@ MISTAKES: dict[str, tuple[str, list[str]]] = {
     ),
     "state_as_text.py": (
         CONDITION.replace('end = state(final="success")', 'end = "success"').replace(
-            "DEFINITION", "def near(self):\n        return True"
+            "DEFINITION", "def near(self):\n        return self.bumper.any"
         ),
         [
             (
