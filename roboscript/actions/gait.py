@@ -90,7 +90,7 @@ class Turn(_GaitAction):
     summary = "Turn a number of steps (positive = right) on a walking robot."
     params = (Param("steps", "steps", "count", "how many turning steps (positive = right)"),)
     guessed_params = dict.fromkeys(
-        ("angle", "degrees", "direction"),
+        ("angle", "angle_deg", "angle_rad", "degrees", "deg", "direction"),
         "turn is a walking robot's turn, by steps; a robot on wheels turns by an angle with rotate",
     )
 

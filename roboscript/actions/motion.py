@@ -174,10 +174,18 @@ class Rotate(WheelAction):
     requires = frozenset({cap.DRIVE_BASE})
     failure = "stalled"
     turn_rates = ("turn_rate",)
-    guessed_params = dict.fromkeys(
-        ("direction", "left", "right", "clockwise"),
-        "a rotate has no direction: a positive angle turns right, a negative one left",
-    ) | dict.fromkeys(("speed", "rate"), "a rotate's speed is its turn_rate")
+    guessed_params = (
+        dict.fromkeys(
+            ("direction", "left", "right", "clockwise"),
+            "a rotate has no direction: a positive angle turns right, a negative one left",
+        )
+        | dict.fromkeys(("speed", "rate"), "a rotate's speed is its turn_rate")
+        | dict.fromkeys(
+            ("degrees", "degree", "deg", "amount", "turn"),
+            "how far a rotate turns is its angle, with its unit: angle: 90 deg, or angle_deg=90"
+            " in Python",
+        )
+    )
 
     CRAWL_DEG_S = 20.0
     TOLERANCE_DEG = 1.0

@@ -22,6 +22,11 @@ class Wait(Action):
     name = "wait"
     summary = "Do nothing for a while."
     params = (Param("duration", "duration_s", "time", "how long"),)
+    guessed_params = dict.fromkeys(
+        ("time", "seconds", "secs", "s", "length", "delay", "for"),
+        "how long a wait lasts is its duration, with its unit: duration: 2 s, or duration_s=2"
+        " in Python",
+    )
 
     def __init__(self, duration_s: float) -> None:
         if duration_s < 0:

@@ -830,7 +830,8 @@ PYTHON_MISSION = (
         ),
         pytest.param(
             'state(Turn(angle_deg=90), initial=True, on_done="end")',
-            "m.py:5:16: error: Turn() has no parameter 'angle_deg' (its parameters: steps)",
+            "m.py:5:16: error: Turn() has no parameter 'angle_deg' (turn is a walking robot's"
+            " turn, by steps; a robot on wheels turns by an angle with rotate)",
             id="a-walking-turn-given-an-angle",
         ),
         pytest.param(
@@ -860,7 +861,8 @@ PYTHON_MISSION = (
         ),
         pytest.param(
             'state(Wait(seconds=2), initial=True, on_done="end")',
-            "m.py:5:16: error: Wait() has no parameter 'seconds' (its parameters: duration_s)",
+            "m.py:5:16: error: Wait() has no parameter 'seconds' (how long a wait lasts is its"
+            " duration, with its unit: duration: 2 s, or duration_s=2 in Python)",
             id="a-parameter-like-none-of-its-own",
         ),
         pytest.param(
