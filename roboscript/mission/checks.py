@@ -9,6 +9,8 @@ condition with no timeout, and outcomes that would end the mission without a rou
 
 from __future__ import annotations
 
+import ast
+import contextlib
 import difflib
 from collections.abc import Collection
 from dataclasses import dataclass
@@ -16,9 +18,11 @@ from dataclasses import dataclass
 from roboscript import capabilities as cap
 from roboscript.errors import InputError, MissionError
 from roboscript.inputs.source import Location
+from roboscript.mission.guards import Guard
 from roboscript.mission.spec import ActionSpec, MissionSpec, StateSpec, TransitionSpec
 
 __all__ = [
+    "FIXED_NODES",
     "check_capabilities",
     "check_mission",
     "check_regions",
@@ -183,6 +187,74 @@ def _routes_without_action(name: str, state: StateSpec) -> list[InputError]:
     ]
 
 
+FIXED_NODES = (
+    ast.Constant,
+    ast.BoolOp,
+    ast.Compare,
+    ast.UnaryOp,
+    ast.BinOp,
+    ast.Expression,
+    ast.operator,
+    ast.boolop,
+    ast.cmpop,
+    ast.unaryop,
+)
+"""What a condition made only of fixed values is built of: values and operators."""
+
+
+def fixed_condition(text: str) -> bool:
+    """True if the condition ``text`` (as YAML or Python writes it) reads nothing: only fixed
+    values (``True``, ``1 < 2``, ``not false``), so it never changes."""
+    written = " ".join(text.split())
+    for word, value in (("true", "True"), ("false", "False")):
+        written = " ".join(value if part == word else part for part in written.split(" "))
+    try:
+        tree = ast.parse(written, mode="eval")
+    except SyntaxError:
+        return False
+    return all(isinstance(node, FIXED_NODES) for node in ast.walk(tree))
+
+
+def fixed_condition_problem(
+    text: str, holds: bool | None, state: str, target: str, where: Location | None
+) -> InputError:
+    """The warning for a condition of ``state`` made only of fixed values (``holds``: what it
+    always gives, when known), which goes to ``target``."""
+    if holds is None:
+        then = ""
+    elif holds:
+        then = f": it always holds, so state '{state}' goes to '{target}' at its first tick"
+    else:
+        then = f": it never holds, so state '{state}' never goes to '{target}' this way"
+    return _problem(
+        f"the condition '{text}' is made only of fixed values, so it never changes{then}",
+        where,
+        "compare a sensor's value, e.g. range.distance_cm < 20",
+        "warning",
+    )
+
+
+def _fixed_conditions(name: str, state: StateSpec) -> list[InputError]:
+    """A warning for each of the state's YAML conditions that reads nothing (but a last
+    ``true`` after other choices: an otherwise, written on purpose)."""
+    found = []
+    for number, choice in enumerate(state.when):
+        guard = choice.guard
+        if not isinstance(guard, Guard) or not fixed_condition(guard.source):
+            continue
+        holds: bool | None = None
+        with contextlib.suppress(Exception):  # a fixed value reads no sensor: no env needed
+            holds = bool(guard(None))  # type: ignore[arg-type]
+        if holds and number > 0 and number == len(state.when) - 1:
+            continue
+        found.append(
+            fixed_condition_problem(
+                guard.source.strip(), holds, name, choice.target, choice.location or state.location
+            )
+        )
+    return found
+
+
 def check_mission(spec: MissionSpec, profile: object | None = None) -> list[InputError]:
     """Check a mission's structure (and its fit to a robot, when ``profile`` is given).
 
@@ -247,6 +319,7 @@ def check_mission(spec: MissionSpec, profile: object | None = None) -> list[Inpu
             )
         if state.final:
             continue
+        problems.extend(_fixed_conditions(name, state))
         for choice in state.when:
             if choice.target == name:  # re-entered on every tick the condition holds
                 condition = choice.guard_text or "its condition"

@@ -21,9 +21,11 @@ from __future__ import annotations
 import ast
 import contextlib
 import copy
+import dis
 import inspect
 import keyword as pykeyword
 import math
+import operator
 import re
 import sys
 import typing
@@ -41,10 +43,12 @@ from roboscript.errors import InputError, LinkError, did_you_mean
 from roboscript.inputs.quantities import DIMENSIONS, bare_number_warning, parse_quantity
 from roboscript.inputs.source import Location
 from roboscript.mission.builder import MissionBuilder
+from roboscript.mission.checks import FIXED_NODES
 from roboscript.mission.condition_reads import (
     PY_WAIT,
     condition_slips,
     endless_waits,
+    helper_sleeps,
     sleep_warning,
     sleeps_in,
 )
@@ -994,6 +998,14 @@ class _Compiler:
     def choices(
         self, name: str, route: object, node: ast.expr | None, *, need_condition: bool
     ) -> tuple[TransitionSpec, ...]:
+        if need_condition and isinstance(route, dict) and route:
+            pairs = ", ".join(f"({condition!r}, {target!r})" for condition, target in route.items())
+            self.problem(  # when={"near": "end"}: a dict, as YAML's mapping would be
+                f"state '{name}': when is a list of (condition, state) pairs, not a dict",
+                self.source.loc(node) if node is not None else self.state_loc(name),
+                f"write when=[{pairs}]",
+            )
+            return ()
         items = route if isinstance(route, list) else [route]
         if need_condition and isinstance(route, list) and self._pair_without_brackets(route):
             self.problem(  # when=["near", "end"]: the pair's own brackets left out
@@ -1241,6 +1253,29 @@ class _Compiler:
                 self.source_of(value.__code__.co_filename).loc(number),
                 f"return a comparison, e.g. return {read} < 20",
             )
+        fixed = _fixed_result(value)
+        if (
+            fixed is not None
+            and scan.returns_value
+            and scan.returns_text is None
+            and scan.returns_number is None
+        ):
+            self.problem(
+                f"condition method '{name}' reads nothing but fixed values, so what it returns"
+                f" never changes{_always(fixed[0])}",
+                def_loc,
+                "compare a sensor's value, e.g. return self.range.distance_cm < 20",
+                "warning",
+            )
+        elif scan.returns_value:
+            for test in _fixed_tests(value, self.def_of(value)[1]):
+                self.problem(
+                    f"'if {ast.unparse(test)}:' tests nothing but fixed values, so it never"
+                    f" changes{_always(_truth(test))}",
+                    where_in(test),
+                    "test a sensor's value, e.g. if self.range.distance_cm < 20:",
+                    "warning",
+                )
         if not scan.returns_value and scan.yields is None:
             self.problem(
                 f"condition method '{name}' never returns a value, so it never holds",
@@ -1357,6 +1392,12 @@ class _Compiler:
         for call in sleeps_in(node, func.__globals__):
             message, hint = sleep_warning(call, f"{name}()", PY_WAIT)
             self.problem(message, source.loc(call), hint, "warning")
+        for helper, call in helper_sleeps(node, func.__globals__):
+            message, hint = sleep_warning(call, f"{name}()", PY_WAIT, helper)
+            at = self.source_of(helper.__code__.co_filename).loc(call)
+            if (str(at), message) not in self._slipped:  # a helper two conditions call
+                self._slipped.add((str(at), message))
+                self.problem(message, at, hint, "warning")
         for child in ast.walk(node):
             if (
                 isinstance(child, ast.Attribute)
@@ -1383,6 +1424,15 @@ class _Compiler:
             return None
         except ValueError:
             pass  # a built-in whose signature Python does not know: it is called as written
+        fixed = _fixed_result(func)
+        if fixed is not None:
+            self.problem(
+                f"the condition {label} reads nothing but fixed values, so it never"
+                f" changes{_always(fixed[0])}",
+                where,
+                "compare a sensor's value, e.g. lambda m: m.range.distance_cm < 20",
+                "warning",
+            )
         return MethodGuard(
             source=label,
             _read=func,
@@ -1608,3 +1658,133 @@ def compile_mission(
     """
     compiler = _Compiler(cls, str(path) if path is not None else None)
     return compiler.build.finish(compiler.compile(), profile, own_file_first=True)
+
+
+_FIXED_OPS = frozenset(
+    {
+        "RESUME",
+        "NOP",
+        "CACHE",
+        "EXTENDED_ARG",
+        "LOAD_CONST",
+        "RETURN_VALUE",
+        "RETURN_CONST",
+        "COMPARE_OP",
+        "IS_OP",
+        "CONTAINS_OP",
+        "UNARY_NOT",
+        "UNARY_NEGATIVE",
+        "UNARY_INVERT",
+        "TO_BOOL",
+        "BINARY_OP",
+        "COPY",
+        "SWAP",
+        "POP_TOP",
+        "JUMP_FORWARD",
+        "JUMP_IF_FALSE_OR_POP",
+        "JUMP_IF_TRUE_OR_POP",
+        "POP_JUMP_IF_FALSE",
+        "POP_JUMP_IF_TRUE",
+        "POP_JUMP_FORWARD_IF_FALSE",
+        "POP_JUMP_FORWARD_IF_TRUE",
+        "POP_JUMP_IF_NONE",
+        "POP_JUMP_IF_NOT_NONE",
+        "POP_JUMP_FORWARD_IF_NONE",
+        "POP_JUMP_FORWARD_IF_NOT_NONE",
+    }
+)
+"""What a function that reads nothing but fixed values is compiled to: constants, operators
+and jumps (no name, attribute or call is read)."""
+
+
+def _fixed_result(func: object) -> tuple[bool | None] | None:
+    """``(what it always gives,)`` if ``func``, a condition, reads nothing but fixed values
+    (``lambda m: 1 < 2``, ``return True``, ``if 5: return True``), its value ``None`` when it
+    is not worked out (arithmetic, which a huge power would make slow); else ``None``."""
+    code = getattr(func, "__code__", None)
+    if code is None:
+        return None
+    ops = {instruction.opname for instruction in dis.get_instructions(code)}
+    if not ops <= _FIXED_OPS:
+        return None
+    if "BINARY_OP" in ops:
+        return (None,)
+    try:
+        return (bool(func(*([None] * code.co_argcount))),)  # type: ignore[operator]
+    except Exception:  # noqa: BLE001  # 1 < "a": said when it runs, as any other
+        return (None,)
+
+
+def _always(holds: bool | None) -> str:
+    """``: it is always true`` (or false), for a condition that never changes."""
+    if holds is None:
+        return ""
+    return ": it is always true" if holds else ": it is always false, so it never holds"
+
+
+def _fixed_tests(func: object, node: ast.AST | None) -> list[ast.expr]:
+    """The tests of the ``if``s (and ``x if TEST else y``) in condition method ``func`` made
+    only of fixed values (``if 5:``, ``if True:``)."""
+    if not isinstance(node, ast.FunctionDef):
+        return []
+    return [
+        child.test
+        for child in _walk_own(node)
+        if isinstance(child, ast.If | ast.IfExp)
+        and all(isinstance(part, FIXED_NODES) for part in ast.walk(child.test))
+        and not any(isinstance(part, ast.BinOp) for part in ast.walk(child.test))
+    ]
+
+
+_COMPARED: dict[type[ast.cmpop], Callable[[Any, Any], Any]] = {
+    ast.Eq: operator.eq,
+    ast.NotEq: operator.ne,
+    ast.Lt: operator.lt,
+    ast.LtE: operator.le,
+    ast.Gt: operator.gt,
+    ast.GtE: operator.ge,
+    ast.Is: operator.is_,
+    ast.IsNot: operator.is_not,
+    ast.In: lambda a, b: a in b,
+    ast.NotIn: lambda a, b: a not in b,
+}
+_UNARY: dict[type[ast.unaryop], Callable[[Any], Any]] = {
+    ast.Not: operator.not_,
+    ast.USub: operator.neg,
+    ast.UAdd: operator.pos,
+    ast.Invert: operator.invert,
+}
+
+
+def _fixed_value(node: ast.expr) -> Any:
+    """What ``node``, made of constants, comparisons, ``and``/``or``/``not`` (no arithmetic),
+    gives, as Python would."""
+    if isinstance(node, ast.Constant):
+        return node.value
+    if isinstance(node, ast.UnaryOp):
+        return _UNARY[type(node.op)](_fixed_value(node.operand))
+    if isinstance(node, ast.BoolOp):
+        value: Any = None
+        for part in node.values:
+            value = _fixed_value(part)
+            if bool(value) != isinstance(node.op, ast.And):  # and stops at false, or at true
+                break
+        return value
+    if isinstance(node, ast.Compare):
+        left = _fixed_value(node.left)
+        for op, right_node in zip(node.ops, node.comparators, strict=True):
+            right = _fixed_value(right_node)
+            if not _COMPARED[type(op)](left, right):
+                return False
+            left = right
+        return True
+    raise ValueError(ast.dump(node))
+
+
+def _truth(test: ast.expr) -> bool | None:
+    """What a test made of fixed values gives, or ``None`` when it cannot be worked out
+    (``1 < "a"``, said when it runs)."""
+    try:
+        return bool(_fixed_value(test))
+    except (TypeError, ValueError, KeyError):
+        return None

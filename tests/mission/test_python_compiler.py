@@ -245,7 +245,7 @@ class Lesson(Mission):
     end = state(final="success")
 
     def near(self):
-        return True
+        return self.bumper.any
 """
     assert problems(tmp_path, body) == [
         (
@@ -337,7 +337,13 @@ class Lesson(Mission):
         ("False", "end"),
         ("true", "end"),
     ]
-    assert warnings == []
+    # the last, true, is an otherwise; the two before it never hold
+    assert warnings == [
+        f"lesson.py:11:{col}: warning: the condition '{written}' is made only of fixed values,"
+        " so it never changes: it never holds, so state 'go' never goes to 'end' this way"
+        " (compare a sensor's value, e.g. range.distance_cm < 20)"
+        for col, written in ((15, "false"), (33, "False"))
+    ]
 
 
 # ----------------------------------------------------------------------------- conditions

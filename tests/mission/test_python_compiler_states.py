@@ -200,7 +200,7 @@ class Template(Mission):
     away = state(Wait(1), on_done=Far.there, when=[("ready", Far.there)])
 
     def ready(self):
-        return True
+        return self.bumper.any
 """
 
 
