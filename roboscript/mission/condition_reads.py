@@ -574,12 +574,18 @@ def update_returns(
             and isinstance(value.value, ast.Name)
             and function.__globals__.get(value.value.id) is Result
         ):
+            meant = value.attr if hasattr(Result, value.attr) else value.attr.lower()
+            if not hasattr(Result, meant):  # Result.DONE, Result.SUCCESS: said when it runs
+                continue
             found.append(
                 (
                     function,
                     child,
-                    f"Result.{value.attr} without calling it",
-                    f"write return Result.{value.attr}({'' if value.attr == 'done' else '...'})",
+                    f"Result.{value.attr} without calling it"
+                    if meant == value.attr
+                    else f"Result.{value.attr}, which Result does not have (its outcomes are"
+                    " written in small letters)",
+                    f"write return Result.{meant}({'' if meant == 'done' else '...'})",
                 )
             )
     return sorted(found, key=lambda item: item[1].lineno)

@@ -25,6 +25,7 @@ from __future__ import annotations
 import ast
 import builtins
 import hashlib
+import importlib.machinery
 import importlib.util
 import inspect
 import linecache
@@ -435,7 +436,9 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
     digest = hashlib.sha1(key[0].encode("utf-8")).hexdigest()[:10]  # a module name, not security
     stem = re.sub(r"\W", "_", file.stem)
     name = f"{LOADED_PREFIX}{kind}_{stem}_{digest}"
-    spec = importlib.util.spec_from_file_location(name, file.resolve())
+    # read as Python source whatever the case of its ending (nap.PY, saved so on Windows)
+    loader = importlib.machinery.SourceFileLoader(name, str(file.resolve()))
+    spec = importlib.util.spec_from_file_location(name, file.resolve(), loader=loader)
     if spec is None or spec.loader is None:
         raise MissionError(f"a {kind} file is a Python file ending in .py", path=str(path))
     module = importlib.util.module_from_spec(spec)
@@ -676,6 +679,13 @@ _OTHER_LANGUAGE = tuple(
         (r"^\s*(?:var|let|const)\s+\w+\s*=", "Python needs no var or let: write name = value"),
         (r"&&|\|\||!\s*(?=self\b|\()", _AND_OR_NOT),
         (r"\b(?:AND|OR|NOT|And|Or|Not)\b", "Python writes and, or and not in lower case"),
+        (
+            r"\b(?:and|or)\s*(?:<|>|==|!=)",
+            (
+                "each side of and/or is a whole comparison: name the value again, e.g."
+                " self.range.distance_cm < 20 and self.range.distance_cm > 5"
+            ),
+        ),
     )
 )
 """A line of a program in another language (JavaScript, C, Java) where Python's slipped, and
