@@ -14,7 +14,7 @@ from typing import Any
 from roboscript.actions.base import Action
 from roboscript.errors import InputError, MissionError
 from roboscript.inputs.source import read_source
-from roboscript.mission.python_api import Mission
+from roboscript.mission.python_api import Mission, StateDef
 from roboscript.mission.python_compiler import compile_mission, mission_states, nested_missions
 from roboscript.mission.python_source import PythonSource
 from roboscript.mission.spec import MissionSpec
@@ -65,6 +65,24 @@ def find_mission_class(module: Any, path: str) -> type[Mission]:
             and value.__module__ == module.__name__
         )
         hint = "write a class that extends Mission: class MyMission(Mission): ..."
+        unmarked = [
+            value
+            for value in vars(module).values()
+            if isinstance(value, type)
+            and value.__module__ == module.__name__
+            and any(isinstance(member, StateDef) for member in vars(value).values())
+        ]
+        if unmarked:  # class M: with its states, the (Mission) left out
+            name = unmarked[0].__name__
+            source = PythonSource(module.__file__ or path, path)
+            where = source.loc(source.class_def(name))
+            raise MissionError(
+                f"class {name} has states but does not extend Mission, so it is no mission",
+                path=path,
+                line=where.line,
+                col=where.col,
+                hint=f"write class {name}(Mission):, and import Mission from roboscript",
+            )
         if behaviours:
             hint = (
                 f"it holds behaviours ({', '.join(behaviours)}): list the file under"

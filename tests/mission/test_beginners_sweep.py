@@ -5,11 +5,12 @@ far, a way round the states that never ends, a state's name misspelt, a speed wr
 word, an angle in radians, ``=`` for ``==``, a last state with no ``final``, actions named as
 other robots' libraries name them (``move_forward``, ``turn`` by an angle, ``rotate`` by
 ``degrees``, ``wait`` for a ``time``), a prompt copied with the code, a file saved empty or with
-another ending, a condition made of fixed values only (``True``, ``1 < 2``, ``if 5:``) and a
-``time.sleep`` in a helper function that code run every tick calls. Each gets one sentence at
-``file:line:col`` in the student's terms, or nothing when it means what it says (a last
-``true`` choice as an otherwise, a file saved as ``.yml``). All files are checked by one
-``roboscript check`` run, as a class's folder is.
+another ending (``.txt``, ``.PY``), a class without its ``(Mission)``, ``Result.DONE`` in
+capitals, half a comparison after ``and``, a condition made of fixed values only (``True``,
+``1 < 2``, ``if 5:``) and a ``time.sleep`` in a helper function that code run every tick
+calls. Each gets one sentence at ``file:line:col`` in the student's terms, or nothing when it
+means what it says (a last ``true`` choice as an otherwise, a file saved as ``.yml``). All
+files are checked by one ``roboscript check`` run, as a class's folder is.
 """
 
 from __future__ import annotations
@@ -117,6 +118,24 @@ def pc(body: str) -> str:
     """A Python mission whose condition 'near' is ``body``."""
     return PC.replace("BODY", body)
 
+
+G = p("Drive(distance_mm=500)")
+PA = """\
+from roboscript import Action, Mission, Result, state
+
+
+class Pause(Action):
+    name = "pause"
+    requires = frozenset({"drive_base"})
+
+    def update(self, ctx):
+        BODY
+
+
+class M(Mission):
+    go = state(Pause(), initial=True, on_done="end", on_failed="end")
+    end = state(final="success")
+"""
 
 MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
     "indent_end_state.yaml": (
@@ -518,6 +537,117 @@ MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
                 "condition or update() must return at once; wait with a state's action or "
                 "timeout, never time.sleep: e.g. a state of its own, pause = "
                 'state(Wait(duration_s=2), on_done="next"))'
+            )
+        ],
+    ),
+    "python_bom_and_windows_ends.py": (
+        ("\ufeff" + G).replace("\n", "\r\n").encode("utf-8"),
+        [],
+    ),
+    "curly_quotes.py": (
+        G.replace('on_done="end"', "on_done=\u201cend\u201d"),
+        [
+            (
+                "5:62: error: syntax error: invalid character '“' (U+201C) (a curly quote, as a "
+                "word processor writes it: type straight quotes, \" or ')"
+            )
+        ],
+    ),
+    "action_without_state.py": (
+        G.replace(
+            'state(Drive(distance_mm=500), initial=True, on_done="end", on_failed="end")',
+            "Drive(distance_mm=500)",
+        ),
+        [
+            (
+                "5:10: error: 'go' is an action, not a state: a state runs it (write go = "
+                "state(Drive(distance_mm=500), ...))"
+            )
+        ],
+    ),
+    "class_without_mission.py": (
+        G.replace("class M(Mission):", "class M:"),
+        [
+            (
+                "4:1: error: class M has states but does not extend Mission, so it is no "
+                "mission (write class M(Mission):, and import Mission from roboscript)"
+            )
+        ],
+    ),
+    "two_missions.py": (
+        G
+        + "\n\nclass N(Mission):\n"
+        + '    go = state(Drive(distance_mm=500), initial=True, on_done="end")\n'
+        + '    end = state(final="success")\n',
+        [
+            (
+                "9:1: error: this file holds 2 missions (M, N); a mission file holds one (move "
+                "each mission to a file of its own)"
+            )
+        ],
+    ),
+    "update_without_ctx.py": (
+        PA.replace("BODY", "return Result.done()").replace("update(self, ctx)", "update(self)"),
+        [
+            (
+                "13:16: error: Pause.update must take self and ctx, as roboscript calls it with "
+                "the robot's context (def update(self, ctx):)"
+            )
+        ],
+    ),
+    "result_in_capitals.py": (
+        PA.replace("BODY", "return Result.DONE"),
+        [
+            (
+                "9:9: warning: Pause.update() returns Result.DONE, which Result does not have "
+                "(its outcomes are written in small letters), and roboscript reads what "
+                "update() returns as how the action is going: a Result, or None while it runs "
+                "(write return Result.done())"
+            )
+        ],
+    ),
+    "saved_as_upper.PY": (
+        G,
+        [],
+    ),
+    "initial_lower_true.py": (
+        G.replace("initial=True", "initial=true"),
+        ["5:48: error: NameError: name 'true' is not defined (did you mean 'True'?)"],
+    ),
+    "unit_in_python_condition.py": (
+        pc("return self.range.distance_cm < 20cm"),
+        [
+            (
+                "10:42: error: syntax error: invalid decimal literal (a number in Python has no "
+                "unit: for 20cm write 20, as distance_cm is in cm)"
+            )
+        ],
+    ),
+    "half_comparison_after_and.py": (
+        pc("return self.range.distance_cm < 20 and > 5"),
+        [
+            (
+                "10:48: error: invalid syntax (each side of and/or is a whole comparison: name "
+                "the value again, e.g. self.range.distance_cm < 20 and self.range.distance_cm > "
+                "5)"
+            )
+        ],
+    ),
+    "self_in_condition_name.py": (
+        pc("return self.bumper.any").replace('("near", "end")', '("self.near", "end")'),
+        [
+            (
+                "6:24: error: a condition written as text names things without 'self.' (a "
+                "condition method is named alone, in quotes: write 'near')"
+            )
+        ],
+    ),
+    "condition_without_quotes.py": (
+        pc("return self.bumper.any").replace('("near", "end")', '(near, "end")'),
+        [
+            (
+                "6:23: error: NameError: name 'near' is not defined (a condition is named in "
+                "quotes: write 'near')"
             )
         ],
     ),

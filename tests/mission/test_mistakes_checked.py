@@ -465,7 +465,8 @@ MISTAKES: dict[str, tuple[str, list[str]]] = {
     "method_twice.py": (
         CONDITION.replace(
             "DEFINITION",
-            "def near(self):\n        return self.bumper.any\n\n    def near(self):\n        return self.bumper.left",
+            "def near(self):\n        return self.bumper.any\n\n    def near(self):\n"
+            "        return self.bumper.left",
         ),
         [
             (
