@@ -39,6 +39,7 @@ from typing import Any
 from roboscript import capabilities as cap
 from roboscript.actions.base import Action
 from roboscript.actions.composite import Parallel, Repeat
+from roboscript.code_owner import is_student_file
 from roboscript.errors import InputError, LinkError, did_you_mean
 from roboscript.inputs.quantities import DIMENSIONS, bare_number_warning, parse_quantity
 from roboscript.inputs.source import Location
@@ -1409,6 +1410,37 @@ class _Compiler:
                 if inspect.isfunction(helper):
                     self.slips(helper, seen)
 
+    def function_sleeps(self, func: Callable[..., object], label: str) -> None:
+        """Warn of each ``time.sleep`` a condition given as a function or a lambda reaches:
+        in its own body, in the functions of the student's own it calls, and in the mission's
+        methods a lambda calls on the mission (``lambda m: m.look()``)."""
+        if not isinstance(func, FunctionType) or not is_student_file(func.__code__.co_filename):
+            return
+        _, node = self.def_of(func)
+        runs = f"{label}()" if label != "lambda" else "the condition lambda"
+        reached: list[tuple[ast.Call, FunctionType | None, str]] = []
+        if isinstance(node, ast.FunctionDef):
+            reached += [(call, None, runs) for call in sleeps_in(node, func.__globals__)]
+            reached += [(c, f, runs) for f, c in helper_sleeps(node, func.__globals__)]
+        for name in func.__code__.co_names if label == "lambda" else ():
+            method = inspect.getattr_static(self.cls, name, None)
+            if not isinstance(method, FunctionType) or not is_student_file(
+                method.__code__.co_filename
+            ):
+                continue
+            _, method_node = self.def_of(method)
+            if isinstance(method_node, ast.FunctionDef):
+                called = f"{name}()"
+                namespace = method.__globals__
+                reached += [(c, method, runs) for c in sleeps_in(method_node, namespace)]
+                reached += [(c, f, called) for f, c in helper_sleeps(method_node, namespace)]
+        for call, helper, caller in reached:
+            message, hint = sleep_warning(call, caller, PY_WAIT, helper)
+            at = self.source_of((helper or func).__code__.co_filename).loc(call)
+            if (str(at), message) not in self._slipped:
+                self._slipped.add((str(at), message))
+                self.problem(message, at, hint, "warning")
+
     def function_guard(self, func: Callable[..., object], where: Location) -> MethodGuard | None:
         label = getattr(func, "__name__", "condition")
         label = "lambda" if label == "<lambda>" else label
@@ -1424,6 +1456,7 @@ class _Compiler:
             return None
         except ValueError:
             pass  # a built-in whose signature Python does not know: it is called as written
+        self.function_sleeps(func, label)
         fixed = _fixed_result(func)
         if fixed is not None:
             self.problem(

@@ -651,6 +651,38 @@ MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
             )
         ],
     ),
+    "sleep_in_a_method_a_lambda_calls.py": (
+        SLEEPY_CONDITION.replace("def look_around():\n    time.sleep(0.5)\n", "")
+        .replace('("near", "end")', '(lambda m: m.near(), "end")')
+        .replace("        look_around()\n", "        time.sleep(0.5)\n"),
+        [
+            (
+                "14:9: warning: time.sleep(0.5) in near(), called by the condition lambda, holds"
+                " up the whole robot for 0.5 s: the condition lambda is run once every tick"
+                " (0.02 s), and while it sleeps no condition is checked, no timeout counted and"
+                " no other action run (a condition or update() must return at once; wait with a"
+                " state's action or timeout, never time.sleep: e.g. a state of its own, pause ="
+                ' state(Wait(duration_s=2), on_done="next"))'
+            ),
+        ],
+    ),
+    "sleep_in_a_function_condition.py": (
+        SLEEPY_CONDITION.replace("def look_around():", "def near(m):")
+        .replace("    time.sleep(0.5)\n", "    time.sleep(0.5)\n    return m.bumper.any\n")
+        .replace('("near", "end")', '(near, "end")')
+        .replace(
+            "\n    def near(self):\n        look_around()\n        return self.bumper.any\n", ""
+        ),
+        [
+            (
+                "7:5: warning: time.sleep(0.5) in near() holds up the whole robot for 0.5 s:"
+                " near() is run once every tick (0.02 s), and while it sleeps no condition is"
+                " checked, no timeout counted and no other action run (a condition or update()"
+                " must return at once; wait with a state's action or timeout, never time.sleep:"
+                ' e.g. a state of its own, pause = state(Wait(duration_s=2), on_done="next"))'
+            ),
+        ],
+    ),
 }
 
 
