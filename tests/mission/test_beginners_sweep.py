@@ -683,6 +683,83 @@ MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
             ),
         ],
     ),
+    "states_as_a_list.yaml": (
+        (
+            "mission: m\nstates:\n  - go:\n      do: {drive: {distance: 50 cm}}\n      on: "
+            "{done: end, failed: end}\n  - end: {final: success}\n"
+        ),
+        [
+            (
+                "3:3: error: 'states:' is written as a list (its lines start with '- '), but it "
+                "maps each state's name to the state (take away the '- ' and line the names up: "
+                "write go: rather than - go:)"
+            )
+        ],
+    ),
+    "then_for_on.yaml": (
+        (
+            "mission: m\nstates:\n  go:\n    do: {drive: {distance: 50 cm}}\n    then: end\n  "
+            "end: {final: success}\n"
+        ),
+        [
+            (
+                "5:5: error: unknown key 'then' in state 'go' (where a state goes next is "
+                "written under 'on:', by outcome: write on: {done: end})"
+            )
+        ],
+    ),
+    "outcome_finished.yaml": (
+        (
+            "mission: m\nstates:\n  go:\n    do: {drive: {distance: 50 cm}}\n    on: {finished: "
+            "end}\n  end: {final: success}\n"
+        ),
+        [
+            (
+                "5:10: error: unknown outcome 'finished' (outcomes: done, failed, timeout) "
+                "(write done: end)"
+            )
+        ],
+    ),
+    "two_actions_in_do.yaml": (
+        (
+            "mission: m\nstates:\n  go:\n    do:\n      - drive: {distance: 50 cm}\n      - "
+            "rotate: {angle: 90 deg}\n    on: {done: end, failed: end}\n  end: {final: "
+            "success}\n"
+        ),
+        [
+            (
+                "5:7: error: 'do' names one action, e.g. do: {drive: {distance: 50 cm}} (to do "
+                "one thing after another, give each its own state and go on with on: {done: "
+                "NEXT})"
+            )
+        ],
+    ),
+    "comma_left_out.yaml": (
+        (
+            "mission: m\nstates:\n  go:\n    do: {drive: {distance: 50 cm}}\n    on: {done: end "
+            "failed: end}\n  end: {final: success}\n"
+        ),
+        ["5:26: error: expected `,` or `}` here (inside the `{` at 5:9)"],
+    ),
+    "brace_left_open.yaml": (
+        (
+            "mission: m\nstates:\n  go:\n    do: {drive: {distance: 50 cm}\n    on: {done: end, "
+            "failed: end}\n  end: {final: success}\n"
+        ),
+        ["4:9: error: this `{` is never closed (close it with `}` before 5:5)"],
+    ),
+    "end_written_twice.yaml": (
+        (
+            "mission: m\nstates:\n  go:\n    do: {drive: {distance: 50 cm}}\n    on: {done: "
+            "end, failed: end}\n  end: {final: success}\n  end: {final: failure}\n"
+        ),
+        [
+            (
+                "7:3: error: 'end' is given twice (first on line 6) (keep one of the two, or "
+                "give one of them another name)"
+            )
+        ],
+    ),
 }
 
 
