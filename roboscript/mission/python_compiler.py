@@ -1393,7 +1393,7 @@ class _Compiler:
         for call in sleeps_in(node, func.__globals__):
             message, hint = sleep_warning(call, f"{name}()", PY_WAIT)
             self.problem(message, source.loc(call), hint, "warning")
-        for helper, call in helper_sleeps(node, func.__globals__):
+        for helper, call in helper_sleeps(node, func.__globals__, self.source_of):
             message, hint = sleep_warning(call, f"{name}()", PY_WAIT, helper)
             at = self.source_of(helper.__code__.co_filename).loc(call)
             if (str(at), message) not in self._slipped:  # a helper two conditions call
@@ -1421,7 +1421,9 @@ class _Compiler:
         reached: list[tuple[ast.Call, FunctionType | None, str]] = []
         if isinstance(node, ast.FunctionDef):
             reached += [(call, None, runs) for call in sleeps_in(node, func.__globals__)]
-            reached += [(c, f, runs) for f, c in helper_sleeps(node, func.__globals__)]
+            reached += [
+                (c, f, runs) for f, c in helper_sleeps(node, func.__globals__, self.source_of)
+            ]
         for name in func.__code__.co_names if label == "lambda" else ():
             method = inspect.getattr_static(self.cls, name, None)
             if not isinstance(method, FunctionType) or not is_student_file(
@@ -1433,7 +1435,9 @@ class _Compiler:
                 called = f"{name}()"
                 namespace = method.__globals__
                 reached += [(c, method, runs) for c in sleeps_in(method_node, namespace)]
-                reached += [(c, f, called) for f, c in helper_sleeps(method_node, namespace)]
+                reached += [
+                    (c, f, called) for f, c in helper_sleeps(method_node, namespace, self.source_of)
+                ]
         for call, helper, caller in reached:
             message, hint = sleep_warning(call, caller, PY_WAIT, helper)
             at = self.source_of((helper or func).__code__.co_filename).loc(call)
