@@ -437,7 +437,11 @@ def import_student_file(path: str | Path, *, kind: str = "mission") -> ModuleTyp
     stem = re.sub(r"\W", "_", file.stem)
     name = f"{LOADED_PREFIX}{kind}_{stem}_{digest}"
     # read as Python source whatever the case of its ending (nap.PY, saved so on Windows)
-    loader = importlib.machinery.SourceFileLoader(name, str(file.resolve()))
+    loader = (
+        importlib.machinery.SourceFileLoader(name, str(file.resolve()))
+        if file.suffix.lower() == ".py"
+        else None
+    )
     spec = importlib.util.spec_from_file_location(name, file.resolve(), loader=loader)
     if spec is None or spec.loader is None:
         raise MissionError(f"a {kind} file is a Python file ending in .py", path=str(path))
