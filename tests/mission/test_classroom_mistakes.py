@@ -1279,8 +1279,8 @@ MISTAKES: dict[str, tuple[str | bytes, list[str]]] = {
         GOOD_P.replace("class M(Mission):", "class M:"),
         [
             (
-                "1:1: error: this file holds no mission (write a class that extends Mission: class"
-                " MyMission(Mission): ...)"
+                "4:1: error: class M has states but does not extend Mission, so it is no mission"
+                " (write class M(Mission):, and import Mission from roboscript)"
             ),
         ],
     ),
