@@ -163,3 +163,90 @@ def test_the_good_square_passes_the_shape_checks_with_room_to_spare() -> None:
         margins = {v.name: v.relative_margin for v in result.verdicts}
         assert (margins["path_visits"] or 0.0) > 0.5  # within 2 cm of every corner (of 4)
         assert (margins["turns"] or 0.0) > 0.5
+
+
+# Lazy and cheating missions, graded through `roboscript grade` against every shipped test: each
+# earns what its robot did, which is nothing (what every test requires fails on every run).
+LAZY = {
+    "instant-success": """\
+mission: lazy
+initial: done
+states:
+  done:
+    final: success
+""",
+    "names-the-states": """\
+mission: names
+initial: follow
+states:
+  follow:
+    do: {wait: {duration: 2 s}}
+    on: {done: side}
+  side:
+    do: {wait: {duration: 1 s}}
+    on: {done: corner}
+  corner:
+    do: {play_tone: {frequency: 880 Hz, duration: 200 ms}}
+    on:
+      done:
+        - {if: "visits.corner >= 4", goto: lap_done}
+        - {goto: side}
+  lap_done:
+    final: success
+""",
+    "spins-in-place": """\
+mission: spin
+initial: corner
+states:
+  corner:
+    do: {rotate: {angle: 90 deg}}
+    on: {done: beep}
+  beep:
+    do: {play_tone: {frequency: 880 Hz, duration: 200 ms}}
+    on:
+      done:
+        - {if: "visits.corner >= 4", goto: finished}
+        - {goto: corner}
+  finished:
+    final: success
+""",
+    # Straight ahead for 3 m, whatever the course: in the corridor it stays in the band only
+    # from a start that happens to face along the wall at the right distance.
+    "drives-straight": """\
+mission: straight
+initial: go
+states:
+  go:
+    do: {drive: {distance: 3 m, speed: 20 cm/s}}
+    timeout: 25 s
+    on: {done: finished, failed: finished, timeout: finished}
+  finished:
+    final: success
+""",
+}
+
+
+@pytest.fixture(scope="module")
+def lazy_class(tmp_path_factory: pytest.TempPathFactory) -> dict[str, object]:
+    folder = tmp_path_factory.mktemp("lazy")
+    for student, text in LAZY.items():
+        (folder / f"{student}.yaml").write_text(text, encoding="utf-8")
+    specs = sorted(str(p) for p in TEACHER.glob("*/test.yaml"))
+    result = run_cli("grade", *specs, "--mission", str(folder), "--json", "--jobs", "2")
+    assert result.returncode == 1, result.stderr
+    assert "Traceback" not in result.stderr, result.stderr
+    report: dict[str, object] = json.loads(result.stdout)
+    return report
+
+
+@pytest.mark.parametrize("student", sorted(LAZY))
+def test_a_lazy_mission_scores_0_on_every_shipped_test(
+    lazy_class: dict[str, object], student: str
+) -> None:
+    runs = lazy_class["runs"]
+    assert isinstance(runs, list)
+    mine = [r for r in runs if r["student"] == student]
+    assert {r["test"] for r in mine} == {"corridor-wall-follow", "line-track-lap", "square-50cm"}
+    for run in mine:
+        assert run["score"] == 0.0, (run["test"], run["label"], run["message"])
+        assert "(required: without it the run scores 0)" in run["message"]
