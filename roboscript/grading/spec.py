@@ -44,7 +44,13 @@ from roboscript.grading.expectations.contradictions import RunSetup, find_contra
 from roboscript.grading.record import RunResult, RunStatus
 from roboscript.grading.text import clean_name
 from roboscript.inputs.fields import FieldReader
-from roboscript.inputs.kinds import refuse_another_kind
+from roboscript.inputs.kinds import (
+    OWN_KEYS,
+    FileKind,
+    file_kind,
+    not_the_kind_expected,
+    refuse_another_kind,
+)
 from roboscript.inputs.limits import name_too_long
 from roboscript.inputs.source import (
     Location,
@@ -56,6 +62,7 @@ from roboscript.inputs.source import (
 )
 from roboscript.mission.limits import MAX_TIME_S
 from roboscript.profiles import BUILTIN_PROFILES, get_profile
+from roboscript.sim.geometry import segment_distance
 from roboscript.sim.world import WORLD_REACH_MM, World, builtin_worlds, load_world
 
 __all__ = [
@@ -279,7 +286,14 @@ def load_test_spec(path: str | Path) -> TestSpec:
     """
     shown = str(path)
     reader = FieldReader(shown, SpecError)
-    top = reader.mapping(load_yaml(path, error=SpecError), "a test spec", (1, 1))
+    data = load_yaml(path, error=SpecError)
+    if data is None:
+        raise reader.fail(
+            "this test spec is empty (or holds only comments): is it saved? A test spec"
+            " starts with test: NAME, then the world, the runs and what to expect",
+            (1, 1),
+        )
+    top = reader.mapping(data, "a test spec", (1, 1))
     refuse_another_kind(top, path, "test spec", SpecError)  # grade square.yaml --mission ...
     for problem in reader.unknown_keys(top, _TOP_KEYS, "a test spec", _misplaced):
         raise problem
@@ -301,6 +315,7 @@ def load_test_spec(path: str | Path) -> TestSpec:
         else DEFAULT_WALL_TIME_LIMIT_S
     )
     variants = _variants(reader, top, folder, default_world, worlds)
+    _refuse_starts_in_walls(reader, top, variants, worlds, get_profile(robot).body_radius_mm)
     points = _points(reader, top)
     _refuse_unlisted(reader, top, "expect", "expectation", "- outcome: success")
     items = reader.items(top["expect"], "expect", top.value_mark("expect"))
@@ -451,10 +466,33 @@ def _resolve_world(
                 mark,
                 did_you_mean(written, builtin_worlds()),
             )
+        kind = _kind_of_world_file(candidate)
+        if kind is not None:
+            raise reader.fail(
+                f"world names '{written}': {not_the_kind_expected(kind, 'a simulator world')}",
+                mark,
+                "a world file has start:, walls:, lines: or regions:; or name a built-in"
+                f" world: {', '.join(builtin_worlds())}",
+            )
         key = str(candidate.resolve())
     if key not in worlds:
         worlds[key] = load_world(key)  # a WorldError names the world file's own line
     return key
+
+
+def _kind_of_world_file(path: Path) -> FileKind | None:
+    """What another kind of file named as a spec's world is (``mission``, ``profile``, ``test
+    spec``), or ``None`` for a world, or a file the world reader says more about."""
+    kind = file_kind(path)
+    if kind == "world":
+        return None
+    if kind == "mission":  # also what a file that tells nothing is: only one with a mission's keys
+        try:
+            keys = set(load_yaml(path, error=SpecError) or {})
+        except InputError:
+            return None
+        return kind if keys & OWN_KEYS["mission"] else None
+    return kind
 
 
 def _variants(
@@ -557,6 +595,41 @@ def _check_runs_differ(
         if later.index not in targeted:
             untargeted.setdefault(setup(later), later)
         labels.setdefault(later.label, []).append(later)
+
+
+def _refuse_starts_in_walls(
+    reader: FieldReader,
+    top: YamlMap,
+    variants: tuple[Variant, ...],
+    worlds: dict[str, World],
+    body_radius_mm: float,
+) -> None:
+    """A run whose robot would start with its body in a wall is an error at that run (its
+    ``start``): the simulator would report a collision before the mission did anything, and
+    every student would be graded on a robot stuck in a wall."""
+    written = top.get("runs")
+    for variant in variants:
+        world = worlds[variant.world]
+        x, y, _ = variant.start or (world.start.x_mm, world.start.y_mm, world.start.heading_deg)
+        if not world.walls:
+            continue
+        gap_mm = min(segment_distance(x, y, wall) for wall in world.walls)
+        if gap_mm >= body_radius_mm:
+            continue
+        data = written[variant.index] if isinstance(written, YamlList) else None
+        if isinstance(data, YamlMap) and "start" in data:
+            mark = data.value_mark("start")
+        elif isinstance(written, YamlList):
+            mark = written.item_marks[variant.index]
+        else:
+            mark = top.value_mark("world") if "world" in top else (1, 1)
+        raise reader.fail(
+            f"run {variant.index + 1} starts the robot at ({x:g}, {y:g}) mm, {gap_mm:g} mm"
+            f" from a wall of '{world.name}', but its body reaches {body_radius_mm:g} mm from"
+            " its centre: it would start inside the wall; move the start at least"
+            f" {body_radius_mm - gap_mm:.0f} mm away from it",
+            mark,
+        )
 
 
 def _flag(reader: FieldReader, data: YamlMap, key: str) -> bool:

@@ -6,7 +6,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import MISSIONS
+from helpers import MISSIONS, checked_by_file, run_cli
 
 from roboscript.errors import InputError, SpecError
 from roboscript.grading.expectations import (
@@ -545,3 +545,218 @@ def test_a_test_whose_runs_are_all_hidden_loads_as_an_exam_does(tmp_path: Path) 
     )
     spec = load_test_spec(path)
     assert [variant.hidden for variant in spec.variants] == [True, True]
+
+
+# ------------------------------------------------------------- a sweep of quick specs' mistakes
+# Specs written the night before, each with one mistake, checked with `roboscript check` as a
+# teacher checks them: each is told in one sentence, at the line of the mistake, and no
+# traceback. Files beside the specs: a mission, a robot profile and teachers' checks.
+_RUNS = "test: t\nworld: empty\nruns:\n  - {seed: 1}\n  - {seed: 2}\n"
+BESIDE = {
+    "square.yaml": (TEACHER / "square" / "good.yaml").read_text(encoding="utf-8"),
+    "bigger.yaml": "extends: mirto\nwheel_diameter_mm: 60\n",
+    "missing.py": "import no_such_module_for_checks\n\n\ndef ok(run):\n    return True\n",
+    "checks.py": (
+        "from roboscript.grading.record import RunRecord\n\n\n"
+        "def no_argument():\n    return True\n\n\n"
+        "def two(run, other):\n    return True\n\n\n"
+        "def fine(run: RunRecord, margin_mm: float = 10.0) -> bool:\n    return True\n"
+    ),
+}
+QUICK_SPEC_MISTAKES = {
+    "misspelt-kind": (_RUNS + "expect:\n  - outcom: success\n", "7:5", "did you mean 'outcome'"),
+    "time-in-cm": (_RUNS + "expect:\n  - max_duration: 20 cm\n", "7:19", "unit of distance"),
+    "percent-for-hz": (
+        _RUNS + "expect:\n  - tones: {count: 4, tolerance: 5 %}\n",
+        "7:34",
+        "but this is a frequency",
+    ),
+    "window-past-max-time": (
+        _RUNS + "max_time: 20 s\nexpect:\n"
+        "  - wall_distance: {side: right, min: 12 cm, during: {from: 25 s, to: 30 s}}\n",
+        "8:5",
+        "max_time of 20 s",
+    ),
+    "window-backwards": (
+        _RUNS + "expect:\n"
+        "  - wall_distance: {side: right, min: 12 cm, during: {from: 25 s, to: 5 s}}\n",
+        "7:71",
+        "'from' must come before 'to'",
+    ),
+    "negative-points": (_RUNS + "points: -5\nexpect:\n  - outcome: success\n", "6:9", "at least 0"),
+    "hidden-copy": (
+        (
+            "test: t\nruns:\n  - {seed: 1}\n  - {seed: 1, hidden: true}\nexpect:\n"
+            "  - outcome: success\n"
+        ),
+        "4:5",
+        "this run is run 1 again",
+    ),
+    "start-in-wall": (
+        (
+            "test: t\nworld: corridor\nruns:\n  - {seed: 1, start: {x: 250 mm, y: 0 mm}}\n"
+            "expect:\n  - outcome: success\n"
+        ),
+        "4:22",
+        "run 1 starts the robot at (250, 0) mm, 50 mm from a wall of 'corridor'",
+    ),
+    "default-start-in-wall-of-a-run's-world": (
+        (
+            "test: t\nworld: corridor\nruns:\n  - {seed: 1}\n"
+            "  - {seed: 2, start: {x: -250 mm, heading: 0 deg}}\nexpect:\n  - outcome: success\n"
+        ),
+        "5:22",
+        "it would start inside the wall; move the start at least 50 mm away from it",
+    ),
+    "turns-beyond-max-time": (
+        _RUNS + "max_time: 5 s\nexpect:\n  - {turns: {count: 40}, required: true}\n",
+        "8:6",
+        "40 turns take at least 7.8 s",
+    ),
+    "turns-beyond-max-duration": (
+        _RUNS + "expect:\n  - max_duration: 2 s\n  - turns: {count: 12}\n",
+        "8:5",
+        "contradicts the max_duration on line 7: 12 turns take at least 2.2 s",
+    ),
+    "world-is-a-mission": (
+        "test: t\nworld: square.yaml\nexpect:\n  - outcome: success\n",
+        "2:8",
+        "world names 'square.yaml': this is a mission file, not a simulator world",
+    ),
+    "world-is-a-robot-profile": (
+        "test: t\nworld: bigger.yaml\nexpect:\n  - outcome: success\n",
+        "2:8",
+        "this is a profile file, not a simulator world",
+    ),
+    "robot-misspelt": (
+        "test: t\nrobot: spike\nexpect:\n  - outcome: success\n",
+        "2:8",
+        "did you mean 'spike-prime'",
+    ),
+    "tab": ("test: t\nexpect:\n\t- outcome: success\n", "3:1", "a tab"),
+    "key-twice": (
+        _RUNS + "expect:\n  - outcome: success\nmax_time: 10 s\nmax_time: 20 s\n",
+        "9:1",
+        "'max_time' is given twice (first on line 8)",
+    ),
+    "bom-and-crlf": (
+        "\ufefftest: t\r\nexpect:\r\n  - outcome: sucess\r\n",
+        "3:14",
+        "did you mean 'success'",
+    ),
+    "required-yes": (
+        _RUNS + "expect:\n  - outcome: success\n    required: yes\n",
+        "8:15",
+        "'required' must be true or false",
+    ),
+    "kind-value-not-indented": (
+        _RUNS + "expect:\n  - tones:\n    count: 4\n",
+        "7:5",
+        "an expectation has exactly one of",
+    ),
+    "max-time-in-ms": (
+        _RUNS + "max_time: 60000\nexpect:\n  - outcome: success\n",
+        "6:11",
+        "at most 1 hour",
+    ),
+    "never-enter-the-start": (
+        "test: t\nworld: corridor\nexpect:\n  - never_enter: start-zone\n",
+        "4:5",
+        "run 1 starts inside 'start-zone'",
+    ),
+    "check-imports-what-is-missing": (
+        _RUNS + "expect:\n  - check: missing.py:ok\n",
+        "7:12",
+        (
+            "missing.py:1: it imports 'no_such_module_for_checks', which is not installed: the"
+            " check would fail every run, whatever the robot did"
+        ),
+    ),
+    "check-takes-no-argument": (
+        _RUNS + "expect:\n  - check: checks.py:no_argument\n",
+        "7:12",
+        "checks.py:4: no_argument() must take one argument, the run's record",
+    ),
+    "check-takes-two-arguments": (
+        _RUNS + "expect:\n  - check: checks.py:two\n",
+        "7:12",
+        "checks.py:8: two() must take one argument",
+    ),
+    "check-misspelt": (
+        _RUNS + "expect:\n  - check: checks.py:fien\n",
+        "7:12",
+        "did you mean 'fine'",
+    ),
+    "region-misspelt": (
+        "test: t\nworld: corridor\nexpect:\n  - regions_in_order: [start-zone, far-edn]\n",
+        "4:36",
+        "did you mean 'far-end'",
+    ),
+}
+
+
+@pytest.fixture(scope="module")
+def quick_specs_checked(tmp_path_factory: pytest.TempPathFactory) -> dict[str, list[str]]:
+    folder = tmp_path_factory.mktemp("quick")
+    for name, text in BESIDE.items():
+        (folder / name).write_text(text, encoding="utf-8")
+    for name, (text, _, _) in QUICK_SPEC_MISTAKES.items():
+        # Written as bytes: the BOM and CRLF spec keeps its own.
+        (folder / f"{name}.yaml").write_bytes(text.encode("utf-8"))
+    names = [f"{name}.yaml" for name in QUICK_SPEC_MISTAKES]
+    printed, last = checked_by_file(folder, names)
+    assert last.startswith(f"checked {len(names)} files:"), last
+    return printed
+
+
+@pytest.mark.parametrize("name", sorted(QUICK_SPEC_MISTAKES))
+def test_a_quick_spec_mistake_is_one_sentence_at_its_line(
+    quick_specs_checked: dict[str, list[str]], name: str
+) -> None:
+    _, where, sentence = QUICK_SPEC_MISTAKES[name]
+    [line] = quick_specs_checked[f"{name}.yaml"]
+    assert line.startswith(f"{where}: error: "), line
+    assert sentence in line, line
+
+
+def test_a_check_with_a_default_argument_is_read(tmp_path: Path) -> None:
+    for name, text in BESIDE.items():
+        _write(tmp_path, text, name)
+    spec = load_test_spec(_write(tmp_path, _RUNS + "expect:\n  - check: checks.py:fine\n"))
+    assert [e.name for e in spec.expectations] == ["check: fine"]
+
+
+@pytest.mark.parametrize(
+    ("name", "text"),
+    [
+        ("empty", ""),
+        ("only-comments", "# the square test, to finish tomorrow\n"),
+        *[
+            (name, QUICK_SPEC_MISTAKES[name][0])
+            for name in ("start-in-wall", "check-takes-two-arguments")
+        ],
+    ],
+)
+def test_grading_a_class_against_a_mistaken_spec_says_so_before_any_run(
+    tmp_path: Path, name: str, text: str
+) -> None:
+    for beside, content in BESIDE.items():
+        _write(tmp_path, content, beside)
+    spec = _write(tmp_path, text, f"{name}.yaml")
+    students = tmp_path / "class"
+    students.mkdir()
+    for solution in ("good", "bad"):
+        (students / f"{solution}.yaml").write_bytes(
+            (TEACHER / "square" / f"{solution}.yaml").read_bytes()
+        )
+    result = run_cli("grade", str(spec), "--mission", str(students))
+    assert result.returncode == 2, result.stderr
+    assert result.stdout == ""  # no table: no student was graded
+    [line] = result.stderr.splitlines()
+    where, sentence = (
+        QUICK_SPEC_MISTAKES[name][1:]
+        if name in QUICK_SPEC_MISTAKES
+        else ("1:1", "this test spec is empty")
+    )
+    assert line.startswith(f"{spec}:{where}: error: "), line
+    assert sentence in line, line

@@ -55,11 +55,18 @@ class CheckFunction(Rule):
             tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
         except (SyntaxError, UnicodeDecodeError) as exc:
             raise reader.fail(f"cannot read {file_part}: {exc}", mark) from None
-        defined = [n.name for n in tree.body if isinstance(n, ast.FunctionDef)]
+        defined = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef)}
         if function not in defined:
             raise reader.fail(
                 f"{file_part} has no function '{function}'", mark, did_you_mean(function, defined)
             )
+        for problem in (_missing_import(tree, path), _not_one_argument(defined[function])):
+            if problem:
+                raise reader.fail(
+                    f"{file_part}:{problem}: the check would fail every run, whatever the"
+                    " robot did",
+                    mark,
+                )
         return cls(str(path), function, value)
 
     def judge(self, record: RunRecord) -> Verdict:
@@ -96,6 +103,45 @@ class CheckFunction(Rule):
             f"the teacher's check returned {type(answer).__name__}; it must return True/False,"
             " (True/False, message) or a Verdict",
         )
+
+
+def _missing_import(tree: ast.Module, path: Path) -> str | None:
+    """``LINE: it imports 'name', which is not installed`` for the first module the check's
+    file imports at its top that cannot be found (looked up, not imported), or ``None``."""
+    for node in tree.body:
+        if isinstance(node, ast.Import):
+            names = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names = [node.module]
+        else:
+            continue
+        for name in names:
+            top = name.partition(".")[0]
+            if (path.parent / f"{top}.py").is_file() or (path.parent / top).is_dir():
+                continue  # a helper beside the check, found there when the worker imports it
+            try:
+                found = importlib.util.find_spec(top) is not None
+            except (ImportError, ValueError):
+                found = False
+            if not found:
+                return f"{node.lineno}: it imports '{top}', which is not installed"
+    return None
+
+
+def _not_one_argument(function: ast.FunctionDef) -> str | None:
+    """``LINE: ...`` when ``function`` cannot be called with the run's record alone."""
+    args = function.args
+    positional = [*args.posonlyargs, *args.args]
+    needed = len(positional) - len(args.defaults)
+    needed_keywords = [
+        a.arg for a, d in zip(args.kwonlyargs, args.kw_defaults, strict=True) if d is None
+    ]
+    if (positional or args.vararg) and needed <= 1 and not needed_keywords:
+        return None
+    return (
+        f"{function.lineno}: {function.name}() must take one argument, the run's record"
+        f" (def {function.name}(run): ...)"
+    )
 
 
 def _load_check(ref: CheckFunction) -> Callable[[RunRecord], object]:

@@ -25,7 +25,7 @@ from roboscript.grading.expectations.outcome import FinalState, Outcome
 from roboscript.grading.expectations.path_visits import PathVisits, waypoint_position
 from roboscript.grading.expectations.regions import NeverEnter, RegionsInOrder
 from roboscript.grading.expectations.tones import Tones
-from roboscript.grading.expectations.turns import Turns
+from roboscript.grading.expectations.turns import TURN_PAUSE_S, Turns
 from roboscript.grading.expectations.wall_ahead import WallAhead
 from roboscript.grading.expectations.wall_distance import WallDistance
 from roboscript.grading.regions import signed_distance_mm
@@ -107,6 +107,10 @@ def _impossible(rule: Rule, run: RunSetup, max_time_s: float) -> str | None:
             return f"count: 0 means no turn, and direction: {rule.direction} needs turns"
         if rule.angle_deg is not None:
             return "count: 0 means no turn, and angle needs each turn to be that size"
+    if isinstance(rule, Turns):
+        too_many = _turns_past(rule, max_time_s, "every run ends by the spec's max_time of")
+        if too_many:
+            return too_many
     if isinstance(rule, WallDistance):
         judged_from_s = _judged_from_s(rule)
         if judged_from_s is not None and judged_from_s >= max_time_s:
@@ -115,6 +119,22 @@ def _impossible(rule: Rule, run: RunSetup, max_time_s: float) -> str | None:
                 f" ends by the spec's max_time of {max_time_s:g} s"
             )
     return None
+
+
+def _turns_past(rule: Turns, limit_s: float, limit: str) -> str | None:
+    """Why ``rule``'s count of turns cannot fit in ``limit_s`` (``limit``, words ending before
+    the time), or ``None``: a turn ends only
+    once the robot has turned slowly for ``TURN_PAUSE_S``, so every turn but the last takes
+    at least that long."""
+    if rule.count is None or rule.count <= 1:
+        return None
+    least_s = round((rule.count - 1) * TURN_PAUSE_S, 6)
+    if least_s < limit_s:
+        return None
+    return (
+        f"{rule.count} turns take at least {least_s:g} s (each turn but the last ends only"
+        f" after {TURN_PAUSE_S:g} s of turning slowly), but {limit} {limit_s:g} s"
+    )
 
 
 def _judged_from_s(rule: WallDistance) -> float | None:
@@ -209,6 +229,10 @@ def _duration_and_wall_distance_clash(a: MaxDuration, b: WallDistance, run: RunS
     )
 
 
+def _duration_and_turns_clash(a: MaxDuration, b: Turns, run: RunSetup) -> str | None:
+    return _turns_past(b, a.limit_s, "the mission must end within")
+
+
 def _never_enter_clash(never: NeverEnter, other: Rule, run: RunSetup) -> str | None:
     """Why no run could keep out of ``never``'s regions and meet ``other``, or ``None``."""
     regions = run.world.regions
@@ -295,6 +319,7 @@ _CLASHES: dict[tuple[type[Rule], type[Rule]], Callable[[Any, Any, RunSetup], str
     (WallAhead, WallAhead): _walls_ahead_clash,
     (WallDistance, WallDistance): _wall_distances_clash,
     (MaxDuration, WallDistance): _duration_and_wall_distance_clash,
+    (MaxDuration, Turns): _duration_and_turns_clash,
     **{
         (NeverEnter, other): _never_enter_clash
         for other in (RegionsInOrder, WallDistance, FinalPose, PathVisits)
