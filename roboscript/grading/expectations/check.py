@@ -10,6 +10,7 @@ import zlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from types import FrameType
 from typing import TYPE_CHECKING
 
 from roboscript.errors import did_you_mean
@@ -17,11 +18,16 @@ from roboscript.grading.expectations.base import Rule, SpecContext
 from roboscript.grading.record import RunRecord, Verdict
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.source import Mark
+from roboscript.watchdog import CodePlace, RunawayCode, Watchdog
 
 if TYPE_CHECKING:
     from typing_extensions import Self  # annotations only: Python 3.10 has no typing.Self
 
-__all__ = ["CheckFunction"]
+__all__ = ["CHECK_LIMIT_S", "CheckFunction"]
+
+CHECK_LIMIT_S = 10.0
+"""Seconds of its own time (never the busy machine's) a teacher's check may take on one run
+before it is stopped: a loop that never ends must not stall the class's grading."""
 
 
 @dataclass(frozen=True)
@@ -72,8 +78,19 @@ class CheckFunction(Rule):
     def judge(self, record: RunRecord) -> Verdict:
         name = self.describe()
         try:
-            function = _load_check(self)
-            answer = function(record)
+            with Watchdog(CHECK_LIMIT_S, self._locate_frame):
+                function = _load_check(self)
+                answer = function(record)
+        except RunawayCode as stuck:
+            at = f" (stopped at {stuck.where.file}:{stuck.where.line})" if stuck.where else ""
+            return Verdict(
+                name,
+                False,
+                "",
+                None,
+                f"the teacher's check did not return within {CHECK_LIMIT_S:g} s{at}: is there"
+                " a loop in it that never ends?",
+            )
         except Exception as exc:  # noqa: BLE001 - a fault of the teacher's code fails this check
             where = traceback.extract_tb(exc.__traceback__)[-1]
             return Verdict(
@@ -103,6 +120,14 @@ class CheckFunction(Rule):
             f"the teacher's check returned {type(answer).__name__}; it must return True/False,"
             " (True/False, message) or a Verdict",
         )
+
+    def _locate_frame(self, frame: FrameType | None) -> CodePlace | None:
+        """Where in the check's file a stopped check was (its innermost line there)."""
+        while frame is not None:
+            if frame.f_code.co_filename == self.path:
+                return CodePlace(Path(self.path).name, frame.f_lineno, frame.f_code.co_name)
+            frame = frame.f_back
+        return None
 
 
 def _missing_import(tree: ast.Module, path: Path) -> str | None:

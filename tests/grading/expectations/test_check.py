@@ -94,3 +94,21 @@ def test_a_check_that_is_no_function_or_no_python_fails_with_a_reason(tmp_path: 
     text.write_text("judge = 5\n", encoding="utf-8")
     odd = evaluate(Expectation(CheckFunction(str(text), "judge", "x")), record)
     assert odd.detail.startswith(f"the teacher's check raised ImportError: cannot import {text}")
+
+
+def test_a_check_that_never_returns_is_stopped_and_fails_with_where(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # A loop that never ends in the teacher's check used to stall the class's grading for good.
+    monkeypatch.setattr("roboscript.grading.expectations.check.CHECK_LIMIT_S", 0.3)
+    checks = tmp_path / "loops.py"
+    checks.write_text("def judge(run):\n    while True:\n        pass\n", encoding="utf-8")
+    verdict = evaluate(
+        Expectation(CheckFunction(str(checks), "judge", "loops.py:judge")),
+        _record(_north(5.0)),
+    )
+    assert not verdict.passed
+    assert verdict.detail == (
+        "the teacher's check did not return within 0.3 s (stopped at loops.py:2): is there a"
+        " loop in it that never ends?"
+    )
