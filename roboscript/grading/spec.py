@@ -333,7 +333,7 @@ def load_test_spec(path: str | Path) -> TestSpec:
     return TestSpec(
         name=name,
         path=shown,
-        description=str(top.get("description", "") or ""),
+        description=_description(reader, top),
         world=world,
         robot=robot,
         variants=variants,
@@ -422,6 +422,18 @@ def _shown_name(reader: FieldReader, data: YamlMap, key: str) -> str:
             data.value_mark(key),
         )
     return name
+
+
+def _description(reader: FieldReader, top: YamlMap) -> str:
+    """``description:``, free text (a list or mapping would show in reports as Python's)."""
+    value = top.get("description")
+    if isinstance(value, YamlMap | YamlList):
+        raise reader.fail(
+            "description is text, such as description: Drive a 50 cm square (for several"
+            " lines, description: > and the text indented below it)",
+            top.value_mark("description"),
+        )
+    return str(value or "")
 
 
 def _points(reader: FieldReader, top: YamlMap) -> float | None:

@@ -552,6 +552,7 @@ def test_a_test_whose_runs_are_all_hidden_loads_as_an_exam_does(tmp_path: Path) 
 # teacher checks them: each is told in one sentence, at the line of the mistake, and no
 # traceback. Files beside the specs: a mission, a robot profile and teachers' checks.
 _RUNS = "test: t\nworld: empty\nruns:\n  - {seed: 1}\n  - {seed: 2}\n"
+_CORRIDOR_RUNS = _RUNS.replace("empty", "corridor")
 BESIDE = {
     "square.yaml": (TEACHER / "square" / "good.yaml").read_text(encoding="utf-8"),
     "bigger.yaml": "extends: mirto\nwheel_diameter_mm: 60\n",
@@ -572,13 +573,13 @@ QUICK_SPEC_MISTAKES = {
         "but this is a frequency",
     ),
     "window-past-max-time": (
-        _RUNS + "max_time: 20 s\nexpect:\n"
+        _CORRIDOR_RUNS + "max_time: 20 s\nexpect:\n"
         "  - wall_distance: {side: right, min: 12 cm, during: {from: 25 s, to: 30 s}}\n",
         "8:5",
         "max_time of 20 s",
     ),
     "window-backwards": (
-        _RUNS + "expect:\n"
+        _CORRIDOR_RUNS + "expect:\n"
         "  - wall_distance: {side: right, min: 12 cm, during: {from: 25 s, to: 5 s}}\n",
         "7:71",
         "'from' must come before 'to'",
@@ -686,6 +687,33 @@ QUICK_SPEC_MISTAKES = {
         _RUNS + "expect:\n  - check: checks.py:fien\n",
         "7:12",
         "did you mean 'fine'",
+    ),
+    "wall-distance-in-a-world-without-walls": (
+        _RUNS + "expect:\n  - wall_distance: {side: right, min: 12 cm, max: 28 cm}\n",
+        "7:20",
+        "the world 'empty' has no walls, so there is never a wall beside the robot",
+    ),
+    "heading-tolerance-of-any-way": (
+        _RUNS + "expect:\n  - final_pose_within: {x: 0 mm, y: 0 mm, radius: 5 cm, heading: 0 deg,"
+        " heading_tolerance: 200 deg}\n",
+        "7:92",
+        "a heading_tolerance of 200° lets the robot end facing any way",
+    ),
+    "settle-past-max-time": (
+        (
+            "test: t\nworld: corridor\nmax_time: 5 s\nexpect:\n"
+            "  - wall_distance: {side: right, min: 12 cm, settle: 10 s}\n"
+        ),
+        "5:5",
+        (
+            "it judges from 10 s on (with its settle time), but every run ends by the spec's"
+            " max_time of 5 s"
+        ),
+    ),
+    "description-a-list": (
+        _RUNS + "description: [square, beeps]\nexpect:\n  - outcome: success\n",
+        "6:14",
+        "description is text",
     ),
     "region-misspelt": (
         "test: t\nworld: corridor\nexpect:\n  - regions_in_order: [start-zone, far-edn]\n",

@@ -138,11 +138,12 @@ def _turns_past(rule: Turns, limit_s: float, limit: str) -> str | None:
 
 
 def _judged_from_s(rule: WallDistance) -> float | None:
-    """The earliest moment a ``wall_distance`` with a ``during: {from: ...}`` judges."""
+    """The earliest moment a ``wall_distance`` judges: its ``during: {from: ...}`` (0 s
+    without one) and its settle time, as every stretch it judges starts no earlier."""
     selection = rule.selection
-    if selection.from_s is None or selection.state is not None:
+    if selection.state is not None:
         return None
-    return selection.from_s + selection.settle_s
+    return (selection.from_s or 0.0) + selection.settle_s
 
 
 def _clash(a: Rule, b: Rule, run: RunSetup) -> str | None:

@@ -56,6 +56,12 @@ class FinalPose(Rule):
                     data.key_mark("heading_tolerance"),
                 )
             tolerance = reader.positive(data, "heading_tolerance", "angle", "deg")
+            if tolerance >= 180.0:
+                raise reader.fail(
+                    f"a heading_tolerance of {tolerance:g}° lets the robot end facing any way:"
+                    " give one under 180°, or leave heading out",
+                    data.value_mark("heading_tolerance"),
+                )
         return cls(
             x_mm=reader.quantity(data, "x", "distance", "mm"),
             y_mm=reader.quantity(data, "y", "distance", "mm"),

@@ -43,6 +43,13 @@ class WallDistance(Rule):
         high = reader.positive(data, "max", "distance", "mm") if "max" in data else None
         if low is not None and high is not None and low >= high:
             raise reader.fail("min must be less than max", data.value_mark("min"))
+        for world in ctx.worlds:
+            if not world.walls:  # with max, every run fails; with min alone, every run passes
+                raise reader.fail(
+                    f"the world '{world.name}' has no walls, so there is never a wall beside"
+                    " the robot to keep a distance from",
+                    mark,
+                )
         return cls(
             side=reader.choice(data, "side", ("left", "right")) if "side" in data else "right",
             min_mm=low,
