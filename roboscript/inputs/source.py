@@ -284,9 +284,14 @@ class _Loader(yaml.SafeLoader):
         result.value_marks = {}
         result.quoted = set()
         yield result
+        written = sum(1 for key_node, _ in node.value if key_node.tag != f"{_SHORT_TAG}merge")
         self.flatten_mapping(node)
+        # A merge key's pairs come first: the mapping's own keys override them, as YAML says
+        # ({<<: *defaults, seed: 2}), and of two merged mappings the first wins.
+        merged = len(node.value) - written
+        from_merge: set[str] = set()
         before: yaml.Node | None = None
-        for key_node, value_node in node.value:
+        for index, (key_node, value_node) in enumerate(node.value):
             if node.flow_style:
                 self._refuse_decimal_comma(before, key_node, value_node)
             before = value_node
@@ -297,6 +302,11 @@ class _Loader(yaml.SafeLoader):
             too_long = name_too_long(key)
             if too_long:
                 raise _RefusedError(too_long, _mark(key_node))
+            if key in from_merge and index >= merged:
+                from_merge.discard(key)
+                del result[key]
+            elif key in result and index < merged:
+                continue
             if key in result:
                 first = result.key_marks[key][0]
                 raise _RefusedError(
@@ -304,6 +314,8 @@ class _Loader(yaml.SafeLoader):
                     _mark(key_node),
                     "keep one of the two, or give one of them another name",
                 )
+            if index < merged:
+                from_merge.add(key)
             result[key] = self.construct_object(value_node, deep=True)
             result.key_marks[key] = _mark(key_node)
             result.value_marks[key] = _mark(value_node)

@@ -788,3 +788,33 @@ def test_grading_a_class_against_a_mistaken_spec_says_so_before_any_run(
     )
     assert line.startswith(f"{spec}:{where}: error: "), line
     assert sentence in line, line
+
+
+def test_runs_written_with_an_anchor_and_merge_keys_override_what_they_merge(
+    tmp_path: Path,
+) -> None:
+    # YAML's own shorthand for "like run 1, but": the run's own keys win over the merged ones.
+    spec = load_test_spec(
+        _write(
+            tmp_path,
+            "test: t\nruns:\n  - &first {seed: 1, start: {x: 10 cm, heading: 30 deg}}\n"
+            "  - {<<: *first, seed: 2}\n  - <<: *first\n    seed: 3\n    hidden: true\n"
+            "expect:\n  - outcome: success\n",
+        )
+    )
+    assert [(v.seed, v.start, v.hidden) for v in spec.variants] == [
+        (1, (100.0, 0.0, 30.0), False),
+        (2, (100.0, 0.0, 30.0), False),
+        (3, (100.0, 0.0, 30.0), True),
+    ]
+
+
+def test_a_key_given_twice_beside_a_merge_key_is_still_told(tmp_path: Path) -> None:
+    path = _write(
+        tmp_path,
+        "test: t\nruns:\n  - &first {seed: 1}\n  - {<<: *first, seed: 2, seed: 3}\n"
+        "expect:\n  - outcome: success\n",
+    )
+    with pytest.raises(SpecError, match=r"'seed' is given twice \(first on line 4\)") as caught:
+        load_test_spec(path)
+    assert (caught.value.line, caught.value.col) == (4, 27)
