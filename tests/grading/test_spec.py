@@ -715,6 +715,29 @@ QUICK_SPEC_MISTAKES = {
         "6:14",
         "description is text",
     ),
+    "target-outside-a-closed-room": (
+        (
+            "test: t\nworld: square-room\nexpect:\n"
+            "  - final_pose_within: {x: 5 m, y: 0 mm, radius: 5 cm}\n"
+        ),
+        "4:5",
+        (
+            "the circle it must end in lies outside the walls of 'square-room' that shut in run 1's"
+            " start, so the robot can never get there"
+        ),
+    ),
+    "waypoint-outside-a-closed-room": (
+        (
+            "test: t\nworld: square-room\nruns:\n  - {seed: 1}\n"
+            "  - {seed: 2, start: {x: 50 cm, heading: 90 deg}}\nexpect:\n"
+            "  - path_visits: [{forward: 60 cm}, start]\n"
+        ),
+        "7:5",
+        (
+            "the waypoint at (1100, 0) mm lies outside the walls of 'square-room' that shut in run"
+            " 2's start"
+        ),
+    ),
     "region-misspelt": (
         "test: t\nworld: corridor\nexpect:\n  - regions_in_order: [start-zone, far-edn]\n",
         "4:36",
@@ -818,3 +841,22 @@ def test_a_key_given_twice_beside_a_merge_key_is_still_told(tmp_path: Path) -> N
     with pytest.raises(SpecError, match=r"'seed' is given twice \(first on line 4\)") as caught:
         load_test_spec(path)
     assert (caught.value.line, caught.value.col) == (4, 27)
+
+
+def test_targets_inside_a_closed_room_or_beyond_an_open_end_are_read(tmp_path: Path) -> None:
+    room = _write(
+        tmp_path,
+        "test: t\nworld: square-room\nexpect:\n"
+        "  - final_pose_within: {x: 0 mm, y: 1.1 m, radius: 20 cm}\n"  # reaches into the room
+        "  - regions_in_order: [centre, north-wall]\n"
+        "  - path_visits: [{forward: 90 cm}]\n",
+    )
+    assert len(load_test_spec(room).expectations) == 3
+    # The corridor is open at its far end: a robot can drive out of it.
+    corridor = _write(
+        tmp_path,
+        "test: t\nworld: corridor\nexpect:\n"
+        "  - final_pose_within: {x: 0 mm, y: 5 m, radius: 5 cm}\n",
+        "open.yaml",
+    )
+    assert len(load_test_spec(corridor).expectations) == 1

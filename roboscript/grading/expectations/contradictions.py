@@ -28,7 +28,7 @@ from roboscript.grading.expectations.tones import Tones
 from roboscript.grading.expectations.turns import TURN_PAUSE_S, Turns
 from roboscript.grading.expectations.wall_ahead import WallAhead
 from roboscript.grading.expectations.wall_distance import WallDistance
-from roboscript.grading.regions import signed_distance_mm
+from roboscript.grading.regions import enclosing_walls, signed_distance_mm
 from roboscript.sim.world import World
 
 __all__ = ["RunSetup", "find_contradiction"]
@@ -99,9 +99,12 @@ def _impossible(rule: Rule, run: RunSetup, max_time_s: float) -> str | None:
             region = run.world.regions.get(name)
             if region is not None and signed_distance_mm(region, x, y) < 0:
                 return (
-                    f"run {run.number} starts inside '{name}' ({x:g}, {y:g}) mm, so the robot"
-                    " is in it before it moves"
+                    f"run {run.number} starts inside '{name}' ({round(x)}, {round(y)}) mm, so"
+                    " the robot is in it before it moves"
                 )
+    shut_in = _outside_the_walls(rule, run)
+    if shut_in:
+        return shut_in
     if isinstance(rule, Turns) and rule.count == 0:
         if rule.direction is not None:
             return f"count: 0 means no turn, and direction: {rule.direction} needs turns"
@@ -117,6 +120,46 @@ def _impossible(rule: Rule, run: RunSetup, max_time_s: float) -> str | None:
             return (
                 f"it judges from {judged_from_s:g} s on (with its settle time), but every run"
                 f" ends by the spec's max_time of {max_time_s:g} s"
+            )
+    return None
+
+
+def _outside_the_walls(rule: Rule, run: RunSetup) -> str | None:
+    """Why ``rule`` asks the robot to reach a place outside the walls that shut its start in
+    (a target 5 m east of a 2 m room), or ``None``."""
+    if not isinstance(rule, FinalPose | PathVisits | RegionsInOrder):
+        return None
+    box = enclosing_walls(run.world.walls, run.start[0], run.start[1])
+    if box is None:
+        return None
+    x_min, y_min, x_max, y_max = box
+
+    def beyond_mm(x: float, y: float) -> float:
+        """How far the point is outside the walls' box (0 inside it)."""
+        return math.hypot(max(x_min - x, 0.0, x - x_max), max(y_min - y, 0.0, y - y_max))
+
+    places: list[tuple[str, float, float, float]] = []  # (what, x, y, how near counts)
+    if isinstance(rule, FinalPose):
+        target = rule.at_start(run.start)
+        places.append(("the circle it must end in", target.x_mm, target.y_mm, target.radius_mm))
+    elif isinstance(rule, PathVisits):
+        for waypoint in rule.waypoints:
+            x, y = waypoint_position(waypoint, run.start)
+            places.append((f"the waypoint at ({round(x)}, {round(y)}) mm", x, y, rule.tolerance_mm))
+    else:
+        for name in rule.names:
+            region = run.world.regions.get(name)
+            if region is not None and region.radius_mm is not None:
+                x, y = region.center
+                places.append((f"'{name}'", x, y, region.radius_mm))
+            elif region is not None and region.points:
+                near = min(region.points, key=lambda p: beyond_mm(*p))
+                places.append((f"'{name}'", near[0], near[1], 0.0))
+    for what, x, y, reach_mm in places:
+        if beyond_mm(x, y) > reach_mm:
+            return (
+                f"{what} lies outside the walls of '{run.world.name}' that shut in run"
+                f" {run.number}'s start, so the robot can never get there"
             )
     return None
 
@@ -263,8 +306,8 @@ def _never_enter_clash(never: NeverEnter, other: Rule, run: RunSetup) -> str | N
                 if signed_distance_mm(region, x, y) + other.tolerance_mm <= 0:
                     return (
                         f"the path must come within {_mm(other.tolerance_mm)} of a waypoint"
-                        f" at ({x:g}, {y:g}) mm, which lies that deep inside '{name}', which"
-                        " the robot must never enter"
+                        f" at ({round(x)}, {round(y)}) mm, which lies that deep inside"
+                        f" '{name}', which the robot must never enter"
                     )
     return None
 
