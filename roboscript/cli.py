@@ -319,7 +319,10 @@ def _cmd_check(args: argparse.Namespace) -> int:
         try:
             kind = file_kind(path)  # each kind of file is checked by its own reader
             if kind == "test spec":
-                load_test_spec(path)
+                spec_warnings = load_test_spec(path).warnings
+                for line in spec_warnings:  # check --strict: each warning is an error
+                    _err(line.replace(": warning: ", ": error: ", 1) if args.strict else line)
+                bad += 1 if args.strict and spec_warnings else 0
             elif kind == "world":
                 load_world(str(path))
             elif kind == "profile":
@@ -385,6 +388,9 @@ def _cmd_grade(args: argparse.Namespace) -> int:
         _err(f"error: {unwritable}")
         return EXIT_INPUT
     specs = find_specs(args.specs)  # a SpecError prints file:line:col and exits 2
+    for spec in specs:
+        for line in spec.warnings:  # legal, but likely a mistake: told before any run
+            _err(line)
     everyone = _grade_submissions(args, specs)
     submissions = [s for s in everyone if shard is None or shard.holds(s.student)]
     overwrites = _overwritten_input(_report_targets(args), _grading_inputs(specs, everyone))

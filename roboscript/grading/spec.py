@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from roboscript.errors import InputError, ProfileError, SpecError, did_you_mean
+from roboscript.errors import InputError, ProfileError, SpecError, did_you_mean, grouped
 from roboscript.grading.expectations import (
     Expectation,
     RunOverride,
@@ -52,6 +52,7 @@ from roboscript.inputs.kinds import (
     refuse_another_kind,
 )
 from roboscript.inputs.limits import name_too_long
+from roboscript.inputs.quantities import bare_number_warning
 from roboscript.inputs.source import (
     Location,
     Mark,
@@ -178,6 +179,8 @@ class TestSpec:
         worlds: The worlds the runs use, loaded once, by the name or path the runs give.
         points: What the test is worth (``points:``), or ``None`` for the default, one point
             per run; see :attr:`max_points`.
+        warnings: What is legal but likely a mistake, one printed line each
+            (``spec.yaml:7:40: warning: max: 5 taken as 5 mm; ...``).
     """
 
     __test__ = False  # not a pytest test class, despite the name
@@ -194,6 +197,7 @@ class TestSpec:
     location: Location | None = None
     worlds: dict[str, World] = field(default_factory=dict, compare=False, repr=False)
     points: float | None = None
+    warnings: tuple[str, ...] = field(default=(), compare=False)
 
     @property
     def longest_wall_time_s(self) -> float:
@@ -285,7 +289,7 @@ def load_test_spec(path: str | Path) -> TestSpec:
         WorldError: A world it names is invalid.
     """
     shown = str(path)
-    reader = FieldReader(shown, SpecError)
+    reader = _SpecReader(shown, SpecError)
     data = load_yaml(path, error=SpecError)
     if data is None:
         raise reader.fail(
@@ -343,7 +347,29 @@ def load_test_spec(path: str | Path) -> TestSpec:
         location=Location(shown, 1, 1),
         worlds=worlds,
         points=points,
+        warnings=tuple(grouped(reader.warnings)),
     )
+
+
+class _SpecReader(FieldReader):
+    """A spec's reader, which keeps a warning for each bare number that was likely meant in
+    another unit (``max: 5`` for a distance is 5 mm: did you mean 5 cm?)."""
+
+    def __init__(self, path: str, error: type[InputError]) -> None:
+        super().__init__(path, error)
+        self.warnings: list[InputError] = []
+
+    def quantity(
+        self, data: YamlMap, key: str, dimension: str, default_unit: str | None = None
+    ) -> float:
+        found = super().quantity(data, key, dimension, default_unit)
+        if key not in data.quoted:
+            bare = bare_number_warning(data[key], dimension, default_unit)
+            if bare is not None and bare[1] is not None:  # only where another unit is likely
+                self.warnings.append(
+                    self.fail(f"{key}: {bare[0]}", data.value_mark(key), bare[1], "warning")
+                )
+        return found
 
 
 def _misplaced(key: str, value: object) -> str | None:

@@ -860,3 +860,34 @@ def test_targets_inside_a_closed_room_or_beyond_an_open_end_are_read(tmp_path: P
         "open.yaml",
     )
     assert len(load_test_spec(corridor).expectations) == 1
+
+
+BARE_BAND = (
+    "test: t\nworld: corridor\nexpect:\n"
+    "  - wall_distance: {side: right, min: 12, max: 28}\n"  # 12 to 28 mm: the wall, scraped
+    "  - final_pose_within: {x: 0, y: 2.7 m, radius: 30 cm}\n"  # 0 is 0 in any unit
+)
+
+
+def test_a_bare_distance_likely_meant_in_cm_is_a_warning_at_its_line(tmp_path: Path) -> None:
+    _write(tmp_path, BARE_BAND)
+    printed, last = checked_by_file(tmp_path, ["spec.yaml"])
+    assert printed["spec.yaml"] == [
+        "4:39: warning: min: 12 taken as 12 mm; write `12 mm` (or did you mean 12 cm?)",
+        "4:48: warning: max: 28 taken as 28 mm; write `28 mm` (or did you mean 28 cm?)",
+    ]
+    assert last == "checked 1 file: 0 with errors"
+    strict = run_cli("check", "--strict", "spec.yaml", cwd=tmp_path)
+    assert strict.returncode == 2
+    assert "spec.yaml:4:39: error: min: 12 taken as 12 mm" in strict.stderr
+
+
+def test_grading_tells_a_specs_warnings_before_its_table(tmp_path: Path) -> None:
+    spec = _write(tmp_path, BARE_BAND)
+    mission = tmp_path / "good.yaml"
+    mission.write_bytes((TEACHER / "corridor" / "good.yaml").read_bytes())
+    result = run_cli("grade", str(spec), "--mission", str(mission))
+    assert "Traceback" not in result.stderr, result.stderr
+    assert result.stderr.splitlines()[0] == (
+        f"{spec}:4:39: warning: min: 12 taken as 12 mm; write `12 mm` (or did you mean 12 cm?)"
+    )
