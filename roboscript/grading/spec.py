@@ -42,6 +42,7 @@ from roboscript.grading.expectations import (
 )
 from roboscript.grading.expectations.contradictions import RunSetup, find_contradiction
 from roboscript.grading.record import RunResult, RunStatus
+from roboscript.grading.regions import enclosing_walls
 from roboscript.grading.text import clean_name
 from roboscript.inputs.fields import FieldReader
 from roboscript.inputs.kinds import (
@@ -651,9 +652,6 @@ def _refuse_starts_in_walls(
         x, y, _ = variant.start or (world.start.x_mm, world.start.y_mm, world.start.heading_deg)
         if not world.walls:
             continue
-        gap_mm = min(segment_distance(x, y, wall) for wall in world.walls)
-        if gap_mm >= body_radius_mm:
-            continue
         data = written[variant.index] if isinstance(written, YamlList) else None
         if isinstance(data, YamlMap) and "start" in data:
             mark = data.value_mark("start")
@@ -661,6 +659,17 @@ def _refuse_starts_in_walls(
             mark = written.item_marks[variant.index]
         else:
             mark = top.value_mark("world") if "world" in top else (1, 1)
+        room = enclosing_walls(world.walls, world.start.x_mm, world.start.y_mm)
+        if room is not None and enclosing_walls(world.walls, x, y) != room:
+            raise reader.fail(
+                f"run {variant.index + 1} starts the robot at ({x:g}, {y:g}) mm, outside the"
+                f" walls that shut in the start of '{world.name}': it could never reach"
+                " anything inside them",
+                mark,
+            )
+        gap_mm = min(segment_distance(x, y, wall) for wall in world.walls)
+        if gap_mm >= body_radius_mm:
+            continue
         raise reader.fail(
             f"run {variant.index + 1} starts the robot at ({x:g}, {y:g}) mm, {gap_mm:g} mm"
             f" from a wall of '{world.name}', but its body reaches {body_radius_mm:g} mm from"

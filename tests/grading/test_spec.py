@@ -738,6 +738,17 @@ QUICK_SPEC_MISTAKES = {
             " 2's start"
         ),
     ),
+    "start-outside-a-closed-room": (
+        (
+            "test: t\nworld: square-room\nruns:\n  - {seed: 1}\n"
+            "  - {seed: 2, start: {x: 2 m, y: 0 mm}}\nexpect:\n  - outcome: success\n"
+        ),
+        "5:22",
+        (
+            "run 2 starts the robot at (2000, 0) mm, outside the walls that shut in the start of"
+            " 'square-room'"
+        ),
+    ),
     "region-misspelt": (
         "test: t\nworld: corridor\nexpect:\n  - regions_in_order: [start-zone, far-edn]\n",
         "4:36",
