@@ -35,6 +35,7 @@ from typing import Any
 from roboscript.errors import InputError, ProfileError, SpecError, did_you_mean, grouped
 from roboscript.grading.expectations import (
     Expectation,
+    MaxDuration,
     RunOverride,
     SpecContext,
     apply_run_targets,
@@ -335,6 +336,7 @@ def load_test_spec(path: str | Path) -> TestSpec:
     runs = _run_overrides(top, variants, worlds)
     expectations = apply_run_targets(reader, expectations, items, runs, folder)
     _refuse_contradictions(reader, expectations, variants, worlds, max_time)
+    _warn_of_free_limits(reader, expectations, max_time)
     return TestSpec(
         name=name,
         path=shown,
@@ -418,6 +420,26 @@ def _refuse_contradictions(
         expectation, sentence = found
         where = expectation.location or Location(reader.path, 1, 1)
         raise reader.fail_at(sentence, where)
+
+
+def _warn_of_free_limits(
+    reader: _SpecReader, expectations: tuple[Expectation, ...], max_time_s: float
+) -> None:
+    """A ``max_duration`` of at least ``max_time`` is met by every run that ends by itself (a
+    run its max_time stops scores 0 anyway): a free share of the score, likely not meant."""
+    for expectation in expectations:
+        rule = expectation.rule
+        if isinstance(rule, MaxDuration) and rule.limit_s >= max_time_s:
+            where = expectation.location or Location(reader.path, 1, 1)
+            reader.warnings.append(
+                reader.fail_at(
+                    f"max_duration of {rule.limit_s:g} s is not under the spec's max_time of"
+                    f" {max_time_s:g} s: every run that ends by itself meets it",
+                    where,
+                    "give it less than max_time, or leave it out",
+                    "warning",
+                )
+            )
 
 
 def _start_mm(reader: FieldReader, pose: YamlMap, key: str) -> float:

@@ -902,3 +902,18 @@ def test_grading_tells_a_specs_warnings_before_its_table(tmp_path: Path) -> None
     assert result.stderr.splitlines()[0] == (
         f"{spec}:4:39: warning: min: 12 taken as 12 mm; write `12 mm` (or did you mean 12 cm?)"
     )
+
+
+def test_a_max_duration_not_under_max_time_is_a_warning_at_its_line(tmp_path: Path) -> None:
+    # Every run that ends by itself meets it: a free share of every student's score.
+    _write(
+        tmp_path, _RUNS + "max_time: 20 s\nexpect:\n  - outcome: success\n  - max_duration: 40 s\n"
+    )
+    printed, last = checked_by_file(tmp_path, ["spec.yaml"])
+    assert printed["spec.yaml"] == [
+        (
+            "9:5: warning: max_duration of 40 s is not under the spec's max_time of 20 s: every run"
+            " that ends by itself meets it (give it less than max_time, or leave it out)"
+        )
+    ]
+    assert last == "checked 1 file: 0 with errors"
