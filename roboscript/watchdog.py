@@ -153,14 +153,26 @@ class CodePlace:
             when inside it).
         line: The line running there, 1-based.
         function: The function running there (``<module>`` while the file is imported).
+        loop_line: The first line of the loop that line runs in (the innermost ``while``
+            around it in its function, else the innermost ``for``), or None outside a loop.
     """
 
     file: str
     line: int
     function: str
+    loop_line: int | None = None
 
     def __str__(self) -> str:
         return f"{self.file}:{self.line} in {self.function}"
+
+    def in_loop(self) -> CodePlace:
+        """This place named by its loop's first line, when it runs in a loop.
+
+        A loop caught at an arbitrary moment is on any of its lines; its first line is the
+        same whenever it is caught, and it is the loop a student has to look at."""
+        if self.loop_line is None or self.loop_line == self.line:
+            return self
+        return CodePlace(self.file, self.loop_line, self.function)
 
 
 # ------------------------------------------------------------------------------ own time
@@ -588,6 +600,8 @@ class Watchdog:
         if own_s >= self.limit_s:
             self._arm(REPEAT_S, REPEAT_S)  # again and again, until it gets out
             where = self._locate(frame)
+            if where is not None:  # a stop names the loop, not the line it happened to be on
+                where = where.in_loop()
             if where is None and self._stopped is not None:
                 # raised again on its way out of the student's code: freeing what a loop
                 # built ([[] for _ in iter(int, 1)]) takes seconds in no file of theirs, and

@@ -85,6 +85,7 @@ __all__ = [
     "message_of",
     "passes_through",
     "shown_path",
+    "loop_around",
     "stuck_at",
     "student_fault",
 ]
@@ -136,9 +137,52 @@ def stuck_at(frame: FrameType | None) -> CodePlace | None:
     while frame is not None:
         code = frame.f_code
         if is_student_file(code.co_filename):
-            return CodePlace(shown_path(code.co_filename), frame.f_lineno, _written_in(frame))
+            line = frame.f_lineno
+            return CodePlace(
+                shown_path(code.co_filename),
+                line,
+                _written_in(frame),
+                loop_around(code.co_filename, line),
+            )
         frame = frame.f_back
     return None
+
+
+_LOOP_SOURCE_CHARS = 1_000_000
+"""Longest file whose loops are looked for when its code is stopped (a bigger one is named
+by the line it was stopped on)."""
+
+_SCOPES = (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)
+
+
+def loop_around(filename: str, line: int) -> int | None:
+    """The first line of the loop ``line`` runs in: the innermost ``while`` around it in the
+    function (or class body, or module) it is written in, else the innermost ``for``.
+
+    A loop that never ends is mostly written with ``while``; one inside a ``for`` that ends
+    is the ``while``, and a ``while True:`` around a short ``for`` is the ``while``.
+
+    Returns:
+        The loop's first line, or None when ``line`` is in no loop or the file cannot be read.
+    """
+    lines = linecache.getlines(filename)
+    if not lines or sum(map(len, lines)) > _LOOP_SOURCE_CHARS:
+        return None
+    try:
+        tree = ast.parse("".join(lines))
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        return None
+    around = [
+        node
+        for node in ast.walk(tree)
+        if isinstance(node, (*_SCOPES, ast.While, ast.For, ast.AsyncFor))
+        and node.lineno <= line <= (node.end_lineno or node.lineno)
+    ]
+    scope_line = max((n.lineno for n in around if isinstance(n, _SCOPES)), default=0)
+    loops = [n for n in around if not isinstance(n, _SCOPES) and n.lineno >= scope_line]
+    whiles = [n.lineno for n in loops if isinstance(n, ast.While)]
+    fors = [n.lineno for n in loops if not isinstance(n, ast.While)]
+    return max(whiles or fors, default=None)
 
 
 _COMPREHENSIONS = frozenset({"<listcomp>", "<setcomp>", "<dictcomp>", "<genexpr>"})
