@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import gc
 import itertools
 import os
@@ -96,6 +97,24 @@ def test_a_stop_raised_again_outside_the_students_code_still_names_their_loop() 
             time.sleep(5 * REPEAT_S)  # the stop is raised again in here
     assert raised.value.where is not None
     assert raised.value.where.function == "_students_loop"
+
+
+def _where_in_its_loop(frame: FrameType | None) -> CodePlace:
+    """Where the code is, its loop being ``_spin_forever``'s ``for`` (as a student's file's
+    place is found by :func:`roboscript.mission.student_code.loop_around`)."""
+    place = _where(frame)
+    return dataclasses.replace(place, loop_line=_spin_forever.__code__.co_firstlineno + 1)
+
+
+def test_a_stop_names_the_loop_it_caught_and_a_slow_tick_its_line() -> None:
+    # A loop is caught on any of its lines: the stop names its first line, the same each time.
+    with pytest.raises(RunawayCode) as raised, Watchdog(0.2, _where_in_its_loop):
+        _spin_forever()
+    assert raised.value.line == _spin_forever.__code__.co_firstlineno + 1
+    place = CodePlace("m.py", 12, "near", loop_line=10)
+    assert place.in_loop() == CodePlace("m.py", 10, "near")
+    assert str(place) == "m.py:12 in near"  # a slow tick's place: the line it was slow on
+    assert CodePlace("m.py", 12, "near").in_loop() == CodePlace("m.py", 12, "near")
 
 
 def test_code_that_stops_time_for_itself_is_still_stopped(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -25,6 +25,7 @@ from roboscript.inputs.quantities import CURLY_QUOTES, DASHES
 from roboscript.mission import error_column
 from roboscript.mission.python_api import Mission, state
 from roboscript.mission.student_code import (
+    loop_around,
     StudentCodeError,
     import_student_file,
     is_student_class,
@@ -580,6 +581,69 @@ def test_stuck_at_names_the_innermost_student_frame(here: Path) -> None:
 
 def test_stuck_at_nowhere_is_none() -> None:
     assert stuck_at(None) is None
+
+
+LOOPS = """\
+import itertools
+
+while True:
+    x = 1
+
+def near(self):
+    for side in range(4):
+        while True:
+            if side:
+                pass
+    return True
+
+def ahead(self):
+    while True:
+        for step in range(3):
+            step += 1
+
+def count(self):
+    for n in itertools.count():
+        n += 1
+
+def outer():
+    while True:
+        def inner():
+            y = 2
+            return y
+        inner()
+
+def straight():
+    z = 3
+    return z
+"""
+
+
+@pytest.mark.parametrize(
+    ("line", "loop"),
+    [
+        pytest.param(3, 3, id="a-loop-at-the-top-of-the-file-on-its-own-first-line"),
+        pytest.param(4, 3, id="a-loop-at-the-top-of-the-file"),
+        pytest.param(9, 8, id="a-while-inside-a-for-that-ends"),
+        pytest.param(10, 8, id="the-whiles-inner-line"),
+        pytest.param(7, 7, id="the-for-around-a-while-on-its-own-line"),
+        pytest.param(16, 14, id="a-short-for-inside-a-while-true"),
+        pytest.param(15, 14, id="the-for-line-inside-the-while"),
+        pytest.param(20, 19, id="a-for-with-no-while-around-it"),
+        pytest.param(25, None, id="a-function-written-inside-a-loop-is-not-in-it"),
+        pytest.param(27, 23, id="the-call-in-the-loop"),
+        pytest.param(31, None, id="no-loop"),
+    ],
+)
+def test_a_stopped_line_is_named_by_the_loop_it_runs_in(here: Path, line: int, loop: int) -> None:
+    # Caught at any moment, an endless loop is on any of its lines: its first line is the one
+    # that is the same every time (the line-by-line stop of the browser and Windows included).
+    path = _write(here, "loops.py", LOOPS)
+    assert loop_around(str(path), line) == loop
+
+
+def test_a_file_that_cannot_be_read_names_no_loop(here: Path) -> None:
+    assert loop_around(str(here / "gone.py"), 3) is None
+    assert loop_around(str(_write(here, "bad.py", "while True:\n    x = (\n")), 2) is None
 
 
 # A student who changes a built-in robot in their file would run the mission's side with the
