@@ -9,12 +9,14 @@ import re
 import signal
 import subprocess
 import sys
+import threading
+import time
 from pathlib import Path
 
 import pytest
 from helpers import HANG_BOUND_S, MISSIONS, one_run_spec
 
-from roboscript.grading import world_host
+from roboscript.grading import mission_host, world_host
 from roboscript.grading.batch import find_specs, find_submissions, grade_class
 from roboscript.grading.run import grade_run
 from roboscript.grading.sandbox import (
@@ -251,6 +253,34 @@ def test_a_sigterm_a_program_of_the_run_sends_it_is_the_students_own(tmp_path: P
             " itself a signal (signals.py:12)"
         ),
     ), result.debug
+
+
+def test_a_signal_from_a_program_still_being_started_is_the_runs(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # The program runs, signals its starter and may be reaped before the starter has noted
+    # its pid (fork_exec returns after the program's exec): the sender is looked for once
+    # the programs under way are noted, not before.
+    monkeypatch.setattr(mission_host, "_started_programs", set())
+    monkeypatch.setattr(mission_host, "_spawns_under_way", 1)
+    monkeypatch.setattr(mission_host, "_SPAWN_WAIT_S", 600.0)  # a bound, not a timing
+    gone_pid = 2**22 + 1  # above Linux's largest pid: no process to be seen in /proc
+    info = signal.struct_siginfo((signal.SIGTERM, 0, 0, gone_pid, os.getuid() + 1, 0, 0))
+
+    def starter_returns() -> None:
+        time.sleep(0.2)  # the signal is looked at first (an order, not a limit)
+        with mission_host._spawning:
+            mission_host._started_programs.add(gone_pid)
+            mission_host._spawns_under_way -= 1
+            mission_host._spawning.notify_all()
+
+    thread = threading.Thread(target=starter_returns)
+    thread.start()
+    try:
+        how = mission_host._sender_of(info, os.getpid(), user_alone=False)
+    finally:
+        thread.join()
+    assert how == mission_host._THROUGH_A_PROGRAM
 
 
 def _mission_process(jail_pid: int) -> int:
