@@ -321,6 +321,18 @@ _started_programs: set[int] = set()
 """The process ids of the programs the mission started (:func:`_spawned_unblocked`): a
 signal one of them sends is the run's, even once it has ended and cannot be seen any more."""
 
+_spawning = threading.Condition()
+"""Held while a program is being started; notified once its pid is in
+:data:`_started_programs`."""
+
+_spawns_under_way = 0
+"""Programs being started now: one may signal the run before its starter has learned its
+pid (it runs, and may already be gone, before ``fork_exec`` returns)."""
+
+_SPAWN_WAIT_S = 1.0
+"""How long a signal of unknown sender waits for the programs being started to be noted (a
+bound, for a mission that starts programs without end on many threads)."""
+
 _received_apart: frozenset[int] = frozenset()
 """The signals received on a thread of their own (:func:`_senders_told_apart`): blocked in
 every other thread, whatever the mission's code asks."""
@@ -533,13 +545,20 @@ def _spawned_unblocked(waited: frozenset[int]) -> None:
 
     def unblocked(spawn: Callable[..., Any]) -> Callable[..., Any]:
         def spawn_unblocked(*args: Any, **kwargs: Any) -> Any:
+            global _spawns_under_way
+            with _spawning:
+                _spawns_under_way += 1
+            started: Any = None
             set_mask(signal.SIG_UNBLOCK, waited)  # in this thread, for the program it starts
             try:
                 started = spawn(*args, **kwargs)
             finally:
                 set_mask(signal.SIG_BLOCK, waited)
-            if spawn is not system and isinstance(started, int):
-                _started_programs.add(started)  # its pid: a signal it sends is the run's
+                with _spawning:
+                    if spawn is not system and isinstance(started, int):
+                        _started_programs.add(started)  # its pid: a signal it sends is the run's
+                    _spawns_under_way -= 1
+                    _spawning.notify_all()
             return started
 
         return spawn_unblocked
@@ -568,13 +587,19 @@ def _sender_of(info: signal.struct_siginfo, pid: int, user_alone: bool) -> str |
         return ""
     if info.si_pid == 0:
         return None
-    if info.si_pid in _started_programs or (user_alone and info.si_uid == os.getuid()):
+    if user_alone and info.si_uid == os.getuid():
         return _THROUGH_A_PROGRAM
+    with _spawning:  # a program just started may signal before its starter has noted it
+        _spawning.wait_for(lambda: _spawns_under_way == 0, timeout=_SPAWN_WAIT_S)
+        if info.si_pid in _started_programs:
+            return _THROUGH_A_PROGRAM
     try:
         with open(f"/proc/{info.si_pid}/stat", "rb") as stat:
             session = int(stat.read().rsplit(b")", 1)[1].split()[3])
     except (OSError, ValueError, IndexError):
-        return None
+        session = None
+    if info.si_pid in _started_programs:  # noted, and reaped, while /proc was read
+        return _THROUGH_A_PROGRAM
     return _THROUGH_A_PROGRAM if session == os.getsid(0) else None
 
 

@@ -82,10 +82,10 @@ __all__ = [
     "import_student_file",
     "is_student_class",
     "is_student_file",
+    "loop_around",
     "message_of",
     "passes_through",
     "shown_path",
-    "loop_around",
     "stuck_at",
     "student_fault",
 ]

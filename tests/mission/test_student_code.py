@@ -25,10 +25,10 @@ from roboscript.inputs.quantities import CURLY_QUOTES, DASHES
 from roboscript.mission import error_column
 from roboscript.mission.python_api import Mission, state
 from roboscript.mission.student_code import (
-    loop_around,
     StudentCodeError,
     import_student_file,
     is_student_class,
+    loop_around,
     stuck_at,
     student_fault,
 )
