@@ -1,39 +1,41 @@
-"""Robots reached from a browser tab: Web Serial and Web Bluetooth ports, and the page's clock.
+"""Robots reached from the browser app: the page holds the port, its worker runs the mission.
 
 In the browser app (``roboscript web build``) a student picks a robot in the browser's own
-chooser (a user's click must ask for it); the page hands the chosen port or device to
-:func:`remember_chosen`, which answers a URL, ``webserial://1`` or ``webbluetooth://1``. Opened
-with :func:`~roboscript.transport.open_port` like any other URL, it gives the
-:class:`~roboscript.transport.link.Link` the port it knows: reads never block and return what
-has arrived, writes go out in order. Drivers and missions do not know they are in a browser.
+chooser (a user's click must ask for it). The ``SerialPort`` (Web Serial) or
+``BluetoothDevice`` (Web Bluetooth) it gives lives in the page, and stays there: Web Bluetooth
+exists in no worker. The page names it ``webserial://N`` or ``webbluetooth://N``
+(:func:`port_url`), and a run on it goes on in the page's worker (``worker.js``), never on the
+page's own thread, so a student's code that loops cannot keep the page from stopping the robot.
+There :func:`~roboscript.transport.open_port` of such a URL gives a :class:`WebPort`, which
+relays the protocol's bytes through the page in order, as messages:
 
-* **Web Serial** (ASIP, StackMod, PLEN2, a SPIKE hub on USB): a reader loop on the page's event
-  loop appends what ``port.readable`` gives to one buffer; writes go to ``port.writable`` in
-  order.
-* **Web Bluetooth** (a SPIKE hub): the hub's GATT service as :mod:`roboscript.transport.ble`
-  describes it; notifications fill the buffer, writes are cut into the hub's packets.
+* worker to page: ``{type: "port-open", url, baudRate, bluetooth: {service, rx, tx} | null}``,
+  then ``{type: "port-write", data}`` for each write (a Bluetooth write already cut into the
+  hub's packets, one message each), ``{type: "robot-ready", stop: [packets]}`` once the
+  handshake is done (the robot's stop, which the page writes by itself when it must stop the
+  robot without the worker), and ``{type: "port-close"}``;
+* page to worker, through :func:`deliver`: ``opened``, ``failed`` (the browser's error),
+  ``received`` (bytes), ``lost`` (the device went or a write failed) and ``interrupt`` (the
+  page's Stop, with its reason).
 
-A browser tab has one thread, and the page runs only while Python waits. So each port brings
-a :class:`PageClock` (:attr:`WebPort.clock`; the robot takes it, see
-:meth:`~roboscript.robot.Robot.connect`): its waits hand the tab back to the browser with
+Reads never block and return what has arrived; drivers and missions do not know they are in a
+browser. Each port brings a :class:`PageClock` (:attr:`WebPort.clock`; the robot takes it, see
+:meth:`~roboscript.robot.Robot.connect`): its waits hand the worker back to the browser with
 Pyodide's ``run_sync`` (JavaScript Promise Integration, in every Chromium-family browser, the
-only ones with Web Serial), and it is where the page's Stop button, the tab closing and a lost
-link land, as :class:`~roboscript.interrupts.Interrupted`, exactly where Ctrl-C lands on the
-command line; the run then stops the robot first, by its usual path. A lost link (the stream
-ends for good, the device goes, a write fails) ends the run the same way, with
-:data:`LOST_USB` or :data:`LOST_BLUETOOTH`, rather than by failing a read: where the line
-still carries writes, the stop still reaches the robot. The ``js`` and ``pyodide`` modules
-exist only in the browser and are imported only there.
+only ones with Web Serial), so the page's messages are delivered, and it is where the page's
+Stop and a lost link land, as :class:`~roboscript.interrupts.Interrupted`, exactly where Ctrl-C
+lands on the command line; the run then stops the robot first, by its usual path. A lost link
+ends the run with :data:`LOST_USB` or :data:`LOST_BLUETOOTH`. The ``js`` and ``pyodide``
+modules exist only in the browser and are imported only there.
 """
 
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import importlib
 import logging
 import time
-from collections import deque
+from collections.abc import Callable, Iterable
 from typing import Any
 
 from serial import SerialException
@@ -49,14 +51,17 @@ from roboscript.transport.ble import (
 )
 
 __all__ = [
+    "LOST_BLUETOOTH",
+    "LOST_USB",
     "PageClock",
     "WebBluetoothPort",
     "WebPort",
     "WebSerialPort",
     "chosen_robot",
+    "deliver",
     "interrupt_open_ports",
     "open_web_port",
-    "remember_chosen",
+    "port_url",
 ]
 
 logger = logging.getLogger(__name__)
@@ -66,20 +71,17 @@ LOST_BLUETOOTH = (
     "the Bluetooth connection to the hub was lost (is it still on, and near the computer?)"
 )
 
-CLOSE_WAIT_S = 2.0
-"""How long closing a port waits for its queued writes (the stop) to be taken, seconds: a
-device that takes nothing more must not keep the page from saying how the run ended."""
-
 _CHOSEN_ROBOT = {
     "webserial": "the robot on the serial port you chose",
     "webbluetooth": "the Bluetooth robot you chose",
 }
 """A chosen port's robot, named as the student chose it (a scheme's URL means nothing to them)."""
 
-_chosen: dict[str, Any] = {}
-"""URL -> the JavaScript ``SerialPort`` or ``BluetoothDevice`` the student chose."""
+_LONGEST_WAIT_S = 3600.0
+"""A wait for the page's answer wakes when it comes; this only bounds one turn of it."""
+
 _open_ports: list[WebPort] = []
-"""The ports open in this page, most recent last."""
+"""The ports open (or opening) in this worker, most recent last."""
 
 
 def _browser() -> tuple[Any, Any]:
@@ -98,27 +100,16 @@ def _browser() -> tuple[Any, Any]:
         ) from None
 
 
-def _absent(value: Any) -> bool:
-    """JavaScript's ``null`` or ``undefined``, as Pyodide hands them to Python."""
-    return value is None or type(value).__name__ == "JsNull"
-
-
-def remember_chosen(scheme: str, device: Any) -> str:
-    """Keep a port or device the student chose in the browser's chooser; return its URL.
-
-    Args:
-        scheme: ``"webserial"`` (a ``SerialPort``) or ``"webbluetooth"`` (a
-            ``BluetoothDevice``).
-        device: The JavaScript object the chooser gave.
+def port_url(scheme: str, number: int) -> str:
+    """The URL of the ``number``-th port (``"webserial"``) or hub (``"webbluetooth"``) the
+    student chose in the page.
 
     Raises:
         ValueError: Another scheme.
     """
-    if scheme not in ("webserial", "webbluetooth"):
+    if scheme not in _CHOSEN_ROBOT:
         raise ValueError(f"expected webserial or webbluetooth, got {scheme!r}")
-    url = f"{scheme}://{len(_chosen) + 1}"
-    _chosen[url] = device
-    return url
+    return f"{scheme}://{number}"
 
 
 def chosen_robot(url: str) -> str | None:
@@ -128,30 +119,51 @@ def chosen_robot(url: str) -> str | None:
 
 
 def open_web_port(url: str, *, baudrate: int) -> WebPort:
-    """Open a port the student chose in this page.
+    """Ask the page to open a port the student chose there, and wait for its answer.
 
     Args:
-        url: What :func:`remember_chosen` answered.
+        url: What :func:`port_url` answered.
         baudrate: Line speed in bits per second (Web Serial only).
 
     Raises:
         LinkError: Not in a browser, no such port chosen, or it would not open.
+        Interrupted: The page's Stop came first.
     """
     js, ffi = _browser()
-    device = _chosen.get(url)
-    if device is None:
-        raise LinkError("no robot is connected in this page: press Connect, then run again")
     port: WebPort
     if url.startswith("webserial://"):
-        port = WebSerialPort(js, ffi, device, baudrate=baudrate)
+        port = WebSerialPort(js, ffi, url, baudrate=baudrate)
     else:
-        port = WebBluetoothPort(js, ffi, device)
+        port = WebBluetoothPort(js, ffi, url)
+    _open_ports.append(port)
     try:
         port.open()
-    except Exception as exc:  # the browser rejects with many kinds of error
-        raise LinkError(f"cannot reach {chosen_robot(url)}: {_why(exc)}") from exc
-    _open_ports.append(port)
+    except BaseException:
+        _open_ports.remove(port)
+        raise
     return port
+
+
+def deliver(event: str, data: Any = None) -> None:
+    """What the page says of the port it holds for this worker (see the module docstring).
+
+    Args:
+        event: ``opened``, ``failed``, ``received``, ``lost`` or ``interrupt``.
+        data: The bytes received (a ``Uint8Array``, or ``bytes``), the browser's error, or the
+            interrupt's reason (one plain sentence).
+    """
+    if event == "interrupt":
+        interrupt_open_ports(str(data))
+        return
+    if not _open_ports:
+        return  # a port closed already: what the page still had for it goes nowhere
+    port = _open_ports[-1]
+    if event == "received":
+        port.received(data.to_bytes() if hasattr(data, "to_bytes") else bytes(data))
+    elif event == "lost":
+        port.link_lost(str(data or ""))
+    else:
+        port.answered(event, "" if data is None else str(data))
 
 
 def interrupt_open_ports(reason: str) -> bool:
@@ -167,22 +179,16 @@ def interrupt_open_ports(reason: str) -> bool:
     return bool(_open_ports)
 
 
-def _why(exc: BaseException) -> str:
-    """A browser's error in its own words (``NetworkError: Failed to open serial port.``)."""
-    text = str(exc).strip()
-    return text.splitlines()[-1] if text else type(exc).__name__
-
-
 # --------------------------------------------------------------------------- the clock
 
 
 class PageClock:
-    """Real time in a browser tab, whose waits let the page run.
+    """Real time in a browser's worker, whose waits let the page's messages in.
 
     :meth:`sleep_until` suspends Python (``run_sync``) until the deadline, or until
-    :meth:`interrupt` wakes it; meanwhile the page reads its ports and answers clicks. It
-    then raises :class:`~roboscript.interrupts.Interrupted` with the reason given, between
-    two ticks, as Ctrl-C would.
+    :meth:`interrupt` wakes it; meanwhile the worker takes the page's messages (bytes from the
+    robot, Stop). It then raises :class:`~roboscript.interrupts.Interrupted` with the reason
+    given, between two ticks, as Ctrl-C would.
 
     Args:
         ffi: ``pyodide.ffi``.
@@ -199,7 +205,7 @@ class PageClock:
         return time.monotonic() - self._origin
 
     def sleep_until(self, deadline_s: float) -> None:
-        """Let the page run until ``deadline_s`` (at least one turn of its event loop).
+        """Let the page's messages in until ``deadline_s`` (at least one turn of the loop).
 
         Raises:
             Interrupted: :meth:`interrupt` was called (once per call to it).
@@ -208,19 +214,37 @@ class PageClock:
         self._ffi.run_sync(self._wait(deadline_s - self.now()))
         self._raise_if_interrupted()
 
-    async def _wait(self, seconds: float) -> None:
+    def wait_until(self, done: Callable[[], bool]) -> None:
+        """Let the page's messages in until ``done()`` is true (checked after each
+        :meth:`wake`), or an interrupt comes.
+
+        Raises:
+            Interrupted: :meth:`interrupt` was called.
+        """
+        self._raise_if_interrupted()
+        while not done():
+            self._ffi.run_sync(self._wait(_LONGEST_WAIT_S, done))
+            self._raise_if_interrupted()
+
+    async def _wait(self, seconds: float, done: Callable[[], bool] | None = None) -> None:
         loop = asyncio.get_event_loop()
         waker: asyncio.Future[None] = loop.create_future()
         self._waker = waker
-        if self._reason is not None:  # asked between the call and this task's first step
+        # asked, or answered, between the call and this task's first step
+        if self._reason is not None or (done is not None and done()):
             _settle(waker)
-        # a timer even when late: the browser's other tasks (port reads, clicks) get a turn
+        # a timer even when late: the page's messages (bytes, Stop) get a turn
         timer = loop.call_later(max(seconds, 0.0), _settle, waker)
         try:
             await waker
         finally:
             timer.cancel()
             self._waker = None
+
+    def wake(self) -> None:
+        """End the wait under way now (the page answered what :meth:`wait_until` waits for)."""
+        if self._waker is not None:
+            _settle(self._waker)
 
     def interrupt(self, reason: str) -> None:
         """End the run at its next wait, for ``reason`` (one plain sentence); the first wins."""
@@ -244,49 +268,60 @@ def _settle(future: asyncio.Future[None]) -> None:
 
 
 class WebPort:
-    """What every port in a page shares: the receive buffer, ordered writes, a lost link.
-
-    Writes are started at once, from the caller (even from the page's ``pagehide``, when the
-    tab is closing and no later task would run), one after the other: the next starts when
-    the browser has taken the one before.
+    """A port the page holds, seen from the worker: bytes in and out as messages, in order.
 
     Args:
-        js: The ``js`` module.
+        js: The ``js`` module (the worker's global scope).
         ffi: ``pyodide.ffi``.
+        url: The port's URL (:func:`port_url`).
         lost_reason: The sentence a lost link ends the run with.
     """
 
-    def __init__(self, js: Any, ffi: Any, lost_reason: str) -> None:
+    def __init__(self, js: Any, ffi: Any, url: str, lost_reason: str) -> None:
         self._js = js
         self._ffi = ffi
+        self.url = url
         self.lost_reason = lost_reason
         self.clock = PageClock(ffi)
-        """The page's clock; :meth:`~roboscript.robot.Robot.connect` runs the robot on it."""
+        """The worker's clock; :meth:`~roboscript.robot.Robot.connect` runs the robot on it."""
         self.is_open = False
         self._received = bytearray()
-        self._queue: deque[bytes] = deque()
-        self._sending = False
         self._failed: str | None = None
         self._lost = False
-        self._closing = False
-        self._proxies: list[Any] = []
-        self._listeners: list[tuple[Any, str, Any]] = []  # (target, event, proxy)
-        self._closer: asyncio.Future[None] | None = None
-        self._sent_proxy = self._proxy(self._sent)
-        self._send_failed_proxy = self._proxy(self._send_failed)
+        self._answered = False
+        self._refused: str | None = None
 
-    def _proxy(self, function: Any) -> Any:
-        """A Python function the browser may call back until the port is closed."""
-        proxy = self._ffi.create_proxy(function)
-        self._proxies.append(proxy)
-        return proxy
+    def _post(self, message: dict[str, Any]) -> None:
+        """One message to the page (the worker's ``postMessage``)."""
+        self._js.postMessage(self._ffi.to_js(message, dict_converter=self._js.Object.fromEntries))
 
-    def _listen(self, target: Any, event: str, function: Any) -> None:
-        """Call ``function`` on ``target``'s ``event`` until the port is closed (then the
-        listener is removed before its proxy goes, so a late event calls nothing)."""
-        proxy = self._proxy(function)
-        target.addEventListener(event, proxy)
-        self._listeners.append((target, event, proxy))
+    def _opening(self) -> dict[str, Any]:
+        """What the page needs to open the port, besides its URL."""
+        raise NotImplementedError
+
+    def open(self) -> None:
+        """Ask the page to open the port, and wait for its answer.
+
+        Raises:
+            LinkError: The browser would not open it (its own words, the robot as chosen).
+            Interrupted: The page's Stop came first.
+        """
+        self._post({"type": "port-open", "url": self.url} | self._opening())
+        self.clock.wait_until(lambda: self._answered)
+        if self._refused is not None:
+            raise LinkError(f"cannot reach {chosen_robot(self.url)}: {self._refused}")
+        self.is_open = True
+
+    def answered(self, event: str, why: str) -> None:
+        """The page opened the port (``opened``) or could not (``failed``, the browser's words)."""
+        if event == "failed":
+            self._refused = why.strip().splitlines()[-1] if why.strip() else "it would not open"
+        self._answered = True
+        self.clock.wake()
+
+    def ready(self, stop: bytes) -> None:
+        """Tell the page the robot runs, and the bytes that stop it (see the module docstring)."""
+        self._post({"type": "robot-ready", "stop": [*self._packets(stop)]})
 
     # ------------------------------------------------------------ what a link calls
 
@@ -302,211 +337,91 @@ class WebPort:
         return data
 
     def write(self, data: bytes, /) -> int:
-        """Start sending ``data`` after what was written before.
+        """Hand ``data`` to the page, after what was written before.
 
         Raises:
-            SerialException: The port is closed, or an earlier write failed.
+            SerialException: The port is closed, or the link was lost.
         """
         if self._failed is not None:
             raise SerialException(self._failed)
         if not self.is_open:
             raise SerialException("the port is not open")
         chunk = bytes(data)
-        self._queue.extend(self._packets(chunk))
-        if not self._sending:
-            self._send_next()
+        for packet in self._packets(chunk):
+            self._post({"type": "port-write", "data": packet})
         return len(chunk)
 
     def flush(self) -> None:
         """Nothing to wait for: writes are on their way in order."""
 
     def close(self) -> None:
-        """Let queued writes go out (the stop, first of all), then close (safe to call twice)."""
-        if self._closing:
-            return
-        self._closing = True
-        self.is_open = False
+        """Let the page close the port once what was written has gone out (safe twice)."""
         if self in _open_ports:
             _open_ports.remove(self)
-        if self._ffi.can_run_sync():
-            self._ffi.run_sync(self._close_when_sent())
-        else:  # called from the page (a closing tab): finish when the browser can
-            self._closer = asyncio.ensure_future(self._close_when_sent())
+        if self.is_open:
+            self.is_open = False
+            self._post({"type": "port-close"})
 
-    # ---------------------------------------------------------------- for subclasses
+    # ---------------------------------------------------------------- from the page
 
-    def _packets(self, data: bytes) -> list[bytes]:
-        return [data]
-
-    def _start_write(self, packet: bytes) -> Any:
-        """Hand one packet to the browser; return its promise."""
-        raise NotImplementedError
-
-    async def _shut(self) -> None:
-        """Release the browser's port or device."""
-        raise NotImplementedError
-
-    def _received_data(self, data: bytes) -> None:
+    def received(self, data: bytes) -> None:
+        """Bytes the robot sent, in order."""
         self._received += data
 
-    def _link_lost(self, *_: Any) -> None:
-        """The browser says the device is gone: end the run, stop first."""
-        if self._closing or self._lost:
+    def link_lost(self, detail: str = "") -> None:
+        """The page says the device is gone, or a write failed: end the run, stop first."""
+        if self._lost:
             return
         self._lost = True
-        logger.info("%s", self.lost_reason)
+        self._failed = f"{self.lost_reason}: {detail}" if detail else self.lost_reason
+        logger.info("%s", self._failed)
         self.clock.interrupt(self.lost_reason)
 
-    # ------------------------------------------------------------------- the writes
-
-    def _send_next(self) -> None:
-        if not self._queue or self._failed is not None:
-            self._sending = False
-            return
-        self._sending = True
-        packet = self._queue.popleft()
-        try:
-            promise = self._start_write(packet)
-        except Exception as exc:  # noqa: BLE001 - a browser's write throws many kinds
-            self._send_failed(exc)
-            return
-        promise.then(self._sent_proxy, self._send_failed_proxy)
-
-    def _sent(self, *_: Any) -> None:
-        self._send_next()
-
-    def _send_failed(self, error: Any) -> None:
-        self._sending = False
-        self._queue.clear()
-        self._failed = f"{self.lost_reason}: {_why(Exception(str(error)))}"
-        self._link_lost()
-
-    async def _close_when_sent(self) -> None:
-        give_up_s = time.monotonic() + CLOSE_WAIT_S
-        while self._sending and self._failed is None and time.monotonic() < give_up_s:
-            await asyncio.sleep(0.005)
-        with contextlib.suppress(Exception):  # a port already gone cannot be closed twice
-            await self._shut()
-        for target, event, proxy in self._listeners:
-            with contextlib.suppress(Exception):
-                target.removeEventListener(event, proxy)
-        self._listeners.clear()
-        for proxy in self._proxies:
-            with contextlib.suppress(Exception):
-                proxy.destroy()
-        self._proxies.clear()
+    def _packets(self, data: bytes) -> Iterable[bytes]:
+        return [data]
 
 
 class WebSerialPort(WebPort):
-    """A ``SerialPort`` the student chose (Web Serial).
+    """A ``SerialPort`` the student chose (Web Serial), held by the page.
 
     Args:
         js: The ``js`` module.
         ffi: ``pyodide.ffi``.
-        port: The JavaScript ``SerialPort``.
+        url: The port's URL.
         baudrate: Line speed in bits per second.
     """
 
-    def __init__(self, js: Any, ffi: Any, port: Any, *, baudrate: int) -> None:
-        super().__init__(js, ffi, LOST_USB)
-        self.port = port
+    def __init__(self, js: Any, ffi: Any, url: str, *, baudrate: int) -> None:
+        super().__init__(js, ffi, url, LOST_USB)
         self.baudrate = baudrate
-        self._writer: Any = None
-        self._reader: Any = None
-        self._pump: asyncio.Task[None] | None = None
 
-    def open(self) -> None:
-        """Open the port at :attr:`baudrate` and start reading."""
-        options = self._ffi.to_js(
-            {"baudRate": self.baudrate}, dict_converter=self._js.Object.fromEntries
-        )
-        self._ffi.run_sync(self.port.open(options))
-        self._writer = self.port.writable.getWriter()
-        self._listen(self.port, "disconnect", self._link_lost)
-        self.is_open = True
-        self._pump = asyncio.ensure_future(self._read_all())
-
-    async def _read_all(self) -> None:
-        """Fill the buffer from ``port.readable`` until the port closes or is lost.
-
-        A framing or parity error, a break, an overrun ends one stream and the port gives a
-        new one (as a UART goes on after garbage); a device that is gone gives none.
-        """
-        while not self._closing and not _absent(self.port.readable):
-            self._reader = self.port.readable.getReader()
-            try:
-                while True:
-                    result = await self._reader.read()
-                    if result.done:
-                        break
-                    self._received_data(result.value.to_bytes())
-            except Exception as exc:  # noqa: BLE001 - the stream's error, whatever its kind
-                logger.debug("serial read: %s", exc)
-            finally:
-                with contextlib.suppress(Exception):
-                    self._reader.releaseLock()
-                self._reader = None
-        self._link_lost()
-
-    def _start_write(self, packet: bytes) -> Any:
-        return self._writer.write(self._ffi.to_js(packet))
-
-    async def _shut(self) -> None:
-        with contextlib.suppress(Exception):
-            await self._writer.close()  # resolves once every queued write has gone out
-        if self._reader is not None:
-            with contextlib.suppress(Exception):
-                await self._reader.cancel()
-        if self._pump is not None:
-            with contextlib.suppress(Exception):
-                await self._pump
-        await self.port.close()
+    def _opening(self) -> dict[str, Any]:
+        return {"baudRate": self.baudrate, "bluetooth": None}
 
 
 class WebBluetoothPort(WebPort):
-    """A SPIKE Prime hub the student chose (Web Bluetooth), as :mod:`~roboscript.transport.ble`
-    describes its service: notifications in, writes without response in packets.
+    """A SPIKE Prime hub the student chose (Web Bluetooth), held by the page: its service as
+    :mod:`~roboscript.transport.ble` describes it, writes cut into the hub's packets here (the
+    page writes each message as one packet).
 
     Args:
         js: The ``js`` module.
         ffi: ``pyodide.ffi``.
-        device: The JavaScript ``BluetoothDevice``.
+        url: The port's URL.
     """
 
-    def __init__(self, js: Any, ffi: Any, device: Any) -> None:
-        super().__init__(js, ffi, LOST_BLUETOOTH)
-        self.device = device
+    def __init__(self, js: Any, ffi: Any, url: str) -> None:
+        super().__init__(js, ffi, url, LOST_BLUETOOTH)
         self.packet_size = DEFAULT_PACKET_SIZE
-        self._rx: Any = None
 
-    def open(self) -> None:
-        """Connect to the hub and turn its notifications on."""
-        run_sync = self._ffi.run_sync
-        server = run_sync(self.device.gatt.connect())
-        service = run_sync(server.getPrimaryService(SERVICE_UUID))
-        self._rx = run_sync(service.getCharacteristic(RX_CHARACTERISTIC))
-        tx = run_sync(service.getCharacteristic(TX_CHARACTERISTIC))
-        self._listen(tx, "characteristicvaluechanged", self._notified)
-        self._listen(self.device, "gattserverdisconnected", self._link_lost)
-        run_sync(tx.startNotifications())
-        self.is_open = True
+    def _opening(self) -> dict[str, Any]:
+        service = {"service": SERVICE_UUID, "rx": RX_CHARACTERISTIC, "tx": TX_CHARACTERISTIC}
+        return {"baudRate": None, "bluetooth": service}
 
     def set_max_packet_size(self, size: int) -> None:
         """Use the hub's max packet size (from its InfoResponse) for later writes."""
         if size >= 1:
             self.packet_size = size
 
-    def _notified(self, event: Any) -> None:
-        view = event.target.value  # a DataView on the notification's bytes
-        data = self._js.Uint8Array.new(view.buffer, view.byteOffset, view.byteLength)
-        self._received_data(data.to_bytes())
-
-    def _packets(self, data: bytes) -> list[bytes]:
+    def _packets(self, data: bytes) -> Iterable[bytes]:
         return split_packets(data, self.packet_size)
-
-    def _start_write(self, packet: bytes) -> Any:
-        return self._rx.writeValueWithoutResponse(self._ffi.to_js(packet))
-
-    async def _shut(self) -> None:
-        if self.device.gatt.connected:
-            self.device.gatt.disconnect()

@@ -4,9 +4,9 @@
  *
  * The student's code runs in a worker of its own (worker.js), never in the page's thread: a
  * loop, a flood of print() or a runaway allocation cannot freeze the page, and Stop ends the
- * worker whole and starts a fresh one. A run on a real robot needs the browser's USB and
- * Bluetooth objects, which live in the page: it has a Python of its own in the page, started
- * when the student first connects a robot.
+ * worker whole and starts a fresh one. A run on a real robot runs there too; the browser's
+ * USB and Bluetooth objects live in the page, which relays the robot's bytes and can stop the
+ * robot by itself (robot-port.js).
  */
 (function () {
   "use strict";
@@ -39,7 +39,9 @@
           resolve({ runtimeMs: started + message.runtimeMs });
         } else if (message.type === "failed") {
           reject(new Error(message.error));
-        } else if (message.type === "answer") {
+        } else if (message.type !== "answer") {
+          fromWorker(message);  // a run on a robot: its port, and that it is alive
+        } else {
           document.body.setAttribute("data-heap-bytes", String(message.heapBytes));
           var waiting = calls[message.id];
           delete calls[message.id];
@@ -76,8 +78,22 @@
     });
   }
 
-  /* End the worker at once (a loop in it never returns), and start a fresh one. */
+  /* ``call`` of a run on a robot: it waits on the robot, so the worker takes the page's
+   * messages meanwhile (webport.py) and holds other calls till it ends. */
+  function callWaiting(module, fn) {
+    var args = Array.prototype.slice.call(arguments, 2);
+    var id = ++nextCall;
+    return new Promise(function (resolve, reject) {
+      calls[id] = { resolve: resolve, reject: reject };
+      worker.postMessage({ type: "call", id: id, module: module, fn: fn, args: args,
+                           waits: true });
+    });
+  }
+
+  /* End the worker at once (a loop in it never returns), and start a fresh one. A robot it
+   * was driving is stopped by the page first. */
   function endPython(why) {
+    if (robot) haltRobot(robot);
     if (worker) worker.terminate();
     worker = null;
     ready = false;
@@ -245,7 +261,8 @@
   function refreshButtons() {
     var errors = Number($("problems").getAttribute("data-errors") || 0);
     button("run").disabled = !ready || errors > 0 || robotRunning || busy > 0;
-    button("run-robot").disabled = !robotPort || errors > 0 || robotRunning || busy > 0;
+    button("run-robot").disabled = !ready || !robotPort || errors > 0 || robotRunning ||
+      busy > 0;
   }
 
   /* Check the editor's text in the worker; an answer to an older text is left unshown. */
@@ -324,51 +341,43 @@
     return s;
   }
 
-  /* ---- a real robot: the browser's chooser, a run on it, and its stop (roboscript.web.connect).
-   * The run waits on the robot with Pyodide's run_sync, so it is called with callPromising;
-   * while it waits the page stays alive, and Stop or closing the tab send the stop at once. */
-  var robotPort = null, robotRunning = false, connectPy = null, bridge = null;
-  var pagePython = null, choosers = { serial: {}, bluetooth: null };
+  /* ---- a real robot: the browser's chooser, a run on it, and its stop.
+   * The browser gives its USB and Bluetooth objects to the page only, so the page holds the
+   * port (robot-port.js) and relays its bytes, in order, to the run, which goes on in the
+   * worker like every run (roboscript.transport.webport). The page stops the robot without the
+   * worker: once the handshake is done the worker hands it the robot's stop (the driver's own
+   * bytes), and Stop, a closing tab, a lost link and a worker that no longer answers while the
+   * robot runs make the page write it itself. */
+  var SILENT_MS = 2000;  // the worker says it is alive every 250 ms while a run waits
+  var robotPort = null, robotRunning = false, robot = null, chosen = {};
+  var portReleased = Promise.resolve(), choosers = { serial: {}, bluetooth: null };
 
-  /* The page's own Python, for runs on a robot (started once, on the first Connect). */
-  function robotPython() {
-    if (pagePython) return pagePython;
-    say("Starting Python for the robot…");
-    pagePython = window.loadPyodide({
-      indexURL: new URL("roboscript-web/", document.baseURI).href,
-      createPyodideModule: window.rsCreatePyodide,
-      lockFileContents: Promise.resolve(JSON.parse(window.rsPyodideLock)),
-      stdout: function (line) { console.log(line); },
-      stderr: function (line) { console.log(line); }
-    }).then(function (py) {
-      return window.fetch("site-packages.zip").then(function (response) {
-        return response.arrayBuffer();
-      }).then(function (zip) {
-        py.unpackArchive(zip, "zip", { extractDir: "/home/pyodide/site-packages" });
-        py.runPython("import sys; sys.path.insert(0, '/home/pyodide/site-packages')");
-        bridge = py.pyimport("roboscript.web.bridge");
-        connectPy = py.pyimport("roboscript.web.connect");
-        say("Python for the robot is ready");
-        return py;
-      });
-    });
-    return pagePython;
-  }
+  var SILENT = "The mission's code stopped answering for " + SILENT_MS / 1000 + " s while " +
+    "the robot ran (a loop that never ends?), so the page stopped the robot and ended the " +
+    "run; nothing of it was kept.";
+  var STOPPED_SILENT = "Stopped with the Stop button: the robot was sent its stop at once, " +
+    "and the mission's code, which no longer answered (a loop that never ends?), was ended; " +
+    "nothing of the run was kept.";
+  var STOPPED_EARLY = "Stopped with the Stop button, before the mission reached the robot: " +
+    "nothing of the run was kept.";
 
   function connectRobot(choice) {
-    var robot = choice.getAttribute("data-robot"), via = choice.getAttribute("data-via");
+    var name = choice.getAttribute("data-robot"), via = choice.getAttribute("data-via");
     // asked at once, within the click: the browser opens its chooser for a click only
     var asked = via === "bluetooth" ?
       navigator.bluetooth.requestDevice(choosers.bluetooth) :
-      navigator.serial.requestPort({ filters: choosers.serial[robot] });
+      navigator.serial.requestPort({ filters: choosers.serial[name] });
     asked.then(function (device) {
-      return robotPython().then(function () { return device; });
-    }).then(function (device) {
-      robotPort = connectPy.remember(via === "bluetooth" ? "webbluetooth" : "webserial", device);
-      if (!$("robot").value) $("robot").value = robot;
-      $("connected").textContent = "Connected: " + choice.textContent + ".";
-      document.body.setAttribute("data-robot-port", robotPort);
-      check();
+      var scheme = via === "bluetooth" ? "webbluetooth" : "webserial";
+      return call("connect", "remember", scheme, Object.keys(chosen).length + 1)
+        .then(function (url) {
+          chosen[url] = { device: device, via: via };
+          robotPort = url;
+          if (!$("robot").value) $("robot").value = name;
+          $("connected").textContent = "Connected: " + choice.textContent + ".";
+          document.body.setAttribute("data-robot-port", robotPort);
+          check();
+        });
     }).catch(function (error) {
       $("connected").textContent = error && error.name === "NotFoundError" ?
         "No robot chosen. Is it plugged in (or switched on, for Bluetooth)? Then try again." :
@@ -377,23 +386,20 @@
   }
 
   function runOnRobot() {
-    if (!robotPort) return;
+    if (!robotPort || robotRunning || !ready) return;
+    var run = robot = { url: robotPort, port: null, stop: null, heard: performance.now(),
+                        over: false, closed: false, stopAsked: false };
     robotRunning = true;
     note("");
-    button("run-robot").disabled = true;
-    button("run").disabled = true;
+    $("result").removeAttribute("data-stopped");
+    refreshButtons();
     button("stop").disabled = false;
     say("Connecting to the robot… (Stop stops it at once)");
-    var seed = parseInt($("seed").value, 10) || 0;
-    var watch = window.setInterval(function () {  // the handshake done: the mission runs
-      if (!connectPy.robot_ready()) return;
-      document.body.setAttribute("data-robot-ready", "1");
-      say("Running the mission on the robot… (Stop stops it at once)");
-      window.clearInterval(watch);
-    }, 200);
     document.body.removeAttribute("data-robot-ready");
-    bridge.run_text.callPromising($("name").value, editor.getValue(), $("robot").value,
-                                  $("world").value, seed, robotPort)
+    var watch = window.setInterval(function () { watchRobot(run); }, 250);
+    var seed = parseInt($("seed").value, 10) || 0;
+    callWaiting("bridge", "run_text", $("name").value, editor.getValue(), $("robot").value,
+                $("world").value, seed, run.url)
       .then(function (text) {
         var answer = JSON.parse(text);
         var s = showRun(answer);
@@ -405,21 +411,122 @@
           document.body.setAttribute("data-wire-log", answer.wire_log);
         }
         if (s) say("Done on the robot: " + s.duration_s.toFixed(1) + " s");
-      })
-      .catch(function (error) {
-        $("result").textContent = "roboscript stopped unexpectedly: " + error;
-        say("Not run");
+      }, function (failure) {
+        var text = notAnswered(failure), result = $("result");
+        result.removeAttribute("data-outcome");
+        result.textContent = text;
+        result.setAttribute("data-stopped", text);
       })
       .then(function () {
         window.clearInterval(watch);
+        run.over = true;
+        closePort(run);
+        robot = null;
         robotRunning = false;
         button("stop").disabled = true;
+        refreshButtons();
         check();
       });
   }
 
+  /* What the worker says of the robot's port (roboscript.transport.webport). */
+  function fromWorker(message) {
+    var run = robot;
+    if (!run) return;
+    run.heard = performance.now();
+    if (message.type === "port-open") openPort(run, message);
+    else if (message.type === "port-write" && run.port && !run.over) run.port.write(message.data);
+    else if (message.type === "port-close") closePort(run);
+    else if (message.type === "robot-ready") {
+      run.stop = message.stop;
+      document.body.setAttribute("data-robot-ready", "1");
+      say("Running the mission on the robot… (Stop stops it at once)");
+    }
+  }
+
+  function toWorker(event, data) {
+    if (worker) worker.postMessage({ type: "port", event: event, data: data });
+  }
+
+  function openPort(run, asked) {
+    var choice = chosen[asked.url];
+    if (!choice) {
+      toWorker("failed", "it is no longer connected in this page: press Connect again");
+      return;
+    }
+    portReleased.then(function () {  // the last run's port, released first
+      if (run.over) return null;
+      return window.rsRobotPort(choice.device, choice.via, asked, {
+        received: function (bytes) { if (!run.over) toWorker("received", bytes); },
+        lost: function (detail) { portLost(run, detail); }
+      });
+    }).then(function (port) {
+      if (!port) return;
+      run.port = port;
+      if (run.over || run.closed) closePort(run);
+      else toWorker("opened");
+    }, function (error) {
+      toWorker("failed", String(error && error.message || error));
+    });
+  }
+
+  function closePort(run) {
+    run.closed = true;
+    if (!run.port) return;
+    var port = run.port;
+    run.port = null;
+    portReleased = port.close();
+  }
+
+  /* The device went: its stop is written at once (where the line still carries it), and the
+   * run ends with the lost link's sentence, from the worker. */
+  function portLost(run, detail) {
+    if (run.over) return;
+    if (run.port && run.stop) run.port.stopNow(run.stop);
+    toWorker("lost", detail);
+  }
+
+  /* The page stops the robot by itself (once): its stop, then the port released. */
+  function haltRobot(run) {
+    if (run.over) return false;
+    run.over = true;
+    if (run.port && run.stop) run.port.stopNow(run.stop);
+    closePort(run);
+    return true;
+  }
+
+  /* The page stops the robot by itself and ends the worker, whatever it is doing. */
+  function takeOver(run, sentence) {
+    if (haltRobot(run)) endPython({ stopped: sentence });
+  }
+
+  /* A run whose worker no longer answers while it holds the robot (a loop that never gives
+   * the worker back): measured here, on the page's clock. */
+  function watchRobot(run) {
+    if (run.over || !run.port) return;
+    if (performance.now() - run.heard > SILENT_MS) {
+      takeOver(run, run.stopAsked ? STOPPED_SILENT : SILENT);
+    }
+  }
+
+  /* Stop: the robot's stop goes out now, from the page; the run, if its worker answers, ends
+   * at its next wait with its record ("stopped with the Stop button"), else watchRobot ends
+   * it. A run that has not reached the robot yet is ended at once. */
   function stopRobot(reason) {
-    if (robotRunning && connectPy) connectPy.stop_robot(reason);
+    var run = robot;
+    if (!run || run.over) return;
+    run.stopAsked = true;
+    if (!run.port) { takeOver(run, STOPPED_EARLY); return; }
+    if (run.stop) run.port.stopNow(run.stop);
+    toWorker("interrupt", reason);
+  }
+
+  /* A closing tab: the robot's stop is started within this event (no later task runs). */
+  function pageClosed() {
+    var run = robot;
+    if (!run || run.over) return;
+    if (run.port && run.stop) run.port.stopNow(run.stop);
+    toWorker("interrupt", "the page was closed");
   }
 
   /* The choosers' filters, from the worker's Python (the page's starts only on Connect). */
@@ -454,8 +561,8 @@
       stopRobot("stopped with the Stop button");
     });
     // Never leave a robot running: a closing or reloading tab sends the stop first.
-    window.addEventListener("beforeunload", function () { stopRobot("the page was closed"); });
-    window.addEventListener("pagehide", function () { stopRobot("the page was closed"); });
+    window.addEventListener("beforeunload", pageClosed);
+    window.addEventListener("pagehide", pageClosed);
   }
 
   function save() {

@@ -225,10 +225,10 @@ def _asset_script(name: str, data: bytes) -> str:
     return f'(window.rsAssets = window.rsAssets || {{}})[{json.dumps(name)}] = "{encoded}";\n'
 
 
-def _classic_runtime(module_text: str, base: str = "document.baseURI") -> str:
+def _classic_runtime(module_text: str, base: str) -> str:
     """Pyodide's runtime module as a classic script (``file://`` pages cannot import modules):
-    its one export becomes a global the loader is handed, and ``base`` stands for the module's
-    own URL (a worker has no document: it is given its base in a global)."""
+    its one export becomes a global the loader is handed, and ``base`` (an expression) stands
+    for the module's own URL (the worker has no document: it is given its base in a global)."""
     text = module_text.replace(
         "export default _createPyodideModule;", "globalThis.rsCreatePyodide=_createPyodideModule;"
     )
@@ -302,10 +302,6 @@ def build_web_app(
     try:
         assets.mkdir(parents=True, exist_ok=True)
         files: dict[str, str] = {
-            "pyodide.js": (runtime / "pyodide.js").read_text(encoding="utf-8"),
-            "pyodide-runtime.js": _classic_runtime(
-                (runtime / "pyodide.asm.mjs").read_text(encoding="utf-8")
-            ),
             "worker-source.js": _worker_script(
                 (runtime / "pyodide.js").read_text(encoding="utf-8"),
                 (runtime / "pyodide.asm.mjs").read_text(encoding="utf-8"),
@@ -328,6 +324,7 @@ def build_web_app(
             "viewer.js": (replay / "viewer.js").read_text(encoding="utf-8"),
             "viewer.css": (replay / "viewer.css").read_text(encoding="utf-8"),
             "app.js": (here / "app.js").read_text(encoding="utf-8"),
+            "robot-port.js": (here / "robot-port.js").read_text(encoding="utf-8"),
             "grade.js": (here / "grade.js").read_text(encoding="utf-8"),
             "platform.js": (here / "platform.js").read_text(encoding="utf-8"),
             "app.css": (here / "app.css").read_text(encoding="utf-8"),

@@ -1,12 +1,14 @@
 """A real robot from the browser app: the port the student chose, the run on it, and its stop.
 
 The page's Connect buttons open the browser's chooser (Web Serial for a USB cable, Web
-Bluetooth for a SPIKE hub) and hand the choice to :func:`remember`; a run on the robot is
-:func:`roboscript.web.bridge.run_text` with the URL it answered, in real time, with a wire log
-like ``roboscript run --wire-log``. While it runs, :func:`stop_robot` is what the page's Stop
-button, its tab closing and a lost link call: the robot's own stop goes out at once, by the
-robot's usual path (:meth:`roboscript.robot.Robot.stop`), and the run then ends at its next
-wait with that reason, as after Ctrl-C on the command line.
+Bluetooth for a SPIKE hub); the page keeps what the student chose and names it with
+:func:`remember`. A run on the robot is :func:`roboscript.web.bridge.run_text` with that URL,
+in the page's worker, in real time, with a wire log like ``roboscript run --wire-log``; the
+page relays the port's bytes (:mod:`roboscript.transport.webport`, and :func:`from_page` for
+what the page says). Once the handshake is done the worker hands the page the robot's stop
+(:func:`stop_bytes`): Stop, a closing tab or a worker that no longer answers make the page
+write it by itself, while the run, if its worker still answers, ends at its next wait with the
+reason the page gave, as after Ctrl-C on the command line.
 """
 
 from __future__ import annotations
@@ -19,25 +21,25 @@ from typing import Any
 
 from roboscript.drivers import protocol_unit
 from roboscript.drivers.recognise import RobotPicker, robots_picked_with
-from roboscript.errors import LinkError
-from roboscript.profiles import get_profile
+from roboscript.profiles import RobotProfile, get_profile
 from roboscript.robot import Robot
 from roboscript.transport.ble import SERVICE_UUID
-from roboscript.transport.webport import chosen_robot, interrupt_open_ports, remember_chosen
+from roboscript.transport.webport import WebPort, chosen_robot, deliver, port_url
 
 __all__ = [
     "ROBOT_LIST",
     "RobotRun",
     "bluetooth_options",
+    "from_page",
     "on_robot",
     "remember",
-    "robot_ready",
     "serial_filters",
-    "stop_robot",
+    "stop_bytes",
 ]
 
-_running: Robot | None = None
-"""The robot a run in this page is driving, while it runs."""
+from_page = deliver
+"""What the page says of the port it holds for a run (:func:`roboscript.transport.webport.
+deliver`): the worker calls it with each of the page's messages."""
 
 ROBOT_LIST = RobotPicker(
     "choose {robot} in the Robot list, and run again", "choose it in the Robot list", chosen_robot
@@ -47,9 +49,10 @@ name: a student in the page cannot give ``--robot``; and the robot named as the 
 it ("the robot on the serial port you chose"), not by a ``webserial://1`` they never saw."""
 
 
-def remember(scheme: str, device: Any) -> str:
-    """The URL of a port (``"webserial"``) or hub (``"webbluetooth"``) the student chose."""
-    return remember_chosen(scheme, device)
+def remember(scheme: str, number: int) -> str:
+    """The URL of the ``number``-th port (``"webserial"``) or hub (``"webbluetooth"``) the
+    student chose in the page (the page keeps the browser's object under it)."""
+    return port_url(scheme, number)
 
 
 def serial_filters(robot: str) -> str:
@@ -100,9 +103,52 @@ class RobotRun:
         return {"wire_log": self.wire_log.read_text(encoding="utf-8")}
 
 
+class _Tap:
+    """A port that keeps a copy of what is written through it."""
+
+    def __init__(self, port: Any) -> None:
+        self.port = port
+        self.written = bytearray()
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.port, name)
+
+    def read(self, size: int = 1) -> bytes:
+        data: bytes = self.port.read(size)
+        return data
+
+    def close(self) -> None:
+        self.port.close()
+
+    def write(self, data: bytes, /) -> int | None:
+        self.written += data
+        written: int | None = self.port.write(data)
+        return written
+
+
+def stop_bytes(profile: RobotProfile) -> bytes:
+    """What the robot's driver sends to stop every actuator, just after its handshake.
+
+    Taken from the driver's own stop (:meth:`roboscript.robot.Robot.stop`), on the in-process
+    simulator of ``profile``, which speaks the real protocol: the page writes these bytes by
+    itself when it must stop the robot without the run's help.
+    """
+    with Robot.connect(profile) as robot:
+        link = robot.driver.link
+        tap = _Tap(link.port)
+        link.port = tap
+        try:
+            robot.stop()
+        finally:
+            link.port = tap.port
+    return bytes(tap.written)
+
+
 def _connected(robot: Robot) -> None:
-    global _running
-    _running = robot
+    """The handshake is done: the page gets the robot's stop, and says the mission runs."""
+    port = robot.driver.link.port
+    if isinstance(port, WebPort):
+        port.ready(stop_bytes(robot.profile))
 
 
 @contextlib.contextmanager
@@ -116,32 +162,5 @@ def on_robot(port: str, folder: Path) -> Iterator[RobotRun]:
         port: A URL :func:`remember` gave, or ``""``.
         folder: Where the wire log is written.
     """
-    global _running
-    try:
-        with robots_picked_with(ROBOT_LIST):
-            yield RobotRun(port, folder)
-    finally:
-        _running = None
-
-
-def robot_ready() -> bool:
-    """Whether the run has reached its robot (the handshake is done) and runs the mission."""
-    return _running is not None
-
-
-def stop_robot(reason: str) -> bool:
-    """Stop the robot now, and end its run with ``reason`` (one plain sentence).
-
-    Called by the page while the run waits (its Stop button, ``pagehide``): the stop command
-    goes out before anything else, and the run ends at its next wait, stopping the robot
-    again on its way out as every run does. A run still shaking hands ends too (the handshake
-    stops the robot as it gives up).
-
-    Returns:
-        Whether a run on a robot was going on.
-    """
-    robot = _running
-    if robot is not None:
-        with contextlib.suppress(LinkError):  # a link already gone: the run says so itself
-            robot.stop()
-    return interrupt_open_ports(reason) or robot is not None
+    with robots_picked_with(ROBOT_LIST):
+        yield RobotRun(port, folder)

@@ -64,7 +64,8 @@ def test_the_packages_zip_is_the_same_bytes_every_time() -> None:
 def test_the_runtime_module_becomes_a_classic_script() -> None:
     text = build._classic_runtime(
         "async function _createPyodideModule(){return import.meta.url}"
-        "export default _createPyodideModule;"
+        "export default _createPyodideModule;",
+        "self.rsBaseURI",
     )
     assert "export" not in text and "import.meta" not in text
     assert text.endswith("globalThis.rsCreatePyodide=_createPyodideModule;")
@@ -72,7 +73,7 @@ def test_the_runtime_module_becomes_a_classic_script() -> None:
 
 def test_a_runtime_of_another_shape_is_refused_in_one_sentence() -> None:
     with pytest.raises(WebBuildError, match="shape the app does not know"):
-        build._classic_runtime("export { createPyodide };")
+        build._classic_runtime("export { createPyodide };", "self.rsBaseURI")
 
 
 def test_the_folder_has_the_page_and_every_script_it_loads(tmp_path: Path) -> None:

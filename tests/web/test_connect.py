@@ -15,8 +15,11 @@ import pytest
 from helpers import MISSIONS, served_simulator
 
 from roboscript.drivers.recognise import handshake_failure
+from roboscript.profiles import get_profile
+from roboscript.robot import Robot
+from roboscript.transport.wirelog import read_wire_log
 from roboscript.web.bridge import run_text
-from roboscript.web.connect import on_robot
+from roboscript.web.connect import on_robot, stop_bytes
 
 SQUARE = (MISSIONS / "square.yaml").read_text(encoding="utf-8")
 
@@ -81,3 +84,19 @@ def test_a_robot_chosen_in_the_page_is_named_as_chosen_never_by_its_url(tmp_path
         " 48 bytes of the ASIP handshake"
     )
     assert "://" not in wrong + silent
+
+
+@pytest.mark.parametrize("robot", ["mirto", "plen2", "spike-prime", "stackmod-rover"])
+def test_the_stop_the_page_is_handed_is_what_the_driver_sends_to_stop(
+    robot: str, tmp_path: Path
+) -> None:
+    log = tmp_path / "stop.log"
+    with Robot.connect(robot, wire_log=str(log)) as connected:
+        wire_log = connected.driver.link.wire_log
+        assert wire_log is not None
+        wire_log.flush()
+        before = len(read_wire_log(log))
+        connected.stop()
+        wire_log.flush()
+        sent = b"".join(data for _, way, data in read_wire_log(log)[before:] if way == ">")
+    assert sent and stop_bytes(get_profile(robot)) == sent

@@ -53,6 +53,13 @@ def test_the_page_starts_python_offline_from_a_file(page: Browser) -> None:
     assert page.errors == []
 
 
+def test_the_page_itself_carries_no_python_only_its_worker_does(page: Browser) -> None:
+    # every run, on the simulator or a robot, is the worker's: the page loads no runtime
+    assert page.evaluate("typeof window.loadPyodide") == "undefined"
+    assert page.evaluate("typeof window.rsCreatePyodide") == "undefined"
+    assert page.evaluate("typeof window.rsRobotPort") == "function"
+
+
 def test_a_mistake_is_shown_at_its_line_as_it_is_typed(page: Browser) -> None:
     _editor(page, _hello(page).replace("{rotate:", "{rotat:"))
     page.wait_for("document.querySelector('[data-role=problems]').dataset.errors === '1'", LONG_S)

@@ -566,3 +566,93 @@ def test_a_spike_hub_that_loses_its_bluetooth_link_mid_run_is_told_in_one_senten
     )
     assert "Traceback" not in result and page.errors == []
     assert page.wait_for("document.querySelector('[data-action=stop]').disabled", LONG_S)
+
+
+RUNAWAY = '''from collections import deque
+from itertools import count
+
+from roboscript import Drive, Mission, state
+
+
+class Runaway(Mission):
+    """Drive, checking a condition that never returns: a loop inside one call, which no
+    check between two lines of Python can stop."""
+
+    go = state(Drive(distance_mm=3000, speed_mm_s=100), initial=True, on_done="done",
+               when=[("check", "done")])
+    done = state(final="success")
+
+    def check(self) -> bool:
+        deque(count(), maxlen=0)
+        return False
+'''
+ANSWERS_S = 120.0
+"""How long the page may take to answer a script while the student's code loops: a bound for
+a frozen page (it never answers), far above what a busy machine takes."""
+
+
+def _run_away_on_a_mirto(page: Browser, tcp_port: int) -> tuple[StandInBridge, int]:
+    """Connect a MIRTO, run the runaway mission on it, and wait until it reached the robot.
+
+    Returns:
+        The bridge, and how many writes the page had made by then.
+    """
+    page.evaluate(
+        "document.querySelector('.CodeMirror').CodeMirror.setValue("
+        + json.dumps(RUNAWAY)
+        + "); document.querySelector('[data-role=name]').value = 'runaway.py';"
+        " document.querySelector('[data-role=name]').dispatchEvent(new Event('change'));"
+        " document.querySelector('[data-role=problems]').removeAttribute('data-errors')"
+    )
+    page.wait_for("document.querySelector('[data-role=problems]').dataset.errors === '0'", LONG_S)
+    bridge = StandInBridge(page, tcp_port)
+    _connect_and_run(page, bridge, "[data-robot=mirto]")
+    page.timeout_s = ANSWERS_S  # from here on, a page that does not answer fails the test
+    bridge.pump("document.body.dataset.robotReady === '1'")
+    return bridge, len(bridge.writes)
+
+
+def test_stop_stops_a_robot_whose_mission_code_loops_forever_and_the_page_says_why(
+    page: Browser, tmp_path: Path
+) -> None:
+    stop = _robot_stop_bytes(tmp_path, "mirto")
+    with served_simulator("mirto") as tcp_port:
+        bridge, before = _run_away_on_a_mirto(page, tcp_port)
+        # the page answers while the student's code loops: its Stop can be pressed
+        page.evaluate("document.querySelector('[data-action=stop]').click()")
+        bridge.pump(f"{RESULT}.dataset.stopped")
+        bridge.pump(None)  # the page released the port
+    after = b"".join(bridge.writes[before:])
+    assert stop and after.endswith(stop)  # the robot's stop, and nothing after it
+    assert page.evaluate(f"{RESULT}.dataset.stopped") == (
+        "Stopped with the Stop button: the robot was sent its stop at once, and the mission's"
+        " code, which no longer answered (a loop that never ends?), was ended; nothing of the"
+        " run was kept."
+    )
+    # the page is the student's again: a fresh Python, and the robot can be run again
+    page.timeout_s = LONG_S
+    page.wait_for(
+        "document.body.dataset.ready === '1' &&"
+        " !document.querySelector('[data-action=run-robot]').disabled",
+        LONG_S,
+    )
+    assert page.evaluate("document.querySelector('[data-action=stop]').disabled") is True
+    assert page.errors == []
+
+
+def test_a_robot_whose_mission_code_stops_answering_is_stopped_by_the_page_itself(
+    page: Browser, tmp_path: Path
+) -> None:
+    stop = _robot_stop_bytes(tmp_path, "mirto")
+    with served_simulator("mirto") as tcp_port:
+        bridge, before = _run_away_on_a_mirto(page, tcp_port)
+        # nobody presses Stop: the page hears nothing from the worker, and stops the robot
+        bridge.pump(f"{RESULT}.dataset.stopped")
+        bridge.pump(None)
+    after = b"".join(bridge.writes[before:])
+    assert stop and after.endswith(stop)
+    assert page.evaluate(f"{RESULT}.dataset.stopped") == (
+        "The mission's code stopped answering for 2 s while the robot ran (a loop that never"
+        " ends?), so the page stopped the robot and ended the run; nothing of it was kept."
+    )
+    assert page.errors == []
