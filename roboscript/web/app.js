@@ -349,6 +349,10 @@
    * bytes), and Stop, a closing tab, a lost link and a worker that no longer answers while the
    * robot runs make the page write it itself. */
   var SILENT_MS = 2000;  // the worker says it is alive every 250 ms while a run waits
+  /* Bytes from the robot handed to the worker since it last said it was alive, at most: a
+   * device that floods the line (far past any robot's rate) ends the run, rather than the
+   * worker's queue growing while it cannot read. */
+  var MAX_UNREAD_BYTES = 1048576;
   var robotPort = null, robotRunning = false, robot = null, chosen = {};
   var portReleased = Promise.resolve(), choosers = { serial: {}, bluetooth: null };
 
@@ -358,6 +362,11 @@
   var STOPPED_SILENT = "Stopped with the Stop button: the robot was sent its stop at once, " +
     "and the mission's code, which no longer answered (a loop that never ends?), was ended; " +
     "nothing of the run was kept.";
+  var FLOODED = "The robot sent more than the run could read (over 1 MB at once: is it the " +
+    "robot you chose?), so the page stopped the robot and ended the run; nothing of it was " +
+    "kept.";
+  var UNPLUGGED = "it was unplugged (or switched off) since you connected it: plug it in " +
+    "again, then press its Connect button and choose it";
   var STOPPED_EARLY = "Stopped with the Stop button, before the mission reached the robot: " +
     "nothing of the run was kept.";
 
@@ -388,7 +397,7 @@
   function runOnRobot() {
     if (!robotPort || robotRunning || !ready) return;
     var run = robot = { url: robotPort, port: null, stop: null, heard: performance.now(),
-                        over: false, closed: false, stopAsked: false };
+                        unread: 0, over: false, closed: false, stopAsked: false };
     robotRunning = true;
     note("");
     $("result").removeAttribute("data-stopped");
@@ -434,7 +443,8 @@
     var run = robot;
     if (!run) return;
     run.heard = performance.now();
-    if (message.type === "port-open") openPort(run, message);
+    if (message.type === "alive") run.unread = 0;
+    else if (message.type === "port-open") openPort(run, message);
     else if (message.type === "port-write" && run.port && !run.over) run.port.write(message.data);
     else if (message.type === "port-close") closePort(run);
     else if (message.type === "robot-ready") {
@@ -454,20 +464,53 @@
       toWorker("failed", "it is no longer connected in this page: press Connect again");
       return;
     }
+    var on = {
+      received: function (bytes) {
+        if (run.over) return;
+        run.unread += bytes.length;
+        if (run.unread > MAX_UNREAD_BYTES) takeOver(run, FLOODED);
+        else toWorker("received", bytes);
+      },
+      lost: function (detail) { portLost(run, detail); }
+    };
     portReleased.then(function () {  // the last run's port, released first
       if (run.over) return null;
-      return window.rsRobotPort(choice.device, choice.via, asked, {
-        received: function (bytes) { if (!run.over) toWorker("received", bytes); },
-        lost: function (detail) { portLost(run, detail); }
+      return window.rsRobotPort(choice.device, choice.via, asked, on).catch(function (error) {
+        // unplugged and plugged in again, a USB board is a new port for the browser: the
+        // one of that kind it lets the page use, if there is exactly one, with no new Connect
+        return pluggedAgain(choice).then(function (again) {
+          if (!again || run.over) throw error;
+          choice.device = again;
+          choice.lost = false;
+          return window.rsRobotPort(again, choice.via, asked, on);
+        });
       });
     }).then(function (port) {
       if (!port) return;
+      choice.lost = false;
       run.port = port;
       if (run.over || run.closed) closePort(run);
       else toWorker("opened");
     }, function (error) {
-      toWorker("failed", String(error && error.message || error));
+      toWorker("failed", choice.lost ? UNPLUGGED : String(error && error.message || error));
     });
+  }
+
+  /* The USB board plugged in again after ``choice`` was unplugged: the one port of the same
+   * kind (USB vendor and product) the browser lets this page use, other than the old one;
+   * null when there is none, or more than one (the page never guesses between two boards). */
+  function pluggedAgain(choice) {
+    var old = choice.device;
+    if (choice.via !== "serial" || !navigator.serial.getPorts) return Promise.resolve(null);
+    var kind = old.getInfo ? old.getInfo() : {};
+    return navigator.serial.getPorts().then(function (ports) {
+      var same = ports.filter(function (port) {
+        var info = port.getInfo ? port.getInfo() : {};
+        return port !== old && info.usbVendorId === kind.usbVendorId &&
+          info.usbProductId === kind.usbProductId;
+      });
+      return same.length === 1 ? same[0] : null;
+    }, function () { return null; });
   }
 
   function closePort(run) {
@@ -481,6 +524,7 @@
   /* The device went: its stop is written at once (where the line still carries it), and the
    * run ends with the lost link's sentence, from the worker. */
   function portLost(run, detail) {
+    if (chosen[run.url]) chosen[run.url].lost = true;
     if (run.over) return;
     if (run.port && run.stop) run.port.stopNow(run.stop);
     toWorker("lost", detail);

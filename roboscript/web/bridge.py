@@ -196,7 +196,7 @@ def run_text(
     path, spec, profile, problems = _load(name, text, robot, recording)
     if spec is None or any(p["severity"] == "error" for p in problems):
         return json.dumps({"problems": problems, "summary": None, "viewer": None})
-    with on_robot(port, path.parent) as on:
+    with on_robot(port, path.parent, profile) as on:
         try:
             session = run_session(
                 spec,

@@ -80,20 +80,32 @@ def bluetooth_options() -> str:
 class RobotRun:
     """What :func:`on_robot` gives a run: its options, then its wire log.
 
+    On a page's port (``webserial://``, ``webbluetooth://``) the robot's stop
+    (:func:`stop_bytes`) is worked out before the port opens, so that once the handshake is
+    done the page has it at once: from then on the page hears from the worker all the while,
+    and a worker busy working it out would look like one that no longer answers.
+
     Attributes:
         options: Keyword arguments for :func:`~roboscript.session.run_session`.
         wire_log: The path of the run's wire log, or ``None`` on the simulator.
     """
 
-    def __init__(self, port: str, folder: Path) -> None:
+    def __init__(self, port: str, folder: Path, profile: RobotProfile | None = None) -> None:
         self.wire_log = folder / "wire.log" if port else None
         self.options: dict[str, Any] = {}
+        self._stop = stop_bytes(profile) if port and profile and chosen_robot(port) else b""
         if port:
             self.options = {
                 "port": port,
                 "wire_log": str(self.wire_log),
-                "on_connected": _connected,
+                "on_connected": self._connected,
             }
+
+    def _connected(self, robot: Robot) -> None:
+        """The handshake is done: the page gets the robot's stop, and says the mission runs."""
+        port = robot.driver.link.port
+        if isinstance(port, WebPort):
+            port.ready(self._stop or stop_bytes(robot.profile))
 
     def answer(self) -> dict[str, str]:
         """What the page is told besides the run's summary: ``{"wire_log": its text}`` after
@@ -144,16 +156,9 @@ def stop_bytes(profile: RobotProfile) -> bytes:
     return bytes(tap.written)
 
 
-def _connected(robot: Robot) -> None:
-    """The handshake is done: the page gets the robot's stop, and says the mission runs."""
-    port = robot.driver.link.port
-    if isinstance(port, WebPort):
-        port.ready(stop_bytes(robot.profile))
-
-
 @contextlib.contextmanager
-def on_robot(port: str, folder: Path) -> Iterator[RobotRun]:
-    """A run on the robot at ``port`` (``""``: on the simulator); the robot is forgotten after.
+def on_robot(port: str, folder: Path, profile: RobotProfile | None = None) -> Iterator[RobotRun]:
+    """A run on the robot at ``port`` (``""``: on the simulator).
 
     A handshake that fails names the page's Robot list (:data:`ROBOT_LIST`), not ``--robot``,
     and the robot as the student chose it, not by its port's URL.
@@ -161,6 +166,7 @@ def on_robot(port: str, folder: Path) -> Iterator[RobotRun]:
     Args:
         port: A URL :func:`remember` gave, or ``""``.
         folder: Where the wire log is written.
+        profile: The robot the run is for (its stop is worked out before the port opens).
     """
     with robots_picked_with(ROBOT_LIST):
-        yield RobotRun(port, folder)
+        yield RobotRun(port, folder, profile)

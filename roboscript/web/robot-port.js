@@ -173,7 +173,12 @@
           if (sending && !failed && performance.now() < giveUp) window.setTimeout(drained, 5);
           else resolve();
         })();
-      }).then(shut);
+      }).then(function () {
+        // a device gone for good may never answer its close: the next run must not wait
+        return Promise.race([shut(), new Promise(function (resolve) {
+          window.setTimeout(resolve, CLOSE_WAIT_MS);
+        })]);
+      });
       return closing;
     }
 

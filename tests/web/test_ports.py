@@ -58,6 +58,7 @@ STAND_IN = """
   }
   function StandInPort(n) {
     var port = this, incoming = null, gone = [];
+    this.dead = false;  // unplugged: the browser opens this object no more
     this.readable = null;
     this.writable = null;
     this.addEventListener = function (type, f) { if (type === "disconnect") gone.push(f); };
@@ -67,6 +68,9 @@ STAND_IN = """
     };
     this.getInfo = function () { return { usbVendorId: 0x2341, usbProductId: 0x8037 }; };
     this.open = function (options) {
+      if (port.dead) {
+        return Promise.reject(new DOMException("Failed to open serial port.", "NetworkError"));
+      }
       window.rsStandInOpen(JSON.stringify({ port: n, baudRate: options.baudRate }));
       port.readable = new ReadableStream({ start: function (c) { incoming = c; } });
       port.writable = new WritableStream({
@@ -90,6 +94,7 @@ STAND_IN = """
       port.readable = null;
     };
     this.unplug = function () {  // as a real unplug: the stream fails and the port says so
+      port.dead = true;
       port.lose();
       gone.slice().forEach(function (f) { f({ type: "disconnect", target: port }); });
     };
@@ -101,7 +106,11 @@ STAND_IN = """
       ports.push(port);
       return Promise.resolve(port);
     },
-    getPorts: function () { return Promise.resolve(ports.slice()); },
+    getPorts: function () {  // the ports this page may use: a port unplugged is not one
+      return Promise.resolve(ports.filter(function (p) {
+        return p instanceof StandInPort && !p.dead;
+      }));
+    },
     addEventListener: function () {},
     removeEventListener: function () {}
   };
@@ -181,6 +190,12 @@ STAND_IN = """
     get: function () { return bluetooth; }, configurable: true
   });
   window.rsStandIn = ports;
+  // The board plugged in again: a new port for the browser, which the page may use (a board
+  // with a USB serial number keeps its permission), and no chooser is asked. Its index.
+  window.rsStandInPlugBack = function () {
+    ports.push(new StandInPort(ports.length));
+    return ports.length - 1;
+  };
 })();
 """
 
@@ -201,6 +216,8 @@ class StandInBridge:
         self.writes: list[bytes] = []
         """Each chunk the page wrote, in order."""
         self.asked: list[dict[str, object]] = []
+        self.opened = 0
+        """How many times the page opened a port."""
         self.closed = False
 
     def _handle(self, name: str, payload: str) -> None:
@@ -208,6 +225,7 @@ class StandInBridge:
         if name == "rsStandInAsked":
             self.asked.append(message)
         elif name == "rsStandInOpen":
+            self.opened += 1
             self.port_index = int(message["port"])
             self.sock = socket.create_connection(("127.0.0.1", self.tcp_port))
         elif name == "rsStandInWrite":
@@ -655,4 +673,48 @@ def test_a_robot_whose_mission_code_stops_answering_is_stopped_by_the_page_itsel
         "The mission's code stopped answering for 2 s while the robot ran (a loop that never"
         " ends?), so the page stopped the robot and ended the run; nothing of it was kept."
     )
+    assert page.errors == []
+
+
+def test_a_mirto_plugged_in_again_after_an_unplug_runs_again_without_a_new_connect(
+    page: Browser,
+) -> None:
+    _mission_in_editor(page, HELLO)
+    with served_simulator("mirto") as tcp_port:
+        bridge = StandInBridge(page, tcp_port)
+        _connect_and_run(page, bridge, "[data-robot=mirto]")
+        bridge.pump("document.body.dataset.robotReady === '1'")
+        page.evaluate(f"rsStandIn[{bridge.port_index}].unplug()")
+        bridge.pump(f"{RESULT}.dataset.json")
+    assert page.evaluate(f"{RESULT}.textContent").endswith(
+        "(the robot's USB connection was lost (was the cable pulled out?))"
+    )
+    # Run on the robot with the cable still out: the page says what to do, in a sentence
+    page.evaluate(f"{RESULT}.removeAttribute('data-json')")
+    page.wait_for("!document.querySelector('[data-action=run-robot]').disabled", LONG_S)
+    page.click("[data-action=run-robot]")
+    assert page.wait_for(f"{RESULT}.dataset.error", LONG_S) == (
+        "cannot reach the robot on the serial port you chose: it was unplugged (or switched off)"
+        " since you connected it: plug it in again, then press its Connect button and choose it"
+    )
+    # the student plugs the cable in again and presses Run on the robot: no Connect
+    page.evaluate(
+        "rsStandInPlugBack();"
+        f" {RESULT}.removeAttribute('data-json'); {RESULT}.removeAttribute('data-error');"
+        " document.body.removeAttribute('data-wire-log')"
+    )
+    with served_simulator("mirto") as tcp_port:
+        bridge = StandInBridge(page, tcp_port)
+        page.wait_for("!document.querySelector('[data-action=run-robot]').disabled", LONG_S)
+        # pressed twice in a hurry: one run
+        page.evaluate(
+            "const run = document.querySelector('[data-action=run-robot]');"
+            " run.click(); run.click()"
+        )
+        bridge.pump(f"{RESULT}.dataset.json || {RESULT}.dataset.error")
+        assert page.evaluate(f"{RESULT}.dataset.error") is None
+        bridge.pump("document.body.dataset.wireLog")
+    summary = json.loads(page.evaluate(f"{RESULT}.dataset.json"))
+    assert (summary["outcome"], summary["final_state"]) == ("success", "beep")
+    assert bridge.opened == 1
     assert page.errors == []
