@@ -397,7 +397,8 @@
   function runOnRobot() {
     if (!robotPort || robotRunning || !ready) return;
     var run = robot = { url: robotPort, port: null, stop: null, heard: performance.now(),
-                        unread: 0, over: false, closed: false, stopAsked: false };
+                        unread: 0, over: false, closed: false, stopAsked: false,
+                        longestSilenceMs: 0 };
     robotRunning = true;
     note("");
     $("result").removeAttribute("data-stopped");
@@ -442,7 +443,15 @@
   function fromWorker(message) {
     var run = robot;
     if (!run) return;
-    run.heard = performance.now();
+    var now = performance.now();
+    if (run.port && now - run.heard > run.longestSilenceMs) {
+      // how long the worker went without a word while it held the robot (the page's tests
+      // and benchmarks read it: how far an honest run stays from SILENT_MS)
+      run.longestSilenceMs = now - run.heard;
+      document.body.setAttribute("data-robot-longest-silence-ms",
+                                 String(Math.round(run.longestSilenceMs)));
+    }
+    run.heard = now;
     if (message.type === "alive") run.unread = 0;
     else if (message.type === "port-open") openPort(run, message);
     else if (message.type === "port-write" && run.port && !run.over) run.port.write(message.data);
