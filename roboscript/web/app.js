@@ -457,7 +457,8 @@
     else if (message.type === "port-write" && run.port && !run.over) run.port.write(message.data);
     else if (message.type === "port-close") closePort(run);
     else if (message.type === "robot-ready") {
-      run.stop = message.stop;
+      // none (a robot whose stop could not be worked out): the page leaves the stop to the run
+      run.stop = message.stop && message.stop.length ? message.stop : null;
       document.body.setAttribute("data-robot-ready", "1");
       say("Running the mission on the robot… (Stop stops it at once)");
     }

@@ -15,12 +15,14 @@ from __future__ import annotations
 
 import contextlib
 import json
+import logging
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 from roboscript.drivers import protocol_unit
 from roboscript.drivers.recognise import RobotPicker, robots_picked_with
+from roboscript.errors import RoboscriptError
 from roboscript.profiles import RobotProfile, get_profile
 from roboscript.robot import Robot
 from roboscript.transport.ble import SERVICE_UUID
@@ -36,6 +38,8 @@ __all__ = [
     "serial_filters",
     "stop_bytes",
 ]
+
+logger = logging.getLogger(__name__)
 
 from_page = deliver
 """What the page says of the port it holds for a run (:func:`roboscript.transport.webport.
@@ -93,7 +97,7 @@ class RobotRun:
     def __init__(self, port: str, folder: Path, profile: RobotProfile | None = None) -> None:
         self.wire_log = folder / "wire.log" if port else None
         self.options: dict[str, Any] = {}
-        self._stop = stop_bytes(profile) if port and profile and chosen_robot(port) else b""
+        self._stop = _stop_of(profile) if port and profile and chosen_robot(port) else b""
         if port:
             self.options = {
                 "port": port,
@@ -105,7 +109,7 @@ class RobotRun:
         """The handshake is done: the page gets the robot's stop, and says the mission runs."""
         port = robot.driver.link.port
         if isinstance(port, WebPort):
-            port.ready(self._stop or stop_bytes(robot.profile))
+            port.ready(self._stop or _stop_of(robot.profile))
 
     def answer(self) -> dict[str, str]:
         """What the page is told besides the run's summary: ``{"wire_log": its text}`` after
@@ -154,6 +158,16 @@ def stop_bytes(profile: RobotProfile) -> bytes:
         finally:
             link.port = tap.port
     return bytes(tap.written)
+
+
+def _stop_of(profile: RobotProfile) -> bytes:
+    """:func:`stop_bytes`, or none for a robot whose simulator cannot be had (the page then
+    leaves the stop to the run, as on the command line): the run goes on either way."""
+    try:
+        return stop_bytes(profile)
+    except RoboscriptError as exc:
+        logger.warning("the page cannot stop %s by itself: %s", profile.name, exc)
+        return b""
 
 
 @contextlib.contextmanager

@@ -15,11 +15,13 @@ import pytest
 from helpers import MISSIONS, served_simulator
 
 from roboscript.drivers.recognise import handshake_failure
+from roboscript.errors import LinkError
 from roboscript.profiles import get_profile
 from roboscript.robot import Robot
 from roboscript.transport.wirelog import read_wire_log
+from roboscript.web import connect
 from roboscript.web.bridge import run_text
-from roboscript.web.connect import on_robot, stop_bytes
+from roboscript.web.connect import RobotRun, on_robot, stop_bytes
 
 SQUARE = (MISSIONS / "square.yaml").read_text(encoding="utf-8")
 
@@ -100,3 +102,14 @@ def test_the_stop_the_page_is_handed_is_what_the_driver_sends_to_stop(
         wire_log.flush()
         sent = b"".join(data for _, way, data in read_wire_log(log)[before:] if way == ">")
     assert sent and stop_bytes(get_profile(robot)) == sent
+
+
+def test_a_robot_whose_stop_cannot_be_worked_out_still_runs_from_the_page(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def no_simulator(profile: object) -> bytes:
+        raise LinkError("no simulator of this robot")
+
+    monkeypatch.setattr(connect, "stop_bytes", no_simulator)
+    run = RobotRun("webserial://1", tmp_path, get_profile("mirto"))
+    assert run.options["port"] == "webserial://1"  # the stop is left to the run itself
