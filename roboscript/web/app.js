@@ -263,6 +263,10 @@
     button("run").disabled = !ready || errors > 0 || robotRunning || busy > 0;
     button("run-robot").disabled = !ready || !robotPort || errors > 0 || robotRunning ||
       busy > 0;
+    // another robot is connected once this run is over (the run's worker answers no Connect
+    // before then)
+    Array.prototype.forEach.call(document.querySelectorAll("[data-action=connect]"),
+      function (choice) { choice.disabled = !choice.hasAttribute("data-can") || robotRunning; });
   }
 
   /* Check the editor's text in the worker; an answer to an older text is left unshown. */
@@ -603,7 +607,10 @@
     Array.prototype.forEach.call(document.querySelectorAll("[data-action=connect]"),
       function (choice) {
         var via = choice.getAttribute("data-via");
-        choice.disabled = !waits || !(via === "bluetooth" ? bluetooth : serial);
+        if (waits && (via === "bluetooth" ? bluetooth : serial)) {
+          choice.setAttribute("data-can", "1");  // this browser can reach it
+        }
+        choice.disabled = !choice.hasAttribute("data-can") || robotRunning;
         choice.addEventListener("click", function () { connectRobot(choice); });
       });
     if (!waits && (serial || bluetooth)) {

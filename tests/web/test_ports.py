@@ -636,6 +636,11 @@ def test_stop_stops_a_robot_whose_mission_code_loops_forever_and_the_page_says_w
     stop = _robot_stop_bytes(tmp_path, "mirto")
     with served_simulator("mirto") as tcp_port:
         bridge, before = _run_away_on_a_mirto(page, tcp_port)
+        # no other robot is connected while this one runs
+        assert page.evaluate(
+            "Array.from(document.querySelectorAll('[data-action=connect]'))"
+            ".every(function (b) { return b.disabled; })"
+        )
         # the page answers while the student's code loops: its Stop can be pressed
         page.evaluate("document.querySelector('[data-action=stop]').click()")
         bridge.pump(f"{RESULT}.dataset.stopped")
@@ -655,6 +660,7 @@ def test_stop_stops_a_robot_whose_mission_code_loops_forever_and_the_page_says_w
         LONG_S,
     )
     assert page.evaluate("document.querySelector('[data-action=stop]').disabled") is True
+    assert page.evaluate("document.querySelector('[data-action=connect]').disabled") is False
     assert page.errors == []
 
 
