@@ -46,6 +46,7 @@ MISSION = MISSIONS / "plen_walk.yaml"
 STAND_IN = """
 (function () {
   var ports = [];
+  window.rsStandInWritten = 0;  // writes the device has taken (as rsStandInWrite said them)
   function bytesOf(text) {
     var raw = atob(text), out = new Uint8Array(raw.length);
     for (var i = 0; i < raw.length; i++) out[i] = raw.charCodeAt(i);
@@ -75,6 +76,7 @@ STAND_IN = """
       port.readable = new ReadableStream({ start: function (c) { incoming = c; } });
       port.writable = new WritableStream({
         write: function (chunk) {
+          window.rsStandInWritten += 1;  // the page's count, taken with what it does next
           window.rsStandInWrite(JSON.stringify({ port: n, data: textOf(chunk) }));
         }
       });
@@ -394,44 +396,54 @@ def test_a_mission_on_a_robot_from_the_page_puts_the_same_bytes_on_the_wire_as_t
     assert page.errors == []
 
 
-def _stopped_mid_mission(page: Browser, folder: Path, how: str) -> tuple[bytes, bytes]:
+def _stopped_mid_mission(page: Browser, folder: Path, how: str) -> tuple[bytes, list[bytes]]:
     """Run the mission on the robot, and once it runs, stop it ``how``: ``"button"``,
     ``"lost"`` (the stand-in port's stream fails) or ``"close"`` (the page is closed).
 
     Returns:
-        The driver's stop bytes, and every byte the page wrote from that moment on.
+        The driver's stop bytes, and each write the device took from the moment the page was
+        told (counted by the page as it was told, so a write made just before is not taken
+        for one made after).
     """
     stop = _stop_bytes(folder)
     with served_simulator("plen2") as tcp_port:
         bridge = StandInBridge(page, tcp_port)
         _connect_and_run(page, bridge)
         bridge.pump("document.body.dataset.robotReady === '1'")
-        before = len(bridge.writes)
         if how == "button":
-            page.click("[data-action=stop]")
+            before = page.evaluate(
+                "(() => { const n = window.rsStandInWritten;"
+                " document.querySelector('[data-action=stop]').click(); return n; })()"
+            )
         elif how == "lost":
-            page.evaluate(f"rsStandIn[{bridge.port_index}].lose()")
+            before = page.evaluate(
+                f"(() => {{ const n = window.rsStandInWritten; rsStandIn[{bridge.port_index}]"
+                ".lose(); return n; })()"
+            )
         else:
+            before = page.evaluate("window.rsStandInWritten")
             page._call("Page.close")
-            # Its last words are the stop: wait for as many bytes (what is asserted is their
-            # start, which bytes coming after cannot change), never a fixed time.
+            # Its last words are the stop: wait for it, never a fixed time.
             deadline = time.monotonic() + LONG_S
-            while sum(map(len, bridge.writes[before:])) < len(stop):
-                if time.monotonic() > deadline:
-                    break
+            while stop not in bridge.writes[before:] and time.monotonic() < deadline:
                 for name, payload in page.take_bindings(0.1):
                     bridge._handle(name, payload)
         if how != "close":
             bridge.pump(None)
-    return stop, b"".join(bridge.writes[before:])
+    return stop, bridge.writes[before:]
+
+
+def _the_stop_came_next(stop: bytes, writes: list[bytes]) -> None:
+    """What the device took once the page was told to stop: at most the one write already on
+    its way (begun before), then the robot's stop, and nothing after it."""
+    assert stop in writes, writes
+    assert writes.index(stop) <= 1 and writes[writes.index(stop) :] == [stop], writes
 
 
 def test_the_stop_button_sends_the_stop_first_and_ends_the_run(
     page: Browser, tmp_path: Path
 ) -> None:
-    stop, after = _stopped_mid_mission(page, tmp_path, "button")
-    assert after.startswith(stop)
-    assert after.replace(stop, b"") == b""  # nothing but stops once Stop was pressed
+    _the_stop_came_next(*_stopped_mid_mission(page, tmp_path, "button"))
     result = page.wait_for("document.querySelector('[data-role=result]').textContent", LONG_S)
     assert result.startswith("error: plen-walk ended in ")
     assert result.endswith("(stopped with the Stop button)")
@@ -439,8 +451,7 @@ def test_the_stop_button_sends_the_stop_first_and_ends_the_run(
 
 
 def test_a_lost_link_stops_the_mission_in_one_sentence(page: Browser, tmp_path: Path) -> None:
-    stop, after = _stopped_mid_mission(page, tmp_path, "lost")
-    assert after.startswith(stop) and after.replace(stop, b"") == b""
+    _the_stop_came_next(*_stopped_mid_mission(page, tmp_path, "lost"))
     result = page.wait_for("document.querySelector('[data-role=result]').textContent", LONG_S)
     assert result.startswith("error: plen-walk ended in ")
     assert result.endswith("(the robot's USB connection was lost (was the cable pulled out?))")
@@ -448,8 +459,8 @@ def test_a_lost_link_stops_the_mission_in_one_sentence(page: Browser, tmp_path: 
 
 
 def test_closing_the_page_sends_the_stop(page: Browser, tmp_path: Path) -> None:
-    stop, after = _stopped_mid_mission(page, tmp_path, "close")
-    assert after.startswith(stop)
+    stop, writes = _stopped_mid_mission(page, tmp_path, "close")
+    assert stop in writes[:2]  # the one write on its way, if any, then the stop
 
 
 def test_a_spike_hub_over_bluetooth_runs_its_mission_from_the_page(
@@ -555,11 +566,12 @@ def test_a_mirto_unplugged_mid_run_is_stopped_and_told_in_one_sentence(
         bridge = StandInBridge(page, tcp_port)
         _connect_and_run(page, bridge, "[data-robot=mirto]")
         bridge.pump("document.body.dataset.robotReady === '1'")
-        before = len(bridge.writes)
-        page.evaluate(f"rsStandIn[{bridge.port_index}].unplug()")
+        before = page.evaluate(
+            f"(() => {{ const n = window.rsStandInWritten; rsStandIn[{bridge.port_index}]"
+            ".unplug(); return n; })()"
+        )
         bridge.pump(None)
-    after = b"".join(bridge.writes[before:])
-    assert stop and after.startswith(stop)  # the motors' stop went out first
+    _the_stop_came_next(stop, bridge.writes[before:])  # the motors' stop went out first
     result = page.wait_for(f"{RESULT}.textContent", LONG_S)
     assert result.startswith("error: hello ended in ")
     assert result.endswith("(the robot's USB connection was lost (was the cable pulled out?))")
