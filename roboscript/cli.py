@@ -460,6 +460,10 @@ def _report_class(args: argparse.Namespace, report: Any) -> int:
     written = _write_grade_reports(args, report)
     if not written:
         return EXIT_FAILED
+    faults = report.teachers_faults
+    if faults is not None:  # last, where the teacher looks: the grades above are wrong
+        _err(f"error: {faults}")
+        return EXIT_INPUT
     return EXIT_OK if report.passed else EXIT_FAILED
 
 

@@ -148,6 +148,32 @@ class ClassReport:
         """True if every run of every student passed."""
         return all(r.passed for r in self.results)
 
+    @property
+    def teachers_faults(self) -> str | None:
+        """One sentence for the teacher when a check of theirs failed to judge some runs (see
+        :attr:`~roboscript.grading.record.Verdict.teachers_fault`), or None.
+
+        Those runs fail the check whatever the robot did: the grades are wrong until the check
+        is fixed, which a teacher reading only scores would never see.
+        """
+        faults = [
+            (result, verdict)
+            for result in self.results
+            for verdict in result.verdicts
+            if verdict.teachers_fault
+        ]
+        if not faults:
+            return None
+        first, verdict = faults[0]
+        names = sorted({v.name for _, v in faults})
+        runs = len({id(result) for result, _ in faults})
+        return (
+            f"{' and '.join(names)} failed to judge {runs} of {len(self.results)} runs"
+            f" (first: {first.student}, {first.test}: {verdict.detail}); those runs fail it"
+            " whatever the robot did, so their grades are not to be trusted: fix the check"
+            " and grade again"
+        )
+
     _index: _Index | None = field(default=None, init=False, compare=False, repr=False)
 
     def _indexed(self) -> _Index:

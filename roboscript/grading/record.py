@@ -269,6 +269,9 @@ class Verdict:
             the tightest pass across expectations; ``None`` when there is no tolerance.
         weight: Share of the run's score this expectation carries.
         required: The expectation is required: a run that fails it scores 0.
+        teachers_fault: The teacher's own check failed to judge (it raised, returned no
+            answer or never returned): the run fails it, and the grade is not to be trusted
+            until the check is fixed; the grader says so to the teacher.
     """
 
     name: str
@@ -281,12 +284,14 @@ class Verdict:
     relative_margin: float | None = None
     weight: float = 1.0
     required: bool = False
+    teachers_fault: bool = False
 
     def to_dict(self) -> dict[str, Any]:
-        """A JSON-ready dictionary (``required`` only when it is true)."""
+        """A JSON-ready dictionary (``required`` and ``teachers_fault`` only when true)."""
         data = asdict(self)
-        if not self.required:
-            del data["required"]
+        for flag in ("required", "teachers_fault"):
+            if not data[flag]:
+                del data[flag]
         return data
 
     @classmethod

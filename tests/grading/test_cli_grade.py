@@ -139,6 +139,31 @@ def test_an_invalid_spec_exits_2_with_its_location(tmp_path: Path) -> None:
     assert result.stdout == ""
 
 
+def test_a_teachers_check_that_cannot_judge_is_told_to_the_teacher_and_exits_2(
+    tmp_path: Path,
+) -> None:
+    # It fails every student's run whatever their robot did: the grades are the teacher's
+    # mistake, said last, where a teacher reading the table looks, not a class that failed.
+    (tmp_path / "laps.py").write_text("def lap(run):\n    return 1 / 0\n", encoding="utf-8")
+    spec = tmp_path / "test.yaml"
+    spec.write_text(
+        "test: laps\nworld: empty\nrobot: mirto\nruns:\n  - {seed: 1}\nmax_time: 10 s\n"
+        "expect:\n  - outcome: success\n  - check: 'laps.py:lap'\n",
+        encoding="utf-8",
+    )
+    folder = tmp_path / "class"
+    folder.mkdir()
+    shutil.copy(MISSIONS / "there_and_back.yaml", folder / "amy.yaml")
+    result = run_cli("grade", str(spec), "--mission", str(folder), "--quiet")
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert result.stderr.splitlines()[-1] == (
+        "error: check: lap failed to judge 1 of 1 runs (first: amy, laps: the teacher's check"
+        " raised ZeroDivisionError: division by zero (laps.py:2)); those runs fail it whatever"
+        " the robot did, so their grades are not to be trusted: fix the check and grade again"
+    )
+    assert "amy" in result.stdout  # the table is still printed, and every report written
+
+
 def test_no_missions_found_exits_2(tmp_path: Path) -> None:
     result = run_cli("grade", str(SQUARE), "--mission", str(tmp_path / "nobody-*.yaml"))
     assert result.returncode == 2

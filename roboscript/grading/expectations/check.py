@@ -90,6 +90,7 @@ class CheckFunction(Rule):
                 None,
                 f"the teacher's check did not return within {CHECK_LIMIT_S:g} s{at}: is there"
                 " a loop in it that never ends?",
+                teachers_fault=True,
             )
         except Exception as exc:  # noqa: BLE001 - a fault of the teacher's code fails this check
             where = traceback.extract_tb(exc.__traceback__)[-1]
@@ -100,6 +101,7 @@ class CheckFunction(Rule):
                 None,
                 f"the teacher's check raised {type(exc).__name__}: {exc}"
                 f" ({Path(where.filename).name}:{where.lineno})",
+                teachers_fault=True,
             )
         if isinstance(answer, Verdict):
             return answer
@@ -119,6 +121,7 @@ class CheckFunction(Rule):
             None,
             f"the teacher's check returned {type(answer).__name__}; it must return True/False,"
             " (True/False, message) or a Verdict",
+            teachers_fault=True,
         )
 
     def _locate_frame(self, frame: FrameType | None) -> CodePlace | None:

@@ -67,12 +67,25 @@ def test_a_check_is_found_beside_the_spec(folder: Path) -> None:
                 "check: judge",
                 False,
                 detail="the teacher's check raised ValueError: no lap (checks.py:6)",
+                teachers_fault=True,
             ),
         ),
-        ("return (True, 5)", Verdict("check: judge", False, detail=FAULT.format("tuple"))),
-        ("return ('yes', 'ok')", Verdict("check: judge", False, detail=FAULT.format("tuple"))),
-        ("return (True, 'a', 'b')", Verdict("check: judge", False, detail=FAULT.format("tuple"))),
-        ("return [True, 'ok']", Verdict("check: judge", False, detail=FAULT.format("list"))),
+        (
+            "return (True, 5)",
+            Verdict("check: judge", False, detail=FAULT.format("tuple"), teachers_fault=True),
+        ),
+        (
+            "return ('yes', 'ok')",
+            Verdict("check: judge", False, detail=FAULT.format("tuple"), teachers_fault=True),
+        ),
+        (
+            "return (True, 'a', 'b')",
+            Verdict("check: judge", False, detail=FAULT.format("tuple"), teachers_fault=True),
+        ),
+        (
+            "return [True, 'ok']",
+            Verdict("check: judge", False, detail=FAULT.format("list"), teachers_fault=True),
+        ),
     ],
 )
 def test_a_teachers_check_answers(tmp_path: Path, body: str, wanted: Verdict) -> None:
