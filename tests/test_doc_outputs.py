@@ -161,7 +161,10 @@ def test_the_common_mistakes_page_shows_each_mistake_of_issue_14() -> None:
 # A slow tick's time as ``run`` prints it: the code's own time, wall time less its waits for a
 # CPU. A wait that falls inside a sleep (preempted on its way into ``time.sleep``, or woken by
 # the watchdog's alarm) is left out although the sleep to its deadline did not last longer, so
-# on a busy machine a sleeping tick can show less than the page; never more, never a tick.
+# on a busy machine a sleeping tick can show less than the page, never a tick. It can show a
+# little more too: in a virtual machine, time its host gives another machine is no wait the
+# guest sees (a 0.05 s sleep read 0.06 s with every core busy), so up to half again is let by.
+_OWN_TIME_OVER_PAGE = 1.5
 _TICK_TIME = re.compile(r"(took (?:up to )?)(\d+\.\d\d)( s (?:in one|per) tick)")
 
 
@@ -173,7 +176,7 @@ def _own_times_as_shown(printed: str, shown: str) -> str:
     if len(page) != len(measured):
         return printed  # the comparison shows what differs
     for on_page, own_s in zip(page, measured, strict=True):
-        assert TICK_BUDGET.slow_tick_s < own_s <= on_page, printed
+        assert TICK_BUDGET.slow_tick_s < own_s <= on_page * _OWN_TIME_OVER_PAGE, printed
     times = iter(f"{value:.2f}" for value in page)
     return _TICK_TIME.sub(lambda found: found.group(1) + next(times) + found.group(3), printed)
 
