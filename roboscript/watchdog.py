@@ -671,14 +671,23 @@ def alarm_kept_sentence(whose: str) -> str:
     )
 
 
-def keep_alarm(whose: str, refused: Callable[[str], bool]) -> None:
+def keep_alarm(
+    whose: str, refused: Callable[[str], bool], kept_blocked: frozenset[int] = frozenset()
+) -> None:
     """Refuse, for the rest of the process, every change to the watchdog's SIGALRM and timer
     (``signal.signal(signal.SIGALRM, ...)``, ``signal.alarm``, ``signal.setitimer(signal.
     ITIMER_REAL, ...)``, ``signal.pthread_sigmask`` blocking SIGALRM, through :mod:`signal` or
     ``_signal``) made by code from a file ``refused`` names: a :class:`PermissionError` at its
     line, saying :func:`alarm_kept_sentence` of ``whose``.
+
+    Args:
+        whose: Whose code is refused, for the sentence (``a mission``, ``a graded mission``).
+        refused: Whether code of a file (a code object's ``co_filename``) is refused.
+        kept_blocked: Signals that stay blocked whatever ``pthread_sigmask`` is asked (those
+            a thread of their own waits for).
     """
     alarm_signal, real_timer = int(signal.SIGALRM), int(signal.ITIMER_REAL)
+    unblock, set_whole = int(signal.SIG_UNBLOCK), int(signal.SIG_SETMASK)
     blocking = {int(signal.SIG_BLOCK), int(signal.SIG_SETMASK)}
     python_wrapper = signal.__file__  # signal.signal() calls _signal.signal(): look past it
     sentence = alarm_kept_sentence(whose)
@@ -710,8 +719,13 @@ def keep_alarm(whose: str, refused: Callable[[str], bool]) -> None:
 
         def kept_mask(how: int, mask: Iterable[int], /) -> Any:
             chosen = list(mask)
-            if _as_int(how) in blocking and alarm_signal in {_as_int(s) for s in chosen}:
+            numbers = {_as_int(s) for s in chosen}
+            if _as_int(how) in blocking and alarm_signal in numbers:
                 refuse_if_theirs()
+            if _as_int(how) == unblock:
+                chosen = [s for s in chosen if _as_int(s) not in kept_blocked]
+            elif _as_int(how) == set_whole:
+                chosen += sorted(kept_blocked - numbers)
             return set_mask(how, chosen)
 
         return {

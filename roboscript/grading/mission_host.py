@@ -56,7 +56,7 @@ import threading
 import traceback
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
-from types import FrameType, ModuleType
+from types import FrameType
 from typing import TYPE_CHECKING, Any, NamedTuple, TextIO
 
 from roboscript.code_owner import ROBOSCRIPT, is_student_file, owner_of_file
@@ -71,7 +71,15 @@ from roboscript.interrupts import (
 from roboscript.interrupts import install as install_interrupts
 from roboscript.mission.channels import MAX_PRINTED_LINES, PRINTED_LINE_CHARS
 from roboscript.transport.lockstep import Kind, WorldChannel, WorldStoppedError
-from roboscript.watchdog import DEFAULT_LIMIT_S, RunawayCode, Watchdog
+from roboscript.watchdog import (
+    DEFAULT_LIMIT_S,
+    RECURSION_LIMITS,
+    RunawayCode,
+    Watchdog,
+    alarm_kept_sentence,
+    bound_recursion,
+    keep_alarm,
+)
 
 if TYPE_CHECKING:
     from roboscript.mission.cause import TransitionCause
@@ -641,11 +649,7 @@ def _one_process() -> None:
                 setattr(module, name, refused)
 
 
-WATCHDOG_ALARM = (
-    "the watchdog that stops code that never returns uses SIGALRM and the real-time timer"
-    " (signal.alarm, signal.setitimer(signal.ITIMER_REAL)): a graded mission may not change,"
-    " ignore or block them"
-)
+WATCHDOG_ALARM = alarm_kept_sentence("a graded mission")
 """What a graded mission's ``signal.signal(signal.SIGALRM, ...)``, ``signal.alarm``,
 ``signal.setitimer(signal.ITIMER_REAL, ...)`` or ``signal.pthread_sigmask`` blocking SIGALRM
 raises (a :class:`PermissionError`): with the watchdog's alarm gone, a loop that never ends
@@ -654,60 +658,13 @@ could only be stopped by the world's CPU bound, which cannot say at which line."
 
 def _watchdog_alarm_kept() -> None:
     """Refuse every change to the watchdog's SIGALRM and timer made by code that is not
-    roboscript's own (see :data:`WATCHDOG_ALARM`), through :mod:`signal` or ``_signal``."""
-    alarm_signal, real_timer = int(signal.SIGALRM), int(signal.ITIMER_REAL)
-    blocking = {int(signal.SIG_BLOCK), int(signal.SIG_SETMASK)}
-    received = _received_apart
-    python_wrapper = signal.__file__  # signal.signal() calls _signal.signal(): look past it
-
-    def refuse_unless_roboscript() -> None:
-        frame = sys._getframe(2)
-        while frame.f_back is not None and frame.f_code.co_filename == python_wrapper:
-            frame = frame.f_back
-        if owner_of_file(frame.f_code.co_filename) != ROBOSCRIPT:
-            raise PermissionError(errno.EPERM, WATCHDOG_ALARM)
-
-    def kept(module: ModuleType) -> dict[str, Callable[..., Any]]:
-        set_handler, set_timer = module.signal, module.setitimer
-        set_mask, alarm = module.pthread_sigmask, module.alarm
-
-        def kept_handler(signum: int, handler: Any, /) -> Any:
-            if _as_int(signum) == alarm_signal:
-                refuse_unless_roboscript()
-            return set_handler(signum, handler)
-
-        def kept_timer(which: int, seconds: float, interval: float = 0.0, /) -> Any:
-            if _as_int(which) == real_timer:
-                refuse_unless_roboscript()
-            return set_timer(which, seconds, interval)
-
-        def kept_alarm(seconds: int, /) -> Any:
-            refuse_unless_roboscript()
-            return alarm(seconds)
-
-        def kept_mask(how: int, mask: Iterable[int], /) -> Any:
-            chosen = list(mask)
-            numbers = {_as_int(s) for s in chosen}
-            if _as_int(how) in blocking and alarm_signal in numbers:
-                refuse_unless_roboscript()
-            # SIGTERM and SIGHUP stay with the thread that learns who sent them
-            if _as_int(how) == int(signal.SIG_UNBLOCK):
-                chosen = [s for s in chosen if _as_int(s) not in received]
-            elif _as_int(how) == int(signal.SIG_SETMASK):
-                chosen += sorted(received - numbers)
-            return set_mask(how, chosen)
-
-        return {
-            "signal": kept_handler,
-            "setitimer": kept_timer,
-            "alarm": kept_alarm,
-            "pthread_sigmask": kept_mask,
-        }
-
-    for module in (signal, sys.modules.get("_signal")):
-        if module is not None:
-            for name, wrapper in kept(module).items():
-                setattr(module, name, wrapper)
+    roboscript's own (see :data:`WATCHDOG_ALARM`); SIGTERM and SIGHUP stay with the thread
+    that learns who sent them."""
+    keep_alarm(
+        "a graded mission",
+        lambda filename: owner_of_file(filename) != ROBOSCRIPT,
+        kept_blocked=_received_apart,
+    )
 
 
 def _as_int(value: object) -> int | None:
@@ -719,29 +676,10 @@ def _as_int(value: object) -> int | None:
         return None
 
 
-RECURSION_LIMITS = (250, 10_000)
-"""The lowest and highest recursion limit a graded mission may set (``sys.setrecursionlimit``):
-lower, roboscript's own calls that run the mission (at most a hundred deep) would fail in the
-middle of its robot's commands; higher, the traceback of a runaway recursion would take
-longer to read than the run may take, and Python itself may crash."""
-
-
 def _bounded_recursion() -> None:
     """Keep ``sys.setrecursionlimit`` within :data:`RECURSION_LIMITS`: outside, it raises
     ``ValueError`` at the student's line, saying why."""
-    set_limit = sys.setrecursionlimit
-    low, high = RECURSION_LIMITS
-
-    def bounded(limit: int, /) -> None:
-        if isinstance(limit, int) and not low <= limit <= high:
-            raise ValueError(
-                f"a graded mission's recursion limit is between {low} and {high} (it was asked"
-                f" for {limit}): roboscript's own calls need {low}, and deeper calls than"
-                f" {high} are a runaway recursion"
-            )
-        set_limit(limit)
-
-    sys.setrecursionlimit = bounded
+    bound_recursion("a graded mission's")
 
 
 class _KeptStream(io.TextIOBase):
