@@ -30,7 +30,9 @@ from roboscript.grading.text import format_points
 __all__ = ["gradebook_csv", "write_gradebook"]
 
 
-_FORMULA = re.compile(r"(^|[,;\t|])([ \t]*)(?=[=+\-@])")
+# Any blank but a line break may stand between a separator and the formula (a no-break
+# space too: not every spreadsheet counts it as text).
+_FORMULA = re.compile(r"(^|[,;\t|])([^\S\r\n]*)(?=[=+\-@])")
 
 
 def _safe_cell(text: str) -> str:

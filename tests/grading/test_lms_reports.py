@@ -104,6 +104,15 @@ def test_a_formula_in_a_student_name_is_text_in_the_gradebook(tmp_path: Path) ->
     assert "\n'=HYPERLINK(1)," in gradebook_csv(report)
 
 
+@pytest.mark.parametrize("blank", [" ", "\u00a0", "\u2003"])
+def test_a_formula_after_a_separator_and_any_blank_is_text_in_the_gradebook(
+    tmp_path: Path, blank: str
+) -> None:
+    # a spreadsheet that splits the cell at ';' could read what follows, blanks and all
+    report = hand_report(tmp_path, good=f"x;{blank}=2+5")
+    assert f"\nx;{blank}'=2+5," in gradebook_csv(report)
+
+
 # ------------------------------------------------------------------------------- JUnit
 
 
