@@ -517,6 +517,8 @@ def _senders_told_apart() -> frozenset[int]:
     global _received_apart
     waited = _received_apart = frozenset(OUTSIDE_SIGNALS)
     signal.signal(_WAKE, _woken)
+    for signum in waited:
+        _note_if_spawned(signum)
     set_mask(signal.SIG_BLOCK, waited)
     pid = os.getpid()
 
@@ -537,6 +539,28 @@ def _senders_told_apart() -> frozenset[int]:
         return _received_apart
     _spawned_unblocked(waited)
     return waited
+
+
+def _note_if_spawned(signum: int) -> None:
+    """Have ``signum``'s handler note it as the run's own when it lands while a program is
+    being started.
+
+    The starter unblocks the signal while it starts a program, so that the program gets it
+    unblocked (:func:`_spawned_unblocked`): a program that signals its starter at once (a
+    ``kill`` it ran) can land it there, on the main thread, before ``fork_exec`` returns, where
+    no sender is told. Nothing outside the run aims at a mission process in that moment (the
+    teacher's signals go to the grader), so it is the run's.
+    """
+    handler = signal.getsignal(signum)
+    if not callable(handler):
+        return
+
+    def noted(number: int, frame: FrameType | None) -> Any:
+        if _spawns_under_way:
+            _sent_itself.setdefault(number, _THROUGH_A_PROGRAM)
+        return handler(number, frame)
+
+    signal.signal(signum, noted)
 
 
 def _spawned_unblocked(waited: frozenset[int]) -> None:

@@ -283,6 +283,27 @@ def test_a_signal_from_a_program_still_being_started_is_the_runs(
     assert how == mission_host._THROUGH_A_PROGRAM
 
 
+def test_a_signal_landing_on_the_starter_while_it_starts_a_program_is_the_runs(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # While it starts a program the starter has the signal unblocked (the program must get it
+    # so): one the program sends at once lands on the starter, where no sender is told.
+    monkeypatch.setattr(mission_host, "_sent_itself", {})
+    monkeypatch.setattr(mission_host, "_spawns_under_way", 0)
+    seen: list[int] = []
+    previous = signal.signal(signal.SIGTERM, lambda number, _frame: seen.append(number))
+    try:
+        mission_host._note_if_spawned(signal.SIGTERM)
+        signal.raise_signal(signal.SIGTERM)  # no program being started: nothing noted
+        assert mission_host._sent_itself == {}
+        monkeypatch.setattr(mission_host, "_spawns_under_way", 1)
+        signal.raise_signal(signal.SIGTERM)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    assert seen == [signal.SIGTERM, signal.SIGTERM]  # the run's own handler runs as before
+    assert mission_host._sent_itself == {signal.SIGTERM: mission_host._THROUGH_A_PROGRAM}
+
+
 def _mission_process(jail_pid: int) -> int:
     """The mission process among the jail's process and its descendants (Linux's /proc)."""
     parents = {}

@@ -33,7 +33,7 @@ world: {world}
 robot: {robot}
 runs:
   - {{seed: 1}}
-  - {{seed: 7, start: {{x: 120 mm, y: -80 mm, heading: 25 deg}}}}
+  - {{seed: 7, start: {{x: 370 mm, y: 170 mm, heading: 25 deg}}}}
 max_time: {max_time}
 expect:
   - outcome: success
