@@ -329,6 +329,15 @@ _started_programs: set[int] = set()
 """The process ids of the programs the mission started (:func:`_spawned_unblocked`): a
 signal one of them sends is the run's, even once it has ended and cannot be seen any more."""
 
+_program_lines: dict[int, tuple[str, int]] = {}
+"""Where the mission's code started each program (:data:`_started_programs`), by its pid: the
+student's file and line."""
+
+_sent_from: dict[int, tuple[str, int]] = {}
+"""For a signal a program of the run sent, where the mission's code started that program:
+the line its stop names, wherever the mission's code had got to when the signal was handed on
+(it is handed on from another thread, so that moment is the machine's, not the code's)."""
+
 _spawning = threading.Condition()
 """Held while a program is being started; notified once its pid is in
 :data:`_started_programs`."""
@@ -401,6 +410,9 @@ def _own_interrupt(
         did += _sent_itself.get(signum, "")
     student = [f for f in traceback.extract_tb(exc.__traceback__) if is_student_file(f.filename)]
     where = f"{shown(student[-1].filename)}:{student[-1].lineno}" if student else ""
+    started_at = _sent_from.get(signum) if signum is not None else None
+    if started_at is not None:  # where its code started the program that sent it
+        where = f"{shown(started_at[0])}:{started_at[1]}"
     return _OwnStop(did, where, why)
 
 
@@ -529,6 +541,9 @@ def _senders_told_apart() -> frozenset[int]:
             how = _sender_of(info, pid, user_alone)
             if how is not None:
                 _sent_itself.setdefault(info.si_signo, how)
+                started_at = _program_lines.get(info.si_pid)
+                if started_at is not None:
+                    _sent_from.setdefault(info.si_signo, started_at)
             _hand_on(info.si_signo)
 
     try:
@@ -539,6 +554,15 @@ def _senders_told_apart() -> frozenset[int]:
         return _received_apart
     _spawned_unblocked(waited)
     return waited
+
+
+def _student_line(frame: FrameType | None) -> tuple[str, int] | None:
+    """The innermost line of a student's file on ``frame``'s stack, or None."""
+    while frame is not None:
+        if is_student_file(frame.f_code.co_filename):
+            return frame.f_code.co_filename, frame.f_lineno
+        frame = frame.f_back
+    return None
 
 
 def _note_if_spawned(signum: int) -> None:
@@ -589,6 +613,9 @@ def _spawned_unblocked(waited: frozenset[int]) -> None:
                 with _spawning:
                     if spawn is not system and isinstance(started, int):
                         _started_programs.add(started)  # its pid: a signal it sends is the run's
+                        line = _student_line(sys._getframe(1))
+                        if line is not None:
+                            _program_lines[started] = line
                     _spawns_under_way -= 1
                     _spawning.notify_all()
             return started

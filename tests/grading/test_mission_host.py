@@ -26,6 +26,7 @@ from roboscript.grading.sandbox import (
     detect_isolation,
     warm_jails_supported,
 )
+from roboscript.interrupts import Interrupted
 
 # Finishes at once; as its robot's link closes, the process is sent Ctrl-C's signal.
 SIGNALLED_WHILE_CLOSING = """\
@@ -302,6 +303,22 @@ def test_a_signal_landing_on_the_starter_while_it_starts_a_program_is_the_runs(
         signal.signal(signal.SIGTERM, previous)
     assert seen == [signal.SIGTERM, signal.SIGTERM]  # the run's own handler runs as before
     assert mission_host._sent_itself == {signal.SIGTERM: mission_host._THROUGH_A_PROGRAM}
+
+
+def test_a_signal_a_program_sent_names_the_line_that_started_the_program(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # Handed on from the thread that learned its sender, the signal lands wherever the
+    # mission's code has got to by then (often past its own file): the line that started the
+    # program that sent it is the one the stop names, every time.
+    monkeypatch.setattr(
+        mission_host, "_sent_itself", {signal.SIGTERM: mission_host._THROUGH_A_PROGRAM}
+    )
+    monkeypatch.setattr(mission_host, "_sent_from", {signal.SIGTERM: ("/jail/signals.py", 12)})
+    own = mission_host._own_interrupt(Interrupted(signal.SIGTERM))
+    assert own is not None
+    assert own.where == "signals.py:12"
+    assert own.did == "sent its own process SIGTERM (through a program it started)"
 
 
 def _mission_process(jail_pid: int) -> int:
