@@ -24,6 +24,7 @@ from __future__ import annotations
 # or without these lines, ast and inspect are each imported once, ~2 ms and ~5 ms).
 import ast
 import builtins
+import functools
 import hashlib
 import importlib.machinery
 import importlib.util
@@ -155,6 +156,18 @@ by the line it was stopped on)."""
 _SCOPES = (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)
 
 
+@functools.lru_cache(maxsize=8)
+def _loops_and_scopes(source: str) -> tuple[ast.stmt | ast.expr, ...]:
+    """Every loop and every function, lambda and class of ``source``: read once per file's
+    text, as a stuck loop is located again each time its stop is raised again."""
+    try:
+        tree = ast.parse(source)
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        return ()
+    kinds = (*_SCOPES, ast.While, ast.For, ast.AsyncFor)
+    return tuple(node for node in ast.walk(tree) if isinstance(node, kinds))
+
+
 def loop_around(filename: str, line: int) -> int | None:
     """The first line of the loop ``line`` runs in: the innermost ``while`` around it in the
     function (or class body, or module) it is written in, else the innermost ``for``.
@@ -168,15 +181,10 @@ def loop_around(filename: str, line: int) -> int | None:
     lines = linecache.getlines(filename)
     if not lines or sum(map(len, lines)) > _LOOP_SOURCE_CHARS:
         return None
-    try:
-        tree = ast.parse("".join(lines))
-    except (SyntaxError, ValueError, RecursionError, MemoryError):
-        return None
     around = [
         node
-        for node in ast.walk(tree)
-        if isinstance(node, (*_SCOPES, ast.While, ast.For, ast.AsyncFor))
-        and node.lineno <= line <= (node.end_lineno or node.lineno)
+        for node in _loops_and_scopes("".join(lines))
+        if node.lineno <= line <= (node.end_lineno or node.lineno)
     ]
     scope_line = max((n.lineno for n in around if isinstance(n, _SCOPES)), default=0)
     loops = [n for n in around if not isinstance(n, _SCOPES) and n.lineno >= scope_line]
