@@ -306,7 +306,9 @@ class _Loader(yaml.SafeLoader):
                 from_merge.discard(key)
                 del result[key]
             elif key in result and index < merged:
-                continue
+                # PyYAML lists the merged mappings last first: a later pair is from a mapping
+                # named earlier in '<<: [*a, *b]', which wins, as YAML says
+                del result[key]
             if key in result:
                 first = result.key_marks[key][0]
                 raise _RefusedError(

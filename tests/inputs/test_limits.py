@@ -214,3 +214,11 @@ def test_a_socket_and_a_folder_are_refused(tmp_path: Path) -> None:
         str(info.value)
         == f"{tmp_path}: error: this is a folder, not a file (give the path of a file)"
     )
+
+
+def test_a_mapping_merged_earlier_in_a_merge_list_wins_as_yaml_says() -> None:
+    # '<<: [*a, *b]': a key both give is a's (PyYAML's safe_load reads it so too)
+    from roboscript.inputs.source import load_yaml_text
+
+    text = "a: &a {x: 1, y: 1}\nb: &b {x: 2, z: 2}\nc: {<<: [*a, *b], y: 3}\n"
+    assert dict(load_yaml_text(text)["c"]) == {"x": 1, "y": 3, "z": 2}
