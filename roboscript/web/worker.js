@@ -112,7 +112,12 @@
     var answer = { type: "answer", id: message.id };
     printed = 0;
     refused = 0;
-    var fn = modules[message.module][message.fn];
+    var module = modules[message.module], fn = module && module[message.fn];
+    if (!fn) {  // answered all the same: a caller waits on every answer
+      failed(answer, new Error("no function " + message.module + "." + message.fn));
+      send(answer);
+      return;
+    }
     if (!message.waits) {
       try {
         answer.value = fn.apply(null, message.args);
