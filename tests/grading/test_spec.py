@@ -917,3 +917,20 @@ def test_a_max_duration_not_under_max_time_is_a_warning_at_its_line(tmp_path: Pa
         )
     ]
     assert last == "checked 1 file: 0 with errors"
+
+
+def test_a_region_across_a_closed_room_with_every_corner_outside_is_reachable(
+    tmp_path: Path,
+) -> None:
+    # a band drawn wider than the room: no corner inside, yet the robot crosses it
+    (tmp_path / "banded.yaml").write_text(
+        "world: banded\nstart: {x: 0 mm, y: 0 mm, heading: 0 deg}\nwalls:\n"
+        "  - box: {x: -1 m, y: -1 m, width: 2 m, height: 2 m}\nregions:\n"
+        "  band: {box: {x: -2 m, y: 30 cm, width: 4 m, height: 20 cm}}\n",
+        encoding="utf-8",
+    )
+    spec = tmp_path / "test.yaml"
+    spec.write_text(
+        "test: t\nworld: banded.yaml\nexpect:\n  - regions_in_order: [band]\n", encoding="utf-8"
+    )
+    assert load_test_spec(spec).name == "t"

@@ -153,8 +153,13 @@ def _outside_the_walls(rule: Rule, run: RunSetup) -> str | None:
                 x, y = region.center
                 places.append((f"'{name}'", x, y, region.radius_mm))
             elif region is not None and region.points:
-                near = min(region.points, key=lambda p: beyond_mm(*p))
-                places.append((f"'{name}'", near[0], near[1], 0.0))
+                # the point of the region's own box nearest the walls' box: a region may cross
+                # the room with every corner outside it, so its corners alone cannot say
+                xs = [p[0] for p in region.points]
+                ys = [p[1] for p in region.points]
+                near_x = _nearest_in(min(xs), max(xs), x_min, x_max)
+                near_y = _nearest_in(min(ys), max(ys), y_min, y_max)
+                places.append((f"'{name}'", near_x, near_y, 0.0))
     for what, x, y, reach_mm in places:
         if beyond_mm(x, y) > reach_mm:
             return (
@@ -162,6 +167,15 @@ def _outside_the_walls(rule: Rule, run: RunSetup) -> str | None:
                 f" {run.number}'s start, so the robot can never get there"
             )
     return None
+
+
+def _nearest_in(low: float, high: float, wall_low: float, wall_high: float) -> float:
+    """The value of ``[low, high]`` nearest ``[wall_low, wall_high]`` (one they share if any)."""
+    if high < wall_low:
+        return high
+    if low > wall_high:
+        return low
+    return max(low, wall_low)
 
 
 def _turns_past(rule: Turns, limit_s: float, limit: str) -> str | None:
