@@ -646,7 +646,7 @@ def _sender_of(info: signal.struct_siginfo, pid: int, user_alone: bool) -> str |
         return ""
     if info.si_pid == 0:
         return None
-    if user_alone and info.si_uid == os.getuid():
+    if info.si_pid in _started_programs or (user_alone and info.si_uid == os.getuid()):
         return _THROUGH_A_PROGRAM
     with _spawning:  # a program just started may signal before its starter has noted it
         _spawning.wait_for(lambda: _spawns_under_way == 0, timeout=_SPAWN_WAIT_S)
